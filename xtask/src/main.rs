@@ -1,1 +1,309 @@
-fn main() {}
+//! Project automation for spectex (`cargo xtask <command>`): orchestration only, it shells out to cargo.
+//!
+//! Each command is a list of [`Step`]s run in order by [`run_steps`], which prints a numbered header
+//! per step, stops at the first failure naming the step, and ends with one summary line. A new
+//! command is a new function building its steps (and checking the tools it needs first).
+
+use anyhow::{Context, Result, bail};
+use std::env;
+use std::ffi::OsString;
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Command, ExitCode, Stdio};
+use std::time::{Instant, SystemTime};
+
+/// Every command with the one line `cargo xtask help` prints for it.
+const COMMANDS: &[(&str, &str)] = &[
+    (
+        "ci",
+        "what CI runs: cargo fmt --check, clippy -D warnings, all tests, doc tests",
+    ),
+    (
+        "bench",
+        "criterion benches of RPN vs one FFT, then a table of medians; \
+         extra args go to criterion (`cargo xtask bench -- --quick`)",
+    ),
+    ("help", "print this list"),
+];
+
+/// Benchmark pairs reported as "RPN time in units of one FFT of the output size".
+const FFT_EQUIVALENTS: &[(&str, &str)] = &[
+    ("rpn_rgb_512_same_size", "fft2_c64_512x512"),
+    ("rpn_rgb_512_to_2048", "fft2_c64_2048x2048"),
+];
+
+fn main() -> ExitCode {
+    match run() {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(err) => {
+            eprintln!("error: {err:#}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run() -> Result<()> {
+    let mut args = env::args_os().skip(1);
+    let command = args.next().map(|a| a.to_string_lossy().into_owned());
+    let rest: Vec<OsString> = args.collect();
+    match command.as_deref() {
+        None | Some("help" | "--help" | "-h") => {
+            print_help();
+            Ok(())
+        }
+        Some("ci") => {
+            if !rest.is_empty() {
+                bail!("`cargo xtask ci` takes no arguments (got {rest:?})");
+            }
+            ci(&Workspace::locate()?)
+        }
+        Some("bench") => bench(&Workspace::locate()?, rest),
+        Some(other) => bail!(
+            "unknown command `{other}`; valid commands: {}",
+            COMMANDS
+                .iter()
+                .map(|(name, _)| *name)
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+    }
+}
+
+fn print_help() {
+    println!("usage: cargo xtask <command>\n\ncommands:");
+    for (name, about) in COMMANDS {
+        println!("  {name:<7} {about}");
+    }
+}
+
+/// The workspace root and the cargo to run there.
+struct Workspace {
+    root: PathBuf,
+    cargo: OsString,
+}
+
+impl Workspace {
+    fn locate() -> Result<Self> {
+        let manifest_dir = Path::new(env!("CARGO_MANIFEST_DIR"));
+        let root = manifest_dir
+            .parent()
+            .with_context(|| format!("{} has no parent directory", manifest_dir.display()))?
+            .to_path_buf();
+        // Cargo sets CARGO for the programs it runs, so nested calls use the same toolchain.
+        let cargo = env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+        Ok(Self { root, cargo })
+    }
+
+    /// `cargo <args>` to run in the workspace root.
+    fn cargo(&self, args: &[&str]) -> Command {
+        let mut command = Command::new(&self.cargo);
+        command.args(args).current_dir(&self.root);
+        command
+    }
+}
+
+/// One numbered step of a command.
+struct Step {
+    title: &'static str,
+    command: Command,
+}
+
+/// Runs `steps` in order, stopping at the first failure; prints a header per step and a summary.
+fn run_steps(name: &str, steps: Vec<Step>) -> Result<()> {
+    let started = Instant::now();
+    let count = steps.len();
+    for (i, mut step) in steps.into_iter().enumerate() {
+        eprintln!("xtask: [{}/{count}] {}", i + 1, step.title);
+        run_command(&mut step.command).with_context(|| {
+            format!(
+                "`cargo xtask {name}` failed at step {}/{count} ({})",
+                i + 1,
+                step.title
+            )
+        })?;
+    }
+    eprintln!(
+        "xtask: {name} passed: {count} step(s) in {:.1} s",
+        started.elapsed().as_secs_f64()
+    );
+    Ok(())
+}
+
+fn run_command(command: &mut Command) -> Result<()> {
+    let shown = show(command);
+    let status = command
+        .status()
+        .with_context(|| format!("could not start `{shown}`"))?;
+    if !status.success() {
+        bail!("`{shown}` failed ({status})");
+    }
+    Ok(())
+}
+
+/// The command line as a user would type it, for messages.
+fn show(command: &Command) -> String {
+    std::iter::once(command.get_program())
+        .chain(command.get_args())
+        .map(|part| part.to_string_lossy())
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// Fails, saying how to install them, unless `cargo fmt` and `cargo clippy` both run.
+fn require_rustfmt_and_clippy(ws: &Workspace) -> Result<()> {
+    let missing: Vec<&str> = [("rustfmt", "fmt"), ("clippy", "clippy")]
+        .into_iter()
+        .filter(|(_, subcommand)| {
+            !ws.cargo(&[subcommand, "--version"])
+                .stdout(Stdio::null())
+                .stderr(Stdio::null())
+                .status()
+                .is_ok_and(|status| status.success())
+        })
+        .map(|(tool, _)| tool)
+        .collect();
+    if !missing.is_empty() {
+        bail!(
+            "{} not installed; install with: rustup component add rustfmt clippy",
+            missing.join(" and ")
+        );
+    }
+    Ok(())
+}
+
+fn ci(ws: &Workspace) -> Result<()> {
+    require_rustfmt_and_clippy(ws)?;
+    let step = |title, args: &[&str]| Step {
+        title,
+        command: ws.cargo(args),
+    };
+    run_steps(
+        "ci",
+        vec![
+            step("cargo fmt --check", &["fmt", "--all", "--", "--check"]),
+            step(
+                "cargo clippy -D warnings",
+                &[
+                    "clippy",
+                    "--workspace",
+                    "--all-targets",
+                    "--",
+                    "-D",
+                    "warnings",
+                ],
+            ),
+            step(
+                "cargo test --all-targets",
+                &["test", "--workspace", "--all-targets"],
+            ),
+            step("cargo test --doc", &["test", "--workspace", "--doc"]),
+        ],
+    )
+}
+
+fn bench(ws: &Workspace, mut extra: Vec<OsString>) -> Result<()> {
+    // `cargo xtask bench -- --quick` delivers the `--` too; accept it with or without.
+    if extra.first().is_some_and(|a| a == "--") {
+        extra.remove(0);
+    }
+    let mut command = ws.cargo(&["bench", "-p", "spectex-spectrum", "--bench", "rpn"]);
+    if !extra.is_empty() {
+        command.arg("--").args(&extra);
+    }
+    let started = SystemTime::now();
+    run_steps(
+        "bench",
+        vec![Step {
+            title: "cargo bench -p spectex-spectrum --bench rpn",
+            command,
+        }],
+    )?;
+    print_bench_table(&criterion_dir(ws).join("rpn"), started)
+}
+
+/// Where criterion writes its results, following its own order of preference.
+fn criterion_dir(ws: &Workspace) -> PathBuf {
+    if let Some(home) = env::var_os("CRITERION_HOME") {
+        return PathBuf::from(home);
+    }
+    match env::var_os("CARGO_TARGET_DIR") {
+        Some(target) => ws.root.join(target).join("criterion"),
+        None => ws.root.join("target").join("criterion"),
+    }
+}
+
+/// Prints the median of every benchmark in `group_dir`, then the FFT-equivalents whose ids exist.
+/// Results older than `started` (benchmarks this run filtered out) are marked as such.
+fn print_bench_table(group_dir: &Path, started: SystemTime) -> Result<()> {
+    let entries = fs::read_dir(group_dir)
+        .with_context(|| format!("no criterion results in {}", group_dir.display()))?;
+    let mut medians: Vec<(String, f64, bool)> = Vec::new();
+    for entry in entries {
+        let entry = entry.with_context(|| format!("reading {}", group_dir.display()))?;
+        let estimates = entry.path().join("new").join("estimates.json");
+        if !estimates.is_file() {
+            continue; // criterion's own report folders
+        }
+        let json = fs::read_to_string(&estimates)
+            .with_context(|| format!("reading {}", estimates.display()))?;
+        let median_ns = parse_median_ns(&json)
+            .with_context(|| format!("no median point_estimate in {}", estimates.display()))?;
+        let stale = fs::metadata(&estimates)
+            .and_then(|m| m.modified())
+            .is_ok_and(|modified| modified < started);
+        medians.push((
+            entry.file_name().to_string_lossy().into_owned(),
+            median_ns,
+            stale,
+        ));
+    }
+    if medians.is_empty() {
+        bail!("no criterion results in {}", group_dir.display());
+    }
+    medians.sort_by(|a, b| a.0.cmp(&b.0));
+
+    let width = medians.iter().map(|m| m.0.len()).max().unwrap_or(0);
+    println!("{:<width$}  {:>12}", "benchmark", "median (ms)");
+    for (name, median_ns, stale) in &medians {
+        let note = if *stale { "  (earlier run)" } else { "" };
+        println!("{name:<width$}  {:>12.3}{note}", median_ns / 1e6);
+    }
+    let median_of = |id: &str| medians.iter().find(|m| m.0 == id).map(|m| m.1);
+    for (rpn, fft) in FFT_EQUIVALENTS {
+        if let (Some(rpn_ns), Some(fft_ns)) = (median_of(rpn), median_of(fft)) {
+            println!("{rpn} / {fft} = {:.2} FFT-equivalents", rpn_ns / fft_ns);
+        }
+    }
+    Ok(())
+}
+
+/// The `"median": { "point_estimate": <ns>, ... }` of a criterion `estimates.json`, found by string
+/// search so that xtask needs no JSON library.
+fn parse_median_ns(json: &str) -> Option<f64> {
+    let median = &json[json.find("\"median\"")?..];
+    let key = "\"point_estimate\"";
+    let value = median[median.find(key)? + key.len()..]
+        .trim_start()
+        .strip_prefix(':')?
+        .trim_start();
+    let end = value
+        .find(|c: char| !(c.is_ascii_digit() || matches!(c, '.' | '-' | '+' | 'e' | 'E')))
+        .unwrap_or(value.len());
+    value[..end].parse().ok()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_median_ns;
+
+    #[test]
+    fn median_is_read_from_criterion_estimates() {
+        let json = r#"{"mean":{"confidence_interval":{"confidence_level":0.95,"lower_bound":1.0,"upper_bound":2.0},"point_estimate":1.5,"standard_error":0.1},"median":{"confidence_interval":{"confidence_level":0.95,"lower_bound":3.0,"upper_bound":4.0},"point_estimate":3456789.25,"standard_error":0.2},"median_abs_dev":{"point_estimate":7.0}}"#;
+        assert_eq!(parse_median_ns(json), Some(3_456_789.25));
+        assert_eq!(
+            parse_median_ns(r#"{"median": {"point_estimate" : 1.5e6}}"#),
+            Some(1.5e6)
+        );
+        assert_eq!(parse_median_ns(r#"{"mean":{"point_estimate":1.0}}"#), None);
+    }
+}

@@ -1,1 +1,237 @@
-fn main() {}
+//! The `spectex` command: Random Phase Noise synthesis and spectral analysis of textures.
+//!
+//! A thin layer over the library crates: it parses arguments, reads and writes images, and turns
+//! every failure into one `error: …` line that says what to do, with exit status 1.
+
+mod analyze;
+mod exemplar;
+mod io;
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::{Context, Result};
+use clap::{Args, Parser, Subcommand};
+use spectex_spectrum::{NoiseKind, Rpn, RpnOptions};
+
+use crate::io::BitDepth;
+
+#[derive(Debug, Parser)]
+#[command(
+    name = "spectex",
+    version,
+    about = "Spectral procedural texture synthesis: Random Phase Noise and spectral analysis.",
+    after_help = "Examples:\n  spectex rpn -o out.png                      # the built-in exemplar, same size\n  spectex rpn gravel.png -o big.exr --size 2048x2048 --seed 7\n  spectex analyze gravel.png -o gravel-analysis/"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Synthesise a texture by Random Phase Noise (Galerne, Gousseau & Morel).
+    #[command(
+        after_help = "Examples:\n  spectex rpn -o out.png\n  spectex rpn sample.jpg -o out.png --size 1024x768 --seed 3\n  spectex rpn sample.png -o out.exr --adsn        # keep values outside [0, 1]\n\nThe output keeps the sample's mean and, at the sample's size, the modulus of its periodic\ncomponent's spectrum; a larger output uses the spot extension with a = 0.1 and keeps the\nsample's variance. All colour channels share one random phase, so no false colours appear."
+    )]
+    Rpn(RpnArgs),
+    /// Write the spectral analyses of an image into a directory.
+    #[command(
+        after_help = "Examples:\n  spectex analyze -o analysis/\n  spectex analyze sample.png -o analysis/ --format exr\n\nWrites periodic.png and smooth.png (Moisan's decomposition; smooth is shown as 0.5 + s),\nlog_spectrum.png and log_spectrum_periodic.png (centred ln(1 + |DFT|) of the luminance,\nbefore and after removing the smooth component), welch_psd.png and variance_spectrum.png\n(centred, log scale over 6 decades), and radial_profile.csv (Welch power per ring, one column\nper channel). With --format exr the spectra are written as raw 32-bit float values instead."
+    )]
+    Analyze(AnalyzeArgs),
+}
+
+#[derive(Debug, Args)]
+struct RpnArgs {
+    /// Sample image (PNG 8/16-bit grey/RGB/RGBA, or JPEG); the built-in exemplar if omitted.
+    input: Option<PathBuf>,
+    /// Output image: .png (clamped to [0, 1]) or .exr (32-bit float, values kept exactly).
+    #[arg(short, long, value_name = "OUT")]
+    output: PathBuf,
+    /// Output size WIDTHxHEIGHT, each at least the sample's; the sample's size if omitted.
+    #[arg(long, value_name = "WxH", value_parser = parse_size)]
+    size: Option<(usize, usize)>,
+    /// Seed of the random phase (0 to 4294967295).
+    #[arg(long, default_value_t = 0)]
+    seed: u32,
+    /// Asymptotic discrete spot noise (spot convolved with Gaussian white noise) instead of RPN.
+    #[arg(long)]
+    adsn: bool,
+    /// Bits per channel of a PNG output.
+    #[arg(long, value_enum, default_value = "8")]
+    bit_depth: BitDepth,
+}
+
+#[derive(Debug, Args)]
+struct AnalyzeArgs {
+    /// Image to analyse; the built-in exemplar if omitted.
+    input: Option<PathBuf>,
+    /// Directory to write into (created if missing).
+    #[arg(short, long, value_name = "DIR")]
+    output: PathBuf,
+    /// Image format of the spectra: png (display-mapped, 16-bit) or exr (raw values).
+    #[arg(long, value_enum, default_value = "png")]
+    format: analyze::SpectraFormat,
+}
+
+/// Parses `WIDTHxHEIGHT` (also `X` or `×` as separator).
+fn parse_size(s: &str) -> Result<(usize, usize), String> {
+    let err = || format!("'{s}' is not a size; write WIDTHxHEIGHT, for example 1024x768");
+    let (w, h) = s.split_once(['x', 'X', '×']).ok_or_else(err)?;
+    let w: usize = w.trim().parse().map_err(|_| err())?;
+    let h: usize = h.trim().parse().map_err(|_| err())?;
+    Ok((w, h))
+}
+
+/// The sample named on the command line, or the built-in exemplar.
+fn load_input(input: Option<&Path>) -> Result<(io::Loaded, String)> {
+    let loaded = match input {
+        Some(p) => (io::load(p)?, format!("'{}'", p.display())),
+        None => (
+            io::decode(
+                exemplar::DEFAULT_EXEMPLAR_PNG,
+                exemplar::DEFAULT_EXEMPLAR_NAME,
+            )?,
+            exemplar::DEFAULT_EXEMPLAR_NAME.to_string(),
+        ),
+    };
+    if loaded.0.dropped_alpha {
+        eprintln!("note: the alpha channel of {} is ignored", loaded.1);
+    }
+    Ok(loaded)
+}
+
+fn run_rpn(args: &RpnArgs) -> Result<()> {
+    let format = io::check_output(&args.output, args.bit_depth)?;
+    let (loaded, name) = load_input(args.input.as_deref())?;
+    let sample = &loaded.pixels;
+    let options = RpnOptions {
+        size: args.size,
+        seed: args.seed,
+        kind: if args.adsn {
+            NoiseKind::Adsn
+        } else {
+            NoiseKind::RandomPhase
+        },
+        ..RpnOptions::default()
+    };
+    let out = Rpn::new()
+        .synthesize(sample.view(), &options)
+        .with_context(|| format!("cannot synthesise from {name}"))
+        .map_err(with_hint)?;
+    let report = io::save(&args.output, &out, format)?;
+    let (c, h, w) = out.dim();
+    #[allow(clippy::print_stdout)] // reason: the command's result summary
+    {
+        println!(
+            "wrote {} ({w}×{h}, {} channel{}, seed {})",
+            args.output.display(),
+            c,
+            if c == 1 { "" } else { "s" },
+            args.seed
+        );
+    }
+    note_clipping(report);
+    Ok(())
+}
+
+/// Adds what to do to the library's sentence-style errors.
+fn with_hint(e: anyhow::Error) -> anyhow::Error {
+    use spectex_spectrum::SpectrumError as E;
+    let hint = match e.downcast_ref::<E>() {
+        Some(E::TooSmall {
+            parameter: "output size",
+            ..
+        }) => "; give a --size at least as large as the sample, or omit --size",
+        Some(E::TooSmall { .. }) => "; give a larger image",
+        Some(E::TooLarge { .. }) => "; give a smaller --size",
+        _ => "",
+    };
+    if hint.is_empty() {
+        e
+    } else {
+        anyhow::anyhow!("{e:#}{hint}")
+    }
+}
+
+fn note_clipping(report: io::WriteReport) {
+    if report.clipped > 0 {
+        eprintln!(
+            "note: {:.2}% of the values fell outside [0, 1] and were clamped in the PNG; write .exr to keep them",
+            100.0 * report.clipped as f64 / report.total.max(1) as f64
+        );
+    }
+}
+
+fn run(cli: Cli) -> Result<()> {
+    match cli.command {
+        Command::Rpn(args) => run_rpn(&args),
+        Command::Analyze(args) => {
+            let (loaded, name) = load_input(args.input.as_deref())?;
+            analyze::run(&loaded.pixels, &name, &args.output, args.format)
+        }
+    }
+}
+
+fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            use clap::error::ErrorKind;
+            if matches!(
+                e.kind(),
+                ErrorKind::DisplayHelp
+                    | ErrorKind::DisplayVersion
+                    | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+            ) {
+                // Help and version go to stdout with success (missing subcommand: help, exit 1).
+                let code = if e.kind() == ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand {
+                    1
+                } else {
+                    0
+                };
+                let _ = e.print();
+                return ExitCode::from(code);
+            }
+            // One line: clap's first line already starts with "error: ".
+            let text = e.to_string();
+            let first = text.lines().next().unwrap_or("error: invalid arguments");
+            eprintln!("{first} (see spectex --help)");
+            return ExitCode::from(1);
+        }
+    };
+    match run(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {}", one_line(&e));
+            ExitCode::from(1)
+        }
+    }
+}
+
+/// The error and its causes on one line.
+fn one_line(e: &anyhow::Error) -> String {
+    format!("{e:#}").replace('\n', " ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes_parse() {
+        assert_eq!(parse_size("1024x768"), Ok((1024, 768)));
+        assert_eq!(parse_size("5X6"), Ok((5, 6)));
+        assert_eq!(parse_size("0x0"), Ok((0, 0)));
+        assert!(parse_size("1024").is_err());
+        assert!(parse_size("ax3").is_err());
+        assert!(parse_size("-1x3").is_err());
+    }
+
+    #[test]
+    fn cli_is_well_formed() {
+        use clap::CommandFactory;
+        Cli::command().debug_assert();
+    }
+}

@@ -185,7 +185,10 @@ mod tests {
             }
             for (o, &f) in flips.iter().enumerate() {
                 let p = f64::from(f) / f64::from(samples);
-                assert!((0.4..0.6).contains(&p), "input bit {bit} -> output bit {o}: {p}");
+                assert!(
+                    (0.4..0.6).contains(&p),
+                    "input bit {bit} -> output bit {o}: {p}"
+                );
             }
         }
     }

@@ -108,7 +108,8 @@ impl<T: FftNum> Fft2<T> {
             .get_inplace_scratch_len()
             .max(col_fft.get_inplace_scratch_len());
         if self.scratch.len() < scratch_len {
-            self.scratch.resize(scratch_len, Complex::new(T::zero(), T::zero()));
+            self.scratch
+                .resize(scratch_len, Complex::new(T::zero(), T::zero()));
         }
         if self.transposed.len() < data.len() {
             self.transposed
@@ -190,13 +191,14 @@ mod tests {
             return (0..h).flat_map(|k| (0..w).map(move |l| (k, l))).collect();
         }
         let mut prng = Prng::new(seed);
-        let mut f = vec![(0, 0), (h - 1, w - 1), (h / 2, w / 2), (0, w / 2), (h / 2, 0)];
-        f.extend((0..300).map(|_| {
-            (
-                prng.next_u32() as usize % h,
-                prng.next_u32() as usize % w,
-            )
-        }));
+        let mut f = vec![
+            (0, 0),
+            (h - 1, w - 1),
+            (h / 2, w / 2),
+            (0, w / 2),
+            (h / 2, 0),
+        ];
+        f.extend((0..300).map(|_| (prng.next_u32() as usize % h, prng.next_u32() as usize % w)));
         f
     }
 
@@ -264,7 +266,11 @@ mod tests {
         fft.forward(&mut b);
         fft.inverse(&mut b);
         assert_eq!(s, fft.scratch.as_ptr(), "scratch was reallocated");
-        assert_eq!(t, fft.transposed.as_ptr(), "transpose buffer was reallocated");
+        assert_eq!(
+            t,
+            fft.transposed.as_ptr(),
+            "transpose buffer was reallocated"
+        );
     }
 
     #[test]

@@ -33,8 +33,7 @@ pub use error::SpectrumError;
 pub use fft::{Fft2, centered, signed_frequency};
 pub use periodic::{PeriodicSmooth, interior_laplacian, periodic_laplacian, periodic_smooth};
 pub use rpn::{
-    NoiseKind, Rpn, RpnOptions, extended_spot, random_phase_field, rpn, transition,
-    validate_image,
+    NoiseKind, Rpn, RpnOptions, extended_spot, random_phase_field, rpn, transition, validate_image,
 };
 pub use welch::{
     RadialBin, log_magnitude_spectrum, radial_profile, variance_spectrum, welch_block_size,

@@ -169,7 +169,10 @@ mod tests {
             );
         }
         let (mp, mh) = (d.periodic.mean().unwrap(), h.mean().unwrap());
-        assert!((mp - mh).abs() <= 1e-12 * mh.abs().max(1.0), "{label}: mean {mp} vs {mh}");
+        assert!(
+            (mp - mh).abs() <= 1e-12 * mh.abs().max(1.0),
+            "{label}: mean {mp} vs {mh}"
+        );
     }
 
     /// The discrete equations of the paper hold to 1e-9 in f64 over a sweep of sizes,
@@ -177,7 +180,15 @@ mod tests {
     #[test]
     fn periodic_component_solves_the_poisson_equation() {
         let mut sizes: Vec<(usize, usize)> = (1..=17).map(|n| (n, n)).collect();
-        sizes.extend([(1, 9), (9, 1), (2, 3), (30, 45), (45, 30), (64, 64), (300, 300)]);
+        sizes.extend([
+            (1, 9),
+            (9, 1),
+            (2, 3),
+            (30, 45),
+            (45, 30),
+            (64, 64),
+            (300, 300),
+        ]);
         for (i, &(r, c)) in sizes.iter().enumerate() {
             check(&random_image(r, c, i as u32), &format!("{r}×{c} seed {i}"));
         }

@@ -148,7 +148,11 @@ pub fn random_phase_field(height: usize, width: usize, seed: u32) -> Array2<Comp
         let bits = cell_hash(l as i32, k as i32, PHASE_LAYER, seed);
         let (km, lm) = ((height - k) % height, (width - l) % width);
         if (k, l) == (km, lm) {
-            let sign = if (k, l) == (0, 0) || bits >> 31 == 0 { 1.0 } else { -1.0 };
+            let sign = if (k, l) == (0, 0) || bits >> 31 == 0 {
+                1.0
+            } else {
+                -1.0
+            };
             Complex64::new(sign, 0.0)
         } else {
             let (sin, cos) = (2.0 * std::f64::consts::PI * unit_f64(bits)).sin_cos();
@@ -157,19 +161,17 @@ pub fn random_phase_field(height: usize, width: usize, seed: u32) -> Array2<Comp
     };
     // Each row is a pure function of its index, so rows are filled in parallel and the result
     // is the same for any thread count. A row reads the canonical member of each pair.
-    rows_mut(&mut out)
-        .enumerate()
-        .for_each(|(k, row)| {
-            let km = (height - k) % height;
-            for (l, v) in row.iter_mut().enumerate() {
-                let lm = (width - l) % width;
-                *v = if (k, l) <= (km, lm) {
-                    value(k, l)
-                } else {
-                    value(km, lm).conj()
-                };
-            }
-        });
+    rows_mut(&mut out).enumerate().for_each(|(k, row)| {
+        let km = (height - k) % height;
+        for (l, v) in row.iter_mut().enumerate() {
+            let lm = (width - l) % width;
+            *v = if (k, l) <= (km, lm) {
+                value(k, l)
+            } else {
+                value(km, lm).conj()
+            };
+        }
+    });
     out
 }
 
@@ -186,16 +188,14 @@ fn rows_mut<T: Send>(a: &mut Array2<T>) -> rayon::slice::ChunksMut<'_, T> {
 #[must_use]
 pub fn gaussian_white_noise(height: usize, width: usize, seed: u32) -> Array2<f64> {
     let mut out = Array2::<f64>::zeros((height, width));
-    rows_mut(&mut out)
-        .enumerate()
-        .for_each(|(y, row)| {
-            for (x, v) in row.iter_mut().enumerate() {
-                let mut prng = Prng::new(cell_hash(x as i32, y as i32, ADSN_NOISE_LAYER, seed));
-                let u1 = open_unit_f64(prng.next_u32());
-                let u2 = unit_f64(prng.next_u32());
-                *v = (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * u2).cos();
-            }
-        });
+    rows_mut(&mut out).enumerate().for_each(|(y, row)| {
+        for (x, v) in row.iter_mut().enumerate() {
+            let mut prng = Prng::new(cell_hash(x as i32, y as i32, ADSN_NOISE_LAYER, seed));
+            let u1 = open_unit_f64(prng.next_u32());
+            let u2 = unit_f64(prng.next_u32());
+            *v = (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * u2).cos();
+        }
+    });
     out
 }
 
@@ -451,7 +451,10 @@ impl Rpn {
 ///
 /// # Errors
 /// As [`Rpn::synthesize`].
-pub fn rpn(sample: ArrayView3<'_, f64>, options: &RpnOptions) -> Result<Array3<f64>, SpectrumError> {
+pub fn rpn(
+    sample: ArrayView3<'_, f64>,
+    options: &RpnOptions,
+) -> Result<Array3<f64>, SpectrumError> {
     Rpn::new().synthesize(sample, options)
 }
 

@@ -182,7 +182,16 @@ mod tests {
 
     #[test]
     fn block_size_is_the_largest_power_of_two_strictly_below() {
-        for (side, t) in [(3, 2), (4, 2), (5, 4), (8, 4), (9, 8), (300, 256), (512, 256), (513, 512)] {
+        for (side, t) in [
+            (3, 2),
+            (4, 2),
+            (5, 4),
+            (8, 4),
+            (9, 8),
+            (300, 256),
+            (512, 256),
+            (513, 512),
+        ] {
             assert_eq!(welch_block_size(side, side + 10).unwrap(), t, "side {side}");
         }
         assert!(matches!(
@@ -196,7 +205,11 @@ mod tests {
         for (n, t) in [(512, 256), (300, 256), (45, 32), (9, 8), (1000, 512)] {
             let starts = welch_block_starts(n, t);
             assert_eq!(starts[0], 0);
-            assert_eq!(*starts.last().unwrap() + t, n, "n {n}: last block ends at the edge");
+            assert_eq!(
+                *starts.last().unwrap() + t,
+                n,
+                "n {n}: last block ends at the edge"
+            );
             for w in starts.windows(2) {
                 assert!(w[1] > w[0] && w[1] - w[0] <= t / 2, "n {n}: hop {w:?}");
             }
@@ -221,20 +234,30 @@ mod tests {
                     for &x0 in &xs {
                         let block = img.slice(s![y0..y0 + t, x0..x0 + t]);
                         let ws: f64 = win.iter().sum::<f64>().powi(2);
-                        let m = block.indexed_iter().map(|((y, x), v)| v * win[y] * win[x]).sum::<f64>() / ws;
+                        let m = block
+                            .indexed_iter()
+                            .map(|((y, x), v)| v * win[y] * win[x])
+                            .sum::<f64>()
+                            / ws;
                         let mut c = Complex64::new(0.0, 0.0);
                         for y in 0..t {
                             for x in 0..t {
                                 let a = -2.0 * std::f64::consts::PI * ((k * y + l * x) % t) as f64
                                     / t as f64;
-                                c += (block[[y, x]] - m) * win[y] * win[x] * Complex64::from_polar(1.0, a);
+                                c += (block[[y, x]] - m)
+                                    * win[y]
+                                    * win[x]
+                                    * Complex64::from_polar(1.0, a);
                             }
                         }
                         total += c.norm_sqr();
                     }
                 }
                 let want = total / (ys.len() * xs.len()) as f64 / e;
-                assert!((psd[[k, l]] - want).abs() < 1e-12 * want.max(1.0), "({k}, {l})");
+                assert!(
+                    (psd[[k, l]] - want).abs() < 1e-12 * want.max(1.0),
+                    "({k}, {l})"
+                );
             }
         }
     }
@@ -251,10 +274,18 @@ mod tests {
         let sigma2 = 1.0 / 12.0;
         let mean = psd.mean().unwrap();
         // 9 blocks × 16384 frequencies of χ²₂-like values: the mean is within ~1%.
-        assert!((mean / sigma2 - 1.0).abs() < 0.03, "mean PSD {mean} vs σ² {sigma2}");
+        assert!(
+            (mean / sigma2 - 1.0).abs() < 0.03,
+            "mean PSD {mean} vs σ² {sigma2}"
+        );
         let profile = radial_profile(psd.view());
         for b in profile.iter().filter(|b| b.radius > 0.05 && b.count > 100) {
-            assert!((b.power / sigma2 - 1.0).abs() < 0.25, "ring {} at {}", b.radius, b.power);
+            assert!(
+                (b.power / sigma2 - 1.0).abs() < 0.25,
+                "ring {} at {}",
+                b.radius,
+                b.power
+            );
         }
     }
 
@@ -294,7 +325,11 @@ mod tests {
             (2.0 * std::f64::consts::PI * 8.0 * x as f64 / 64.0).cos()
         });
         let v = variance_spectrum(img.view(), &mut Fft2::new()).unwrap();
-        let low: f64 = radial_profile(v.view()).iter().filter(|b| b.radius > 0.0 && b.radius < 0.1).map(|b| b.power).sum();
+        let low: f64 = radial_profile(v.view())
+            .iter()
+            .filter(|b| b.radius > 0.0 && b.radius < 0.1)
+            .map(|b| b.power)
+            .sum();
         let all: f64 = v.sum();
         assert!(low < 1e-6 * all, "low {low} all {all}");
     }

@@ -1,0 +1,276 @@
+//! Image files in and out: decoding PNG/JPEG into `(channel, row, column)` arrays of `f64` in
+//! `[0, 1]`, and writing PNG (8/16-bit) or OpenEXR (32-bit float) through a temporary file that
+//! is renamed into place, so no half-written output is ever left behind.
+
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result, anyhow, bail};
+use image::{DynamicImage, ImageBuffer, ImageEncoder, ImageReader, Limits, Luma, Rgb};
+use ndarray::Array3;
+
+/// Largest input side accepted by the decoder (also the synthesis limit).
+pub const MAX_INPUT_SIDE: u32 = 16_384;
+
+/// A decoded image and what the file held.
+#[derive(Debug)]
+pub struct Loaded {
+    /// Colour channels only (alpha dropped), `(channel, row, column)`, values in `[0, 1]`.
+    pub pixels: Array3<f64>,
+    /// The file had an alpha channel, which was dropped.
+    pub dropped_alpha: bool,
+}
+
+/// Decodes an image from memory (the built-in exemplar) or a file's bytes.
+pub fn decode(bytes: &[u8], what: &str) -> Result<Loaded> {
+    let mut reader = ImageReader::new(std::io::Cursor::new(bytes))
+        .with_guessed_format()
+        .with_context(|| format!("cannot read {what}"))?;
+    let mut limits = Limits::default();
+    limits.max_image_width = Some(MAX_INPUT_SIDE);
+    limits.max_image_height = Some(MAX_INPUT_SIDE);
+    limits.max_alloc = Some(4 << 30);
+    reader.limits(limits);
+    if reader.format().is_none() {
+        bail!(
+            "{what} is not a PNG or JPEG image (unrecognised content); give a PNG \
+             (8/16-bit grey, grey+alpha, RGB or RGBA) or a JPEG"
+        );
+    }
+    let img = reader.decode().map_err(|e| {
+        anyhow!(
+            "cannot decode {what}: {e}; the file may be truncated or corrupt (PNG and JPEG are \
+             read, up to {MAX_INPUT_SIDE} pixels per side)"
+        )
+    })?;
+    Ok(to_array(&img))
+}
+
+/// Reads and decodes an image file.
+pub fn load(path: &Path) -> Result<Loaded> {
+    let bytes = std::fs::read(path).map_err(|e| {
+        anyhow!(
+            "cannot open input '{}': {e}; check the path",
+            path.display()
+        )
+    })?;
+    decode(&bytes, &format!("input '{}'", path.display()))
+}
+
+fn to_array(img: &DynamicImage) -> Loaded {
+    let (w, h) = (img.width() as usize, img.height() as usize);
+    let color = img.color();
+    let dropped_alpha = color.has_alpha();
+    if color.has_color() {
+        let rgb = img.to_rgb32f();
+        let raw = rgb.as_raw();
+        Loaded {
+            pixels: Array3::from_shape_fn((3, h, w), |(c, y, x)| {
+                f64::from(raw[(y * w + x) * 3 + c])
+            }),
+            dropped_alpha,
+        }
+    } else {
+        let grey = img.to_luma32f();
+        let raw = grey.as_raw();
+        Loaded {
+            pixels: Array3::from_shape_fn((1, h, w), |(_, y, x)| f64::from(raw[y * w + x])),
+            dropped_alpha,
+        }
+    }
+}
+
+/// Bit depth of a PNG output.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum BitDepth {
+    /// 8 bits per channel.
+    #[value(name = "8")]
+    Eight,
+    /// 16 bits per channel.
+    #[value(name = "16")]
+    Sixteen,
+}
+
+/// The output format, chosen by the file extension.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Format {
+    /// PNG, values clamped to `[0, 1]` and quantised.
+    Png(BitDepth),
+    /// OpenEXR, 32-bit float, values kept as they are.
+    Exr,
+}
+
+impl Format {
+    /// The format for `path`'s extension (`.png` or `.exr`, any case).
+    pub fn for_path(path: &Path, depth: BitDepth) -> Result<Self> {
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        match ext.as_deref() {
+            Some("png") => Ok(Format::Png(depth)),
+            Some("exr") => Ok(Format::Exr),
+            Some(other) => bail!(
+                "output '{}' has the extension '.{other}'; use .png (8 or 16 bit) or .exr (32-bit float)",
+                path.display()
+            ),
+            None => bail!(
+                "output '{}' has no extension; end it with .png (8 or 16 bit) or .exr (32-bit float)",
+                path.display()
+            ),
+        }
+    }
+}
+
+/// Checks, before any work, that `path` can be written: a known extension and an existing,
+/// writable parent directory.
+pub fn check_output(path: &Path, depth: BitDepth) -> Result<Format> {
+    let format = Format::for_path(path, depth)?;
+    let dir = parent_dir(path);
+    let meta = std::fs::metadata(&dir).map_err(|e| {
+        anyhow!(
+            "cannot write '{}': its directory '{}' is not accessible ({e}); create it first",
+            path.display(),
+            dir.display()
+        )
+    })?;
+    if !meta.is_dir() {
+        bail!(
+            "cannot write '{}': '{}' is not a directory",
+            path.display(),
+            dir.display()
+        );
+    }
+    if path.is_dir() {
+        bail!(
+            "cannot write '{}': it is a directory; give a file name",
+            path.display()
+        );
+    }
+    // Prove the directory is writable now rather than after minutes of work.
+    tempfile::NamedTempFile::new_in(&dir).map_err(|e| {
+        anyhow!(
+            "cannot write into '{}': {e}; choose a writable location",
+            dir.display()
+        )
+    })?;
+    Ok(format)
+}
+
+fn parent_dir(path: &Path) -> PathBuf {
+    match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    }
+}
+
+/// Statistics of a write, for notes to the user.
+#[derive(Debug, Default, Clone, Copy)]
+pub struct WriteReport {
+    /// Values outside `[0, 1]` clamped by a PNG output.
+    pub clipped: usize,
+    /// Total values written.
+    pub total: usize,
+}
+
+/// Writes `pixels` (`(channel, row, column)`, 1 or 3 channels) to `path` atomically: the data
+/// go to a temporary file in the same directory, which is renamed over `path` only once
+/// complete. A failure at any point leaves no file behind.
+pub fn save(path: &Path, pixels: &Array3<f64>, format: Format) -> Result<WriteReport> {
+    let (channels, h, w) = pixels.dim();
+    if channels != 1 && channels != 3 {
+        bail!("internal: cannot write an image of {channels} channels");
+    }
+    let dir = parent_dir(path);
+    let tmp = tempfile::Builder::new()
+        .prefix(".spectex-")
+        .suffix(".tmp")
+        .tempfile_in(&dir)
+        .map_err(|e| anyhow!("cannot write into '{}': {e}", dir.display()))?;
+    let mut report = WriteReport {
+        clipped: 0,
+        total: pixels.len(),
+    };
+    {
+        let mut out = BufWriter::new(tmp.as_file());
+        match format {
+            Format::Png(depth) => {
+                report.clipped = pixels.iter().filter(|v| !(0.0..=1.0).contains(*v)).count();
+                let img = to_dynamic(pixels, depth);
+                img.write_with_encoder(image::codecs::png::PngEncoder::new(&mut out))
+                    .with_context(|| format!("cannot encode '{}'", path.display()))?;
+            }
+            Format::Exr => {
+                // OpenEXR through `image` takes RGB(A) f32; grey is written as equal R, G, B.
+                let mut bytes = Vec::with_capacity(h * w * 12);
+                for y in 0..h {
+                    for x in 0..w {
+                        for c in 0..3 {
+                            let v = pixels[[c.min(channels - 1), y, x]] as f32;
+                            bytes.extend_from_slice(&v.to_ne_bytes());
+                        }
+                    }
+                }
+                image::codecs::openexr::OpenExrEncoder::new(&mut out)
+                    .write_image(&bytes, w as u32, h as u32, image::ExtendedColorType::Rgb32F)
+                    .with_context(|| format!("cannot encode '{}'", path.display()))?;
+            }
+        }
+        out.flush()
+            .with_context(|| format!("cannot write '{}'", path.display()))?;
+    }
+    finish(tmp, path)?;
+    Ok(report)
+}
+
+/// Gives a finished temporary file ordinary permissions, flushes it to disk and renames it over
+/// `path` (atomic on one file system).
+pub fn finish(tmp: tempfile::NamedTempFile, path: &Path) -> Result<()> {
+    // Temporary files are created private (0600); a finished output is an ordinary file.
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        tmp.as_file()
+            .set_permissions(std::fs::Permissions::from_mode(0o644))
+            .with_context(|| format!("cannot write '{}'", path.display()))?;
+    }
+    tmp.as_file()
+        .sync_all()
+        .with_context(|| format!("cannot write '{}'", path.display()))?;
+    tmp.persist(path).map_err(|e| {
+        anyhow!(
+            "cannot move the finished file to '{}': {}",
+            path.display(),
+            e.error
+        )
+    })?;
+    Ok(())
+}
+
+fn quantise(v: f64, max: f64) -> f64 {
+    (v.clamp(0.0, 1.0) * max).round()
+}
+
+fn to_dynamic(pixels: &Array3<f64>, depth: BitDepth) -> DynamicImage {
+    let (channels, h, w) = pixels.dim();
+    let (w32, h32) = (w as u32, h as u32);
+    let px = |c: usize, x: u32, y: u32| pixels[[c, y as usize, x as usize]];
+    match (channels, depth) {
+        (1, BitDepth::Eight) => DynamicImage::ImageLuma8(ImageBuffer::from_fn(w32, h32, |x, y| {
+            Luma([quantise(px(0, x, y), 255.0) as u8])
+        })),
+        (1, BitDepth::Sixteen) => {
+            DynamicImage::ImageLuma16(ImageBuffer::from_fn(w32, h32, |x, y| {
+                Luma([quantise(px(0, x, y), 65535.0) as u16])
+            }))
+        }
+        (_, BitDepth::Eight) => DynamicImage::ImageRgb8(ImageBuffer::from_fn(w32, h32, |x, y| {
+            Rgb([0, 1, 2].map(|c| quantise(px(c, x, y), 255.0) as u8))
+        })),
+        (_, BitDepth::Sixteen) => {
+            DynamicImage::ImageRgb16(ImageBuffer::from_fn(w32, h32, |x, y| {
+                Rgb([0, 1, 2].map(|c| quantise(px(c, x, y), 65535.0) as u16))
+            }))
+        }
+    }
+}
