@@ -42,13 +42,35 @@ pub const fn hash(v: u32) -> u32 {
 /// Nested one-dimensional hashing: `hash(x + hash(y + hash(layer + hash(seed))))` with
 /// wrapping addition. Signed cell coordinates are reinterpreted as `u32` (two's complement),
 /// so cells on both sides of the origin are distinct and the lattice is unbounded in effect.
+///
+/// The nesting lets a loop hoist what does not change: [`layer_key`] once per layer and seed,
+/// [`row_key`] once per row, then one `hash` per cell:
+/// `cell_hash(x, y, layer, seed) == hash(x + row_key(y, layer_key(layer, seed)))`.
 #[inline]
 #[must_use]
 pub const fn cell_hash(x: i32, y: i32, layer: u32, seed: u32) -> u32 {
-    let h = hash(seed);
-    let h = hash(layer.wrapping_add(h));
-    let h = hash((y as u32).wrapping_add(h));
-    hash((x as u32).wrapping_add(h))
+    cell_hash_in_row(x, row_key(y, layer_key(layer, seed)))
+}
+
+/// The part of [`cell_hash`] that depends only on the layer and the seed.
+#[inline]
+#[must_use]
+pub const fn layer_key(layer: u32, seed: u32) -> u32 {
+    hash(layer.wrapping_add(hash(seed)))
+}
+
+/// The part of [`cell_hash`] that depends only on the row, given a [`layer_key`].
+#[inline]
+#[must_use]
+pub const fn row_key(y: i32, layer_key: u32) -> u32 {
+    hash((y as u32).wrapping_add(layer_key))
+}
+
+/// [`cell_hash`] of cell `x` in the row whose [`row_key`] is given.
+#[inline]
+#[must_use]
+pub const fn cell_hash_in_row(x: i32, row_key: u32) -> u32 {
+    hash((x as u32).wrapping_add(row_key))
 }
 
 /// Uniform `f32` in `[0, 1)` from the top 24 bits of `bits`: exact, identical on every device.
@@ -190,6 +212,22 @@ mod tests {
                     "input bit {bit} -> output bit {o}: {p}"
                 );
             }
+        }
+    }
+
+    #[test]
+    fn hoisted_keys_compose_to_the_cell_hash() {
+        let mut prng = Prng::new(99);
+        for _ in 0..10_000 {
+            let (x, y) = (prng.next_u32() as i32, prng.next_u32() as i32);
+            let (layer, seed) = (prng.next_u32() % 8, prng.next_u32());
+            let key = row_key(y, layer_key(layer, seed));
+            assert_eq!(cell_hash_in_row(x, key), cell_hash(x, y, layer, seed));
+            // and the nested definition, written out
+            let nested = hash((x as u32).wrapping_add(hash(
+                (y as u32).wrapping_add(hash(layer.wrapping_add(hash(seed)))),
+            )));
+            assert_eq!(nested, cell_hash(x, y, layer, seed));
         }
     }
 

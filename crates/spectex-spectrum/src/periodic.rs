@@ -8,7 +8,7 @@
 //! FFT Poisson solver of the RPN paper: `p̂(ξ) = Δᵢĥ(ξ) / (2cos(2πk/H) + 2cos(2πl/W) − 4)` for
 //! `ξ = (k, l) ≠ 0`, and `p̂(0) = ĥ(0) = Σh`. The smooth component is `s = h − p`.
 
-use ndarray::{Array2, ArrayView2, Zip};
+use ndarray::{Array2, ArrayView2, CowArray, Ix2};
 use num_complex::Complex64;
 
 use crate::Fft2;
@@ -75,31 +75,127 @@ pub fn periodic_spectrum_packed(
     second: Option<ArrayView2<'_, f64>>,
     fft: &mut Fft2<f64>,
 ) -> Array2<Complex64> {
+    periodic_spectrum_packed_times(first, second, None, fft)
+}
+
+/// [`periodic_spectrum_packed`] multiplied by `factor` at every frequency but the zero one, in
+/// the same pass as the Poisson division (memory passes, not arithmetic, bound this step).
+pub(crate) fn periodic_spectrum_packed_times(
+    first: ArrayView2<'_, f64>,
+    second: Option<ArrayView2<'_, f64>>,
+    factor: Option<&Array2<Complex64>>,
+    fft: &mut Fft2<f64>,
+) -> Array2<Complex64> {
     let (rows, cols) = first.dim();
-    let lap0 = interior_laplacian(first);
-    let mut z = match second {
-        Some(s) => {
-            assert_eq!(s.dim(), first.dim(), "packed channels differ in shape");
-            let lap1 = interior_laplacian(s);
-            Zip::from(&lap0)
-                .and(&lap1)
-                .map_collect(|&a, &b| Complex64::new(a, b))
-        }
-        None => lap0.mapv(|a| Complex64::new(a, 0.0)),
-    };
+    let first = standard(first);
+    let second = second.map(|s| {
+        assert_eq!(s.dim(), (rows, cols), "packed channels differ in shape");
+        standard(s)
+    });
+    let mut z = Array2::<Complex64>::zeros((rows, cols));
+    let (sum0, sum1) = interior_laplacian_packed(
+        first.as_slice().expect("standard layout"),
+        second
+            .as_ref()
+            .map(|s| s.as_slice().expect("standard layout")),
+        rows,
+        cols,
+        z.as_slice_mut().expect("fresh arrays are contiguous"),
+    );
     fft.forward(&mut z);
     let ax_y = laplacian_axis(rows);
     let ax_x = laplacian_axis(cols);
-    Zip::indexed(&mut z).for_each(|(k, l), v| {
-        let m = ax_y[k] + ax_x[l];
-        if k != 0 || l != 0 {
-            *v /= m;
+    let zs = z.as_slice_mut().expect("fresh arrays are contiguous");
+    // The multiplier is < 0 everywhere but at the zero frequency, where these loops divide by
+    // zero; that entry is overwritten below. No branch keeps the loops vectorised.
+    match factor {
+        None => {
+            for (row, ay) in zs.chunks_exact_mut(cols).zip(&ax_y) {
+                for (v, ax) in row.iter_mut().zip(&ax_x) {
+                    *v *= 1.0 / (ay + ax);
+                }
+            }
         }
-    });
-    let sum0: f64 = first.sum();
-    let sum1: f64 = second.map_or(0.0, |s| s.sum());
+        Some(f) => {
+            let fs = f.as_slice().expect("phase fields are contiguous");
+            for ((row, frow), ay) in zs
+                .chunks_exact_mut(cols)
+                .zip(fs.chunks_exact(cols))
+                .zip(&ax_y)
+            {
+                for ((v, f), ax) in row.iter_mut().zip(frow).zip(&ax_x) {
+                    *v *= f * (1.0 / (ay + ax));
+                }
+            }
+        }
+    }
     z[[0, 0]] = Complex64::new(sum0, sum1);
     z
+}
+
+/// A row-major view of `a`, copying only when it is not already one.
+fn standard(a: ArrayView2<'_, f64>) -> CowArray<'_, f64, Ix2> {
+    if a.is_standard_layout() {
+        CowArray::from(a)
+    } else {
+        CowArray::from(Array2::from_shape_fn(a.dim(), |i| a[i]))
+    }
+}
+
+/// One row of `Δᵢh` into `lap` (same values as [`interior_laplacian`], written as straight
+/// passes over slices, which the compiler vectorises).
+fn laplacian_row(h: &[f64], rows: usize, cols: usize, y: usize, lap: &mut [f64]) {
+    let row = &h[y * cols..(y + 1) * cols];
+    if cols > 1 {
+        lap[0] = row[1] - row[0];
+        lap[cols - 1] = row[cols - 2] - row[cols - 1];
+        for (l, w) in lap[1..cols - 1].iter_mut().zip(row.windows(3)) {
+            *l = (w[0] - w[1]) + (w[2] - w[1]);
+        }
+    } else {
+        lap[0] = 0.0;
+    }
+    if y > 0 {
+        let up = &h[(y - 1) * cols..y * cols];
+        for ((l, u), c) in lap.iter_mut().zip(up).zip(row) {
+            *l += u - c;
+        }
+    }
+    if y + 1 < rows {
+        let down = &h[(y + 1) * cols..(y + 2) * cols];
+        for ((l, d), c) in lap.iter_mut().zip(down).zip(row) {
+            *l += d - c;
+        }
+    }
+}
+
+/// Writes `Δᵢh₀ + i·Δᵢh₁` of two row-major images into `out` in one pass and returns
+/// `(Σh₀, Σh₁)`.
+fn interior_laplacian_packed(
+    h0: &[f64],
+    h1: Option<&[f64]>,
+    rows: usize,
+    cols: usize,
+    out: &mut [Complex64],
+) -> (f64, f64) {
+    let (mut sum0, mut sum1) = (0.0, 0.0);
+    let (mut lap0, mut lap1) = (vec![0.0; cols], vec![0.0; cols]);
+    for y in 0..rows {
+        laplacian_row(h0, rows, cols, y, &mut lap0);
+        sum0 += h0[y * cols..(y + 1) * cols].iter().sum::<f64>();
+        if let Some(h1) = h1 {
+            laplacian_row(h1, rows, cols, y, &mut lap1);
+            sum1 += h1[y * cols..(y + 1) * cols].iter().sum::<f64>();
+        }
+        for ((o, &a), &b) in out[y * cols..(y + 1) * cols]
+            .iter_mut()
+            .zip(&lap0)
+            .zip(&lap1)
+        {
+            *o = Complex64::new(a, b);
+        }
+    }
+    (sum0, sum1)
 }
 
 /// The periodic and smooth components of an image, `h = periodic + smooth`.

@@ -1,0 +1,301 @@
+//! End-to-end tests of the `spectex` binary: outputs on success, and on bad input one
+//! `error: …` line, exit status 1 and no output file.
+
+#![allow(
+    clippy::unwrap_used,
+    reason = "a test fails loudly on the first unexpected None or Err"
+)]
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn spectex(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_spectex"))
+        .args(args)
+        .output()
+        .expect("the spectex binary runs")
+}
+
+/// A fresh directory under the target dir for one test.
+fn scratch(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("cli-{name}"));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+/// Asserts the failure contract: exit 1, exactly one stderr line starting `error: ` that
+/// contains every `needle`, and no file left in `dir` (not even a temporary one).
+fn assert_fails(out: &Output, dir: &Path, needles: &[&str]) {
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "exit status; stderr: {stderr}");
+    let lines: Vec<&str> = stderr.lines().filter(|l| !l.trim().is_empty()).collect();
+    assert_eq!(lines.len(), 1, "one line expected, got: {stderr}");
+    assert!(lines[0].starts_with("error: "), "{stderr}");
+    for n in needles {
+        assert!(lines[0].contains(n), "'{n}' missing from: {stderr}");
+    }
+    let left: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    assert!(left.is_empty(), "files left behind: {left:?}");
+}
+
+fn write_png(path: &Path, w: u32, h: u32) {
+    image::RgbImage::from_fn(w, h, |x, y| {
+        image::Rgb([(x * 7) as u8, (y * 3) as u8, ((x + y) * 5) as u8])
+    })
+    .save(path)
+    .unwrap();
+}
+
+#[test]
+fn rpn_on_the_built_in_exemplar() {
+    let dir = scratch("default");
+    let out = dir.join("out.png");
+    let o = spectex(&["rpn", "-o", s(&out)]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let img = image::open(&out).unwrap();
+    assert_eq!((img.width(), img.height()), (256, 256));
+    assert!(img.color().has_color());
+    // Only the output is there: the temporary file was renamed, not copied.
+    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1);
+}
+
+#[test]
+fn rpn_sizes_depths_formats_and_seeds() {
+    let dir = scratch("formats");
+    let input = dir.join("in.png");
+    write_png(&input, 40, 30);
+    let p16 = dir.join("a.png");
+    let o = spectex(&[
+        "rpn",
+        s(&input),
+        "-o",
+        s(&p16),
+        "--size",
+        "100x64",
+        "--seed",
+        "9",
+        "--bit-depth",
+        "16",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let img = image::open(&p16).unwrap();
+    assert_eq!((img.width(), img.height()), (100, 64));
+    assert_eq!(img.color(), image::ColorType::Rgb16);
+
+    // EXR keeps values exactly as f32: the mean of each channel equals the sample's.
+    let exr = dir.join("a.exr");
+    let o = spectex(&["rpn", s(&input), "-o", s(&exr), "--adsn", "--size", "64x64"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = image::open(&exr).unwrap().to_rgb32f();
+    let sample = image::open(&input).unwrap().to_rgb32f();
+    for c in 0..3 {
+        let mean = |im: &image::Rgb32FImage| {
+            im.pixels().map(|p| f64::from(p.0[c])).sum::<f64>()
+                / f64::from(im.width() * im.height())
+        };
+        assert!((mean(&out) - mean(&sample)).abs() < 1e-5, "channel {c}");
+    }
+
+    // Same seed, same bytes; the output is a pure function of input and seed.
+    let (x, y) = (dir.join("x.png"), dir.join("y.png"));
+    assert!(
+        spectex(&["rpn", s(&input), "-o", s(&x), "--seed", "5"])
+            .status
+            .success()
+    );
+    assert!(
+        spectex(&["rpn", s(&input), "-o", s(&y), "--seed", "5"])
+            .status
+            .success()
+    );
+    assert_eq!(std::fs::read(&x).unwrap(), std::fs::read(&y).unwrap());
+}
+
+#[test]
+fn grey_and_alpha_inputs() {
+    let dir = scratch("grey");
+    let grey = dir.join("g.png");
+    image::GrayImage::from_fn(20, 20, |x, y| image::Luma([((x * y) % 256) as u8]))
+        .save(&grey)
+        .unwrap();
+    let out = dir.join("g-out.png");
+    assert!(spectex(&["rpn", s(&grey), "-o", s(&out)]).status.success());
+    assert_eq!(image::open(&out).unwrap().color(), image::ColorType::L8);
+
+    let rgba = dir.join("a.png");
+    image::RgbaImage::from_fn(20, 20, |x, y| {
+        image::Rgba([x as u8 * 9, y as u8 * 9, 100, 128])
+    })
+    .save(&rgba)
+    .unwrap();
+    let out = dir.join("a-out.png");
+    let o = spectex(&["rpn", s(&rgba), "-o", s(&out)]);
+    assert!(o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("alpha channel"));
+    assert_eq!(image::open(&out).unwrap().color(), image::ColorType::Rgb8);
+}
+
+#[test]
+fn analyze_writes_every_file() {
+    let dir = scratch("analyze");
+    let out = dir.join("analysis");
+    let o = spectex(&["analyze", "-o", s(&out)]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for f in [
+        "periodic.png",
+        "smooth.png",
+        "log_spectrum.png",
+        "log_spectrum_periodic.png",
+        "welch_psd.png",
+        "variance_spectrum.png",
+        "radial_profile.csv",
+    ] {
+        assert!(out.join(f).is_file(), "{f} missing");
+    }
+    let csv = std::fs::read_to_string(out.join("radial_profile.csv")).unwrap();
+    assert!(csv.starts_with("radius_cycles_per_pixel,count,red,green,blue,luminance\n"));
+    // Welch block for the 256² exemplar is 128²: every one of its frequencies is counted once.
+    let counted: usize = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(1).unwrap().parse::<usize>().unwrap())
+        .sum();
+    assert_eq!(counted, 128 * 128);
+    let psd = image::open(out.join("welch_psd.png")).unwrap();
+    assert_eq!((psd.width(), psd.height()), (128, 128));
+
+    let exr = dir.join("exr");
+    assert!(
+        spectex(&["analyze", "-o", s(&exr), "--format", "exr"])
+            .status
+            .success()
+    );
+    assert!(exr.join("welch_psd.exr").is_file());
+}
+
+#[test]
+fn bad_inputs_fail_cleanly() {
+    let dir = scratch("bad");
+    let out = dir.join("out.png");
+    let o = s(&out);
+
+    assert_fails(
+        &spectex(&["rpn", "/nonexistent/x.png", "-o", o]),
+        &dir,
+        &["cannot open input", "check the path"],
+    );
+
+    let corrupt = scratch("bad-corrupt-in").join("c.png");
+    std::fs::write(&corrupt, b"\x89PNG\r\n\x1a\n this is not really a png").unwrap();
+    assert_fails(
+        &spectex(&["rpn", s(&corrupt), "-o", o]),
+        &dir,
+        &["cannot decode", "corrupt"],
+    );
+
+    let text = scratch("bad-text-in").join("t.png");
+    std::fs::write(&text, b"hello").unwrap();
+    assert_fails(
+        &spectex(&["rpn", s(&text), "-o", o]),
+        &dir,
+        &["not a PNG or JPEG"],
+    );
+
+    let tiny_dir = scratch("bad-tiny-in");
+    let one = tiny_dir.join("one.png");
+    write_png(&one, 1, 1);
+    assert_fails(
+        &spectex(&["rpn", s(&one), "-o", o]),
+        &dir,
+        &["1×1", "at least 2×2"],
+    );
+    let line = tiny_dir.join("line.png");
+    write_png(&line, 10, 1);
+    assert_fails(&spectex(&["rpn", s(&line), "-o", o]), &dir, &["10×1"]);
+
+    assert_fails(
+        &spectex(&["rpn", "-o", o, "--size", "0x0"]),
+        &dir,
+        &["output size is 0×0", "--size"],
+    );
+    assert_fails(
+        &spectex(&["rpn", "-o", o, "--size", "100x100"]),
+        &dir,
+        &["at least 256×256"],
+    );
+    assert_fails(
+        &spectex(&["rpn", "-o", o, "--size", "100000x300"]),
+        &dir,
+        &["16384", "smaller --size"],
+    );
+    assert_fails(
+        &spectex(&["rpn", "-o", o, "--size", "9000x9000"]),
+        &dir,
+        &["67108864"],
+    );
+    assert_fails(
+        &spectex(&["rpn", "-o", o, "--size", "12"]),
+        &dir,
+        &["WIDTHxHEIGHT"],
+    );
+    assert_fails(
+        &spectex(&["rpn", "-o", o, "--seed", "4294967296"]),
+        &dir,
+        &["--seed"],
+    );
+    assert_fails(&spectex(&["rpn", "-o", o, "--bogus"]), &dir, &["--bogus"]);
+    assert_fails(
+        &spectex(&["rpn", "-o", "/nonexistent-dir/out.png"]),
+        &dir,
+        &["not accessible", "create it"],
+    );
+    assert_fails(
+        &spectex(&["rpn", "-o", s(&dir.join("out.jpg"))]),
+        &dir,
+        &[".jpg", ".png", ".exr"],
+    );
+    assert_fails(&spectex(&["rpn", "-o", s(&dir)]), &dir, &["extension"]);
+    assert_fails(
+        &spectex(&["analyze", s(&one), "-o", s(&dir.join("an"))]),
+        &dir,
+        &["1×1"],
+    );
+}
+
+#[test]
+fn unwritable_output_directory() {
+    // Root ignores permission bits, so only run the check where they bite.
+    let dir = scratch("readonly");
+    let ro = dir.join("ro");
+    std::fs::create_dir(&ro).unwrap();
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(&ro, std::fs::Permissions::from_mode(0o555)).unwrap();
+        if std::fs::write(ro.join("probe"), b"x").is_ok() {
+            eprintln!("skipping the read-only check: running as a user that ignores permissions");
+            std::fs::remove_file(ro.join("probe")).unwrap();
+            return;
+        }
+        let out = spectex(&["rpn", "-o", s(&ro.join("out.png"))]);
+        assert_fails(&out, &ro, &["cannot write into"]);
+    }
+}
+
+#[test]
+fn help_has_examples() {
+    for cmd in [&["--help"][..], &["rpn", "--help"], &["analyze", "--help"]] {
+        let o = spectex(cmd);
+        assert!(o.status.success());
+        let text = String::from_utf8_lossy(&o.stdout);
+        assert!(text.contains("Examples:"), "{cmd:?}: {text}");
+    }
+}
