@@ -1,6 +1,8 @@
 //! Model definitions for spectex, and the scalar contract every evaluator shares.
 //!
-//! Today this crate holds the **randomness contract** (DESIGN.md invariant 1, specified in
+//! It holds the serde types of every model ([`LrpNoise`], [`GaborNoise`], the
+//! [`SpectralTarget`]s an LRP noise is built from), versioned model files ([`from_json`],
+//! [`to_json`]), the Kaiser–Bessel window ([`window`]), and the **randomness contract** (DESIGN.md invariant 1, specified in
 //! `docs/ARCHITECTURE.md`): one integer hash of (cell x, cell y, layer, seed) and one `u32`
 //! PRNG stepped with wrapping integer arithmetic. Every random choice spectex makes — a phase
 //! of Random Phase Noise today, a frequency index or an impulse position of a procedural model
@@ -18,4 +20,16 @@
 //! assert!((0.0..1.0).contains(&u));
 //! ```
 
+mod error;
+mod file;
+mod gabor;
+mod lrp;
 pub mod random;
+mod target;
+pub mod window;
+
+pub use error::ModelError;
+pub use file::{Model, SCHEMA_VERSION, SUPPORTED_SCHEMA_VERSIONS, from_json, to_json};
+pub use gabor::{GABOR_TRUNCATION, GaborNoise, Orientation};
+pub use lrp::{LrpNoise, MAX_COSINES, MAX_STRATA, MAX_TABLE, Stratum};
+pub use target::SpectralTarget;

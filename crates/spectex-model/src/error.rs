@@ -1,0 +1,79 @@
+//! The error type of spectex-model: loading and validating models.
+
+/// Why a model could not be loaded or is not valid. Messages name the field, the value and the
+/// accepted range.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum ModelError {
+    /// The text is not JSON, or not a model of a known shape (unknown field, missing field, …).
+    #[error("the model is not valid JSON for spectex: {0}")]
+    Json(#[from] serde_json::Error),
+    /// `schema_version` is missing or one this build does not understand.
+    #[error(
+        "schema_version {found} is not understood; this build of spectex reads schema_version {supported}"
+    )]
+    SchemaVersion {
+        /// What the file says (`missing` if absent).
+        found: String,
+        /// Versions this build reads.
+        supported: String,
+    },
+    /// A numeric field is NaN, infinite or outside its range.
+    #[error("{field} = {value} is outside its valid range {range}")]
+    OutOfRange {
+        /// Dotted path of the field, e.g. `strata[2].window_width`.
+        field: String,
+        /// The value found.
+        value: f64,
+        /// The accepted range.
+        range: &'static str,
+    },
+    /// A list has a length outside its range.
+    #[error("{field} has {len} entries; it must have {range}")]
+    Length {
+        /// Dotted path of the field.
+        field: String,
+        /// Entries found.
+        len: usize,
+        /// The accepted count.
+        range: &'static str,
+    },
+}
+
+/// Checks that `value` is finite and within `[min, max]`.
+pub(crate) fn check_range(
+    field: impl FnOnce() -> String,
+    value: f64,
+    min: f64,
+    max: f64,
+    range: &'static str,
+) -> Result<(), ModelError> {
+    if value.is_finite() && value >= min && value <= max {
+        Ok(())
+    } else {
+        Err(ModelError::OutOfRange {
+            field: field(),
+            value,
+            range,
+        })
+    }
+}
+
+/// Checks that a list length is within `[min, max]`.
+pub(crate) fn check_len(
+    field: impl FnOnce() -> String,
+    len: usize,
+    min: usize,
+    max: usize,
+    range: &'static str,
+) -> Result<(), ModelError> {
+    if (min..=max).contains(&len) {
+        Ok(())
+    } else {
+        Err(ModelError::Length {
+            field: field(),
+            len,
+            range,
+        })
+    }
+}
