@@ -30,7 +30,7 @@ fn gabor() -> Model {
         frequency: 0.0625,
         orientation: Orientation::Isotropic {
             min: 0.0,
-            max: 6.283_185,
+            max: std::f32::consts::TAU,
         },
         impulses_per_kernel: 64.0,
     })
