@@ -37,5 +37,5 @@ pub use rpn::{
 };
 pub use welch::{
     RadialBin, log_magnitude_spectrum, radial_profile, variance_spectrum, welch_block_size,
-    welch_psd,
+    welch_psd, welch_psd_with_block,
 };

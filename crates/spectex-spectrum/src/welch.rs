@@ -83,6 +83,29 @@ pub fn welch_psd(
 ) -> Result<Array2<f64>, SpectrumError> {
     let (h, w) = channel.dim();
     let t = welch_block_size(h, w)?;
+    welch_psd_with_block(channel, t, fft)
+}
+
+/// [`welch_psd`] with an explicit block size `t` (to compare images of different sizes on one
+/// frequency grid: a large render against its exemplar's `T`, say).
+///
+/// # Errors
+/// [`SpectrumError::TooSmall`] when `t < 2` or the image is smaller than `t` on a side.
+pub fn welch_psd_with_block(
+    channel: ArrayView2<'_, f64>,
+    t: usize,
+    fft: &mut Fft2<f64>,
+) -> Result<Array2<f64>, SpectrumError> {
+    let (h, w) = channel.dim();
+    if t < 2 || h < t || w < t {
+        return Err(SpectrumError::TooSmall {
+            parameter: "image for a Welch power spectrum with this block size",
+            width: w,
+            height: h,
+            min_width: t.max(2),
+            min_height: t.max(2),
+        });
+    }
     let win = hann(t);
     let win_energy: f64 = win.iter().map(|a| a * a).sum::<f64>().powi(2);
     let win_sum: f64 = win.iter().sum::<f64>().powi(2);

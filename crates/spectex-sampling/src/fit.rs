@@ -1,0 +1,625 @@
+//! Noise by example (Gilet et al. 2014, §4.4): the public entry points that turn a power
+//! spectrum, an image or a spectral target into an [`LrpNoise`], and the intermediate
+//! [`Stratification`] they build (the paper's Fig. 4).
+
+use ndarray::{Array2, ArrayView2};
+use rayon::prelude::*;
+use spectex_model::{LrpNoise, MAX_COSINES, MAX_STRATA, SpectralTarget, Stratum};
+use spectex_spectrum::{Fft2, signed_frequency, welch_psd};
+
+use crate::SamplingError;
+use crate::amplitude::amplitude;
+use crate::erosion::erode;
+use crate::grid::{Bin, in_half_plane, mirror};
+use crate::kmeans::sub_strata;
+use crate::shrink::{MAX_COVERAGE, MIN_COVERAGE, shrink_unit};
+use crate::stratify::{
+    MAX_PSD_SIDE, distribute_budget, equal_energy_strata, validate_psd, window_width,
+};
+
+/// Options of a fit. Build one with struct update syntax over [`FitOptions::default`]; every
+/// fitting function validates it first.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FitOptions {
+    /// `J`, the cosine budget: cosines per lattice point over all strata, `1..=1024` (§4.4: "the
+    /// cosine budget J which defines the computation load"). Default 50.
+    pub budget: u32,
+    /// `L`, the number of strata, `1..=64` and at most `budget` (§4.2: "we actually use L = 4 in
+    /// all our examples"). Default 4.
+    pub strata: u32,
+    /// Seed of the fitted model (its evaluation randomness) and of k-means' random seeding.
+    /// Default 0.
+    pub seed: u32,
+    /// Share of a window's spectral energy kept inside the shrink distance δ, `[0.05, 0.99]`
+    /// (§4.3: "at least 75% … the 75% threshold is empirical"). Default 0.75.
+    pub coverage: f64,
+}
+
+impl Default for FitOptions {
+    fn default() -> Self {
+        Self {
+            budget: 50,
+            strata: 4,
+            seed: 0,
+            coverage: 0.75,
+        }
+    }
+}
+
+impl FitOptions {
+    /// Checks every option against its range.
+    ///
+    /// # Errors
+    /// [`SamplingError::OutOfRange`] naming the option, or [`SamplingError::StrataExceedBudget`].
+    pub fn validate(&self) -> Result<(), SamplingError> {
+        if !(1..=MAX_COSINES as u32).contains(&self.budget) {
+            return Err(SamplingError::OutOfRange {
+                parameter: "budget",
+                value: f64::from(self.budget),
+                range: "1..=1024 cosines",
+            });
+        }
+        if !(1..=MAX_STRATA as u32).contains(&self.strata) {
+            return Err(SamplingError::OutOfRange {
+                parameter: "strata",
+                value: f64::from(self.strata),
+                range: "1..=64",
+            });
+        }
+        if self.strata > self.budget {
+            return Err(SamplingError::StrataExceedBudget {
+                strata: self.strata,
+                budget: self.budget,
+            });
+        }
+        if !(MIN_COVERAGE..=MAX_COVERAGE).contains(&self.coverage) {
+            return Err(SamplingError::OutOfRange {
+                parameter: "coverage",
+                value: self.coverage,
+                range: "[0.05, 0.99]",
+            });
+        }
+        Ok(())
+    }
+}
+
+/// One stratum of a [`Stratification`], with every quantity of §4.3 that its LRP noise uses.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StratumPlan {
+    /// Index of the stratum in the equal-energy partition (0 = lowest power, `L − 1` = highest);
+    /// also the `level` of its k-means seeding (see [`crate::kmeans::KMEANS_LAYER`]).
+    pub level: usize,
+    /// The stratum `S` on the whole grid (with every bin its mirror).
+    pub bins: Vec<Bin>,
+    /// `E_S = Σ_{f∈S} P(f)/T²`: the variance it carries.
+    pub energy: f64,
+    /// Lowest symmetrised power in `S`.
+    pub min_power: f64,
+    /// Highest symmetrised power in `S`.
+    pub max_power: f64,
+    /// `J_S`, its cosines per lattice point.
+    pub cosines: usize,
+    /// `Δ_S = T·√J_S/√(2|S|)` pixels, clamped (see [`crate::stratify::window_width`]).
+    pub window_width: f64,
+    /// The shrink distance `δ = δ₀/Δ_S`, cycles per pixel.
+    pub shrink: f64,
+    /// `δ` in frequency bins, `δ·T`: the erosion radius asked for.
+    pub shrink_bins: f64,
+    /// Connected pieces of `S` (8-connected on the periodic grid).
+    pub components: usize,
+    /// Pieces of `S` thinner than `δ`, eroded by a smaller whole step ([`erode`]).
+    pub thin_components: usize,
+    /// The smallest erosion radius applied to a piece, in bins (`shrink_bins` when no piece is
+    /// thin).
+    pub smallest_erosion_radius: f64,
+    /// The shrunk stratum on the whole grid.
+    pub eroded: Vec<Bin>,
+    /// The shrunk stratum on the half plane (where a bin's mirror is shrunk-in but the bin is
+    /// not, the half-plane bin stands for it): the points k-means breaks into sub-strata.
+    pub points: Vec<Bin>,
+    /// `A_S` (Eq. 3, see [`crate::amplitude::amplitude`]).
+    pub amplitude: f64,
+}
+
+/// A power spectrum stratified and prepared for sub-stratum sampling: everything of §4.2–4.3
+/// except k-means. Only non-empty strata are listed, lowest power first.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Stratification {
+    /// `T`, the side of the spectrum.
+    pub size: usize,
+    /// Total energy `Σ_{f≠0} P(f)/T²` (the variance of the noise).
+    pub energy: f64,
+    /// `δ₀`: the shrink distance of a window of width 1, cycles per window width
+    /// ([`crate::shrink::shrink_unit`]).
+    pub shrink_unit: f64,
+    /// The non-empty strata.
+    pub strata: Vec<StratumPlan>,
+}
+
+impl Stratification {
+    /// A `T × T` map (uncentred, like the spectrum) of the stratum `level` of every bin, `−1`
+    /// outside every stratum; of the shrunk strata when `eroded` is true. For figures like the
+    /// paper's Fig. 4(b, d).
+    #[must_use]
+    pub fn labels(&self, eroded: bool) -> Array2<i32> {
+        let mut map = Array2::from_elem((self.size, self.size), -1);
+        for s in &self.strata {
+            for &b in if eroded { &s.eroded } else { &s.bins } {
+                map[b] = s.level as i32;
+            }
+        }
+        map
+    }
+}
+
+/// Stratifies a power spectrum and prepares every stratum for sampling (§4.2–4.3): equal-energy
+/// strata ([`equal_energy_strata`]), budgets `J_S` ([`distribute_budget`]), window widths
+/// `Δ_S`, shrink distances `δ = δ₀/Δ_S`, modified erosion ([`erode`]) and amplitudes `A_S`.
+///
+/// `psd` is `T × T`, uncentred, with `Σ P/T²` the variance ([`welch_psd`]'s convention);
+/// `psd[[0, 0]]` is ignored.
+///
+/// # Errors
+/// Invalid `options` ([`FitOptions::validate`]) or an invalid spectrum
+/// ([`validate_psd`]).
+pub fn stratify(
+    psd: ArrayView2<'_, f64>,
+    options: &FitOptions,
+) -> Result<Stratification, SamplingError> {
+    options.validate()?;
+    let partition = equal_energy_strata(psd, options.strata as usize)?;
+    let size = psd.nrows();
+    let energies: Vec<f64> = partition.iter().map(|s| s.energy).collect();
+    let budgets = distribute_budget(&energies, options.budget as usize);
+    let delta0 = shrink_unit(options.coverage);
+    let strata = partition
+        .into_par_iter()
+        .enumerate()
+        .filter(|(_, s)| !s.bins.is_empty())
+        .map(|(level, s)| {
+            let cosines = budgets[level];
+            let width = window_width(size, cosines, s.bins.len());
+            let shrink = delta0 / width;
+            let shrink_bins = shrink * size as f64;
+            let mut mask = Array2::from_elem((size, size), false);
+            for &b in &s.bins {
+                mask[b] = true;
+            }
+            let erosion = erode(mask.view(), shrink_bins);
+            let eroded: Vec<Bin> = erosion
+                .mask
+                .indexed_iter()
+                .filter(|(_, m)| **m)
+                .map(|((k, l), _)| [k, l])
+                .collect();
+            let points: Vec<Bin> = eroded
+                .iter()
+                .filter_map(|&b| {
+                    let m = mirror(b, size);
+                    if in_half_plane(b, size) {
+                        Some(b)
+                    } else if !erosion.mask[m] {
+                        Some(m)
+                    } else {
+                        None
+                    }
+                })
+                .collect::<std::collections::BTreeSet<Bin>>()
+                .into_iter()
+                .collect();
+            StratumPlan {
+                level,
+                energy: s.energy,
+                min_power: s.min_power,
+                max_power: s.max_power,
+                cosines,
+                window_width: width,
+                shrink,
+                shrink_bins,
+                components: erosion.components,
+                thin_components: erosion.thin_components,
+                smallest_erosion_radius: erosion.smallest_radius,
+                eroded,
+                points,
+                amplitude: amplitude(s.energy, cosines),
+                bins: s.bins,
+            }
+        })
+        .collect();
+    Ok(Stratification {
+        size,
+        energy: energies.iter().sum(),
+        shrink_unit: delta0,
+        strata,
+    })
+}
+
+/// Fits an LRP noise to a discrete power spectrum (§4.4, "noise by example with discrete
+/// PSD"): [`stratify`], then each shrunk stratum broken into `J_S` sub-strata by k-means
+/// ([`sub_strata`]), whose bins' frequencies become the stratum's tables.
+///
+/// `psd` is `T × T`, uncentred (zero frequency at `[0, 0]`; index `[k, l]` is the frequency
+/// `(f_y, f_x) = (signed_frequency(k, T), signed_frequency(l, T))` cycles per pixel), normalised
+/// so that `Σ P/T²` is the variance — [`welch_psd`]'s output. The model's spatially averaged
+/// variance is then `Σ_{f≠0} P/T²` and its mean `mean`. The result is deterministic: the same
+/// inputs give the same model for any thread count.
+///
+/// # Errors
+/// Invalid options or spectrum (as [`stratify`]), a non-finite `mean` or one outside
+/// `[−1e9, 1e9]`, or a model out of a model file's ranges ([`SamplingError::Model`]).
+pub fn fit_psd(
+    psd: ArrayView2<'_, f64>,
+    mean: f64,
+    options: &FitOptions,
+) -> Result<LrpNoise, SamplingError> {
+    if !mean.is_finite() || mean.abs() > 1e9 {
+        return Err(SamplingError::OutOfRange {
+            parameter: "mean",
+            value: mean,
+            range: "[-1e9, 1e9]",
+        });
+    }
+    let plan = stratify(psd, options)?;
+    let size = plan.size;
+    let strata = plan
+        .strata
+        .par_iter()
+        .map(|s| Stratum {
+            window_width: s.window_width as f32,
+            amplitude: s.amplitude as f32,
+            sub_strata: sub_strata(&s.points, size, s.cosines, s.level, options.seed),
+        })
+        .collect();
+    let model = LrpNoise {
+        seed: options.seed,
+        mean: mean as f32,
+        strata,
+    };
+    model.validate().map_err(SamplingError::Model)?;
+    Ok(model)
+}
+
+/// Largest smaller side of an image accepted by [`fit_image`]: its Welch spectrum then has side
+/// at most [`MAX_PSD_SIDE`].
+pub const MAX_IMAGE_SIDE: usize = 2 * MAX_PSD_SIDE;
+
+/// Fits an LRP noise to one channel of an example image (§4.4): its Welch power spectrum
+/// ([`welch_psd`], blocks of side `T`, the largest power of two below the smaller side) and its
+/// mean, through [`fit_psd`]. The model's variance is the Welch estimate of the image's variance
+/// (the Hann-weighted variance of the blocks), its mean the image's.
+///
+/// # Errors
+/// Invalid options, a non-finite pixel ([`SamplingError::NonFinite`]), an image whose smaller
+/// side is below 3 ([`SamplingError::Spectrum`]) or above [`MAX_IMAGE_SIDE`], a constant image
+/// ([`SamplingError::NoEnergy`]; an image whose Welch variance is below `(64·ε·max|v|)²`, the
+/// level of rounding noise, counts as constant), or as [`fit_psd`].
+pub fn fit_image(
+    channel: ArrayView2<'_, f64>,
+    options: &FitOptions,
+) -> Result<LrpNoise, SamplingError> {
+    options.validate()?;
+    for ((row, column), &value) in channel.indexed_iter() {
+        if !value.is_finite() {
+            return Err(SamplingError::NonFinite {
+                parameter: "image",
+                value,
+                row,
+                column,
+            });
+        }
+    }
+    let side = channel.nrows().min(channel.ncols());
+    if side > MAX_IMAGE_SIDE {
+        return Err(SamplingError::OutOfRange {
+            parameter: "image's smaller side",
+            value: side as f64,
+            range: "3..=8192 pixels",
+        });
+    }
+    let psd = welch_psd(channel, &mut Fft2::new())?;
+    let mean = channel.mean().unwrap_or(0.0);
+    // A constant image's spectrum is rounding noise of variance about (ε·|v|)², not texture.
+    let scale = channel.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let t = psd.nrows();
+    let variance = (psd.sum() - psd[[0, 0]]) / (t * t) as f64;
+    if variance <= (64.0 * f64::EPSILON * scale).powi(2) {
+        return Err(SamplingError::NoEnergy { parameter: "image" });
+    }
+    match fit_psd(psd.view(), mean, options) {
+        Err(SamplingError::NoEnergy { .. }) => Err(SamplingError::NoEnergy { parameter: "image" }),
+        other => other,
+    }
+}
+
+/// Grid side used for a continuous target when a caller has no reason to choose another.
+pub const DEFAULT_TARGET_GRID: usize = 256;
+/// Smallest grid side accepted by [`fit_target`].
+pub const MIN_TARGET_GRID: usize = 8;
+/// Largest grid side accepted by [`fit_target`].
+pub const MAX_TARGET_GRID: usize = MAX_PSD_SIDE;
+
+/// Fits a zero-mean LRP noise of spatially averaged variance `variance` to a spectral target
+/// (§4: "the target PSD may be continuous or discrete").
+///
+/// The target's density is sampled at the frequencies of a `grid × grid` DFT grid
+/// (`P[k, l] = target.power(signed_frequency(l, grid), signed_frequency(k, grid))`; `grid` a
+/// power of two in `8..=4096`, [`DEFAULT_TARGET_GRID`] = 256 is a good default: its frequency
+/// step `1/256` resolves features of width ≥ 0.01 cycles per pixel), the zero frequency is set to
+/// 0 (the noise is zero-mean), the samples are scaled so that `Σ P/grid² = variance`, and the
+/// result goes through [`fit_psd`] with mean 0. Frequencies in cycles per pixel, so the noise's
+/// pixel is the target's.
+///
+/// # Errors
+/// An invalid target ([`SamplingError::Target`]), `variance` outside `(0, 1e12]`, a `grid` that
+/// is not a power of two in range, a target with no power on the grid
+/// ([`SamplingError::NoEnergy`]), or as [`fit_psd`].
+pub fn fit_target(
+    target: &SpectralTarget,
+    variance: f64,
+    grid: usize,
+    options: &FitOptions,
+) -> Result<LrpNoise, SamplingError> {
+    options.validate()?;
+    target.validate().map_err(SamplingError::Target)?;
+    if !(variance.is_finite() && variance > 0.0 && variance <= 1e12) {
+        return Err(SamplingError::OutOfRange {
+            parameter: "variance",
+            value: variance,
+            range: "(0, 1e12]",
+        });
+    }
+    if !grid.is_power_of_two() || !(MIN_TARGET_GRID..=MAX_TARGET_GRID).contains(&grid) {
+        return Err(SamplingError::OutOfRange {
+            parameter: "grid",
+            value: grid as f64,
+            range: "a power of two in 8..=4096",
+        });
+    }
+    let mut psd = Array2::from_shape_fn((grid, grid), |(k, l)| {
+        target.power(signed_frequency(l, grid), signed_frequency(k, grid))
+    });
+    psd[[0, 0]] = 0.0;
+    // Checked before scaling, so that a NaN or a negative density is reported where it is.
+    validate_psd(psd.view(), "spectral target")?;
+    let sum: f64 = psd.iter().sum();
+    let scale = variance * (grid * grid) as f64 / sum;
+    psd.mapv_inplace(|p| p * scale);
+    fit_psd(psd.view(), 0.0, options)
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(
+        clippy::unwrap_used,
+        reason = "a test fails loudly on the first unexpected None or Err"
+    )]
+
+    use super::*;
+    use crate::amplitude::stratum_variance;
+    use spectex_model::random::{Prng, cell_hash};
+
+    fn synthetic_image(h: usize, w: usize, seed: u32) -> Array2<f64> {
+        let mut prng = Prng::new(cell_hash(h as i32, w as i32, 2, seed));
+        Array2::from_shape_fn((h, w), |(y, x)| {
+            0.5 + 0.2 * (0.7 * x as f64 + 0.2 * y as f64).sin()
+                + 0.1 * (0.13 * y as f64).cos()
+                + 0.1 * prng.next_f64()
+        })
+    }
+
+    #[test]
+    fn options_are_validated_with_their_name_and_range() {
+        let bad = |o: FitOptions| o.validate().unwrap_err().to_string();
+        let d = FitOptions::default();
+        assert!(bad(FitOptions { budget: 0, ..d }).contains("budget = 0"));
+        assert!(bad(FitOptions { budget: 1025, ..d }).contains("1..=1024"));
+        assert!(bad(FitOptions { strata: 0, ..d }).contains("strata = 0"));
+        assert!(
+            bad(FitOptions {
+                strata: 65,
+                budget: 100,
+                ..d
+            })
+            .contains("1..=64")
+        );
+        assert!(
+            bad(FitOptions {
+                strata: 5,
+                budget: 3,
+                ..d
+            })
+            .contains("exceeds budget = 3")
+        );
+        assert!(
+            bad(FitOptions {
+                coverage: f64::NAN,
+                ..d
+            })
+            .contains("coverage = NaN")
+        );
+        assert!(bad(FitOptions { coverage: 1.0, ..d }).contains("[0.05, 0.99]"));
+        d.validate().unwrap();
+    }
+
+    #[test]
+    fn fitted_psd_keeps_budget_energy_and_ranges() {
+        let img = synthetic_image(100, 90, 1);
+        let psd = welch_psd(img.view(), &mut Fft2::new()).unwrap();
+        let t = psd.nrows();
+        let total = (psd.iter().sum::<f64>() - psd[[0, 0]]) / (t * t) as f64;
+        for (budget, strata) in [(1u32, 1u32), (7, 4), (50, 4), (64, 8), (300, 3)] {
+            let options = FitOptions {
+                budget,
+                strata,
+                seed: 5,
+                ..FitOptions::default()
+            };
+            let plan = stratify(psd.view(), &options).unwrap();
+            let model = fit_psd(psd.view(), 0.25, &options).unwrap();
+            assert_eq!(model.budget(), budget as usize, "J {budget}, L {strata}");
+            assert_eq!(model.strata.len(), plan.strata.len());
+            let energy: f64 = plan.strata.iter().map(|s| s.energy).sum();
+            let variance: f64 = plan
+                .strata
+                .iter()
+                .map(|s| stratum_variance(s.amplitude, s.cosines))
+                .sum();
+            assert!((energy - total).abs() < 1e-12 * total);
+            assert!((variance - total).abs() < 1e-12 * total);
+            for (s, st) in model.strata.iter().enumerate() {
+                assert!(st.sub_strata.iter().all(|t| !t.is_empty()), "stratum {s}");
+                let p = &plan.strata[s];
+                assert!(!p.points.is_empty() && p.eroded.len() <= p.bins.len());
+                assert!(p.smallest_erosion_radius <= p.shrink_bins);
+                assert!(p.thin_components <= p.components);
+            }
+            assert_eq!(model, fit_psd(psd.view(), 0.25, &options).unwrap());
+        }
+    }
+
+    #[test]
+    fn eroded_strata_are_inside_their_strata_and_symmetric() {
+        let img = synthetic_image(129, 129, 3);
+        let psd = welch_psd(img.view(), &mut Fft2::new()).unwrap();
+        let plan = stratify(psd.view(), &FitOptions::default()).unwrap();
+        let labels = plan.labels(false);
+        let eroded = plan.labels(true);
+        for ((k, l), &e) in eroded.indexed_iter() {
+            if e >= 0 {
+                assert_eq!(labels[[k, l]], e);
+            }
+            assert_eq!(e, eroded[mirror([k, l], plan.size)]);
+        }
+        for s in &plan.strata {
+            for &p in &s.points {
+                assert!(in_half_plane(p, plan.size));
+            }
+            // Every shrunk mirror pair has its one representative among the points.
+            let pairs: std::collections::BTreeSet<Bin> = s
+                .eroded
+                .iter()
+                .map(|&b| crate::grid::half_plane_representative(b, plan.size))
+                .collect();
+            assert_eq!(pairs.into_iter().collect::<Vec<_>>(), s.points);
+        }
+    }
+
+    #[test]
+    fn targets_are_fitted_with_the_requested_variance() {
+        let targets = [
+            SpectralTarget::Ring {
+                radius: 0.2,
+                width: 0.03,
+            },
+            SpectralTarget::Lobes {
+                frequency: 0.15,
+                angle: 0.6,
+                width: 0.02,
+            },
+            SpectralTarget::Band { min: 0.1, max: 0.3 },
+        ];
+        for target in &targets {
+            let options = FitOptions {
+                budget: 24,
+                ..FitOptions::default()
+            };
+            let model = fit_target(target, 2.5, 64, &options).unwrap();
+            let variance: f64 = model
+                .strata
+                .iter()
+                .map(|s| stratum_variance(f64::from(s.amplitude), s.cosines()))
+                .sum();
+            assert!((variance - 2.5).abs() < 1e-5, "{target:?}: {variance}");
+            assert_eq!(model.mean, 0.0);
+            assert_eq!(model.budget(), 24);
+            // Band: every frequency drawn lies in the band.
+            if let SpectralTarget::Band { min, max } = target {
+                for f in model
+                    .strata
+                    .iter()
+                    .flat_map(|s| s.sub_strata.iter().flatten())
+                {
+                    let r = f64::from(f[0]).hypot(f64::from(f[1]));
+                    assert!(r >= f64::from(*min) - 1e-6 && r <= f64::from(*max) + 1e-6);
+                }
+            }
+        }
+        assert!(matches!(
+            fit_target(&targets[0], 1.0, 100, &FitOptions::default()),
+            Err(SamplingError::OutOfRange {
+                parameter: "grid",
+                ..
+            })
+        ));
+        assert!(matches!(
+            fit_target(&targets[0], 0.0, 64, &FitOptions::default()),
+            Err(SamplingError::OutOfRange {
+                parameter: "variance",
+                ..
+            })
+        ));
+        let bad = SpectralTarget::Ring {
+            radius: 2.0,
+            width: 0.1,
+        };
+        assert!(matches!(
+            fit_target(&bad, 1.0, 64, &FitOptions::default()),
+            Err(SamplingError::Target(_))
+        ));
+    }
+
+    #[test]
+    fn bad_inputs_are_errors_not_panics() {
+        let d = FitOptions::default();
+        let flat = Array2::from_elem((40, 40), 0.3);
+        assert!(matches!(
+            fit_image(flat.view(), &d),
+            Err(SamplingError::NoEnergy { parameter: "image" })
+        ));
+        let mut nan = synthetic_image(40, 40, 1);
+        nan[[3, 4]] = f64::NAN;
+        assert!(matches!(
+            fit_image(nan.view(), &d),
+            Err(SamplingError::NonFinite {
+                row: 3,
+                column: 4,
+                ..
+            })
+        ));
+        assert!(matches!(
+            fit_image(Array2::zeros((2, 50)).view(), &d),
+            Err(SamplingError::Spectrum(_))
+        ));
+        let psd = Array2::from_elem((16, 16), 1.0);
+        assert!(matches!(
+            fit_psd(psd.view(), f64::INFINITY, &d),
+            Err(SamplingError::OutOfRange {
+                parameter: "mean",
+                ..
+            })
+        ));
+        let huge = Array2::from_elem((16, 16), 1e300);
+        assert!(matches!(
+            fit_psd(huge.view(), 0.0, &d),
+            Err(SamplingError::Model(_))
+        ));
+        assert!(matches!(
+            fit_psd(Array2::<f64>::ones((16, 8)).view(), 0.0, &d),
+            Err(SamplingError::Shape { .. })
+        ));
+    }
+
+    #[test]
+    fn a_pure_sinusoid_gets_one_stratum_of_one_frequency_pair() {
+        let img = Array2::from_shape_fn((64, 64), |(y, x)| {
+            (2.0 * std::f64::consts::PI * (4.0 * x as f64 + 2.0 * y as f64) / 32.0).cos()
+        });
+        let psd = welch_psd(img.view(), &mut Fft2::new()).unwrap();
+        let model = fit_image(img.view(), &FitOptions::default()).unwrap();
+        assert_eq!(model.budget(), 50);
+        let plan = stratify(psd.view(), &FitOptions::default()).unwrap();
+        // The top stratum holds the peak bin pair itself.
+        let top = plan.strata.last().unwrap();
+        assert!(top.bins.contains(&[2, 4]) && top.bins.contains(&[30, 28]));
+    }
+}
