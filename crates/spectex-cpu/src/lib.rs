@@ -1,5 +1,148 @@
-//! The CPU reference evaluator: evaluates any `spectex-model` model at any continuous position,
+//! The CPU reference evaluator: evaluates `spectex-model` models at any continuous position,
 //! parallel over rows, bit-identical for any thread count and any tiling of the window.
 //!
 //! Depends on `spectex-model` only, so a game can evaluate a fitted model with these two crates.
-//! Nothing is implemented here yet: the Local Random-Phase noise issue fills it.
+//!
+//! ```
+//! use spectex_model::{LrpNoise, Model, Stratum};
+//! use spectex_cpu::{Evaluator, Window};
+//!
+//! let model = Model::Lrp(LrpNoise {
+//!     seed: 1,
+//!     mean: 0.5,
+//!     strata: vec![Stratum {
+//!         window_width: 16.0,
+//!         amplitude: 0.1,
+//!         sub_strata: vec![vec![[0.1, 0.0], [0.0, 0.1]]; 4],
+//!     }],
+//! });
+//! let eval = Evaluator::new(&model).unwrap();
+//! let window = Window::new(64, 32).at([1.0e7, 1.0e7], 0.5);
+//! let pixels = eval.render(&window).unwrap();
+//! assert_eq!(pixels.len(), 64 * 32);
+//! // Tiles are invisible: a tile evaluates exactly the same values.
+//! let tile = eval.render(&window.tile(8, 4, 16, 16)).unwrap();
+//! assert_eq!(tile[0].to_bits(), pixels[4 * 64 + 8].to_bits());
+//! ```
+
+pub mod gabor;
+pub mod lrp;
+pub mod math;
+mod window;
+
+use rayon::prelude::*;
+use spectex_model::{Model, ModelError};
+
+pub use gabor::GaborEvaluator;
+pub use lrp::LrpEvaluator;
+pub use window::{MAX_POSITION, MAX_WINDOW_PIXELS, MAX_WINDOW_SIDE, Window};
+
+/// Why a render could not run.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum CpuError {
+    /// The model failed validation.
+    #[error(transparent)]
+    Model(#[from] ModelError),
+    /// A window parameter is out of range.
+    #[error("window {parameter} = {value} is outside its valid range {range}")]
+    Window {
+        /// Which parameter.
+        parameter: &'static str,
+        /// The value given.
+        value: f64,
+        /// The accepted range.
+        range: &'static str,
+    },
+    /// The output buffer has the wrong length.
+    #[error("output buffer has {len} values; the window needs {needed}")]
+    Buffer {
+        /// Length given.
+        len: usize,
+        /// Length needed.
+        needed: usize,
+    },
+}
+
+/// A model prepared for evaluation. Building it validates the model; rendering can then fail
+/// only on a bad window.
+pub enum Evaluator {
+    /// Local Random-Phase noise.
+    Lrp(LrpEvaluator),
+    /// Gabor noise.
+    Gabor(GaborEvaluator),
+}
+
+impl Evaluator {
+    /// Validates and prepares `model`.
+    ///
+    /// # Errors
+    /// [`CpuError::Model`] naming the first invalid field.
+    pub fn new(model: &Model) -> Result<Self, CpuError> {
+        model.validate()?;
+        Ok(match model {
+            Model::Lrp(m) => Self::Lrp(LrpEvaluator::new(m)),
+            Model::Gabor(m) => Self::Gabor(GaborEvaluator::new(m)),
+            #[allow(unreachable_patterns)] // reason: `Model` is non_exhaustive for other crates
+            _ => unreachable!("every model kind of this version is handled"),
+        })
+    }
+
+    /// Evaluates one row of `window` into `out` (`window.width` values).
+    pub fn eval_row(&self, window: &Window, row: usize, out: &mut [f32]) {
+        match self {
+            Self::Lrp(e) => e.eval_row(window, row, out),
+            Self::Gabor(e) => e.eval_row_at(window.y(row), |i| window.x(i), out),
+        }
+    }
+
+    /// Renders `window` row-major into a new buffer.
+    ///
+    /// # Errors
+    /// [`CpuError::Window`] for a window out of range.
+    pub fn render(&self, window: &Window) -> Result<Vec<f32>, CpuError> {
+        window.validate()?;
+        let mut out = vec![0.0f32; window.width * window.height];
+        self.render_into(window, &mut out, &|_| {})?;
+        Ok(out)
+    }
+
+    /// Renders `window` into `out`, in parallel over rows, calling `progress(rows_done)` as rows
+    /// complete (from any thread; rows finish in any order, values do not depend on it).
+    ///
+    /// # Errors
+    /// A window out of range or a buffer of the wrong length.
+    pub fn render_into(
+        &self,
+        window: &Window,
+        out: &mut [f32],
+        progress: &(dyn Fn(usize) + Sync),
+    ) -> Result<(), CpuError> {
+        window.validate()?;
+        let needed = window.width * window.height;
+        if out.len() != needed {
+            return Err(CpuError::Buffer {
+                len: out.len(),
+                needed,
+            });
+        }
+        let done = std::sync::atomic::AtomicUsize::new(0);
+        out.par_chunks_mut(window.width)
+            .enumerate()
+            .for_each(|(row, line)| {
+                self.eval_row(window, row, line);
+                let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+                progress(n);
+            });
+        Ok(())
+    }
+
+    /// Kernel or cosine evaluations per pixel, for reports.
+    #[must_use]
+    pub fn cost_per_pixel(&self) -> f64 {
+        match self {
+            Self::Lrp(e) => e.cosines_per_pixel() as f64,
+            Self::Gabor(e) => e.cosines_per_pixel(),
+        }
+    }
+}

@@ -1,0 +1,230 @@
+//! LRP evaluation against a slow f64 reference built from the randomness contract, and the
+//! invariants: same bits for any thread count, tiling and SIMD level; precision far away.
+
+#![allow(
+    clippy::unwrap_used,
+    reason = "a test fails loudly on the first unexpected None or Err"
+)]
+#![allow(
+    clippy::disallowed_methods,
+    reason = "the f64 reference uses libm on purpose"
+)]
+
+use spectex_cpu::{Evaluator, LrpEvaluator, Window};
+use spectex_model::random::{Prng, cell_hash};
+use spectex_model::window::kaiser_bessel;
+use spectex_model::{LrpNoise, Model, Stratum};
+
+/// A model with several strata of different periods, table sizes and budgets.
+fn model(seed: u32) -> LrpNoise {
+    let mut prng = Prng::new(cell_hash(0, 0, 77, seed));
+    let mut f = |spread: f32| {
+        [
+            (prng.next_f32() - 0.5) * spread,
+            prng.next_f32() * 0.5 * spread,
+        ]
+    };
+    LrpNoise {
+        seed,
+        mean: 0.25,
+        strata: vec![
+            Stratum {
+                window_width: 9.5,
+                amplitude: 0.2,
+                sub_strata: (0..5).map(|_| (0..7).map(|_| f(0.6)).collect()).collect(),
+            },
+            Stratum {
+                window_width: 23.0,
+                amplitude: 0.05,
+                sub_strata: (0..12).map(|_| (0..3).map(|_| f(0.2)).collect()).collect(),
+            },
+            Stratum {
+                window_width: 3.25,
+                amplitude: 0.5,
+                sub_strata: vec![vec![f(1.0)]],
+            },
+        ],
+    }
+}
+
+/// The definition, Eq. (1)–(2), in f64 with libm: every lattice point of every stratum within
+/// the window's support, draws in the contract's order.
+fn reference(m: &LrpNoise, x: f64, y: f64) -> f64 {
+    let mut sum = f64::from(m.mean);
+    for (s, st) in m.strata.iter().enumerate() {
+        let d = f64::from(st.window_width);
+        let (cx, cy) = ((x / d).round() as i64, (y / d).round() as i64);
+        for ly in cy - 2..=cy + 2 {
+            for lx in cx - 2..=cx + 2 {
+                let (px, py) = (x - lx as f64 * d, y - ly as f64 * d);
+                let w = kaiser_bessel((px * px + py * py).sqrt() / d);
+                let mut prng = Prng::new(cell_hash(lx as i32, ly as i32, s as u32, m.seed));
+                let mut c = 0.0;
+                for table in &st.sub_strata {
+                    let f = table[(prng.next_u32() % table.len() as u32) as usize];
+                    let phase = f64::from(prng.next_f32());
+                    let turns = f64::from(f[0]) * px + f64::from(f[1]) * py + phase;
+                    c += (2.0 * std::f64::consts::PI * turns).cos();
+                }
+                sum += f64::from(st.amplitude) * w * c;
+            }
+        }
+    }
+    sum
+}
+
+/// Error bound of the f32 evaluation: per cosine term, the f32 rounding of an argument of at
+/// most |f|·1.5Δ + 1 turns (relative 2⁻²³ · a few operations, times 2π), the polynomial cosine
+/// (2e-7) and the f32 window (2e-6); times A_S, summed over the ≤ 9·J_S terms of each stratum.
+fn tolerance(m: &LrpNoise) -> f64 {
+    m.strata
+        .iter()
+        .map(|st| {
+            let fmax = st
+                .sub_strata
+                .iter()
+                .flatten()
+                .map(|f| f64::from(f[0].hypot(f[1])))
+                .fold(0.0, f64::max);
+            let arg = fmax * 1.5 * f64::from(st.window_width) + 1.0;
+            let per_term =
+                2.0 * std::f64::consts::PI * arg * 4.0 * f64::from(f32::EPSILON) + 2e-7 + 2e-6;
+            f64::from(st.amplitude) * 9.0 * st.sub_strata.len() as f64 * per_term
+        })
+        .sum()
+}
+
+#[test]
+fn matches_the_definition_near_and_far() {
+    for seed in [1, 2, 3] {
+        let m = model(seed);
+        let eval = LrpEvaluator::new(&m);
+        let tol = tolerance(&m);
+        let mut prng = Prng::new(seed);
+        for base in [0.0, -1234.5, 1.0e7, -3.0e6] {
+            for _ in 0..200 {
+                let (x, y) = (
+                    base + prng.next_f64() * 100.0,
+                    base * 0.5 + prng.next_f64() * 100.0,
+                );
+                let (got, want) = (f64::from(eval.eval(x, y)), reference(&m, x, y));
+                assert!(
+                    (got - want).abs() <= tol,
+                    "seed {seed} at ({x}, {y}): {got} vs {want}, tolerance {tol:e}"
+                );
+            }
+        }
+    }
+}
+
+fn bits(v: &[f32]) -> Vec<u32> {
+    v.iter().map(|x| x.to_bits()).collect()
+}
+
+#[test]
+fn same_bits_for_any_thread_count() {
+    let eval = Evaluator::new(&Model::Lrp(model(5))).unwrap();
+    let window = Window::new(97, 61).at([-40.25, 17.5], 0.75);
+    let run = |threads| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| eval.render(&window).unwrap())
+    };
+    let one = run(1);
+    for threads in [2, 3, 8] {
+        assert_eq!(bits(&one), bits(&run(threads)), "{threads} threads");
+    }
+}
+
+#[test]
+fn same_bits_for_any_tiling() {
+    let eval = Evaluator::new(&Model::Lrp(model(6))).unwrap();
+    let window = Window::new(83, 45).at([1.0e7 + 0.3, -2.0e5], 1.3);
+    let whole = eval.render(&window).unwrap();
+    for (tw, th) in [(1, 1), (7, 5), (16, 16), (83, 1), (13, 45)] {
+        let mut tiled = vec![0.0f32; whole.len()];
+        for ty in (0..45).step_by(th) {
+            for tx in (0..83).step_by(tw) {
+                let (w, h) = (tw.min(83 - tx), th.min(45 - ty));
+                let tile = eval.render(&window.tile(tx, ty, w, h)).unwrap();
+                for r in 0..h {
+                    tiled[(ty + r) * 83 + tx..(ty + r) * 83 + tx + w]
+                        .copy_from_slice(&tile[r * w..(r + 1) * w]);
+                }
+            }
+        }
+        let first = bits(&whole)
+            .iter()
+            .zip(bits(&tiled))
+            .position(|(a, b)| *a != b);
+        assert_eq!(
+            first, None,
+            "tiles {tw}×{th}: first differing index {first:?}"
+        );
+    }
+}
+
+#[test]
+fn same_bits_on_every_simd_level() {
+    let m = model(7);
+    let mut portable = LrpEvaluator::new(&m);
+    portable.set_avx2(false);
+    let mut wide = LrpEvaluator::new(&m);
+    wide.set_avx2(true);
+    let window = Window::new(131, 9).at([12.5, -7.0], 0.9);
+    for row in 0..9 {
+        let (mut a, mut b) = (vec![0.0; 131], vec![0.0; 131]);
+        portable.eval_row(&window, row, &mut a);
+        wide.eval_row(&window, row, &mut b);
+        assert_eq!(bits(&a), bits(&b), "row {row}");
+    }
+}
+
+/// The spatial statistics follow from the model: mean `m.mean`; variance `Σ_S π·J_S·A_S²·c`
+/// with `c = ∫ r w² dr` (each cosine has variance A²/2; the lattice average of Σ w² is 2πc).
+#[test]
+fn mean_and_variance_follow_from_the_model() {
+    let m = model(8);
+    let eval = Evaluator::new(&Model::Lrp(m.clone())).unwrap();
+    let values = eval
+        .render(&Window::new(1024, 1024).at([0.0, 0.0], 1.7))
+        .unwrap();
+    let n = values.len() as f64;
+    let mean = values.iter().map(|&v| f64::from(v)).sum::<f64>() / n;
+    let var = values
+        .iter()
+        .map(|&v| (f64::from(v) - mean).powi(2))
+        .sum::<f64>()
+        / n;
+    let c = spectex_model::window::window_radial_energy();
+    let want: f64 = m
+        .strata
+        .iter()
+        .map(|s| {
+            std::f64::consts::PI * s.sub_strata.len() as f64 * f64::from(s.amplitude).powi(2) * c
+        })
+        .sum();
+    // 1024² samples spanning ~75 lattice periods of the widest stratum per side: thousands of
+    // independent lattice points, so a few percent.
+    assert!((mean - 0.25).abs() < 0.02 * want.sqrt(), "mean {mean}");
+    assert!((var / want - 1.0).abs() < 0.05, "variance {var} vs {want}");
+}
+
+#[test]
+fn bad_windows_are_typed_errors() {
+    let eval = Evaluator::new(&Model::Lrp(model(9))).unwrap();
+    for (w, msg) in [
+        (Window::new(0, 5), "width"),
+        (Window::new(5, 5).at([f64::NAN, 0.0], 1.0), "offset x"),
+        (Window::new(5, 5).at([0.0, 0.0], 0.0), "scale"),
+        (Window::new(5, 5).at([0.0, 2.0e9], 1.0), "position"),
+    ] {
+        let e = eval.render(&w).unwrap_err().to_string();
+        assert!(e.contains(msg), "{e}");
+    }
+    let mut bad = model(9);
+    bad.strata[0].window_width = f32::NAN;
+    assert!(Evaluator::new(&Model::Lrp(bad)).is_err());
+}
