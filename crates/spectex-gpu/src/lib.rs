@@ -1,6 +1,67 @@
 //! The GPU evaluator: wgpu compute pipelines over the same models as `spectex-cpu`, built from
-//! the WGSL in `shaders/`, packing a model into storage buffers once and rendering any window.
+//! the WGSL in `shaders/`, packing a model into storage buffers once and rendering any window in
+//! tiles that respect the device's limits.
 //!
 //! Depends on `spectex-model` only, never on `spectex-cpu`: the two evaluators are independent
 //! implementations of one contract, which is what makes cross-checking them meaningful.
-//! Nothing is implemented here yet: the GPU evaluator issue fills it.
+//!
+//! * Randomness: `shaders/common.wgsl` is the WGSL twin of `spectex_model::random`; every integer
+//!   draw (hash, PRNG stream, frequency index, Poisson count) is bit-identical to the CPU's.
+//! * Floats: the same f32 formulas as the CPU (cosine in turns, Kaiser–Bessel window,
+//!   exponential), but a GPU compiler may fuse `a·b + c`; values agree within tolerances, not
+//!   necessarily bit for bit.
+//! * Positions (DESIGN invariant 2): the host does the f64 part per tile column and row (lattice
+//!   cell and f32 offsets to the nearby lattice points, see `shaders/lrp.wgsl`), so a window at
+//!   `(10⁷, 10⁷)` is as precise as one at the origin.
+//! * Tiles (invariant 3): every value depends only on its own pixel's position, so any tiling
+//!   gives the same bits.
+//!
+//! Adapter choice: `WGPU_ADAPTER_NAME` (a substring of the adapter's name, e.g. `llvmpipe`), else
+//! wgpu's high-performance default. Without a GPU, lavapipe (`apt-get install mesa-vulkan-drivers
+//! libvulkan1`) is a software Vulkan adapter.
+//!
+//! ```
+//! use spectex_gpu::{GpuContext, GpuEvaluator, GpuWindow};
+//! use spectex_model::{LrpNoise, Model, Stratum};
+//!
+//! let context = match GpuContext::new() {
+//!     Ok(context) => context,
+//!     Err(e) => {
+//!         eprintln!("skipping the example: {e}");
+//!         return Ok(());
+//!     }
+//! };
+//! let model = Model::Lrp(LrpNoise {
+//!     seed: 1,
+//!     mean: 0.5,
+//!     strata: vec![Stratum {
+//!         window_width: 16.0,
+//!         amplitude: 0.1,
+//!         sub_strata: vec![vec![[0.1, 0.0], [0.0, 0.1]]; 4],
+//!     }],
+//! });
+//! let gpu = GpuEvaluator::new(&context, &model)?;
+//! let window = GpuWindow::new(32, 16).at([1.0e7, 1.0e7], 0.5);
+//! let pixels = gpu.render(&window)?;
+//! assert_eq!(pixels.len(), 32 * 16);
+//! // Tiles are invisible: a tile of the window has exactly the same values.
+//! let tile = gpu.render(&window.tile(8, 4, 8, 8))?;
+//! assert_eq!(tile[0].to_bits(), pixels[4 * 32 + 8].to_bits());
+//! println!("rendered on {}", gpu.adapter_name());
+//! # Ok::<(), spectex_gpu::GpuError>(())
+//! ```
+
+mod context;
+mod error;
+mod evaluator;
+mod pack;
+pub mod shaders;
+mod window;
+
+pub use context::{ADAPTER_NAME_ENV, GpuContext};
+pub use error::{GpuError, LAVAPIPE_HINT};
+pub use evaluator::{DEFAULT_MAX_TILE, GpuEvaluator};
+pub use shaders::{SHADERS, wgsl_source};
+/// The wgpu version this crate is built on, for callers using [`GpuContext::device`].
+pub use wgpu;
+pub use window::{GpuWindow, MAX_POSITION, MAX_WINDOW_PIXELS, MAX_WINDOW_SIDE};

@@ -1,0 +1,78 @@
+//! Criterion bench of GPU evaluation in Mpix/s: LRP with a budget of J = 50 cosines over 4 strata
+//! (periods 4.5, 9, 16, 28 pixels, tables of 40 random frequencies — the model of
+//! `spectex-cpu`'s `eval` bench, so the numbers compare), one 1024² window, read back included.
+//!
+//! `cargo bench -p spectex-gpu --bench gpu`; on lavapipe set `WGPU_ADAPTER_NAME=llvmpipe` (and
+//! `VK_DRIVER_FILES`/`VK_ICD_FILENAMES` to its ICD file). Skips with a message when no adapter
+//! exists.
+
+use std::hint::black_box;
+use std::time::Instant;
+
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use spectex_gpu::{GpuContext, GpuEvaluator, GpuWindow};
+use spectex_model::random::{Prng, cell_hash};
+use spectex_model::{LrpNoise, Model, Stratum};
+
+/// A 4-stratum LRP model with `budget` cosines in all, tables of 40 frequencies.
+fn bench_model(budget: usize) -> Model {
+    let mut prng = Prng::new(cell_hash(1, 2, 3, 4));
+    let widths = [4.5f32, 9.0, 16.0, 28.0];
+    let strata = widths
+        .iter()
+        .enumerate()
+        .map(|(s, &w)| {
+            let j = budget / 4 + usize::from(s < budget % 4);
+            Stratum {
+                window_width: w,
+                amplitude: 0.05,
+                sub_strata: (0..j.max(1))
+                    .map(|_| {
+                        (0..40)
+                            .map(|_| [prng.next_f32() - 0.5, prng.next_f32() * 0.5])
+                            .collect()
+                    })
+                    .collect(),
+            }
+        })
+        .collect();
+    Model::Lrp(LrpNoise {
+        seed: 9,
+        mean: 0.5,
+        strata,
+    })
+}
+
+fn bench(c: &mut Criterion) {
+    let context = match GpuContext::new() {
+        Ok(context) => context,
+        Err(e) => {
+            eprintln!("skipping the GPU bench: {e}");
+            return;
+        }
+    };
+    let side = 1024;
+    let window = GpuWindow::new(side, side).at([1000.0, 2000.0], 1.0);
+    let pixels = (side * side) as f64;
+    let mut group = c.benchmark_group("gpu_lrp_eval");
+    group.throughput(Throughput::Elements(pixels as u64));
+    group.sample_size(10);
+    let budget = 50;
+    let gpu = GpuEvaluator::new(&context, &bench_model(budget)).expect("valid model");
+    // One timed render first, printed in the unit the project reports.
+    let start = Instant::now();
+    black_box(gpu.render(&window).expect("render"));
+    let seconds = start.elapsed().as_secs_f64();
+    println!(
+        "LRP J={budget}, 4 strata, {side}²: {:.3} Mpix/s on {} (one render, {seconds:.2} s)",
+        pixels / seconds / 1e6,
+        gpu.adapter_name()
+    );
+    group.bench_function(format!("J{budget}_{side}x{side}"), |b| {
+        b.iter(|| gpu.render(black_box(&window)).expect("render"))
+    });
+    group.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

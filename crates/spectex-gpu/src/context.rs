@@ -1,0 +1,118 @@
+//! Finding an adapter and opening a device: [`GpuContext`].
+
+use std::sync::{Arc, Mutex};
+
+use crate::GpuError;
+
+/// Environment variable naming the adapter to use: the first adapter whose name contains it
+/// (ignoring case) is chosen, e.g. `WGPU_ADAPTER_NAME=llvmpipe` for lavapipe.
+pub const ADAPTER_NAME_ENV: &str = "WGPU_ADAPTER_NAME";
+
+/// Why the device was lost, written by wgpu's device-lost callback.
+pub(crate) type LostFlag = Arc<Mutex<Option<String>>>;
+
+/// A wgpu device and queue on the chosen adapter. Cheap to share by reference; evaluators keep
+/// their own handles to the device, so the context may be dropped after building them.
+#[derive(Debug)]
+pub struct GpuContext {
+    adapter: wgpu::Adapter,
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    lost: LostFlag,
+}
+
+impl GpuContext {
+    /// Opens a device on the adapter named by `WGPU_ADAPTER_NAME` when that is set (the first
+    /// whose name contains it), else on wgpu's default high-performance adapter. The device gets
+    /// the adapter's own limits, so large buffers and dispatches are allowed where the hardware
+    /// allows them. Backends can be restricted with wgpu's `WGPU_BACKEND`.
+    ///
+    /// # Errors
+    /// [`GpuError::NoAdapter`] listing the adapters found (and how to install lavapipe), or
+    /// [`GpuError::RequestDevice`].
+    pub fn new() -> Result<Self, GpuError> {
+        let instance =
+            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
+        let found: Vec<String> = adapters.iter().map(describe).collect();
+        let wanted = std::env::var(ADAPTER_NAME_ENV)
+            .ok()
+            .filter(|w| !w.trim().is_empty());
+        let adapter = match &wanted {
+            Some(w) => {
+                let w = w.to_lowercase();
+                adapters
+                    .into_iter()
+                    .find(|a| a.get_info().name.to_lowercase().contains(&w))
+            }
+            None => pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+                power_preference: wgpu::PowerPreference::HighPerformance,
+                ..Default::default()
+            }))
+            .ok(),
+        };
+        let Some(adapter) = adapter else {
+            return Err(GpuError::NoAdapter { found, wanted });
+        };
+        let (device, queue) =
+            pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+                label: Some("spectex-gpu"),
+                required_limits: adapter.limits(),
+                memory_hints: wgpu::MemoryHints::Performance,
+                ..Default::default()
+            }))?;
+        let lost: LostFlag = Arc::new(Mutex::new(None));
+        let flag = Arc::clone(&lost);
+        device.set_device_lost_callback(move |reason, message| {
+            if let Ok(mut slot) = flag.lock() {
+                *slot = Some(format!("{reason:?}: {message}"));
+            }
+        });
+        Ok(Self {
+            adapter,
+            device,
+            queue,
+            lost,
+        })
+    }
+
+    /// The adapter's name, e.g. `llvmpipe (LLVM 15.0.6, 256 bits)`.
+    #[must_use]
+    pub fn adapter_name(&self) -> String {
+        self.adapter.get_info().name
+    }
+
+    /// Everything wgpu knows about the adapter (name, vendor, device type, driver, backend).
+    #[must_use]
+    pub fn adapter_info(&self) -> wgpu::AdapterInfo {
+        self.adapter.get_info()
+    }
+
+    /// The device's limits (the adapter's, as requested).
+    #[must_use]
+    pub fn limits(&self) -> wgpu::Limits {
+        self.device.limits()
+    }
+
+    /// The wgpu device, for callers that run their own pipelines next to spectex's.
+    #[must_use]
+    pub fn device(&self) -> &wgpu::Device {
+        &self.device
+    }
+
+    /// The wgpu queue of [`device`](Self::device).
+    #[must_use]
+    pub fn queue(&self) -> &wgpu::Queue {
+        &self.queue
+    }
+
+    pub(crate) fn lost_flag(&self) -> LostFlag {
+        Arc::clone(&self.lost)
+    }
+}
+
+/// `name (backend, device type)` of an adapter, for error messages and reports.
+fn describe(adapter: &wgpu::Adapter) -> String {
+    let info = adapter.get_info();
+    format!("{} ({:?}, {:?})", info.name, info.backend, info.device_type)
+}

@@ -1,0 +1,448 @@
+//! [`GpuEvaluator`]: a model packed into storage buffers once, a compute pipeline, and tiled
+//! rendering of any window with read-back.
+
+use std::sync::mpsc;
+
+use spectex_model::Model;
+
+use crate::context::LostFlag;
+use crate::pack::{self, GABOR_AXIS_BYTES, GaborPack, LRP_AXIS_BYTES, LrpPack};
+use crate::{GpuContext, GpuError, GpuWindow, wgsl_source};
+
+/// Side of the compute workgroups of every model shader (`@workgroup_size(8, 8, 1)`).
+const WORKGROUP_SIDE: usize = 8;
+/// Default largest tile, in pixels per side: a dispatch short enough for desktop watchdogs
+/// (about 0.1 s on a discrete GPU at J = 50) and a 16 MiB output buffer.
+pub const DEFAULT_MAX_TILE: usize = 2048;
+
+/// A model prepared on the device: validated, packed into storage buffers, with its pipeline.
+/// Rendering can then fail only on a bad window or a device problem.
+#[derive(Debug)]
+pub struct GpuEvaluator {
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    adapter_info: wgpu::AdapterInfo,
+    limits: wgpu::Limits,
+    lost: LostFlag,
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+    model: Packed,
+    max_tile: [usize; 2],
+}
+
+/// The model-specific part.
+#[derive(Debug)]
+enum Packed {
+    Lrp {
+        pack: LrpPack,
+        strata: wgpu::Buffer,
+        frequencies: wgpu::Buffer,
+        tables: wgpu::Buffer,
+    },
+    Gabor {
+        pack: GaborPack,
+    },
+}
+
+/// Storage buffers larger than this are refused up front with [`GpuError::LimitsExceeded`].
+fn binding_limit(limits: &wgpu::Limits) -> u64 {
+    limits
+        .max_storage_buffer_binding_size
+        .min(limits.max_buffer_size)
+}
+
+impl GpuEvaluator {
+    /// Validates `model`, packs it into storage buffers and builds its compute pipeline.
+    ///
+    /// # Errors
+    /// [`GpuError::Model`] for an invalid model, [`GpuError::LimitsExceeded`] when its tables
+    /// do not fit one storage buffer, [`GpuError::Unsupported`] for a model kind without a
+    /// shader, [`GpuError::Validation`] if the device rejects the shader or the buffers.
+    pub fn new(context: &GpuContext, model: &Model) -> Result<Self, GpuError> {
+        model.validate()?;
+        let device = context.device().clone();
+        let limits = device.limits();
+        let scope = ErrorScopes::push(&device);
+        let (shader, entry, model) = match model {
+            Model::Lrp(m) => {
+                let pack = pack::pack_lrp(m);
+                let limit = binding_limit(&limits);
+                let needed = 4 * pack.frequencies.len() as u64;
+                if needed > limit {
+                    return Err(GpuError::LimitsExceeded {
+                        what: "frequency tables (bytes in one storage buffer)",
+                        value: needed,
+                        limit,
+                    });
+                }
+                let strata = storage_buffer(&device, "lrp strata", &pack.strata);
+                let frequencies = storage_buffer(&device, "lrp frequencies", &pack.frequencies);
+                let tables = storage_buffer(&device, "lrp tables", &pack.tables);
+                (
+                    "lrp",
+                    "lrp_main",
+                    Packed::Lrp {
+                        pack,
+                        strata,
+                        frequencies,
+                        tables,
+                    },
+                )
+            }
+            Model::Gabor(m) => (
+                "gabor",
+                "gabor_main",
+                Packed::Gabor {
+                    pack: pack::pack_gabor(m),
+                },
+            ),
+            #[allow(unreachable_patterns)] // reason: `Model` is non_exhaustive for other crates
+            other => {
+                return Err(GpuError::Unsupported {
+                    kind: format!("{other:?}")
+                        .chars()
+                        .take_while(|c| c.is_alphanumeric())
+                        .collect(),
+                });
+            }
+        };
+        let source = wgsl_source(shader).ok_or_else(|| {
+            GpuError::Validation(format!("shader {shader} missing from the registry"))
+        })?;
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(shader),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
+        });
+        let layout = bind_group_layout(&device, &model);
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some(shader),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(shader),
+            layout: Some(&pipeline_layout),
+            module: &module,
+            entry_point: Some(entry),
+            compilation_options: wgpu::PipelineCompilationOptions::default(),
+            cache: None,
+        });
+        scope.pop()?;
+        Ok(Self {
+            device,
+            queue: context.queue().clone(),
+            adapter_info: context.adapter_info(),
+            limits,
+            lost: context.lost_flag(),
+            pipeline,
+            layout,
+            model,
+            max_tile: [DEFAULT_MAX_TILE, DEFAULT_MAX_TILE],
+        })
+    }
+
+    /// The name of the adapter this evaluator runs on.
+    #[must_use]
+    pub fn adapter_name(&self) -> &str {
+        &self.adapter_info.name
+    }
+
+    /// Everything wgpu knows about the adapter.
+    #[must_use]
+    pub fn adapter_info(&self) -> &wgpu::AdapterInfo {
+        &self.adapter_info
+    }
+
+    /// Caps the tile size (pixels per side) used by [`render`](Self::render): smaller tiles
+    /// bound the device memory and the length of one dispatch. The device's limits cap it
+    /// further. Values are the same for any tile size (tests force several tiles this way).
+    pub fn set_max_tile(&mut self, width: usize, height: usize) {
+        self.max_tile = [width.max(1), height.max(1)];
+    }
+
+    /// The tile size `render` would use for `window`: the requested cap, then the device's
+    /// storage-binding and buffer-size limits (output and per-axis tables) and its dispatch limit.
+    ///
+    /// # Errors
+    /// [`GpuError::LimitsExceeded`] if not even a one-pixel-wide tile fits.
+    pub fn tile_size(&self, window: &GpuWindow) -> Result<[usize; 2], GpuError> {
+        let limit = binding_limit(&self.limits);
+        let axis_bytes = match &self.model {
+            Packed::Lrp { pack, .. } => LRP_AXIS_BYTES * pack.deltas.len() as u64,
+            Packed::Gabor { .. } => GABOR_AXIS_BYTES,
+        };
+        let by_axis = (limit / axis_bytes) as usize;
+        let by_dispatch =
+            self.limits.max_compute_workgroups_per_dimension as usize * WORKGROUP_SIDE;
+        let width = window
+            .width
+            .min(self.max_tile[0])
+            .min(by_axis)
+            .min(by_dispatch);
+        let by_output = (limit / 4) as usize / width.max(1);
+        let height = window
+            .height
+            .min(self.max_tile[1])
+            .min(by_axis)
+            .min(by_dispatch)
+            .min(by_output);
+        if width == 0 || height == 0 {
+            return Err(GpuError::LimitsExceeded {
+                what: "bytes of one tile row of the output and axis tables",
+                value: axis_bytes.max(4),
+                limit,
+            });
+        }
+        Ok([width, height])
+    }
+
+    /// Renders `window` row-major (`width × height` values), tile by tile, reading each tile
+    /// back; the size is bounded only by host memory. Tiling does not change any value.
+    ///
+    /// # Errors
+    /// [`GpuError::Window`] for a window out of range; [`GpuError::Validation`],
+    /// [`GpuError::DeviceLost`] for device problems.
+    pub fn render(&self, window: &GpuWindow) -> Result<Vec<f32>, GpuError> {
+        window.validate()?;
+        let [tile_width, tile_height] = self.tile_size(window)?;
+        let mut out = vec![0.0f32; window.width * window.height];
+        for ty in (0..window.height).step_by(tile_height) {
+            for tx in (0..window.width).step_by(tile_width) {
+                let tile = window.tile(
+                    tx,
+                    ty,
+                    tile_width.min(window.width - tx),
+                    tile_height.min(window.height - ty),
+                );
+                let values = self.render_tile(&tile)?;
+                for (row, line) in values.chunks_exact(tile.width).enumerate() {
+                    let start = (ty + row) * window.width + tx;
+                    out[start..start + tile.width].copy_from_slice(line);
+                }
+            }
+        }
+        Ok(out)
+    }
+
+    /// One dispatch over a window that fits the device's limits.
+    fn render_tile(&self, tile: &GpuWindow) -> Result<Vec<f32>, GpuError> {
+        let device = &self.device;
+        let scope = ErrorScopes::push(device);
+        let (width, height) = (tile.width, tile.height);
+        let output_bytes = 4 * (width * height) as u64;
+        let output = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("spectex output"),
+            size: output_bytes,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let readback = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("spectex readback"),
+            size: output_bytes,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let (uniform, columns, rows) = match &self.model {
+            Packed::Lrp { pack, .. } => {
+                let params = [
+                    width as u32,
+                    height as u32,
+                    pack.deltas.len() as u32,
+                    pack.seed,
+                    pack.mean.to_bits(),
+                    0,
+                    0,
+                    0,
+                ];
+                (
+                    params.to_vec(),
+                    pack::lrp_axis(&pack.deltas, width, pack::columns(tile)),
+                    pack::lrp_axis(&pack.deltas, height, pack::rows(tile)),
+                )
+            }
+            Packed::Gabor { pack } => {
+                let mut params = pack.params;
+                params[0] = width as u32;
+                params[1] = height as u32;
+                (
+                    params.to_vec(),
+                    pack::gabor_axis(pack.radius, width, pack::columns(tile)),
+                    pack::gabor_axis(pack.radius, height, pack::rows(tile)),
+                )
+            }
+        };
+        let uniform = init_buffer(device, "params", &uniform, wgpu::BufferUsages::UNIFORM);
+        let columns = storage_buffer(device, "columns", &columns);
+        let rows = storage_buffer(device, "rows", &rows);
+        let mut buffers: Vec<&wgpu::Buffer> = vec![&uniform];
+        if let Packed::Lrp {
+            strata,
+            frequencies,
+            tables,
+            ..
+        } = &self.model
+        {
+            buffers.extend([strata, frequencies, tables]);
+        }
+        buffers.extend([&columns, &rows, &output]);
+        let entries: Vec<wgpu::BindGroupEntry<'_>> = buffers
+            .iter()
+            .enumerate()
+            .map(|(binding, buffer)| wgpu::BindGroupEntry {
+                binding: binding as u32,
+                resource: buffer.as_entire_binding(),
+            })
+            .collect();
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("spectex tile"),
+            layout: &self.layout,
+            entries: &entries,
+        });
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("spectex tile"),
+        });
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("spectex tile"),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &bind_group, &[]);
+            pass.dispatch_workgroups(
+                width.div_ceil(WORKGROUP_SIDE) as u32,
+                height.div_ceil(WORKGROUP_SIDE) as u32,
+                1,
+            );
+        }
+        encoder.copy_buffer_to_buffer(&output, 0, &readback, 0, output_bytes);
+        self.queue.submit([encoder.finish()]);
+        scope.pop()?;
+        let bytes = read_buffer(device, &readback, &self.lost)?;
+        Ok(bytes
+            .chunks_exact(4)
+            .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+            .collect())
+    }
+}
+
+/// Validation and out-of-memory error scopes around a group of device calls.
+/// (Fields drop in order, so an early return pops the inner scope first.)
+struct ErrorScopes {
+    validation: wgpu::ErrorScopeGuard,
+    out_of_memory: wgpu::ErrorScopeGuard,
+}
+
+impl ErrorScopes {
+    fn push(device: &wgpu::Device) -> Self {
+        let out_of_memory = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        Self {
+            out_of_memory,
+            validation,
+        }
+    }
+
+    /// Pops both scopes (innermost first) and turns a captured error into [`GpuError`].
+    fn pop(self) -> Result<(), GpuError> {
+        let validation = pollster::block_on(self.validation.pop());
+        let out_of_memory = pollster::block_on(self.out_of_memory.pop());
+        match validation.or(out_of_memory) {
+            None => Ok(()),
+            Some(e) => Err(GpuError::Validation(e.to_string())),
+        }
+    }
+}
+
+/// Maps `buffer`, waits for the device, and copies its bytes out.
+fn read_buffer(
+    device: &wgpu::Device,
+    buffer: &wgpu::Buffer,
+    lost: &LostFlag,
+) -> Result<Vec<u8>, GpuError> {
+    let slice = buffer.slice(..);
+    let (sender, receiver) = mpsc::channel();
+    slice.map_async(wgpu::MapMode::Read, move |result| {
+        // The receiver waits below; a send error only means it is gone already.
+        let _ = sender.send(result);
+    });
+    let polled = device.poll(wgpu::PollType::wait_indefinitely());
+    let lost_reason = lost.lock().ok().and_then(|g| g.clone());
+    if let Some(reason) = lost_reason {
+        return Err(GpuError::DeviceLost(reason));
+    }
+    polled.map_err(|e| GpuError::DeviceLost(format!("waiting for the device: {e}")))?;
+    match receiver.recv() {
+        Ok(Ok(())) => {}
+        Ok(Err(e)) => return Err(GpuError::DeviceLost(format!("mapping the output: {e}"))),
+        Err(_) => {
+            return Err(GpuError::DeviceLost(
+                "the output was never mapped".to_owned(),
+            ));
+        }
+    }
+    let bytes = slice
+        .get_mapped_range()
+        .map_err(|e| GpuError::DeviceLost(format!("reading the output: {e}")))?
+        .to_vec();
+    buffer.unmap();
+    Ok(bytes)
+}
+
+/// A read-only storage buffer holding `words`.
+fn storage_buffer(device: &wgpu::Device, label: &str, words: &[u32]) -> wgpu::Buffer {
+    init_buffer(device, label, words, wgpu::BufferUsages::STORAGE)
+}
+
+/// A buffer of `usage` initialised with `words` (at least one word, as bindings must not be
+/// empty).
+fn init_buffer(
+    device: &wgpu::Device,
+    label: &str,
+    words: &[u32],
+    usage: wgpu::BufferUsages,
+) -> wgpu::Buffer {
+    use wgpu::util::DeviceExt;
+    let mut bytes = pack::bytes(words);
+    if bytes.is_empty() {
+        bytes.resize(4, 0);
+    }
+    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some(label),
+        contents: &bytes,
+        usage,
+    })
+}
+
+/// The bind group layout of a model's shader: binding 0 the uniform parameters, then read-only
+/// storage buffers, and last the output.
+fn bind_group_layout(device: &wgpu::Device, model: &Packed) -> wgpu::BindGroupLayout {
+    let read_only = match model {
+        Packed::Lrp { .. } => 5,
+        Packed::Gabor { .. } => 2,
+    };
+    let buffer = |binding: u32, ty: wgpu::BufferBindingType| wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    };
+    let mut entries = vec![buffer(0, wgpu::BufferBindingType::Uniform)];
+    for binding in 1..=read_only {
+        entries.push(buffer(
+            binding,
+            wgpu::BufferBindingType::Storage { read_only: true },
+        ));
+    }
+    entries.push(buffer(
+        read_only + 1,
+        wgpu::BufferBindingType::Storage { read_only: false },
+    ));
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("spectex model"),
+        entries: &entries,
+    })
+}

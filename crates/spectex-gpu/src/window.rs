@@ -1,0 +1,163 @@
+//! Windows: which positions a render evaluates, with the semantics of `spectex_cpu::Window`
+//! (copied, not imported: spectex-gpu depends on `spectex-model` only). Pixel `(i, j)` of a
+//! window sits at `offset + (x0 + i, y0 + j)·scale`, so any tile of it evaluates exactly the
+//! same positions (tiles are invisible, DESIGN invariant 3).
+
+use crate::GpuError;
+
+/// Largest side of a window, in pixels (as on the CPU).
+pub const MAX_WINDOW_SIDE: usize = 65_536;
+/// Largest pixel count of one render call (1 Gpix; a 32-bit float image of that size is 4 GiB).
+pub const MAX_WINDOW_PIXELS: usize = 1 << 30;
+/// Largest absolute position a window may reach, in model pixels: lattice cells are `i32` and
+/// the smallest lattice period is half a pixel.
+pub const MAX_POSITION: f64 = 1_073_741_824.0;
+
+/// A rectangle of the pixel grid `position(i, j) = offset + (x0 + i, y0 + j)·scale`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GpuWindow {
+    /// Position of grid pixel `(0, 0)`, in model pixels.
+    pub offset: [f64; 2],
+    /// Model pixels per output pixel.
+    pub scale: f64,
+    /// First grid column of the window.
+    pub x0: i64,
+    /// First grid row of the window.
+    pub y0: i64,
+    /// Width in pixels.
+    pub width: usize,
+    /// Height in pixels.
+    pub height: usize,
+}
+
+impl GpuWindow {
+    /// A `width × height` window at the origin, one model pixel per output pixel.
+    #[must_use]
+    pub fn new(width: usize, height: usize) -> Self {
+        Self {
+            offset: [0.0, 0.0],
+            scale: 1.0,
+            x0: 0,
+            y0: 0,
+            width,
+            height,
+        }
+    }
+
+    /// The same window moved to `offset` and scaled by `scale`.
+    #[must_use]
+    pub fn at(self, offset: [f64; 2], scale: f64) -> Self {
+        Self {
+            offset,
+            scale,
+            ..self
+        }
+    }
+
+    /// The sub-rectangle `(x, y, width, height)` of this window, in its own pixel coordinates:
+    /// it evaluates exactly the positions of the matching pixels of `self`.
+    #[must_use]
+    pub fn tile(&self, x: usize, y: usize, width: usize, height: usize) -> Self {
+        Self {
+            x0: self.x0 + x as i64,
+            y0: self.y0 + y as i64,
+            width,
+            height,
+            ..*self
+        }
+    }
+
+    /// Position of the window's column `i` (x), in f64 — the CPU's expression.
+    #[inline]
+    #[must_use]
+    pub fn x(&self, i: usize) -> f64 {
+        self.offset[0] + (self.x0 + i as i64) as f64 * self.scale
+    }
+
+    /// Position of the window's row `j` (y), in f64.
+    #[inline]
+    #[must_use]
+    pub fn y(&self, j: usize) -> f64 {
+        self.offset[1] + (self.y0 + j as i64) as f64 * self.scale
+    }
+
+    /// Checks sizes, finiteness and the reachable position range (the CPU's ranges).
+    ///
+    /// # Errors
+    /// [`GpuError::Window`] naming the parameter and its valid range.
+    pub fn validate(&self) -> Result<(), GpuError> {
+        let bad = |parameter: &'static str, value: f64, range: &'static str| {
+            Err(GpuError::Window {
+                parameter,
+                value,
+                range,
+            })
+        };
+        if self.width == 0 || self.width > MAX_WINDOW_SIDE {
+            return bad("width", self.width as f64, "1 to 65536 pixels");
+        }
+        if self.height == 0 || self.height > MAX_WINDOW_SIDE {
+            return bad("height", self.height as f64, "1 to 65536 pixels");
+        }
+        if self.width * self.height > MAX_WINDOW_PIXELS {
+            return bad(
+                "width × height",
+                (self.width * self.height) as f64,
+                "at most 2^30 pixels",
+            );
+        }
+        if !(self.scale.is_finite() && self.scale > 0.0 && self.scale <= 1e6) {
+            return bad(
+                "scale",
+                self.scale,
+                "(0, 1e6] model pixels per output pixel",
+            );
+        }
+        for (name, v) in [("offset x", self.offset[0]), ("offset y", self.offset[1])] {
+            if !v.is_finite() {
+                return bad(name, v, "finite numbers");
+            }
+        }
+        let corners = [
+            self.x(0),
+            self.x(self.width - 1),
+            self.y(0),
+            self.y(self.height - 1),
+        ];
+        if let Some(&v) = corners.iter().find(|v| v.abs() > MAX_POSITION) {
+            return bad("window position", v, "[-2^30, 2^30] model pixels");
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tiles_evaluate_the_same_positions() {
+        let w = GpuWindow::new(100, 50).at([1.0e7, -3.5], 0.37);
+        let t = w.tile(10, 20, 5, 5);
+        assert_eq!(t.x(2).to_bits(), w.x(12).to_bits());
+        assert_eq!(t.y(3).to_bits(), w.y(23).to_bits());
+    }
+
+    #[test]
+    fn validation_names_the_parameter() {
+        let cases = [
+            (GpuWindow::new(0, 5), "width"),
+            (GpuWindow::new(5, 70_000), "height"),
+            (GpuWindow::new(5, 5).at([0.0, 0.0], 0.0), "scale"),
+            (GpuWindow::new(5, 5).at([f64::NAN, 0.0], 1.0), "offset x"),
+            (GpuWindow::new(5, 5).at([0.0, 2e9], 1.0), "window position"),
+        ];
+        for (w, name) in cases {
+            match w.validate() {
+                Err(GpuError::Window { parameter, .. }) => assert_eq!(parameter, name),
+                other => panic!("{w:?}: {other:?}"),
+            }
+        }
+        assert!(GpuWindow::new(65_536, 1).validate().is_ok());
+    }
+}

@@ -1,0 +1,199 @@
+// common.wgsl — the WGSL twin of the randomness contract (`spectex_model::random`, specified in
+// docs/ARCHITECTURE.md) and of the scalar functions of `spectex_cpu::math` (cosine in turns,
+// Kaiser–Bessel window, exponential). spectex-gpu prepends this file to every model shader.
+//
+// Integers: WGSL `u32` arithmetic wraps (mod 2^32), `>>` on `u32` is a logical shift and the
+// shift amounts below are in 4..19, so every integer function here gives the same bits as the
+// Rust one; `tests/contract.rs` checks it on the device.
+//
+// Floats: every constant is written with the `f` suffix, which WGSL parses directly as a
+// correctly rounded f32 (an unsuffixed literal is an abstract float rounded twice); the decimal
+// strings are the shortest round-trip forms of the Rust f32 constants, and
+// `tests/shaders.rs` checks their bits through naga. The arithmetic is the CPU's, in the same
+// order; a WGSL compiler may still contract `a * b + c` into a fused multiply-add, which WGSL
+// cannot forbid, so these functions are accurate to the stated tolerances but not guaranteed to
+// be bit-identical to the CPU (tests/contract.rs reports how many bits differ on the adapter).
+
+// ---------------------------------------------------------------------------------------------
+// Integer hash and PRNG (PCG: Jarzynski & Olano, "Hash Functions for GPU Rendering", JCGT 2020).
+
+/// Multiplier of the 32-bit LCG step.
+const LCG_MULTIPLIER: u32 = 747796405u;
+/// Increment of the 32-bit LCG step.
+const LCG_INCREMENT: u32 = 2891336453u;
+/// Multiplier of PCG's RXS-M-XS output permutation.
+const RXS_M_XS_MULTIPLIER: u32 = 277803737u;
+
+/// PCG's RXS-M-XS output permutation, a bijection of u32.
+fn permute(state: u32) -> u32 {
+    let word = ((state >> ((state >> 28u) + 4u)) ^ state) * RXS_M_XS_MULTIPLIER;
+    return (word >> 22u) ^ word;
+}
+
+/// One LCG step, the state transition of the PRNG.
+fn lcg_step(state: u32) -> u32 {
+    return state * LCG_MULTIPLIER + LCG_INCREMENT;
+}
+
+/// `pcg_hash`: permute(lcg_step(v)).
+fn hash(v: u32) -> u32 {
+    return permute(lcg_step(v));
+}
+
+/// The part of cell_hash that depends only on the layer and the seed.
+fn layer_key(layer: u32, seed: u32) -> u32 {
+    return hash(layer + hash(seed));
+}
+
+/// The part of cell_hash that depends only on the row; signed rows are reinterpreted as u32.
+fn row_key(y: i32, key: u32) -> u32 {
+    return hash(bitcast<u32>(y) + key);
+}
+
+/// cell_hash of cell x in the row whose row_key is given.
+fn cell_hash_in_row(x: i32, key: u32) -> u32 {
+    return hash(bitcast<u32>(x) + key);
+}
+
+/// hash(x + hash(y + hash(layer + hash(seed)))), wrapping addition.
+fn cell_hash(x: i32, y: i32, layer: u32, seed: u32) -> u32 {
+    return cell_hash_in_row(x, row_key(y, layer_key(layer, seed)));
+}
+
+/// Uniform f32 in [0, 1) from the top 24 bits: exact (an integer below 2^24 times 2^-24).
+fn unit_f32(bits: u32) -> f32 {
+    return f32(bits >> 8u) * 0x1p-24f;
+}
+
+/// The contract's stream: next_u32 returns hash(state) and advances state by one LCG step.
+struct Prng {
+    state: u32,
+}
+
+/// The next 32 random bits of `prng`.
+fn prng_next_u32(prng: ptr<function, Prng>) -> u32 {
+    (*prng).state = lcg_step((*prng).state);
+    return permute((*prng).state);
+}
+
+/// The next uniform f32 in [0, 1) of `prng` (see unit_f32).
+fn prng_next_f32(prng: ptr<function, Prng>) -> f32 {
+    return unit_f32(prng_next_u32(prng));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Scalar functions (twins of crates/spectex-cpu/src/math.rs).
+
+/// `t − round(t)` in [−0.5, 0.5], exact for |t| < 2^22.
+///
+/// The CPU writes the rounding as `(t + 1.5·2^23) − 1.5·2^23`, two exact IEEE operations, to
+/// avoid a library call. A GPU compiler is free to simplify `(t + c) − c` to `t` for operations
+/// not marked exact, which WGSL cannot request, so the GPU uses `round()` instead: WGSL's round
+/// is round-half-to-even, the same integer the magic-number sum gives (ties to even, and
+/// 1.5·2^23 is even), and `t − round(t)` is exact. The two forms therefore agree bit for bit.
+fn fract_turns(t: f32) -> f32 {
+    return t - round(t);
+}
+
+/// Taylor coefficients of cos(2πb) in b², (−1)^k (2π)^{2k} / (2k)!, k = 0..6 (COS_TURNS).
+const COS_TURNS_0: f32 = 1.0f;
+const COS_TURNS_1: f32 = -19.739208f;
+const COS_TURNS_2: f32 = 64.93939f;
+const COS_TURNS_3: f32 = -85.45682f;
+const COS_TURNS_4: f32 = 60.24464f;
+const COS_TURNS_5: f32 = -26.426256f;
+const COS_TURNS_6: f32 = 7.903536f;
+
+/// cos(2π·t) for an angle in turns (|t| < 2^22): exact reduction, fold to [0, ¼], degree-12
+/// Taylor polynomial by Horner's rule (absolute error below 2e-7 without contraction).
+fn cos_turns(t: f32) -> f32 {
+    let a = abs(fract_turns(t));
+    let far = a > 0.25f;
+    let b = select(a, 0.5f - a, far);
+    let x = b * b;
+    var p = COS_TURNS_6;
+    p = p * x + COS_TURNS_5;
+    p = p * x + COS_TURNS_4;
+    p = p * x + COS_TURNS_3;
+    p = p * x + COS_TURNS_2;
+    p = p * x + COS_TURNS_1;
+    p = p * x + COS_TURNS_0;
+    return select(p, -p, far);
+}
+
+/// Coefficients 1/(m!(m+3)!), m = 0..15, of the I₃ series (computed in f64, rounded to f32).
+const BESSEL_I3: array<f32, 16> = array<f32, 16>(
+    0.16666667f, 0.041666668f, 0.004166667f, 0.00023148148f,
+    8.267196e-6f, 2.066799e-7f, 3.8274055e-9f, 5.467722e-11f,
+    6.2133203e-13f, 5.7530745e-15f, 4.425442e-17f, 2.8736637e-19f,
+    1.5964798e-21f, 7.675384e-24f, 3.2249512e-26f, 1.1944264e-28f,
+);
+/// (3π/2)², q at the window's centre.
+const KB_Q_MAX: f32 = 22.20661f;
+/// 1 / I₃(3π), the window's normalisation.
+const KB_INV_I3_3PI: f32 = 0.0010103083f;
+/// 1 / 2.25 rounded to f32 (the CPU's `1.0 / 2.25` folded in f32).
+const KB_INV_SUPPORT2: f32 = 0.44444445f;
+/// 2.25 = 1.5², the squared support radius in units of Δ.
+const KB_SUPPORT2: f32 = 2.25f;
+
+/// The Kaiser–Bessel window as a function of r² = (|x − x_i| / Δ)²; exactly 0 for r² ≥ 2.25.
+fn kaiser_bessel_r2(r2: f32) -> f32 {
+    let inside = 1.0f - r2 * KB_INV_SUPPORT2;
+    let q = KB_Q_MAX * max(inside, 0.0f);
+    // Horner from c₁₅ down to c₀, unrolled (the CPU's loop, in the same order).
+    var p = BESSEL_I3[15];
+    p = p * q + BESSEL_I3[14];
+    p = p * q + BESSEL_I3[13];
+    p = p * q + BESSEL_I3[12];
+    p = p * q + BESSEL_I3[11];
+    p = p * q + BESSEL_I3[10];
+    p = p * q + BESSEL_I3[9];
+    p = p * q + BESSEL_I3[8];
+    p = p * q + BESSEL_I3[7];
+    p = p * q + BESSEL_I3[6];
+    p = p * q + BESSEL_I3[5];
+    p = p * q + BESSEL_I3[4];
+    p = p * q + BESSEL_I3[3];
+    p = p * q + BESSEL_I3[2];
+    p = p * q + BESSEL_I3[1];
+    p = p * q + BESSEL_I3[0];
+    // Mesa's NIR reassociates `(a·b)·constant` into `(a·constant)·b` for operations not marked
+    // exact (WGSL cannot mark them), which changes the last bit of 40% of the windows on
+    // lavapipe. Hiding the constant behind a select that is never taken keeps the CPU's order
+    // `((q·√q)·p)·c` (then bit-identical on lavapipe) at the cost of one compare.
+    let norm = select(KB_INV_I3_3PI, 0.0f, r2 < -3.0e38f);
+    let w = q * sqrt(q) * p * norm;
+    return select(0.0f, w, inside > 0.0f);
+}
+
+/// High part of ln 2 (n·LN2_HI is exact for |n| < 512) and the remainder.
+const EXP_LN2_HI: f32 = 0.69314575f;
+const EXP_LN2_LO: f32 = 1.4286068e-6f;
+const EXP_LOG2_E: f32 = 1.442695f;
+/// Taylor coefficients 1/k!, k = 2..7, rounded to f32 (k = 0, 1 are 1).
+const EXP_TAYLOR_2: f32 = 0.5f;
+const EXP_TAYLOR_3: f32 = 0.16666667f;
+const EXP_TAYLOR_4: f32 = 0.041666668f;
+const EXP_TAYLOR_5: f32 = 0.008333334f;
+const EXP_TAYLOR_6: f32 = 0.0013888889f;
+const EXP_TAYLOR_7: f32 = 0.0001984127f;
+
+/// e^z in f32 (twin of the CPU's exp_poly): z clamped to [−87, 88], n = round(z·log2 e),
+/// Cody–Waite reduction, degree-7 Taylor polynomial, 2^n from its exponent bits. The CPU rounds
+/// with the magic number; round() gives the same n (see fract_turns).
+fn exp_poly(z_in: f32) -> f32 {
+    let z = min(max(z_in, -87.0f), 88.0f);
+    let n = round(z * EXP_LOG2_E);
+    let f = (z - n * EXP_LN2_HI) - n * EXP_LN2_LO;
+    var p = EXP_TAYLOR_7;
+    p = p * f + EXP_TAYLOR_6;
+    p = p * f + EXP_TAYLOR_5;
+    p = p * f + EXP_TAYLOR_4;
+    p = p * f + EXP_TAYLOR_3;
+    p = p * f + EXP_TAYLOR_2;
+    p = p * f + 1.0f;
+    p = p * f + 1.0f;
+    let two_n = bitcast<f32>(u32(i32(n) + 127) << 23u);
+    return p * two_n;
+}

@@ -1,0 +1,141 @@
+// gabor.wgsl — Gabor noise by sparse convolution (Lagae et al. 2009), the GPU twin of
+// crates/spectex-cpu/src/gabor.rs (whose module doc is the specification). Composed after
+// common.wgsl.
+//
+// The plane is cut into square cells of side r (the kernel radius). Cell (i, j) holds the
+// impulses drawn from Prng(cell_hash(i, j, 0, seed)): a Poisson count by Knuth's method with
+// renormalisation by exp(64) and a cap, then per impulse x offset, y offset, weight 2u − 1 and,
+// for isotropic noise only, the direction u (turns t_min + u·span). All of this is integer or
+// exact f32 work, so the impulses are the CPU's bit for bit.
+//
+// A pixel sums the three cell columns s = −1, 0, 1 separately; column i + s lists the impulses
+// of the cells (i+s, j−1), (i+s, j), (i+s, j+1) in draw order, keeps those with d_y² < 1, and
+// adds the k-th kept one to accumulator k mod 8; the column sum is
+// ((a₀+a₁)+(a₂+a₃))+((a₄+a₅)+(a₆+a₇)) and the value mean + ((c₋₁ + c₀) + c₁), the CPU's order.
+//
+// Positions: the host computes, per column of the tile, p = x / r in f64, the cell ⌊p⌋ and the
+// offset p − ⌊p⌋ rounded once to f32 (the CPU's expression, so the same bits), and a flag that
+// is 0 where the CPU's evaluator returns `mean` (|p| beyond the i32 cell range). Rows likewise.
+
+/// Per-dispatch values; the model's constants in the units of the kernel loop (cell units).
+struct GaborParams {
+    width: u32,
+    height: u32,
+    seed: u32,
+    /// 0: one frequency vector (dir_a, dir_b) = (f_x, f_y); 1: random angle in turns
+    /// dir_a + u·dir_b.
+    direction_kind: u32,
+    mean: f32,
+    /// K.
+    amplitude: f32,
+    /// exp(−ρ), the Knuth threshold once the exp(64) chunks are used up.
+    poisson_threshold: f32,
+    /// ⌊λ / 64⌋.
+    poisson_chunks: u32,
+    /// exp(64) and exp(−64) rounded to f32.
+    chunk_up: f32,
+    chunk_down: f32,
+    /// N_max = ⌊4λ + 32⌋.
+    max_impulses: u32,
+    /// F₀·r, cycles per cell.
+    frequency_cells: f32,
+    dir_a: f32,
+    dir_b: f32,
+    _pad0: u32,
+    _pad1: u32,
+}
+
+/// One column (or row): its cell, the offset in the cell (cell units) and whether it is inside
+/// the usable range.
+struct GaborAxis {
+    cell: i32,
+    offset: f32,
+    valid: u32,
+}
+
+@group(0) @binding(0) var<uniform> params: GaborParams;
+@group(0) @binding(1) var<storage, read> columns: array<GaborAxis>;
+@group(0) @binding(2) var<storage, read> rows: array<GaborAxis>;
+@group(0) @binding(3) var<storage, read_write> output: array<f32>;
+
+/// The randomness-contract layer of Gabor impulses.
+const GABOR_LAYER: u32 = 0u;
+/// −ln 20 = ln 0.05: the Gaussian exponent per squared cell unit, −π a² r².
+const NEG_LN_20: f32 = -2.9957323f;
+
+/// Knuth's multiplication method with renormalisation (CPU: GaborEvaluator::poisson_count).
+fn poisson_count(prng: ptr<function, Prng>) -> u32 {
+    var p = 1.0f;
+    var chunks = params.poisson_chunks;
+    for (var k = 0u; k < params.max_impulses; k++) {
+        p *= prng_next_f32(prng);
+        while (chunks > 0u && p < params.chunk_down) {
+            p *= params.chunk_up;
+            chunks -= 1u;
+        }
+        if (chunks == 0u && p < params.poisson_threshold) {
+            return k;
+        }
+    }
+    return params.max_impulses;
+}
+
+/// One impulse's contribution at d_x = uxs − ox; 0 beyond the radius.
+fn kernel_term(uxs: f32, ox: f32, fx: f32, dy2: f32, py: f32, kw: f32) -> f32 {
+    let dx = uxs - ox;
+    let d2 = dx * dx + dy2;
+    if (d2 >= 1.0f) {
+        return 0.0f;
+    }
+    let gauss = exp_poly(NEG_LN_20 * d2);
+    let wave = cos_turns(fx * dx + py);
+    return kw * gauss * wave;
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn gabor_main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if (gid.x >= params.width || gid.y >= params.height) {
+        return;
+    }
+    let column = columns[gid.x];
+    let row = rows[gid.y];
+    let index = gid.y * params.width + gid.x;
+    if (column.valid == 0u || row.valid == 0u) {
+        output[index] = params.mean;
+        return;
+    }
+    let key = layer_key(GABOR_LAYER, params.seed);
+    var sums = array<f32, 3>(0.0f, 0.0f, 0.0f);
+    for (var s = 0; s < 3; s++) {
+        let uxs = column.offset - f32(s - 1);
+        let cell_x = bitcast<i32>(bitcast<u32>(column.cell) + bitcast<u32>(s - 1));
+        var acc = array<f32, 8>(0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f);
+        var kept = 0u;
+        for (var t = 0; t < 3; t++) {
+            let uyt = row.offset - f32(t - 1);
+            let cell_y = bitcast<i32>(bitcast<u32>(row.cell) + bitcast<u32>(t - 1));
+            var prng = Prng(cell_hash_in_row(cell_x, row_key(cell_y, key)));
+            let count = poisson_count(&prng);
+            for (var n = 0u; n < count; n++) {
+                let ox = prng_next_f32(&prng);
+                let oy = prng_next_f32(&prng);
+                let w = 2.0f * prng_next_f32(&prng) - 1.0f;
+                var fx = params.dir_a;
+                var fy = params.dir_b;
+                if (params.direction_kind == 1u) {
+                    let turns = params.dir_a + prng_next_f32(&prng) * params.dir_b;
+                    fx = params.frequency_cells * cos_turns(turns);
+                    fy = params.frequency_cells * cos_turns(turns - 0.25f);
+                }
+                let dy = uyt - oy;
+                let dy2 = dy * dy;
+                if (dy2 < 1.0f) {
+                    acc[kept & 7u] += kernel_term(uxs, ox, fx, dy2, fy * dy, params.amplitude * w);
+                    kept += 1u;
+                }
+            }
+        }
+        sums[s] = ((acc[0] + acc[1]) + (acc[2] + acc[3])) + ((acc[4] + acc[5]) + (acc[6] + acc[7]));
+    }
+    output[index] = params.mean + ((sums[0] + sums[1]) + sums[2]);
+}

@@ -1,0 +1,115 @@
+// lrp.wgsl — Local Random-Phase noise (Gilet et al. 2014, Eqs. 1–2), the GPU twin of
+// crates/spectex-cpu/src/lrp.rs. Composed after common.wgsl.
+//
+// For stratum s (lattice period Δ_s, amplitude A_s) a pixel sums over the lattice points
+// (cx, cy) within 1.5·Δ_s, in ascending (cy, cx) order,
+//     A_s · w(r²) · Σ_j cos_turns(f_x·dx + (f_y·dy + φ_j))
+// where (dx, dy) is the pixel's position minus the lattice point's, in pixels, and the draws of
+// a lattice point are Prng(cell_hash(cx, cy, s, seed)): per cosine j in order, the table index
+// next_u32() % len_j, then the phase next_f32() in turns. The value is Σ_s (in order) + mean.
+//
+// Positions (DESIGN.md invariant 2). WGSL has no f64, so the host does the f64 part: for each
+// stratum and each column i of the tile it computes the window position x_i (f64, the CPU's
+// expression), the lattice column c_i = ⌊x_i / Δ⌋, and the four offsets
+// d_k = f32(x_i − (c_i + k − 1)·Δ) for k = 0..3, i.e. to the lattice columns c_i − 1 … c_i + 2,
+// which hold every lattice point within 1.5·Δ of x_i. Rows likewise. Each offset is the f64
+// difference rounded once to f32 — the same expression, hence the same bits, as the CPU's
+// `(x − cx·Δ) as f32` — so the error is at most half an f32 ulp of a number below 2.5·Δ,
+// whatever the window's offset: a window at (10⁷, 10⁷) is exactly as precise as one at 0.
+// Tiles carry the values of their own pixels only, so any tiling gives the same bits.
+
+/// Per-dispatch values.
+struct LrpParams {
+    /// Tile width and height in pixels (the output is row-major, `width` values per row).
+    width: u32,
+    height: u32,
+    /// Number of strata.
+    strata: u32,
+    /// Seed of the randomness contract.
+    seed: u32,
+    /// Constant added to the noise.
+    mean: f32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
+}
+
+/// One stratum, packed by the host.
+struct LrpStratum {
+    /// 1 / Δ², rounded to f32 from f64 (as the CPU's inv_delta2).
+    inv_delta2: f32,
+    /// A_s.
+    amplitude: f32,
+    /// Index in `tables` of the table of cosine 0; cosine j uses tables[table_first + j].
+    table_first: u32,
+    /// J_s, the cosines per lattice point.
+    cosines: u32,
+}
+
+/// One column (or row) of the tile for one stratum: its lattice cell and the offsets to the
+/// lattice points cell − 1 … cell + 2, in pixels.
+struct LatticeAxis {
+    cell: i32,
+    offset: array<f32, 4>,
+}
+
+@group(0) @binding(0) var<uniform> params: LrpParams;
+@group(0) @binding(1) var<storage, read> strata: array<LrpStratum>;
+/// Every frequency table, concatenated: (f_x, f_y) in cycles per pixel.
+@group(0) @binding(2) var<storage, read> frequencies: array<vec2<f32>>;
+/// (start in `frequencies`, length) of each sub-stratum's table.
+@group(0) @binding(3) var<storage, read> tables: array<vec2<u32>>;
+/// strata × width entries: index s·width + i.
+@group(0) @binding(4) var<storage, read> columns: array<LatticeAxis>;
+/// strata × height entries: index s·height + j.
+@group(0) @binding(5) var<storage, read> rows: array<LatticeAxis>;
+@group(0) @binding(6) var<storage, read_write> output: array<f32>;
+
+/// Lattice index `cell + k − 1` with the CPU's wrapping i64 → i32 arithmetic.
+fn lattice_index(cell: i32, k: u32) -> i32 {
+    return bitcast<i32>(bitcast<u32>(cell) + k - 1u);
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn lrp_main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if (gid.x >= params.width || gid.y >= params.height) {
+        return;
+    }
+    var total = 0.0f;
+    for (var s = 0u; s < params.strata; s++) {
+        let stratum = strata[s];
+        let column = s * params.width + gid.x;
+        let row = s * params.height + gid.y;
+        let key = layer_key(s, params.seed);
+        var stratum_sum = 0.0f;
+        for (var ky = 0u; ky < 4u; ky++) {
+            let dy = rows[row].offset[ky];
+            let dy2 = dy * dy;
+            // A whole lattice row beyond the support contributes exactly 0: skip it.
+            if (dy2 * stratum.inv_delta2 >= KB_SUPPORT2) {
+                continue;
+            }
+            let rkey = row_key(lattice_index(rows[row].cell, ky), key);
+            for (var kx = 0u; kx < 4u; kx++) {
+                let dx = columns[column].offset[kx];
+                let r2 = (dx * dx + dy2) * stratum.inv_delta2;
+                if (r2 >= KB_SUPPORT2) {
+                    continue;
+                }
+                let w = kaiser_bessel_r2(r2);
+                var prng = Prng(cell_hash_in_row(lattice_index(columns[column].cell, kx), rkey));
+                var cosines = 0.0f;
+                for (var j = 0u; j < stratum.cosines; j++) {
+                    let table = tables[stratum.table_first + j];
+                    let f = frequencies[table.x + prng_next_u32(&prng) % table.y];
+                    let phase = prng_next_f32(&prng);
+                    let c = f.y * dy + phase;
+                    cosines += cos_turns(f.x * dx + c);
+                }
+                stratum_sum += w * cosines;
+            }
+        }
+        total += stratum.amplitude * stratum_sum;
+    }
+    output[gid.y * params.width + gid.x] = total + params.mean;
+}
