@@ -145,7 +145,7 @@ pub fn run(img: &Array3<f64>, name: &str, dir: &Path, format: SpectraFormat) -> 
     }
     let csv = radial_csv(&columns);
     let csv_path = dir.join("radial_profile.csv");
-    write_text_atomically(&csv_path, &csv)?;
+    io::write_text_atomically(&csv_path, &csv)?;
     written.push(csv_path);
 
     #[allow(clippy::print_stdout)] // reason: the command's result summary
@@ -177,17 +177,4 @@ fn radial_csv(columns: &[(String, Vec<spectex_spectrum::RadialBin>)]) -> String 
         s.push('\n');
     }
     s
-}
-
-fn write_text_atomically(path: &Path, text: &str) -> Result<()> {
-    use std::io::Write;
-    let dir = path.parent().unwrap_or(Path::new("."));
-    let mut tmp = tempfile::Builder::new()
-        .prefix(".spectex-")
-        .suffix(".tmp")
-        .tempfile_in(dir)
-        .map_err(|e| anyhow!("cannot write into '{}': {e}", dir.display()))?;
-    tmp.write_all(text.as_bytes())
-        .with_context(|| format!("cannot write '{}'", path.display()))?;
-    io::finish(tmp, path)
 }

@@ -223,6 +223,24 @@ pub fn save(path: &Path, pixels: &Array3<f64>, format: Format) -> Result<WriteRe
     Ok(report)
 }
 
+/// Writes a text file atomically (temporary file in the same directory, then rename).
+pub fn write_text_atomically(path: &Path, text: &str) -> Result<()> {
+    let dir = parent_dir(path);
+    let mut tmp = tempfile::Builder::new()
+        .prefix(".spectex-")
+        .suffix(".tmp")
+        .tempfile_in(&dir)
+        .map_err(|e| {
+            anyhow!(
+                "cannot write into '{}': {e}; choose a writable location",
+                dir.display()
+            )
+        })?;
+    tmp.write_all(text.as_bytes())
+        .with_context(|| format!("cannot write '{}'", path.display()))?;
+    finish(tmp, path)
+}
+
 /// Gives a finished temporary file ordinary permissions, flushes it to disk and renames it over
 /// `path` (atomic on one file system).
 pub fn finish(tmp: tempfile::NamedTempFile, path: &Path) -> Result<()> {

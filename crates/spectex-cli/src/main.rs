@@ -6,6 +6,7 @@
 mod analyze;
 mod exemplar;
 mod io;
+mod procedural;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -40,6 +41,26 @@ enum Command {
         after_help = "Examples:\n  spectex analyze -o analysis/\n  spectex analyze sample.png -o analysis/ --format exr\n\nWrites periodic.png and smooth.png (Moisan's decomposition; smooth is shown as 0.5 + s),\nlog_spectrum.png and log_spectrum_periodic.png (centred ln(1 + |DFT|) of the luminance,\nbefore and after removing the smooth component), welch_psd.png and variance_spectrum.png\n(centred, log scale over 6 decades), and radial_profile.csv (Welch power per ring, one column\nper channel). With --format exr the spectra are written as raw 32-bit float values instead."
     )]
     Analyze(AnalyzeArgs),
+    /// Fit a Local Random-Phase noise model to an example image (Gilet et al. 2014, §4).
+    #[command(
+        after_help = "Examples:\n  spectex fit -o model.json\n  spectex fit gravel.png -o gravel.json --budget 100 --strata 4 --seed 3\n\nThe example's Welch power spectrum is split into L strata of equal energy, each sampled by\nJ/L cosines per lattice point (k-means sub-strata of the eroded stratum). Colour examples are\nfitted on their luminance."
+    )]
+    Fit(procedural::FitCommand),
+    /// Render a model file at any window: size, offset (anywhere, even 1e7,1e7) and scale.
+    #[command(
+        after_help = "Examples:\n  spectex render model.json -o out.png --size 1024x1024\n  spectex render model.json -o far.exr --offset 1e7,1e7 --scale 0.5"
+    )]
+    Render(procedural::RenderCommand),
+    /// Fit an LRP model to an example and render it (fit + render in one step).
+    #[command(
+        after_help = "Examples:\n  spectex synth -o out.png\n  spectex synth gravel.png -o big.png --budget 50 --size 2048x2048"
+    )]
+    Synth(procedural::SynthCommand),
+    /// Noise from a continuous spectrum (ring, lobe, band) as LRP noise, or Gabor noise.
+    #[command(
+        after_help = "Examples:\n  spectex noise ring --radius 0.0625 --budget 3 -o ring.png\n  spectex noise lobe --frequency 0.1 --angle 30 --budget 10 -o lobe.png\n  spectex noise band --min 0.05 --max 0.1 -o band.png --model band.json\n  spectex noise gabor --frequency 0.0625 --impulses 27 -o gabor.png"
+    )]
+    Noise(procedural::NoiseCommand),
 }
 
 #[derive(Debug, Args)]
@@ -76,7 +97,7 @@ struct AnalyzeArgs {
 }
 
 /// Parses `WIDTHxHEIGHT` (also `X` or `×` as separator).
-fn parse_size(s: &str) -> Result<(usize, usize), String> {
+pub(crate) fn parse_size(s: &str) -> Result<(usize, usize), String> {
     let err = || format!("'{s}' is not a size; write WIDTHxHEIGHT, for example 1024x768");
     let (w, h) = s.split_once(['x', 'X', '×']).ok_or_else(err)?;
     let w: usize = w.trim().parse().map_err(|_| err())?;
@@ -85,7 +106,7 @@ fn parse_size(s: &str) -> Result<(usize, usize), String> {
 }
 
 /// The sample named on the command line, or the built-in exemplar.
-fn load_input(input: Option<&Path>) -> Result<(io::Loaded, String)> {
+pub(crate) fn load_input(input: Option<&Path>) -> Result<(io::Loaded, String)> {
     let loaded = match input {
         Some(p) => (io::load(p)?, format!("'{}'", p.display())),
         None => (
@@ -155,7 +176,7 @@ fn with_hint(e: anyhow::Error) -> anyhow::Error {
     }
 }
 
-fn note_clipping(report: io::WriteReport) {
+pub(crate) fn note_clipping(report: io::WriteReport) {
     if report.clipped > 0 {
         eprintln!(
             "note: {:.2}% of the values fell outside [0, 1] and were clamped in the PNG; write .exr to keep them",
@@ -171,6 +192,10 @@ fn run(cli: Cli) -> Result<()> {
             let (loaded, name) = load_input(args.input.as_deref())?;
             analyze::run(&loaded.pixels, &name, &args.output, args.format)
         }
+        Command::Fit(cmd) => procedural::fit(&cmd),
+        Command::Render(cmd) => procedural::render(&cmd),
+        Command::Synth(cmd) => procedural::synth(&cmd),
+        Command::Noise(cmd) => procedural::noise(&cmd),
     }
 }
 

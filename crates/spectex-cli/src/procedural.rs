@@ -1,0 +1,456 @@
+//! `spectex fit`, `render`, `synth` and `noise`: procedural models (LRP and Gabor noise) fitted
+//! from an example or built from a spectrum, and rendered at any window.
+
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result, anyhow, bail};
+use clap::{Args, Subcommand};
+use ndarray::{Array2, Array3, Axis};
+use spectex_cpu::{Evaluator, Window};
+use spectex_model::{GaborNoise, Model, Orientation, SpectralTarget};
+use spectex_sampling::FitOptions;
+
+use crate::io::{self, BitDepth};
+
+/// Options shared by every command that fits an LRP model.
+#[derive(Debug, Args)]
+pub struct FitArgs {
+    /// Cosine budget J: cosines per lattice point over all strata (1 to 1024).
+    #[arg(long, default_value_t = 50)]
+    budget: u32,
+    /// Number of strata L (1 to 64, at most J; the paper uses 4).
+    #[arg(long, default_value_t = 4)]
+    strata: u32,
+    /// Seed of the fit (k-means seeding) and of the model's random phases.
+    #[arg(long, default_value_t = 0)]
+    seed: u32,
+}
+
+impl FitArgs {
+    fn options(&self) -> FitOptions {
+        FitOptions {
+            budget: self.budget,
+            strata: self.strata,
+            seed: self.seed,
+            ..FitOptions::default()
+        }
+    }
+}
+
+/// Where and how to render.
+#[derive(Debug, Args)]
+pub struct RenderArgs {
+    /// Output image: .png (clamped to [0, 1]) or .exr (32-bit float, values kept).
+    #[arg(short, long, value_name = "OUT")]
+    output: PathBuf,
+    /// Output size WIDTHxHEIGHT (1 to 65536 per side).
+    #[arg(long, value_name = "WxH", value_parser = crate::parse_size)]
+    size: Option<(usize, usize)>,
+    /// Position of the top-left pixel, X,Y in model pixels (any finite values up to ±2^30).
+    #[arg(long, value_name = "X,Y", value_parser = parse_offset, allow_hyphen_values = true)]
+    offset: Option<[f64; 2]>,
+    /// Model pixels per output pixel (0 < S ≤ 1e6).
+    #[arg(long, default_value_t = 1.0)]
+    scale: f64,
+    /// Bits per channel of a PNG output.
+    #[arg(long, value_enum, default_value = "8")]
+    bit_depth: BitDepth,
+}
+
+/// Parses `X,Y`.
+fn parse_offset(s: &str) -> Result<[f64; 2], String> {
+    let err = || format!("'{s}' is not an offset; write X,Y, for example 1e7,1e7 or -20.5,3");
+    let (x, y) = s.split_once(',').ok_or_else(err)?;
+    let x: f64 = x.trim().parse().map_err(|_| err())?;
+    let y: f64 = y.trim().parse().map_err(|_| err())?;
+    Ok([x, y])
+}
+
+/// Arguments of `spectex fit`.
+#[derive(Debug, Args)]
+pub struct FitCommand {
+    /// Example image; the built-in exemplar if omitted.
+    input: Option<PathBuf>,
+    /// Model file to write (.json).
+    #[arg(short, long, value_name = "MODEL")]
+    output: PathBuf,
+    #[command(flatten)]
+    fit: FitArgs,
+}
+
+/// Arguments of `spectex render`.
+#[derive(Debug, Args)]
+pub struct RenderCommand {
+    /// Model file (.json) written by `spectex fit` or `spectex noise --model`.
+    model: PathBuf,
+    #[command(flatten)]
+    render: RenderArgs,
+}
+
+/// Arguments of `spectex synth`.
+#[derive(Debug, Args)]
+pub struct SynthCommand {
+    /// Example image; the built-in exemplar if omitted.
+    input: Option<PathBuf>,
+    #[command(flatten)]
+    fit: FitArgs,
+    #[command(flatten)]
+    render: RenderArgs,
+}
+
+/// Arguments of `spectex noise`.
+#[derive(Debug, Args)]
+pub struct NoiseCommand {
+    #[command(subcommand)]
+    kind: NoiseKind,
+}
+
+/// The continuous spectra of the paper's Fig. 3 and Fig. 10, and Gabor noise for comparison.
+#[derive(Debug, Subcommand)]
+enum NoiseKind {
+    /// Isotropic noise whose power lies on a ring of radius F (Fig. 10).
+    Ring {
+        /// Ring radius, cycles per pixel.
+        #[arg(long, default_value_t = 0.0625)]
+        radius: f32,
+        /// Gaussian half-width of the ring, cycles per pixel.
+        #[arg(long, default_value_t = 0.005)]
+        width: f32,
+        #[command(flatten)]
+        common: NoiseArgs,
+    },
+    /// Anisotropic noise: two Gaussian lobes at ±F in direction ANGLE (Fig. 3).
+    Lobe {
+        /// Distance of the lobes from the origin, cycles per pixel.
+        #[arg(long, default_value_t = 0.1)]
+        frequency: f32,
+        /// Direction, degrees.
+        #[arg(long, default_value_t = 30.0, allow_hyphen_values = true)]
+        angle: f32,
+        /// Standard deviation of each lobe, cycles per pixel.
+        #[arg(long, default_value_t = 0.01)]
+        width: f32,
+        #[command(flatten)]
+        common: NoiseArgs,
+    },
+    /// Band-pass noise: constant power for MIN ≤ |f| ≤ MAX.
+    Band {
+        /// Inner radius, cycles per pixel.
+        #[arg(long, default_value_t = 0.05)]
+        min: f32,
+        /// Outer radius, cycles per pixel.
+        #[arg(long, default_value_t = 0.1)]
+        max: f32,
+        #[command(flatten)]
+        common: NoiseArgs,
+    },
+    /// Gabor noise by sparse convolution (Lagae et al. 2009), for comparison with LRP noise.
+    Gabor {
+        /// Kernel frequency F₀, cycles per pixel.
+        #[arg(long, default_value_t = 0.0625)]
+        frequency: f32,
+        /// Gaussian bandwidth a, per pixel.
+        #[arg(long, default_value_t = 0.05)]
+        bandwidth: f32,
+        /// Orientation in degrees; omit for isotropic noise.
+        #[arg(long, allow_hyphen_values = true)]
+        angle: Option<f32>,
+        /// Mean number of impulses per kernel footprint.
+        #[arg(long, default_value_t = 32.0)]
+        impulses: f32,
+        #[command(flatten)]
+        common: NoiseArgs,
+    },
+}
+
+/// What every `noise` kind shares.
+#[derive(Debug, Args)]
+struct NoiseArgs {
+    /// Cosine budget J of the LRP model (ignored by gabor).
+    #[arg(long, default_value_t = 10)]
+    budget: u32,
+    /// Number of strata L of the LRP model (ignored by gabor).
+    #[arg(long, default_value_t = 1)]
+    strata: u32,
+    /// Seed.
+    #[arg(long, default_value_t = 0)]
+    seed: u32,
+    /// Standard deviation of the noise around its mean.
+    #[arg(long, default_value_t = 0.15)]
+    contrast: f32,
+    /// Mean of the noise.
+    #[arg(long, default_value_t = 0.5)]
+    mean: f32,
+    /// Also write the model to this .json file.
+    #[arg(long, value_name = "MODEL")]
+    model: Option<PathBuf>,
+    #[command(flatten)]
+    render: RenderArgs,
+}
+
+/// Grid on which a continuous spectrum is sampled before stratification.
+const TARGET_GRID: usize = 256;
+
+/// The luminance of a loaded image (colour exemplars are fitted on it until the colour issue).
+fn luminance(img: &Array3<f64>, name: &str) -> Array2<f64> {
+    if img.dim().0 == 1 {
+        return img.index_axis(Axis(0), 0).to_owned();
+    }
+    eprintln!("note: {name} is in colour; its Rec. 709 luminance is fitted (grey noise)");
+    let w = [0.2126, 0.7152, 0.0722];
+    let mut y = Array2::zeros((img.dim().1, img.dim().2));
+    for (c, wc) in w.iter().enumerate() {
+        y.scaled_add(*wc, &img.index_axis(Axis(0), c));
+    }
+    y
+}
+
+fn fit_example(input: Option<&Path>, fit: &FitArgs) -> Result<(Model, (usize, usize))> {
+    let (loaded, name) = crate::load_input(input)?;
+    let grey = luminance(&loaded.pixels, &name);
+    let (h, w) = grey.dim();
+    let model = spectex_sampling::fit_image(grey.view(), &fit.options())
+        .with_context(|| format!("cannot fit {name}"))?;
+    Ok((Model::Lrp(model), (w, h)))
+}
+
+fn write_model(path: &Path, model: &Model) -> Result<()> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    if ext.as_deref() != Some("json") {
+        bail!("model file '{}' must end in .json", path.display());
+    }
+    let text = spectex_model::to_json(model).context("internal: the fitted model is invalid")?;
+    io::write_text_atomically(path, &text)
+}
+
+fn read_model(path: &Path) -> Result<Model> {
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        anyhow!(
+            "cannot open model '{}': {e}; check the path",
+            path.display()
+        )
+    })?;
+    spectex_model::from_json(&text).map_err(|e| {
+        anyhow!(
+            "model '{}' is not usable: {e}; write it with `spectex fit` or fix that field",
+            path.display()
+        )
+    })
+}
+
+/// Renders `model` as `args` says, showing progress on a terminal, and writes the image.
+fn render_to_file(model: &Model, args: &RenderArgs, default_size: (usize, usize)) -> Result<()> {
+    let format = io::check_output(&args.output, args.bit_depth)?;
+    let (width, height) = args.size.unwrap_or(default_size);
+    let window = Window::new(width, height).at(args.offset.unwrap_or([0.0, 0.0]), args.scale);
+    window
+        .validate()
+        .map_err(|e| anyhow!("{e}; check --size, --offset and --scale"))?;
+    let eval = Evaluator::new(model).map_err(|e| anyhow!("{e}"))?;
+    let mut pixels = vec![0.0f32; width * height];
+    let bar = progress_bar(height as u64, "rendering");
+    let start = std::time::Instant::now();
+    eval.render_into(&window, &mut pixels, &|_| bar.inc(1))
+        .map_err(|e| anyhow!("{e}"))?;
+    bar.finish_and_clear();
+    let seconds = start.elapsed().as_secs_f64();
+    let image = Array3::from_shape_fn((1, height, width), |(_, y, x)| {
+        f64::from(pixels[y * width + x])
+    });
+    let report = io::save(&args.output, &image, format)?;
+    #[allow(clippy::print_stdout)] // reason: the command's result summary
+    {
+        println!(
+            "wrote {} ({width}×{height}, {:.1} evaluations per pixel, {:.2} Mpix/s)",
+            args.output.display(),
+            eval.cost_per_pixel(),
+            (width * height) as f64 / seconds.max(1e-9) / 1e6
+        );
+    }
+    crate::note_clipping(report);
+    Ok(())
+}
+
+/// A progress bar on stderr when it is a terminal; hidden (and free) when piped.
+fn progress_bar(len: u64, what: &'static str) -> indicatif::ProgressBar {
+    if !std::io::stderr().is_terminal() || len < 256 {
+        return indicatif::ProgressBar::hidden();
+    }
+    let bar = indicatif::ProgressBar::new(len);
+    if let Ok(style) =
+        indicatif::ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} rows, {eta} left")
+    {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    bar.set_message(what);
+    bar
+}
+
+/// `spectex fit`.
+pub fn fit(cmd: &FitCommand) -> Result<()> {
+    let (model, _) = fit_example(cmd.input.as_deref(), &cmd.fit)?;
+    write_model(&cmd.output, &model)?;
+    if let Model::Lrp(m) = &model {
+        #[allow(clippy::print_stdout)] // reason: the command's result summary
+        {
+            println!(
+                "wrote {} (LRP noise, {} strata, J = {}):",
+                cmd.output.display(),
+                m.strata.len(),
+                m.budget()
+            );
+            for (s, st) in m.strata.iter().enumerate() {
+                println!(
+                    "  stratum {s}: J_S = {:>3}, Δ_S = {:7.2} px, A_S = {:.5}, {} frequencies",
+                    st.cosines(),
+                    st.window_width,
+                    st.amplitude,
+                    st.sub_strata.iter().map(Vec::len).sum::<usize>()
+                );
+            }
+        }
+    }
+    Ok(())
+}
+
+/// `spectex render`.
+pub fn render(cmd: &RenderCommand) -> Result<()> {
+    let model = read_model(&cmd.model)?;
+    render_to_file(&model, &cmd.render, (512, 512))
+}
+
+/// `spectex synth`.
+pub fn synth(cmd: &SynthCommand) -> Result<()> {
+    io::check_output(&cmd.render.output, cmd.render.bit_depth)?;
+    let (model, size) = fit_example(cmd.input.as_deref(), &cmd.fit)?;
+    render_to_file(&model, &cmd.render, size)
+}
+
+/// `spectex noise`.
+pub fn noise(cmd: &NoiseCommand) -> Result<()> {
+    let (target, common) = match &cmd.kind {
+        NoiseKind::Ring {
+            radius,
+            width,
+            common,
+        } => (
+            Some(SpectralTarget::Ring {
+                radius: *radius,
+                width: *width,
+            }),
+            common,
+        ),
+        NoiseKind::Lobe {
+            frequency,
+            angle,
+            width,
+            common,
+        } => (
+            Some(SpectralTarget::Lobes {
+                frequency: *frequency,
+                angle: angle.to_radians(),
+                width: *width,
+            }),
+            common,
+        ),
+        NoiseKind::Band { min, max, common } => (
+            Some(SpectralTarget::Band {
+                min: *min,
+                max: *max,
+            }),
+            common,
+        ),
+        NoiseKind::Gabor { common, .. } => (None, common),
+    };
+    io::check_output(&common.render.output, common.render.bit_depth)?;
+    if !(common.contrast.is_finite() && common.contrast > 0.0) {
+        bail!(
+            "--contrast = {} must be a positive number (the noise's standard deviation)",
+            common.contrast
+        );
+    }
+    let model = match (target, &cmd.kind) {
+        (Some(target), _) => {
+            target
+                .validate()
+                .map_err(|e| anyhow!("{e}; check the spectrum's options"))?;
+            let options = FitOptions {
+                budget: common.budget,
+                strata: common.strata,
+                seed: common.seed,
+                ..FitOptions::default()
+            };
+            let variance = f64::from(common.contrast).powi(2);
+            let mut m = spectex_sampling::fit_target(&target, variance, TARGET_GRID, &options)
+                .context("cannot build the noise")?;
+            m.mean = common.mean;
+            Model::Lrp(m)
+        }
+        (
+            None,
+            NoiseKind::Gabor {
+                frequency,
+                bandwidth,
+                angle,
+                impulses,
+                ..
+            },
+        ) => {
+            let mut g = GaborNoise {
+                seed: common.seed,
+                mean: common.mean,
+                amplitude: 1.0,
+                bandwidth: *bandwidth,
+                frequency: *frequency,
+                orientation: match angle {
+                    Some(a) => Orientation::Anisotropic {
+                        angle: a.to_radians(),
+                    },
+                    None => Orientation::Isotropic {
+                        min: 0.0,
+                        max: std::f32::consts::TAU,
+                    },
+                },
+                impulses_per_kernel: *impulses,
+            };
+            g.validate()
+                .map_err(|e| anyhow!("{e}; check the gabor options"))?;
+            g.amplitude = common.contrast / gabor_unit_std(&g) as f32;
+            Model::Gabor(g)
+        }
+        (None, _) => unreachable!("only gabor has no spectral target"),
+    };
+    if let Some(path) = &common.model {
+        write_model(path, &model)?;
+    }
+    render_to_file(&model, &common.render, (512, 512))
+}
+
+/// Standard deviation of a Gabor noise with K = 1 (Lagae et al. 2009): the impulse density
+/// `λ = N/(πr²)` times `E[w²] = 1/3` times `∫ e^{−2πa²|x|²} cos²(2πF₀ω·x) dx`, whose
+/// truncated integral is computed numerically on the kernel's disc.
+fn gabor_unit_std(g: &GaborNoise) -> f64 {
+    let r = g.kernel_radius();
+    let a = f64::from(g.bandwidth);
+    let f = f64::from(g.frequency);
+    let n = 400;
+    let h = 2.0 * r / n as f64;
+    let mut integral = 0.0;
+    for i in 0..n {
+        for j in 0..n {
+            let (x, y) = (-r + (i as f64 + 0.5) * h, -r + (j as f64 + 0.5) * h);
+            let d2 = x * x + y * y;
+            if d2 <= r * r {
+                // Averaged over directions ω the cos² term is ½ + ½·J0-like; with F₀ ≫ a it is ½.
+                let c = (2.0 * std::f64::consts::PI * f * x).cos();
+                integral += (-2.0 * std::f64::consts::PI * a * a * d2).exp() * c * c * h * h;
+            }
+        }
+    }
+    let density = f64::from(g.impulses_per_kernel) / (std::f64::consts::PI * r * r);
+    (density * integral / 3.0).sqrt()
+}
