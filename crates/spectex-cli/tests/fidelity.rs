@@ -17,8 +17,8 @@
 use ndarray::Array2;
 use spectex_cpu::{Evaluator, Window};
 use spectex_model::{GaborNoise, Model, Orientation, SpectralTarget};
-use spectex_sampling::{FitOptions, fit_psd, fit_target, stratify};
-use spectex_spectrum::{Fft2, signed_frequency, welch_psd, welch_psd_with_block};
+use spectex_sampling::{FitOptions, exemplar_psd, fit_image, fit_target, stratify};
+use spectex_spectrum::{Fft2, signed_frequency, welch_psd_with_block};
 
 fn shared_grey(name: &str) -> Option<Array2<f64>> {
     let dir = concat!(
@@ -47,6 +47,19 @@ fn render(model: &Model, side: usize) -> (Array2<f64>, f64) {
         Array2::from_shape_vec((side, side), v.into_iter().map(f64::from).collect()).unwrap(),
         seconds,
     )
+}
+
+/// Mean and variance of the model from 512² samples 37.3 pixels apart (a 19 100-pixel square):
+/// nearly independent samples, so the estimate's relative error is about √(2/512²) ≈ 0.3%,
+/// where a 1024² render of a height map dominated by periods of 100+ pixels has only a few
+/// hundred independent patches (≈ 7% error on the variance, measured up to 23%).
+fn sparse_mean_var(model: &Model) -> (f64, f64) {
+    let eval = Evaluator::new(model).unwrap();
+    let v = eval
+        .render(&Window::new(512, 512).at([-5.0e3, 9.0e3], 37.3))
+        .unwrap();
+    let a = Array2::from_shape_vec((512, 512), v.into_iter().map(f64::from).collect()).unwrap();
+    mean_var(&a)
 }
 
 fn mean_var(a: &Array2<f64>) -> (f64, f64) {
@@ -84,12 +97,27 @@ fn shape_distance(a: &Array2<f64>, b: &Array2<f64>) -> f64 {
     a.iter().zip(b.iter()).map(|(x, y)| (x - y).abs()).sum()
 }
 
+/// The best a model with one amplitude per stratum can do (§4.3: "we target a constant value
+/// A_S"): each stratum's energy spread evenly over its bins. Its distance to the exemplar is the
+/// floor of the L1 column, independent of J.
+fn flat_strata_spectrum(plan: &spectex_sampling::Stratification, t: usize) -> Array2<f64> {
+    let mut flat = Array2::zeros((t, t));
+    for s in &plan.strata {
+        let level = s.energy * (t * t) as f64 / s.bins.len() as f64;
+        for &b in &s.bins {
+            flat[b] = level;
+        }
+    }
+    flat
+}
+
 /// Noise by example on the four stochastic shared textures, J = 10, 50, 100.
 #[test]
 fn noise_by_example_matches_the_exemplar_spectrum() {
     let mut fft = Fft2::new();
+    let mut failures = Vec::new();
     println!(
-        "texture   J    L1(shape)  max|ΔE_S|/E_S  mean|ΔE_S|/E_S  Δmean/σ   var ratio  Mpix/s"
+        "texture   J    L1(shape)  L1(flat)  max|ΔE_S|/E_S  mean|ΔE_S|/E_S  Δmean/σ   var ratio  Mpix/s"
     );
     for name in [
         "skimage_gravel.png",
@@ -98,10 +126,12 @@ fn noise_by_example_matches_the_exemplar_spectrum() {
         "astex_ambientcg_dirt_height_512.png",
     ] {
         let Some(ex) = shared_grey(name) else { return };
-        let psd = welch_psd(ex.view(), &mut fft).unwrap();
+        let (psd, _) = exemplar_psd(ex.view()).unwrap();
         let t = psd.nrows();
         let (mean, var) = mean_var(&ex);
         let mut distances = Vec::new();
+        let mut stratum_errors = Vec::new();
+        let mut floor = 0.0;
         for budget in [10u32, 50, 100] {
             let options = FitOptions {
                 budget,
@@ -109,7 +139,7 @@ fn noise_by_example_matches_the_exemplar_spectrum() {
                 ..FitOptions::default()
             };
             let plan = stratify(psd.view(), &options).unwrap();
-            let model = Model::Lrp(fit_psd(psd.view(), mean, &options).unwrap());
+            let model = Model::Lrp(fit_image(ex.view(), &options).unwrap());
             let (img, seconds) = render(&model, 1024);
             let psd_r = welch_psd_with_block(img.view(), t, &mut fft).unwrap();
             let errors: Vec<f64> = plan
@@ -121,9 +151,12 @@ fn noise_by_example_matches_the_exemplar_spectrum() {
                 })
                 .collect();
             let d = shape_distance(&psd_r, &psd);
-            let (m_r, v_r) = mean_var(&img);
+            let flat = flat_strata_spectrum(&plan, t);
+            let d_flat = shape_distance(&flat, &psd);
+            floor = d_flat;
+            let (m_r, v_r) = sparse_mean_var(&model);
             println!(
-                "{:<9} {budget:>3}  {d:9.4}  {:13.3}  {:14.3}  {:8.4}  {:9.3}  {:6.2}",
+                "{:<9} {budget:>3}  {d:9.4}  {d_flat:8.4}  {:13.3}  {:14.3}  {:8.4}  {:9.3}  {:6.2}",
                 &name[..name.len().min(9)],
                 errors.iter().copied().fold(0.0, f64::max),
                 errors.iter().sum::<f64>() / errors.len() as f64,
@@ -133,24 +166,42 @@ fn noise_by_example_matches_the_exemplar_spectrum() {
             );
             // Mean and variance within 5% (the mean relative to the exemplar's σ: a noise's
             // mean is meaningful only up to its contrast).
-            assert!(
-                ((m_r - mean) / var.sqrt()).abs() < 0.05,
-                "{name} J={budget}: mean {m_r} vs {mean}"
-            );
-            assert!(
-                (v_r / var - 1.0).abs() < 0.05,
-                "{name} J={budget}: variance {v_r} vs {var}"
-            );
+            if ((m_r - mean) / var.sqrt()).abs() >= 0.05 {
+                failures.push(format!("{name} J={budget}: mean {m_r} vs {mean}"));
+            }
+            if (v_r / var - 1.0).abs() >= 0.05 {
+                failures.push(format!("{name} J={budget}: variance {v_r} vs {var}"));
+            }
             distances.push(d);
+            stratum_errors.push(errors.iter().sum::<f64>() / errors.len() as f64);
+        }
+        // Within 0.25 of the best a one-amplitude-per-stratum model can do (the L1(flat) column):
+        // what is left is leakage and sub-stratum sampling. The failures this guards against
+        // were far above it: frequencies at twice the target (L1 ≈ 1.8 on a ring) and an
+        // erosion keeping a few spots of each piece (gravel J=100: 0.86 against a floor of 0.36).
+        for (budget, d) in [10, 50, 100].iter().zip(&distances) {
+            if *d > floor + 0.25 {
+                failures.push(format!(
+                    "{name} J={budget}: L1 {d:.4} above floor {floor:.4} + 0.25"
+                ));
+            }
         }
         // More cosines, a closer spectrum (the paper's central claim about J).
-        assert!(
-            distances[2] < distances[0],
-            "{name}: L1 at J=100 {} not below J=10 {}",
-            distances[2],
-            distances[0]
-        );
+        if stratum_errors[2] >= stratum_errors[0] {
+            failures.push(format!(
+                "{name}: mean stratum energy error at J=100 {} not below J=10 {}",
+                stratum_errors[2], stratum_errors[0]
+            ));
+        }
     }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// `E[(v − μ)⁴]/σ⁴ − 3`: 0 for a Gaussian noise; sparse convolution with few impulses is
+/// heavy-tailed (the "quality" the paper's Fig. 10 shows), a sum of random-phase cosines is not.
+fn excess_kurtosis(a: &Array2<f64>) -> f64 {
+    let (m, v) = mean_var(a);
+    a.iter().map(|x| (x - m).powi(4)).sum::<f64>() / a.len() as f64 / (v * v) - 3.0
 }
 
 /// The target ring's PSD on the `t`-grid, scaled to unit sum (zero frequency excluded).
@@ -173,7 +224,7 @@ fn ring_spectrum_lrp_against_gabor() {
     let target = SpectralTarget::Ring { radius, width };
     let t = 128;
     let want = target_psd(&target, t);
-    println!("model        J   calls/pixel  L1(shape)  ns/pixel");
+    println!("model        J   calls/pixel  L1(shape)  ns/pixel  excess kurtosis");
     let mut lrp = Vec::new();
     let mut gabor = Vec::new();
     for j in [1u32, 3, 5] {
@@ -190,9 +241,10 @@ fn ring_spectrum_lrp_against_gabor() {
             &want,
         );
         println!(
-            "LRP        {j:>3}   {:>11}  {d:9.4}  {:8.1}",
+            "LRP        {j:>3}   {:>11}  {d:9.4}  {:8.1}  {:15.3}",
             9 * j,
-            s * 1e9 / (512.0 * 512.0)
+            s * 1e9 / (512.0 * 512.0),
+            excess_kurtosis(&img)
         );
         lrp.push(d);
         // Gabor: kernel spectrum e^{−2π d²/a²} in power is a Gaussian ring of σ = a/(2√π).
@@ -214,9 +266,10 @@ fn ring_spectrum_lrp_against_gabor() {
             &want,
         );
         println!(
-            "Gabor      {j:>3}   {:>11}  {d:9.4}  {:8.1}",
+            "Gabor      {j:>3}   {:>11}  {d:9.4}  {:8.1}  {:15.3}",
             9 * j,
-            s * 1e9 / (512.0 * 512.0)
+            s * 1e9 / (512.0 * 512.0),
+            excess_kurtosis(&img)
         );
         gabor.push(d);
     }

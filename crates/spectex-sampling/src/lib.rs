@@ -55,5 +55,5 @@ pub mod stratify;
 pub use error::SamplingError;
 pub use fit::{
     DEFAULT_TARGET_GRID, FitOptions, MAX_IMAGE_SIDE, MAX_TARGET_GRID, MIN_TARGET_GRID,
-    Stratification, StratumPlan, fit_image, fit_psd, fit_target, stratify,
+    Stratification, StratumPlan, exemplar_psd, fit_image, fit_psd, fit_target, stratify,
 };
