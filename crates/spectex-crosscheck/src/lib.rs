@@ -1,5 +1,58 @@
 //! Renders the same model windows through `spectex-cpu` and `spectex-gpu` and compares them:
-//! max / mean absolute error, error percentiles and the distance between their Welch spectra
-//! (from `spectex-spectrum`), writing actual and difference images and a report on failure.
+//! max / mean absolute error, the 99.9th percentile of the error and the relative distance
+//! between their Welch spectra (from `spectex-spectrum`), each against a tolerance derived from
+//! the model ([`tolerance`]), writing actual and difference images and a report on failure.
 //!
-//! Nothing is implemented here yet: the GPU evaluator issue fills it.
+//! The two evaluators are independent implementations of one contract (DESIGN invariant 1):
+//! their integer draws are bit-identical, so every difference is float rounding, bounded by
+//! the constants of [`tolerance`].
+//!
+//! ```no_run
+//! use spectex_crosscheck::{check_model, standard_windows};
+//! use spectex_gpu::GpuContext;
+//!
+//! let context = GpuContext::new()?;
+//! let text = std::fs::read_to_string("testdata/models/gabor-isotropic.json")?;
+//! let model = spectex_model::from_json(&text)?;
+//! for (window, outcome) in check_model(&context, "gabor-isotropic", &model, &standard_windows())? {
+//!     println!("{window}: {}", outcome.summary());
+//! }
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+mod compare;
+mod report;
+pub mod tolerance;
+
+pub use compare::{
+    CaseWindow, Comparison, EXPECTED_FAILURES, Outcome, Verdict, check_model, compare,
+    expected_failure, judge, standard_windows,
+};
+pub use report::{REPORT_DIR, write_failure_report};
+pub use tolerance::Tolerance;
+
+/// Why a cross-check could not run (a failed comparison is an [`Outcome`], not an error).
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum CrosscheckError {
+    /// The CPU evaluator refused the model or window.
+    #[error("CPU evaluator: {0}")]
+    Cpu(#[from] spectex_cpu::CpuError),
+    /// The GPU evaluator refused the model or window, or the device failed.
+    #[error("GPU evaluator: {0}")]
+    Gpu(#[from] spectex_gpu::GpuError),
+    /// The model has no derivable tolerance (a kind this crate does not know).
+    #[error("no cross-check tolerance is defined for {kind} models")]
+    Unsupported {
+        /// The model kind.
+        kind: String,
+    },
+    /// Writing a failure report failed.
+    #[error("writing the report {path}: {source}")]
+    Report {
+        /// The file.
+        path: String,
+        /// The I/O or encoding error.
+        source: std::io::Error,
+    },
+}

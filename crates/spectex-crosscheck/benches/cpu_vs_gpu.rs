@@ -1,0 +1,90 @@
+//! CPU (all threads) against the GPU adapter in one run: LRP with J = 50 cosines over 4 strata,
+//! one 1024² window, read-back included. Prints the Mpix/s of each and their ratio.
+//!
+//! `cargo bench -p spectex-crosscheck --bench cpu_vs_gpu`; on lavapipe set
+//! `WGPU_ADAPTER_NAME=llvmpipe`. Without an adapter only the CPU is measured.
+
+#![allow(clippy::print_stdout, reason = "the ratio line is the bench's report")]
+#![allow(clippy::unwrap_used, reason = "a bench fails loudly")]
+
+use std::hint::black_box;
+use std::time::Instant;
+
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use spectex_cpu::{Evaluator, Window};
+use spectex_gpu::{GpuContext, GpuEvaluator, GpuWindow};
+use spectex_model::random::{Prng, cell_hash};
+use spectex_model::{LrpNoise, Model, Stratum};
+
+/// The 4-stratum, J = 50 model of the spectex-cpu and spectex-gpu benches.
+fn model() -> Model {
+    let mut prng = Prng::new(cell_hash(1, 2, 3, 4));
+    let strata = [4.5f32, 9.0, 16.0, 28.0]
+        .iter()
+        .enumerate()
+        .map(|(s, &w)| Stratum {
+            window_width: w,
+            amplitude: 0.05,
+            sub_strata: (0..50 / 4 + usize::from(s < 50 % 4))
+                .map(|_| {
+                    (0..40)
+                        .map(|_| [prng.next_f32() - 0.5, prng.next_f32() * 0.5])
+                        .collect()
+                })
+                .collect(),
+        })
+        .collect();
+    Model::Lrp(LrpNoise {
+        seed: 9,
+        mean: 0.5,
+        strata,
+    })
+}
+
+const SIDE: usize = 1024;
+
+fn bench(c: &mut Criterion) {
+    let model = model();
+    let cpu = Evaluator::new(&model).unwrap();
+    let mut group = c.benchmark_group("lrp_j50_1024");
+    group.sample_size(10);
+    group.throughput(Throughput::Elements((SIDE * SIDE) as u64));
+    let window = Window::new(SIDE, SIDE);
+    group.bench_function("cpu_all_threads", |b| {
+        b.iter(|| black_box(cpu.render(&window).unwrap()));
+    });
+    let time = |f: &dyn Fn()| {
+        f();
+        let start = Instant::now();
+        f();
+        start.elapsed().as_secs_f64()
+    };
+    let cpu_s = time(&|| {
+        black_box(cpu.render(&window).unwrap());
+    });
+    match GpuContext::new() {
+        Ok(context) => {
+            let gpu = GpuEvaluator::new(&context, &model).unwrap();
+            let gwindow = GpuWindow::new(SIDE, SIDE);
+            group.bench_function("gpu", |b| {
+                b.iter(|| black_box(gpu.render(&gwindow).unwrap()));
+            });
+            let gpu_s = time(&|| {
+                black_box(gpu.render(&gwindow).unwrap());
+            });
+            let mpix = (SIDE * SIDE) as f64 / 1e6;
+            println!(
+                "lrp J=50 1024²: CPU {:.2} Mpix/s, {} {:.2} Mpix/s, GPU/CPU speed ratio {:.2}",
+                mpix / cpu_s,
+                gpu.adapter_name(),
+                mpix / gpu_s,
+                cpu_s / gpu_s
+            );
+        }
+        Err(e) => println!("no GPU adapter, CPU only: {e}"),
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

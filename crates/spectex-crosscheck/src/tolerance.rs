@@ -1,0 +1,185 @@
+//! The tolerances of a CPU–GPU comparison, derived per model from the number of terms a pixel
+//! sums, their amplitudes and the accuracy of the f32 functions both sides evaluate.
+//!
+//! Both evaluators compute the same f32 formulas (cosine in turns by one polynomial, the
+//! Kaiser–Bessel window by one series, `exp` by one polynomial) from bit-identical integer
+//! draws. They may still differ because a GPU compiler may contract `a·b + c` into an FMA and
+//! reassociate (WGSL cannot forbid either), and the GPU's `cos`/`exp` builtins are not used but
+//! its arithmetic rounding may differ. Each constant below bounds one such source for one term;
+//! a pixel's bound is the sum over its terms.
+
+use spectex_model::{GaborNoise, LrpNoise, Model};
+
+/// Single-precision unit roundoff, `2⁻²⁴`.
+pub const F32_UNIT_ROUNDOFF: f64 = 5.960_464_477_539_063e-8;
+
+/// Error of a phase in turns, relative to its magnitude: the phase `f·p + φ` is two products and
+/// two sums in f32; fused or not, each step rounds once more or once less, so at most 4 unit
+/// roundoffs of the largest intermediate.
+pub const PHASE_ROUNDINGS: f64 = 4.0;
+
+/// Absolute error of `cos_turns` on either side after argument reduction: the minimax
+/// polynomial's own error (≈ 1e-7 on [0, ¼] turn, measured in spectex-cpu) plus its evaluation
+/// in 6 Horner steps, each a product and a sum of magnitude ≤ 1 that an FMA may or may not round:
+/// `1e-7 + 12·2⁻²⁴ ≈ 8.2e-7`, rounded up to 1e-6 (the bound the GPU contract tests use).
+pub const COS_ABS_ERROR: f64 = 1e-6;
+
+/// Absolute error of the Kaiser–Bessel window `w(r) ∈ [0, 1]` on either side: a 16-term Horner
+/// series with positive terms (no cancellation) and a square root, ≤ 40 roundings of
+/// magnitude ≤ 1: `40·2⁻²⁴ ≈ 2.4e-6`.
+pub const WINDOW_ABS_ERROR: f64 = 2.4e-6;
+
+/// Relative error of `exp_poly` (Gabor's Gaussian) on either side: degree-7 Taylor on
+/// `|f| ≤ ½ ln 2` (truncation 2e-9) plus 8 Horner steps and the two-part range reduction:
+/// `≈ 20·2⁻²⁴ = 1.2e-6`, plus the argument `−π a² d²`'s own rounding (3 roundings of a value
+/// ≤ 3): `≈ 2e-6` in all, rounded up to 3e-6.
+pub const EXP_REL_ERROR: f64 = 3e-6;
+
+/// Per-pixel summation: terms are accumulated in 8 lanes then a tree (CPU) or serially (GPU);
+/// the two orders differ by at most `n` roundings of the running sum for `n` terms, bounded by
+/// `n·2⁻²⁴·Σ|term|`; we count the summed magnitude once with 64 roundings (n ≤ 64 per lane or
+/// per stratum tree level in every model we ship).
+pub const SUMMATION_ROUNDINGS: f64 = 64.0;
+
+/// A mean absolute error above this fraction of the max bound is a systematic shift, not
+/// rounding: rounding errors of independent terms add like a random walk (√n), so their mean
+/// magnitude is far below the worst-case sum of `n` bounds.
+pub const MEAN_FRACTION: f64 = 0.25;
+
+/// Tolerances of one model's comparison.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Tolerance {
+    /// Bound on `|cpu − gpu|` at any pixel.
+    pub max_abs: f64,
+    /// Bound on the mean of `|cpu − gpu|`: `MEAN_FRACTION · max_abs`.
+    pub mean_abs: f64,
+}
+
+impl Tolerance {
+    fn from_max(max_abs: f64) -> Self {
+        Self {
+            max_abs,
+            mean_abs: MEAN_FRACTION * max_abs,
+        }
+    }
+
+    /// Bound on the relative distance `Σ|P_cpu − P_gpu| / Σ P_cpu` of the two Welch spectra of
+    /// renders whose RMS difference is at most `max_abs` and the CPU render's standard deviation
+    /// is `sigma`: by Parseval and Cauchy–Schwarz, `Σ|a² − b²| ≤ 2‖a‖‖a − b‖ + ‖a − b‖²`
+    /// per frequency summed, so the relative distance is at most `2e + e²` with
+    /// `e = max_abs / sigma`. (The Hann window weighs both sides alike.)
+    #[must_use]
+    pub fn spectral(&self, sigma: f64) -> f64 {
+        if sigma <= 0.0 {
+            return f64::INFINITY;
+        }
+        let e = self.max_abs / sigma;
+        2.0 * e + e * e
+    }
+}
+
+/// The tolerance of a model, or `None` for a kind without a derivation.
+#[must_use]
+pub fn tolerance(model: &Model) -> Option<Tolerance> {
+    match model {
+        Model::Lrp(m) => Some(lrp(m)),
+        Model::Gabor(m) => Some(gabor(m)),
+        #[allow(unreachable_patterns)] // reason: `Model` is non_exhaustive for other crates
+        _ => None,
+    }
+}
+
+/// LRP (Gilet et al. 2014, Eq. 1–2): per stratum, 9 lattice points × `J_S` cosines of
+/// amplitude `A_S` times a window ≤ 1. Per term: the cosine's error from its phase (the offset
+/// to a lattice point is at most `1.5·√2·Δ_S`, so `|f·p| ≤ |f|_max·2.13·Δ_S` turns, plus the
+/// phase ≤ 1), [`COS_ABS_ERROR`] and [`WINDOW_ABS_ERROR`], on each side (factor 2).
+#[must_use]
+pub fn lrp(m: &LrpNoise) -> Tolerance {
+    let mut bound = 0.0;
+    let mut magnitude = 0.0;
+    for s in &m.strata {
+        let f_max = s
+            .sub_strata
+            .iter()
+            .flatten()
+            .map(|f| f64::from(f[0]).hypot(f64::from(f[1])))
+            .fold(0.0, f64::max);
+        let turns = f_max * 2.13 * f64::from(s.window_width) + 1.0;
+        let phase = std::f64::consts::TAU * PHASE_ROUNDINGS * F32_UNIT_ROUNDOFF * turns;
+        let per_term = 2.0 * (phase + COS_ABS_ERROR + WINDOW_ABS_ERROR);
+        let terms = 9.0 * s.sub_strata.len() as f64;
+        let amplitude = f64::from(s.amplitude).abs();
+        bound += amplitude * terms * per_term;
+        magnitude += amplitude * terms;
+    }
+    magnitude += f64::from(m.mean).abs();
+    Tolerance::from_max(bound + SUMMATION_ROUNDINGS * F32_UNIT_ROUNDOFF * magnitude)
+}
+
+/// Gabor noise (Lagae et al. 2009): impulses of the 3×3 cells around a pixel, each `K·w`
+/// (|w| ≤ 1) times a Gaussian ≤ 1 times a cosine. The count is Poisson of mean `9λ`
+/// (λ impulses per cell); we bound it by `9λ + 6√(9λ) + 6`, which a Poisson variable exceeds
+/// with probability below 1e-9, so over the ≤ 10⁵ pixels of a cross-check window no pixel is
+/// expected to exceed it. Per impulse: the cosine's phase error (offsets within 2 cells, so
+/// `|F₀·d| ≤ 2.83·F₀·r` turns; an isotropic direction adds two cosines of error
+/// [`COS_ABS_ERROR`] times that many turns), [`COS_ABS_ERROR`], [`EXP_REL_ERROR`], on each side.
+#[must_use]
+pub fn gabor(m: &GaborNoise) -> Tolerance {
+    let lambda = 9.0 * m.impulses_per_cell();
+    let count = lambda + 6.0 * lambda.sqrt() + 6.0;
+    let turns = 2.83 * f64::from(m.frequency) * m.kernel_radius();
+    let phase = std::f64::consts::TAU
+        * (PHASE_ROUNDINGS * F32_UNIT_ROUNDOFF * (turns + 1.0) + 2.0 * COS_ABS_ERROR * turns);
+    let per_term = 2.0 * (phase + COS_ABS_ERROR + EXP_REL_ERROR);
+    let k = f64::from(m.amplitude).abs();
+    let magnitude = k * count + f64::from(m.mean).abs();
+    Tolerance::from_max(k * count * per_term + SUMMATION_ROUNDINGS * F32_UNIT_ROUNDOFF * magnitude)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use spectex_model::{Orientation, Stratum};
+
+    /// The bound grows linearly with the amplitude and with the number of cosines.
+    #[test]
+    fn lrp_bound_scales_with_amplitude_and_terms() {
+        let model = |amplitude: f32, cosines: usize| LrpNoise {
+            seed: 0,
+            mean: 0.0,
+            strata: vec![Stratum {
+                window_width: 10.0,
+                amplitude,
+                sub_strata: vec![vec![[0.1, 0.2]]; cosines],
+            }],
+        };
+        let a = lrp(&model(0.1, 4)).max_abs;
+        assert!((lrp(&model(0.2, 4)).max_abs / a - 2.0).abs() < 1e-12);
+        assert!((lrp(&model(0.1, 8)).max_abs / a - 2.0).abs() < 1e-12);
+        assert!(a > 0.0 && a < 1e-3, "{a}");
+    }
+
+    /// `2e + e²` is the exact worst case of `Σ|a² − b²|/Σa²` for `b = a·(1 + e)`.
+    #[test]
+    fn spectral_bound_is_attained_by_a_scaled_signal() {
+        let t = Tolerance::from_max(0.01);
+        let sigma = 0.1;
+        let e = 0.01 / sigma;
+        let (a, b) = (1.0f64, 1.0 + e);
+        assert!(((b * b - a * a) / (a * a) - t.spectral(sigma)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn gabor_bound_grows_with_impulses() {
+        let m = |impulses_per_kernel: f32| GaborNoise {
+            seed: 0,
+            mean: 0.0,
+            amplitude: 1.0,
+            bandwidth: 0.05,
+            frequency: 0.06,
+            orientation: Orientation::Isotropic { min: 0.0, max: 6.0 },
+            impulses_per_kernel,
+        };
+        assert!(gabor(&m(64.0)).max_abs > gabor(&m(8.0)).max_abs);
+    }
+}

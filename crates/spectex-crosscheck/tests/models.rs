@@ -1,0 +1,95 @@
+//! The cross-check suite: every model in `testdata/models/*.json`, rendered on the CPU and the
+//! GPU at the origin, at `(10⁷, 10⁷)` and at a fractional scale, compared within the model's
+//! derived tolerances. Prints one `crosscheck:` line per model (what `cargo xtask verify`
+//! shows) and one per window; on a failure, images and reports go to `target/crosscheck/`.
+//!
+//! Skips with a printed reason when no GPU adapter exists, unless `SPECTEX_REQUIRE_GPU=1`.
+
+#![allow(
+    clippy::unwrap_used,
+    reason = "a test fails loudly on the first unexpected None or Err"
+)]
+#![allow(
+    clippy::print_stdout,
+    reason = "the per-model lines are the suite's report"
+)]
+
+use std::path::PathBuf;
+
+use spectex_crosscheck::check_model;
+use spectex_crosscheck::standard_windows;
+use spectex_gpu::GpuContext;
+
+/// Environment variable that turns a missing adapter from a skip into a failure.
+const REQUIRE_GPU_ENV: &str = "SPECTEX_REQUIRE_GPU";
+
+fn model_files() -> Vec<PathBuf> {
+    let dir = PathBuf::from(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../testdata/models"
+    ));
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "json"))
+        .collect();
+    files.sort();
+    files
+}
+
+#[test]
+fn every_shipped_model_agrees_on_cpu_and_gpu() {
+    let files = model_files();
+    assert!(
+        files.len() >= 5,
+        "testdata/models should hold the LRP (2 fitted, ring) and Gabor (2) cases"
+    );
+    let context = match GpuContext::new() {
+        Ok(c) => c,
+        Err(e) if std::env::var(REQUIRE_GPU_ENV).is_ok_and(|v| v == "1") => {
+            panic!("{REQUIRE_GPU_ENV}=1 but no GPU: {e}")
+        }
+        Err(e) => {
+            println!("SKIPPED cross-check: {e}");
+            return;
+        }
+    };
+    let adapter = context.adapter_name();
+    let mut failed = Vec::new();
+    for file in &files {
+        let case = file.file_stem().unwrap().to_string_lossy().into_owned();
+        let model = spectex_model::from_json(&std::fs::read_to_string(file).unwrap())
+            .unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+        let outcomes = check_model(&context, &case, &model, &standard_windows())
+            .unwrap_or_else(|e| panic!("{case}: {e}"));
+        let worst_max = outcomes
+            .iter()
+            .map(|(_, o)| o.comparison.max_abs)
+            .fold(0.0, f64::max);
+        let worst_mean = outcomes
+            .iter()
+            .map(|(_, o)| o.comparison.mean_abs)
+            .fold(0.0, f64::max);
+        let tolerance = outcomes[0].1.tolerance;
+        let passed = outcomes.iter().all(|(_, o)| o.passed());
+        println!(
+            "crosscheck: {case:<20} on {adapter}: max error {worst_max:.2e}, mean error \
+             {worst_mean:.2e}, tolerance {:.2e} (mean {:.2e}): {}",
+            tolerance.max_abs,
+            tolerance.mean_abs,
+            if passed { "pass" } else { "FAIL" }
+        );
+        for (window, outcome) in &outcomes {
+            println!("    {window}: {}", outcome.summary());
+            if !outcome.passed() {
+                failed.push(format!("{case} {}: {}", window.name, outcome.summary()));
+            }
+        }
+    }
+    assert!(
+        failed.is_empty(),
+        "{} window(s) failed; images and reports in target/crosscheck/:\n{}",
+        failed.len(),
+        failed.join("\n")
+    );
+}
