@@ -19,6 +19,11 @@ const COMMANDS: &[(&str, &str)] = &[
         "what CI runs: cargo fmt --check, clippy -D warnings, all tests, doc tests",
     ),
     (
+        "verify",
+        "GPU verification on lavapipe: GPU tests and the CPU-vs-GPU cross-check of \
+         testdata/models, one line per model",
+    ),
+    (
         "bench",
         "criterion benches of RPN vs one FFT, then a table of medians; \
          extra args go to criterion (`cargo xtask bench -- --quick`)",
@@ -56,6 +61,12 @@ fn run() -> Result<()> {
                 bail!("`cargo xtask ci` takes no arguments (got {rest:?})");
             }
             ci(&Workspace::locate()?)
+        }
+        Some("verify") => {
+            if !rest.is_empty() {
+                bail!("`cargo xtask verify` takes no arguments (got {rest:?})");
+            }
+            verify(&Workspace::locate()?)
         }
         Some("bench") => bench(&Workspace::locate()?, rest),
         Some(other) => bail!(
@@ -198,7 +209,107 @@ fn ci(ws: &Workspace) -> Result<()> {
             ),
             step("cargo test --doc", &["test", "--workspace", "--doc"]),
         ],
-    )
+    )?;
+    verify(ws)
+}
+
+/// Where Debian's `mesa-vulkan-drivers` puts the lavapipe ICD file.
+const LAVAPIPE_ICD_DIR: &str = "/usr/share/vulkan/icd.d";
+
+/// The lavapipe ICD: `VK_DRIVER_FILES` or `VK_ICD_FILENAMES` when set (first existing file of
+/// the list), else `lvp_icd.<arch>.json` from `mesa-vulkan-drivers`.
+fn lavapipe_icd() -> Result<PathBuf> {
+    for var in ["VK_DRIVER_FILES", "VK_ICD_FILENAMES"] {
+        if let Some(value) = env::var_os(var) {
+            let found = env::split_paths(&value).find(|p| p.is_file());
+            match found {
+                Some(path) => return Ok(path),
+                None => bail!(
+                    "{var} is set to {value:?} but names no existing ICD file; unset it to use \
+                     lavapipe from mesa-vulkan-drivers"
+                ),
+            }
+        }
+    }
+    let preferred = Path::new(LAVAPIPE_ICD_DIR).join(format!("lvp_icd.{}.json", env::consts::ARCH));
+    if preferred.is_file() {
+        return Ok(preferred);
+    }
+    let any = fs::read_dir(LAVAPIPE_ICD_DIR).ok().and_then(|dir| {
+        dir.filter_map(|e| e.ok().map(|e| e.path())).find(|p| {
+            p.file_name()
+                .is_some_and(|n| n.to_string_lossy().starts_with("lvp_icd."))
+        })
+    });
+    any.with_context(|| {
+        format!(
+            "lavapipe (software Vulkan) is not installed: no {} ; install it with \
+             `apt-get install mesa-vulkan-drivers libvulkan1` (Debian/Ubuntu), or point \
+             VK_DRIVER_FILES at a Vulkan ICD file",
+            preferred.display()
+        )
+    })
+}
+
+/// `cargo xtask verify`: the GPU tests and the cross-check suite on lavapipe, with a missing
+/// adapter an error (`SPECTEX_REQUIRE_GPU=1`); prints the suite's line per model.
+fn verify(ws: &Workspace) -> Result<()> {
+    let icd = lavapipe_icd()?;
+    eprintln!("xtask: verify on lavapipe, ICD {}", icd.display());
+    let gpu_env = |command: &mut Command| {
+        command
+            .env("VK_DRIVER_FILES", &icd)
+            .env("VK_ICD_FILENAMES", &icd)
+            .env("WGPU_ADAPTER_NAME", "llvmpipe")
+            .env("SPECTEX_REQUIRE_GPU", "1");
+    };
+    let mut gpu_tests = ws.cargo(&["test", "-p", "spectex-gpu", "--tests"]);
+    gpu_env(&mut gpu_tests);
+    run_steps(
+        "verify",
+        vec![Step {
+            title: "cargo test -p spectex-gpu (lavapipe, SPECTEX_REQUIRE_GPU=1)",
+            command: gpu_tests,
+        }],
+    )?;
+    let mut suite = ws.cargo(&[
+        "test",
+        "-p",
+        "spectex-crosscheck",
+        "--tests",
+        "--",
+        "--nocapture",
+    ]);
+    gpu_env(&mut suite);
+    eprintln!("xtask: cross-check suite: {}", show(&suite));
+    let output = suite
+        .stderr(Stdio::inherit())
+        .output()
+        .with_context(|| format!("could not start `{}`", show(&suite)))?;
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let lines: Vec<&str> = stdout
+        .lines()
+        .filter(|l| l.starts_with("crosscheck:"))
+        .collect();
+    if !output.status.success() {
+        print!("{stdout}");
+        bail!(
+            "the cross-check suite failed ({}); images and reports are in target/crosscheck/",
+            output.status
+        );
+    }
+    if lines.is_empty() {
+        print!("{stdout}");
+        bail!("the cross-check suite printed no model line: did it skip?");
+    }
+    for line in &lines {
+        println!("{line}");
+    }
+    eprintln!(
+        "xtask: verify passed: {} model(s) agree on CPU and lavapipe",
+        lines.len()
+    );
+    Ok(())
 }
 
 fn bench(ws: &Workspace, mut extra: Vec<OsString>) -> Result<()> {

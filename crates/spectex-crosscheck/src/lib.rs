@@ -28,7 +28,7 @@ pub use compare::{
     CaseWindow, Comparison, EXPECTED_FAILURES, Outcome, Verdict, check_model, compare,
     expected_failure, judge, standard_windows,
 };
-pub use report::{REPORT_DIR, write_failure_report};
+pub use report::{REPORT_DIR, write_failure_report, write_failure_report_in};
 pub use tolerance::Tolerance;
 
 /// Why a cross-check could not run (a failed comparison is an [`Outcome`], not an error).

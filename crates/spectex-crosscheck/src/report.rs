@@ -82,8 +82,21 @@ pub fn write_failure_report(
     window: &CaseWindow,
     outcome: &Outcome,
 ) -> Result<PathBuf, CrosscheckError> {
-    let dir = report_dir();
-    std::fs::create_dir_all(&dir).map_err(|e| io_error(&dir, e))?;
+    write_failure_report_in(&report_dir(), case, adapter, window, outcome)
+}
+
+/// [`write_failure_report`] into `dir`.
+///
+/// # Errors
+/// [`CrosscheckError::Report`] when a file cannot be written.
+pub fn write_failure_report_in(
+    dir: &Path,
+    case: &str,
+    adapter: &str,
+    window: &CaseWindow,
+    outcome: &Outcome,
+) -> Result<PathBuf, CrosscheckError> {
+    std::fs::create_dir_all(dir).map_err(|e| io_error(dir, e))?;
     let stem = format!("{case}-{}", adapter_slug(adapter));
     let c = &outcome.comparison;
     let cpu: Vec<f64> = c.cpu.iter().map(|&v| f64::from(v)).collect();
@@ -155,4 +168,45 @@ pub fn write_failure_report(
     let md_path = dir.join(format!("{stem}.md"));
     std::fs::write(&md_path, md).map_err(|e| io_error(&md_path, e))?;
     Ok(md_path)
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used, reason = "a test fails loudly")]
+
+    use super::*;
+    use crate::compare::{compare, judge, standard_windows};
+    use crate::tolerance::Tolerance;
+
+    #[test]
+    fn a_failure_writes_three_images_and_two_reports() {
+        let dir = tempfile::tempdir().unwrap();
+        let a: Vec<f32> = (0..128 * 128).map(|i| (i as f32 * 0.01).sin()).collect();
+        let mut b = a.clone();
+        b[77] += 0.1;
+        let t = Tolerance {
+            max_abs: 1e-3,
+            mean_abs: 1e-4,
+        };
+        let outcome = judge(compare(128, 128, a, b), t, None);
+        assert!(!outcome.passed());
+        let w = standard_windows()[0];
+        let md = write_failure_report_in(
+            dir.path(),
+            "case-origin",
+            "llvmpipe (LLVM 15)",
+            &w,
+            &outcome,
+        )
+        .unwrap();
+        for suffix in ["-cpu.png", "-gpu.png", "-diff.png", ".json", ".md"] {
+            let path = dir.path().join(format!("case-origin-llvmpipe{suffix}"));
+            assert!(path.is_file(), "{} missing", path.display());
+        }
+        let text = std::fs::read_to_string(md).unwrap();
+        assert!(text.contains("FAIL"), "{text}");
+        let json = std::fs::read_to_string(dir.path().join("case-origin-llvmpipe.json")).unwrap();
+        let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+        assert!((v["max_abs"].as_f64().unwrap() - 0.1).abs() < 1e-6);
+    }
 }
