@@ -56,6 +56,21 @@ pub struct RenderArgs {
     /// Bits per channel of a PNG output.
     #[arg(long, value_enum, default_value = "8")]
     bit_depth: BitDepth,
+    /// Evaluator: the CPU reference, the GPU (wgpu; WGPU_ADAPTER_NAME picks the adapter), or
+    /// auto (the GPU when an adapter exists, else the CPU; says which it used).
+    #[arg(long, value_enum, default_value = "cpu")]
+    device: Device,
+}
+
+/// Which evaluator renders.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Device {
+    /// spectex-cpu: same bytes for any thread count.
+    Cpu,
+    /// spectex-gpu: within the cross-checked tolerances of the CPU.
+    Gpu,
+    /// The GPU when an adapter exists, else the CPU.
+    Auto,
 }
 
 /// Parses `X,Y`.
@@ -207,6 +222,10 @@ fn luminance(img: &Array3<f64>, name: &str) -> Array2<f64> {
 }
 
 fn fit_example(input: Option<&Path>, fit: &FitArgs) -> Result<(Model, (usize, usize))> {
+    // Options first: a bad --budget is reported before any input is read.
+    fit.options()
+        .validate()
+        .map_err(|e| anyhow!("{e}; check --budget and --strata"))?;
     let (loaded, name) = crate::load_input(input)?;
     let grey = luminance(&loaded.pixels, &name);
     let (h, w) = grey.dim();
@@ -251,12 +270,27 @@ fn render_to_file(model: &Model, args: &RenderArgs, default_size: (usize, usize)
         .validate()
         .map_err(|e| anyhow!("{e}; check --size, --offset and --scale"))?;
     let eval = Evaluator::new(model).map_err(|e| anyhow!("{e}"))?;
-    let mut pixels = vec![0.0f32; width * height];
-    let bar = progress_bar(height as u64, "rendering");
     let start = std::time::Instant::now();
-    eval.render_into(&window, &mut pixels, &|_| bar.inc(1))
-        .map_err(|e| anyhow!("{e}"))?;
-    bar.finish_and_clear();
+    let (pixels, used) = match gpu_for(args.device)? {
+        Some(context) => {
+            let gpu = spectex_gpu::GpuEvaluator::new(&context, model)
+                .map_err(|e| anyhow!("{e}; try --device cpu"))?;
+            let window = spectex_gpu::GpuWindow::new(width, height)
+                .at(args.offset.unwrap_or([0.0, 0.0]), args.scale);
+            let pixels = gpu
+                .render(&window)
+                .map_err(|e| anyhow!("{e}; try --device cpu"))?;
+            (pixels, format!("GPU {}", context.adapter_name()))
+        }
+        None => {
+            let mut pixels = vec![0.0f32; width * height];
+            let bar = progress_bar(height as u64, "rendering");
+            eval.render_into(&window, &mut pixels, &|_| bar.inc(1))
+                .map_err(|e| anyhow!("{e}"))?;
+            bar.finish_and_clear();
+            (pixels, "CPU".to_owned())
+        }
+    };
     let seconds = start.elapsed().as_secs_f64();
     let image = Array3::from_shape_fn((1, height, width), |(_, y, x)| {
         f64::from(pixels[y * width + x])
@@ -265,7 +299,7 @@ fn render_to_file(model: &Model, args: &RenderArgs, default_size: (usize, usize)
     #[allow(clippy::print_stdout)] // reason: the command's result summary
     {
         println!(
-            "wrote {} ({width}×{height}, {:.1} evaluations per pixel, {:.2} Mpix/s)",
+            "wrote {} ({width}×{height} on the {used}, {:.1} evaluations per pixel, {:.2} Mpix/s)",
             args.output.display(),
             eval.cost_per_pixel(),
             (width * height) as f64 / seconds.max(1e-9) / 1e6
@@ -273,6 +307,23 @@ fn render_to_file(model: &Model, args: &RenderArgs, default_size: (usize, usize)
     }
     crate::note_clipping(report);
     Ok(())
+}
+
+/// The GPU to render on, or `None` for the CPU, as `--device` asks.
+fn gpu_for(device: Device) -> Result<Option<spectex_gpu::GpuContext>> {
+    match device {
+        Device::Cpu => Ok(None),
+        Device::Gpu => spectex_gpu::GpuContext::new()
+            .map(Some)
+            .map_err(|e| anyhow!("--device gpu: {e}; or use --device cpu")),
+        Device::Auto => match spectex_gpu::GpuContext::new() {
+            Ok(context) => Ok(Some(context)),
+            Err(e) => {
+                eprintln!("note: --device auto: no GPU ({e}); rendering on the CPU");
+                Ok(None)
+            }
+        },
+    }
 }
 
 /// A progress bar on stderr when it is a terminal; hidden (and free) when piped.

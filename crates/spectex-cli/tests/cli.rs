@@ -299,3 +299,184 @@ fn help_has_examples() {
         assert!(text.contains("Examples:"), "{cmd:?}: {text}");
     }
 }
+
+#[test]
+fn fit_render_synth_and_noise_end_to_end() {
+    let dir = scratch("procedural");
+    let model = dir.join("model.json");
+    let out = spectex(&["fit", "-o", s(&model), "--budget", "8", "--strata", "2"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(&model).unwrap();
+    let parsed = spectex_model::from_json(&text).unwrap();
+    let spectex_model::Model::Lrp(lrp) = &parsed else {
+        panic!("fit wrote {parsed:?}")
+    };
+    assert_eq!(lrp.budget(), 8);
+
+    // Far away and scaled: a valid image of the asked size, on the CPU.
+    let far = dir.join("far.exr");
+    let out = spectex(&[
+        "render",
+        s(&model),
+        "-o",
+        s(&far),
+        "--size",
+        "48x32",
+        "--offset",
+        "1e7,1e7",
+        "--scale",
+        "0.5",
+        "--device",
+        "cpu",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let img = image::open(&far).unwrap();
+    assert_eq!((img.width(), img.height()), (48, 32));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("on the CPU"));
+
+    // Auto renders on whatever exists and says which.
+    let auto = dir.join("auto.png");
+    let out = spectex(&[
+        "render",
+        s(&model),
+        "-o",
+        s(&auto),
+        "--size",
+        "32x32",
+        "--device",
+        "auto",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(String::from_utf8_lossy(&out.stdout).contains("on the "));
+
+    let synth = dir.join("synth.png");
+    let out = spectex(&["synth", "-o", s(&synth), "--budget", "4", "--size", "40x40"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(image::open(&synth).unwrap().width(), 40);
+
+    for kind in ["ring", "lobe", "band", "gabor"] {
+        let png = dir.join(format!("{kind}.png"));
+        let json = dir.join(format!("{kind}.json"));
+        let out = spectex(&[
+            "noise",
+            kind,
+            "-o",
+            s(&png),
+            "--size",
+            "32x32",
+            "--model",
+            s(&json),
+        ]);
+        assert!(
+            out.status.success(),
+            "{kind}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        spectex_model::from_json(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    }
+}
+
+#[test]
+fn procedural_bad_inputs_fail_cleanly() {
+    let dir = scratch("procedural-bad");
+    let out = dir.join("out.png");
+    let o = s(&out);
+    let models = scratch("procedural-bad-models");
+    let write = |name: &str, text: &str| {
+        let p = models.join(name);
+        std::fs::write(&p, text).unwrap();
+        p
+    };
+
+    assert_fails(
+        &spectex(&["fit", "-o", s(&dir.join("m.json")), "--budget", "0"]),
+        &dir,
+        &["budget"],
+    );
+    assert_fails(
+        &spectex(&[
+            "fit",
+            "-o",
+            s(&dir.join("m.json")),
+            "--budget",
+            "2",
+            "--strata",
+            "4",
+        ]),
+        &dir,
+        &["strata"],
+    );
+    assert_fails(
+        &spectex(&["render", "/nonexistent/m.json", "-o", o]),
+        &dir,
+        &["cannot open model"],
+    );
+
+    let valid = r#"{"schema_version": 1, "model": {"gabor": {"seed": 1, "mean": 0.5,
+        "amplitude": 0.2, "bandwidth": 0.05, "frequency": 0.06,
+        "orientation": {"anisotropic": {"angle": 0.5}}, "impulses_per_kernel": 8.0}}}"#;
+    let ok = write("ok.json", valid);
+    let unknown = write(
+        "unknown.json",
+        &valid.replace("\"seed\"", "\"colour\": 1, \"seed\""),
+    );
+    assert_fails(
+        &spectex(&["render", s(&unknown), "-o", o]),
+        &dir,
+        &["colour"],
+    );
+    let version = write(
+        "version.json",
+        &valid.replace("\"schema_version\": 1", "\"schema_version\": 99"),
+    );
+    assert_fails(
+        &spectex(&["render", s(&version), "-o", o]),
+        &dir,
+        &["schema_version"],
+    );
+    let nan = write(
+        "nan.json",
+        &valid.replace("\"bandwidth\": 0.05", "\"bandwidth\": -1.0"),
+    );
+    assert_fails(
+        &spectex(&["render", s(&nan), "-o", o]),
+        &dir,
+        &["bandwidth"],
+    );
+    assert_fails(
+        &spectex(&["render", s(&ok), "-o", o, "--scale", "0"]),
+        &dir,
+        &["scale"],
+    );
+    assert_fails(
+        &spectex(&["render", s(&ok), "-o", o, "--size", "0x0"]),
+        &dir,
+        &["size"],
+    );
+    assert_fails(
+        &spectex(&["render", s(&ok), "-o", o, "--device", "tpu"]),
+        &dir,
+        &["tpu"],
+    );
+    assert_fails(
+        &spectex(&["render", s(&ok), "-o", o, "--offset", "nan,3"]),
+        &dir,
+        &["offset"],
+    );
+}
