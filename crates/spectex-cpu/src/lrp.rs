@@ -27,6 +27,8 @@ use crate::window::Window;
 
 /// Pixels evaluated together.
 const LANES: usize = 8;
+/// Lanes of the AVX-512 path: one 512-bit register of f32.
+const WIDE_LANES: usize = 16;
 
 struct PreparedStratum {
     delta: f64,
@@ -46,7 +48,36 @@ pub struct LrpEvaluator {
     seed: u32,
     mean: f32,
     strata: Vec<PreparedStratum>,
-    use_avx2: bool,
+    simd: Simd,
+}
+
+/// The instruction set a row is evaluated with. Every level runs the same per-lane arithmetic
+/// (plain `*` and `+`, no FMA), so the output bits are the same; wider levels evaluate more
+/// pixels per instruction.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Simd {
+    /// Whatever the default target allows (SSE2 on x86-64), 8 lanes.
+    Portable,
+    /// AVX2, 8 lanes in one register.
+    Avx2,
+    /// AVX-512F, 16 lanes in one register.
+    Avx512,
+}
+
+impl Simd {
+    /// The widest level this CPU reports at run time.
+    fn detect() -> Self {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx512f") {
+                return Self::Avx512;
+            }
+            if std::arch::is_x86_feature_detected!("avx2") {
+                return Self::Avx2;
+            }
+        }
+        Self::Portable
+    }
 }
 
 /// The random draws of the lattice points near one output row, for one stratum.
@@ -97,7 +128,7 @@ impl LrpEvaluator {
             seed: model.seed,
             mean: model.mean,
             strata,
-            use_avx2: avx2_available(),
+            simd: Simd::detect(),
         }
     }
 
@@ -107,10 +138,26 @@ impl LrpEvaluator {
         9 * self.strata.iter().map(|s| s.tables.len()).sum::<usize>()
     }
 
-    /// Forces the portable (non-AVX2) code path; for tests comparing the two.
+    /// Forces the portable path (`false`) or AVX2 when the CPU has it (`true`); for tests
+    /// comparing the code paths.
     #[doc(hidden)]
     pub fn set_avx2(&mut self, enabled: bool) {
-        self.use_avx2 = enabled && avx2_available();
+        self.simd = if enabled && Simd::detect() != Simd::Portable {
+            Simd::Avx2
+        } else {
+            Simd::Portable
+        };
+    }
+
+    /// Uses AVX-512 when the CPU has it (`true`, the default), else the level below; for tests
+    /// comparing the code paths. Returns whether AVX-512 is in use.
+    #[doc(hidden)]
+    pub fn set_avx512(&mut self, enabled: bool) -> bool {
+        self.simd = Simd::detect();
+        if !enabled && self.simd == Simd::Avx512 {
+            self.simd = Simd::Avx2;
+        }
+        self.simd == Simd::Avx512
     }
 
     /// Draws of the lattice points whose support reaches row `y` between `x_min` and `x_max`.
@@ -159,15 +206,17 @@ impl LrpEvaluator {
         for s in &self.strata {
             let lattice = self.row_lattice(s, y, x_min, x_max);
             #[cfg(target_arch = "x86_64")]
-            if self.use_avx2 {
+            match self.simd {
                 #[allow(unsafe_code)]
-                // SAFETY: `use_avx2` is true only when the CPU reports AVX2 at run time.
-                unsafe {
-                    stratum_row_avx2(s, &lattice, window, y, out);
-                }
-                continue;
+                // SAFETY: `Simd::Avx512` is chosen only when the CPU reports AVX-512F at run time.
+                Simd::Avx512 => unsafe { stratum_row_avx512(s, &lattice, window, y, out) },
+                #[allow(unsafe_code)]
+                // SAFETY: `Simd::Avx2` is chosen only when the CPU reports AVX2 at run time.
+                Simd::Avx2 => unsafe { stratum_row_avx2(s, &lattice, window, y, out) },
+                Simd::Portable => stratum_row::<LANES>(s, &lattice, window, y, out),
             }
-            stratum_row(s, &lattice, window, y, out);
+            #[cfg(not(target_arch = "x86_64"))]
+            stratum_row::<LANES>(s, &lattice, window, y, out);
         }
         for v in out.iter_mut() {
             *v += self.mean;
@@ -184,17 +233,6 @@ impl LrpEvaluator {
     }
 }
 
-fn avx2_available() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    {
-        std::arch::is_x86_feature_detected!("avx2")
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        false
-    }
-}
-
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 fn stratum_row_avx2(
@@ -204,13 +242,25 @@ fn stratum_row_avx2(
     y: f64,
     out: &mut [f32],
 ) {
-    stratum_row(s, lattice, window, y, out);
+    stratum_row::<LANES>(s, lattice, window, y, out);
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+fn stratum_row_avx512(
+    s: &PreparedStratum,
+    lattice: &RowLattice,
+    window: &Window,
+    y: f64,
+    out: &mut [f32],
+) {
+    stratum_row::<WIDE_LANES>(s, lattice, window, y, out);
 }
 
 /// Adds one stratum's contribution to a row. `inline(always)` so that the AVX2 wrapper compiles
 /// its own copy with wider vectors; the arithmetic is the same in both.
 #[inline(always)]
-fn stratum_row(
+fn stratum_row<const L: usize>(
     s: &PreparedStratum,
     lattice: &RowLattice,
     window: &Window,
@@ -222,7 +272,7 @@ fn stratum_row(
     let mut start = 0;
     while start < width {
         // Positions of the 8 lanes (lanes past the row's end are computed and dropped).
-        let mut xs = [0.0f64; LANES];
+        let mut xs = [0.0f64; L];
         for (lane, x) in xs.iter_mut().enumerate() {
             *x = window.x(start + lane);
         }
@@ -235,7 +285,7 @@ fn stratum_row(
         let cx_lo = ((((lo * s.inv_delta) - 1.5).floor() as i64) + 1).max(lattice.cx0);
         let cx_hi = ((((hi * s.inv_delta) + 1.5).ceil() as i64) - 1)
             .min(lattice.cx0 + lattice.cols as i64 - 1);
-        let mut acc_out = [0.0f32; LANES];
+        let mut acc_out = [0.0f32; L];
         for row in 0..lattice.rows {
             let cy = lattice.cy0 + row as i64;
             let dy = (y - cy as f64 * s.delta) as f32;
@@ -246,9 +296,9 @@ fn stratum_row(
             }
             for cx in cx_lo..=cx_hi {
                 let lx = cx as f64 * s.delta;
-                let mut dx = [0.0f32; LANES];
-                let mut r2 = [0.0f32; LANES];
-                for lane in 0..LANES {
+                let mut dx = [0.0f32; L];
+                let mut r2 = [0.0f32; L];
+                for lane in 0..L {
                     dx[lane] = (xs[lane] - lx) as f32;
                     r2[lane] = (dx[lane] * dx[lane] + dy2) * s.inv_delta2;
                 }
@@ -256,28 +306,28 @@ fn stratum_row(
                 if r2.iter().all(|&v| v >= 2.25) {
                     continue;
                 }
-                let mut w = [0.0f32; LANES];
-                for lane in 0..LANES {
+                let mut w = [0.0f32; L];
+                for lane in 0..L {
                     w[lane] = kaiser_bessel_r2(r2[lane]);
                 }
                 let base = (row * lattice.cols + (cx - lattice.cx0) as usize) * j;
-                let mut acc = [0.0f32; LANES];
+                let mut acc = [0.0f32; L];
                 for k in base..base + j {
                     let fx = lattice.fx[k];
                     let c = lattice.fy[k] * dy + lattice.phase[k];
-                    for lane in 0..LANES {
+                    for lane in 0..L {
                         acc[lane] += cos_turns(fx * dx[lane] + c);
                     }
                 }
-                for lane in 0..LANES {
+                for lane in 0..L {
                     acc_out[lane] += w[lane] * acc[lane];
                 }
             }
         }
-        let end = (start + LANES).min(width);
+        let end = (start + L).min(width);
         for (o, a) in out[start..end].iter_mut().zip(&acc_out) {
             *o += s.amplitude * a;
         }
-        start += LANES;
+        start += L;
     }
 }

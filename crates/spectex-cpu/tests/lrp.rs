@@ -173,12 +173,24 @@ fn same_bits_on_every_simd_level() {
     portable.set_avx2(false);
     let mut wide = LrpEvaluator::new(&m);
     wide.set_avx2(true);
+    let mut widest = LrpEvaluator::new(&m);
+    let has_avx512 = widest.set_avx512(true);
+    eprintln!(
+        "AVX-512 path {}",
+        if has_avx512 {
+            "compared"
+        } else {
+            "absent on this CPU"
+        }
+    );
     let window = Window::new(131, 9).at([12.5, -7.0], 0.9);
     for row in 0..9 {
-        let (mut a, mut b) = (vec![0.0; 131], vec![0.0; 131]);
+        let (mut a, mut b, mut c) = (vec![0.0; 131], vec![0.0; 131], vec![0.0; 131]);
         portable.eval_row(&window, row, &mut a);
         wide.eval_row(&window, row, &mut b);
-        assert_eq!(bits(&a), bits(&b), "row {row}");
+        widest.eval_row(&window, row, &mut c);
+        assert_eq!(bits(&a), bits(&b), "row {row}: AVX2 against portable");
+        assert_eq!(bits(&a), bits(&c), "row {row}: widest against portable");
     }
 }
 
