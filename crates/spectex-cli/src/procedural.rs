@@ -270,28 +270,28 @@ fn render_to_file(model: &Model, args: &RenderArgs, default_size: (usize, usize)
         .validate()
         .map_err(|e| anyhow!("{e}; check --size, --offset and --scale"))?;
     let eval = Evaluator::new(model).map_err(|e| anyhow!("{e}"))?;
-    let start = std::time::Instant::now();
-    let (pixels, used) = match gpu_for(args.device)? {
+    // Timed from the render itself: device start-up and shader compilation are not evaluation.
+    let (pixels, used, seconds) = match gpu_for(args.device)? {
         Some(context) => {
             let gpu = spectex_gpu::GpuEvaluator::new(&context, model)
                 .map_err(|e| anyhow!("{e}; try --device cpu"))?;
-            let window = spectex_gpu::GpuWindow::new(width, height)
-                .at(args.offset.unwrap_or([0.0, 0.0]), args.scale);
+            let start = std::time::Instant::now();
             let pixels = gpu
                 .render(&window)
                 .map_err(|e| anyhow!("{e}; try --device cpu"))?;
-            (pixels, format!("GPU {}", context.adapter_name()))
+            let seconds = start.elapsed().as_secs_f64();
+            (pixels, format!("GPU {}", context.adapter_name()), seconds)
         }
         None => {
+            let start = std::time::Instant::now();
             let mut pixels = vec![0.0f32; width * height];
             let bar = progress_bar(height as u64, "rendering");
             eval.render_into(&window, &mut pixels, &|_| bar.inc(1))
                 .map_err(|e| anyhow!("{e}"))?;
             bar.finish_and_clear();
-            (pixels, "CPU".to_owned())
+            (pixels, "CPU".to_owned(), start.elapsed().as_secs_f64())
         }
     };
-    let seconds = start.elapsed().as_secs_f64();
     let image = Array3::from_shape_fn((1, height, width), |(_, y, x)| {
         f64::from(pixels[y * width + x])
     });

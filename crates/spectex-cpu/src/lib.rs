@@ -28,14 +28,14 @@
 pub mod gabor;
 pub mod lrp;
 pub mod math;
-mod window;
 
 use rayon::prelude::*;
 use spectex_model::{Model, ModelError};
 
 pub use gabor::GaborEvaluator;
 pub use lrp::LrpEvaluator;
-pub use window::{MAX_POSITION, MAX_WINDOW_PIXELS, MAX_WINDOW_SIDE, Window};
+/// The window type is `spectex-model`'s, shared with the GPU evaluator.
+pub use spectex_model::{MAX_POSITION, MAX_WINDOW_PIXELS, MAX_WINDOW_SIDE, Window};
 
 /// Why a render could not run.
 #[derive(Debug, thiserror::Error)]
@@ -62,6 +62,16 @@ pub enum CpuError {
         /// Length needed.
         needed: usize,
     },
+}
+
+impl From<spectex_model::WindowError> for CpuError {
+    fn from(e: spectex_model::WindowError) -> Self {
+        Self::Window {
+            parameter: e.parameter,
+            value: e.value,
+            range: e.range,
+        }
+    }
 }
 
 /// A model prepared for evaluation. Building it validates the model; rendering can then fail

@@ -23,7 +23,7 @@ use spectex_model::LrpNoise;
 use spectex_model::random::{Prng, cell_hash};
 
 use crate::math::{cos_turns, kaiser_bessel_r2};
-use crate::window::Window;
+use spectex_model::Window;
 
 /// Pixels evaluated together.
 const LANES: usize = 8;

@@ -3,7 +3,7 @@
 
 use ndarray::Array2;
 use spectex_cpu::{Evaluator, Window};
-use spectex_gpu::{GpuContext, GpuEvaluator, GpuWindow};
+use spectex_gpu::{GpuContext, GpuEvaluator};
 use spectex_model::Model;
 use spectex_spectrum::{Fft2, welch_psd};
 
@@ -277,20 +277,16 @@ pub fn check_model(
     model: &Model,
     windows: &[CaseWindow],
 ) -> Result<Vec<(CaseWindow, Outcome)>, CrosscheckError> {
-    let tolerance = tolerance(model).ok_or_else(|| CrosscheckError::Unsupported {
-        kind: format!("{model:?}")
-            .split('(')
-            .next()
-            .unwrap_or("?")
-            .to_owned(),
-    })?;
+    let tolerance = tolerance(model).ok_or(CrosscheckError::Unsupported)?;
     let cpu = Evaluator::new(model)?;
     let gpu = GpuEvaluator::new(context, model)?;
     let adapter = context.adapter_name();
     let mut outcomes = Vec::new();
     for &w in windows {
-        let a = cpu.render(&Window::new(w.width, w.height).at(w.offset, w.scale))?;
-        let b = gpu.render(&GpuWindow::new(w.width, w.height).at(w.offset, w.scale))?;
+        // One window type for both evaluators (spectex_model::Window).
+        let window = Window::new(w.width, w.height).at(w.offset, w.scale);
+        let a = cpu.render(&window)?;
+        let b = gpu.render(&window)?;
         let outcome = judge(
             compare(w.width, w.height, a, b),
             tolerance,

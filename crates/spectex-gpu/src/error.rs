@@ -62,3 +62,13 @@ pub enum GpuError {
         range: &'static str,
     },
 }
+
+impl From<spectex_model::WindowError> for GpuError {
+    fn from(e: spectex_model::WindowError) -> Self {
+        Self::Window {
+            parameter: e.parameter,
+            value: e.value,
+            range: e.range,
+        }
+    }
+}

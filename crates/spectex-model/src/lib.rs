@@ -23,6 +23,7 @@
 mod error;
 mod file;
 mod gabor;
+pub mod grid;
 mod lrp;
 pub mod random;
 mod target;
@@ -31,5 +32,6 @@ pub mod window;
 pub use error::ModelError;
 pub use file::{Model, SCHEMA_VERSION, SUPPORTED_SCHEMA_VERSIONS, from_json, to_json};
 pub use gabor::{GABOR_TRUNCATION, GaborNoise, Orientation};
+pub use grid::{MAX_POSITION, MAX_WINDOW_PIXELS, MAX_WINDOW_SIDE, Window, WindowError};
 pub use lrp::{LrpNoise, MAX_COSINES, MAX_STRATA, MAX_TABLE, Stratum};
 pub use target::SpectralTarget;

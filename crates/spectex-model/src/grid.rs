@@ -1,8 +1,19 @@
-//! Windows: which positions a render evaluates. A window is a rectangle of an infinite pixel
-//! grid — pixel `(i, j)` sits at `offset + (i, j)·scale` — so any tile of it evaluates exactly
-//! the same positions (tiles are invisible, DESIGN invariant 3).
+//! Windows: which positions a render evaluates, shared by every evaluator (`spectex-cpu`,
+//! `spectex-gpu`) so that they map pixels to positions by one expression. A window is a rectangle
+//! of an infinite pixel grid — pixel `(i, j)` sits at `offset + (x0 + i, y0 + j)·scale` — so any
+//! tile of it evaluates exactly the same positions (tiles are invisible, DESIGN invariant 3).
 
-use crate::CpuError;
+/// A window parameter out of range; evaluators wrap it in their own error type.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+#[error("window {parameter} = {value} is outside its valid range {range}")]
+pub struct WindowError {
+    /// Which parameter.
+    pub parameter: &'static str,
+    /// The value given.
+    pub value: f64,
+    /// The accepted range.
+    pub range: &'static str,
+}
 
 /// Largest side of a window, in pixels.
 pub const MAX_WINDOW_SIDE: usize = 65_536;
@@ -12,7 +23,7 @@ pub const MAX_WINDOW_PIXELS: usize = 1 << 30;
 /// the smallest lattice period is half a pixel, so 2³⁰ keeps every cell index representable.
 pub const MAX_POSITION: f64 = 1_073_741_824.0;
 
-/// A rectangle of the pixel grid `position(i, j) = offset + (i, j)·scale`.
+/// A rectangle of the pixel grid `position(i, j) = offset + (x0 + i, y0 + j)·scale`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Window {
     /// Position of grid pixel `(0, 0)`, in model pixels.
@@ -30,7 +41,7 @@ pub struct Window {
 }
 
 impl Window {
-    /// A `width × height` window whose top-left pixel is at `offset`, one model pixel apart.
+    /// A `width × height` window at the origin, one model pixel per output pixel.
     #[must_use]
     pub fn new(width: usize, height: usize) -> Self {
         Self {
@@ -83,10 +94,10 @@ impl Window {
     /// Checks sizes, finiteness and the reachable position range.
     ///
     /// # Errors
-    /// [`CpuError::Window`] naming the parameter and its valid range.
-    pub fn validate(&self) -> Result<(), CpuError> {
+    /// [`WindowError`] naming the parameter and its valid range.
+    pub fn validate(&self) -> Result<(), WindowError> {
         let bad = |parameter: &'static str, value: f64, range: &'static str| {
-            Err(CpuError::Window {
+            Err(WindowError {
                 parameter,
                 value,
                 range,
@@ -127,5 +138,36 @@ impl Window {
             return bad("window position", v, "[-2^30, 2^30] model pixels");
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tiles_evaluate_the_same_positions() {
+        let w = Window::new(100, 50).at([1.0e7, -3.5], 0.37);
+        let t = w.tile(10, 20, 5, 5);
+        assert_eq!(t.x(2).to_bits(), w.x(12).to_bits());
+        assert_eq!(t.y(3).to_bits(), w.y(23).to_bits());
+    }
+
+    #[test]
+    fn validation_names_the_parameter() {
+        let cases = [
+            (Window::new(0, 5), "width"),
+            (Window::new(5, 70_000), "height"),
+            (Window::new(5, 5).at([0.0, 0.0], 0.0), "scale"),
+            (Window::new(5, 5).at([f64::NAN, 0.0], 1.0), "offset x"),
+            (Window::new(5, 5).at([0.0, 2e9], 1.0), "window position"),
+        ];
+        for (w, name) in cases {
+            match w.validate() {
+                Err(WindowError { parameter, .. }) => assert_eq!(parameter, name),
+                other => panic!("{w:?}: {other:?}"),
+            }
+        }
+        assert!(Window::new(65_536, 1).validate().is_ok());
     }
 }
