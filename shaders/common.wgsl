@@ -95,25 +95,22 @@ fn fract_turns(t: f32) -> f32 {
     return t - round(t);
 }
 
-/// Taylor coefficients of cos(2πb) in b², (−1)^k (2π)^{2k} / (2k)!, k = 0..6 (COS_TURNS).
+/// Minimax coefficients of cos(2πb) in b² on b ∈ [0, ¼], constant pinned to 1 (COS_TURNS in
+/// spectex-cpu's math.rs, where the fit is described).
 const COS_TURNS_0: f32 = 1.0f;
-const COS_TURNS_1: f32 = -19.739208f;
-const COS_TURNS_2: f32 = 64.93939f;
-const COS_TURNS_3: f32 = -85.45682f;
-const COS_TURNS_4: f32 = 60.24464f;
-const COS_TURNS_5: f32 = -26.426256f;
-const COS_TURNS_6: f32 = 7.903536f;
+const COS_TURNS_1: f32 = -19.739182f;
+const COS_TURNS_2: f32 = 64.93522f;
+const COS_TURNS_3: f32 = -85.25401f;
+const COS_TURNS_4: f32 = 56.34071f;
 
-/// cos(2π·t) for an angle in turns (|t| < 2^22): exact reduction, fold to [0, ¼], degree-12
-/// Taylor polynomial by Horner's rule (absolute error below 2e-7 without contraction).
+/// cos(2π·t) for an angle in turns (|t| < 2^22): exact reduction, fold to [0, ¼], degree-8
+/// minimax polynomial by Horner's rule (absolute error below 2e-7 without contraction).
 fn cos_turns(t: f32) -> f32 {
     let a = abs(fract_turns(t));
     let far = a > 0.25f;
     let b = select(a, 0.5f - a, far);
     let x = b * b;
-    var p = COS_TURNS_6;
-    p = p * x + COS_TURNS_5;
-    p = p * x + COS_TURNS_4;
+    var p = COS_TURNS_4;
     p = p * x + COS_TURNS_3;
     p = p * x + COS_TURNS_2;
     p = p * x + COS_TURNS_1;
@@ -121,17 +118,16 @@ fn cos_turns(t: f32) -> f32 {
     return select(p, -p, far);
 }
 
-/// Coefficients 1/(m!(m+3)!), m = 0..15, of the I₃ series (computed in f64, rounded to f32).
-const BESSEL_I3: array<f32, 16> = array<f32, 16>(
-    0.16666667f, 0.041666668f, 0.004166667f, 0.00023148148f,
-    8.267196e-6f, 2.066799e-7f, 3.8274055e-9f, 5.467722e-11f,
-    6.2133203e-13f, 5.7530745e-15f, 4.425442e-17f, 2.8736637e-19f,
-    1.5964798e-21f, 7.675384e-24f, 3.2249512e-26f, 1.1944264e-28f,
-);
-/// (3π/2)², q at the window's centre.
-const KB_Q_MAX: f32 = 22.20661f;
-/// 1 / I₃(3π), the window's normalisation.
-const KB_INV_I3_3PI: f32 = 0.0010103083f;
+/// Minimax coefficients of P in w = u^{3/2}·P(u), u = 1 − r²/2.25 (KB_POLY in spectex-cpu's
+/// math.rs, where the fit is described).
+const KB_POLY_0: f32 = 0.017600192f;
+const KB_POLY_1: f32 = 0.09834109f;
+const KB_POLY_2: f32 = 0.21247686f;
+const KB_POLY_3: f32 = 0.29003343f;
+const KB_POLY_4: f32 = 0.15506108f;
+const KB_POLY_5: f32 = 0.20569898f;
+const KB_POLY_6: f32 = -0.027654441f;
+const KB_POLY_7: f32 = 0.04844275f;
 /// 1 / 2.25 rounded to f32 (the CPU's `1.0 / 2.25` folded in f32).
 const KB_INV_SUPPORT2: f32 = 0.44444445f;
 /// 2.25 = 1.5², the squared support radius in units of Δ.
@@ -140,30 +136,16 @@ const KB_SUPPORT2: f32 = 2.25f;
 /// The Kaiser–Bessel window as a function of r² = (|x − x_i| / Δ)²; exactly 0 for r² ≥ 2.25.
 fn kaiser_bessel_r2(r2: f32) -> f32 {
     let inside = 1.0f - r2 * KB_INV_SUPPORT2;
-    let q = KB_Q_MAX * max(inside, 0.0f);
-    // Horner from c₁₅ down to c₀, unrolled (the CPU's loop, in the same order).
-    var p = BESSEL_I3[15];
-    p = p * q + BESSEL_I3[14];
-    p = p * q + BESSEL_I3[13];
-    p = p * q + BESSEL_I3[12];
-    p = p * q + BESSEL_I3[11];
-    p = p * q + BESSEL_I3[10];
-    p = p * q + BESSEL_I3[9];
-    p = p * q + BESSEL_I3[8];
-    p = p * q + BESSEL_I3[7];
-    p = p * q + BESSEL_I3[6];
-    p = p * q + BESSEL_I3[5];
-    p = p * q + BESSEL_I3[4];
-    p = p * q + BESSEL_I3[3];
-    p = p * q + BESSEL_I3[2];
-    p = p * q + BESSEL_I3[1];
-    p = p * q + BESSEL_I3[0];
-    // Mesa's NIR reassociates `(a·b)·constant` into `(a·constant)·b` for operations not marked
-    // exact (WGSL cannot mark them), which changes the last bit of 40% of the windows on
-    // lavapipe. Hiding the constant behind a select that is never taken keeps the CPU's order
-    // `((q·√q)·p)·c` (then bit-identical on lavapipe) at the cost of one compare.
-    let norm = select(KB_INV_I3_3PI, 0.0f, r2 < -3.0e38f);
-    let w = q * sqrt(q) * p * norm;
+    let u = max(inside, 0.0f);
+    var p = KB_POLY_7;
+    p = p * u + KB_POLY_6;
+    p = p * u + KB_POLY_5;
+    p = p * u + KB_POLY_4;
+    p = p * u + KB_POLY_3;
+    p = p * u + KB_POLY_2;
+    p = p * u + KB_POLY_1;
+    p = p * u + KB_POLY_0;
+    let w = u * sqrt(u) * p;
     return select(0.0f, w, inside > 0.0f);
 }
 

@@ -37,6 +37,10 @@ pub use lrp::LrpEvaluator;
 /// The window type is `spectex-model`'s, shared with the GPU evaluator.
 pub use spectex_model::{MAX_POSITION, MAX_WINDOW_PIXELS, MAX_WINDOW_SIDE, Window};
 
+/// Rows evaluated together by one task: the LRP evaluator draws each lattice row once per band
+/// instead of once per output row. Values do not depend on it.
+const BAND_ROWS: usize = 16;
+
 /// Why a render could not run.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
@@ -136,12 +140,24 @@ impl Evaluator {
                 needed,
             });
         }
+        if needed == 0 {
+            return Ok(());
+        }
         let done = std::sync::atomic::AtomicUsize::new(0);
-        out.par_chunks_mut(window.width)
+        out.par_chunks_mut(window.width * BAND_ROWS)
             .enumerate()
-            .for_each(|(row, line)| {
-                self.eval_row(window, row, line);
-                let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+            .for_each(|(band, lines)| {
+                let first = band * BAND_ROWS;
+                match self {
+                    Self::Lrp(e) => e.eval_rows(window, first, lines),
+                    _ => {
+                        for (r, line) in lines.chunks_exact_mut(window.width).enumerate() {
+                            self.eval_row(window, first + r, line);
+                        }
+                    }
+                }
+                let rows = lines.len() / window.width;
+                let n = done.fetch_add(rows, std::sync::atomic::Ordering::Relaxed) + rows;
                 progress(n);
             });
         Ok(())

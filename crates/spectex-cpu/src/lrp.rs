@@ -12,12 +12,16 @@
 //! same random field, and the relative form keeps every argument below `1.5·Δ_S·|f|` turns, so
 //! a window at `(10⁷, 10⁷)` is as precise as one at the origin (DESIGN invariant 2).
 //!
-//! Evaluation runs over 8 consecutive pixels at a time with per-lane accumulators, which the
-//! compiler vectorises; on x86-64 an AVX2 copy of the same code is chosen at run time. Both
-//! are built from plain `*`, `+` and `sqrt` only (no FMA), so they produce identical bits.
-//! Each pixel adds its lattice points' contributions in ascending `(cy, cx)` order whatever
-//! 8-pixel group it falls in (contributions outside the window's support are exactly `+0`),
-//! so any tiling of a window gives the same bits.
+//! Evaluation goes lattice point by lattice point: along an output row, a point touches only the
+//! pixels of its support's chord (`|x − x_i| < 1.5·Δ_S`), evaluated 8 (16 with AVX-512)
+//! consecutive pixels at a time with per-lane accumulators, which the compiler vectorises; on
+//! x86-64 AVX2 and AVX-512 copies of the same code are chosen at run time. All are built from
+//! plain `*`, `+` and `sqrt` only (no FMA), so they produce identical bits. Each pixel adds its
+//! lattice points' contributions in ascending `(cy, cx)` order whatever group of lanes it falls
+//! in (pixels outside a point's support that share its group get exactly `+0`), so any tiling of
+//! a window gives the same bits. The draws of a lattice row are made once per band of output
+//! rows ([`LrpEvaluator::eval_rows`]) and the row-constant part of each cosine's argument,
+//! `f_y·dy + φ`, once per output row.
 
 use spectex_model::LrpNoise;
 use spectex_model::random::{Prng, cell_hash};
@@ -80,18 +84,69 @@ impl Simd {
     }
 }
 
-/// The random draws of the lattice points near one output row, for one stratum.
-struct RowLattice {
-    /// First lattice column and row held.
-    cx0: i64,
-    cy0: i64,
-    cols: usize,
-    rows: usize,
-    j: usize,
+/// The random draws of one lattice row of one stratum, for the lattice columns a window needs.
+struct LatticeRow {
+    cy: i64,
     /// Per lattice point, per cosine: frequency x, frequency y, phase (turns).
     fx: Vec<f32>,
     fy: Vec<f32>,
     phase: Vec<f32>,
+}
+
+/// The lattice rows of one stratum that the current output row needs, kept from row to row while
+/// a band of rows is evaluated (a lattice row serves every output row within `1.5·Δ_S` of it).
+struct StratumLattice {
+    /// First lattice column held, and how many.
+    cx0: i64,
+    cols: usize,
+    /// Cosines per lattice point.
+    j: usize,
+    /// Held rows, in ascending `cy`.
+    rows: Vec<LatticeRow>,
+}
+
+impl StratumLattice {
+    /// An empty cache for the columns whose support reaches `x_min..=x_max`.
+    fn new(s: &PreparedStratum, x_min: f64, x_max: f64) -> Self {
+        let cx0 = ((x_min * s.inv_delta) - 1.5).floor() as i64;
+        let cx1 = ((x_max * s.inv_delta) + 1.5).ceil() as i64;
+        Self {
+            cx0,
+            cols: (cx1 - cx0 + 1) as usize,
+            j: s.tables.len(),
+            rows: Vec::new(),
+        }
+    }
+
+    /// Holds exactly the lattice rows whose support may reach row `y`, drawing the missing ones.
+    fn update(&mut self, s: &PreparedStratum, seed: u32, y: f64) {
+        let cy0 = ((y * s.inv_delta) - 1.5).floor() as i64;
+        let cy1 = ((y * s.inv_delta) + 1.5).ceil() as i64;
+        self.rows.retain(|r| (cy0..=cy1).contains(&r.cy));
+        for cy in cy0..=cy1 {
+            if self.rows.iter().any(|r| r.cy == cy) {
+                continue;
+            }
+            let n = self.cols * self.j;
+            let mut row = LatticeRow {
+                cy,
+                fx: Vec::with_capacity(n),
+                fy: Vec::with_capacity(n),
+                phase: Vec::with_capacity(n),
+            };
+            for cx in self.cx0..self.cx0 + self.cols as i64 {
+                let mut prng = Prng::new(cell_hash(cx as i32, cy as i32, s.layer, seed));
+                for &(start, len) in &s.tables {
+                    let k = (start + prng.next_u32() % len) as usize;
+                    row.fx.push(s.table_x[k]);
+                    row.fy.push(s.table_y[k]);
+                    row.phase.push(prng.next_f32());
+                }
+            }
+            self.rows.push(row);
+        }
+        self.rows.sort_unstable_by_key(|r| r.cy);
+    }
 }
 
 impl LrpEvaluator {
@@ -160,66 +215,60 @@ impl LrpEvaluator {
         self.simd == Simd::Avx512
     }
 
-    /// Draws of the lattice points whose support reaches row `y` between `x_min` and `x_max`.
-    fn row_lattice(&self, s: &PreparedStratum, y: f64, x_min: f64, x_max: f64) -> RowLattice {
-        let cy0 = ((y * s.inv_delta) - 1.5).floor() as i64;
-        let cy1 = ((y * s.inv_delta) + 1.5).ceil() as i64;
-        let cx0 = ((x_min * s.inv_delta) - 1.5).floor() as i64;
-        let cx1 = ((x_max * s.inv_delta) + 1.5).ceil() as i64;
-        let (rows, cols) = ((cy1 - cy0 + 1) as usize, (cx1 - cx0 + 1) as usize);
-        let j = s.tables.len();
-        let n = rows * cols * j;
-        let (mut fx, mut fy, mut phase) = (
-            Vec::with_capacity(n),
-            Vec::with_capacity(n),
-            Vec::with_capacity(n),
-        );
-        for cy in cy0..=cy1 {
-            for cx in cx0..=cx1 {
-                let mut prng = Prng::new(cell_hash(cx as i32, cy as i32, s.layer, self.seed));
-                for &(start, len) in &s.tables {
-                    let k = (start + prng.next_u32() % len) as usize;
-                    fx.push(s.table_x[k]);
-                    fy.push(s.table_y[k]);
-                    phase.push(prng.next_f32());
-                }
-            }
-        }
-        RowLattice {
-            cx0,
-            cy0,
-            cols,
-            rows,
-            j,
-            fx,
-            fy,
-            phase,
-        }
-    }
-
     /// Evaluates one row of `window` (row index `row`) into `out` (`window.width` values).
     pub fn eval_row(&self, window: &Window, row: usize, out: &mut [f32]) {
-        let y = window.y(row);
-        let (x_first, x_last) = (window.x(0), window.x(window.width.saturating_sub(1)));
-        let (x_min, x_max) = (x_first.min(x_last), x_first.max(x_last));
-        out.fill(0.0);
-        for s in &self.strata {
-            let lattice = self.row_lattice(s, y, x_min, x_max);
-            #[cfg(target_arch = "x86_64")]
-            match self.simd {
-                #[allow(unsafe_code)]
-                // SAFETY: `Simd::Avx512` is chosen only when the CPU reports AVX-512F at run time.
-                Simd::Avx512 => unsafe { stratum_row_avx512(s, &lattice, window, y, out) },
-                #[allow(unsafe_code)]
-                // SAFETY: `Simd::Avx2` is chosen only when the CPU reports AVX2 at run time.
-                Simd::Avx2 => unsafe { stratum_row_avx2(s, &lattice, window, y, out) },
-                Simd::Portable => stratum_row::<LANES>(s, &lattice, window, y, out),
-            }
-            #[cfg(not(target_arch = "x86_64"))]
-            stratum_row::<LANES>(s, &lattice, window, y, out);
+        self.eval_rows(window, row, out);
+    }
+
+    /// Evaluates consecutive rows of `window`, from row `first`, into `out` (a whole number of
+    /// rows of `window.width` values). The lattice draws are shared between the rows; the values
+    /// are the same bits as row by row.
+    pub fn eval_rows(&self, window: &Window, first: usize, out: &mut [f32]) {
+        let width = window.width;
+        if width == 0 {
+            return;
         }
-        for v in out.iter_mut() {
-            *v += self.mean;
+        let (x_first, x_last) = (window.x(0), window.x(width - 1));
+        let (x_min, x_max) = (x_first.min(x_last), x_first.max(x_last));
+        let mut lattices: Vec<StratumLattice> = self
+            .strata
+            .iter()
+            .map(|s| StratumLattice::new(s, x_min, x_max))
+            .collect();
+        // One stratum's row, padded so that a full group of lanes may be written past its end.
+        let mut sum = vec![0.0f32; width + WIDE_LANES];
+        let mut offsets = Vec::new();
+        for (r, line) in out.chunks_exact_mut(width).enumerate() {
+            let y = window.y(first + r);
+            line.fill(0.0);
+            for (s, lattice) in self.strata.iter().zip(&mut lattices) {
+                lattice.update(s, self.seed, y);
+                sum.fill(0.0);
+                #[cfg(target_arch = "x86_64")]
+                match self.simd {
+                    #[allow(unsafe_code)]
+                    // SAFETY: `Simd::Avx512` is chosen only when the CPU reports AVX-512F.
+                    Simd::Avx512 => unsafe {
+                        stratum_row_avx512(s, lattice, window, y, &mut sum, &mut offsets)
+                    },
+                    #[allow(unsafe_code)]
+                    // SAFETY: `Simd::Avx2` is chosen only when the CPU reports AVX2 at run time.
+                    Simd::Avx2 => unsafe {
+                        stratum_row_avx2(s, lattice, window, y, &mut sum, &mut offsets)
+                    },
+                    Simd::Portable => {
+                        stratum_row::<LANES>(s, lattice, window, y, &mut sum, &mut offsets)
+                    }
+                }
+                #[cfg(not(target_arch = "x86_64"))]
+                stratum_row::<LANES>(s, lattice, window, y, &mut sum, &mut offsets);
+                for (o, a) in line.iter_mut().zip(&sum) {
+                    *o += s.amplitude * a;
+                }
+            }
+            for v in line.iter_mut() {
+                *v += self.mean;
+            }
         }
     }
 
@@ -237,97 +286,139 @@ impl LrpEvaluator {
 #[target_feature(enable = "avx2")]
 fn stratum_row_avx2(
     s: &PreparedStratum,
-    lattice: &RowLattice,
+    lattice: &StratumLattice,
     window: &Window,
     y: f64,
-    out: &mut [f32],
+    sum: &mut [f32],
+    offsets: &mut Vec<f32>,
 ) {
-    stratum_row::<LANES>(s, lattice, window, y, out);
+    stratum_row::<LANES>(s, lattice, window, y, sum, offsets);
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f")]
 fn stratum_row_avx512(
     s: &PreparedStratum,
-    lattice: &RowLattice,
+    lattice: &StratumLattice,
     window: &Window,
     y: f64,
-    out: &mut [f32],
+    sum: &mut [f32],
+    offsets: &mut Vec<f32>,
 ) {
-    stratum_row::<WIDE_LANES>(s, lattice, window, y, out);
+    stratum_row::<WIDE_LANES>(s, lattice, window, y, sum, offsets);
 }
 
-/// Adds one stratum's contribution to a row. `inline(always)` so that the AVX2 wrapper compiles
-/// its own copy with wider vectors; the arithmetic is the same in both.
+/// Adds one stratum's windowed cosine sums along row `y` to `sum` (the window's width plus at
+/// least `L` values, zero on entry; values past the width are scratch).
+///
+/// Lattice point by lattice point, in ascending `(cy, cx)`: each point adds to the pixels of its
+/// support's chord of the row only, `L` consecutive pixels at a time. Pixels outside the support
+/// that share a group get an exact `+0` (the window is exactly 0 there), so every pixel sums the
+/// same non-zero terms in the same order whatever group it falls in: any tiling of a window, and
+/// any lane count, gives the same bits. `inline(always)` so that each SIMD wrapper compiles its
+/// own copy; the arithmetic is the same in all.
 #[inline(always)]
 fn stratum_row<const L: usize>(
     s: &PreparedStratum,
-    lattice: &RowLattice,
+    lattice: &StratumLattice,
     window: &Window,
     y: f64,
-    out: &mut [f32],
+    sum: &mut [f32],
+    offsets: &mut Vec<f32>,
 ) {
-    let width = out.len();
+    let width = sum.len() - WIDE_LANES;
     let j = lattice.j;
-    let mut start = 0;
-    while start < width {
-        // Positions of the 8 lanes (lanes past the row's end are computed and dropped).
-        let mut xs = [0.0f64; L];
-        for (lane, x) in xs.iter_mut().enumerate() {
-            *x = window.x(start + lane);
+    let support = 1.5 * s.delta;
+    for row in &lattice.rows {
+        let dy64 = y - row.cy as f64 * s.delta;
+        let dy = dy64 as f32;
+        let dy2 = dy * dy;
+        // Rows beyond the support contribute exactly 0 to every pixel: skip them.
+        if dy2 * s.inv_delta2 >= 2.25 {
+            continue;
         }
-        let (lo, hi) = xs
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| {
-                (l.min(v), h.max(v))
-            });
-        // Lattice columns with |x/Δ − cx| < 1.5 for some lane: the open interval's integers.
-        let cx_lo = ((((lo * s.inv_delta) - 1.5).floor() as i64) + 1).max(lattice.cx0);
-        let cx_hi = ((((hi * s.inv_delta) + 1.5).ceil() as i64) - 1)
-            .min(lattice.cx0 + lattice.cols as i64 - 1);
-        let mut acc_out = [0.0f32; L];
-        for row in 0..lattice.rows {
-            let cy = lattice.cy0 + row as i64;
-            let dy = (y - cy as f64 * s.delta) as f32;
-            let dy2 = dy * dy;
-            // Rows beyond the support contribute exactly 0 to every lane: skip them.
-            if dy2 * s.inv_delta2 >= 2.25 {
+        // Half the chord of the support along this row.
+        let half = (support * support - dy64 * dy64).max(0.0).sqrt();
+        // The part of each cosine's argument that is constant along the row: `f_y·dy + φ`.
+        offsets.clear();
+        offsets.extend(row.fy.iter().zip(&row.phase).map(|(&fy, &ph)| fy * dy + ph));
+        for col in 0..lattice.cols {
+            let cx = lattice.cx0 + col as i64;
+            let lx = cx as f64 * s.delta;
+            let Some((i_lo, i_hi)) = support_span(window, width, lx, half, dy2, s.inv_delta2)
+            else {
                 continue;
-            }
-            for cx in cx_lo..=cx_hi {
-                let lx = cx as f64 * s.delta;
+            };
+            let base = col * j;
+            let (fxs, cs) = (&row.fx[base..base + j], &offsets[base..base + j]);
+            let mut start = i_lo;
+            while start <= i_hi {
                 let mut dx = [0.0f32; L];
                 let mut r2 = [0.0f32; L];
                 for lane in 0..L {
-                    dx[lane] = (xs[lane] - lx) as f32;
+                    dx[lane] = (window.x(start + lane) - lx) as f32;
                     r2[lane] = (dx[lane] * dx[lane] + dy2) * s.inv_delta2;
-                }
-                // Cheap test before the window polynomial: is any lane inside the support?
-                if r2.iter().all(|&v| v >= 2.25) {
-                    continue;
                 }
                 let mut w = [0.0f32; L];
                 for lane in 0..L {
                     w[lane] = kaiser_bessel_r2(r2[lane]);
                 }
-                let base = (row * lattice.cols + (cx - lattice.cx0) as usize) * j;
                 let mut acc = [0.0f32; L];
-                for k in base..base + j {
-                    let fx = lattice.fx[k];
-                    let c = lattice.fy[k] * dy + lattice.phase[k];
+                for (&fx, &c) in fxs.iter().zip(cs) {
                     for lane in 0..L {
                         acc[lane] += cos_turns(fx * dx[lane] + c);
                     }
                 }
+                let out = &mut sum[start..start + L];
                 for lane in 0..L {
-                    acc_out[lane] += w[lane] * acc[lane];
+                    out[lane] += w[lane] * acc[lane];
                 }
+                start += L;
             }
         }
-        let end = (start + L).min(width);
-        for (o, a) in out[start..end].iter_mut().zip(&acc_out) {
-            *o += s.amplitude * a;
-        }
-        start += L;
     }
+}
+
+/// `r²/Δ²` of pixel `i` from a lattice point at `lx`, in f32 exactly as the lanes compute it.
+#[inline(always)]
+fn lane_r2(window: &Window, i: usize, lx: f64, dy2: f32, inv_delta2: f32) -> f32 {
+    let dx = (window.x(i) - lx) as f32;
+    (dx * dx + dy2) * inv_delta2
+}
+
+/// The pixels of a row (indices below `width`) that may lie inside the support of the lattice
+/// point at `lx`, whose support's chord on this row is `lx ± half`: `None` when there are none.
+///
+/// The estimate from `half` is then widened until the first pixel outside it on each side has
+/// an f32 `r²` of at least 2.25 (a window of exactly 0). The f32 `r²` never decreases as `|x − lx|`
+/// grows (every step of it rounds monotonically), so no pixel outside the span can have a
+/// non-zero window, whatever the scale: the span is exact, not a guess with a margin.
+#[inline(always)]
+fn support_span(
+    window: &Window,
+    width: usize,
+    lx: f64,
+    half: f64,
+    dy2: f32,
+    inv_delta2: f32,
+) -> Option<(usize, usize)> {
+    let (x0, inv_scale) = (window.x(0), 1.0 / window.scale);
+    let last = (width - 1) as f64;
+    let lo = ((lx - half - x0) * inv_scale).floor().clamp(0.0, last) as usize;
+    let hi = ((lx + half - x0) * inv_scale).ceil().clamp(0.0, last) as usize;
+    let (mut lo, mut hi) = (lo, hi);
+    while lo > 0 && lane_r2(window, lo - 1, lx, dy2, inv_delta2) < 2.25 {
+        lo -= 1;
+    }
+    while hi + 1 < width && lane_r2(window, hi + 1, lx, dy2, inv_delta2) < 2.25 {
+        hi += 1;
+    }
+    // Trim pixels that are outside on the f32 test too (the span only needs to cover the rest).
+    while lo <= hi && lane_r2(window, lo, lx, dy2, inv_delta2) >= 2.25 {
+        lo += 1;
+    }
+    while hi >= lo && hi > 0 && lane_r2(window, hi, lx, dy2, inv_delta2) >= 2.25 {
+        hi -= 1;
+    }
+    (lo <= hi && lane_r2(window, lo, lx, dy2, inv_delta2) < 2.25).then_some((lo, hi))
 }

@@ -166,6 +166,32 @@ fn same_bits_for_any_tiling() {
     }
 }
 
+/// A row evaluates each lattice point only over the pixels of its support's chord; a pixel just
+/// inside the support's edge, at any zoom, must still get its (tiny) term. Each pixel of a row
+/// straddling the edge of the first stratum's support (`1.5·Δ = 14.25` from the point at the
+/// origin, along `y = 0`) is compared with the same position evaluated alone (a 1×1 window,
+/// where every lattice point is tried on that pixel).
+#[test]
+fn support_edges_are_exact_at_any_zoom() {
+    let eval = LrpEvaluator::new(&model(4));
+    for scale in [1.0e-6, 1.0e-3, 0.37, 1.0, 41.0] {
+        let width = 97;
+        let edge = 14.25 - 48.5 * scale;
+        let window = Window::new(width, 1).at([edge, 0.0], scale);
+        let mut row = vec![0.0; width];
+        eval.eval_row(&window, 0, &mut row);
+        for (i, v) in row.iter().enumerate() {
+            let alone = eval.eval(window.x(i), 0.0);
+            assert_eq!(
+                v.to_bits(),
+                alone.to_bits(),
+                "scale {scale}, pixel {i} at x = {}",
+                window.x(i)
+            );
+        }
+    }
+}
+
 #[test]
 fn same_bits_on_every_simd_level() {
     let m = model(7);

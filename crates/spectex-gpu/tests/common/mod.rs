@@ -42,19 +42,8 @@ pub fn first_bit_difference(a: &[f32], b: &[f32]) -> Option<usize> {
 // depend on spectex-cpu): plain `*` and `+`, never fused on the host, in the CPU's order. Used to
 // count how many device values are bit-identical to what the CPU computes.
 
-#[allow(
-    clippy::excessive_precision,
-    reason = "written as spectex-cpu's math.rs writes them"
-)]
-const COS_TURNS: [f32; 7] = [
-    1.0,
-    -19.739_208,
-    64.939_394,
-    -85.456_82,
-    60.244_64,
-    -26.426_256,
-    7.903_536,
-];
+/// `spectex_cpu::math::COS_TURNS`.
+pub const COS_TURNS: [f32; 5] = [1.0, -19.739_182, 64.935_22, -85.254_01, 56.340_71];
 
 /// `spectex_cpu::math::fract_turns`.
 pub fn cpu_fract_turns(t: f32) -> f32 {
@@ -68,28 +57,34 @@ pub fn cpu_cos_turns(t: f32) -> f32 {
     let far = a > 0.25;
     let b = if far { 0.5 - a } else { a };
     let x = b * b;
-    let mut p = COS_TURNS[6];
-    for k in (0..6).rev() {
+    let mut p = COS_TURNS[4];
+    for k in (0..4).rev() {
         p = p * x + COS_TURNS[k];
     }
     if far { -p } else { p }
 }
 
+/// `spectex_cpu::math::KB_POLY`.
+pub const KB_POLY: [f32; 8] = [
+    0.017_600_192,
+    0.098_341_09,
+    0.212_476_86,
+    0.290_033_43,
+    0.155_061_08,
+    0.205_698_98,
+    -0.027_654_441,
+    0.048_442_75,
+];
+
 /// `spectex_cpu::math::kaiser_bessel_r2`.
 pub fn cpu_kaiser_bessel_r2(r2: f32) -> f32 {
-    let mut c = [0.0f32; 16];
-    let mut v = 1.0f64 / 6.0;
-    for (m, slot) in c.iter_mut().enumerate() {
-        *slot = v as f32;
-        v /= ((m + 1) * (m + 4)) as f64;
-    }
     let inside = 1.0 - r2 * (1.0 / 2.25);
-    let q = 22.206_61f32 * inside.max(0.0);
-    let mut p = c[15];
-    for m in (0..15).rev() {
-        p = p * q + c[m];
+    let u = inside.max(0.0);
+    let mut p = KB_POLY[7];
+    for m in (0..7).rev() {
+        p = p * u + KB_POLY[m];
     }
-    let w = q * q.sqrt() * p * 0.001_010_308_3;
+    let w = u * u.sqrt() * p;
     if inside > 0.0 { w } else { 0.0 }
 }
 
