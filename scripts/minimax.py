@@ -8,6 +8,7 @@ f32 and the error of their f32 Horner evaluation is measured on a finer grid.
 - cos(2*pi*b) on b in [0, 1/4] as a degree-4 polynomial in x = b^2, constant pinned to 1.
 - The Kaiser-Bessel window w(r) of spectex-model (I3 series, alpha = 3*pi, support 1.5) as
   u^(3/2) * P(u), u = 1 - r^2/2.25 in [0, 1], P of degree 7.
+- atan(a) / (2*pi) on a in [0, 1] (phasor noise's phase in turns) as a * P(a^2), P of degree 7.
 
 Needs numpy. Usage: python3 scripts/minimax.py
 """
@@ -73,6 +74,21 @@ def show(name, fit):
     print("  " + ", ".join(str(np.float32(c)) for c in coeffs))
 
 
+
+
+def atan_turns(degree=7):
+    """atan(a) / (2 pi) on a in [0, 1] as a * P(a^2), P of the given degree."""
+    a = np.linspace(0.0, 1.0, 200_001)
+    f = np.arctan(a) / (2 * np.pi)
+    design = np.vstack([a * a ** (2 * k) for k in range(degree + 1)]).T
+    coeffs, err = lawson(design, f, 500)
+    aa = np.linspace(0.0, 1.0, 2_000_001).astype(np.float32)
+    got = (aa * horner32(coeffs, (aa * aa).astype(np.float32))).astype(np.float32)
+    err32 = np.abs(got.astype(np.float64) - np.arctan(aa.astype(np.float64)) / (2 * np.pi)).max()
+    return coeffs, err, err32
+
+
 if __name__ == "__main__":
     show("cos(2 pi b) in b^2", cosine())
     show("Kaiser-Bessel u^1.5 P(u)", window())
+    show("atan(a)/(2 pi) = a P(a^2)", atan_turns())

@@ -6,6 +6,7 @@
 mod analyze;
 mod exemplar;
 mod io;
+mod phasor;
 mod procedural;
 
 use std::path::{Path, PathBuf};
@@ -61,6 +62,16 @@ enum Command {
         after_help = "Examples:\n  spectex noise ring --radius 0.0625 --budget 3 -o ring.png\n  spectex noise lobe --frequency 0.1 --angle 30 --budget 10 -o lobe.png\n  spectex noise band --min 0.05 --max 0.1 -o band.png --model band.json\n  spectex noise gabor --frequency 0.0625 --impulses 27 -o gabor.png"
     )]
     Noise(procedural::NoiseCommand),
+    /// Phasor noise (Tricard et al. 2019): high-contrast oscillations with a chosen profile.
+    #[command(
+        after_help = "Examples:\n  spectex phasor -o stripes.png --angle 30\n  spectex phasor -o pwm.png --profile square --duty 0.25 --coherent\n  spectex phasor -o tiles.png --profile square --duty-image grey.png --orientation-image grey.png\n  spectex phasor -o wood.png --harmonics 1:1,2:0.5,3:0.33 --model wood.json\n  spectex phasor -o phase.png --output-kind phase --two-lobes 0,60\n  spectex phasor -o slab.png --three-d --isotropic --z 12.5 --model slab.json"
+    )]
+    Phasor(Box<phasor::PhasorCommand>),
+    /// Write the layers of a 3D model as images for additive manufacturing.
+    #[command(
+        after_help = "Examples:\n  spectex slices slab.json --z-range 0,64 --layers 65 -o layers/\n\nLayers are layer_00000.png, layer_00001.png, … in z order; layers.csv lists layer,z,file."
+    )]
+    Slices(phasor::SlicesCommand),
 }
 
 #[derive(Debug, Args)]
@@ -196,6 +207,8 @@ fn run(cli: Cli) -> Result<()> {
         Command::Render(cmd) => procedural::render(&cmd),
         Command::Synth(cmd) => procedural::synth(&cmd),
         Command::Noise(cmd) => procedural::noise(&cmd),
+        Command::Phasor(cmd) => phasor::phasor(&cmd),
+        Command::Slices(cmd) => phasor::slices(&cmd),
     }
 }
 

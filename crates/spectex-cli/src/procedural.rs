@@ -43,23 +43,26 @@ impl FitArgs {
 pub struct RenderArgs {
     /// Output image: .png (clamped to [0, 1]) or .exr (32-bit float, values kept).
     #[arg(short, long, value_name = "OUT")]
-    output: PathBuf,
+    pub(crate) output: PathBuf,
     /// Output size WIDTHxHEIGHT (1 to 65536 per side).
     #[arg(long, value_name = "WxH", value_parser = crate::parse_size)]
-    size: Option<(usize, usize)>,
+    pub(crate) size: Option<(usize, usize)>,
     /// Position of the top-left pixel, X,Y in model pixels (any finite values up to ±2^30).
     #[arg(long, value_name = "X,Y", value_parser = parse_offset, allow_hyphen_values = true)]
-    offset: Option<[f64; 2]>,
+    pub(crate) offset: Option<[f64; 2]>,
     /// Model pixels per output pixel (0 < S ≤ 1e6).
     #[arg(long, default_value_t = 1.0)]
-    scale: f64,
+    pub(crate) scale: f64,
     /// Bits per channel of a PNG output.
     #[arg(long, value_enum, default_value = "8")]
-    bit_depth: BitDepth,
+    pub(crate) bit_depth: BitDepth,
+    /// The plane z (model pixels) on which a 3D model is evaluated; 2D models ignore it.
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    pub(crate) z: f64,
     /// Evaluator: the CPU reference, the GPU (wgpu; WGPU_ADAPTER_NAME picks the adapter), or
     /// auto (the GPU when an adapter exists, else the CPU; says which it used).
     #[arg(long, value_enum, default_value = "cpu")]
-    device: Device,
+    pub(crate) device: Device,
 }
 
 /// Which evaluator renders.
@@ -208,7 +211,7 @@ struct NoiseArgs {
 const TARGET_GRID: usize = 256;
 
 /// The luminance of a loaded image (colour exemplars are fitted on it until the colour issue).
-fn luminance(img: &Array3<f64>, name: &str) -> Array2<f64> {
+pub(crate) fn luminance(img: &Array3<f64>, name: &str) -> Array2<f64> {
     if img.dim().0 == 1 {
         return img.index_axis(Axis(0), 0).to_owned();
     }
@@ -234,7 +237,7 @@ fn fit_example(input: Option<&Path>, fit: &FitArgs) -> Result<(Model, (usize, us
     Ok((Model::Lrp(model), (w, h)))
 }
 
-fn write_model(path: &Path, model: &Model) -> Result<()> {
+pub(crate) fn write_model(path: &Path, model: &Model) -> Result<()> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -246,7 +249,7 @@ fn write_model(path: &Path, model: &Model) -> Result<()> {
     io::write_text_atomically(path, &text)
 }
 
-fn read_model(path: &Path) -> Result<Model> {
+pub(crate) fn read_model(path: &Path) -> Result<Model> {
     let text = std::fs::read_to_string(path).map_err(|e| {
         anyhow!(
             "cannot open model '{}': {e}; check the path",
@@ -262,14 +265,18 @@ fn read_model(path: &Path) -> Result<Model> {
 }
 
 /// Renders `model` as `args` says, showing progress on a terminal, and writes the image.
-fn render_to_file(model: &Model, args: &RenderArgs, default_size: (usize, usize)) -> Result<()> {
+pub(crate) fn render_to_file(
+    model: &Model,
+    args: &RenderArgs,
+    default_size: (usize, usize),
+) -> Result<()> {
     let format = io::check_output(&args.output, args.bit_depth)?;
     let (width, height) = args.size.unwrap_or(default_size);
     let window = Window::new(width, height).at(args.offset.unwrap_or([0.0, 0.0]), args.scale);
     window
         .validate()
         .map_err(|e| anyhow!("{e}; check --size, --offset and --scale"))?;
-    let eval = Evaluator::new(model).map_err(|e| anyhow!("{e}"))?;
+    let eval = Evaluator::new_at_z(model, args.z).map_err(|e| anyhow!("{e}; check --z"))?;
     // Timed from the render itself: device start-up and shader compilation are not evaluation.
     let (pixels, used, seconds) = match gpu_for(args.device)? {
         Some(context) => {
@@ -327,7 +334,7 @@ fn gpu_for(device: Device) -> Result<Option<spectex_gpu::GpuContext>> {
 }
 
 /// A progress bar on stderr when it is a terminal; hidden (and free) when piped.
-fn progress_bar(len: u64, what: &'static str) -> indicatif::ProgressBar {
+pub(crate) fn progress_bar(len: u64, what: &'static str) -> indicatif::ProgressBar {
     if !std::io::stderr().is_terminal() || len < 256 {
         return indicatif::ProgressBar::hidden();
     }

@@ -28,12 +28,14 @@
 pub mod gabor;
 pub mod lrp;
 pub mod math;
+pub mod phasor;
 
 use rayon::prelude::*;
 use spectex_model::{Model, ModelError};
 
 pub use gabor::GaborEvaluator;
 pub use lrp::LrpEvaluator;
+pub use phasor::PhasorEvaluator;
 /// The window type is `spectex-model`'s, shared with the GPU evaluator.
 pub use spectex_model::{MAX_POSITION, MAX_WINDOW_PIXELS, MAX_WINDOW_SIDE, Window};
 
@@ -85,6 +87,8 @@ pub enum Evaluator {
     Lrp(LrpEvaluator),
     /// Gabor noise.
     Gabor(GaborEvaluator),
+    /// Phasor noise (a 3D model on one plane `z`).
+    Phasor(Box<PhasorEvaluator>),
 }
 
 impl Evaluator {
@@ -93,10 +97,28 @@ impl Evaluator {
     /// # Errors
     /// [`CpuError::Model`] naming the first invalid field.
     pub fn new(model: &Model) -> Result<Self, CpuError> {
+        Self::new_at_z(model, 0.0)
+    }
+
+    /// Validates and prepares `model` for the plane `z` (pixels): 3D models are evaluated on
+    /// that slice, 2D models ignore it.
+    ///
+    /// # Errors
+    /// [`CpuError::Model`] naming the first invalid field, or [`CpuError::Window`] for a `z`
+    /// that is not finite or beyond [`MAX_POSITION`].
+    pub fn new_at_z(model: &Model, z: f64) -> Result<Self, CpuError> {
         model.validate()?;
+        if !(z.is_finite() && z.abs() <= MAX_POSITION) {
+            return Err(CpuError::Window {
+                parameter: "z",
+                value: z,
+                range: "finite, |z| ≤ 2³⁰ pixels",
+            });
+        }
         Ok(match model {
             Model::Lrp(m) => Self::Lrp(LrpEvaluator::new(m)),
             Model::Gabor(m) => Self::Gabor(GaborEvaluator::new(m)),
+            Model::Phasor(m) => Self::Phasor(Box::new(PhasorEvaluator::new(m, z))),
             #[allow(unreachable_patterns)] // reason: `Model` is non_exhaustive for other crates
             _ => unreachable!("every model kind of this version is handled"),
         })
@@ -107,6 +129,7 @@ impl Evaluator {
         match self {
             Self::Lrp(e) => e.eval_row(window, row, out),
             Self::Gabor(e) => e.eval_row_at(window.y(row), |i| window.x(i), out),
+            Self::Phasor(e) => e.eval_rows(window, row, out),
         }
     }
 
@@ -150,6 +173,7 @@ impl Evaluator {
                 let first = band * BAND_ROWS;
                 match self {
                     Self::Lrp(e) => e.eval_rows(window, first, lines),
+                    Self::Phasor(e) => e.eval_rows(window, first, lines),
                     _ => {
                         for (r, line) in lines.chunks_exact_mut(window.width).enumerate() {
                             self.eval_row(window, first + r, line);
@@ -169,6 +193,7 @@ impl Evaluator {
         match self {
             Self::Lrp(e) => e.cosines_per_pixel() as f64,
             Self::Gabor(e) => e.cosines_per_pixel(),
+            Self::Phasor(e) => e.kernels_per_pixel(),
         }
     }
 }

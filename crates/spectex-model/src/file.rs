@@ -3,7 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::ModelError;
-use crate::{GaborNoise, LrpNoise};
+use crate::{GaborNoise, LrpNoise, PhasorNoise};
 
 /// The `schema_version` this build writes.
 pub const SCHEMA_VERSION: u32 = 1;
@@ -19,6 +19,8 @@ pub enum Model {
     Lrp(LrpNoise),
     /// Gabor noise.
     Gabor(GaborNoise),
+    /// Phasor noise.
+    Phasor(PhasorNoise),
 }
 
 impl Model {
@@ -30,6 +32,7 @@ impl Model {
         match self {
             Self::Lrp(m) => m.validate(),
             Self::Gabor(m) => m.validate(),
+            Self::Phasor(m) => m.validate(),
         }
     }
 }

@@ -25,6 +25,7 @@ mod file;
 mod gabor;
 pub mod grid;
 mod lrp;
+mod phasor;
 pub mod random;
 mod target;
 pub mod window;
@@ -34,4 +35,8 @@ pub use file::{Model, SCHEMA_VERSION, SUPPORTED_SCHEMA_VERSIONS, from_json, to_j
 pub use gabor::{GABOR_TRUNCATION, GaborNoise, Orientation};
 pub use grid::{MAX_POSITION, MAX_WINDOW_PIXELS, MAX_WINDOW_SIDE, Window, WindowError};
 pub use lrp::{LrpNoise, MAX_COSINES, MAX_STRATA, MAX_TABLE, Stratum};
+pub use phasor::{
+    COHERENT_BANDWIDTH_RATIO, COHERENT_SPREAD, Field, Harmonic, MAX_FIELD_SIDE,
+    MAX_PROFILE_SAMPLES, PHASOR_TRUNCATION, PhasorNoise, PhasorOrientation, PhasorOutput, Profile,
+};
 pub use target::SpectralTarget;

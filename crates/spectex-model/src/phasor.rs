@@ -1,0 +1,705 @@
+//! Phasor noise (Tricard et al. 2019): the instantaneous phase of a complex Gabor noise, fed to
+//! an oscillation profile.
+//!
+//! The complex Gabor noise is `𝒢(x) = Σ_j a(x − x_j)·exp(i·2π F_j u_j·(x − x_j))` (Eqs. 10, 15)
+//! with the Gaussian `a(x) = exp(−π b²|x|²)` (Eq. 6) truncated where it falls below
+//! [`PHASOR_TRUNCATION`] of its peak; the impulses `x_j` are a Poisson process. Its modulus is the
+//! intensity `I` (Eq. 8), its argument the phasor noise `φ` (Eq. 9), `Im 𝒢 = I·sin φ` is Gabor
+//! noise (Eq. 13) and `sin φ` the phasor sine wave (Eq. 3). A profile `f` of period one turn
+//! shapes the oscillations (Eq. 4, §3.3).
+//!
+//! Every parameter that the paper grades spatially (§4.1) is a [`Field`]: a constant, an
+//! analytic linear ramp, or a greyscale image mapped to a range. Kernel parameters (frequency,
+//! orientation) are read at each kernel's centre `x_j`; profile parameters (duty cycle, the
+//! blend between two profiles) at the evaluated point.
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{ModelError, check_len, check_range};
+
+/// Fraction of its peak at which the Gaussian kernel is truncated (as for Gabor noise, Lagae et
+/// al. 2009): the kernel radius is `r = √(−ln 0.05 / π) / b`, the grid cell side.
+pub const PHASOR_TRUNCATION: f64 = 0.05;
+
+/// The paper's locally coherent isotropic setting (§3.2.2): directions drawn within `±2.4` rad.
+pub const COHERENT_SPREAD: f32 = 2.4;
+/// The paper's locally coherent isotropic setting: `b_f = b / 2`.
+pub const COHERENT_BANDWIDTH_RATIO: f32 = 0.5;
+
+/// Largest side of an image field, pixels.
+pub const MAX_FIELD_SIDE: usize = 4096;
+/// Most samples of a sampled profile, and most harmonics of an additive one.
+pub const MAX_PROFILE_SAMPLES: usize = 4096;
+
+/// A scalar parameter over space.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, rename_all = "snake_case")]
+pub enum Field {
+    /// The same value everywhere.
+    Constant {
+        /// The value.
+        value: f32,
+    },
+    /// `value + gradient·x` (per pixel), an analytic ramp; `gradient` has a z component used by
+    /// 3D evaluation.
+    Linear {
+        /// Value at the origin.
+        value: f32,
+        /// Change per pixel along x, y, z.
+        gradient: [f32; 3],
+    },
+    /// A greyscale image (values in `[0, 1]`, row-major) stretched over `[0, width·pixel_size] ×
+    /// [0, height·pixel_size]` and repeated periodically, bilinearly interpolated, mapped to
+    /// `min + grey·(max − min)`.
+    Image {
+        /// Image width, samples.
+        width: usize,
+        /// Image height, samples.
+        height: usize,
+        /// Grey levels in `[0, 1]`, `width·height` of them, row-major, row 0 at y = 0.
+        grey: Vec<f32>,
+        /// Output pixels per image sample.
+        pixel_size: f32,
+        /// Value at grey 0.
+        min: f32,
+        /// Value at grey 1.
+        max: f32,
+    },
+}
+
+impl Field {
+    /// A constant field.
+    #[must_use]
+    pub const fn constant(value: f32) -> Self {
+        Self::Constant { value }
+    }
+
+    /// The field at `(x, y, z)` pixels, in f64 (evaluators may round the result to f32).
+    #[must_use]
+    pub fn at(&self, x: f64, y: f64, z: f64) -> f64 {
+        match self {
+            Self::Constant { value } => f64::from(*value),
+            Self::Linear { value, gradient } => {
+                f64::from(*value)
+                    + f64::from(gradient[0]) * x
+                    + f64::from(gradient[1]) * y
+                    + f64::from(gradient[2]) * z
+            }
+            Self::Image {
+                width,
+                height,
+                grey,
+                pixel_size,
+                min,
+                max,
+            } => {
+                let g = bilinear_periodic(grey, *width, *height, x, y, f64::from(*pixel_size));
+                f64::from(*min) + g * (f64::from(*max) - f64::from(*min))
+            }
+        }
+    }
+
+    /// The image field's gradient direction at `(x, y)` in radians (`atan2` of the grey level's
+    /// central differences), or `None` for other fields or a flat spot.
+    #[must_use]
+    pub fn gradient_angle(&self, x: f64, y: f64) -> Option<f64> {
+        let Self::Image {
+            width,
+            height,
+            grey,
+            pixel_size,
+            ..
+        } = self
+        else {
+            return None;
+        };
+        let h = f64::from(*pixel_size);
+        let g = |x: f64, y: f64| bilinear_periodic(grey, *width, *height, x, y, h);
+        let gx = g(x + h, y) - g(x - h, y);
+        let gy = g(x, y + h) - g(x, y - h);
+        (gx != 0.0 || gy != 0.0).then(|| gy.atan2(gx))
+    }
+
+    fn validate(
+        &self,
+        name: &str,
+        lo: f64,
+        hi: f64,
+        range: &'static str,
+    ) -> Result<(), ModelError> {
+        match self {
+            Self::Constant { value } => {
+                check_range(|| format!("{name}.value"), f64::from(*value), lo, hi, range)
+            }
+            Self::Linear { value, gradient } => {
+                check_range(|| format!("{name}.value"), f64::from(*value), lo, hi, range)?;
+                for (k, g) in gradient.iter().enumerate() {
+                    check_range(
+                        || format!("{name}.gradient[{k}]"),
+                        f64::from(*g),
+                        -1e3,
+                        1e3,
+                        "[-1000, 1000] per pixel",
+                    )?;
+                }
+                Ok(())
+            }
+            Self::Image {
+                width,
+                height,
+                grey,
+                pixel_size,
+                min,
+                max,
+            } => {
+                check_range(
+                    || format!("{name}.width"),
+                    *width as f64,
+                    1.0,
+                    MAX_FIELD_SIDE as f64,
+                    "[1, 4096]",
+                )?;
+                check_range(
+                    || format!("{name}.height"),
+                    *height as f64,
+                    1.0,
+                    MAX_FIELD_SIDE as f64,
+                    "[1, 4096]",
+                )?;
+                if grey.len() != width * height {
+                    return Err(ModelError::Length {
+                        field: format!("{name}.grey"),
+                        len: grey.len(),
+                        range: "width·height values",
+                    });
+                }
+                if let Some((k, g)) = grey
+                    .iter()
+                    .enumerate()
+                    .find(|(_, g)| !(0.0..=1.0).contains(*g))
+                {
+                    return Err(ModelError::OutOfRange {
+                        field: format!("{name}.grey[{k}]"),
+                        value: f64::from(*g),
+                        range: "[0, 1]",
+                    });
+                }
+                check_range(
+                    || format!("{name}.pixel_size"),
+                    f64::from(*pixel_size),
+                    1e-3,
+                    1e6,
+                    "[0.001, 1e6] output pixels per sample",
+                )?;
+                check_range(|| format!("{name}.min"), f64::from(*min), lo, hi, range)?;
+                check_range(|| format!("{name}.max"), f64::from(*max), lo, hi, range)
+            }
+        }
+    }
+
+    /// Every value a linear field takes inside the usable region must be valid too; a ramp is
+    /// accepted when its value stays in range over `|x|, |y|, |z| ≤ extent`.
+    fn validate_ramp(
+        &self,
+        name: &str,
+        lo: f64,
+        hi: f64,
+        range: &'static str,
+        extent: f64,
+    ) -> Result<(), ModelError> {
+        if let Self::Linear { value, gradient } = self {
+            let spread: f64 = gradient.iter().map(|g| f64::from(*g).abs() * extent).sum();
+            let v = f64::from(*value);
+            check_range(
+                || format!("{name} (ramp minimum)"),
+                v - spread,
+                lo,
+                hi,
+                range,
+            )?;
+            check_range(
+                || format!("{name} (ramp maximum)"),
+                v + spread,
+                lo,
+                hi,
+                range,
+            )?;
+        }
+        Ok(())
+    }
+}
+
+/// Bilinear interpolation of a periodic grid of `w × h` samples, sample `(i, j)` centred at
+/// `((i + ½)·h, (j + ½)·h)` pixels for sample size `h`.
+fn bilinear_periodic(grey: &[f32], w: usize, h: usize, x: f64, y: f64, size: f64) -> f64 {
+    let (u, v) = (x / size - 0.5, y / size - 0.5);
+    if !(u.is_finite() && v.is_finite()) {
+        return f64::from(grey[0]);
+    }
+    let (fu, fv) = (u.floor(), v.floor());
+    let (tu, tv) = (u - fu, v - fv);
+    let wrap = |a: f64, n: usize| a.rem_euclid(n as f64) as usize % n;
+    let (i0, j0) = (wrap(fu, w), wrap(fv, h));
+    let (i1, j1) = ((i0 + 1) % w, (j0 + 1) % h);
+    let s = |i: usize, j: usize| f64::from(grey[j * w + i]);
+    let top = s(i0, j0) * (1.0 - tu) + s(i1, j0) * tu;
+    let bottom = s(i0, j1) * (1.0 - tu) + s(i1, j1) * tu;
+    top * (1.0 - tv) + bottom * tv
+}
+
+/// How the kernels' directions `u_j` are chosen.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, rename_all = "snake_case")]
+pub enum PhasorOrientation {
+    /// The bi-lobe case (§3.1): every kernel along `angle` (radians from x, in the xy plane),
+    /// graded by a field read at the kernel's centre.
+    Aligned {
+        /// Direction angle, radians.
+        angle: Field,
+    },
+    /// Directions along an image field's gradient at each kernel's centre, plus `offset`
+    /// radians (`π/2` follows the iso-grey lines, Fig. 14); kernels on a flat spot use
+    /// `offset` alone.
+    Gradient {
+        /// The image whose gradient steers the kernels (its `min`/`max` are unused).
+        image: Field,
+        /// Angle added to the gradient direction, radians.
+        offset: f32,
+    },
+    /// Two bi-lobes (§3.2.1): each kernel takes `angle_a` or `angle_b` with equal probability.
+    /// When the angle between them exceeds `π/2` the second direction is reversed (the paper's
+    /// dual formulation), which swaps the low-frequency interaction lobes `±(u_a − u_b)` for the
+    /// high ones.
+    TwoLobes {
+        /// First direction, radians.
+        angle_a: f32,
+        /// Second direction, radians.
+        angle_b: f32,
+    },
+    /// Independent uniform directions (the standard isotropic noise): uniform angle in 2D,
+    /// uniform on the sphere in 3D.
+    Isotropic,
+    /// The locally coherent isotropic direction field of §3.2.2: at each kernel's centre, the
+    /// normalised sum of a Gaussian sparse convolution (bandwidth `b_f = bandwidth_ratio·b`) of
+    /// random unit vectors within `±spread` radians of the x axis. The paper's isotropic
+    /// setting is `spread = 2.4`, `bandwidth_ratio = 0.5` ([`COHERENT_SPREAD`],
+    /// [`COHERENT_BANDWIDTH_RATIO`]).
+    Coherent {
+        /// `ω_f`, radians.
+        spread: f32,
+        /// `b_f / b`.
+        bandwidth_ratio: f32,
+    },
+}
+
+/// The oscillation profile `f`, a function of the phase in turns `t ∈ [0, 1)` (Eq. 4).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, rename_all = "snake_case")]
+pub enum Profile {
+    /// `sin(2πt)`: the phasor sine wave (Eq. 3), in `[−1, 1]`.
+    Sine,
+    /// Pulse-width modulation: 1 for `t < duty`, else 0 (Figs. 14–16).
+    Square {
+        /// Fraction of each period at 1, in `[0, 1]`, read at the evaluated point.
+        duty: Field,
+    },
+    /// A triangle wave in phase with the sine (1 at `t = ¼`, −1 at `t = ¾`): `1 − 4|s − ½|` with
+    /// `s = frac(t + ¼)`, in `[−1, 1]`.
+    Triangle,
+    /// `2t − 1`, in `[−1, 1)`.
+    Sawtooth,
+    /// A periodic profile given as samples over one period, linearly interpolated.
+    Samples {
+        /// Values at `t = k / n`, `k = 0..n`.
+        values: Vec<f32>,
+    },
+    /// Additive synthesis (Fig. 13): `Σ_k w_k·sin(2π(k·t) + φ_k)`.
+    Harmonics {
+        /// `(k, w_k, φ_k)`: integer harmonic (≥ 1), weight, phase in radians.
+        terms: Vec<Harmonic>,
+    },
+    /// `(1 − s)·a + s·b`, `s` read from a field at the evaluated point and clamped to `[0, 1]`:
+    /// profiles interpolated spatially (Fig. 1).
+    Blend {
+        /// Profile at `s = 0`.
+        a: Box<Profile>,
+        /// Profile at `s = 1`.
+        b: Box<Profile>,
+        /// The blend weight.
+        weight: Field,
+    },
+}
+
+/// One term of an additive profile.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Harmonic {
+    /// Harmonic number, ≥ 1.
+    pub k: u32,
+    /// Weight.
+    pub weight: f32,
+    /// Phase shift, radians.
+    pub phase: f32,
+}
+
+/// What a render writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum PhasorOutput {
+    /// `f(φ)`: the profiled phasor noise.
+    #[default]
+    Profiled,
+    /// `φ` in turns, in `(−½, ½]`.
+    Phase,
+    /// `I`, the modulus of the complex Gabor noise.
+    Intensity,
+    /// `Im 𝒢 = I·sin φ`, the Gabor noise of the same kernels (Eq. 13).
+    Gabor,
+}
+
+/// A phasor noise model.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PhasorNoise {
+    /// Seed of the randomness contract.
+    pub seed: u32,
+    /// 2 for images, 3 for volumes (evaluated slice by slice at a given z).
+    pub dimensions: u8,
+    /// `b`, the Gaussian bandwidth, per pixel: `a(x) = exp(−π b²|x|²)`.
+    pub bandwidth: f32,
+    /// `F`, cycles per pixel, read at each kernel's centre.
+    pub frequency: Field,
+    /// How kernel directions are chosen.
+    pub orientation: PhasorOrientation,
+    /// Mean number of impulses per kernel footprint (disc of radius `r` in 2D, ball in 3D), at
+    /// most 200 (so the mean per cell stays below 64 and Knuth's Poisson draw works in f32).
+    pub impulses_per_kernel: f32,
+    /// The oscillation profile.
+    pub profile: Profile,
+    /// What is written.
+    #[serde(default)]
+    pub output: PhasorOutput,
+    /// The written value is `mean + amplitude·v` for the output `v` (default 0 and 1; the CLI maps
+    /// `[−1, 1]` profiles to `[0, 1]` with 0.5 and 0.5).
+    #[serde(default)]
+    pub mean: f32,
+    /// See [`PhasorNoise::mean`].
+    #[serde(default = "one")]
+    pub amplitude: f32,
+}
+
+fn one() -> f32 {
+    1.0
+}
+
+/// Positions at which linear fields are checked to stay in range, pixels (the window limit).
+const RAMP_EXTENT: f64 = 1.0e4;
+
+impl PhasorNoise {
+    /// Kernel radius `r = √(−ln t / π) / b` for the truncation `t` = [`PHASOR_TRUNCATION`],
+    /// pixels; also the grid cell side.
+    #[must_use]
+    pub fn kernel_radius(&self) -> f64 {
+        (-PHASOR_TRUNCATION.ln() / std::f64::consts::PI).sqrt() / f64::from(self.bandwidth)
+    }
+
+    /// Mean impulses per grid cell: the kernel footprint (`π r²` or `4/3 π r³`) holds
+    /// `impulses_per_kernel`.
+    #[must_use]
+    pub fn impulses_per_cell(&self) -> f64 {
+        let footprint = if self.dimensions == 3 {
+            4.0 / 3.0 * std::f64::consts::PI
+        } else {
+            std::f64::consts::PI
+        };
+        f64::from(self.impulses_per_kernel) / footprint
+    }
+
+    /// Checks every number.
+    ///
+    /// # Errors
+    /// The first field found outside its range.
+    pub fn validate(&self) -> Result<(), ModelError> {
+        check_range(
+            || "phasor.dimensions".into(),
+            f64::from(self.dimensions),
+            2.0,
+            3.0,
+            "2 or 3",
+        )?;
+        check_range(
+            || "phasor.mean".into(),
+            f64::from(self.mean),
+            -1e9,
+            1e9,
+            "[-1e9, 1e9]",
+        )?;
+        check_range(
+            || "phasor.amplitude".into(),
+            f64::from(self.amplitude),
+            -1e9,
+            1e9,
+            "[-1e9, 1e9]",
+        )?;
+        check_range(
+            || "phasor.bandwidth".into(),
+            f64::from(self.bandwidth),
+            1e-3,
+            1.0,
+            "[0.001, 1] per pixel",
+        )?;
+        let freq = "[0, 0.5] cycles per pixel";
+        self.frequency
+            .validate("phasor.frequency", 0.0, 0.5, freq)?;
+        self.frequency
+            .validate_ramp("phasor.frequency", 0.0, 0.5, freq, RAMP_EXTENT)?;
+        check_range(
+            || "phasor.impulses_per_kernel".into(),
+            f64::from(self.impulses_per_kernel),
+            0.01,
+            200.0,
+            "[0.01, 200]",
+        )?;
+        let angle = "[-1000, 1000] radians";
+        match &self.orientation {
+            PhasorOrientation::Aligned { angle: a } => {
+                a.validate("phasor.orientation.aligned.angle", -1e3, 1e3, angle)?;
+            }
+            PhasorOrientation::Gradient { image, offset } => {
+                if !matches!(image, Field::Image { .. }) {
+                    return Err(ModelError::OutOfRange {
+                        field: "phasor.orientation.gradient.image".into(),
+                        value: f64::NAN,
+                        range: "an image field",
+                    });
+                }
+                image.validate("phasor.orientation.gradient.image", -1e9, 1e9, "any")?;
+                check_range(
+                    || "phasor.orientation.gradient.offset".into(),
+                    f64::from(*offset),
+                    -1e3,
+                    1e3,
+                    angle,
+                )?;
+            }
+            PhasorOrientation::TwoLobes { angle_a, angle_b } => {
+                check_range(
+                    || "phasor.orientation.two_lobes.angle_a".into(),
+                    f64::from(*angle_a),
+                    -1e3,
+                    1e3,
+                    angle,
+                )?;
+                check_range(
+                    || "phasor.orientation.two_lobes.angle_b".into(),
+                    f64::from(*angle_b),
+                    -1e3,
+                    1e3,
+                    angle,
+                )?;
+            }
+            PhasorOrientation::Isotropic => {}
+            PhasorOrientation::Coherent {
+                spread,
+                bandwidth_ratio,
+            } => {
+                check_range(
+                    || "phasor.orientation.coherent.spread".into(),
+                    f64::from(*spread),
+                    0.0,
+                    std::f64::consts::PI,
+                    "[0, π] radians",
+                )?;
+                check_range(
+                    || "phasor.orientation.coherent.bandwidth_ratio".into(),
+                    f64::from(*bandwidth_ratio),
+                    0.05,
+                    4.0,
+                    "[0.05, 4]",
+                )?;
+            }
+        }
+        validate_profile(&self.profile, "phasor.profile", 0)
+    }
+}
+
+fn validate_profile(p: &Profile, name: &str, depth: usize) -> Result<(), ModelError> {
+    if depth > 4 {
+        return Err(ModelError::Length {
+            field: name.into(),
+            len: depth,
+            range: "at most 4 nested blends",
+        });
+    }
+    match p {
+        Profile::Sine | Profile::Triangle | Profile::Sawtooth => Ok(()),
+        Profile::Square { duty } => {
+            let range = "[0, 1]";
+            duty.validate(&format!("{name}.square.duty"), 0.0, 1.0, range)?;
+            duty.validate_ramp(&format!("{name}.square.duty"), 0.0, 1.0, range, RAMP_EXTENT)
+        }
+        Profile::Samples { values } => {
+            check_len(
+                || format!("{name}.samples.values"),
+                values.len(),
+                2,
+                MAX_PROFILE_SAMPLES,
+                "2 to 4096 values",
+            )?;
+            for (k, v) in values.iter().enumerate() {
+                check_range(
+                    || format!("{name}.samples.values[{k}]"),
+                    f64::from(*v),
+                    -1e6,
+                    1e6,
+                    "[-1e6, 1e6]",
+                )?;
+            }
+            Ok(())
+        }
+        Profile::Harmonics { terms } => {
+            check_len(
+                || format!("{name}.harmonics.terms"),
+                terms.len(),
+                1,
+                MAX_PROFILE_SAMPLES,
+                "1 to 4096 terms",
+            )?;
+            for (k, t) in terms.iter().enumerate() {
+                check_range(
+                    || format!("{name}.harmonics.terms[{k}].k"),
+                    f64::from(t.k),
+                    1.0,
+                    1024.0,
+                    "[1, 1024]",
+                )?;
+                check_range(
+                    || format!("{name}.harmonics.terms[{k}].weight"),
+                    f64::from(t.weight),
+                    -1e6,
+                    1e6,
+                    "[-1e6, 1e6]",
+                )?;
+                check_range(
+                    || format!("{name}.harmonics.terms[{k}].phase"),
+                    f64::from(t.phase),
+                    -1e3,
+                    1e3,
+                    "[-1000, 1000] radians",
+                )?;
+            }
+            Ok(())
+        }
+        Profile::Blend { a, b, weight } => {
+            weight.validate(
+                &format!("{name}.blend.weight"),
+                -1e9,
+                1e9,
+                "any finite value",
+            )?;
+            validate_profile(a, &format!("{name}.blend.a"), depth + 1)?;
+            validate_profile(b, &format!("{name}.blend.b"), depth + 1)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn model() -> PhasorNoise {
+        PhasorNoise {
+            seed: 1,
+            dimensions: 2,
+            bandwidth: 0.05,
+            frequency: Field::constant(0.1),
+            orientation: PhasorOrientation::Aligned {
+                angle: Field::constant(0.5),
+            },
+            impulses_per_kernel: 30.0,
+            profile: Profile::Square {
+                duty: Field::constant(0.25),
+            },
+            output: PhasorOutput::Profiled,
+            mean: 0.0,
+            amplitude: 1.0,
+        }
+    }
+
+    #[test]
+    fn valid_model_and_named_errors() {
+        model().validate().unwrap();
+        let mut m = model();
+        m.frequency = Field::constant(f32::NAN);
+        let e = m.validate().unwrap_err().to_string();
+        assert!(
+            e.contains("phasor.frequency.value") && e.contains("[0, 0.5]"),
+            "{e}"
+        );
+        let mut m = model();
+        m.profile = Profile::Square {
+            duty: Field::Linear {
+                value: 0.5,
+                gradient: [1e-3, 0.0, 0.0],
+            },
+        };
+        let e = m.validate().unwrap_err().to_string();
+        assert!(e.contains("ramp"), "{e}");
+        let mut m = model();
+        m.dimensions = 4;
+        assert!(m.validate().unwrap_err().to_string().contains("dimensions"));
+        let mut m = model();
+        m.orientation = PhasorOrientation::Gradient {
+            image: Field::constant(1.0),
+            offset: 0.0,
+        };
+        assert!(
+            m.validate()
+                .unwrap_err()
+                .to_string()
+                .contains("image field")
+        );
+    }
+
+    #[test]
+    fn image_field_interpolates_and_wraps() {
+        let f = Field::Image {
+            width: 2,
+            height: 1,
+            grey: vec![0.0, 1.0],
+            pixel_size: 10.0,
+            min: 2.0,
+            max: 4.0,
+        };
+        // Sample centres at x = 5 and 15; halfway between them, and periodic with period 20.
+        assert!((f.at(5.0, 5.0, 0.0) - 2.0).abs() < 1e-12);
+        assert!((f.at(15.0, 5.0, 0.0) - 4.0).abs() < 1e-12);
+        assert!((f.at(10.0, 5.0, 0.0) - 3.0).abs() < 1e-12);
+        assert!((f.at(25.0, -15.0, 0.0) - 2.0).abs() < 1e-12);
+        assert!((f.at(0.0, 0.0, 0.0) - 3.0).abs() < 1e-12);
+        let ramp = Field::Image {
+            width: 4,
+            height: 1,
+            grey: vec![0.0, 0.5, 1.0, 0.5],
+            pixel_size: 10.0,
+            min: 0.0,
+            max: 1.0,
+        };
+        // Grey rises along +x through the centre at x = 15: the gradient points along x.
+        let a = ramp.gradient_angle(15.0, 5.0).unwrap();
+        assert!(a.abs() < 1e-12, "{a}");
+        // and falls through x = 35.
+        let a = ramp.gradient_angle(35.0, 5.0).unwrap();
+        assert!((a.abs() - std::f64::consts::PI).abs() < 1e-12, "{a}");
+    }
+
+    #[test]
+    fn radius_and_density() {
+        let m = model();
+        let r = m.kernel_radius();
+        // a(r) = 0.05 by definition.
+        let a = (-std::f64::consts::PI * f64::from(m.bandwidth).powi(2) * r * r).exp();
+        assert!((a - PHASOR_TRUNCATION).abs() < 1e-12);
+        assert!((m.impulses_per_cell() * std::f64::consts::PI - 30.0).abs() < 1e-9);
+    }
+}
