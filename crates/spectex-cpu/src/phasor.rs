@@ -3,7 +3,7 @@
 //!
 //! # The sum
 //!
-//! At a point `p`, `𝒢(p) = Σ_j a(p − x_j)·exp(i·2π f_j·(p − x_j))` over the impulses `x_j` within
+//! At a point `p`, `𝒢(p) = Σ_j a(p − x_j)·exp(i·2π(f_j·(p − x_j) + ψ_j))` over the impulses `x_j` within
 //! the kernel radius `r` ([`PhasorNoise::kernel_radius`]), with `a(d) = exp(−π b²|d|²)` and the
 //! frequency vector `f_j = F(x_j)·u_j` in cycles per pixel (Eqs. 10, 15). Space is cut into cells
 //! of side `r` (squares, or cubes in 3D), so the impulses that reach `p` lie in the 3×3 (3×3×3)
@@ -11,9 +11,16 @@
 //! `d = (u − s) − o` for the point's offset `u ∈ [0, 1]` in its cell, the neighbour step
 //! `s ∈ {−1, 0, 1}` and the impulse's offset `o` in its own cell, so precision does not depend
 //! on how far from the origin the window is. An impulse contributes when `|d|² < 1`:
-//! `g = exp_poly(−ln 20·|d|²)` (`π b² r² = ln 20`), `t = f·d` in turns (with `f` in turns per
-//! cell), `re += g·cos_turns(t)`, `im += g·sin_turns(t)`, in the order: cell layers `s_z`, rows
-//! `s_y`, columns `s_x` ascending, impulses in draw order.
+//! `g = exp_poly(−ln 20·|d|²)` (`π b² r² = ln 20`), `t = f·d + ψ` in turns (with `f` in turns
+//! per cell), `re += g·cos_turns(t)`, `im += g·sin_turns(t)`, in the order: cell layers `s_z`,
+//! rows `s_y`, columns `s_x` ascending, impulses in draw order.
+//!
+//! The phase offset `ψ_j`, uniform per impulse, is not in the paper's Eq. (5) but is standard in
+//! Gabor noise: it makes every term's mean exactly 0, so `𝒢` is circularly symmetric and the
+//! phase `φ` exactly uniform. Without it the mean of a term is the truncated kernel's Fourier
+//! transform at `F`, whose side lobes (from the cut at 5% of the peak) are not negligible: a
+//! PWM profile of duty 25% then came out 25.5% white at `F = 0.05`, `b = 0.02`, and 24.8% at
+//! `b = 0.01` (measured), where the paper's Fig. 16 has 25.007%.
 //!
 //! Then `I = √(re² + im²)` (Eq. 8), `φ = atan2_turns(im, re)` in turns (Eq. 9), and the output is
 //! `f(φ)` for the profile `f` (Eq. 4), `φ`, `I`, or `im = I·sin φ` (Gabor noise, Eq. 13).
@@ -27,7 +34,7 @@
 //! `u₁, u₂ (, u₃)` and, by orientation: none for `aligned` and `gradient` (the direction comes
 //! from the field at the impulse), one uniform choosing the lobe for `two_lobes`, one (2D: the
 //! angle in turns) or two (3D: `z = 2u − 1`, then the azimuth in turns) for `isotropic`, none
-//! for `coherent`. Layer [`DIRECTION_LAYER`] holds the coherent direction process (§3.2.2): its
+//! for `coherent`; last the phase offset `ψ` in turns. Layer [`DIRECTION_LAYER`] holds the coherent direction process (§3.2.2): its
 //! own grid of side `r_f = r / bandwidth_ratio`, the same density, per impulse its offsets then
 //! one uniform `v` (2D: angle `(2v − 1)·ω_f`) or two (3D: a direction in the cap of half-angle
 //! `ω_f` around +x, `cos θ = 1 − v(1 − cos ω_f)`, azimuth `v'` turns).
@@ -58,6 +65,8 @@ const MAX_CELL: f64 = 2_147_483_646.0;
 struct Impulse {
     /// Offset in its cell, cell units.
     o: [f32; 3],
+    /// Phase offset `ψ_j`, turns.
+    psi: f32,
     /// Frequency vector, turns per cell unit (`F·r·u`).
     f: [f32; 3],
 }
@@ -348,9 +357,11 @@ impl PhasorEvaluator {
                     cap_cos,
                 } => self.coherent_direction(grid, *spread_turns, *cap_cos, x),
             };
+            let psi = prng.next_f32();
             let fr = (self.model.frequency.at(x[0], x[1], x[2]).clamp(0.0, 0.5) * g.side) as f32;
             out.push(Impulse {
                 o,
+                psi,
                 f: [fr * u[0], fr * u[1], fr * u[2]],
             });
         }
@@ -465,7 +476,7 @@ fn sum_at(rows: &[CellRow], ci: i32, cj: i32, ck: i32, u: [f32; 3]) -> (f32, f32
                 let d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
                 if d2 < 1.0 {
                     let g = exp_poly(NEG_LN_20 * d2);
-                    let t = imp.f[0] * d[0] + imp.f[1] * d[1] + imp.f[2] * d[2];
+                    let t = imp.f[0] * d[0] + imp.f[1] * d[1] + imp.f[2] * d[2] + imp.psi;
                     re += g * cos_turns(t);
                     im += g * sin_turns(t);
                 }

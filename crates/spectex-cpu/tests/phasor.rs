@@ -32,7 +32,7 @@ fn model(orientation: PhasorOrientation, output: PhasorOutput) -> PhasorNoise {
 
 /// `(re, im)` of the complex Gabor noise at `(x, y)` from the definition, in f64: every impulse
 /// of the 3×3 cells (drawn as the contract says) within the kernel radius, `a = exp(−π b²|d|²)`,
-/// phase `2π F u·d` with `u` from the angle in f64.
+/// phase `2π(F u·d + ψ)` with `u` from the angle in f64.
 fn reference(m: &PhasorNoise, x: f64, y: f64) -> (f64, f64) {
     let r = m.kernel_radius();
     let lambda = m.impulses_per_cell();
@@ -63,6 +63,7 @@ fn reference(m: &PhasorNoise, x: f64, y: f64) -> (f64, f64) {
                     }
                     other => panic!("reference does not cover {other:?}"),
                 };
+                let psi = f64::from(prng.next_f32());
                 let (dx, dy) = (x - (f64::from(i) + ox) * r, y - (f64::from(j) + oy) * r);
                 let d2 = dx * dx + dy * dy;
                 if d2 >= r * r {
@@ -70,7 +71,8 @@ fn reference(m: &PhasorNoise, x: f64, y: f64) -> (f64, f64) {
                 }
                 let a = (-std::f64::consts::PI * b * b * d2).exp();
                 let f = m.frequency.at(0.0, 0.0, 0.0);
-                let phase = std::f64::consts::TAU * f * (angle.cos() * dx + angle.sin() * dy);
+                let phase =
+                    std::f64::consts::TAU * (f * (angle.cos() * dx + angle.sin() * dy) + psi);
                 re += a * phase.cos();
                 im += a * phase.sin();
             }

@@ -1,7 +1,8 @@
 //! Phasor noise (Tricard et al. 2019): the instantaneous phase of a complex Gabor noise, fed to
 //! an oscillation profile.
 //!
-//! The complex Gabor noise is `𝒢(x) = Σ_j a(x − x_j)·exp(i·2π F_j u_j·(x − x_j))` (Eqs. 10, 15)
+//! The complex Gabor noise is `𝒢(x) = Σ_j a(x − x_j)·exp(i·2π(F_j u_j·(x − x_j) + ψ_j))` (Eqs.
+//! 10, 15, with a uniform phase offset `ψ_j` per kernel, see spectex-cpu's `phasor.rs`)
 //! with the Gaussian `a(x) = exp(−π b²|x|²)` (Eq. 6) truncated where it falls below
 //! [`PHASOR_TRUNCATION`] of its peak; the impulses `x_j` are a Poisson process. Its modulus is the
 //! intensity `I` (Eq. 8), its argument the phasor noise `φ` (Eq. 9), `Im 𝒢 = I·sin φ` is Gabor
