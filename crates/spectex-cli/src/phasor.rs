@@ -83,7 +83,7 @@ pub struct PhasorCommand {
     duty_image: Option<PathBuf>,
     /// Additive profile instead: harmonics K:WEIGHT[:PHASE_DEG],… (Fig. 13), e.g. 1:1,3:0.33,5:0.2.
     #[arg(long, value_name = "LIST", value_parser = parse_harmonics)]
-    harmonics: Option<Vec<Harmonic>>,
+    harmonics: Option<HarmonicList>,
     /// What to write.
     #[arg(long, value_enum, default_value = "profiled")]
     output_kind: OutputKind,
@@ -109,7 +109,11 @@ fn parse_pair(s: &str) -> Result<[f32; 2], String> {
     ])
 }
 
-fn parse_harmonics(s: &str) -> Result<Vec<Harmonic>, String> {
+/// The parsed `--harmonics` list (one clap value).
+#[derive(Debug, Clone)]
+pub struct HarmonicList(Vec<Harmonic>);
+
+fn parse_harmonics(s: &str) -> Result<HarmonicList, String> {
     s.split(',')
         .map(|term| {
             let err = || {
@@ -129,7 +133,8 @@ fn parse_harmonics(s: &str) -> Result<Vec<Harmonic>, String> {
             };
             Ok(Harmonic { k, weight, phase })
         })
-        .collect()
+        .collect::<Result<_, _>>()
+        .map(HarmonicList)
 }
 
 /// A greyscale image as a field stretched over an output of `width` pixels.
@@ -179,7 +184,7 @@ fn build(cmd: &PhasorCommand, width: usize) -> Result<PhasorNoise> {
     };
     let profile = match (&cmd.harmonics, cmd.profile) {
         (Some(terms), _) => Profile::Harmonics {
-            terms: terms.clone(),
+            terms: terms.0.clone(),
         },
         (None, ProfileKind::Sine) => Profile::Sine,
         (None, ProfileKind::Triangle) => Profile::Triangle,

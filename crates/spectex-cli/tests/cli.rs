@@ -480,3 +480,159 @@ fn procedural_bad_inputs_fail_cleanly() {
         &["offset"],
     );
 }
+
+/// `spectex phasor` from flags (with a model file, control images and every output kind),
+/// `render` of the written model giving the same image, and `slices` writing ordered layers
+/// and their index.
+#[test]
+fn phasor_and_slices_end_to_end() {
+    let dir = scratch("phasor");
+    let control = dir.join("control.png");
+    write_png(&control, 32, 16);
+    let (img, model) = (dir.join("pwm.png"), dir.join("pwm.json"));
+    let out = spectex(&[
+        "phasor",
+        "-o",
+        s(&img),
+        "--size",
+        "96x64",
+        "--profile",
+        "square",
+        "--duty-image",
+        s(&control),
+        "--orientation-image",
+        s(&control),
+        "--model",
+        s(&model),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let again = dir.join("again.png");
+    let out = spectex(&["render", s(&model), "-o", s(&again), "--size", "96x64"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(
+        std::fs::read(&img).unwrap(),
+        std::fs::read(&again).unwrap(),
+        "render of the model file differs from phasor's own output"
+    );
+    let pwm = image::open(&img).unwrap().to_luma8();
+    assert!(
+        pwm.pixels().all(|p| p[0] == 0 || p[0] == 255),
+        "PWM not binary"
+    );
+
+    for kind in ["phase", "intensity", "gabor", "profiled"] {
+        let p = dir.join(format!("{kind}.png"));
+        let out = spectex(&[
+            "phasor",
+            "-o",
+            s(&p),
+            "--size",
+            "40x30",
+            "--coherent",
+            "--output-kind",
+            kind,
+            "--harmonics",
+            "1:1,3:0.33:90",
+        ]);
+        assert!(
+            out.status.success(),
+            "{kind}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+
+    let slab = dir.join("slab.json");
+    let out = spectex(&[
+        "phasor",
+        "-o",
+        s(&dir.join("slab.png")),
+        "--three-d",
+        "--isotropic",
+        "--size",
+        "32x32",
+        "--model",
+        s(&slab),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let layers = dir.join("layers");
+    let out = spectex(&[
+        "slices",
+        s(&slab),
+        "--z-range",
+        "-4,4",
+        "--layers",
+        "3",
+        "-o",
+        s(&layers),
+        "--size",
+        "32x32",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let index = std::fs::read_to_string(layers.join("layers.csv")).unwrap();
+    assert_eq!(
+        index,
+        "layer,z,file\n0,-4,layer_00000.png\n1,0,layer_00001.png\n2,4,layer_00002.png\n"
+    );
+    // The middle layer is the plane z = 0, which `phasor --z 0` rendered.
+    assert_eq!(
+        std::fs::read(layers.join("layer_00001.png")).unwrap(),
+        std::fs::read(dir.join("slab.png")).unwrap()
+    );
+    assert_ne!(
+        std::fs::read(layers.join("layer_00000.png")).unwrap(),
+        std::fs::read(layers.join("layer_00002.png")).unwrap()
+    );
+}
+
+#[test]
+fn phasor_bad_inputs_fail_cleanly() {
+    let dir = scratch("phasor-bad");
+    let o = dir.join("out.png");
+    for (args, needle) in [
+        (vec!["--frequency", "0.9"], "phasor.frequency"),
+        (vec!["--bandwidth", "0"], "phasor.bandwidth"),
+        (vec!["--impulses", "0"], "impulses_per_kernel"),
+        (vec!["--profile", "square", "--duty", "1.5"], "duty"),
+        (
+            vec!["--duty-image", "/nonexistent.png", "--profile", "square"],
+            "nonexistent",
+        ),
+        (vec!["--harmonics", "0:1"], "harmonics"),
+        (vec!["--harmonics", "x"], "harmonic"),
+        (vec!["--two-lobes", "10"], "pair"),
+        (vec!["--three-d", "--z", "NaN"], "z"),
+    ] {
+        let mut all = vec!["phasor", "-o", s(&o), "--size", "16x16"];
+        all.extend(args);
+        assert_fails(&spectex(&all), &dir, &[needle]);
+    }
+    let m = dir.join("m.json");
+    let out = spectex(&["phasor", "-o", s(&o), "--size", "8x8", "--model", s(&m)]);
+    assert!(out.status.success());
+    let layers = scratch("phasor-bad-layers");
+    for (args, needle) in [
+        (vec!["--layers", "0", "--z-range", "0,1"], "--layers"),
+        (vec!["--layers", "2", "--z-range", "0"], "pair"),
+        (vec!["--layers", "2", "--z-range", "0,inf"], "finite"),
+    ] {
+        let mut all = vec!["slices", s(&m), "-o", s(&layers)];
+        all.extend(args);
+        assert_fails(&spectex(&all), &layers, &[needle]);
+    }
+}
