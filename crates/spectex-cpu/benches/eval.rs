@@ -1,6 +1,8 @@
 //! Criterion benches of CPU evaluation in Mpix/s: LRP with J = 3, 10, 50 over 4 strata (the
 //! periods a 512² exemplar's fit gives: Δ_S = 4.5, 9, 16, 28 pixels), 1 thread and all threads.
 //!
+//! Phasor noise in 2D and on a 3D slice (`phasor_eval`).
+//!
 //! `cargo bench -p spectex-cpu --bench eval`.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
@@ -61,5 +63,55 @@ fn bench(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench);
+/// Phasor noise, 2D and a 3D slice: F = 0.0625, b = 0.02, 32 impulses per kernel footprint,
+/// PWM profile; aligned (bi-lobe) and coherent isotropic directions.
+fn bench_phasor(c: &mut Criterion) {
+    use spectex_model::{Field, PhasorNoise, PhasorOrientation, PhasorOutput, Profile};
+    let side = 256;
+    let window = Window::new(side, side).at([1000.0, 2000.0], 1.0);
+    let mut group = c.benchmark_group("phasor_eval");
+    group.throughput(Throughput::Elements((side * side) as u64));
+    group.sample_size(10);
+    let threads = rayon::current_num_threads();
+    for (name, dimensions, orientation) in [
+        (
+            "2d_aligned",
+            2,
+            PhasorOrientation::Aligned {
+                angle: Field::constant(0.5),
+            },
+        ),
+        (
+            "2d_coherent",
+            2,
+            PhasorOrientation::Coherent {
+                spread: 2.4,
+                bandwidth_ratio: 0.5,
+            },
+        ),
+        ("3d_isotropic", 3, PhasorOrientation::Isotropic),
+    ] {
+        let model = Model::Phasor(PhasorNoise {
+            seed: 1,
+            dimensions,
+            bandwidth: 0.02,
+            frequency: Field::constant(0.0625),
+            orientation,
+            impulses_per_kernel: 32.0,
+            profile: Profile::Square {
+                duty: Field::constant(0.25),
+            },
+            output: PhasorOutput::Profiled,
+            mean: 0.0,
+            amplitude: 1.0,
+        });
+        let eval = Evaluator::new_at_z(&model, 17.5).expect("valid model");
+        group.bench_function(format!("{name}_{threads}_threads"), |b| {
+            b.iter(|| eval.render(black_box(&window)))
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench, bench_phasor);
 criterion_main!(benches);
