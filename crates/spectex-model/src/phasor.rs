@@ -461,10 +461,9 @@ impl PhasorNoise {
             200.0,
             "[0.01, 200]",
         )?;
-        let angle = "[-1000, 1000] radians";
         match &self.orientation {
-            PhasorOrientation::Aligned { angle: a } => {
-                a.validate("phasor.orientation.aligned.angle", -1e3, 1e3, angle)?;
+            PhasorOrientation::Aligned { angle } => {
+                angle.validate("phasor.orientation.aligned.angle", -1e3, 1e3, ANGLE_RANGE)?;
             }
             PhasorOrientation::Gradient { image, offset } => {
                 if !matches!(image, Field::Image { .. }) {
@@ -475,29 +474,11 @@ impl PhasorNoise {
                     });
                 }
                 image.validate("phasor.orientation.gradient.image", -1e9, 1e9, "any")?;
-                check_range(
-                    || "phasor.orientation.gradient.offset".into(),
-                    f64::from(*offset),
-                    -1e3,
-                    1e3,
-                    angle,
-                )?;
+                check_angle("phasor.orientation.gradient.offset", *offset)?;
             }
             PhasorOrientation::TwoLobes { angle_a, angle_b } => {
-                check_range(
-                    || "phasor.orientation.two_lobes.angle_a".into(),
-                    f64::from(*angle_a),
-                    -1e3,
-                    1e3,
-                    angle,
-                )?;
-                check_range(
-                    || "phasor.orientation.two_lobes.angle_b".into(),
-                    f64::from(*angle_b),
-                    -1e3,
-                    1e3,
-                    angle,
-                )?;
+                check_angle("phasor.orientation.two_lobes.angle_a", *angle_a)?;
+                check_angle("phasor.orientation.two_lobes.angle_b", *angle_b)?;
             }
             PhasorOrientation::Isotropic => {}
             PhasorOrientation::Coherent {
@@ -523,6 +504,14 @@ impl PhasorNoise {
         validate_profile(&self.profile, "phasor.profile", 0)
     }
 }
+
+/// An angle in radians, finite and within ±1000.
+fn check_angle(field: &str, value: f32) -> Result<(), ModelError> {
+    check_range(|| field.into(), f64::from(value), -1e3, 1e3, ANGLE_RANGE)
+}
+
+/// The range of every angle field.
+const ANGLE_RANGE: &str = "[-1000, 1000] radians";
 
 fn validate_profile(p: &Profile, name: &str, depth: usize) -> Result<(), ModelError> {
     if depth > 4 {
