@@ -7,38 +7,9 @@
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use spectex_cpu::{Evaluator, Window};
-use spectex_model::random::{Prng, cell_hash};
-use spectex_model::{LrpNoise, Model, Stratum};
+use spectex_model::Model;
+use spectex_model::fixtures::lrp_four_strata;
 use std::hint::black_box;
-
-/// A 4-stratum LRP model with `budget` cosines in all, tables of 40 frequencies.
-pub fn bench_model(budget: usize) -> Model {
-    let mut prng = Prng::new(cell_hash(1, 2, 3, 4));
-    let widths = [4.5f32, 9.0, 16.0, 28.0];
-    let strata = widths
-        .iter()
-        .enumerate()
-        .map(|(s, &w)| {
-            let j = budget / 4 + usize::from(s < budget % 4);
-            Stratum {
-                window_width: w,
-                amplitude: 0.05,
-                sub_strata: (0..j.max(1))
-                    .map(|_| {
-                        (0..40)
-                            .map(|_| [prng.next_f32() - 0.5, prng.next_f32() * 0.5])
-                            .collect()
-                    })
-                    .collect(),
-            }
-        })
-        .collect();
-    Model::Lrp(LrpNoise {
-        seed: 9,
-        mean: 0.5,
-        strata,
-    })
-}
 
 fn bench(c: &mut Criterion) {
     let side = 256;
@@ -48,7 +19,7 @@ fn bench(c: &mut Criterion) {
     group.sample_size(10);
     let threads = rayon::current_num_threads();
     for budget in [3usize, 10, 50] {
-        let eval = Evaluator::new(&bench_model(budget)).expect("valid model");
+        let eval = Evaluator::new(&Model::Lrp(lrp_four_strata(budget))).expect("valid model");
         let single = rayon::ThreadPoolBuilder::new()
             .num_threads(1)
             .build()

@@ -218,7 +218,7 @@ impl Column {
 }
 
 /// `−ln 20 = −ln(1/0.05)`: the Gaussian exponent per squared cell unit, `−π a² r²`.
-const NEG_LN_20: f32 = -2.995_732_3;
+pub(crate) const NEG_LN_20: f32 = -2.995_732_3;
 
 /// One impulse's contribution at `d_x = uxs − ox` (see the module doc): 0 beyond the radius.
 #[inline(always)]
@@ -240,7 +240,7 @@ fn reduce(acc: &[f32; LANES]) -> f32 {
 /// Splits a coordinate in pixels into (cell, offset in `[0, 1]` in cell units), or `None`
 /// outside the usable range (NaN included).
 #[inline]
-fn locate(coord: f64, radius: f64) -> Option<(i32, f32)> {
+pub(crate) fn locate(coord: f64, radius: f64) -> Option<(i32, f32)> {
     let p = coord / radius;
     if p.abs() < MAX_CELL {
         let cell = p.floor();
@@ -451,7 +451,7 @@ fn angle_sin_cos(theta: f64) -> (f64, f64) {
 /// `e^z` in f64 for the Poisson threshold (per-model set-up).
 // reason: per-model set-up, not per pixel; the GPU receives the resulting f32.
 #[allow(clippy::disallowed_methods)]
-fn libm_exp(z: f64) -> f64 {
+pub(crate) fn libm_exp(z: f64) -> f64 {
     z.exp()
 }
 

@@ -47,18 +47,14 @@
 use spectex_model::random::{Prng, cell_hash};
 use spectex_model::{Field, PhasorNoise, PhasorOrientation, PhasorOutput, Profile, Window};
 
+// The kernel shape, truncation and cell location are Gabor noise's (same 5% cut, same cells).
+use crate::gabor::{NEG_LN_20, libm_exp, locate};
 use crate::math::{atan2_turns, cos_turns, exp_poly, sin_turns};
 
 /// Randomness-contract layer of the kernels.
 pub const PHASOR_LAYER: u32 = 0;
 /// Randomness-contract layer of the coherent direction process.
 pub const DIRECTION_LAYER: u32 = 1;
-
-/// `−ln 20 = −π b² r²` for the truncation at 0.05 of the peak.
-const NEG_LN_20: f32 = -2.995_732_3;
-
-/// Cells beyond this index (in either sign) are out of the `i32` range with their neighbours.
-const MAX_CELL: f64 = 2_147_483_646.0;
 
 /// One kernel, as the evaluation loop needs it.
 #[derive(Debug, Clone, Copy)]
@@ -88,7 +84,8 @@ impl Grid {
         Self {
             side,
             layer,
-            threshold: poisson_threshold(lambda),
+            // `λ < 64` for valid models, so `exp(−λ)` is a normal f32.
+            threshold: libm_exp(-lambda) as f32,
             cap: (4.0 * lambda + 32.0).floor().clamp(1.0, 4096.0) as u32,
         }
     }
@@ -119,20 +116,8 @@ impl Grid {
 
     /// `(cell, offset in [0, 1])` of a coordinate, or `None` out of range (NaN included).
     fn locate(&self, coord: f64) -> Option<(i32, f32)> {
-        let p = coord / self.side;
-        (p.abs() < MAX_CELL).then(|| {
-            let cell = p.floor();
-            (cell as i32, (p - cell) as f32)
-        })
+        locate(coord, self.side)
     }
-}
-
-/// `exp(−λ)` rounded to f32, the Knuth threshold (per-model set-up; `λ < 64` for valid models,
-/// so it is a normal f32).
-// reason: per-model set-up, not per pixel; a GPU twin receives the resulting f32.
-#[allow(clippy::disallowed_methods)]
-fn poisson_threshold(lambda: f64) -> f32 {
-    (-lambda).exp() as f32
 }
 
 /// How impulse directions are made, with the constants precomputed.
@@ -486,51 +471,53 @@ fn sum_at(rows: &[CellRow], ci: i32, cj: i32, ck: i32, u: [f32; 3]) -> (f32, f32
     (re, im)
 }
 
-/// The profile of the phase `atan2(im, re)` at position `p`.
-fn profile(profile: &Profile, re: f32, im: f32, p: [f64; 3]) -> f32 {
+/// The phase `atan2(im, re)` in turns, in `[0, 1)`.
+fn phase01(re: f32, im: f32) -> f32 {
     let phase = atan2_turns(im, re);
-    let mut t = if phase < 0.0 { phase + 1.0 } else { phase };
-    if t >= 1.0 {
-        t = 0.0;
-    }
-    shape(profile, t, re, im, p)
+    let t = if phase < 0.0 { phase + 1.0 } else { phase };
+    if t >= 1.0 { 0.0 } else { t }
 }
 
-fn shape(profile: &Profile, t: f32, re: f32, im: f32, p: [f64; 3]) -> f32 {
-    match profile {
+/// The profile of the phase at position `p`. The phase is only computed by the profiles that
+/// read it (the sine is `im / I` directly).
+fn profile(shape: &Profile, re: f32, im: f32, p: [f64; 3]) -> f32 {
+    match shape {
         Profile::Sine => {
             let i = (re * re + im * im).sqrt();
             if i > 0.0 { im / i } else { 0.0 }
         }
         Profile::Square { duty } => {
             let d = duty.at(p[0], p[1], p[2]).clamp(0.0, 1.0) as f32;
-            if t < d { 1.0 } else { 0.0 }
+            if phase01(re, im) < d { 1.0 } else { 0.0 }
         }
         Profile::Triangle => {
-            let mut s = t + 0.25;
+            let mut s = phase01(re, im) + 0.25;
             if s >= 1.0 {
                 s -= 1.0;
             }
             1.0 - 4.0 * (s - 0.5).abs()
         }
-        Profile::Sawtooth => 2.0 * t - 1.0,
+        Profile::Sawtooth => 2.0 * phase01(re, im) - 1.0,
         Profile::Samples { values } => {
             let n = values.len();
-            let pos = t * n as f32;
+            let pos = phase01(re, im) * n as f32;
             let i = (pos as usize).min(n - 1);
             let frac = pos - i as f32;
             values[i] * (1.0 - frac) + values[(i + 1) % n] * frac
         }
-        Profile::Harmonics { terms } => terms
-            .iter()
-            .map(|h| {
-                let shift = (f64::from(h.phase) / std::f64::consts::TAU) as f32;
-                h.weight * sin_turns(h.k as f32 * t + shift)
-            })
-            .sum(),
+        Profile::Harmonics { terms } => {
+            let t = phase01(re, im);
+            terms
+                .iter()
+                .map(|h| {
+                    let shift = (f64::from(h.phase) / std::f64::consts::TAU) as f32;
+                    h.weight * sin_turns(h.k as f32 * t + shift)
+                })
+                .sum()
+        }
         Profile::Blend { a, b, weight } => {
             let s = weight.at(p[0], p[1], p[2]).clamp(0.0, 1.0) as f32;
-            (1.0 - s) * shape(a, t, re, im, p) + s * shape(b, t, re, im, p)
+            (1.0 - s) * profile(a, re, im, p) + s * profile(b, re, im, p)
         }
     }
 }

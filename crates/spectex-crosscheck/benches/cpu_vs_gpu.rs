@@ -13,32 +13,12 @@ use std::time::Instant;
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use spectex_cpu::{Evaluator, Window};
 use spectex_gpu::{GpuContext, GpuEvaluator, GpuWindow};
-use spectex_model::random::{Prng, cell_hash};
-use spectex_model::{LrpNoise, Model, Stratum};
+use spectex_model::Model;
+use spectex_model::fixtures::lrp_four_strata;
 
 /// The 4-stratum, J = 50 model of the spectex-cpu and spectex-gpu benches.
 fn model() -> Model {
-    let mut prng = Prng::new(cell_hash(1, 2, 3, 4));
-    let strata = [4.5f32, 9.0, 16.0, 28.0]
-        .iter()
-        .enumerate()
-        .map(|(s, &w)| Stratum {
-            window_width: w,
-            amplitude: 0.05,
-            sub_strata: (0..50 / 4 + usize::from(s < 50 % 4))
-                .map(|_| {
-                    (0..40)
-                        .map(|_| [prng.next_f32() - 0.5, prng.next_f32() * 0.5])
-                        .collect()
-                })
-                .collect(),
-        })
-        .collect();
-    Model::Lrp(LrpNoise {
-        seed: 9,
-        mean: 0.5,
-        strata,
-    })
+    Model::Lrp(lrp_four_strata(50))
 }
 
 const SIDE: usize = 1024;

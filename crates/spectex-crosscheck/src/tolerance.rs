@@ -2,7 +2,7 @@
 //! sums, their amplitudes and the accuracy of the f32 functions both sides evaluate.
 //!
 //! Both evaluators compute the same f32 formulas (cosine in turns by one polynomial, the
-//! Kaiser–Bessel window by one series, `exp` by one polynomial) from bit-identical integer
+//! Kaiser–Bessel window by one polynomial, `exp` by one polynomial) from bit-identical integer
 //! draws. They may still differ because a GPU compiler may contract `a·b + c` into an FMA and
 //! reassociate (WGSL cannot forbid either), and the GPU's `cos`/`exp` builtins are not used but
 //! its arithmetic rounding may differ. Each constant below bounds one such source for one term;
@@ -26,10 +26,11 @@ pub const PHASE_ROUNDINGS: f64 = 4.0;
 /// contract tests use).
 pub const COS_ABS_ERROR: f64 = 1e-6;
 
-/// Absolute error of the Kaiser–Bessel window `w(r) ∈ [0, 1]` on either side: a 16-term Horner
-/// series with positive terms (no cancellation) and a square root, ≤ 40 roundings of
-/// magnitude ≤ 1: `40·2⁻²⁴ ≈ 2.4e-6`.
-pub const WINDOW_ABS_ERROR: f64 = 2.4e-6;
+/// Absolute error of the Kaiser–Bessel window `w(r) ∈ [0, 1]` on either side: `u^{3/2}·P(u)`
+/// with `P` an 8-coefficient Horner polynomial in `u ∈ [0, 1]` whose partial values stay ≤ 1
+/// (14 roundings), `u·√u·p` (3 roundings), and `u = 1 − r²/2.25` (2 roundings, amplified by
+/// `dw/du ≤ 3`: 6): ≤ 23 roundings of magnitude ≤ 1, `24·2⁻²⁴ ≈ 1.43e-6`, rounded up to 1.5e-6.
+pub const WINDOW_ABS_ERROR: f64 = 1.5e-6;
 
 /// Relative error of `exp_poly` (Gabor's Gaussian) on either side: degree-7 Taylor on
 /// `|f| ≤ ½ ln 2` (truncation 2e-9) plus 8 Horner steps and the two-part range reduction:

@@ -11,37 +11,8 @@ use std::time::Instant;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use spectex_gpu::{GpuContext, GpuEvaluator, GpuWindow};
-use spectex_model::random::{Prng, cell_hash};
-use spectex_model::{LrpNoise, Model, Stratum};
-
-/// A 4-stratum LRP model with `budget` cosines in all, tables of 40 frequencies.
-fn bench_model(budget: usize) -> Model {
-    let mut prng = Prng::new(cell_hash(1, 2, 3, 4));
-    let widths = [4.5f32, 9.0, 16.0, 28.0];
-    let strata = widths
-        .iter()
-        .enumerate()
-        .map(|(s, &w)| {
-            let j = budget / 4 + usize::from(s < budget % 4);
-            Stratum {
-                window_width: w,
-                amplitude: 0.05,
-                sub_strata: (0..j.max(1))
-                    .map(|_| {
-                        (0..40)
-                            .map(|_| [prng.next_f32() - 0.5, prng.next_f32() * 0.5])
-                            .collect()
-                    })
-                    .collect(),
-            }
-        })
-        .collect();
-    Model::Lrp(LrpNoise {
-        seed: 9,
-        mean: 0.5,
-        strata,
-    })
-}
+use spectex_model::Model;
+use spectex_model::fixtures::lrp_four_strata;
 
 fn bench(c: &mut Criterion) {
     let context = match GpuContext::new() {
@@ -58,7 +29,8 @@ fn bench(c: &mut Criterion) {
     group.throughput(Throughput::Elements(pixels as u64));
     group.sample_size(10);
     let budget = 50;
-    let gpu = GpuEvaluator::new(&context, &bench_model(budget)).expect("valid model");
+    let gpu =
+        GpuEvaluator::new(&context, &Model::Lrp(lrp_four_strata(budget))).expect("valid model");
     // One timed render first, printed in the unit the project reports.
     let start = Instant::now();
     black_box(gpu.render(&window).expect("render"));

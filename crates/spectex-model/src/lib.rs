@@ -22,6 +22,7 @@
 
 mod error;
 mod file;
+pub mod fixtures;
 mod gabor;
 pub mod grid;
 mod lrp;

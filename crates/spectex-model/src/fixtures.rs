@@ -1,0 +1,52 @@
+//! Reproducible synthetic models shared by the benches of every evaluator crate, so that CPU,
+//! GPU and their comparison time the same model.
+
+use crate::random::{Prng, cell_hash};
+use crate::{LrpNoise, Stratum};
+
+/// A 4-stratum LRP model with `budget` cosines per lattice point in all (at least one per
+/// stratum), spread as evenly as possible; window widths Δ_S = 4.5, 9, 16, 28 pixels (the periods
+/// a 512² exemplar's fit gives), amplitude 0.05 each, sub-strata tables of 40 frequencies drawn
+/// from a fixed stream (`|f_x| ≤ ½`, `0 ≤ f_y < ½` cycles per pixel), seed 9, mean 0.5.
+#[must_use]
+pub fn lrp_four_strata(budget: usize) -> LrpNoise {
+    let mut prng = Prng::new(cell_hash(1, 2, 3, 4));
+    let strata = [4.5f32, 9.0, 16.0, 28.0]
+        .iter()
+        .enumerate()
+        .map(|(s, &w)| {
+            let j = budget / 4 + usize::from(s < budget % 4);
+            Stratum {
+                window_width: w,
+                amplitude: 0.05,
+                sub_strata: (0..j.max(1))
+                    .map(|_| {
+                        (0..40)
+                            .map(|_| [prng.next_f32() - 0.5, prng.next_f32() * 0.5])
+                            .collect()
+                    })
+                    .collect(),
+            }
+        })
+        .collect();
+    LrpNoise {
+        seed: 9,
+        mean: 0.5,
+        strata,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn budgets_are_spread_and_models_valid() {
+        for budget in [1, 3, 10, 50] {
+            let m = lrp_four_strata(budget);
+            m.validate().unwrap();
+            let total: usize = m.strata.iter().map(|s| s.sub_strata.len()).sum();
+            assert_eq!(total, budget.max(4), "budget {budget}");
+        }
+    }
+}
