@@ -1,5 +1,5 @@
 // common.wgsl — the WGSL twin of the randomness contract (`spectex_model::random`, specified in
-// docs/ARCHITECTURE.md) and of the scalar functions of `spectex_cpu::math` (cosine in turns,
+// docs/ARCHITECTURE.md) and of the scalar functions of `spectex_model::math` (cosine in turns,
 // Kaiser–Bessel window, exponential). spectex-gpu prepends this file to every model shader.
 //
 // Integers: WGSL `u32` arithmetic wraps (mod 2^32), `>>` on `u32` is a logical shift and the
@@ -82,7 +82,7 @@ fn prng_next_f32(prng: ptr<function, Prng>) -> f32 {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Scalar functions (twins of crates/spectex-cpu/src/math.rs).
+// Scalar functions (twins of crates/spectex-model/src/math.rs).
 
 /// `t − round(t)` in [−0.5, 0.5], exact for |t| < 2^22.
 ///
@@ -96,7 +96,7 @@ fn fract_turns(t: f32) -> f32 {
 }
 
 /// Minimax coefficients of cos(2πb) in b² on b ∈ [0, ¼], constant pinned to 1 (COS_TURNS in
-/// spectex-cpu's math.rs, where the fit is described).
+/// spectex-model's math.rs, where the fit is described).
 const COS_TURNS_0: f32 = 1.0f;
 const COS_TURNS_1: f32 = -19.739182f;
 const COS_TURNS_2: f32 = 64.93522f;
@@ -118,7 +118,7 @@ fn cos_turns(t: f32) -> f32 {
     return select(p, -p, far);
 }
 
-/// Minimax coefficients of P in w = u^{3/2}·P(u), u = 1 − r²/2.25 (KB_POLY in spectex-cpu's
+/// Minimax coefficients of P in w = u^{3/2}·P(u), u = 1 − r²/2.25 (KB_POLY in spectex-model's
 /// math.rs, where the fit is described).
 const KB_POLY_0: f32 = 0.017600192f;
 const KB_POLY_1: f32 = 0.09834109f;

@@ -27,7 +27,8 @@
 
 pub mod gabor;
 pub mod lrp;
-pub mod math;
+/// The f32 functions both evaluators share, defined once in `spectex-model`.
+pub use spectex_model::math;
 pub mod phasor;
 
 use rayon::prelude::*;

@@ -19,7 +19,7 @@ pub const F32_UNIT_ROUNDOFF: f64 = 5.960_464_477_539_063e-8;
 pub const PHASE_ROUNDINGS: f64 = 4.0;
 
 /// Absolute error of `cos_turns` on either side after argument reduction: the minimax
-/// polynomial's own error (5.3e-8 on [0, ¼] turn, see spectex-cpu's `math.rs`) plus its
+/// polynomial's own error (5.3e-8 on [0, ¼] turn, see `spectex_model::math`) plus its
 /// evaluation in 4 Horner steps, each a product and a sum that an FMA may or may not round; a
 /// step's rounding (relative to values ≤ 86) is scaled by the powers of `b² ≤ 1/16` after it, so
 /// together they stay below `8·2⁻²⁴`: `≈ 5.3e-7`, rounded up to 1e-6 (the bound the GPU

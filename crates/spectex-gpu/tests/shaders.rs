@@ -114,12 +114,12 @@ fn constant_values(module: &naga::Module, name: &str) -> Vec<f32> {
     }
 }
 
-/// The constants of `spectex_cpu::math`, written here as that file writes them (this crate may
-/// not depend on spectex-cpu); Rust rounds each expression to f32 exactly once.
+/// The constants of `spectex_model::math` (the polynomials' coefficients) and the others as that
+/// file writes them; Rust rounds each expression to f32 exactly once.
 #[test]
 #[allow(
     clippy::excessive_precision,
-    reason = "written as spectex-cpu's math.rs writes them"
+    reason = "written as spectex-model's math.rs writes them"
 )]
 fn float_constants_have_the_cpu_bits() {
     let module = validate("common");

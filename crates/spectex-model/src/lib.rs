@@ -26,6 +26,7 @@ pub mod fixtures;
 mod gabor;
 pub mod grid;
 mod lrp;
+pub mod math;
 mod phasor;
 pub mod random;
 mod target;

@@ -1,9 +1,12 @@
-//! The scalar functions the CPU evaluator may call for anything that must agree with the GPU:
-//! cosine of an angle given in turns, reduced exactly first, and written with plain `*` and `+`
-//! only (no FMA, no libm), so every SIMD level the compiler picks gives the same bits.
+//! The f32 scalar functions every evaluator shares: cosine and sine of an angle in turns
+//! (reduced exactly first), `atan2` in turns, `exp`, and the Kaiser–Bessel window, written with
+//! plain `*` and `+` only (no FMA, no libm), so every SIMD level the compiler picks gives the same
+//! bits; `shaders/common.wgsl` twins them coefficient for coefficient. They live here, with the
+//! randomness contract, because host code of both evaluators (and phasor noise's kernel process)
+//! calls them; `spectex_cpu::math` re-exports this module.
 //!
 //! `clippy.toml` bans the raw `f32::cos/sin/exp` in this crate; this module is the one place
-//! that defines them.
+//! that defines their replacements.
 
 /// `1.5·2²³`: adding and subtracting it rounds an `f32` of magnitude below 2²² to the nearest
 /// integer (ties to even) with two exact IEEE operations — no `round()` library call, which
@@ -25,7 +28,7 @@ pub fn fract_turns(t: f32) -> f32 {
 /// 5.3e-8, below half an f32 ulp of 1. The degree-12 Taylor series it replaces had 6.9e-9 but
 /// two more Horner steps (4 of ≈ 24 vector instructions per cosine in the LRP inner loop);
 /// evaluated in f32 both are ≈ 1.5–2e-7, dominated by rounding.
-const COS_TURNS: [f32; 5] = [1.0, -19.739_182, 64.935_22, -85.254_01, 56.340_71];
+pub const COS_TURNS: [f32; 5] = [1.0, -19.739_182, 64.935_22, -85.254_01, 56.340_71];
 
 /// `cos(2π·t)` for an angle `t` in turns (`|t| < 2²²`), absolute error below 2e-7.
 ///
@@ -77,14 +80,14 @@ mod tests {
     }
 }
 
-/// Minimax fit of the Kaiser–Bessel window of `spectex_model::window::kaiser_bessel` as
+/// Minimax fit of the Kaiser–Bessel window of [`crate::window::kaiser_bessel`] as
 /// `w = u^{3/2}·P(u)` with `u = 1 − r²/2.25 ∈ [0, 1]`: the coefficients of `P`, degree 7.
 ///
 /// Why this form: with `(z/2)² = q = (3π/2)²·u`, `I₃(z) = q^{3/2} Σ q^m/(m!(m+3)!)`, so the window
 /// is `u^{3/2}` times an entire function of `u`, which a low-degree polynomial fits closely (the
 /// series itself needs 16 terms at `u = 1`). Fitted in f64 by `scripts/minimax.py` (Lawson's
 /// iteratively reweighted least squares, absolute error): 5.1e-8 in f64, 2.8e-7 evaluated in f32.
-const KB_POLY: [f32; 8] = [
+pub const KB_POLY: [f32; 8] = [
     0.017_600_192,
     0.098_341_09,
     0.212_476_86,
@@ -123,7 +126,7 @@ mod window_tests {
         let mut worst = 0.0f64;
         for i in 0..=3000 {
             let r = i as f64 * 0.0005;
-            let want = spectex_model::window::kaiser_bessel(r);
+            let want = crate::window::kaiser_bessel(r);
             let got = f64::from(kaiser_bessel_r2((r * r) as f32));
             worst = worst.max((got - want).abs());
         }
@@ -245,7 +248,7 @@ mod exp_tests {
 
 /// Minimax coefficients of `atan(a)/(2π)` on `a ∈ [0, 1]` as `a·P(a²)`, `P` of degree 7, fitted
 /// by `scripts/minimax.py` (5.97e-9 turns in f64, 2.4e-8 turns evaluated in f32).
-const ATAN_TURNS: [f32; 8] = [
+pub const ATAN_TURNS: [f32; 8] = [
     0.159_154_83,
     -0.053_046_122,
     0.031_745_948,
