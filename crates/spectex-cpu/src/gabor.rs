@@ -81,8 +81,9 @@
 //! # Ok::<(), spectex_model::ModelError>(())
 //! ```
 
+use spectex_model::grid::locate_cell as locate;
 use spectex_model::random::{Prng, cell_hash_in_row, layer_key, row_key};
-use spectex_model::{GaborNoise, Orientation};
+use spectex_model::{GaborNoise, NEG_LN_20, Orientation};
 
 use crate::math::{cos_turns, exp_poly};
 
@@ -93,10 +94,6 @@ pub const GABOR_LAYER: u32 = 0;
 /// Chunk of λ by which the Poisson count is renormalised: `exp(−64) ≈ 1.6e-28`, times the
 /// smallest non-zero uniform `2⁻²⁴`, is still a normal f32.
 pub const POISSON_CHUNK: f64 = 64.0;
-
-/// Coordinates with `|x / r|` at or beyond this evaluate to `mean`: the cell and both its
-/// neighbours must be `i32`.
-const MAX_CELL: f64 = 2_147_483_646.0;
 
 /// Impulses are processed in blocks of this many lanes (one accumulator per lane).
 const LANES: usize = 8;
@@ -217,9 +214,6 @@ impl Column {
     }
 }
 
-/// `−ln 20 = −ln(1/0.05)`: the Gaussian exponent per squared cell unit, `−π a² r²`.
-pub(crate) const NEG_LN_20: f32 = -2.995_732_3;
-
 /// One impulse's contribution at `d_x = uxs − ox` (see the module doc): 0 beyond the radius.
 #[inline(always)]
 fn kernel_term(uxs: f32, ox: f32, fx: f32, dy2: f32, py: f32, kw: f32) -> f32 {
@@ -235,21 +229,6 @@ fn kernel_term(uxs: f32, ox: f32, fx: f32, dy2: f32, py: f32, kw: f32) -> f32 {
 #[inline(always)]
 fn reduce(acc: &[f32; LANES]) -> f32 {
     ((acc[0] + acc[1]) + (acc[2] + acc[3])) + ((acc[4] + acc[5]) + (acc[6] + acc[7]))
-}
-
-/// Splits a coordinate in pixels into (cell, offset in `[0, 1]` in cell units), or `None`
-/// outside the usable range (NaN included).
-#[inline]
-pub(crate) fn locate(coord: f64, radius: f64) -> Option<(i32, f32)> {
-    let p = coord / radius;
-    if p.abs() < MAX_CELL {
-        let cell = p.floor();
-        // Exact in f64 (cell ≤ p < cell + 1); the f32 rounding may give 1.0, which is harmless:
-        // impulses of the cell after next are then at distance ≥ 1 and masked.
-        Some((cell as i32, (p - cell) as f32))
-    } else {
-        None
-    }
 }
 
 /// The row part of a point: its cell row, offset and the three row keys `j − 1, j, j + 1`.
@@ -451,7 +430,7 @@ fn angle_sin_cos(theta: f64) -> (f64, f64) {
 /// `e^z` in f64 for the Poisson threshold (per-model set-up).
 // reason: per-model set-up, not per pixel; the GPU receives the resulting f32.
 #[allow(clippy::disallowed_methods)]
-pub(crate) fn libm_exp(z: f64) -> f64 {
+fn libm_exp(z: f64) -> f64 {
     z.exp()
 }
 

@@ -74,9 +74,6 @@ pub(crate) fn lrp_axis(deltas: &[f64], count: usize, position: impl Fn(usize) ->
     words
 }
 
-/// Coordinates with `|x / r|` at or beyond this evaluate to `mean` (the CPU's limit: the cell
-/// and both its neighbours must be `i32`).
-const GABOR_MAX_CELL: f64 = 2_147_483_646.0;
 /// The Poisson count's renormalisation chunk (the CPU's `POISSON_CHUNK`).
 const POISSON_CHUNK: f64 = 64.0;
 
@@ -141,12 +138,9 @@ pub(crate) fn pack_gabor(model: &GaborNoise) -> GaborPack {
 pub(crate) fn gabor_axis(radius: f64, count: usize, position: impl Fn(usize) -> f64) -> Vec<u32> {
     let mut words = Vec::with_capacity(3 * count);
     for i in 0..count {
-        let p = position(i) / radius;
-        if p.abs() < GABOR_MAX_CELL {
-            let cell = p.floor();
-            words.extend([cell as i32 as u32, ((p - cell) as f32).to_bits(), 1]);
-        } else {
-            words.extend([0, 0, 0]);
+        match spectex_model::grid::locate_cell(position(i), radius) {
+            Some((cell, offset)) => words.extend([cell as u32, offset.to_bits(), 1]),
+            None => words.extend([0, 0, 0]),
         }
     }
     words

@@ -9,6 +9,11 @@ use crate::error::{ModelError, check_range};
 /// the kernel radius is `r = √(−ln 0.05 / π) / a` and the grid cell size equals `r`.
 pub const GABOR_TRUNCATION: f64 = 0.05;
 
+/// `−ln 20 = ln 0.05`, rounded to f32: the Gaussian's exponent at the truncation radius, so on a
+/// grid of cells of side `r` the kernel is `exp(NEG_LN_20·d²)` for `d` in cell units (`π a² r² =
+/// ln 20`). Shared by Gabor and phasor noise (same truncation).
+pub const NEG_LN_20: f32 = -2.995_732_3;
+
 /// Orientation of the kernels' frequency vector.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, rename_all = "snake_case")]

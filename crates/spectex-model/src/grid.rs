@@ -141,6 +141,27 @@ impl Window {
     }
 }
 
+/// Cells of sparse-convolution grids (Gabor, phasor) are `i32`; a coordinate whose cell, or a
+/// neighbour of it, would leave that range has no cell.
+pub const MAX_CELL: f64 = 2_147_483_646.0;
+
+/// Splits a coordinate in pixels into its cell on a grid of side `side` and the offset in
+/// `[0, 1]` cell units, or `None` outside the usable range (NaN included). `p = coord / side`
+/// and `p − ⌊p⌋` are exact in f64 and rounded to f32 once; the rounding may give 1.0, which is
+/// harmless (kernels then stay masked by their radius). Every evaluator locates points with
+/// this one expression, so they agree on cells and offsets bit for bit.
+#[inline]
+#[must_use]
+pub fn locate_cell(coord: f64, side: f64) -> Option<(i32, f32)> {
+    let p = coord / side;
+    if p.abs() < MAX_CELL {
+        let cell = p.floor();
+        Some((cell as i32, (p - cell) as f32))
+    } else {
+        None
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -169,5 +190,17 @@ mod tests {
             }
         }
         assert!(Window::new(65_536, 1).validate().is_ok());
+    }
+
+    #[test]
+    fn locate_cell_splits_exactly_and_rejects_out_of_range() {
+        assert_eq!(locate_cell(-0.5, 2.0), Some((-1, 0.75)));
+        assert_eq!(locate_cell(4.0, 2.0), Some((2, 0.0)));
+        assert_eq!(locate_cell(f64::NAN, 2.0), None);
+        assert_eq!(locate_cell(-3e9, 1.0), None);
+        assert_eq!(
+            locate_cell(2_147_483_645.5, 1.0),
+            Some((2_147_483_645, 0.5))
+        );
     }
 }

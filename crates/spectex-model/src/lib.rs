@@ -28,13 +28,14 @@ pub mod grid;
 mod lrp;
 pub mod math;
 mod phasor;
+pub mod phasor_kernels;
 pub mod random;
 mod target;
 pub mod window;
 
 pub use error::ModelError;
 pub use file::{Model, SCHEMA_VERSION, SUPPORTED_SCHEMA_VERSIONS, from_json, to_json};
-pub use gabor::{GABOR_TRUNCATION, GaborNoise, Orientation};
+pub use gabor::{GABOR_TRUNCATION, GaborNoise, NEG_LN_20, Orientation};
 pub use grid::{MAX_POSITION, MAX_WINDOW_PIXELS, MAX_WINDOW_SIDE, Window, WindowError};
 pub use lrp::{LrpNoise, MAX_COSINES, MAX_STRATA, MAX_TABLE, Stratum};
 pub use phasor::{
