@@ -179,3 +179,49 @@ fn exp_poly(z_in: f32) -> f32 {
     let two_n = bitcast<f32>(u32(i32(n) + 127) << 23u);
     return p * two_n;
 }
+
+/// sin(2π·t) for an angle in turns: cos_turns(t − ¼) (spectex_model::math::sin_turns).
+fn sin_turns(t: f32) -> f32 {
+    return cos_turns(t - 0.25f);
+}
+
+/// Minimax coefficients of atan(a)/(2π) = a·P(a²) on a ∈ [0, 1] (ATAN_TURNS in
+/// spectex-model's math.rs, where the fit is described).
+const ATAN_TURNS_0: f32 = 0.15915483f;
+const ATAN_TURNS_1: f32 = -0.053046122f;
+const ATAN_TURNS_2: f32 = 0.031745948f;
+const ATAN_TURNS_3: f32 = -0.022136277f;
+const ATAN_TURNS_4: f32 = 0.015346049f;
+const ATAN_TURNS_5: f32 = -0.008898746f;
+const ATAN_TURNS_6: f32 = 0.0034796142f;
+const ATAN_TURNS_7: f32 = -0.00064530916f;
+
+/// atan2(y, x) / 2π in turns, in [−½, ½]; 0 at the origin (spectex_model::math::atan2_turns).
+fn atan2_turns(y: f32, x: f32) -> f32 {
+    let ax = abs(x);
+    let ay = abs(y);
+    let steep = ay > ax;
+    let lo = select(ay, ax, steep);
+    let hi = select(ax, ay, steep);
+    var a = 0.0f;
+    if (hi > 0.0f) {
+        a = lo / hi;
+    }
+    let s = a * a;
+    var p = ATAN_TURNS_7;
+    p = p * s + ATAN_TURNS_6;
+    p = p * s + ATAN_TURNS_5;
+    p = p * s + ATAN_TURNS_4;
+    p = p * s + ATAN_TURNS_3;
+    p = p * s + ATAN_TURNS_2;
+    p = p * s + ATAN_TURNS_1;
+    p = p * s + ATAN_TURNS_0;
+    var r = a * p;
+    if (steep) {
+        r = 0.25f - r;
+    }
+    if (x < 0.0f) {
+        r = 0.5f - r;
+    }
+    return select(r, -r, y < 0.0f);
+}

@@ -280,7 +280,7 @@ pub(crate) fn render_to_file(
     // Timed from the render itself: device start-up and shader compilation are not evaluation.
     let (pixels, used, seconds) = match gpu_for(args.device)? {
         Some(context) => {
-            let gpu = spectex_gpu::GpuEvaluator::new(&context, model)
+            let gpu = spectex_gpu::GpuEvaluator::new_at_z(&context, model, args.z)
                 .map_err(|e| anyhow!("{e}; try --device cpu"))?;
             let start = std::time::Instant::now();
             let pixels = gpu

@@ -277,6 +277,9 @@ pub fn check_model(
     model: &Model,
     windows: &[CaseWindow],
 ) -> Result<Vec<(CaseWindow, Outcome)>, CrosscheckError> {
+    if let Model::Phasor(m) = model {
+        return crate::phasor::check_phasor(context, case, m, windows);
+    }
     let tolerance = tolerance(model).ok_or(CrosscheckError::Unsupported)?;
     let cpu = Evaluator::new(model)?;
     let gpu = GpuEvaluator::new(context, model)?;

@@ -21,6 +21,7 @@
 //! ```
 
 mod compare;
+pub mod phasor;
 mod report;
 pub mod tolerance;
 

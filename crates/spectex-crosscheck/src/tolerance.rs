@@ -59,7 +59,7 @@ pub struct Tolerance {
 }
 
 impl Tolerance {
-    fn from_max(max_abs: f64) -> Self {
+    pub(crate) fn from_max(max_abs: f64) -> Self {
         Self {
             max_abs,
             mean_abs: MEAN_FRACTION * max_abs,

@@ -1,6 +1,6 @@
 //! The cross-check suite: every model in `testdata/models/*.json`, rendered on the CPU and the
 //! GPU at the origin, at `(10⁷, 10⁷)` and at a fractional scale, compared within the model's
-//! derived tolerances. Prints one `crosscheck:` line per model (what `cargo xtask verify`
+//! derived tolerances (phasor models pixel by pixel, phases on the circle: `phasor.rs`). Prints one `crosscheck:` line per model (what `cargo xtask verify`
 //! shows) and one per window; on a failure, images and reports go to `target/crosscheck/`.
 //!
 //! Skips with a printed reason when no GPU adapter exists, unless `SPECTEX_REQUIRE_GPU=1`.
@@ -41,8 +41,8 @@ fn model_files() -> Vec<PathBuf> {
 fn every_shipped_model_agrees_on_cpu_and_gpu() {
     let files = model_files();
     assert!(
-        files.len() >= 5,
-        "testdata/models should hold the LRP (2 fitted, ring) and Gabor (2) cases"
+        files.len() >= 9,
+        "testdata/models should hold the LRP (2 fitted, ring), Gabor (2) and phasor (4) cases"
     );
     let context = match GpuContext::new() {
         Ok(c) => c,

@@ -7,6 +7,7 @@ use spectex_model::Model;
 
 use crate::context::LostFlag;
 use crate::pack::{self, GABOR_AXIS_BYTES, GaborPack, LRP_AXIS_BYTES, LrpPack};
+use crate::phasor::{IMPULSE_BYTES, PhasorPack};
 use crate::{GpuContext, GpuError, GpuWindow, wgsl_source};
 
 /// Side of the compute workgroups of every model shader (`@workgroup_size(8, 8, 1)`).
@@ -42,6 +43,10 @@ enum Packed {
     Gabor {
         pack: GaborPack,
     },
+    Phasor {
+        pack: Box<PhasorPack>,
+        profile_data: wgpu::Buffer,
+    },
 }
 
 /// Storage buffers larger than this are refused up front with [`GpuError::LimitsExceeded`].
@@ -59,7 +64,23 @@ impl GpuEvaluator {
     /// do not fit one storage buffer, [`GpuError::Unsupported`] for a model kind without a
     /// shader, [`GpuError::Validation`] if the device rejects the shader or the buffers.
     pub fn new(context: &GpuContext, model: &Model) -> Result<Self, GpuError> {
+        Self::new_at_z(context, model, 0.0)
+    }
+
+    /// As [`new`](Self::new), for the plane `z` (pixels) of a 3D model; 2D models ignore it.
+    ///
+    /// # Errors
+    /// As [`new`](Self::new), and [`GpuError::Window`] for a `z` that is not finite or beyond
+    /// [`MAX_POSITION`](crate::MAX_POSITION).
+    pub fn new_at_z(context: &GpuContext, model: &Model, z: f64) -> Result<Self, GpuError> {
         model.validate()?;
+        if !(z.is_finite() && z.abs() <= crate::MAX_POSITION) {
+            return Err(GpuError::Window {
+                parameter: "z",
+                value: z,
+                range: "finite, |z| ≤ 2³⁰ pixels",
+            });
+        }
         let device = context.device().clone();
         let limits = device.limits();
         let scope = ErrorScopes::push(&device);
@@ -96,6 +117,18 @@ impl GpuEvaluator {
                     pack: pack::pack_gabor(m),
                 },
             ),
+            Model::Phasor(m) => {
+                let pack = crate::phasor::pack_phasor(m, z)?;
+                let profile_data = storage_buffer(&device, "phasor profile", &pack.profile_data);
+                (
+                    "phasor",
+                    "phasor_main",
+                    Packed::Phasor {
+                        pack: Box::new(pack),
+                        profile_data,
+                    },
+                )
+            }
             #[allow(unreachable_patterns)] // reason: `Model` is non_exhaustive for other crates
             other => {
                 return Err(GpuError::Unsupported {
@@ -169,7 +202,12 @@ impl GpuEvaluator {
         let limit = binding_limit(&self.limits);
         let axis_bytes = match &self.model {
             Packed::Lrp { pack, .. } => LRP_AXIS_BYTES * pack.deltas.len() as u64,
-            Packed::Gabor { .. } => GABOR_AXIS_BYTES,
+            Packed::Gabor { .. } | Packed::Phasor { .. } => GABOR_AXIS_BYTES,
+        };
+        // Output, plus a phasor profile's per-pixel parameters (3 values).
+        let pixel_bytes = match &self.model {
+            Packed::Phasor { .. } => 16,
+            _ => 4,
         };
         let by_axis = (limit / axis_bytes) as usize;
         let by_dispatch =
@@ -179,13 +217,26 @@ impl GpuEvaluator {
             .min(self.max_tile[0])
             .min(by_axis)
             .min(by_dispatch);
-        let by_output = (limit / 4) as usize / width.max(1);
-        let height = window
+        let by_output = (limit / pixel_bytes) as usize / width.max(1);
+        let mut height = window
             .height
             .min(self.max_tile[1])
             .min(by_axis)
             .min(by_dispatch)
             .min(by_output);
+        let mut width = width;
+        if let Packed::Phasor { pack, .. } = &self.model {
+            // The tile's box of kernel cells must fit one buffer, with room for a Poisson
+            // count well above its mean (1.5λ + 4 impulses per cell).
+            let per_cell = (1.5 * pack.lambda + 4.0) * IMPULSE_BYTES as f64;
+            while width > 1 || height > 1 {
+                if pack.box_cells(width, height, window.scale) * per_cell <= limit as f64 / 2.0 {
+                    break;
+                }
+                width = width.div_ceil(2);
+                height = height.div_ceil(2);
+            }
+        }
         if width == 0 || height == 0 {
             return Err(GpuError::LimitsExceeded {
                 what: "bytes of one tile row of the output and axis tables",
@@ -242,6 +293,7 @@ impl GpuEvaluator {
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
+        let mut extra: Vec<wgpu::Buffer> = Vec::new();
         let (uniform, columns, rows) = match &self.model {
             Packed::Lrp { pack, .. } => {
                 let params = [
@@ -270,6 +322,17 @@ impl GpuEvaluator {
                     pack::gabor_axis(pack.radius, height, pack::rows(tile)),
                 )
             }
+            Packed::Phasor { pack, .. } => {
+                let t = pack.tile(tile, binding_limit(&self.limits))?;
+                extra.push(storage_buffer(device, "phasor cells", &t.cells));
+                extra.push(storage_buffer(device, "phasor impulses", &t.impulses));
+                extra.push(storage_buffer(
+                    device,
+                    "phasor pixel params",
+                    &t.pixel_params,
+                ));
+                (t.params, t.columns, t.rows)
+            }
         };
         let uniform = init_buffer(device, "params", &uniform, wgpu::BufferUsages::UNIFORM);
         let columns = storage_buffer(device, "columns", &columns);
@@ -284,6 +347,10 @@ impl GpuEvaluator {
         {
             buffers.extend([strata, frequencies, tables]);
         }
+        if let Packed::Phasor { profile_data, .. } = &self.model {
+            buffers.push(profile_data);
+        }
+        buffers.extend(extra.iter());
         buffers.extend([&columns, &rows, &output]);
         let entries: Vec<wgpu::BindGroupEntry<'_>> = buffers
             .iter()
@@ -419,6 +486,7 @@ fn bind_group_layout(device: &wgpu::Device, model: &Packed) -> wgpu::BindGroupLa
     let read_only = match model {
         Packed::Lrp { .. } => 5,
         Packed::Gabor { .. } => 2,
+        Packed::Phasor { .. } => 6,
     };
     let buffer = |binding: u32, ty: wgpu::BufferBindingType| wgpu::BindGroupLayoutEntry {
         binding,

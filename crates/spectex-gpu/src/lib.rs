@@ -55,6 +55,7 @@ mod context;
 mod error;
 mod evaluator;
 mod pack;
+mod phasor;
 pub mod shaders;
 
 pub use context::{ADAPTER_NAME_ENV, GpuContext};

@@ -41,6 +41,12 @@ pub const SHADERS: &[ShaderFile] = &[
         entry_points: &["gabor_main"],
     },
     ShaderFile {
+        name: "phasor",
+        source: include_str!("../../../shaders/phasor.wgsl"),
+        needs_common: true,
+        entry_points: &["phasor_main"],
+    },
+    ShaderFile {
         name: "probe",
         source: include_str!("../../../shaders/probe.wgsl"),
         needs_common: true,

@@ -12,7 +12,7 @@ use std::path::PathBuf;
 
 mod common;
 
-use common::{COS_TURNS, KB_POLY};
+use common::{ATAN_TURNS, COS_TURNS, KB_POLY};
 use spectex_gpu::{SHADERS, wgsl_source};
 
 fn shaders_dir() -> PathBuf {
@@ -141,6 +141,9 @@ fn float_constants_have_the_cpu_bits() {
     }
     for (k, &c) in KB_POLY.iter().enumerate() {
         expected.push((format!("KB_POLY_{k}"), vec![c]));
+    }
+    for (k, &c) in ATAN_TURNS.iter().enumerate() {
+        expected.push((format!("ATAN_TURNS_{k}"), vec![c]));
     }
     for (name, want) in &expected {
         let got = constant_values(&module, name);

@@ -41,6 +41,7 @@ pub fn first_bit_difference(a: &[f32], b: &[f32]) -> Option<usize> {
 // count how many device values are bit-identical to what the CPU computes.
 #[allow(unused_imports, reason = "each test binary uses a different subset")]
 pub use spectex_model::math::{
-    COS_TURNS, KB_POLY, cos_turns as cpu_cos_turns, exp_poly as cpu_exp_poly,
-    fract_turns as cpu_fract_turns, kaiser_bessel_r2 as cpu_kaiser_bessel_r2,
+    ATAN_TURNS, COS_TURNS, KB_POLY, atan2_turns as cpu_atan2_turns, cos_turns as cpu_cos_turns,
+    exp_poly as cpu_exp_poly, fract_turns as cpu_fract_turns,
+    kaiser_bessel_r2 as cpu_kaiser_bessel_r2,
 };

@@ -1,0 +1,331 @@
+//! Cross-checking phasor noise. Its outputs are not all continuous functions of the complex sum
+//! `𝒢 = re + i·im` both evaluators compute: the phase wraps at ±½ turn and is ill-conditioned
+//! where the intensity vanishes, and square and sawtooth profiles jump. So each window is judged
+//! pixel by pixel:
+//!
+//! - the Gabor (`Im 𝒢`) and intensity (`|𝒢|`) renders of the same kernels within
+//!   [`complex_bound`] `E` (and `√2·E`): these check the sum itself;
+//! - the phase render on the circle: `|Δφ| ≤ asin(√2·E / I)/2π + 2·ATAN_ERROR` turns, where the
+//!   CPU's intensity `I > 2√2·E` (elsewhere the phase is not determined to that precision);
+//! - the model's own output: where a profile is continuous, `|Δv| ≤ |amplitude|·L·Δφ + ε` for
+//!   the profile's Lipschitz constant `L` (per turn); a pixel whose CPU phase lies within `Δφ`
+//!   of one of the profile's jumps may take either side.
+//!
+//! The kernels themselves (positions, directions, frequencies, phase offsets) are drawn by the
+//! same host code for both evaluators (`spectex_model::phasor_kernels`), so only the per-pixel
+//! f32 arithmetic can differ.
+
+use spectex_cpu::Evaluator;
+use spectex_gpu::{GpuContext, GpuEvaluator};
+use spectex_model::{Field, Model, PhasorNoise, PhasorOutput, Profile, Window};
+
+use crate::compare::{CaseWindow, Outcome, Verdict, compare, expected_failure};
+use crate::tolerance::{
+    COS_ABS_ERROR, EXP_REL_ERROR, F32_UNIT_ROUNDOFF, PHASE_ROUNDINGS, SUMMATION_ROUNDINGS,
+    Tolerance,
+};
+use crate::{CrosscheckError, write_failure_report};
+
+/// Absolute error of `atan2_turns` on either side, turns (5e-8 measured bound, spectex-model).
+pub const ATAN_ERROR: f64 = 5e-8;
+
+/// The largest value a field takes (frequencies are clamped to 0.5 by the evaluators).
+fn field_max(field: &Field) -> f64 {
+    match field {
+        Field::Constant { value } => f64::from(*value),
+        Field::Linear { .. } => 0.5,
+        Field::Image { min, max, .. } => f64::from(*min).max(f64::from(*max)),
+    }
+}
+
+/// Bound `E` on `|Δre|` and `|Δim|` at any pixel: the impulse count of the 3×3 (3×3×3) cells
+/// bounded as in [`crate::tolerance::gabor`] (`n + 6√n + 6` for a Poisson mean `n`); per impulse
+/// the phase `f·d + ψ` (offsets within 2 cells per axis: `|f·d| ≤ 2√dims·F·r` turns) rounded
+/// [`PHASE_ROUNDINGS`] times, [`COS_ABS_ERROR`] and [`EXP_REL_ERROR`], on each side; plus the
+/// summation of up to `count` terms of magnitude ≤ 1.
+#[must_use]
+pub fn complex_bound(m: &PhasorNoise) -> f64 {
+    let three_d = m.dimensions == 3;
+    let cells = if three_d { 27.0 } else { 9.0 };
+    let n = cells * m.impulses_per_cell();
+    let count = n + 6.0 * n.sqrt() + 6.0;
+    let reach = if three_d {
+        2.0 * 3f64.sqrt()
+    } else {
+        2.0 * 2f64.sqrt()
+    };
+    let turns = reach * field_max(&m.frequency).min(0.5) * m.kernel_radius() + 1.0;
+    let phase = std::f64::consts::TAU * PHASE_ROUNDINGS * F32_UNIT_ROUNDOFF * turns;
+    let per_term = 2.0 * (phase + COS_ABS_ERROR + EXP_REL_ERROR);
+    count * per_term + SUMMATION_ROUNDINGS * F32_UNIT_ROUNDOFF * count
+}
+
+/// A profile's Lipschitz constant per turn away from its jumps, and its jumps (turns in
+/// `[0, 1)`, at `duty` for a square profile; `None` stands for "any" where a per-pixel duty
+/// makes the position vary).
+fn shape(profile: &Profile) -> (f64, Vec<Option<f64>>) {
+    match profile {
+        Profile::Sine => (std::f64::consts::TAU, vec![]),
+        Profile::Triangle => (4.0, vec![]),
+        Profile::Sawtooth => (2.0, vec![Some(0.0)]),
+        Profile::Square { duty } => {
+            let at = match duty {
+                Field::Constant { value } => Some(f64::from(*value).clamp(0.0, 1.0)),
+                _ => None,
+            };
+            (0.0, vec![Some(0.0), at])
+        }
+        Profile::Samples { values } => {
+            let n = values.len();
+            let steepest = (0..n)
+                .map(|k| (f64::from(values[(k + 1) % n]) - f64::from(values[k])).abs())
+                .fold(0.0, f64::max);
+            (steepest * n as f64, vec![])
+        }
+        Profile::Harmonics { terms } => (
+            terms
+                .iter()
+                .map(|h| std::f64::consts::TAU * f64::from(h.k) * f64::from(h.weight).abs())
+                .sum(),
+            vec![],
+        ),
+        Profile::Blend { a, b, .. } => {
+            let (la, mut ja) = shape(a);
+            let (lb, jb) = shape(b);
+            ja.extend(jb);
+            (la.max(lb), ja)
+        }
+    }
+}
+
+/// Circular distance of two phases in turns.
+fn circular(a: f64, b: f64) -> f64 {
+    let d = (a - b).rem_euclid(1.0);
+    d.min(1.0 - d)
+}
+
+/// The reasons a window fails (empty when it passes), from the renders `(cpu, gpu)` of the
+/// model's own output, then its Gabor, intensity and phase variants, for the complex bound `e`.
+fn judge_pixels(m: &PhasorNoise, e: f64, renders: &[(Vec<f32>, Vec<f32>)]) -> Vec<String> {
+    let (lipschitz, jumps) = shape(&m.profile);
+    let amplitude = f64::from(m.amplitude).abs();
+    let (gabor, intensity, phase) = (&renders[1], &renders[2], &renders[3]);
+    let mut why = Vec::new();
+    let mut count = |name: &str, bad: usize| {
+        if bad > 0 {
+            why.push(format!("{bad} {name} pixels outside their bound"));
+        }
+    };
+    let over = |pair: &(Vec<f32>, Vec<f32>), bound: f64| {
+        pair.0
+            .iter()
+            .zip(&pair.1)
+            .filter(|(a, b)| (f64::from(**a) - f64::from(**b)).abs() > bound)
+            .count()
+    };
+    count("Gabor", over(gabor, e));
+    count("intensity", over(intensity, std::f64::consts::SQRT_2 * e));
+    // Per pixel: the phase tolerance where the phase is determined.
+    let dphi: Vec<Option<f64>> = intensity
+        .0
+        .iter()
+        .map(|&i| {
+            let i = f64::from(i);
+            let r = std::f64::consts::SQRT_2 * e;
+            (i > 2.0 * r).then(|| (r / i).asin() / std::f64::consts::TAU + 2.0 * ATAN_ERROR)
+        })
+        .collect();
+    let bad_phase = phase
+        .0
+        .iter()
+        .zip(&phase.1)
+        .zip(&dphi)
+        .filter(|((a, b), d)| d.is_some_and(|d| circular(f64::from(**a), f64::from(**b)) > d))
+        .count();
+    count("phase", bad_phase);
+    let own = &renders[0];
+    let value_bound = |d: f64| amplitude * (lipschitz * d + 1e-6) + 4.0 * F32_UNIT_ROUNDOFF;
+    let bad_own = match m.output {
+        PhasorOutput::Gabor => over(own, amplitude * e + 1e-6),
+        PhasorOutput::Intensity => over(own, amplitude * std::f64::consts::SQRT_2 * e + 1e-6),
+        PhasorOutput::Phase | PhasorOutput::Profiled => own
+            .0
+            .iter()
+            .zip(&own.1)
+            .enumerate()
+            .filter(|(k, (a, b))| {
+                let Some(d) = dphi[*k] else {
+                    return false;
+                };
+                let diff = f64::from(**a) - f64::from(**b);
+                if m.output == PhasorOutput::Phase {
+                    // Both are mean + amplitude·φ: compare φ on the circle.
+                    return amplitude > 0.0 && circular(diff / amplitude, 0.0) > d;
+                }
+                let t = f64::from(phase.0[*k]).rem_euclid(1.0);
+                let near_jump = jumps.iter().any(|j| j.is_none_or(|j| circular(t, j) <= d));
+                !near_jump && diff.abs() > value_bound(d)
+            })
+            .count(),
+    };
+    count("output", bad_own);
+    why
+}
+
+fn variant(m: &PhasorNoise, output: PhasorOutput) -> Model {
+    Model::Phasor(PhasorNoise {
+        output,
+        mean: 0.0,
+        amplitude: 1.0,
+        ..m.clone()
+    })
+}
+
+/// Renders `model`'s output and its Gabor, intensity and phase variants on both evaluators for
+/// each window; judges them as the module doc says and writes a failure report for every window
+/// that does not pass.
+///
+/// # Errors
+/// An evaluator refusing the model or a window, a device failure, or a report that could not be
+/// written.
+pub fn check_phasor(
+    context: &GpuContext,
+    case: &str,
+    m: &PhasorNoise,
+    windows: &[CaseWindow],
+) -> Result<Vec<(CaseWindow, Outcome)>, CrosscheckError> {
+    let e = complex_bound(m);
+    let amplitude = f64::from(m.amplitude).abs();
+    let model = Model::Phasor(m.clone());
+    let kinds = [
+        PhasorOutput::Gabor,
+        PhasorOutput::Intensity,
+        PhasorOutput::Phase,
+    ];
+    let mut pairs = vec![(Evaluator::new(&model)?, GpuEvaluator::new(context, &model)?)];
+    for kind in kinds {
+        let v = variant(m, kind);
+        pairs.push((Evaluator::new(&v)?, GpuEvaluator::new(context, &v)?));
+    }
+    let adapter = context.adapter_name();
+    let mut outcomes = Vec::new();
+    for &w in windows {
+        let window = Window::new(w.width, w.height).at(w.offset, w.scale);
+        let mut renders = Vec::new();
+        for (cpu, gpu) in &pairs {
+            renders.push((cpu.render(&window)?, gpu.render(&window)?));
+        }
+        let why = judge_pixels(m, e, &renders);
+        let own = &renders[0];
+        let comparison = compare(w.width, w.height, own.0.clone(), own.1.clone());
+        let expected = expected_failure(case, &adapter);
+        let verdict = match (why.is_empty(), expected) {
+            (true, None) => Verdict::Pass,
+            (true, Some(reason)) => Verdict::UnexpectedPass(reason),
+            (false, None) => Verdict::Fail(why),
+            (false, Some(reason)) => Verdict::ExpectedFail(reason),
+        };
+        let tolerance = Tolerance::from_max(amplitude * e);
+        let outcome = Outcome {
+            spectral_tolerance: f64::INFINITY,
+            comparison,
+            tolerance,
+            verdict,
+        };
+        if !matches!(outcome.verdict, Verdict::Pass) {
+            write_failure_report(&format!("{case}-{}", w.name), &adapter, &w, &outcome)?;
+        }
+        outcomes.push((w, outcome));
+    }
+    Ok(outcomes)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use spectex_model::PhasorOrientation;
+
+    fn pwm(output: PhasorOutput) -> PhasorNoise {
+        PhasorNoise {
+            seed: 0,
+            dimensions: 2,
+            bandwidth: 0.02,
+            frequency: Field::constant(0.06),
+            orientation: PhasorOrientation::Isotropic,
+            impulses_per_kernel: 10.0,
+            profile: Profile::Square {
+                duty: Field::constant(0.25),
+            },
+            output,
+            mean: 0.0,
+            amplitude: 1.0,
+        }
+    }
+
+    /// One pixel: (own output, Gabor, intensity, phase), each (cpu, gpu).
+    fn renders(
+        own: [f32; 2],
+        gabor: [f32; 2],
+        intensity: [f32; 2],
+        phase: [f32; 2],
+    ) -> Vec<(Vec<f32>, Vec<f32>)> {
+        [own, gabor, intensity, phase]
+            .iter()
+            .map(|p| (vec![p[0]], vec![p[1]]))
+            .collect()
+    }
+
+    const E: f64 = 1e-4;
+
+    #[test]
+    fn a_profile_may_flip_only_next_to_its_jump() {
+        let m = pwm(PhasorOutput::Profiled);
+        // Phase tolerance at I = 1: asin(√2·1e-4)/2π + 1e-7 ≈ 2.26e-5 turns.
+        let near = renders([1.0, 0.0], [0.3, 0.3], [1.0, 1.0], [0.249_99, 0.250_01]);
+        assert!(judge_pixels(&m, E, &near).is_empty());
+        let far = renders([1.0, 0.0], [0.3, 0.3], [1.0, 1.0], [0.249, 0.249]);
+        assert_eq!(
+            judge_pixels(&m, E, &far).len(),
+            1,
+            "a flip 1e-3 turns from the jump"
+        );
+    }
+
+    #[test]
+    fn phases_are_compared_on_the_circle_where_they_are_determined() {
+        let m = pwm(PhasorOutput::Phase);
+        let wrap = renders(
+            [0.499_99, -0.499_99],
+            [0.3, 0.3],
+            [1.0, 1.0],
+            [0.499_99, -0.499_99],
+        );
+        assert!(
+            judge_pixels(&m, E, &wrap).is_empty(),
+            "±½ turn is one angle"
+        );
+        let off = renders([0.2, 0.3], [0.3, 0.3], [1.0, 1.0], [0.2, 0.3]);
+        assert_eq!(
+            judge_pixels(&m, E, &off).len(),
+            2,
+            "phase and output both off"
+        );
+        // Near a singularity (I < 2√2·E) the phase is not determined: not judged.
+        let singular = renders([0.2, 0.3], [0.0, 0.0], [1e-4, 1e-4], [0.2, 0.3]);
+        assert!(judge_pixels(&m, E, &singular).is_empty());
+    }
+
+    #[test]
+    fn the_complex_sum_is_held_to_its_bound() {
+        let m = pwm(PhasorOutput::Profiled);
+        let gabor = renders([1.0, 1.0], [0.3, 0.3 + 2e-4], [1.0, 1.0], [0.1, 0.1]);
+        assert_eq!(judge_pixels(&m, E, &gabor).len(), 1);
+        let intensity = renders([1.0, 1.0], [0.3, 0.3], [1.0, 1.0 + 2e-4], [0.1, 0.1]);
+        assert_eq!(judge_pixels(&m, E, &intensity).len(), 1);
+        assert!(
+            complex_bound(&m) > 0.0 && complex_bound(&m) < 1e-2,
+            "{}",
+            complex_bound(&m)
+        );
+    }
+}
