@@ -34,10 +34,11 @@ fn bench(c: &mut Criterion) {
     group.finish();
 }
 
-/// Phasor noise, 2D and a 3D slice: F = 0.0625, b = 0.02, 32 impulses per kernel footprint,
-/// PWM profile; aligned (bi-lobe) and coherent isotropic directions.
+/// Phasor noise, 2D and a 3D slice: `spectex_model::fixtures::phasor_pwm` (PWM profile) with
+/// aligned (bi-lobe), coherent isotropic and (3D) isotropic directions.
 fn bench_phasor(c: &mut Criterion) {
-    use spectex_model::{Field, PhasorNoise, PhasorOrientation, PhasorOutput, Profile};
+    use spectex_model::fixtures::phasor_pwm;
+    use spectex_model::{Field, PhasorOrientation};
     let side = 256;
     let window = Window::new(side, side).at([1000.0, 2000.0], 1.0);
     let mut group = c.benchmark_group("phasor_eval");
@@ -62,20 +63,7 @@ fn bench_phasor(c: &mut Criterion) {
         ),
         ("3d_isotropic", 3, PhasorOrientation::Isotropic),
     ] {
-        let model = Model::Phasor(PhasorNoise {
-            seed: 1,
-            dimensions,
-            bandwidth: 0.02,
-            frequency: Field::constant(0.0625),
-            orientation,
-            impulses_per_kernel: 32.0,
-            profile: Profile::Square {
-                duty: Field::constant(0.25),
-            },
-            output: PhasorOutput::Profiled,
-            mean: 0.0,
-            amplitude: 1.0,
-        });
+        let model = Model::Phasor(phasor_pwm(dimensions, orientation));
         let eval = Evaluator::new_at_z(&model, 17.5).expect("valid model");
         group.bench_function(format!("{name}_{threads}_threads"), |b| {
             b.iter(|| eval.render(black_box(&window)))

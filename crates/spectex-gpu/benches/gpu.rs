@@ -1,6 +1,7 @@
 //! Criterion bench of GPU evaluation in Mpix/s: LRP with a budget of J = 50 cosines over 4 strata
 //! (periods 4.5, 9, 16, 28 pixels, tables of 40 random frequencies — the model of
-//! `spectex-cpu`'s `eval` bench, so the numbers compare), one 1024² window, read back included.
+//! `spectex-cpu`'s `eval` bench, so the numbers compare), one 1024² window, read back included;
+//! and phasor noise in 2D and on a 3D plane (256², the CPU bench's models).
 //!
 //! `cargo bench -p spectex-gpu --bench gpu`; on lavapipe set `WGPU_ADAPTER_NAME=llvmpipe` (and
 //! `VK_DRIVER_FILES`/`VK_ICD_FILENAMES` to its ICD file). Skips with a message when no adapter
@@ -11,8 +12,8 @@ use std::time::Instant;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use spectex_gpu::{GpuContext, GpuEvaluator, GpuWindow};
-use spectex_model::Model;
-use spectex_model::fixtures::lrp_four_strata;
+use spectex_model::fixtures::{lrp_four_strata, phasor_pwm};
+use spectex_model::{Field, Model, PhasorOrientation};
 
 fn bench(c: &mut Criterion) {
     let context = match GpuContext::new() {
@@ -43,6 +44,30 @@ fn bench(c: &mut Criterion) {
     group.bench_function(format!("J{budget}_{side}x{side}"), |b| {
         b.iter(|| gpu.render(black_box(&window)).expect("render"))
     });
+    group.finish();
+
+    // Phasor noise (the CPU bench's models), 256²: host kernel tables and read-back included.
+    let side = 256;
+    let window = GpuWindow::new(side, side).at([1000.0, 2000.0], 1.0);
+    let mut group = c.benchmark_group("gpu_phasor_eval");
+    group.throughput(Throughput::Elements((side * side) as u64));
+    group.sample_size(10);
+    for (name, dimensions, orientation) in [
+        (
+            "2d_aligned",
+            2,
+            PhasorOrientation::Aligned {
+                angle: Field::constant(0.5),
+            },
+        ),
+        ("3d_isotropic", 3, PhasorOrientation::Isotropic),
+    ] {
+        let model = Model::Phasor(phasor_pwm(dimensions, orientation));
+        let gpu = GpuEvaluator::new_at_z(&context, &model, 17.5).expect("valid model");
+        group.bench_function(format!("{name}_{side}x{side}"), |b| {
+            b.iter(|| gpu.render(black_box(&window)).expect("render"))
+        });
+    }
     group.finish();
 }
 

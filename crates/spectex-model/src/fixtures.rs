@@ -2,7 +2,7 @@
 //! GPU and their comparison time the same model.
 
 use crate::random::{Prng, cell_hash};
-use crate::{LrpNoise, Stratum};
+use crate::{Field, LrpNoise, PhasorNoise, PhasorOrientation, PhasorOutput, Profile, Stratum};
 
 /// A 4-stratum LRP model with `budget` cosines per lattice point in all (at least one per
 /// stratum), spread as evenly as possible; window widths Δ_S = 4.5, 9, 16, 28 pixels (the periods
@@ -36,6 +36,26 @@ pub fn lrp_four_strata(budget: usize) -> LrpNoise {
     }
 }
 
+/// A phasor noise with a PWM profile (duty 25%): `F = 0.0625` cycles per pixel, `b = 0.02`, 32
+/// impulses per kernel footprint, seed 1, in `dimensions` (2 or 3) with the given directions.
+#[must_use]
+pub fn phasor_pwm(dimensions: u8, orientation: PhasorOrientation) -> PhasorNoise {
+    PhasorNoise {
+        seed: 1,
+        dimensions,
+        bandwidth: 0.02,
+        frequency: Field::constant(0.0625),
+        orientation,
+        impulses_per_kernel: 32.0,
+        profile: Profile::Square {
+            duty: Field::constant(0.25),
+        },
+        output: PhasorOutput::Profiled,
+        mean: 0.0,
+        amplitude: 1.0,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -48,5 +68,8 @@ mod tests {
             let total: usize = m.strata.iter().map(|s| s.sub_strata.len()).sum();
             assert_eq!(total, budget.max(4), "budget {budget}");
         }
+        phasor_pwm(3, PhasorOrientation::Isotropic)
+            .validate()
+            .unwrap();
     }
 }
