@@ -10,8 +10,8 @@
 // field) are therefore evaluated once, on the host, exactly as on the CPU.
 //
 // A pixel sums, in the CPU's order (cell layers, rows, columns ascending; impulses in draw
-// order), g = exp_poly(−ln 20·|d|²) times cos and sin of t = f·d + ψ over the impulses with
-// |d|² < 1, d = (u − s) − o in cell units; then intensity, phase (atan2_turns) or a profile of
+// order), g = exp_poly(−ln 20·s·|d|²) times cos and sin of t = f·d + ψ over the impulses with
+// s·|d|² < 1 (s the kernel's sharpness, 1 unless the bandwidth varies), d = (u − s) − o in cell units; then intensity, phase (atan2_turns) or a profile of
 // the phase. Profile parameters that vary in space (duty cycle, blend weight) come per pixel
 // from the host, computed in f64 as the CPU does.
 
@@ -59,7 +59,8 @@ struct PhasorAxis {
     valid: u32,
 }
 
-/// One impulse: offset in its cell and ψ; frequency vector (turns per cell unit) and padding.
+/// One impulse: offset in its cell and ψ; frequency vector (turns per cell unit) and the
+/// sharpness s = (b_j/b_min)² (the kernel is exp(−ln 20·s·|d|²) for s·|d|² < 1).
 struct PhasorImpulse {
     o_psi: vec4<f32>,
     f: vec4<f32>,
@@ -157,7 +158,7 @@ fn phasor_main(@builtin(global_invocation_id) gid: vec3<u32>) {
                 for (var n = cell.x; n < cell.x + cell.y; n++) {
                     let imp = impulses[n];
                     let d = vec3<f32>(dxs - imp.o_psi.x, dy - imp.o_psi.y, dz - imp.o_psi.z);
-                    let d2 = d.x * d.x + d.y * d.y + d.z * d.z;
+                    let d2 = (d.x * d.x + d.y * d.y + d.z * d.z) * imp.f.w;
                     if (d2 < 1.0f) {
                         let g = exp_poly(PHASOR_NEG_LN_20 * d2);
                         let t = imp.f.x * d.x + imp.f.y * d.y + imp.f.z * d.z + imp.o_psi.w;

@@ -64,7 +64,7 @@ enum Command {
     Noise(procedural::NoiseCommand),
     /// Phasor noise (Tricard et al. 2019): high-contrast oscillations with a chosen profile.
     #[command(
-        after_help = "Examples:\n  spectex phasor -o stripes.png --angle 30\n  spectex phasor -o pwm.png --profile square --duty 0.25 --coherent\n  spectex phasor -o tiles.png --profile square --duty-image grey.png --orientation-image grey.png\n  spectex phasor -o wood.png --harmonics 1:1,2:0.5,3:0.33 --model wood.json\n  spectex phasor -o phase.png --output-kind phase --two-lobes 0,60\n  spectex phasor -o slab.png --three-d --isotropic --z 12.5 --model slab.json"
+        after_help = "Examples:\n  spectex phasor -o stripes.png --angle 30\n  spectex phasor -o pwm.png --profile square --duty 0.25 --coherent\n  spectex phasor -o tiles.png --profile square --duty-image grey.png --orientation-image grey.png\n  spectex phasor -o wood.png --harmonics 1:1,2:0.5,3:0.33 --model wood.json\n  spectex phasor -o graded.png --frequency-image grey.png --bandwidth-image grey.png\n  spectex phasor -o phase.png --output-kind phase --two-lobes 0,60\n  spectex phasor -o slab.png --three-d --isotropic --z 12.5 --model slab.json"
     )]
     Phasor(Box<phasor::PhasorCommand>),
     /// Write the layers of a 3D model as images for additive manufacturing.

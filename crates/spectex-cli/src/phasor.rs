@@ -52,6 +52,20 @@ pub struct PhasorCommand {
     /// Gaussian bandwidth b per pixel: kernels exp(−π b² |x|²), cut at 5% of their peak.
     #[arg(long, default_value_t = 0.02)]
     bandwidth: f32,
+    /// Greyscale image grading the frequency from --frequency (black) to --frequency-max
+    /// (white), stretched over the output (read at each kernel's centre).
+    #[arg(long, value_name = "IMAGE")]
+    frequency_image: Option<PathBuf>,
+    /// Frequency at white in --frequency-image.
+    #[arg(long, default_value_t = 0.1)]
+    frequency_max: f32,
+    /// Greyscale image grading the bandwidth from --bandwidth (black) to --bandwidth-max
+    /// (white): wider kernels, longer coherent stripes where it is dark.
+    #[arg(long, value_name = "IMAGE")]
+    bandwidth_image: Option<PathBuf>,
+    /// Bandwidth at white in --bandwidth-image.
+    #[arg(long, default_value_t = 0.04)]
+    bandwidth_max: f32,
     /// Mean impulses per kernel footprint (0.01 to 200).
     #[arg(long, default_value_t = 32.0)]
     impulses: f32,
@@ -208,8 +222,14 @@ fn build(cmd: &PhasorCommand, width: usize) -> Result<PhasorNoise> {
     let model = PhasorNoise {
         seed: cmd.seed,
         dimensions: if cmd.three_d { 3 } else { 2 },
-        bandwidth: cmd.bandwidth,
-        frequency: Field::constant(cmd.frequency),
+        bandwidth: match &cmd.bandwidth_image {
+            Some(path) => image_field(path, width, cmd.bandwidth, cmd.bandwidth_max)?,
+            None => Field::constant(cmd.bandwidth),
+        },
+        frequency: match &cmd.frequency_image {
+            Some(path) => image_field(path, width, cmd.frequency, cmd.frequency_max)?,
+            None => Field::constant(cmd.frequency),
+        },
         orientation,
         impulses_per_kernel: cmd.impulses,
         profile,
@@ -218,7 +238,9 @@ fn build(cmd: &PhasorCommand, width: usize) -> Result<PhasorNoise> {
         amplitude,
     };
     model.validate().map_err(|e| {
-        anyhow!("{e}; check --frequency, --bandwidth, --impulses, --duty and the angles")
+        anyhow!(
+            "{e}; check --frequency(-max), --bandwidth(-max), --impulses, --duty and the angles"
+        )
     })?;
     Ok(model)
 }

@@ -502,6 +502,10 @@ fn phasor_and_slices_end_to_end() {
         s(&control),
         "--orientation-image",
         s(&control),
+        "--frequency-image",
+        s(&control),
+        "--bandwidth-image",
+        s(&control),
         "--model",
         s(&model),
     ]);
@@ -617,6 +621,15 @@ fn phasor_bad_inputs_fail_cleanly() {
         (vec!["--harmonics", "x"], "harmonic"),
         (vec!["--two-lobes", "10"], "pair"),
         (vec!["--three-d", "--z", "NaN"], "z"),
+        (
+            vec![
+                "--bandwidth-image",
+                "/nonexistent.png",
+                "--bandwidth-max",
+                "0.2",
+            ],
+            "nonexistent",
+        ),
     ] {
         let mut all = vec!["phasor", "-o", s(&o), "--size", "16x16"];
         all.extend(args);

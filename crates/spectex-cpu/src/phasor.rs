@@ -10,8 +10,9 @@
 //! cells around `p`'s cell. All arithmetic after locating `p` is f32 in cell units:
 //! `d = (u − s) − o` for the point's offset `u ∈ [0, 1]` in its cell, the neighbour step
 //! `s ∈ {−1, 0, 1}` and the impulse's offset `o` in its own cell, so precision does not depend
-//! on how far from the origin the window is. An impulse contributes when `|d|² < 1`:
-//! `g = exp_poly(−ln 20·|d|²)` (`π b² r² = ln 20`), `t = f·d + ψ` in turns (with `f` in turns
+//! on how far from the origin the window is. An impulse contributes when `s·|d|² < 1`:
+//! `g = exp_poly(−ln 20·s·|d|²)` (`π b_min² r² = ln 20`, `s = (b_j/b_min)²`, 1 for a constant
+//! bandwidth, when `s·|d|²` is exactly `|d|²`), `t = f·d + ψ` in turns (with `f` in turns
 //! per cell), `re += g·cos_turns(t)`, `im += g·sin_turns(t)`, in the order: cell layers `s_z`,
 //! rows `s_y`, columns `s_x` ascending, impulses in draw order.
 //!
@@ -187,7 +188,7 @@ fn sum_at(rows: &[CellRow], ci: i32, cj: i32, ck: i32, u: [f32; 3]) -> (f32, f32
             let dxs = u[0] - sx as f32;
             for imp in column {
                 let d = [dxs - imp.o[0], dy - imp.o[1], dz - imp.o[2]];
-                let d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+                let d2 = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) * imp.sharp;
                 if d2 < 1.0 {
                     let g = exp_poly(NEG_LN_20 * d2);
                     let t = imp.f[0] * d[0] + imp.f[1] * d[1] + imp.f[2] * d[2] + imp.psi;

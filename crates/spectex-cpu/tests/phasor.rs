@@ -19,7 +19,7 @@ fn model(orientation: PhasorOrientation, output: PhasorOutput) -> PhasorNoise {
     PhasorNoise {
         seed: 11,
         dimensions: 2,
-        bandwidth: 0.04,
+        bandwidth: Field::constant(0.04),
         frequency: Field::constant(0.07),
         orientation,
         impulses_per_kernel: 20.0,
@@ -38,7 +38,7 @@ fn reference(m: &PhasorNoise, x: f64, y: f64) -> (f64, f64) {
     let lambda = m.impulses_per_cell();
     let threshold = (-lambda).exp() as f32;
     let cap = (4.0 * lambda + 32.0).floor() as u32;
-    let b = f64::from(m.bandwidth);
+    let (b_min, b_max) = m.bandwidth_range();
     let (ci, cj) = ((x / r).floor() as i32, (y / r).floor() as i32);
     let (mut re, mut im) = (0.0, 0.0);
     for j in cj - 1..=cj + 1 {
@@ -56,6 +56,13 @@ fn reference(m: &PhasorNoise, x: f64, y: f64) -> (f64, f64) {
             for _ in 0..n {
                 let ox = f64::from(prng.next_f32());
                 let oy = f64::from(prng.next_f32());
+                let (px, py) = ((f64::from(i) + ox) * r, (f64::from(j) + oy) * r);
+                // A graded bandwidth: the kernel's own b, and thinning to keep the density of
+                // impulses per footprint.
+                let b = m.bandwidth.at(px, py, 0.0).clamp(b_min, b_max);
+                if b_max > b_min && f64::from(prng.next_f32()) >= (b / b_max).powi(2) {
+                    continue;
+                }
                 let angle = match &m.orientation {
                     PhasorOrientation::Aligned { angle } => angle.at(0.0, 0.0, 0.0),
                     PhasorOrientation::Isotropic => {
@@ -64,9 +71,10 @@ fn reference(m: &PhasorNoise, x: f64, y: f64) -> (f64, f64) {
                     other => panic!("reference does not cover {other:?}"),
                 };
                 let psi = f64::from(prng.next_f32());
-                let (dx, dy) = (x - (f64::from(i) + ox) * r, y - (f64::from(j) + oy) * r);
+                let (dx, dy) = (x - px, y - py);
                 let d2 = dx * dx + dy * dy;
-                if d2 >= r * r {
+                // Truncated where the kernel falls below 5% of its peak: radius r·b_min/b.
+                if d2 >= (r * b_min / b).powi(2) {
                     continue;
                 }
                 let a = (-std::f64::consts::PI * b * b * d2).exp();
@@ -95,44 +103,67 @@ fn matches_the_definition_near_and_far() {
         },
         PhasorOrientation::Isotropic,
     ] {
-        let gabor = model(orientation.clone(), PhasorOutput::Gabor);
-        let intensity = model(orientation.clone(), PhasorOutput::Intensity);
-        let phase = model(orientation, PhasorOutput::Phase);
-        let (g, i, p) = (
-            PhasorEvaluator::new(&gabor, 0.0),
-            PhasorEvaluator::new(&intensity, 0.0),
-            PhasorEvaluator::new(&phase, 0.0),
-        );
-        let mut prng = Prng::new(5);
-        for base in [0.0, -777.25, 3.0e6, -1.0e7] {
-            for _ in 0..150 {
-                let (x, y) = (
-                    base + prng.next_f64() * 300.0,
-                    -base + prng.next_f64() * 300.0,
-                );
-                let (re, im) = reference(&gabor, x, y);
-                let got_im = f64::from(g.eval(x, y));
+        for graded in [false, true] {
+            check_against_the_definition(orientation.clone(), graded);
+        }
+    }
+}
+
+/// `graded`: the bandwidth varies across a 4×4 image field from 0.025 to 0.05 (kernels of two
+/// sizes, thinned to keep the density per footprint).
+fn check_against_the_definition(orientation: PhasorOrientation, graded: bool) {
+    let with = |output| {
+        let mut m = model(orientation.clone(), output);
+        if graded {
+            m.bandwidth = Field::Image {
+                width: 4,
+                height: 4,
+                grey: (0..16).map(|k| (k * 7 % 16) as f32 / 15.0).collect(),
+                pixel_size: 60.0,
+                min: 0.025,
+                max: 0.05,
+            };
+            m.impulses_per_kernel = 8.0;
+        }
+        m
+    };
+    let gabor = with(PhasorOutput::Gabor);
+    let intensity = with(PhasorOutput::Intensity);
+    let phase = with(PhasorOutput::Phase);
+    let (g, i, p) = (
+        PhasorEvaluator::new(&gabor, 0.0),
+        PhasorEvaluator::new(&intensity, 0.0),
+        PhasorEvaluator::new(&phase, 0.0),
+    );
+    let mut prng = Prng::new(5);
+    for base in [0.0, -777.25, 3.0e6, -1.0e7] {
+        for _ in 0..150 {
+            let (x, y) = (
+                base + prng.next_f64() * 300.0,
+                -base + prng.next_f64() * 300.0,
+            );
+            let (re, im) = reference(&gabor, x, y);
+            let got_im = f64::from(g.eval(x, y));
+            assert!(
+                (got_im - im).abs() < TOLERANCE,
+                "Im at ({x}, {y}): {got_im} vs {im}"
+            );
+            let got_i = f64::from(i.eval(x, y));
+            let want_i = re.hypot(im);
+            assert!(
+                (got_i - want_i).abs() < TOLERANCE,
+                "I at ({x}, {y}): {got_i} vs {want_i}"
+            );
+            // The phase is compared on the circle, where the intensity is not tiny (near a
+            // singularity the angle of a small vector is ill-conditioned).
+            if want_i > 0.05 {
+                let want_p = im.atan2(re) / std::f64::consts::TAU;
+                let mut e = (f64::from(p.eval(x, y)) - want_p).rem_euclid(1.0);
+                e = e.min(1.0 - e);
                 assert!(
-                    (got_im - im).abs() < TOLERANCE,
-                    "Im at ({x}, {y}): {got_im} vs {im}"
+                    e < TOLERANCE / want_i,
+                    "phase at ({x}, {y}): error {e} turns"
                 );
-                let got_i = f64::from(i.eval(x, y));
-                let want_i = re.hypot(im);
-                assert!(
-                    (got_i - want_i).abs() < TOLERANCE,
-                    "I at ({x}, {y}): {got_i} vs {want_i}"
-                );
-                // The phase is compared on the circle, where the intensity is not tiny (near a
-                // singularity the angle of a small vector is ill-conditioned).
-                if want_i > 0.05 {
-                    let want_p = im.atan2(re) / std::f64::consts::TAU;
-                    let mut e = (f64::from(p.eval(x, y)) - want_p).rem_euclid(1.0);
-                    e = e.min(1.0 - e);
-                    assert!(
-                        e < TOLERANCE / want_i,
-                        "phase at ({x}, {y}): error {e} turns"
-                    );
-                }
             }
         }
     }

@@ -29,15 +29,6 @@ use crate::{CrosscheckError, write_failure_report};
 /// Absolute error of `atan2_turns` on either side, turns (5e-8 measured bound, spectex-model).
 pub const ATAN_ERROR: f64 = 5e-8;
 
-/// The largest value a field takes (frequencies are clamped to 0.5 by the evaluators).
-fn field_max(field: &Field) -> f64 {
-    match field {
-        Field::Constant { value } => f64::from(*value),
-        Field::Linear { .. } => 0.5,
-        Field::Image { min, max, .. } => f64::from(*min).max(f64::from(*max)),
-    }
-}
-
 /// Bound `E` on `|Δre|` and `|Δim|` at any pixel: the impulse count of the 3×3 (3×3×3) cells
 /// bounded as in [`crate::tolerance::gabor`] (`n + 6√n + 6` for a Poisson mean `n`); per impulse
 /// the phase `f·d + ψ` (offsets within 2 cells per axis: `|f·d| ≤ 2√dims·F·r` turns) rounded
@@ -54,7 +45,7 @@ pub fn complex_bound(m: &PhasorNoise) -> f64 {
     } else {
         2.0 * 2f64.sqrt()
     };
-    let turns = reach * field_max(&m.frequency).min(0.5) * m.kernel_radius() + 1.0;
+    let turns = reach * m.frequency.range().1.min(0.5) * m.kernel_radius() + 1.0;
     let phase = std::f64::consts::TAU * PHASE_ROUNDINGS * F32_UNIT_ROUNDOFF * turns;
     let per_term = 2.0 * (phase + COS_ABS_ERROR + EXP_REL_ERROR);
     count * per_term + SUMMATION_ROUNDINGS * F32_UNIT_ROUNDOFF * count
@@ -249,7 +240,7 @@ mod tests {
         PhasorNoise {
             seed: 0,
             dimensions: 2,
-            bandwidth: 0.02,
+            bandwidth: Field::constant(0.02),
             frequency: Field::constant(0.06),
             orientation: PhasorOrientation::Isotropic,
             impulses_per_kernel: 10.0,

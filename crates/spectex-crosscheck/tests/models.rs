@@ -41,8 +41,8 @@ fn model_files() -> Vec<PathBuf> {
 fn every_shipped_model_agrees_on_cpu_and_gpu() {
     let files = model_files();
     assert!(
-        files.len() >= 9,
-        "testdata/models should hold the LRP (2 fitted, ring), Gabor (2) and phasor (4) cases"
+        files.len() >= 10,
+        "testdata/models should hold the LRP (2 fitted, ring), Gabor (2) and phasor (5) cases"
     );
     let context = match GpuContext::new() {
         Ok(c) => c,

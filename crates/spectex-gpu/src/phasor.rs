@@ -211,7 +211,7 @@ impl PhasorPack {
                             impulses.extend(
                                 [imp.o[0], imp.o[1], imp.o[2], imp.psi]
                                     .iter()
-                                    .chain(&[imp.f[0], imp.f[1], imp.f[2], 0.0])
+                                    .chain(&[imp.f[0], imp.f[1], imp.f[2], imp.sharp])
                                     .map(|v| v.to_bits()),
                             );
                         }

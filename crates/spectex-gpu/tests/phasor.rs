@@ -18,7 +18,7 @@ fn model(dimensions: u8, profile: Profile, output: PhasorOutput) -> PhasorNoise 
     PhasorNoise {
         seed: 4,
         dimensions,
-        bandwidth: 0.03,
+        bandwidth: Field::constant(0.03),
         frequency: Field::constant(0.07),
         orientation: PhasorOrientation::Coherent {
             spread: 2.4,

@@ -14,6 +14,10 @@ pub const SUPPORTED_SCHEMA_VERSIONS: &[u32] = &[1];
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, rename_all = "snake_case")]
 #[non_exhaustive]
+#[allow(
+    clippy::large_enum_variant,
+    reason = "a model is built once per render and never stored in bulk"
+)]
 pub enum Model {
     /// Local Random-Phase noise.
     Lrp(LrpNoise),

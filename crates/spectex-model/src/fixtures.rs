@@ -43,7 +43,7 @@ pub fn phasor_pwm(dimensions: u8, orientation: PhasorOrientation) -> PhasorNoise
     PhasorNoise {
         seed: 1,
         dimensions,
-        bandwidth: 0.02,
+        bandwidth: Field::constant(0.02),
         frequency: Field::constant(0.0625),
         orientation,
         impulses_per_kernel: 32.0,

@@ -41,5 +41,6 @@ pub use lrp::{LrpNoise, MAX_COSINES, MAX_STRATA, MAX_TABLE, Stratum};
 pub use phasor::{
     COHERENT_BANDWIDTH_RATIO, COHERENT_SPREAD, Field, Harmonic, MAX_FIELD_SIDE,
     MAX_PROFILE_SAMPLES, PHASOR_TRUNCATION, PhasorNoise, PhasorOrientation, PhasorOutput, Profile,
+    RAMP_EXTENT,
 };
 pub use target::SpectralTarget;

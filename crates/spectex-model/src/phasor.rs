@@ -27,6 +27,10 @@ pub const COHERENT_SPREAD: f32 = 2.4;
 /// The paper's locally coherent isotropic setting: `b_f = b / 2`.
 pub const COHERENT_BANDWIDTH_RATIO: f32 = 0.5;
 
+/// Positions at which linear fields are checked to stay in range, pixels: a ramp must keep its
+/// values valid over `|x|, |y|, |z| ≤ RAMP_EXTENT`.
+pub const RAMP_EXTENT: f64 = 1.0e4;
+
 /// Largest side of an image field, pixels.
 pub const MAX_FIELD_SIDE: usize = 4096;
 /// Most samples of a sampled profile, and most harmonics of an additive one.
@@ -194,6 +198,27 @@ impl Field {
                 )?;
                 check_range(|| format!("{name}.min"), f64::from(*min), lo, hi, range)?;
                 check_range(|| format!("{name}.max"), f64::from(*max), lo, hi, range)
+            }
+        }
+    }
+
+    /// The smallest and largest value the field takes over `|x|, |y|, |z| ≤` [`RAMP_EXTENT`]
+    /// (the whole plane for constant and image fields; a ramp beyond that extent is clamped to
+    /// this range by the evaluators where it matters).
+    #[must_use]
+    pub fn range(&self) -> (f64, f64) {
+        match self {
+            Self::Constant { value } => (f64::from(*value), f64::from(*value)),
+            Self::Linear { value, gradient } => {
+                let spread: f64 = gradient
+                    .iter()
+                    .map(|g| f64::from(*g).abs() * RAMP_EXTENT)
+                    .sum();
+                (f64::from(*value) - spread, f64::from(*value) + spread)
+            }
+            Self::Image { min, max, .. } => {
+                let (a, b) = (f64::from(*min), f64::from(*max));
+                (a.min(b), a.max(b))
             }
         }
     }
@@ -366,8 +391,11 @@ pub struct PhasorNoise {
     pub seed: u32,
     /// 2 for images, 3 for volumes (evaluated slice by slice at a given z).
     pub dimensions: u8,
-    /// `b`, the Gaussian bandwidth, per pixel: `a(x) = exp(−π b²|x|²)`.
-    pub bandwidth: f32,
+    /// `b`, the Gaussian bandwidth per pixel, `a(x) = exp(−π b²|x|²)`, read at each kernel's
+    /// centre. Where it varies, kernels keep `impulses_per_kernel` per footprint: the process
+    /// is drawn at the density of the narrowest kernels (largest `b`) and thinned (see
+    /// `spectex_model::phasor_kernels`); the grid's cells fit the widest kernels.
+    pub bandwidth: Field,
     /// `F`, cycles per pixel, read at each kernel's centre.
     pub frequency: Field,
     /// How kernel directions are chosen.
@@ -393,27 +421,32 @@ fn one() -> f32 {
     1.0
 }
 
-/// Positions at which linear fields are checked to stay in range, pixels (the window limit).
-const RAMP_EXTENT: f64 = 1.0e4;
-
 impl PhasorNoise {
-    /// Kernel radius `r = √(−ln t / π) / b` for the truncation `t` = [`PHASOR_TRUNCATION`],
-    /// pixels; also the grid cell side.
+    /// The smallest and largest bandwidth the kernels take.
     #[must_use]
-    pub fn kernel_radius(&self) -> f64 {
-        (-PHASOR_TRUNCATION.ln() / std::f64::consts::PI).sqrt() / f64::from(self.bandwidth)
+    pub fn bandwidth_range(&self) -> (f64, f64) {
+        self.bandwidth.range()
     }
 
-    /// Mean impulses per grid cell: the kernel footprint (`π r²` or `4/3 π r³`) holds
-    /// `impulses_per_kernel`.
+    /// Radius `r = √(−ln t / π) / b` of the widest kernel (smallest `b`) for the truncation
+    /// `t` = [`PHASOR_TRUNCATION`], pixels; also the grid cell side.
+    #[must_use]
+    pub fn kernel_radius(&self) -> f64 {
+        (-PHASOR_TRUNCATION.ln() / std::f64::consts::PI).sqrt() / self.bandwidth_range().0
+    }
+
+    /// Mean impulses drawn per grid cell, before thinning: the footprint (`π r²` or `4/3 π r³`)
+    /// of the narrowest kernel holds `impulses_per_kernel`, so a cell of the widest one's radius
+    /// holds that times `(b_max/b_min)^dimensions`.
     #[must_use]
     pub fn impulses_per_cell(&self) -> f64 {
-        let footprint = if self.dimensions == 3 {
-            4.0 / 3.0 * std::f64::consts::PI
+        let (footprint, dims) = if self.dimensions == 3 {
+            (4.0 / 3.0 * std::f64::consts::PI, 3)
         } else {
-            std::f64::consts::PI
+            (std::f64::consts::PI, 2)
         };
-        f64::from(self.impulses_per_kernel) / footprint
+        let (lo, hi) = self.bandwidth_range();
+        f64::from(self.impulses_per_kernel) / footprint * (hi / lo).powi(dims)
     }
 
     /// Checks every number.
@@ -442,13 +475,11 @@ impl PhasorNoise {
             1e9,
             "[-1e9, 1e9]",
         )?;
-        check_range(
-            || "phasor.bandwidth".into(),
-            f64::from(self.bandwidth),
-            1e-3,
-            1.0,
-            "[0.001, 1] per pixel",
-        )?;
+        let band = "[0.001, 1] per pixel";
+        self.bandwidth
+            .validate("phasor.bandwidth", 1e-3, 1.0, band)?;
+        self.bandwidth
+            .validate_ramp("phasor.bandwidth", 1e-3, 1.0, band, RAMP_EXTENT)?;
         let freq = "[0, 0.5] cycles per pixel";
         self.frequency
             .validate("phasor.frequency", 0.0, 0.5, freq)?;
@@ -461,6 +492,15 @@ impl PhasorNoise {
             200.0,
             "[0.01, 200]",
         )?;
+        // Knuth's Poisson draw in f32 needs exp(−λ) normal: λ < 64 per cell.
+        let lambda = self.impulses_per_cell();
+        if lambda >= 64.0 {
+            return Err(ModelError::OutOfRange {
+                field: "phasor.impulses_per_kernel × (largest / smallest bandwidth)^dimensions / footprint".into(),
+                value: lambda,
+                range: "below 64 impulses per cell: narrow the bandwidth range or lower impulses_per_kernel",
+            });
+        }
         match &self.orientation {
             PhasorOrientation::Aligned { angle } => {
                 angle.validate("phasor.orientation.aligned.angle", -1e3, 1e3, ANGLE_RANGE)?;
@@ -601,7 +641,7 @@ mod tests {
         PhasorNoise {
             seed: 1,
             dimensions: 2,
-            bandwidth: 0.05,
+            bandwidth: Field::constant(0.05),
             frequency: Field::constant(0.1),
             orientation: PhasorOrientation::Aligned {
                 angle: Field::constant(0.5),
@@ -635,6 +675,22 @@ mod tests {
         };
         let e = m.validate().unwrap_err().to_string();
         assert!(e.contains("ramp"), "{e}");
+        // A bandwidth range multiplies the impulses drawn per cell by (max/min)²: 150 per
+        // footprint with a range of 1.5 is 150/π·2.25 ≈ 107 per cell, beyond Knuth's 64.
+        let mut m = model();
+        m.impulses_per_kernel = 150.0;
+        m.bandwidth = Field::Image {
+            width: 1,
+            height: 2,
+            grey: vec![0.0, 1.0],
+            pixel_size: 1.0,
+            min: 0.02,
+            max: 0.03,
+        };
+        let e = m.validate().unwrap_err().to_string();
+        assert!(e.contains("below 64 impulses per cell"), "{e}");
+        m.impulses_per_kernel = 50.0;
+        m.validate().unwrap();
         let mut m = model();
         m.dimensions = 4;
         assert!(m.validate().unwrap_err().to_string().contains("dimensions"));
@@ -688,7 +744,7 @@ mod tests {
         let m = model();
         let r = m.kernel_radius();
         // a(r) = 0.05 by definition.
-        let a = (-std::f64::consts::PI * f64::from(m.bandwidth).powi(2) * r * r).exp();
+        let a = (-std::f64::consts::PI * m.bandwidth_range().0.powi(2) * r * r).exp();
         assert!((a - PHASOR_TRUNCATION).abs() < 1e-12);
         assert!((m.impulses_per_cell() * std::f64::consts::PI - 30.0).abs() < 1e-9);
     }

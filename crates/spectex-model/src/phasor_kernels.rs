@@ -9,11 +9,14 @@
 //! `(i, j, k)` of a 3D model from `Prng::new(cell_hash(i, j, layer, cell_hash(k, 0, layer,
 //! seed)))`. Layer [`PHASOR_LAYER`] holds the kernels: a Poisson count (Knuth's product of
 //! uniforms against `exp(−λ)` in f32, capped at `⌊4λ + 32⌋`), then per impulse its offsets
-//! `u₁, u₂ (, u₃)` and, by orientation: none for `aligned` and `gradient` (the direction comes
+//! `u₁, u₂ (, u₃)`; where the bandwidth varies, one uniform `v` that keeps the impulse when
+//! `v < (b/b_max)^dims` for the bandwidth `b` at its position (a discarded impulse draws nothing
+//! more); then by orientation: none for `aligned` and `gradient` (the direction comes
 //! from the field at the impulse), one uniform choosing the lobe for `two_lobes`, one (2D: the
 //! angle in turns) or two (3D: `z = 2u − 1`, then the azimuth in turns) for `isotropic`, none
 //! for `coherent`; last the phase offset `ψ` in turns. Layer [`DIRECTION_LAYER`] holds the
-//! coherent direction process (§3.2.2): its own grid of side `r_f = r / bandwidth_ratio`, the
+//! coherent direction process (§3.2.2): its own grid of side `r_f = r / bandwidth_ratio` (`r` the
+//! widest kernel's radius), the
 //! same density, per impulse its offsets then one uniform `v` (2D: angle `(2v − 1)·ω_f`) or two
 //! (3D: a direction in the cap of half-angle `ω_f` around +x, `cos θ = 1 − v(1 − cos ω_f)`,
 //! azimuth `v'` turns).
@@ -38,6 +41,9 @@ pub struct Impulse {
     pub o: [f32; 3],
     /// Phase offset `ψ_j`, turns.
     pub psi: f32,
+    /// `(b_j / b_min)²`: the kernel is `exp(NEG_LN_20·sharp·|d|²)` for `sharp·|d|² < 1`, `d` in
+    /// cell units (exactly 1 for a constant bandwidth).
+    pub sharp: f32,
     /// Frequency vector `F(x_j)·r·u_j`, turns per cell unit.
     pub f: [f32; 3],
 }
@@ -115,6 +121,8 @@ pub struct PhasorKernels {
     seed: u32,
     three_d: bool,
     frequency: Field,
+    /// A varying bandwidth: the field and its range `(b_min, b_max)`.
+    graded: Option<(Field, f64, f64)>,
     grid: Grid,
     directions: Directions,
 }
@@ -159,10 +167,12 @@ impl PhasorKernels {
                 }
             }
         };
+        let (b_min, b_max) = model.bandwidth_range();
         Self {
             seed: model.seed,
             three_d: model.dimensions == 3,
             frequency: model.frequency.clone(),
+            graded: (b_max > b_min).then(|| (model.bandwidth.clone(), b_min, b_max)),
             grid: Grid::new(radius, lambda, PHASOR_LAYER),
             directions,
         }
@@ -208,12 +218,24 @@ impl PhasorKernels {
                     0.0
                 },
             ];
+            let mut sharp = 1.0f32;
+            if let Some((field, b_min, b_max)) = &self.graded {
+                // Thinning: the process has the density of the narrowest kernels; one at
+                // bandwidth b is kept with probability (b / b_max)^dimensions.
+                let b = field.at(x[0], x[1], x[2]).clamp(*b_min, *b_max);
+                let keep = (b / b_max).powi(if self.three_d { 3 } else { 2 });
+                if f64::from(prng.next_f32()) >= keep {
+                    continue;
+                }
+                sharp = ((b / b_min) * (b / b_min)) as f32;
+            }
             let u = self.direction(&mut prng, x);
             let psi = prng.next_f32();
             let fr = (self.frequency.at(x[0], x[1], x[2]).clamp(0.0, 0.5) * g.side) as f32;
             out.push(Impulse {
                 o,
                 psi,
+                sharp,
                 f: [fr * u[0], fr * u[1], fr * u[2]],
             });
         }
