@@ -347,3 +347,125 @@ impl PhasorKernels {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{PhasorOutput, Profile};
+
+    fn model(orientation: PhasorOrientation) -> PhasorNoise {
+        PhasorNoise {
+            seed: 2,
+            dimensions: 2,
+            bandwidth: Field::constant(0.05),
+            frequency: Field::constant(0.1),
+            orientation,
+            impulses_per_kernel: 20.0,
+            profile: Profile::Sine,
+            output: PhasorOutput::Profiled,
+            mean: 0.0,
+            amplitude: 1.0,
+        }
+    }
+
+    /// Every impulse of a 6×6 block of cells, as unit directions.
+    fn directions(m: &PhasorNoise) -> Vec<[f64; 2]> {
+        let kernels = PhasorKernels::new(m);
+        let mut all = Vec::new();
+        let mut cell = Vec::new();
+        for j in -3..3 {
+            for i in -3..3 {
+                kernels.draw_cell([i, j, 0], &mut cell);
+                all.extend(cell.iter().map(|imp| {
+                    let n = f64::from(imp.f[0]).hypot(f64::from(imp.f[1]));
+                    [f64::from(imp.f[0]) / n, f64::from(imp.f[1]) / n]
+                }));
+            }
+        }
+        assert!(all.len() > 100, "{} impulses", all.len());
+        all
+    }
+
+    /// §3.2.1: two bi-lobes more than π/2 apart use the dual formulation (the second direction
+    /// reversed, so every pair is less than π/2 apart); closer ones keep both directions.
+    #[test]
+    fn two_lobes_switch_sign_beyond_a_right_angle() {
+        for (b, reversed) in [(2.1f64, true), (1.0, false)] {
+            let m = model(PhasorOrientation::TwoLobes {
+                angle_a: 0.0,
+                angle_b: b as f32,
+            });
+            let want_b = if reversed {
+                [-b.cos(), -b.sin()]
+            } else {
+                [b.cos(), b.sin()]
+            };
+            let (mut on_a, mut on_b) = (0, 0);
+            for d in directions(&m) {
+                if (d[0] - 1.0).abs() < 1e-6 && d[1].abs() < 1e-6 {
+                    on_a += 1;
+                } else {
+                    assert!(
+                        (d[0] - want_b[0]).abs() < 1e-6 && (d[1] - want_b[1]).abs() < 1e-6,
+                        "b = {b}: direction {d:?}"
+                    );
+                    on_b += 1;
+                }
+            }
+            // Each lobe gets about half of the kernels.
+            let share = f64::from(on_a) / f64::from(on_a + on_b);
+            assert!((share - 0.5).abs() < 0.1, "b = {b}: share {share}");
+        }
+    }
+
+    /// Kernels steered by an image follow its gradient plus the offset: a grey ramp along x
+    /// with offset π/2 gives kernels along ±y.
+    #[test]
+    fn gradient_orientation_follows_the_image() {
+        let image = Field::Image {
+            width: 64,
+            height: 1,
+            grey: (0..64).map(|i| (i as f32 / 63.0).min(1.0)).collect(),
+            pixel_size: 4.0,
+            min: 0.0,
+            max: 1.0,
+        };
+        let m = model(PhasorOrientation::Gradient {
+            image,
+            offset: std::f32::consts::FRAC_PI_2,
+        });
+        let kernels = PhasorKernels::new(&m);
+        let mut cell = Vec::new();
+        // Cells inside the rising part of the ramp (x from 20 to 200 px; r ≈ 19.5 px).
+        let mut seen = 0;
+        for i in 2..9 {
+            kernels.draw_cell([i, 0, 0], &mut cell);
+            for imp in &cell {
+                let x = (f64::from(i) + f64::from(imp.o[0])) * kernels.side();
+                if (12.0..240.0).contains(&x) {
+                    assert!(
+                        imp.f[0].abs() < 1e-5 * imp.f[1].abs().max(1.0),
+                        "{:?}",
+                        imp.f
+                    );
+                    seen += 1;
+                }
+            }
+        }
+        assert!(seen > 10, "{seen}");
+    }
+
+    /// The process of a 2D model ignores k; a 3D model's layers differ.
+    #[test]
+    fn layers_are_independent_in_3d_only() {
+        let mut m = model(PhasorOrientation::Isotropic);
+        let draw = |m: &PhasorNoise, k: i32| {
+            let mut v = Vec::new();
+            PhasorKernels::new(m).draw_cell([1, 2, k], &mut v);
+            v
+        };
+        assert_eq!(draw(&m, 0), draw(&m, 5));
+        m.dimensions = 3;
+        assert_ne!(draw(&m, 0), draw(&m, 5));
+    }
+}
