@@ -30,6 +30,7 @@ pub mod lrp;
 /// The f32 functions both evaluators share, defined once in `spectex-model`.
 pub use spectex_model::math;
 pub mod phasor;
+pub mod texture;
 
 use rayon::prelude::*;
 use spectex_model::{Model, ModelError};
@@ -37,6 +38,7 @@ use spectex_model::{Model, ModelError};
 pub use gabor::GaborEvaluator;
 pub use lrp::LrpEvaluator;
 pub use phasor::PhasorEvaluator;
+pub use texture::TextureEvaluator;
 /// The window type is `spectex-model`'s, shared with the GPU evaluator.
 pub use spectex_model::{MAX_POSITION, MAX_WINDOW_PIXELS, MAX_WINDOW_SIDE, Window};
 
@@ -90,6 +92,8 @@ pub enum Evaluator {
     Gabor(GaborEvaluator),
     /// Phasor noise (a 3D model on one plane `z`).
     Phasor(Box<PhasorEvaluator>),
+    /// Texture by example (1 or 3 values per pixel).
+    Texture(Box<TextureEvaluator>),
 }
 
 impl Evaluator {
@@ -120,27 +124,40 @@ impl Evaluator {
             Model::Lrp(m) => Self::Lrp(LrpEvaluator::new(m)),
             Model::Gabor(m) => Self::Gabor(GaborEvaluator::new(m)),
             Model::Phasor(m) => Self::Phasor(Box::new(PhasorEvaluator::new(m, z))),
+            Model::Texture(m) => Self::Texture(Box::new(TextureEvaluator::new(m))),
             #[allow(unreachable_patterns)] // reason: `Model` is non_exhaustive for other crates
             _ => unreachable!("every model kind of this version is handled"),
         })
     }
 
-    /// Evaluates one row of `window` into `out` (`window.width` values).
+    /// Values per pixel: 3 for a colour texture (interleaved RGB), else 1.
+    #[must_use]
+    pub fn output_channels(&self) -> usize {
+        match self {
+            Self::Texture(e) => e.output_channels(),
+            _ => 1,
+        }
+    }
+
+    /// Evaluates one row of `window` into `out` (`window.width ·`
+    /// [`output_channels`](Self::output_channels) values).
     pub fn eval_row(&self, window: &Window, row: usize, out: &mut [f32]) {
         match self {
+            Self::Texture(e) => e.eval_rows(window, row, out),
             Self::Lrp(e) => e.eval_row(window, row, out),
             Self::Gabor(e) => e.eval_row_at(window.y(row), |i| window.x(i), out),
             Self::Phasor(e) => e.eval_rows(window, row, out),
         }
     }
 
-    /// Renders `window` row-major into a new buffer.
+    /// Renders `window` row-major into a new buffer
+    /// ([`output_channels`](Self::output_channels) interleaved values per pixel).
     ///
     /// # Errors
     /// [`CpuError::Window`] for a window out of range.
     pub fn render(&self, window: &Window) -> Result<Vec<f32>, CpuError> {
         window.validate()?;
-        let mut out = vec![0.0f32; window.width * window.height];
+        let mut out = vec![0.0f32; window.width * window.height * self.output_channels()];
         self.render_into(window, &mut out, &|_| {})?;
         Ok(out)
     }
@@ -157,7 +174,8 @@ impl Evaluator {
         progress: &(dyn Fn(usize) + Sync),
     ) -> Result<(), CpuError> {
         window.validate()?;
-        let needed = window.width * window.height;
+        let channels = self.output_channels();
+        let needed = window.width * window.height * channels;
         if out.len() != needed {
             return Err(CpuError::Buffer {
                 len: out.len(),
@@ -168,20 +186,21 @@ impl Evaluator {
             return Ok(());
         }
         let done = std::sync::atomic::AtomicUsize::new(0);
-        out.par_chunks_mut(window.width * BAND_ROWS)
+        out.par_chunks_mut(window.width * channels * BAND_ROWS)
             .enumerate()
             .for_each(|(band, lines)| {
                 let first = band * BAND_ROWS;
                 match self {
                     Self::Lrp(e) => e.eval_rows(window, first, lines),
                     Self::Phasor(e) => e.eval_rows(window, first, lines),
+                    Self::Texture(e) => e.eval_rows(window, first, lines),
                     _ => {
                         for (r, line) in lines.chunks_exact_mut(window.width).enumerate() {
                             self.eval_row(window, first + r, line);
                         }
                     }
                 }
-                let rows = lines.len() / window.width;
+                let rows = lines.len() / (window.width * channels);
                 let n = done.fetch_add(rows, std::sync::atomic::Ordering::Relaxed) + rows;
                 progress(n);
             });
@@ -195,6 +214,7 @@ impl Evaluator {
             Self::Lrp(e) => e.cosines_per_pixel() as f64,
             Self::Gabor(e) => e.cosines_per_pixel(),
             Self::Phasor(e) => e.kernels_per_pixel(),
+            Self::Texture(e) => e.calls_per_pixel() as f64,
         }
     }
 }

@@ -3,7 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::ModelError;
-use crate::{GaborNoise, LrpNoise, PhasorNoise};
+use crate::{GaborNoise, LrpNoise, PhasorNoise, TextureModel};
 
 /// The `schema_version` this build writes.
 pub const SCHEMA_VERSION: u32 = 1;
@@ -25,6 +25,8 @@ pub enum Model {
     Gabor(GaborNoise),
     /// Phasor noise.
     Phasor(PhasorNoise),
+    /// Texture by example: structure, strata, turbulence, placement, colour.
+    Texture(TextureModel),
 }
 
 impl Model {
@@ -37,6 +39,7 @@ impl Model {
             Self::Lrp(m) => m.validate(),
             Self::Gabor(m) => m.validate(),
             Self::Phasor(m) => m.validate(),
+            Self::Texture(m) => m.validate(),
         }
     }
 }

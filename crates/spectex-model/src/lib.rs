@@ -31,6 +31,7 @@ mod phasor;
 pub mod phasor_kernels;
 pub mod random;
 mod target;
+pub mod texture;
 pub mod window;
 
 pub use error::ModelError;
@@ -44,3 +45,4 @@ pub use phasor::{
     RAMP_EXTENT,
 };
 pub use target::SpectralTarget;
+pub use texture::{ColourBasis, FixedCosine, Structure, TextureChannel, TextureModel, Turbulence};

@@ -67,50 +67,7 @@ impl LrpNoise {
             MAX_STRATA,
             "1 to 64 strata",
         )?;
-        for (s, stratum) in self.strata.iter().enumerate() {
-            check_range(
-                || format!("lrp.strata[{s}].window_width"),
-                f64::from(stratum.window_width),
-                0.5,
-                1e6,
-                "[0.5, 1e6] pixels",
-            )?;
-            check_range(
-                || format!("lrp.strata[{s}].amplitude"),
-                f64::from(stratum.amplitude),
-                0.0,
-                1e9,
-                "[0, 1e9]",
-            )?;
-            check_len(
-                || format!("lrp.strata[{s}].sub_strata"),
-                stratum.sub_strata.len(),
-                1,
-                MAX_COSINES,
-                "1 to 1024 sub-strata (cosines per cell)",
-            )?;
-            for (j, table) in stratum.sub_strata.iter().enumerate() {
-                check_len(
-                    || format!("lrp.strata[{s}].sub_strata[{j}]"),
-                    table.len(),
-                    1,
-                    MAX_TABLE,
-                    "1 to 1048576 frequencies",
-                )?;
-                for (k, f) in table.iter().enumerate() {
-                    for (axis, &v) in f.iter().enumerate() {
-                        check_range(
-                            || format!("lrp.strata[{s}].sub_strata[{j}][{k}][{axis}]"),
-                            f64::from(v),
-                            -0.5,
-                            0.5,
-                            "[-0.5, 0.5] cycles per pixel",
-                        )?;
-                    }
-                }
-            }
-        }
-        Ok(())
+        validate_strata("lrp.strata", &self.strata)
     }
 
     /// Total cosines per lattice point over all strata, `Σ_S J_S`.
@@ -118,4 +75,52 @@ impl LrpNoise {
     pub fn budget(&self) -> usize {
         self.strata.iter().map(Stratum::cosines).sum()
     }
+}
+
+/// Checks the numbers and list lengths of each stratum; field names start with `prefix`.
+pub(crate) fn validate_strata(prefix: &str, strata: &[Stratum]) -> Result<(), ModelError> {
+    for (s, stratum) in strata.iter().enumerate() {
+        check_range(
+            || format!("{prefix}[{s}].window_width"),
+            f64::from(stratum.window_width),
+            0.5,
+            1e6,
+            "[0.5, 1e6] pixels",
+        )?;
+        check_range(
+            || format!("{prefix}[{s}].amplitude"),
+            f64::from(stratum.amplitude),
+            0.0,
+            1e9,
+            "[0, 1e9]",
+        )?;
+        check_len(
+            || format!("{prefix}[{s}].sub_strata"),
+            stratum.sub_strata.len(),
+            1,
+            MAX_COSINES,
+            "1 to 1024 sub-strata (cosines per cell)",
+        )?;
+        for (j, table) in stratum.sub_strata.iter().enumerate() {
+            check_len(
+                || format!("{prefix}[{s}].sub_strata[{j}]"),
+                table.len(),
+                1,
+                MAX_TABLE,
+                "1 to 1048576 frequencies",
+            )?;
+            for (k, f) in table.iter().enumerate() {
+                for (axis, &v) in f.iter().enumerate() {
+                    check_range(
+                        || format!("{prefix}[{s}].sub_strata[{j}][{k}][{axis}]"),
+                        f64::from(v),
+                        -0.5,
+                        0.5,
+                        "[-0.5, 0.5] cycles per pixel",
+                    )?;
+                }
+            }
+        }
+    }
+    Ok(())
 }

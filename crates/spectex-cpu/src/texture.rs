@@ -1,0 +1,130 @@
+//! Texture by example on the CPU: each channel's random-phase strata through the LRP evaluator,
+//! the turbulence strata likewise (one single-stratum LRP noise per stratum and axis, so `|n_S|`
+//! can be taken), then per pixel the placement taps and the structure of
+//! [`spectex_model::texture`], and the colour basis. Output is interleaved: `channels` values per
+//! pixel.
+
+use spectex_model::grid::locate_cell;
+use spectex_model::{LrpNoise, TextureModel, Window};
+
+use crate::lrp::LrpEvaluator;
+
+/// A [`TextureModel`] prepared for evaluation.
+pub struct TextureEvaluator {
+    model: TextureModel,
+    /// The strata of each channel (with its mean), `None` where a channel has no strata.
+    strata: Vec<Option<LrpEvaluator>>,
+    /// Turbulence strata per axis.
+    turbulence: [Vec<LrpEvaluator>; 2],
+}
+
+impl TextureEvaluator {
+    /// Prepares a validated model.
+    #[must_use]
+    pub fn new(model: &TextureModel) -> Self {
+        let strata = model
+            .channels
+            .iter()
+            .map(|ch| {
+                (!ch.strata.is_empty()).then(|| {
+                    LrpEvaluator::new(&LrpNoise {
+                        seed: ch.seed,
+                        mean: ch.mean,
+                        strata: ch.strata.clone(),
+                    })
+                })
+            })
+            .collect();
+        let turbulence = std::array::from_fn(|axis| {
+            model.turbulence.as_ref().map_or_else(Vec::new, |t| {
+                t.strata
+                    .iter()
+                    .enumerate()
+                    .map(|(s, st)| {
+                        LrpEvaluator::new(&LrpNoise {
+                            seed: t.seed(axis, s),
+                            mean: 0.0,
+                            strata: vec![st.clone()],
+                        })
+                    })
+                    .collect()
+            })
+        });
+        Self {
+            model: model.clone(),
+            strata,
+            turbulence,
+        }
+    }
+
+    /// Values per pixel (1 or 3).
+    #[must_use]
+    pub fn output_channels(&self) -> usize {
+        self.model.output_channels()
+    }
+
+    /// Special-function calls per pixel (see [`TextureModel::special_calls_per_pixel`]).
+    #[must_use]
+    pub fn calls_per_pixel(&self) -> usize {
+        self.model.special_calls_per_pixel()
+    }
+
+    /// The model.
+    #[must_use]
+    pub fn model(&self) -> &TextureModel {
+        &self.model
+    }
+
+    /// Evaluates rows `first..` of `window` into `out` (`rows · width · channels` values,
+    /// interleaved).
+    pub fn eval_rows(&self, window: &Window, first: usize, out: &mut [f32]) {
+        let w = window.width;
+        let nc = self.output_channels();
+        let rows = out.len() / (w * nc);
+        let n = rows * w;
+        let mut strata: Vec<Vec<f32>> = Vec::with_capacity(nc);
+        for (c, e) in self.strata.iter().enumerate() {
+            let mut buf = vec![self.model.channels[c].mean; n];
+            if let Some(e) = e {
+                e.eval_rows(window, first, &mut buf);
+            }
+            strata.push(buf);
+        }
+        let mut disp = [vec![0.0f32; n], vec![0.0f32; n]];
+        if let Some(t) = &self.model.turbulence {
+            let mut tmp = vec![0.0f32; n];
+            for (axis, evals) in self.turbulence.iter().enumerate() {
+                let sum = &mut disp[axis];
+                for e in evals {
+                    e.eval_rows(window, first, &mut tmp);
+                    for (s, v) in sum.iter_mut().zip(&tmp) {
+                        *s += v.abs();
+                    }
+                }
+                for s in sum.iter_mut() {
+                    *s = t.displacement(*s);
+                }
+            }
+        }
+        let p = self.model.placement_cell();
+        let xs: Vec<(i32, f32)> = (0..w)
+            .map(|i| locate_cell(window.x(i), p).unwrap_or((0, 0.0)))
+            .collect();
+        let mut v = [0.0f32; 3];
+        for r in 0..rows {
+            let (cy, sy) = locate_cell(window.y(first + r), p).unwrap_or((0, 0.0));
+            for (i, &(cx, sx)) in xs.iter().enumerate() {
+                let k = r * w + i;
+                let taps = self
+                    .model
+                    .placement(cx, sx, cy, sy, [disp[0][k], disp[1][k]]);
+                for c in 0..nc {
+                    v[c] = strata[c][k] + self.model.structure_at(c, &taps);
+                }
+                for c in 0..nc {
+                    out[k * nc + c] = self.model.colour_component(c, &v[..nc]);
+                }
+            }
+        }
+    }
+}
