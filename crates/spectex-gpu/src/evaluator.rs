@@ -8,6 +8,7 @@ use spectex_model::Model;
 use crate::context::LostFlag;
 use crate::pack::{self, GABOR_AXIS_BYTES, GaborPack, LRP_AXIS_BYTES, LrpPack};
 use crate::phasor::{IMPULSE_BYTES, PhasorPack};
+use crate::texture::{PLACEMENT_AXIS_BYTES, TexturePack};
 use crate::{GpuContext, GpuError, GpuWindow, wgsl_source};
 
 /// Side of the compute workgroups of every model shader (`@workgroup_size(8, 8, 1)`).
@@ -46,6 +47,12 @@ enum Packed {
     Phasor {
         pack: Box<PhasorPack>,
         profile_data: wgpu::Buffer,
+    },
+    Texture {
+        pack: Box<TexturePack>,
+        structures: wgpu::Buffer,
+        blocks: wgpu::Buffer,
+        cosines: wgpu::Buffer,
     },
 }
 
@@ -129,6 +136,22 @@ impl GpuEvaluator {
                     },
                 )
             }
+            Model::Texture(m) => {
+                let pack = crate::texture::pack_texture(context, m, binding_limit(&limits))?;
+                let structures = storage_buffer(&device, "texture structures", &pack.structures);
+                let blocks = storage_buffer(&device, "texture blocks", &pack.blocks);
+                let cosines = storage_buffer(&device, "texture cosines", &pack.cosines);
+                (
+                    "texture",
+                    "texture_main",
+                    Packed::Texture {
+                        pack: Box::new(pack),
+                        structures,
+                        blocks,
+                        cosines,
+                    },
+                )
+            }
             #[allow(unreachable_patterns)] // reason: `Model` is non_exhaustive for other crates
             other => {
                 return Err(GpuError::Unsupported {
@@ -174,6 +197,16 @@ impl GpuEvaluator {
         })
     }
 
+    /// Values per pixel in [`render`](Self::render)'s output: 3 for a colour texture (RGB,
+    /// interleaved), 1 for every other model.
+    #[must_use]
+    pub fn output_channels(&self) -> usize {
+        match &self.model {
+            Packed::Texture { pack, .. } => pack.channels(),
+            _ => 1,
+        }
+    }
+
     /// The name of the adapter this evaluator runs on.
     #[must_use]
     pub fn adapter_name(&self) -> &str {
@@ -203,10 +236,13 @@ impl GpuEvaluator {
         let axis_bytes = match &self.model {
             Packed::Lrp { pack, .. } => LRP_AXIS_BYTES * pack.deltas.len() as u64,
             Packed::Gabor { .. } | Packed::Phasor { .. } => GABOR_AXIS_BYTES,
+            Packed::Texture { .. } => PLACEMENT_AXIS_BYTES,
         };
-        // Output, plus a phasor profile's per-pixel parameters (3 values).
+        // Output, plus a phasor profile's per-pixel parameters (3 values); a texture's largest
+        // per-pixel buffer holds its strata and the two displacements.
         let pixel_bytes = match &self.model {
             Packed::Phasor { .. } => 16,
+            Packed::Texture { pack, .. } => 4 * (pack.channels() as u64 + 2),
             _ => 4,
         };
         let by_axis = (limit / axis_bytes) as usize;
@@ -237,6 +273,14 @@ impl GpuEvaluator {
                 height = height.div_ceil(2);
             }
         }
+        if let Packed::Texture { pack, .. } = &self.model {
+            // Each LRP pass renders the same tile in one dispatch: it must fit them all.
+            for e in pack.evaluators() {
+                let [w, h] = e.tile_size(window)?;
+                width = width.min(w);
+                height = height.min(h);
+            }
+        }
         if width == 0 || height == 0 {
             return Err(GpuError::LimitsExceeded {
                 what: "bytes of one tile row of the output and axis tables",
@@ -247,8 +291,9 @@ impl GpuEvaluator {
         Ok([width, height])
     }
 
-    /// Renders `window` row-major (`width × height` values), tile by tile, reading each tile
-    /// back; the size is bounded only by host memory. Tiling does not change any value.
+    /// Renders `window` row-major (`width × height × output_channels` values, channels
+    /// interleaved per pixel as on the CPU), tile by tile, reading each tile back; the size is
+    /// bounded only by host memory. Tiling does not change any value.
     ///
     /// # Errors
     /// [`GpuError::Window`] for a window out of range; [`GpuError::Validation`],
@@ -256,7 +301,8 @@ impl GpuEvaluator {
     pub fn render(&self, window: &GpuWindow) -> Result<Vec<f32>, GpuError> {
         window.validate()?;
         let [tile_width, tile_height] = self.tile_size(window)?;
-        let mut out = vec![0.0f32; window.width * window.height];
+        let channels = self.output_channels();
+        let mut out = vec![0.0f32; window.width * window.height * channels];
         for ty in (0..window.height).step_by(tile_height) {
             for tx in (0..window.width).step_by(tile_width) {
                 let tile = window.tile(
@@ -266,21 +312,27 @@ impl GpuEvaluator {
                     tile_height.min(window.height - ty),
                 );
                 let values = self.render_tile(&tile)?;
-                for (row, line) in values.chunks_exact(tile.width).enumerate() {
-                    let start = (ty + row) * window.width + tx;
-                    out[start..start + tile.width].copy_from_slice(line);
+                for (row, line) in values.chunks_exact(tile.width * channels).enumerate() {
+                    let start = ((ty + row) * window.width + tx) * channels;
+                    out[start..start + line.len()].copy_from_slice(line);
                 }
             }
         }
         Ok(out)
     }
 
-    /// One dispatch over a window that fits the device's limits.
-    fn render_tile(&self, tile: &GpuWindow) -> Result<Vec<f32>, GpuError> {
+    /// One dispatch over a window that fits the device's limits (for a texture, after the LRP
+    /// dispatches of its strata and turbulence).
+    pub(crate) fn render_tile(&self, tile: &GpuWindow) -> Result<Vec<f32>, GpuError> {
         let device = &self.device;
+        // A texture's LRP passes run first, each in its own error scope.
+        let texture_tile = match &self.model {
+            Packed::Texture { pack, .. } => Some(pack.tile(tile)?),
+            _ => None,
+        };
         let scope = ErrorScopes::push(device);
         let (width, height) = (tile.width, tile.height);
-        let output_bytes = 4 * (width * height) as u64;
+        let output_bytes = 4 * (width * height * self.output_channels()) as u64;
         let output = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("spectex output"),
             size: output_bytes,
@@ -333,6 +385,13 @@ impl GpuEvaluator {
                 ));
                 (t.params, t.columns, t.rows)
             }
+            Packed::Texture { .. } => {
+                let t = texture_tile.ok_or_else(|| {
+                    GpuError::Validation("texture tile tables missing".to_owned())
+                })?;
+                extra.push(storage_buffer(device, "texture values", &t.values));
+                (t.params, t.columns, t.rows)
+            }
         };
         let uniform = init_buffer(device, "params", &uniform, wgpu::BufferUsages::UNIFORM);
         let columns = storage_buffer(device, "columns", &columns);
@@ -349,6 +408,15 @@ impl GpuEvaluator {
         }
         if let Packed::Phasor { profile_data, .. } = &self.model {
             buffers.push(profile_data);
+        }
+        if let Packed::Texture {
+            structures,
+            blocks,
+            cosines,
+            ..
+        } = &self.model
+        {
+            buffers.extend([structures, blocks, cosines]);
         }
         buffers.extend(extra.iter());
         buffers.extend([&columns, &rows, &output]);
@@ -486,7 +554,7 @@ fn bind_group_layout(device: &wgpu::Device, model: &Packed) -> wgpu::BindGroupLa
     let read_only = match model {
         Packed::Lrp { .. } => 5,
         Packed::Gabor { .. } => 2,
-        Packed::Phasor { .. } => 6,
+        Packed::Phasor { .. } | Packed::Texture { .. } => 6,
     };
     let buffer = |binding: u32, ty: wgpu::BufferBindingType| wgpu::BindGroupLayoutEntry {
         binding,

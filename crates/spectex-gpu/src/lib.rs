@@ -57,6 +57,7 @@ mod evaluator;
 mod pack;
 mod phasor;
 pub mod shaders;
+mod texture;
 
 pub use context::{ADAPTER_NAME_ENV, GpuContext};
 pub use error::{GpuError, LAVAPIPE_HINT};

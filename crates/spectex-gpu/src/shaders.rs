@@ -47,6 +47,12 @@ pub const SHADERS: &[ShaderFile] = &[
         entry_points: &["phasor_main"],
     },
     ShaderFile {
+        name: "texture",
+        source: include_str!("../../../shaders/texture.wgsl"),
+        needs_common: true,
+        entry_points: &["texture_main"],
+    },
+    ShaderFile {
         name: "probe",
         source: include_str!("../../../shaders/probe.wgsl"),
         needs_common: true,

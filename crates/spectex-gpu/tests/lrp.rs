@@ -12,7 +12,7 @@
 
 mod common;
 
-use common::{cpu_cos_turns, cpu_kaiser_bessel_r2, first_bit_difference};
+use common::{first_bit_difference, lrp_f32};
 use spectex_gpu::{GpuEvaluator, GpuWindow};
 use spectex_model::random::{Prng, cell_hash};
 use spectex_model::window::kaiser_bessel;
@@ -109,45 +109,6 @@ fn tolerance(m: &LrpNoise) -> f64 {
         .sum()
 }
 
-/// The CPU's f32 evaluation of one pixel (crates/spectex-cpu/src/lrp.rs), transcribed: same
-/// offsets, same order of every operation. Lattice points outside the support add `+0` there and
-/// are skipped here.
-fn cpu_transcription(m: &LrpNoise, x: f64, y: f64) -> f32 {
-    let mut out = 0.0f32;
-    for (s, st) in m.strata.iter().enumerate() {
-        let delta = f64::from(st.window_width);
-        let inv_delta2 = (1.0 / (delta * delta)) as f32;
-        let (cx, cy) = ((x / delta).floor() as i64, (y / delta).floor() as i64);
-        let mut acc_out = 0.0f32;
-        for ly in cy - 2..=cy + 2 {
-            let dy = (y - ly as f64 * delta) as f32;
-            let dy2 = dy * dy;
-            if dy2 * inv_delta2 >= 2.25 {
-                continue;
-            }
-            for lx in cx - 2..=cx + 2 {
-                let dx = (x - lx as f64 * delta) as f32;
-                let r2 = (dx * dx + dy2) * inv_delta2;
-                if r2 >= 2.25 {
-                    continue;
-                }
-                let w = cpu_kaiser_bessel_r2(r2);
-                let mut prng = Prng::new(cell_hash(lx as i32, ly as i32, s as u32, m.seed));
-                let mut acc = 0.0f32;
-                for table in &st.sub_strata {
-                    let f = table[(prng.next_u32() % table.len() as u32) as usize];
-                    let phase = prng.next_f32();
-                    let c = f[1] * dy + phase;
-                    acc += cpu_cos_turns(f[0] * dx + c);
-                }
-                acc_out += w * acc;
-            }
-        }
-        out += st.amplitude * acc_out;
-    }
-    out + m.mean
-}
-
 /// Renders `window` and compares every pixel with the reference; returns the worst
 /// error / tolerance ratio and the number of pixels bit-identical to the CPU transcription.
 fn check(case: &str, gpu: &GpuEvaluator, m: &LrpNoise, window: &GpuWindow) -> (f64, usize) {
@@ -171,7 +132,7 @@ fn check(case: &str, gpu: &GpuEvaluator, m: &LrpNoise, window: &GpuWindow) -> (f
             );
             worst = worst.max(err / tol);
             worst_abs = worst_abs.max(err);
-            same += usize::from(g.to_bits() == cpu_transcription(m, x, y).to_bits());
+            same += usize::from(g.to_bits() == lrp_f32(m, x, y).to_bits());
         }
     }
     let n = window.width * window.height;

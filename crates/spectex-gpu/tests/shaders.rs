@@ -1,6 +1,7 @@
 //! Shader tidy checks that need no GPU: every registered module, as composed, parses and
 //! validates with naga; the registry and the files in `shaders/` match exactly; and the float
-//! constants of `common.wgsl` have the bits of the CPU's constants.
+//! constants of `common.wgsl` (and the Gabor and texture shaders) have the bits of the CPU's
+//! constants.
 
 #![allow(
     clippy::unwrap_used,
@@ -158,5 +159,11 @@ fn float_constants_have_the_cpu_bits() {
     assert_eq!(
         constant_values(&gabor, "NEG_LN_20"),
         [spectex_model::GABOR_TRUNCATION.ln() as f32]
+    );
+    // The texture's placement cross-fade half-width.
+    let texture = validate("texture");
+    assert_eq!(
+        constant_values(&texture, "PLACEMENT_BLEND"),
+        [spectex_model::texture::PLACEMENT_BLEND]
     );
 }

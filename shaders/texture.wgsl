@@ -1,0 +1,236 @@
+// texture.wgsl — texture by example (Gilet et al. 2014, §5–6): the per-pixel part of
+// crates/spectex-model/src/texture.rs (`TextureModel::placement`, `Structure::eval`,
+// `block_value`, `placement_shift`, `TextureModel::structure_at`, `colour_component`),
+// transcribed operation for operation. Composed after common.wgsl.
+//
+// What the host does (crates/spectex-gpu/src/texture.rs), so this shader needs no f64:
+// - each channel's random-phase strata (with its mean) and each turbulence stratum are rendered
+//   by lrp.wgsl for the same tile; the host sums |n_S| per axis in stratum order and applies
+//   `Turbulence::displacement` in f32, exactly the CPU's operations, and uploads the results as
+//   `values`: plane c < channels holds channel c's strata, planes `channels` and `channels + 1`
+//   the x and y displacements (0 without turbulence, as on the CPU);
+// - per column the placement cell and offset `(cx, sx) = locate_cell(x, T/2)` in f64, per row
+//   `(cy, sy)` likewise (the CPU's expression, so the same bits);
+// - per channel the structure's Δ_R = T/b, 1/Δ_R and 1/N as f32 (powers of two, exact).
+// Everything from there on is here: placement taps (cell shifts from the randomness contract,
+// cross-fade weights, 1/√Σω²), the structure n_R of each channel (2×2 blocks with cos² weights,
+// or the one block at q when b = 1) and the colour basis. Output is interleaved, `channels`
+// values per pixel, pixel-major over the tile.
+//
+// Bits: the taps' positions q are sums of exactly representable products (powers of two times
+// small integers), so they equal the CPU's bit for bit; the weights use cos_turns (bit-identical
+// on lavapipe) except 1/√Σω², whose sqrt and division WGSL bounds only to a few ulps; cosine
+// sums and the colour transform may be contracted into FMAs by the compiler. The cross-check's
+// `tolerance::texture` bounds these differences.
+
+/// Per-dispatch values.
+struct TextureParams {
+    /// Tile width and height in pixels.
+    width: u32,
+    height: u32,
+    /// 1 or 3.
+    channels: u32,
+    /// T, the structure period in pixels (a power of two).
+    period: u32,
+    /// Seed of the placement shifts.
+    seed: u32,
+    /// 1 when placement cells draw random shifts.
+    random_placement: u32,
+    /// 1 when a colour basis maps the channels to RGB.
+    colour: u32,
+    /// spectex_model::texture::PLACEMENT_LAYER (one definition, passed by the host).
+    placement_layer: u32,
+    /// The colour basis' mean (xyz).
+    colour_mean: vec4<f32>,
+    /// Row i maps the channels to component i (xyz).
+    basis: array<vec4<f32>, 3>,
+}
+
+/// One channel's structure, packed by the host.
+struct ChannelStructure {
+    /// b, blocks per period side.
+    blocks: u32,
+    /// Index in `blocks` of block 0 of this channel.
+    first_block: u32,
+    /// 0 when the channel has no structure (n_R = 0).
+    present: u32,
+    _pad0: u32,
+    /// Δ_R = T/b, 1/Δ_R and 1/N as the CPU rounds them (1/(2T) when b = 1).
+    delta: f32,
+    inv_delta: f32,
+    inv_n: f32,
+    _pad1: f32,
+}
+
+/// A column's (or row's) placement cell and offset in [0, 1) cells.
+struct PlacementAxis {
+    cell: i32,
+    offset: f32,
+}
+
+/// Half-width of the placement cross-fade, in cells (spectex_model::texture::PLACEMENT_BLEND).
+const PLACEMENT_BLEND: f32 = 0.125f;
+
+@group(0) @binding(0) var<uniform> params: TextureParams;
+@group(0) @binding(1) var<storage, read> structures: array<ChannelStructure>;
+/// (start in `cosines`, count) of every block, channels in order, blocks row-major.
+@group(0) @binding(2) var<storage, read> blocks: array<vec2<u32>>;
+/// (k_x, k_y, A, φ) of every fixed cosine; k as f32 (exact, |k| ≤ 4096).
+@group(0) @binding(3) var<storage, read> cosines: array<vec4<f32>>;
+/// (channels + 2) planes of width·height values: strata per channel, then displacement x, y.
+@group(0) @binding(4) var<storage, read> values: array<f32>;
+@group(0) @binding(5) var<storage, read> columns: array<PlacementAxis>;
+@group(0) @binding(6) var<storage, read> rows: array<PlacementAxis>;
+@group(0) @binding(7) var<storage, read_write> output: array<f32>;
+
+/// Σ_k A_k cos 2π(k·u·inv_n + φ_k) over one block's cosines, in order (`block_value`).
+fn block_value(span: vec2<u32>, inv_n: f32, ux: f32, uy: f32) -> f32 {
+    var sum = 0.0f;
+    for (var k = span.x; k < span.x + span.y; k++) {
+        let c = cosines[k];
+        let t = (c.x * ux + c.y * uy) * inv_n + c.w;
+        sum += c.z * cos_turns(t);
+    }
+    return sum;
+}
+
+/// n_R of one channel at q ∈ [0, T)² (`Structure::eval`).
+fn structure_eval(s: ChannelStructure, q: vec2<f32>) -> f32 {
+    let b = s.blocks;
+    if (b == 1u) {
+        return block_value(blocks[s.first_block], s.inv_n, q.x, q.y);
+    }
+    let gx = q.x * s.inv_delta;
+    let gy = q.y * s.inv_delta;
+    let fx = floor(gx);
+    let fy = floor(gy);
+    let tx = gx - fx;
+    let ty = gy - fy;
+    let i0 = i32(fx);
+    let j0 = i32(fy);
+    let hx = 0.5f + 0.5f * cos_turns(0.5f * tx);
+    let hy = 0.5f + 0.5f * cos_turns(0.5f * ty);
+    // rem_euclid by a power of two is the two's-complement low bits.
+    let mask = b - 1u;
+    var sum = 0.0f;
+    for (var dj = 0; dj < 2; dj++) {
+        let wy = select(1.0f - hy, hy, dj == 0);
+        let uy = (ty - f32(dj)) * s.delta;
+        let row = bitcast<u32>(j0 + dj) & mask;
+        for (var di = 0; di < 2; di++) {
+            let wx = select(1.0f - hx, hx, di == 0);
+            let ux = (tx - f32(di)) * s.delta;
+            let col = bitcast<u32>(i0 + di) & mask;
+            let span = blocks[s.first_block + row * b + col];
+            sum += wx * wy * block_value(span, s.inv_n, ux, uy);
+        }
+    }
+    return sum;
+}
+
+/// `sin²(πa/2)`, the cross-fade weight of the cell being entered.
+fn fade(a: f32) -> f32 {
+    return 0.5f - 0.5f * cos_turns(0.5f * a);
+}
+
+/// The cells along one axis and their weights (`axis_taps` with blending on).
+struct AxisTaps {
+    cell: array<i32, 2>,
+    weight: array<f32, 2>,
+    count: u32,
+}
+
+fn axis_taps(c: i32, s: f32) -> AxisTaps {
+    // The CPU divides by 2·PLACEMENT_BLEND = 0.25, which is exactly a product by 4.
+    if (s < PLACEMENT_BLEND) {
+        let g = fade((s + PLACEMENT_BLEND) * 4.0f);
+        let before = bitcast<i32>(bitcast<u32>(c) - 1u);
+        return AxisTaps(array<i32, 2>(c, before), array<f32, 2>(g, 1.0f - g), 2u);
+    }
+    if (s >= 1.0f - PLACEMENT_BLEND) {
+        let g = fade((s - (1.0f - PLACEMENT_BLEND)) * 4.0f);
+        let after = bitcast<i32>(bitcast<u32>(c) + 1u);
+        return AxisTaps(array<i32, 2>(c, after), array<f32, 2>(1.0f - g, g), 2u);
+    }
+    return AxisTaps(array<i32, 2>(c, c), array<f32, 2>(1.0f, 0.0f), 1u);
+}
+
+/// Reduces q modulo t (a power of two; inv_t = 1/t exactly), as the CPU's `wrap`.
+fn wrap(q: f32, t: f32, inv_t: f32) -> f32 {
+    return q - t * floor(q * inv_t);
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn texture_main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if (gid.x >= params.width || gid.y >= params.height) {
+        return;
+    }
+    let n = params.width * params.height;
+    let pixel = gid.y * params.width + gid.x;
+    let nc = params.channels;
+    let column = columns[gid.x];
+    let row = rows[gid.y];
+    let d = vec2<f32>(values[nc * n + pixel], values[(nc + 1u) * n + pixel]);
+
+    // Placement taps (`TextureModel::placement`).
+    let t = f32(params.period);
+    // 1/T exactly (T is a power of two; WGSL's division is only accurate to 2.5 ulps).
+    let inv_t = ldexp(1.0f, -i32(countTrailingZeros(params.period)));
+    let p = 0.5f * t;
+    let bx = (f32(column.cell & 1) + column.offset) * p;
+    let by = (f32(row.cell & 1) + row.offset) * p;
+    var weights = array<f32, 4>(0.0f, 0.0f, 0.0f, 0.0f);
+    var qs = array<vec2<f32>, 4>();
+    var count = 0u;
+    if (params.random_placement == 0u) {
+        count = 1u;
+        weights[0] = 1.0f;
+        qs[0] = vec2<f32>(wrap(bx + d.x, t, inv_t), wrap(by + d.y, t, inv_t));
+    } else {
+        var xs = axis_taps(column.cell, column.offset);
+        var ys = axis_taps(row.cell, row.offset);
+        var norm = 0.0f;
+        for (var ky = 0u; ky < ys.count; ky++) {
+            for (var kx = 0u; kx < xs.count; kx++) {
+                var prng = Prng(cell_hash(xs.cell[kx], ys.cell[ky], params.placement_layer,
+                    params.seed));
+                let sx = prng_next_f32(&prng) * t;
+                let sy = prng_next_f32(&prng) * t;
+                let w = xs.weight[kx] * ys.weight[ky];
+                norm += w * w;
+                weights[count] = w;
+                qs[count] = vec2<f32>(wrap(bx + sx + d.x, t, inv_t), wrap(by + sy + d.y, t, inv_t));
+                count += 1u;
+            }
+        }
+        if (count > 1u) {
+            let inv = 1.0f / sqrt(norm);
+            for (var k = 0u; k < count; k++) {
+                weights[k] *= inv;
+            }
+        }
+    }
+
+    // v_c = strata_c + n_R,c at the taps (`structure_at`).
+    var v = array<f32, 3>(0.0f, 0.0f, 0.0f);
+    for (var c = 0u; c < nc; c++) {
+        let s = structures[c];
+        var structure = 0.0f;
+        if (s.present != 0u) {
+            for (var k = 0u; k < count; k++) {
+                structure += weights[k] * structure_eval(s, qs[k]);
+            }
+        }
+        v[c] = values[c * n + pixel] + structure;
+    }
+
+    // Colour (`colour_component`).
+    for (var i = 0u; i < nc; i++) {
+        var component = v[i];
+        if (params.colour != 0u) {
+            let r = params.basis[i];
+            component = params.colour_mean[i] + r.x * v[0] + r.y * v[1] + r.z * v[2];
+        }
+        output[pixel * nc + i] = component;
+    }
+}
