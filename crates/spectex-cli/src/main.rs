@@ -44,7 +44,7 @@ enum Command {
     Analyze(AnalyzeArgs),
     /// Fit a Local Random-Phase noise model to an example image (Gilet et al. 2014, §4).
     #[command(
-        after_help = "Examples:\n  spectex fit -o model.json\n  spectex fit gravel.png -o gravel.json --budget 100 --strata 4 --seed 3\n\nThe example's Welch power spectrum is split into L strata of equal energy, each sampled by\nJ/L cosines per lattice point (k-means sub-strata of the eroded stratum). Colour examples are\nfitted on their luminance."
+        after_help = "Examples:\n  spectex fit -o model.json\n  spectex fit gravel.png -o gravel.json --budget 100 --strata 4 --seed 3\n\nThe example's Welch power spectrum is split into L strata of equal energy, each sampled by\nJ/L cosines per lattice point (k-means sub-strata of the eroded stratum).\n\nTexture by example (Gilet et al. 2014, §5): --structure r keeps the phases of the\nhighest-energy frequencies holding the share r of the energy (r = 0.1 to 0.35 keeps structure;\n1 reproduces the exemplar periodically), --turbulence σ distorts that structure by σ pixels,\n--random-placement shifts half-period blocks at random. Colour examples are decorrelated by\nPCA and fitted channel by channel."
     )]
     Fit(procedural::FitCommand),
     /// Render a model file at any window: size, offset (anywhere, even 1e7,1e7) and scale.
@@ -52,9 +52,9 @@ enum Command {
         after_help = "Examples:\n  spectex render model.json -o out.png --size 1024x1024\n  spectex render model.json -o far.exr --offset 1e7,1e7 --scale 0.5"
     )]
     Render(procedural::RenderCommand),
-    /// Fit an LRP model to an example and render it (fit + render in one step).
+    /// Fit an LRP noise or texture model to an example and render it (fit + render in one step).
     #[command(
-        after_help = "Examples:\n  spectex synth -o out.png\n  spectex synth gravel.png -o big.png --budget 50 --size 2048x2048"
+        after_help = "Examples:\n  spectex synth -o out.png\n  spectex synth gravel.png -o big.png --budget 50 --size 2048x2048\n  spectex synth brick.png -o brick.png --structure 0.2 --turbulence 4 --random-placement\n\nColour examples give colour textures (PCA channels); --structure, --turbulence and\n--random-placement make a texture model as in `spectex fit`."
     )]
     Synth(procedural::SynthCommand),
     /// Noise from a continuous spectrum (ring, lobe, band) as LRP noise, or Gabor noise.

@@ -9,7 +9,7 @@ use clap::{Args, Subcommand};
 use ndarray::{Array2, Array3, Axis};
 use spectex_cpu::{Evaluator, Window};
 use spectex_model::{GaborNoise, Model, Orientation, SpectralTarget};
-use spectex_sampling::FitOptions;
+use spectex_sampling::{FitOptions, TextureOptions};
 
 use crate::io::{self, BitDepth};
 
@@ -25,6 +25,20 @@ pub struct FitArgs {
     /// Seed of the fit (k-means seeding) and of the model's random phases.
     #[arg(long, default_value_t = 0)]
     seed: u32,
+    /// Texture by example: share r of the exemplar's energy whose phases are kept (0 to 1;
+    /// the paper's §5; 0.1–0.35 keeps structure, 1 reproduces the exemplar periodically).
+    #[arg(long, value_name = "r", default_value_t = 0.0)]
+    structure: f64,
+    /// Distort the structure by turbulence of this scale, pixels (0 to 1e4; about the size of
+    /// the texture's features).
+    #[arg(long, value_name = "σ", default_value_t = 0.0)]
+    turbulence: f64,
+    /// Shift blocks of half the structure's period at random, to break its periodicity.
+    #[arg(long)]
+    random_placement: bool,
+    /// Take the structure from the raw exemplar block instead of its periodic component.
+    #[arg(long)]
+    raw_structure: bool,
 }
 
 impl FitArgs {
@@ -35,6 +49,22 @@ impl FitArgs {
             seed: self.seed,
             ..FitOptions::default()
         }
+    }
+
+    pub(crate) fn texture_options(&self) -> TextureOptions {
+        TextureOptions {
+            fit: self.options(),
+            structure: self.structure,
+            turbulence: self.turbulence,
+            random_placement: self.random_placement,
+            periodic: !self.raw_structure,
+            ..TextureOptions::default()
+        }
+    }
+
+    /// Whether the texture model (rather than plain LRP noise) is asked for.
+    fn wants_texture(&self) -> bool {
+        self.structure > 0.0 || self.turbulence > 0.0 || self.random_placement
     }
 }
 
@@ -225,16 +255,43 @@ pub(crate) fn luminance(img: &Array3<f64>, name: &str) -> Array2<f64> {
 }
 
 fn fit_example(input: Option<&Path>, fit: &FitArgs) -> Result<(Model, (usize, usize))> {
-    // Options first: a bad --budget is reported before any input is read.
-    fit.options()
+    // Options first: a bad --budget or --structure is reported before any input is read.
+    fit.texture_options()
         .validate()
-        .map_err(|e| anyhow!("{e}; check --budget and --strata"))?;
+        .map_err(|e| anyhow!("{e}; check --budget, --strata, --structure and --turbulence"))?;
     let (loaded, name) = crate::load_input(input)?;
-    let grey = luminance(&loaded.pixels, &name);
-    let (h, w) = grey.dim();
-    let model = spectex_sampling::fit_image(grey.view(), &fit.options())
+    let (channels, h, w) = loaded.pixels.dim();
+    if channels == 1 && !fit.wants_texture() {
+        let grey = loaded.pixels.index_axis(Axis(0), 0);
+        let model = spectex_sampling::fit_image(grey, &fit.options())
+            .with_context(|| format!("cannot fit {name}"))?;
+        return Ok((Model::Lrp(model), (w, h)));
+    }
+    // Grey + alpha or RGBA: the alpha channel is not texture.
+    let keep = match channels {
+        2 => 1,
+        4 => 3,
+        n => n,
+    };
+    let rgb = loaded.pixels.slice(ndarray::s![0..keep, .., ..]);
+    let (model, report) = spectex_sampling::fit_texture(rgb, &fit.texture_options())
         .with_context(|| format!("cannot fit {name}"))?;
-    Ok((Model::Lrp(model), (w, h)))
+    if fit.structure > 0.0 {
+        for (c, ch) in report.channels.iter().enumerate() {
+            eprintln!(
+                "note: channel {c}: R holds {:.1}% of the energy in {} frequencies; n_R uses J_R = {} \
+                 cosines in {}×{} blocks (mean deviation {:.5}), strata {} cosines",
+                100.0 * ch.region_energy,
+                ch.region_bins,
+                ch.structure_cosines,
+                ch.blocks,
+                ch.blocks,
+                ch.structure_error,
+                ch.strata_cosines
+            );
+        }
+    }
+    Ok((Model::Texture(model), (w, h)))
 }
 
 pub(crate) fn write_model(path: &Path, model: &Model) -> Result<()> {
@@ -291,7 +348,7 @@ pub(crate) fn render_to_file(
         }
         None => {
             let start = std::time::Instant::now();
-            let mut pixels = vec![0.0f32; width * height];
+            let mut pixels = vec![0.0f32; width * height * eval.output_channels()];
             let bar = progress_bar(height as u64, "rendering");
             eval.render_into(&window, &mut pixels, &|_| bar.inc(1))
                 .map_err(|e| anyhow!("{e}"))?;
@@ -299,8 +356,9 @@ pub(crate) fn render_to_file(
             (pixels, "CPU".to_owned(), start.elapsed().as_secs_f64())
         }
     };
-    let image = Array3::from_shape_fn((1, height, width), |(_, y, x)| {
-        f64::from(pixels[y * width + x])
+    let channels = pixels.len() / (width * height).max(1);
+    let image = Array3::from_shape_fn((channels, height, width), |(c, y, x)| {
+        f64::from(pixels[(y * width + x) * channels + c])
     });
     let report = io::save(&args.output, &image, format)?;
     #[allow(clippy::print_stdout)] // reason: the command's result summary
@@ -368,6 +426,42 @@ pub fn fit(cmd: &FitCommand) -> Result<()> {
                     st.window_width,
                     st.amplitude,
                     st.sub_strata.iter().map(Vec::len).sum::<usize>()
+                );
+            }
+        }
+    }
+    if let Model::Texture(m) = &model {
+        #[allow(clippy::print_stdout)] // reason: the command's result summary
+        {
+            println!(
+                "wrote {} (texture, {} channel(s), period {} px, {} special-function calls per pixel{}{}):",
+                cmd.output.display(),
+                m.channels.len(),
+                m.period,
+                m.special_calls_per_pixel(),
+                if m.turbulence.is_some() {
+                    ", turbulence"
+                } else {
+                    ""
+                },
+                if m.random_placement {
+                    ", random placement"
+                } else {
+                    ""
+                },
+            );
+            for (c, ch) in m.channels.iter().enumerate() {
+                let (blocks, fixed) = ch
+                    .structure
+                    .as_ref()
+                    .map_or((0, 0), |s| (s.blocks, s.total_cosines()));
+                println!(
+                    "  channel {c}: {} strata ({} cosines), structure {blocks}×{blocks} blocks, {fixed} fixed cosines stored",
+                    ch.strata.len(),
+                    ch.strata
+                        .iter()
+                        .map(spectex_model::Stratum::cosines)
+                        .sum::<usize>()
                 );
             }
         }

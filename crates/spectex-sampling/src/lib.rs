@@ -51,9 +51,11 @@ pub mod grid;
 pub mod kmeans;
 pub mod shrink;
 pub mod stratify;
+pub mod texture;
 
 pub use error::SamplingError;
 pub use fit::{
     DEFAULT_TARGET_GRID, FitOptions, MAX_IMAGE_SIDE, MAX_TARGET_GRID, MIN_TARGET_GRID,
     Stratification, StratumPlan, exemplar_psd, fit_image, fit_psd, fit_target, stratify,
 };
+pub use texture::{TextureOptions, TextureReport, fit_texture};
