@@ -107,6 +107,9 @@ pub struct Comparison {
     pub sigma: f64,
     /// Pixels whose bits are identical.
     pub bit_identical: usize,
+    /// The output component compared, for models with several values per pixel (a colour
+    /// texture's R, G, B); `None` for single-valued models.
+    pub channel: Option<usize>,
 }
 
 /// Measures `cpu` against `gpu` (same window, row-major).
@@ -164,7 +167,18 @@ pub fn compare(width: usize, height: usize, cpu: Vec<f32>, gpu: Vec<f32>) -> Com
         spectral,
         sigma,
         bit_identical,
+        channel: None,
     }
+}
+
+/// Component `channel` of an interleaved render with `channels` values per pixel.
+fn plane(values: &[f32], channels: usize, channel: usize) -> Vec<f32> {
+    values
+        .iter()
+        .skip(channel)
+        .step_by(channels)
+        .copied()
+        .collect()
 }
 
 /// The verdict on one window.
@@ -210,9 +224,13 @@ impl Outcome {
             Verdict::ExpectedFail(why) => format!("expected failure ({why})"),
             Verdict::UnexpectedPass(why) => format!("FAIL: unexpected pass (declared: {why})"),
         };
+        let channel = c
+            .channel
+            .map(|k| format!("channel {k}: "))
+            .unwrap_or_default();
         format!(
-            "max {:.2e} / {:.2e}, mean {:.2e} / {:.2e}, p99.9 {:.2e}, spectral {:.2e} / {:.2e}, \
-             {}/{} bit-identical: {verdict}",
+            "{channel}max {:.2e} / {:.2e}, mean {:.2e} / {:.2e}, p99.9 {:.2e}, spectral {:.2e} / \
+             {:.2e}, {}/{} bit-identical: {verdict}",
             c.max_abs,
             self.tolerance.max_abs,
             c.mean_abs,
@@ -266,7 +284,10 @@ pub fn judge(
 }
 
 /// Renders `model` on both evaluators for each window and judges the differences; writes a
-/// failure report ([`write_failure_report`]) for every window that does not pass.
+/// failure report ([`write_failure_report`]) for every window that does not pass. A model with
+/// several values per pixel (a colour texture) is judged component by component, each against
+/// its own tolerance ([`crate::tolerance::texture`]): one outcome per window and component, in
+/// that order.
 ///
 /// # Errors
 /// An evaluator refusing the model or a window, a device failure, a model kind without a
@@ -280,9 +301,20 @@ pub fn check_model(
     if let Model::Phasor(m) = model {
         return crate::phasor::check_phasor(context, case, m, windows);
     }
-    let tolerance = tolerance(model).ok_or(CrosscheckError::Unsupported)?;
+    let tolerances = match model {
+        Model::Texture(m) => crate::tolerance::texture(m),
+        _ => vec![tolerance(model).ok_or(CrosscheckError::Unsupported)?],
+    };
     let cpu = Evaluator::new(model)?;
     let gpu = GpuEvaluator::new(context, model)?;
+    let channels = cpu.output_channels();
+    if gpu.output_channels() != channels || tolerances.len() != channels {
+        return Err(CrosscheckError::Channels {
+            cpu: channels,
+            gpu: gpu.output_channels(),
+            tolerances: tolerances.len(),
+        });
+    }
     let adapter = context.adapter_name();
     let mut outcomes = Vec::new();
     for &w in windows {
@@ -290,15 +322,28 @@ pub fn check_model(
         let window = Window::new(w.width, w.height).at(w.offset, w.scale);
         let a = cpu.render(&window)?;
         let b = gpu.render(&window)?;
-        let outcome = judge(
-            compare(w.width, w.height, a, b),
-            tolerance,
-            expected_failure(case, &adapter),
-        );
-        if !matches!(outcome.verdict, Verdict::Pass) {
-            write_failure_report(&format!("{case}-{}", w.name), &adapter, &w, &outcome)?;
+        for (c, &tolerance) in tolerances.iter().enumerate() {
+            let (comparison, name) = if channels == 1 {
+                (
+                    compare(w.width, w.height, a.clone(), b.clone()),
+                    case.to_owned(),
+                )
+            } else {
+                let mut comparison = compare(
+                    w.width,
+                    w.height,
+                    plane(&a, channels, c),
+                    plane(&b, channels, c),
+                );
+                comparison.channel = Some(c);
+                (comparison, format!("{case}-c{c}"))
+            };
+            let outcome = judge(comparison, tolerance, expected_failure(case, &adapter));
+            if !matches!(outcome.verdict, Verdict::Pass) {
+                write_failure_report(&format!("{name}-{}", w.name), &adapter, &w, &outcome)?;
+            }
+            outcomes.push((w, outcome));
         }
-        outcomes.push((w, outcome));
     }
     Ok(outcomes)
 }
@@ -306,6 +351,13 @@ pub fn check_model(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn planes_take_one_component_of_interleaved_values() {
+        let v = [0.0, 1.0, 2.0, 10.0, 11.0, 12.0];
+        assert_eq!(plane(&v, 3, 1), [1.0, 11.0]);
+        assert_eq!(plane(&v, 1, 0), v);
+    }
 
     #[test]
     fn identical_renders_measure_zero() {

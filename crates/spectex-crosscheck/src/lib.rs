@@ -45,6 +45,19 @@ pub enum CrosscheckError {
     /// The model has no derivable tolerance (a kind this version of the crate does not know).
     #[error("no cross-check tolerance is defined for this kind of model; add one in tolerance.rs")]
     Unsupported,
+    /// The evaluators disagree on the values per pixel, or the tolerance does not match them.
+    #[error(
+        "values per pixel differ: CPU {cpu}, GPU {gpu}, tolerances {tolerances}; both evaluators \
+         must interleave the same components"
+    )]
+    Channels {
+        /// The CPU evaluator's `output_channels`.
+        cpu: usize,
+        /// The GPU evaluator's `output_channels`.
+        gpu: usize,
+        /// Tolerances derived for the model.
+        tolerances: usize,
+    },
     /// Writing a failure report failed.
     #[error("writing the report {path}: {source}")]
     Report {

@@ -8,7 +8,7 @@
 //! its arithmetic rounding may differ. Each constant below bounds one such source for one term;
 //! a pixel's bound is the sum over its terms.
 
-use spectex_model::{GaborNoise, LrpNoise, Model};
+use spectex_model::{FixedCosine, GaborNoise, LrpNoise, Model, Stratum, TextureModel};
 
 /// Single-precision unit roundoff, `2⁻²⁴`.
 pub const F32_UNIT_ROUNDOFF: f64 = 5.960_464_477_539_063e-8;
@@ -49,6 +49,18 @@ pub const SUMMATION_ROUNDINGS: f64 = 64.0;
 /// magnitude is far below the worst-case sum of `n` bounds.
 pub const MEAN_FRACTION: f64 = 0.25;
 
+/// Absolute error of one texture weight on either side: a placement tap's `ω` or a structure
+/// block's `h(t_x)·h(t_y)`, all in `[0, 1]`. Each axis factor is `½ ± ½·cos_turns(·)`
+/// ([`COS_ABS_ERROR`] halved) and a product; the placement weights are then scaled by
+/// `1/√Σω²`, where `Σω²` is 4 fused-or-not products and sums of values ≤ 1 (≤ 8 roundings) and
+/// WGSL bounds `sqrt` to 3 ulps and the division to 2.5 ulps (the CPU rounds each once): about
+/// `2·0.5e-6 + 16·2⁻²⁴ ≈ 2e-6` per side, so 4e-6 for the difference of the two sides.
+pub const TEXTURE_WEIGHT_ABS_ERROR: f64 = 4e-6;
+
+/// `Σ|ω|` over a pixel's placement taps: at most 4 taps with `Σω² = 1`, so `Σ|ω| ≤ √4 = 2`
+/// (Cauchy–Schwarz); 1 without random placement.
+pub const PLACEMENT_TAP_SUM: f64 = 2.0;
+
 /// Tolerances of one model's comparison.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Tolerance {
@@ -87,6 +99,9 @@ pub fn tolerance(model: &Model) -> Option<Tolerance> {
     match model {
         Model::Lrp(m) => Some(lrp(m)),
         Model::Gabor(m) => Some(gabor(m)),
+        Model::Texture(m) => texture(m)
+            .into_iter()
+            .max_by(|a, b| a.max_abs.total_cmp(&b.max_abs)),
         #[allow(unreachable_patterns)] // reason: `Model` is non_exhaustive for other crates
         _ => None,
     }
@@ -117,6 +132,134 @@ pub fn lrp(m: &LrpNoise) -> Tolerance {
     }
     magnitude += f64::from(m.mean).abs();
     Tolerance::from_max(bound + SUMMATION_ROUNDINGS * F32_UNIT_ROUNDOFF * magnitude)
+}
+
+/// Texture by example (Gilet et al. 2014, §5–6; `spectex_model::texture`): one tolerance per
+/// output component (1 grey, 3 RGB). Per channel:
+/// - the random-phase strata, an LRP noise with the channel's mean: [`lrp`] (0 without strata:
+///   both sides output the mean exactly);
+/// - the structure: per block `B`, each cosine `A cos 2π((k·u)/N + φ)` with `|u| ≤ N/2`, so the
+///   phase is at most `|k|₁/2 + 1` turns, rounded [`PHASE_ROUNDINGS`] times, plus
+///   [`COS_ABS_ERROR`], on each side, and the block sum's [`SUMMATION_ROUNDINGS`]: `e_B`. The
+///   4 blocks' weights sum to 1, each off by [`TEXTURE_WEIGHT_ABS_ERROR`] times `S = max Σ_B A`;
+///   the taps weigh the structure by [`PLACEMENT_TAP_SUM`] at most, with 4 more weights:
+///   `2·max e_B + 12·W·S`;
+/// - the turbulence: its strata are LRP noises (the sum of `|n_S|` is 1-Lipschitz in each), so
+///   the displacement differs by at most `δd = σ·Σ_S lrp(S)` plus 2 roundings of `|d|`; the
+///   structure's slope along an axis is at most `2π·max_B Σ A|k|_∞/N` (the cosines) plus
+///   `π·S/Δ_R` (the blend weights, `|h'| ≤ π/(2Δ_R)`, two per axis; none when `b = 1`), so the
+///   taps add `Σ|ω|·2·slope·δd` over the two axes;
+/// - the channel's values (mean, strata, `2S`) summed with [`SUMMATION_ROUNDINGS`].
+///
+/// The colour basis adds `Σ_c |B_ic|·E_c` and the summation of its row. On lavapipe the strata
+/// and the displacement are bit-identical to the CPU (the LRP path), so what is measured is the
+/// structure's rounding alone; the turbulence term keeps the bound valid on drivers where the
+/// LRP renders differ in the last bits.
+#[must_use]
+pub fn texture(m: &TextureModel) -> Vec<Tolerance> {
+    let u = F32_UNIT_ROUNDOFF;
+    let tau = std::f64::consts::TAU;
+    let strata_magnitude = |strata: &[Stratum]| -> f64 {
+        strata
+            .iter()
+            .map(|s| f64::from(s.amplitude).abs() * 9.0 * s.sub_strata.len() as f64)
+            .sum()
+    };
+    let displacement = m.turbulence.as_ref().map_or(0.0, |t| {
+        let sigma = f64::from(t.sigma).abs();
+        let strata: f64 = t
+            .strata
+            .iter()
+            .enumerate()
+            .map(|(s, st)| {
+                lrp(&LrpNoise {
+                    seed: t.seed(0, s),
+                    mean: 0.0,
+                    strata: vec![st.clone()],
+                })
+                .max_abs
+            })
+            .sum();
+        let largest = sigma * (strata_magnitude(&t.strata) + f64::from(t.centre).abs());
+        sigma * strata + 2.0 * u * largest
+    });
+    // (bound, magnitude) per channel.
+    let channels: Vec<(f64, f64)> = m
+        .channels
+        .iter()
+        .map(|ch| {
+            let mut magnitude = f64::from(ch.mean).abs() + strata_magnitude(&ch.strata);
+            let mut bound = if ch.strata.is_empty() {
+                0.0
+            } else {
+                lrp(&LrpNoise {
+                    seed: ch.seed,
+                    mean: ch.mean,
+                    strata: ch.strata.clone(),
+                })
+                .max_abs
+            };
+            if let Some(s) = &ch.structure {
+                let n = f64::from(2 * m.period / s.blocks);
+                let delta = f64::from(m.period / s.blocks);
+                let k1 = |c: &FixedCosine| {
+                    f64::from(c.frequency[0].unsigned_abs() + c.frequency[1].unsigned_abs())
+                };
+                let kmax = |c: &FixedCosine| {
+                    f64::from(
+                        c.frequency[0]
+                            .unsigned_abs()
+                            .max(c.frequency[1].unsigned_abs()),
+                    )
+                };
+                let (mut e_max, mut s_max, mut g_max) = (0.0f64, 0.0f64, 0.0f64);
+                for block in &s.cosines {
+                    let a: f64 = block.iter().map(|c| f64::from(c.amplitude)).sum();
+                    let e: f64 = block
+                        .iter()
+                        .map(|c| {
+                            let turns = k1(c) / 2.0 + 1.0;
+                            let phase = tau * PHASE_ROUNDINGS * u * turns;
+                            f64::from(c.amplitude) * 2.0 * (phase + COS_ABS_ERROR)
+                        })
+                        .sum::<f64>()
+                        + SUMMATION_ROUNDINGS * u * a;
+                    let g: f64 = block.iter().map(|c| f64::from(c.amplitude) * kmax(c)).sum();
+                    e_max = e_max.max(e);
+                    s_max = s_max.max(a);
+                    g_max = g_max.max(g);
+                }
+                let weights_slope = if s.blocks == 1 {
+                    0.0
+                } else {
+                    std::f64::consts::PI * s_max / delta
+                };
+                let slope = tau * g_max / n + weights_slope;
+                bound += PLACEMENT_TAP_SUM * e_max
+                    + 12.0 * TEXTURE_WEIGHT_ABS_ERROR * s_max
+                    + PLACEMENT_TAP_SUM * 2.0 * slope * displacement;
+                magnitude += PLACEMENT_TAP_SUM * s_max;
+            }
+            (bound + SUMMATION_ROUNDINGS * u * magnitude, magnitude)
+        })
+        .collect();
+    match &m.colour {
+        None => channels
+            .iter()
+            .map(|&(bound, _)| Tolerance::from_max(bound))
+            .collect(),
+        Some(c) => (0..3)
+            .map(|i| {
+                let (mut bound, mut magnitude) = (0.0, f64::from(c.mean[i]).abs());
+                for (k, &(e, v)) in channels.iter().enumerate() {
+                    let b = f64::from(c.basis[i][k]).abs();
+                    bound += b * e;
+                    magnitude += b * v;
+                }
+                Tolerance::from_max(bound + SUMMATION_ROUNDINGS * u * magnitude)
+            })
+            .collect(),
+    }
 }
 
 /// Gabor noise (Lagae et al. 2009): impulses of the 3×3 cells around a pixel, each `K·w`
