@@ -267,15 +267,10 @@ fn fit_example(input: Option<&Path>, fit: &FitArgs) -> Result<(Model, (usize, us
             .with_context(|| format!("cannot fit {name}"))?;
         return Ok((Model::Lrp(model), (w, h)));
     }
-    // Grey + alpha or RGBA: the alpha channel is not texture.
-    let keep = match channels {
-        2 => 1,
-        4 => 3,
-        n => n,
-    };
-    let rgb = loaded.pixels.slice(ndarray::s![0..keep, .., ..]);
-    let (model, report) = spectex_sampling::fit_texture(rgb, &fit.texture_options())
-        .with_context(|| format!("cannot fit {name}"))?;
+    // `io` has dropped any alpha channel: 1 or 3 channels remain.
+    let (model, report) =
+        spectex_sampling::fit_texture(loaded.pixels.view(), &fit.texture_options())
+            .with_context(|| format!("cannot fit {name}"))?;
     if fit.structure > 0.0 {
         for (c, ch) in report.channels.iter().enumerate() {
             eprintln!(

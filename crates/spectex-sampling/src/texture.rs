@@ -583,6 +583,80 @@ fn jacobi3(mut a: [[f64; 3]; 3]) -> ([f64; 3], [[f64; 3]; 3]) {
     (values, vectors)
 }
 
+/// Side of the colour grid [`false_colour_fraction`] buckets the exemplar's colours in.
+const COLOUR_GRID: usize = 32;
+
+/// The share of `output`'s pixels (clamped to `[0, 1]`, as displayed) whose nearest colour of
+/// `exemplar` (8-bit quantised) is farther than `distance` (Euclidean, RGB in `[0, 1]`): colours
+/// the exemplar does not have. Both images are `(3, rows, columns)`; exact nearest-neighbour
+/// distances, searched in a bucket grid.
+///
+/// # Panics
+/// Never for 3-channel inputs; other channel counts give 0.
+#[must_use]
+pub fn false_colour_fraction(
+    exemplar: ArrayView3<'_, f64>,
+    output: ArrayView3<'_, f64>,
+    distance: f64,
+) -> f64 {
+    if exemplar.dim().0 != 3 || output.dim().0 != 3 || output.len() == 0 {
+        return 0.0;
+    }
+    let g = COLOUR_GRID;
+    let cell = |v: f64| ((v.clamp(0.0, 1.0) * g as f64) as usize).min(g - 1);
+    let mut seen = std::collections::HashSet::new();
+    let mut buckets: Vec<Vec<[f64; 3]>> = vec![Vec::new(); g * g * g];
+    let (_, h, w) = exemplar.dim();
+    for y in 0..h {
+        for x in 0..w {
+            let q = [0, 1, 2].map(|c| (exemplar[[c, y, x]].clamp(0.0, 1.0) * 255.0).round() as u8);
+            if seen.insert(q) {
+                let v = q.map(|c| f64::from(c) / 255.0);
+                buckets[(cell(v[0]) * g + cell(v[1])) * g + cell(v[2])].push(v);
+            }
+        }
+    }
+    let reach = (distance * g as f64).ceil() as isize + 1;
+    let d2 = distance * distance;
+    let (_, oh, ow) = output.dim();
+    let mut far = 0usize;
+    for y in 0..oh {
+        for x in 0..ow {
+            let v = [0, 1, 2].map(|c| output[[c, y, x]].clamp(0.0, 1.0));
+            let centre = v.map(cell);
+            let mut near = false;
+            'search: for dr in -reach..=reach {
+                for dg in -reach..=reach {
+                    for db in -reach..=reach {
+                        let idx = [dr, dg, db]
+                            .iter()
+                            .zip(centre)
+                            .map(|(d, c)| c as isize + d)
+                            .collect::<Vec<_>>();
+                        if idx.iter().any(|&i| i < 0 || i >= g as isize) {
+                            continue;
+                        }
+                        let b = (idx[0] as usize * g + idx[1] as usize) * g + idx[2] as usize;
+                        for e in &buckets[b] {
+                            let dd = (e[0] - v[0]).powi(2)
+                                + (e[1] - v[1]).powi(2)
+                                + (e[2] - v[2]).powi(2);
+                            if dd <= d2 {
+                                near = true;
+                                break 'search;
+                            }
+                        }
+                    }
+                }
+            }
+            if !near {
+                far += 1;
+            }
+        }
+    }
+    far as f64 / (oh * ow) as f64
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -598,6 +672,24 @@ mod tests {
                 + 0.1 * (0.05 * xf - 0.21 * yf + 1.0).cos()
                 + 0.08 * (p.next_f64() - 0.5)
         })
+    }
+
+    #[test]
+    fn false_colours_are_counted_exactly() {
+        // Exemplar: pure red and pure blue. Output: red, blue, their mean (purple, 0.707 from
+        // both) and a red off by 0.05.
+        let ex = Array3::from_shape_fn((3, 1, 2), |(c, _, x)| match (c, x) {
+            (0, 0) | (2, 1) => 1.0,
+            _ => 0.0,
+        });
+        let out = Array3::from_shape_vec(
+            (3, 1, 4),
+            vec![1.0, 0.0, 0.5, 0.95, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.5, 0.0],
+        )
+        .unwrap();
+        assert_eq!(false_colour_fraction(ex.view(), out.view(), 0.1), 0.25);
+        assert_eq!(false_colour_fraction(ex.view(), out.view(), 0.04), 0.5);
+        assert_eq!(false_colour_fraction(ex.view(), out.view(), 0.75), 0.0);
     }
 
     #[test]
