@@ -8,6 +8,7 @@ mod exemplar;
 mod io;
 mod phasor;
 mod procedural;
+mod sheet;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -72,6 +73,11 @@ enum Command {
         after_help = "Examples:\n  spectex slices slab.json --z-range 0,64 --layers 65 -o layers/\n\nLayers are layer_00000.png, layer_00001.png, … in z order; layers.csv lists layer,z,file."
     )]
     Slices(phasor::SlicesCommand),
+    /// Contact sheets of texture by example: exemplar | r = 0 | 0.1 | 0.2 | 0.35.
+    #[command(
+        after_help = "Examples:\n  spectex sheet -o sheets/\n  spectex sheet brick.png gravel.png -o sheets/ --turbulence 4\n  spectex sheet water.jpg -o sheets/ --ratios 0,0.2,0.35,1 --no-placement\n\nEach panel is a render of the exemplar's size at (1e4, -2e4), shown at --panel pixels. Panels\nwith r > 0 use random placement (unless --no-placement) and --turbulence. Prints a table of\nthe fits: |R|, J_R, blocks, stored cosines, special-function calls per pixel, and for colour\nexemplars the share of pixels farther than 0.1 (RGB) from every exemplar colour."
+    )]
+    Sheet(sheet::SheetCommand),
 }
 
 #[derive(Debug, Args)]
@@ -209,6 +215,7 @@ fn run(cli: Cli) -> Result<()> {
         Command::Noise(cmd) => procedural::noise(&cmd),
         Command::Phasor(cmd) => phasor::phasor(&cmd),
         Command::Slices(cmd) => phasor::slices(&cmd),
+        Command::Sheet(cmd) => sheet::sheet(&cmd),
     }
 }
 
