@@ -315,6 +315,66 @@ mod tests {
         assert!(((b * b - a * a) / (a * a) - t.spectral(sigma)).abs() < 1e-12);
     }
 
+    fn texture_model(amplitude: f32, colour: bool, turbulence: bool) -> TextureModel {
+        use spectex_model::{ColourBasis, Structure, TextureChannel, Turbulence};
+        let channel = TextureChannel {
+            seed: 1,
+            mean: 0.5,
+            strata: vec![],
+            structure: Some(Structure {
+                blocks: 2,
+                cosines: vec![
+                    vec![FixedCosine {
+                        frequency: [3, -2],
+                        amplitude,
+                        phase: 0.25,
+                    }];
+                    4
+                ],
+            }),
+        };
+        TextureModel {
+            seed: 0,
+            period: 16,
+            channels: vec![channel; if colour { 3 } else { 1 }],
+            colour: colour.then_some(ColourBasis {
+                mean: [0.5; 3],
+                basis: [[1.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 1.0]],
+            }),
+            turbulence: turbulence.then(|| Turbulence {
+                sigma: 2.0,
+                seeds: [1, 2],
+                strata: vec![Stratum {
+                    window_width: 8.0,
+                    amplitude: 0.2,
+                    sub_strata: vec![vec![[0.1, 0.2]]; 2],
+                }],
+                centre: 0.3,
+            }),
+            random_placement: true,
+        }
+    }
+
+    /// One tolerance per output component; the structure's part grows with its amplitude, the
+    /// colour basis scales a component's bound, and turbulence adds to it.
+    #[test]
+    fn texture_bound_per_component() {
+        let grey = texture(&texture_model(0.1, false, false));
+        assert_eq!(grey.len(), 1);
+        let louder = texture(&texture_model(0.2, false, false));
+        assert!(louder[0].max_abs > grey[0].max_abs);
+        assert!(grey[0].max_abs > 0.0 && grey[0].max_abs < 1e-4, "{grey:?}");
+        let turbulent = texture(&texture_model(0.1, false, true));
+        assert!(turbulent[0].max_abs > grey[0].max_abs);
+        let colour = texture(&texture_model(0.1, true, false));
+        assert_eq!(colour.len(), 3);
+        assert!(colour[1].max_abs > colour[0].max_abs, "{colour:?}");
+        assert_eq!(
+            tolerance(&Model::Texture(texture_model(0.1, true, false))),
+            Some(colour[1])
+        );
+    }
+
     #[test]
     fn gabor_bound_grows_with_impulses() {
         let m = |impulses_per_kernel: f32| GaborNoise {

@@ -1,7 +1,8 @@
 //! Criterion bench of GPU evaluation in Mpix/s: LRP with a budget of J = 50 cosines over 4 strata
 //! (periods 4.5, 9, 16, 28 pixels, tables of 40 random frequencies — the model of
 //! `spectex-cpu`'s `eval` bench, so the numbers compare), one 1024² window, read back included;
-//! and phasor noise in 2D and on a 3D plane (256², the CPU bench's models).
+//! phasor noise in 2D and on a 3D plane (256², the CPU bench's models); and the synthetic grey
+//! and colour textures of `testdata/models` (128², frame time printed in ms).
 //!
 //! `cargo bench -p spectex-gpu --bench gpu`; on lavapipe set `WGPU_ADAPTER_NAME=llvmpipe` (and
 //! `VK_DRIVER_FILES`/`VK_ICD_FILENAMES` to its ICD file). Skips with a message when no adapter
@@ -64,6 +65,38 @@ fn bench(c: &mut Criterion) {
     ] {
         let model = Model::Phasor(phasor_pwm(dimensions, orientation));
         let gpu = GpuEvaluator::new_at_z(&context, &model, 17.5).expect("valid model");
+        group.bench_function(format!("{name}_{side}x{side}"), |b| {
+            b.iter(|| gpu.render(black_box(&window)).expect("render"))
+        });
+    }
+    group.finish();
+
+    // Texture by example (the cross-check's synthetic cases), 128²: the LRP passes of the strata
+    // and turbulence, the texture pass and every read-back included.
+    let side = 128;
+    let window = GpuWindow::new(side, side).at([1000.0, 2000.0], 1.0);
+    let mut group = c.benchmark_group("gpu_texture_eval");
+    group.throughput(Throughput::Elements((side * side) as u64));
+    group.sample_size(10);
+    for (name, json) in [
+        (
+            "grey",
+            include_str!("../../../testdata/models/texture-synthetic-grey.json"),
+        ),
+        (
+            "colour",
+            include_str!("../../../testdata/models/texture-synthetic-colour.json"),
+        ),
+    ] {
+        let model = spectex_model::from_json(json).expect("valid model");
+        let gpu = GpuEvaluator::new(&context, &model).expect("valid model");
+        let start = Instant::now();
+        black_box(gpu.render(&window).expect("render"));
+        println!(
+            "texture {name}, {side}²: {:.1} ms per frame on {} (one render)",
+            start.elapsed().as_secs_f64() * 1e3,
+            gpu.adapter_name()
+        );
         group.bench_function(format!("{name}_{side}x{side}"), |b| {
             b.iter(|| gpu.render(black_box(&window)).expect("render"))
         });

@@ -15,6 +15,11 @@
 //!   `(10⁷, 10⁷)` is as precise as one at the origin.
 //! * Tiles (invariant 3): every value depends only on its own pixel's position, so any tiling
 //!   gives the same bits.
+//! * Textures by example (`Model::Texture`): each channel's random-phase strata and each
+//!   turbulence stratum run through the LRP shader, the host sums `|n_S|` and scales the
+//!   displacement in the CPU's f32 order, and `shaders/texture.wgsl` adds the placement, the
+//!   block structure and the colour basis; [`GpuEvaluator::output_channels`] values (1 or 3) per
+//!   pixel, interleaved as on the CPU.
 //!
 //! Adapter choice: `WGPU_ADAPTER_NAME` (a substring of the adapter's name, e.g. `llvmpipe`), else
 //! wgpu's high-performance default. Without a GPU, lavapipe (`apt-get install mesa-vulkan-drivers

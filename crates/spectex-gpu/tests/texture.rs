@@ -42,7 +42,7 @@ fn stratum(prng: &mut Prng, delta: f32, amplitude: f32, j: usize) -> Stratum {
 /// allowed range `(−N/2, N/2]`.
 fn structure(prng: &mut Prng, period: u32, blocks: u32, most: u32) -> Structure {
     let n = 2 * period / blocks;
-    let mut k = |prng: &mut Prng| (prng.next_u32() % n) as i32 - (n / 2) as i32 + 1;
+    let k = |prng: &mut Prng| (prng.next_u32() % n) as i32 - (n / 2) as i32 + 1;
     Structure {
         blocks,
         cosines: (0..blocks * blocks)
