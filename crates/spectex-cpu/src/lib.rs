@@ -38,9 +38,9 @@ use spectex_model::{Model, ModelError};
 pub use gabor::GaborEvaluator;
 pub use lrp::LrpEvaluator;
 pub use phasor::PhasorEvaluator;
-pub use texture::TextureEvaluator;
 /// The window type is `spectex-model`'s, shared with the GPU evaluator.
 pub use spectex_model::{MAX_POSITION, MAX_WINDOW_PIXELS, MAX_WINDOW_SIDE, Window};
+pub use texture::TextureEvaluator;
 
 /// Rows evaluated together by one task: the LRP evaluator draws each lattice row once per band
 /// instead of once per output row. Values do not depend on it.

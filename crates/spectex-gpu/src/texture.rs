@@ -114,6 +114,14 @@ pub(crate) fn pack_texture(
             }
         }
     }
+    // A binding's buffer must hold at least one element of its array (a texture without any
+    // structure still binds the tables): one unused block and one unused cosine.
+    if blocks.is_empty() {
+        blocks.extend([0, 0]);
+    }
+    if cosines.is_empty() {
+        cosines.extend([0; 4]);
+    }
     let needed = 4 * cosines.len() as u64;
     if needed > limit {
         return Err(GpuError::LimitsExceeded {

@@ -365,6 +365,28 @@ fn one_block_structure() {
     }
 }
 
+/// r = 0: no channel has a structure (the tables bind one unused entry each), with and
+/// without placement and turbulence, which then change nothing.
+#[test]
+fn no_structure_at_all() {
+    let Some(context) = common::gpu_or_skip("texture without structure") else {
+        return;
+    };
+    for (turbulence, placement) in [(false, false), (true, true)] {
+        let mut m = grey(13, 2, turbulence, placement);
+        m.channels[0].structure = None;
+        let gpu = GpuEvaluator::new(&context, &Model::Texture(m.clone())).unwrap();
+        for (name, window) in windows() {
+            check(
+                &format!("no structure, turbulence={turbulence}, placement={placement}, {name}"),
+                &gpu,
+                &m,
+                &window,
+            );
+        }
+    }
+}
+
 #[test]
 fn colour_with_a_basis() {
     let Some(context) = common::gpu_or_skip("texture colour") else {
