@@ -366,3 +366,64 @@ fn texture_models_round_trip_through_json_and_tile_invisibly() {
     let v: Array2<f64> = whole.index_axis(Axis(0), 0).to_owned();
     assert!(v.iter().all(|x| x.is_finite()));
 }
+
+/// The fitted cross-check case `testdata/models/texture-fitted-colour.json`: the built-in
+/// exemplar's top-left 64² crop (T = 32) fitted with J = 24, r = 0.35, turbulence 2 px and
+/// random placement. This test checks that the shipped file has the shape today's fit gives
+/// (bits of a fit may move with the FFT's SIMD path, so values are not compared); regenerate
+/// it deliberately with
+/// `SPECTEX_BLESS=1 cargo test -p spectex-cli --test texture fitted_crosscheck_case`.
+#[test]
+fn fitted_crosscheck_case_is_current() {
+    let img = builtin().slice(s![.., 0..64, 0..64]).to_owned();
+    let model = Model::Texture(texture(
+        &img,
+        &TextureOptions {
+            fit: FitOptions {
+                budget: 24,
+                seed: 5,
+                ..FitOptions::default()
+            },
+            structure: 0.35,
+            turbulence: 2.0,
+            random_placement: true,
+            ..TextureOptions::default()
+        },
+    ));
+    let text = spectex_model::to_json(&model).unwrap();
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../testdata/models/texture-fitted-colour.json"
+    );
+    if std::env::var_os("SPECTEX_BLESS").is_some() {
+        std::fs::write(path, &text).unwrap();
+    }
+    let shipped = spectex_model::from_json(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let (Model::Texture(a), Model::Texture(b)) = (&shipped, &model) else {
+        panic!("{path} is not a texture model");
+    };
+    let shape = |m: &TextureModel| {
+        (
+            m.period,
+            m.random_placement,
+            m.turbulence.as_ref().map(|t| t.strata.len()),
+            m.channels
+                .iter()
+                .map(|c| {
+                    (
+                        c.strata
+                            .iter()
+                            .map(spectex_model::Stratum::cosines)
+                            .sum::<usize>(),
+                        c.structure.as_ref().map(|s| (s.blocks, s.total_cosines())),
+                    )
+                })
+                .collect::<Vec<_>>(),
+        )
+    };
+    assert_eq!(
+        shape(a),
+        shape(b),
+        "{path} no longer has the shape of the fit; regenerate with SPECTEX_BLESS=1"
+    );
+}
