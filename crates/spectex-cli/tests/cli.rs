@@ -312,10 +312,18 @@ fn fit_render_synth_and_noise_end_to_end() {
     );
     let text = std::fs::read_to_string(&model).unwrap();
     let parsed = spectex_model::from_json(&text).unwrap();
-    let spectex_model::Model::Lrp(lrp) = &parsed else {
+    // The built-in exemplar is in colour: a colour texture of three PCA channels, each with
+    // the whole budget in random-phase strata (no --structure).
+    let spectex_model::Model::Texture(tex) = &parsed else {
         panic!("fit wrote {parsed:?}")
     };
-    assert_eq!(lrp.budget(), 8);
+    assert_eq!(tex.channels.len(), 3);
+    assert!(tex.colour.is_some());
+    for ch in &tex.channels {
+        let budget: usize = ch.strata.iter().map(spectex_model::Stratum::cosines).sum();
+        assert_eq!(budget, 8);
+        assert!(ch.structure.is_none());
+    }
 
     // Far away and scaled: a valid image of the asked size, on the CPU.
     let far = dir.join("far.exr");
@@ -390,6 +398,138 @@ fn fit_render_synth_and_noise_end_to_end() {
         );
         spectex_model::from_json(&std::fs::read_to_string(&json).unwrap()).unwrap();
     }
+}
+
+#[test]
+fn texture_by_example_end_to_end() {
+    let dir = scratch("texture");
+    // A grey exemplar with structure: bricks-like stripes plus a ramp of noise.
+    let grey = dir.join("grey.png");
+    image::GrayImage::from_fn(96, 80, |x, y| {
+        let stripe = if (y / 8 + (x / 24) % 2) % 2 == 0 {
+            60
+        } else {
+            190
+        };
+        image::Luma([(stripe + ((x * 37 + y * 91) % 29)) as u8])
+    })
+    .save(&grey)
+    .unwrap();
+    let model = dir.join("tex.json");
+    let out = spectex(&[
+        "fit",
+        s(&grey),
+        "-o",
+        s(&model),
+        "--budget",
+        "20",
+        "--structure",
+        "0.3",
+        "--turbulence",
+        "2",
+        "--random-placement",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let parsed = spectex_model::from_json(&std::fs::read_to_string(&model).unwrap()).unwrap();
+    let spectex_model::Model::Texture(tex) = &parsed else {
+        panic!("fit wrote {parsed:?}")
+    };
+    assert_eq!(tex.channels.len(), 1);
+    assert!(tex.random_placement && tex.turbulence.is_some());
+    let structure = tex.channels[0].structure.as_ref().unwrap();
+    // J_R = round(0.3 · 20) = 6 cosines per block at most; the strata get the other 14.
+    assert!(structure.cosines.iter().all(|b| b.len() <= 6));
+    let strata: usize = tex.channels[0]
+        .strata
+        .iter()
+        .map(spectex_model::Stratum::cosines)
+        .sum();
+    assert_eq!(strata, 14);
+    let png = dir.join("tex.png");
+    let out = spectex(&["render", s(&model), "-o", s(&png), "--size", "64x48"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let img = image::open(&png).unwrap();
+    assert_eq!((img.width(), img.height()), (64, 48));
+    assert!(!img.color().has_color());
+
+    // Colour in, colour out; synth takes the same options.
+    let colour = dir.join("colour.png");
+    write_png(&colour, 64, 64);
+    let synth = dir.join("synth.png");
+    let out = spectex(&[
+        "synth",
+        s(&colour),
+        "-o",
+        s(&synth),
+        "--structure",
+        "0.2",
+        "--size",
+        "40x30",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let img = image::open(&synth).unwrap();
+    assert_eq!((img.width(), img.height()), (40, 30));
+    assert!(img.color().has_color());
+
+    // A contact sheet: exemplar + 4 panels of 32 px with 6 px gaps.
+    let sheets = dir.join("sheets");
+    let out = spectex(&[
+        "sheet",
+        s(&grey),
+        "-o",
+        s(&sheets),
+        "--panel",
+        "32",
+        "--budget",
+        "10",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let table = String::from_utf8_lossy(&out.stdout);
+    assert!(table.contains("| grey | 0.35 |"), "{table}");
+    let sheet = image::open(sheets.join("grey_sheet.png")).unwrap();
+    assert_eq!((sheet.width(), sheet.height()), (5 * 32 + 4 * 6, 32));
+}
+
+#[test]
+fn texture_bad_options_fail_cleanly() {
+    let dir = scratch("texture-bad");
+    let out = dir.join("out.png");
+    assert_fails(
+        &spectex(&["synth", "-o", s(&out), "--structure", "1.5"]),
+        &dir,
+        &["structure", "[0, 1]", "--structure"],
+    );
+    assert_fails(
+        &spectex(&["synth", "-o", s(&out), "--turbulence=-1"]),
+        &dir,
+        &["turbulence", "pixels"],
+    );
+    assert_fails(
+        &spectex(&["fit", "-o", s(&dir.join("m.json")), "--structure", "NaN"]),
+        &dir,
+        &["structure"],
+    );
+    assert_fails(
+        &spectex(&["sheet", "-o", s(&dir.join("sheets")), "--ratios", "0,2"]),
+        &dir,
+        &["--ratios", "[0, 1]"],
+    );
 }
 
 #[test]

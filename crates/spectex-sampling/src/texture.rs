@@ -674,6 +674,38 @@ mod tests {
         })
     }
 
+    /// Two sinusoids on the grid: two pairs, so two cosines in one block are exact and one
+    /// cosine is not (the blocks subdivide until the deviation is within 1/256 or b = T).
+    #[test]
+    fn subdivision_starts_with_one_block_and_refines_only_when_needed() {
+        let t = 32;
+        let img = Array2::from_shape_fn((t, t), |(y, x)| {
+            let (x, y) = (x as f64, y as f64);
+            0.1 * (std::f64::consts::TAU * (3.0 * x + y) / 32.0 + 0.4).cos()
+                + 0.05 * (std::f64::consts::TAU * (-2.0 * x + 5.0 * y) / 32.0).cos()
+        });
+        let mut fft = Fft2::new();
+        let (two, err) = reduce(img.view(), 2, &mut fft);
+        assert_eq!(two.blocks, 1);
+        assert!(err < 1e-6, "two cosines, one block: {err}");
+        // The fitted cosines are the definition's: frequency doubled on N = 2T, amplitude, phase.
+        let c = two.cosines[0][0];
+        assert_eq!(c.frequency, [6, 2]);
+        assert!(
+            (c.amplitude - 0.1).abs() < 1e-6
+                && (c.phase - 0.4 / std::f32::consts::TAU).abs() < 1e-6
+        );
+        let (one, err) = reduce(img.view(), 1, &mut fft);
+        assert!(
+            one.blocks > 1,
+            "one cosine cannot hold two sinusoids in one block"
+        );
+        assert!(err <= COLOUR_PRECISION || one.blocks == t as u32, "{err}");
+        // The coarser level was not good enough (that is why it subdivided).
+        let coarser = blocks(img.view(), one.blocks as usize / 2, 1, &mut fft);
+        assert!(deviation(&coarser, img.view()) > COLOUR_PRECISION);
+    }
+
     #[test]
     fn false_colours_are_counted_exactly() {
         // Exemplar: pure red and pure blue. Output: red, blue, their mean (purple, 0.707 from
