@@ -26,7 +26,8 @@ const COMMANDS: &[(&str, &str)] = &[
     (
         "bench",
         "criterion benches of RPN vs one FFT, then a table of medians; \
-         extra args go to criterion (`cargo xtask bench -- --quick`)",
+         extra args go to criterion (`cargo xtask bench -- --quick`); then the \
+         texture-by-example Table 1 (CPU and GPU)",
     ),
     ("help", "print this list"),
 ];
@@ -329,7 +330,15 @@ fn bench(ws: &Workspace, mut extra: Vec<OsString>) -> Result<()> {
             command,
         }],
     )?;
-    print_bench_table(&criterion_dir(ws).join("rpn"), started)
+    print_bench_table(&criterion_dir(ws).join("rpn"), started)?;
+    // The paper's Table 1 for texture by example (prints its own markdown table).
+    run_steps(
+        "bench",
+        vec![Step {
+            title: "cargo bench -p spectex-cli --bench table1",
+            command: ws.cargo(&["bench", "-p", "spectex-cli", "--bench", "table1"]),
+        }],
+    )
 }
 
 /// Where criterion writes its results, following its own order of preference.
