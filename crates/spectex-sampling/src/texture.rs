@@ -305,12 +305,16 @@ fn fit_channel(
     ))
 }
 
-/// The structure image of `block` for the share `r`, and `R` as (bins, energy share, bin list).
+/// The region `R`: how many bins (both halves of each pair), the share of the block's energy
+/// they hold, and the bins `(row, column)`.
+type Region = (usize, f64, Vec<(usize, usize)>);
+
+/// The structure image of `block` for the share `r`, and `R`.
 fn structure_image(
     block: ArrayView2<'_, f64>,
     r: f64,
     fft: &mut Fft2<f64>,
-) -> (Array2<f64>, (usize, f64, Vec<(usize, usize)>)) {
+) -> (Array2<f64>, Region) {
     let t = block.nrows();
     let mean = block.mean().unwrap_or(0.0);
     let mut z = block.mapv(|v| Complex64::new(v - mean, 0.0));
@@ -493,11 +497,11 @@ fn fit_turbulence(
     })
 }
 
-/// Mean colour, eigenvectors (columns, `vectors[i][c]`) and eigenvalues (largest first) of the
-/// RGB covariance, by cyclic Jacobi rotations.
-fn colour_pca(
-    image: ArrayView3<'_, f64>,
-) -> Result<([f64; 3], [[f64; 3]; 3], [f64; 3]), SamplingError> {
+/// Mean colour, eigenvectors (columns, `vectors[i][c]`) and eigenvalues (largest first).
+type Pca = ([f64; 3], [[f64; 3]; 3], [f64; 3]);
+
+/// The PCA of the RGB values, by cyclic Jacobi rotations on their covariance.
+fn colour_pca(image: ArrayView3<'_, f64>) -> Result<Pca, SamplingError> {
     let (_, h, w) = image.dim();
     let n = (h * w) as f64;
     let mut mean = [0.0; 3];
@@ -599,7 +603,7 @@ pub fn false_colour_fraction(
     output: ArrayView3<'_, f64>,
     distance: f64,
 ) -> f64 {
-    if exemplar.dim().0 != 3 || output.dim().0 != 3 || output.len() == 0 {
+    if exemplar.dim().0 != 3 || output.dim().0 != 3 || output.is_empty() {
         return 0.0;
     }
     let g = COLOUR_GRID;
