@@ -78,11 +78,46 @@ fn best_of(reps: usize, mut f: impl FnMut()) -> f64 {
     best
 }
 
+fn smoke() {
+    let builtin = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../testdata/default_exemplar.png"
+    );
+    let img = load(std::path::Path::new(builtin));
+    for (r, placement) in [(0.0, false), (0.2, false), (0.2, true)] {
+        let options = TextureOptions {
+            fit: FitOptions {
+                budget: 12,
+                ..FitOptions::default()
+            },
+            structure: r,
+            random_placement: placement,
+            ..TextureOptions::default()
+        };
+        let (model, _) = fit_texture(img.view(), &options).unwrap();
+        let eval = Evaluator::new(&Model::Texture(model)).unwrap();
+        let v = eval.render(&Window::new(16, 16)).unwrap();
+        assert_eq!(v.len(), 16 * 16 * 3);
+        assert!(v.iter().all(|x| x.is_finite()));
+    }
+    println!(
+        "table1: smoke run (no timings); `cargo bench -p spectex-cli --bench table1` measures"
+    );
+}
+
 fn kib(bytes: usize) -> String {
     format!("{:.1}K", bytes as f64 / 1024.0)
 }
 
 fn main() {
+    // `cargo bench` passes `--bench`; `cargo test --all-targets` runs this binary without it:
+    // then it only checks that every setting fits, renders and agrees in size on one small
+    // exemplar (the built-in), without timing anything.
+    let full = std::env::args().any(|a| a == "--bench");
+    if !full {
+        smoke();
+        return;
+    }
     let dir = concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../../../shared/testdata/textures"

@@ -37,8 +37,10 @@
 
 use ndarray::{Array2, ArrayView2, ArrayView3, Axis, s};
 use num_complex::Complex64;
+use rayon::prelude::*;
 use spectex_model::texture::{
-    ColourBasis, FixedCosine, Structure, TextureChannel, TextureModel, Turbulence,
+    ColourBasis, FixedCosine, MAX_STRUCTURE_COSINES, Structure, TextureChannel, TextureModel,
+    Turbulence,
 };
 use spectex_spectrum::{Fft2, periodic_smooth, welch_block_size};
 
@@ -363,14 +365,16 @@ fn structure_image(
 }
 
 /// Complexity reduction (§5.3): the structure with `j_r` cosines per block and the fewest
-/// blocks whose mean absolute deviation is within [`COLOUR_PRECISION`] (or `b = T`).
+/// blocks whose mean absolute deviation is within [`COLOUR_PRECISION`] (or `b = T`, or the
+/// finest subdivision whose cosines fit a model, [`MAX_STRUCTURE_COSINES`]).
 fn reduce(image: ArrayView2<'_, f64>, j_r: usize, fft: &mut Fft2<f64>) -> (Structure, f64) {
     let t = image.nrows();
     let mut b = 1usize;
     loop {
         let structure = blocks(image, b, j_r, fft);
         let error = deviation(&structure, image);
-        if error <= COLOUR_PRECISION || b >= t {
+        let finer_fits = 4 * b * b * j_r <= MAX_STRUCTURE_COSINES;
+        if error <= COLOUR_PRECISION || b >= t || !finer_fits {
             return (structure, error);
         }
         b *= 2;
@@ -455,15 +459,22 @@ fn top_cosines(z: &Array2<Complex64>, j_r: usize, whole: bool) -> Vec<FixedCosin
         .collect()
 }
 
-/// Mean absolute deviation of the structure (evaluated by the model) from `image`.
+/// Mean absolute deviation of the structure (evaluated by the model) from `image`; rows in
+/// parallel, summed in row order (the same result for any thread count).
 fn deviation(structure: &Structure, image: ArrayView2<'_, f64>) -> f64 {
     let t = image.nrows();
-    let mut sum = 0.0;
-    for ((y, x), &v) in image.indexed_iter() {
-        let got = structure.eval(t as u32, [x as f32, y as f32]);
-        sum += (f64::from(got) - v).abs();
-    }
-    sum / (t * t) as f64
+    let rows: Vec<f64> = (0..t)
+        .into_par_iter()
+        .map(|y| {
+            (0..t)
+                .map(|x| {
+                    let got = structure.eval(t as u32, [x as f32, y as f32]);
+                    (f64::from(got) - image[[y, x]]).abs()
+                })
+                .sum()
+        })
+        .collect();
+    rows.iter().sum::<f64>() / (t * t) as f64
 }
 
 fn fit_turbulence(
