@@ -19,6 +19,9 @@ use spectex_model::Model;
 use spectex_model::classic::{Basis, ClassicNoise, FeaturePoints, Fractal, FractalKind, Metric};
 use std::hint::black_box;
 
+/// A reference library's noise at a pixel position.
+type PixelNoise<'a> = &'a (dyn Fn(f64, f64) -> f32 + Sync);
+
 const SIDE: usize = 1024;
 const CELL: f64 = 32.0;
 
@@ -101,7 +104,7 @@ fn bench(c: &mut Criterion) {
     fl_cell.set_cellular_distance_function(Some(CellularDistanceFunction::Euclidean));
     fl_cell.set_cellular_return_type(Some(CellularReturnType::Distance));
     fl_cell.set_cellular_jitter(Some(1.0));
-    let theirs: [(&str, &str, &(dyn Fn(f64, f64) -> f32 + Sync)); 6] = [
+    let theirs: [(&str, &str, PixelNoise<'_>); 6] = [
         ("perlin", "noise-rs", &|x, y| {
             perlin.get([x * k, y * k]) as f32
         }),
