@@ -378,7 +378,28 @@ impl ClassicEvaluator {
             (Basis::Simplex, true) => simplex3(o, r, x, &mut n),
             (Basis::Worley(_), three_d) => {
                 if let Some(w) = &self.worley {
-                    self.worley_lanes(w, o, r, x, &mut n, three_d);
+                    // Metric and dimension as constants, so each inner loop is one straight
+                    // vectorisable body.
+                    match (w.metric, three_d) {
+                        (Metric::Euclidean, false) => {
+                            self.worley_lanes::<L, false, 0>(w, o, r, x, &mut n)
+                        }
+                        (Metric::Manhattan, false) => {
+                            self.worley_lanes::<L, false, 1>(w, o, r, x, &mut n)
+                        }
+                        (Metric::Chebyshev, false) => {
+                            self.worley_lanes::<L, false, 2>(w, o, r, x, &mut n)
+                        }
+                        (Metric::Euclidean, true) => {
+                            self.worley_lanes::<L, true, 0>(w, o, r, x, &mut n)
+                        }
+                        (Metric::Manhattan, true) => {
+                            self.worley_lanes::<L, true, 1>(w, o, r, x, &mut n)
+                        }
+                        (Metric::Chebyshev, true) => {
+                            self.worley_lanes::<L, true, 2>(w, o, r, x, &mut n)
+                        }
+                    }
                 }
             }
         }
@@ -387,15 +408,20 @@ impl ClassicEvaluator {
 
     /// Worley in the lanes: the 3×3 (×3) cells, then the exact search where it is not enough.
     #[inline(always)]
-    fn worley_lanes<const L: usize>(
+    fn worley_lanes<const L: usize, const THREE_D: bool, const METRIC: u8>(
         &self,
         w: &WorleyParams,
         o: &Octave,
         r: &RowOctave,
         x: &[f64; L],
         n: &mut [f32; L],
-        three_d: bool,
     ) {
+        let three_d = THREE_D;
+        let metric = match METRIC {
+            0 => Metric::Euclidean,
+            1 => Metric::Manhattan,
+            _ => Metric::Chebyshev,
+        };
         let mut ix = [0i32; L];
         let mut ux = [0.0f32; L];
         for l in 0..L {
@@ -447,9 +473,9 @@ impl ClassicEvaluator {
                             let mut d = if three_d {
                                 state[l] = lcg_step(state[l]);
                                 let oz = unit_f32(permute(state[l]));
-                                distance3(w.metric, ddx, ddy, rz - oz)
+                                distance3(metric, ddx, ddy, rz - oz)
                             } else {
-                                distance2(w.metric, ddx, ddy)
+                                distance2(metric, ddx, ddy)
                             };
                             if p >= count[l] {
                                 d = w.cap;
@@ -471,6 +497,7 @@ impl ClassicEvaluator {
             if fl[w.needed] > gap {
                 fl = worley_search(
                     w,
+                    fl,
                     (ix[l], ux[l]),
                     (r.iy, r.uy),
                     (o.kz, o.uz),
@@ -536,11 +563,14 @@ fn combine(w: &WorleyParams, f: [f32; 4]) -> f32 {
     ((c[0] * f[0] + c[1] * f[1]) + c[2] * f[2]) + c[3] * f[3]
 }
 
-/// The exact search for one point: rings of cells until the needed `F_n` is no farther than the
+/// The exact search for one point, continuing from `f`, the four smallest distances over the
+/// 3×3 (×3) block: ring after ring of cells until the needed `F_n` is no farther than the
 /// unsearched cells, or [`WORLEY_MAX_RING`] rings. Returns the four smallest distances (squared
-/// for the Euclidean metric), as the lanes keep them.
+/// for the Euclidean metric), as the lanes keep them; the four smallest of a set do not depend
+/// on the order it is visited in.
 fn worley_search(
     w: &WorleyParams,
+    f: [f32; 4],
     (ix, ux): (i32, f32),
     (iy, uy): (i32, f32),
     (kz, uz): (i32, f32),
@@ -548,13 +578,17 @@ fn worley_search(
     o: &Octave,
     seed: u32,
 ) -> [f32; 4] {
-    let mut f = [w.cap; 4];
-    for ring in 1..=WORLEY_MAX_RING {
-        let mut list = [[w.cap]; 4];
+    let mut list = f.map(|v| [v]);
+    let mut f = f;
+    for ring in 2..=WORLEY_MAX_RING {
         let zr = if three_d { ring } else { 0 };
         for dz in -zr..=zr {
             for dy in -ring..=ring {
                 for dx in -ring..=ring {
+                    // Only the cells of this ring: the inner ones are in `list` already.
+                    if dx.abs().max(dy.abs()).max(dz.abs()) != ring {
+                        continue;
+                    }
                     let (cx, cy, cz) = (
                         ix.wrapping_add(dx),
                         iy.wrapping_add(dy),
