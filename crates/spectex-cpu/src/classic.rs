@@ -149,7 +149,6 @@ pub struct ClassicEvaluator {
     octaves: Vec<Octave>,
     amplitude: f32,
     mean: f32,
-    seed: u32,
     simd: Simd,
 }
 
@@ -206,7 +205,6 @@ impl ClassicEvaluator {
             octaves,
             amplitude: model.amplitude,
             mean: model.mean,
-            seed: model.seed,
             simd: Simd::detect(),
         }
     }
@@ -503,7 +501,6 @@ impl ClassicEvaluator {
                     (o.kz, o.uz),
                     three_d,
                     o,
-                    self.seed,
                 );
             }
             n[l] = combine(w, fl);
@@ -576,7 +573,6 @@ fn worley_search(
     (kz, uz): (i32, f32),
     three_d: bool,
     o: &Octave,
-    seed: u32,
 ) -> [f32; 4] {
     let mut list = f.map(|v| [v]);
     let mut f = f;
@@ -597,7 +593,7 @@ fn worley_search(
                     let h = if three_d {
                         hash3(cx, cy, cz, o.layer, o.key0)
                     } else {
-                        cell_hash(cx, cy, o.layer, seed)
+                        cell_hash_in_row(cx, row_key(cy, o.key2))
                     };
                     let mut state = h;
                     let count = match w.fixed {
