@@ -4,6 +4,7 @@
 //! every failure into one `error: …` line that says what to do, with exit status 1.
 
 mod analyze;
+mod classic;
 mod exemplar;
 mod io;
 mod phasor;

@@ -11,7 +11,9 @@ use spectex_cpu::{Evaluator, Window};
 use spectex_model::{GaborNoise, Model, Orientation, SpectralTarget};
 use spectex_sampling::{FitOptions, TextureOptions};
 
+use crate::classic::{ClassicArgs, FractalArgs, WorleyArgs};
 use crate::io::{self, BitDepth};
+use spectex_model::classic::Basis;
 
 /// Options shared by every command that fits an LRP model.
 #[derive(Debug, Args)]
@@ -154,7 +156,8 @@ pub struct NoiseCommand {
     kind: NoiseKind,
 }
 
-/// The continuous spectra of the paper's Fig. 3 and Fig. 10, and Gabor noise for comparison.
+/// The continuous spectra of the paper's Fig. 3 and Fig. 10, Gabor noise for comparison, the
+/// survey's 1/f^β fractal spectra, and the classic pointwise noises.
 #[derive(Debug, Subcommand)]
 enum NoiseKind {
     /// Isotropic noise whose power lies on a ring of radius F (Fig. 10).
@@ -209,6 +212,55 @@ enum NoiseKind {
         impulses: f32,
         #[command(flatten)]
         common: NoiseArgs,
+    },
+    /// A random-phase 1/f^β fractal with the survey's angular term (Eq. (8)), as LRP noise:
+    /// continuous and infinite; --contrast is the RMS roughness.
+    Fractal {
+        /// β, the roll-off of the magnitude spectrum (0 to 4): the power falls as f^(−2β).
+        #[arg(long, default_value_t = 1.5)]
+        beta: f32,
+        /// θ₀, the dominant direction of the frequencies, degrees.
+        #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+        angle: f32,
+        /// σ, the angular standard deviation, degrees (isotropic if omitted).
+        #[arg(long)]
+        spread: Option<f32>,
+        /// Lowest frequency with power, cycles per pixel (1/8192 to 0.25).
+        #[arg(long, default_value_t = 1.0 / 128.0)]
+        min_frequency: f32,
+        #[command(flatten)]
+        common: NoiseArgs,
+    },
+    /// Improved Perlin gradient noise (Perlin 2002), 2D or 3D (sliced at --z).
+    Perlin {
+        #[command(flatten)]
+        classic: ClassicArgs,
+    },
+    /// Simplex noise (Perlin 2001, Gustavson 2005), 2D or 3D.
+    Simplex {
+        #[command(flatten)]
+        classic: ClassicArgs,
+    },
+    /// Value noise: random lattice values with quintic interpolation, 2D or 3D.
+    Value {
+        #[command(flatten)]
+        classic: ClassicArgs,
+    },
+    /// Fractal sum over octaves (fBm, turbulence, ridged multifractal) of a basis.
+    Fbm {
+        #[command(flatten)]
+        fractal: FractalArgs,
+        #[command(flatten)]
+        worley: WorleyArgs,
+        #[command(flatten)]
+        classic: ClassicArgs,
+    },
+    /// Worley cellular noise C1·F1 + C2·F2 + C3·F3 + C4·F4 (Worley 1996), 2D or 3D.
+    Worley {
+        #[command(flatten)]
+        worley: WorleyArgs,
+        #[command(flatten)]
+        classic: ClassicArgs,
     },
 }
 
@@ -512,6 +564,42 @@ pub fn noise(cmd: &NoiseCommand) -> Result<()> {
             common,
         ),
         NoiseKind::Gabor { common, .. } => (None, common),
+        NoiseKind::Fractal {
+            beta,
+            angle,
+            spread,
+            min_frequency,
+            common,
+        } => (
+            Some(SpectralTarget::Fractal {
+                beta: *beta,
+                angle: angle.to_radians(),
+                spread: spread.map(f32::to_radians),
+                min_frequency: *min_frequency,
+            }),
+            common,
+        ),
+        NoiseKind::Perlin { classic } => {
+            return crate::classic::run(Basis::Gradient, None, (0.5, 0.5), classic);
+        }
+        NoiseKind::Simplex { classic } => {
+            return crate::classic::run(Basis::Simplex, None, (0.5, 0.5), classic);
+        }
+        NoiseKind::Value { classic } => {
+            return crate::classic::run(Basis::Value, None, (0.5, 0.5), classic);
+        }
+        NoiseKind::Fbm {
+            fractal,
+            worley,
+            classic,
+        } => {
+            let (basis, scale) = crate::classic::fractal_basis(fractal, worley);
+            return crate::classic::run(basis, Some(fractal), scale, classic);
+        }
+        NoiseKind::Worley { worley, classic } => {
+            let (basis, scale) = crate::classic::worley_basis(worley);
+            return crate::classic::run(basis, None, scale, classic);
+        }
     };
     io::check_output(&common.render.output, common.render.bit_depth)?;
     if !(common.contrast.is_finite() && common.contrast > 0.0) {

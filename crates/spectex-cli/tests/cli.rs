@@ -789,3 +789,115 @@ fn phasor_bad_inputs_fail_cleanly() {
         assert_fails(&spectex(&all), &layers, &[needle]);
     }
 }
+
+#[test]
+fn classic_noises_end_to_end() {
+    use image::GenericImageView;
+    let dir = scratch("classic");
+    let cases: &[(&str, &[&str])] = &[
+        ("perlin", &[]),
+        ("simplex", &["--dims", "3", "--z", "40.5"]),
+        ("value", &["--dims", "3", "--z", "-3"]),
+        ("fbm", &["--octaves", "4", "--sum", "ridged"]),
+        (
+            "fbm",
+            &["--basis", "worley", "--poisson", "2", "--sum", "turbulence"],
+        ),
+        (
+            "worley",
+            &["--coefficients", "-1,1,0,0", "--metric", "manhattan"],
+        ),
+    ];
+    for (n, (kind, extra)) in cases.iter().enumerate() {
+        let png = dir.join(format!("{n}-{kind}.png"));
+        let model = dir.join(format!("{n}-{kind}.json"));
+        let mut args = vec!["noise", kind, "-o", s(&png), "--model", s(&model)];
+        args.extend(["--size", "64x48", "--offset", "1e7,-1e7", "--seed", "5"]);
+        args.extend(extra.iter().copied());
+        let out = spectex(&args);
+        assert!(
+            out.status.success(),
+            "{kind} {extra:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        // `spectex render` on the written model gives the same image.
+        let again = dir.join(format!("{n}-{kind}-again.png"));
+        let z = extra
+            .iter()
+            .position(|a| *a == "--z")
+            .map_or("0", |i| extra[i + 1]);
+        let out = spectex(&[
+            "render",
+            s(&model),
+            "-o",
+            s(&again),
+            "--size",
+            "64x48",
+            "--offset",
+            "1e7,-1e7",
+            "--z",
+            z,
+        ]);
+        assert!(
+            out.status.success(),
+            "render {kind}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let (a, b) = (image::open(&png).unwrap(), image::open(&again).unwrap());
+        assert_eq!(a.dimensions(), (64, 48));
+        assert_eq!(
+            a.as_bytes(),
+            b.as_bytes(),
+            "{kind} {extra:?}: render differs from noise"
+        );
+        assert!(
+            a.as_bytes().iter().any(|&v| v != a.as_bytes()[0]),
+            "{kind} {extra:?}: constant image"
+        );
+    }
+}
+
+#[test]
+fn classic_bad_inputs_fail_cleanly() {
+    let dir = scratch("classic-bad");
+    let out = dir.join("out.png");
+    let o = s(&out);
+    for (args, needles) in [
+        (
+            vec!["noise", "perlin", "--cell", "0.5"],
+            vec!["--cell", "[1, 1e6]"],
+        ),
+        (
+            vec!["noise", "simplex", "--dims", "4"],
+            vec!["--dims", "2 or 3"],
+        ),
+        (
+            vec!["noise", "fbm", "--cell", "32", "--octaves", "7"],
+            vec!["--octaves", "at least 1 pixel"],
+        ),
+        (
+            vec!["noise", "fbm", "--gain", "3"],
+            vec!["--gain", "[0, 2]"],
+        ),
+        (
+            vec!["noise", "fbm", "--sum", "ridged", "--weight-gain", "20"],
+            vec!["--weight-gain", "[0, 16]"],
+        ),
+        (
+            vec!["noise", "worley", "--poisson", "9"],
+            vec!["--poisson", "[0.5, 4]"],
+        ),
+        (
+            vec!["noise", "worley", "--points", "0"],
+            vec!["--points", "1 to 16"],
+        ),
+        (
+            vec!["noise", "worley", "--coefficients", "1,nan,0,0"],
+            vec!["--coefficients", "[-1000, 1000]"],
+        ),
+    ] {
+        let mut a = args.clone();
+        a.extend(["-o", o]);
+        assert_fails(&spectex(&a), &dir, &needles);
+    }
+}

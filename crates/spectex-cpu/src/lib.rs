@@ -25,6 +25,7 @@
 //! assert_eq!(tile[0].to_bits(), pixels[4 * 64 + 8].to_bits());
 //! ```
 
+pub mod classic;
 pub mod gabor;
 pub mod lrp;
 /// The f32 functions both evaluators share, defined once in `spectex-model`.
@@ -35,6 +36,7 @@ pub mod texture;
 use rayon::prelude::*;
 use spectex_model::{Model, ModelError};
 
+pub use classic::ClassicEvaluator;
 pub use gabor::GaborEvaluator;
 pub use lrp::LrpEvaluator;
 pub use phasor::PhasorEvaluator;
@@ -94,6 +96,8 @@ pub enum Evaluator {
     Phasor(Box<PhasorEvaluator>),
     /// Texture by example (1 or 3 values per pixel).
     Texture(Box<TextureEvaluator>),
+    /// A classic pointwise noise (a 3D one on one plane `z`).
+    Classic(Box<ClassicEvaluator>),
 }
 
 impl Evaluator {
@@ -125,6 +129,7 @@ impl Evaluator {
             Model::Gabor(m) => Self::Gabor(GaborEvaluator::new(m)),
             Model::Phasor(m) => Self::Phasor(Box::new(PhasorEvaluator::new(m, z))),
             Model::Texture(m) => Self::Texture(Box::new(TextureEvaluator::new(m))),
+            Model::Classic(m) => Self::Classic(Box::new(ClassicEvaluator::new(m, z))),
             #[allow(unreachable_patterns)] // reason: `Model` is non_exhaustive for other crates
             _ => unreachable!("every model kind of this version is handled"),
         })
@@ -147,6 +152,7 @@ impl Evaluator {
             Self::Lrp(e) => e.eval_row(window, row, out),
             Self::Gabor(e) => e.eval_row_at(window.y(row), |i| window.x(i), out),
             Self::Phasor(e) => e.eval_rows(window, row, out),
+            Self::Classic(e) => e.eval_row(window, row, out),
         }
     }
 
@@ -194,6 +200,7 @@ impl Evaluator {
                     Self::Lrp(e) => e.eval_rows(window, first, lines),
                     Self::Phasor(e) => e.eval_rows(window, first, lines),
                     Self::Texture(e) => e.eval_rows(window, first, lines),
+                    Self::Classic(e) => e.eval_rows(window, first, lines),
                     _ => {
                         for (r, line) in lines.chunks_exact_mut(window.width).enumerate() {
                             self.eval_row(window, first + r, line);
@@ -215,6 +222,7 @@ impl Evaluator {
             Self::Gabor(e) => e.cosines_per_pixel(),
             Self::Phasor(e) => e.kernels_per_pixel(),
             Self::Texture(e) => e.calls_per_pixel() as f64,
+            Self::Classic(e) => e.evaluations_per_pixel(),
         }
     }
 }

@@ -59,7 +59,7 @@ pub struct LrpEvaluator {
 /// (plain `*` and `+`, no FMA), so the output bits are the same; wider levels evaluate more
 /// pixels per instruction.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Simd {
+pub(crate) enum Simd {
     /// Whatever the default target allows (SSE2 on x86-64), 8 lanes.
     Portable,
     /// AVX2, 8 lanes in one register.
@@ -70,7 +70,7 @@ enum Simd {
 
 impl Simd {
     /// The widest level this CPU reports at run time.
-    fn detect() -> Self {
+    pub(crate) fn detect() -> Self {
         #[cfg(target_arch = "x86_64")]
         {
             if std::arch::is_x86_feature_detected!("avx512f") {

@@ -3,7 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::ModelError;
-use crate::{GaborNoise, LrpNoise, PhasorNoise, TextureModel};
+use crate::{ClassicNoise, GaborNoise, LrpNoise, PhasorNoise, TextureModel};
 
 /// The `schema_version` this build writes.
 pub const SCHEMA_VERSION: u32 = 1;
@@ -27,6 +27,8 @@ pub enum Model {
     Phasor(PhasorNoise),
     /// Texture by example: structure, strata, turbulence, placement, colour.
     Texture(TextureModel),
+    /// A classic pointwise noise (gradient, simplex, value, Worley; fractal sums of them).
+    Classic(ClassicNoise),
 }
 
 impl Model {
@@ -40,6 +42,7 @@ impl Model {
             Self::Gabor(m) => m.validate(),
             Self::Phasor(m) => m.validate(),
             Self::Texture(m) => m.validate(),
+            Self::Classic(m) => m.validate(),
         }
     }
 }

@@ -20,6 +20,7 @@
 //! assert!((0.0..1.0).contains(&u));
 //! ```
 
+pub mod classic;
 mod error;
 mod file;
 pub mod fixtures;
@@ -34,6 +35,7 @@ mod target;
 pub mod texture;
 pub mod window;
 
+pub use classic::ClassicNoise;
 pub use error::ModelError;
 pub use file::{Model, SCHEMA_VERSION, SUPPORTED_SCHEMA_VERSIONS, from_json, to_json};
 pub use gabor::{GABOR_TRUNCATION, GaborNoise, NEG_LN_20, Orientation};

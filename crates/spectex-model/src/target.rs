@@ -35,6 +35,23 @@ pub enum SpectralTarget {
         /// Outer radius, cycles per pixel.
         max: f32,
     },
+    /// A random-phase 1/f^β fractal with the angular term of Eq. (8) of the texture survey
+    /// (Dong et al. 2020, §3.1.4): magnitude `M(f, θ) = f^{−β}·exp(−(θ − θ₀)²/(2σ²))`, so the
+    /// power is `P = f^{−2β}·exp(−(θ − θ₀)²/σ²)` for `min_frequency ≤ f ≤ ½`, 0 elsewhere (the
+    /// infinite power at `f → 0` needs a floor: the largest feature is `1/min_frequency`
+    /// pixels). `θ − θ₀` is taken modulo π (a real texture's spectrum is symmetric). The RMS
+    /// roughness normalisation `δ/δₙ` is the variance given when a model is built.
+    Fractal {
+        /// `β`, the roll-off of the magnitude spectrum.
+        beta: f32,
+        /// `θ₀`, the dominant direction of the frequencies, radians.
+        angle: f32,
+        /// `σ`, the angular standard deviation, radians; isotropic if absent.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        spread: Option<f32>,
+        /// Lowest frequency with power, cycles per pixel.
+        min_frequency: f32,
+    },
     /// A weighted sum of targets.
     Sum {
         /// `(weight, target)` pairs.
@@ -80,6 +97,24 @@ impl SpectralTarget {
                 } else {
                     0.0
                 }
+            }
+            Self::Fractal {
+                beta,
+                angle,
+                spread,
+                min_frequency,
+            } => {
+                if r < f64::from(*min_frequency) || r > 0.5 {
+                    return 0.0;
+                }
+                let radial = r.powf(-2.0 * f64::from(*beta));
+                let angular = spread.map_or(1.0, |s| {
+                    let pi = std::f64::consts::PI;
+                    let d = (fy.atan2(fx) - f64::from(*angle)).rem_euclid(pi);
+                    let d = if d > pi / 2.0 { d - pi } else { d };
+                    (-d * d / f64::from(s).powi(2)).exp()
+                });
+                radial * angular
             }
             Self::Sum { terms } => terms
                 .iter()
@@ -150,6 +185,43 @@ impl SpectralTarget {
                     "(min, 0.75] cycles per pixel",
                 )
             }
+            Self::Fractal {
+                beta,
+                angle,
+                spread,
+                min_frequency,
+            } => {
+                check_range(
+                    || "fractal.beta".into(),
+                    f64::from(*beta),
+                    0.0,
+                    4.0,
+                    "[0, 4]",
+                )?;
+                check_range(
+                    || "fractal.angle".into(),
+                    f64::from(*angle),
+                    -1e3,
+                    1e3,
+                    "[-1000, 1000] radians",
+                )?;
+                if let Some(s) = spread {
+                    check_range(
+                        || "fractal.spread".into(),
+                        f64::from(*s),
+                        0.01,
+                        100.0,
+                        "[0.01, 100] radians",
+                    )?;
+                }
+                check_range(
+                    || "fractal.min_frequency".into(),
+                    f64::from(*min_frequency),
+                    1.0 / 8192.0,
+                    0.25,
+                    "[1/8192, 0.25] cycles per pixel",
+                )
+            }
             Self::Sum { terms } => {
                 check_len(|| "sum.terms".into(), terms.len(), 1, 64, "1 to 64 terms")?;
                 for (i, (w, t)) in terms.iter().enumerate() {
@@ -191,5 +263,40 @@ impl SpectralTarget {
                 Ok(())
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fractal_power_follows_eq_8() {
+        let t = SpectralTarget::Fractal {
+            beta: 1.5,
+            angle: 0.5,
+            spread: Some(0.25),
+            min_frequency: 0.01,
+        };
+        t.validate().unwrap();
+        let at = |r: f64, theta: f64| t.power(r * theta.cos(), r * theta.sin());
+        // Radial: doubling f divides the power by 2^{2β} = 8, along the dominant direction.
+        assert!((at(0.05, 0.5) / at(0.1, 0.5) - 8.0).abs() < 1e-9);
+        // Angular: exp(−Δθ²/σ²) and symmetric under f → −f.
+        assert!((at(0.1, 0.75) / at(0.1, 0.5) - (-1.0f64).exp()).abs() < 1e-9);
+        assert!((at(0.1, 0.5 + std::f64::consts::PI) / at(0.1, 0.5) - 1.0).abs() < 1e-9);
+        // Nothing below the floor or past Nyquist.
+        assert_eq!(at(0.009, 0.5), 0.0);
+        assert_eq!(at(0.51, 0.5), 0.0);
+        let bad = SpectralTarget::Fractal {
+            beta: 5.0,
+            angle: 0.0,
+            spread: None,
+            min_frequency: 0.01,
+        };
+        assert!(matches!(
+            bad.validate(),
+            Err(ModelError::OutOfRange { field, .. }) if field == "fractal.beta"
+        ));
     }
 }

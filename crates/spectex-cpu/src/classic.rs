@@ -1,0 +1,806 @@
+//! The classic pointwise noises (gradient, simplex, value, Worley) and their fractal sums on the
+//! CPU; the definitions and the randomness contract are in [`spectex_model::classic`].
+//!
+//! Every pixel is independent: a row is evaluated `L` consecutive pixels at a time (8 lanes, or
+//! 16 with AVX-512), every octave of a group of lanes before the next group, with the lattice
+//! hashes computed in the lanes (wrapping `u32` arithmetic vectorises). Positions are built per
+//! lane in f64 exactly as [`Window::x`] builds them, divided by the octave's cell side and split
+//! into an `i32` cell and an f32 offset by the round-to-nearest magic constant (two exact IEEE
+//! operations, no `floor` library call, so the portable build vectorises too). All f32 arithmetic
+//! is plain `*`, `+`, `sqrt`, selects and sign-bit flips, so the AVX2, AVX-512 and portable copies
+//! of the row give the same bits, and any tiling of a window gives the same bits (a pixel never
+//! depends on its neighbours).
+//!
+//! Worley noise evaluates the 3×3 (3×3×3) cells around the point in the lanes and keeps the
+//! four smallest distances with a min/max insertion network; a lane whose needed `F_n` exceeds
+//! the distance to the unsearched cells is redone by [`worley_exact`], which searches ring after
+//! ring with the same arithmetic (the four smallest of a set do not depend on the visiting order,
+//! so both paths agree bit for bit wherever the 3×3 search suffices).
+//!
+//! ```
+//! use spectex_cpu::classic::ClassicEvaluator;
+//! use spectex_model::classic::{Basis, ClassicNoise};
+//!
+//! let model = ClassicNoise {
+//!     seed: 1,
+//!     dimensions: 2,
+//!     cell_size: 16.0,
+//!     basis: Basis::Gradient,
+//!     fractal: None,
+//!     amplitude: 1.0,
+//!     mean: 0.0,
+//! };
+//! model.validate()?;
+//! let eval = ClassicEvaluator::new(&model, 0.0);
+//! // Gradient noise vanishes at lattice points.
+//! assert_eq!(eval.eval(48.0, -16.0), 0.0);
+//! # Ok::<(), spectex_model::ModelError>(())
+//! ```
+
+use spectex_model::Window;
+use spectex_model::classic::{
+    Basis, ClassicNoise, FeaturePoints, FractalKind, Metric, SIMPLEX_F2, SIMPLEX_F3, SIMPLEX_G2,
+    SIMPLEX_G3, SIMPLEX2_R2, SIMPLEX2_SCALE, SIMPLEX3_R2, SIMPLEX3_SCALE, WORLEY_MAX_POINTS,
+    WORLEY_MAX_RING, fade, gradient_dot, lattice_value,
+};
+use spectex_model::random::{
+    cell_hash, cell_hash_in_row, layer_key, lcg_step, permute, row_key, unit_f32,
+};
+
+use crate::lrp::Simd;
+
+/// Pixels evaluated together by the portable and AVX2 paths.
+const LANES: usize = 8;
+/// Pixels evaluated together by the AVX-512 path.
+const WIDE_LANES: usize = 16;
+
+/// `1.5·2⁵²`: `(p + M) − M` rounds an f64 of magnitude below 2⁵¹ to the nearest integer, and
+/// the low 32 bits of `p + M` are that integer in two's complement.
+const ROUND_MAGIC: f64 = 6_755_399_441_055_744.0;
+
+/// `(⌊p⌋ as i32, ⌊p⌋)` for `|p| < 2³¹`, without a `floor` call (the same value as `f64::floor`).
+#[inline(always)]
+fn split(p: f64) -> (i32, f64) {
+    let m = p + ROUND_MAGIC;
+    let r = m - ROUND_MAGIC;
+    let above = r > p;
+    let i = (m.to_bits() as u32 as i32).wrapping_sub(i32::from(above));
+    (i, if above { r - 1.0 } else { r })
+}
+
+/// Cell and f32 offset of `p` (cell units).
+#[inline(always)]
+fn locate(p: f64) -> (i32, f32) {
+    let (i, f) = split(p);
+    (i, (p - f) as f32)
+}
+
+#[inline(always)]
+fn min(a: f32, b: f32) -> f32 {
+    if a < b { a } else { b }
+}
+
+#[inline(always)]
+fn max(a: f32, b: f32) -> f32 {
+    if a < b { b } else { a }
+}
+
+/// `cell_hash(i, j, o, cell_hash(k, 0, o, seed))` from `key0 = row_key(0, layer_key(o, seed))`.
+#[inline(always)]
+fn hash3(i: i32, j: i32, k: i32, o: u32, key0: u32) -> u32 {
+    let seed3 = cell_hash_in_row(k, key0);
+    cell_hash_in_row(i, row_key(j, layer_key(o, seed3)))
+}
+
+/// What one octave needs, computed once per evaluator.
+#[derive(Debug, Clone)]
+struct Octave {
+    /// Cell side, pixels.
+    side: f64,
+    /// `gain^o`.
+    weight: f32,
+    /// The octave's layer (its index).
+    layer: u32,
+    /// `layer_key(o, seed)` (2D hashes).
+    key2: u32,
+    /// `row_key(0, layer_key(o, seed))` (3D hashes from scratch).
+    key0: u32,
+    /// `z / side` (3D).
+    pz: f64,
+    /// Cell of the plane `z` and the offset in it (3D).
+    kz: i32,
+    uz: f32,
+    /// `layer_key(o, cell_hash(kz + d, 0, o, seed))` for `d = −1, 0, 1` (3D).
+    zkeys: [u32; 3],
+}
+
+/// What one octave needs on one row.
+#[derive(Debug, Clone, Copy, Default)]
+struct RowOctave {
+    /// `y / side`.
+    py: f64,
+    iy: i32,
+    uy: f32,
+    /// Row keys `[dz + 1][dy + 1]` of the rows `iy + dy` (2D: only `[1]` is used).
+    keys: [[u32; 3]; 3],
+}
+
+/// The Worley parameters in the form the lanes use.
+#[derive(Debug, Clone)]
+struct WorleyParams {
+    metric: Metric,
+    coefficients: [f32; 4],
+    /// Fixed count, or `None` for a Poisson count.
+    fixed: Option<u32>,
+    cdf: [f32; WORLEY_MAX_POINTS as usize],
+    /// `n` of the largest needed `F_n`, minus one.
+    needed: usize,
+    /// Largest distance kept (squared for the Euclidean metric).
+    cap: f32,
+}
+
+/// A classic noise ready to evaluate.
+#[derive(Debug, Clone)]
+pub struct ClassicEvaluator {
+    three_d: bool,
+    basis: Basis,
+    worley: Option<WorleyParams>,
+    kind: Option<FractalKind>,
+    octaves: Vec<Octave>,
+    amplitude: f32,
+    mean: f32,
+    simd: Simd,
+}
+
+impl ClassicEvaluator {
+    /// Prepares a validated `model` on the plane `z` (ignored in 2D).
+    #[must_use]
+    pub fn new(model: &ClassicNoise, z: f64) -> Self {
+        let octaves = (0..model.octaves())
+            .map(|o| {
+                let side = model.octave_cell(o);
+                let pz = z / side;
+                let (kz, uz) = locate(pz);
+                let zkeys = [-1, 0, 1]
+                    .map(|d| layer_key(o, cell_hash(kz.wrapping_add(d), 0, o, model.seed)));
+                Octave {
+                    side,
+                    weight: model.octave_weight(o),
+                    layer: o,
+                    key2: layer_key(o, model.seed),
+                    key0: row_key(0, layer_key(o, model.seed)),
+                    pz,
+                    kz,
+                    uz,
+                    zkeys,
+                }
+            })
+            .collect();
+        let worley = match &model.basis {
+            Basis::Worley(w) => {
+                let cap = (WORLEY_MAX_RING + 1) as f32;
+                Some(WorleyParams {
+                    metric: w.metric,
+                    coefficients: w.coefficients,
+                    fixed: match w.points {
+                        FeaturePoints::Fixed(n) => Some(n),
+                        FeaturePoints::Poisson(_) => None,
+                    },
+                    cdf: w.points.poisson_cdf().unwrap_or([0.0; 16]),
+                    needed: w.needed() - 1,
+                    cap: if w.metric == Metric::Euclidean {
+                        cap * cap
+                    } else {
+                        cap
+                    },
+                })
+            }
+            _ => None,
+        };
+        Self {
+            three_d: model.dimensions == 3,
+            basis: model.basis.clone(),
+            worley,
+            kind: model.fractal.as_ref().map(|f| f.kind),
+            octaves,
+            amplitude: model.amplitude,
+            mean: model.mean,
+            simd: Simd::detect(),
+        }
+    }
+
+    /// Basis evaluations per pixel (octaves, times the cells searched for Worley), for reports.
+    #[must_use]
+    pub fn evaluations_per_pixel(&self) -> f64 {
+        let per = match (&self.basis, self.three_d) {
+            (Basis::Worley(_), false) => 9.0,
+            (Basis::Worley(_), true) => 27.0,
+            _ => 1.0,
+        };
+        per * self.octaves.len() as f64
+    }
+
+    /// Forces the portable path (`false`) or the widest level the CPU has (`true`, the
+    /// default); for tests comparing the code paths. Returns the level's lane count.
+    #[doc(hidden)]
+    pub fn set_simd(&mut self, enabled: bool) -> usize {
+        self.simd = if enabled {
+            Simd::detect()
+        } else {
+            Simd::Portable
+        };
+        if self.simd == Simd::Avx512 {
+            WIDE_LANES
+        } else {
+            LANES
+        }
+    }
+
+    /// Forces AVX2 when the CPU has it (for tests comparing the code paths).
+    #[doc(hidden)]
+    pub fn set_avx2(&mut self) -> bool {
+        if Simd::detect() == Simd::Portable {
+            return false;
+        }
+        self.simd = Simd::Avx2;
+        true
+    }
+
+    /// Evaluates rows `first..` of `window` into `out` (a whole number of rows).
+    pub fn eval_rows(&self, window: &Window, first: usize, out: &mut [f32]) {
+        if window.width == 0 {
+            return;
+        }
+        for (r, line) in out.chunks_exact_mut(window.width).enumerate() {
+            self.eval_row(window, first + r, line);
+        }
+    }
+
+    /// Evaluates row `row` of `window` into `out` (`window.width` values).
+    pub fn eval_row(&self, window: &Window, row: usize, out: &mut [f32]) {
+        let y = window.y(row);
+        let rows: Vec<RowOctave> = self.octaves.iter().map(|o| self.row_octave(o, y)).collect();
+        #[cfg(target_arch = "x86_64")]
+        match self.simd {
+            #[allow(unsafe_code)]
+            // SAFETY: `Simd::Avx512` is chosen only when the CPU reports AVX-512F at run time.
+            Simd::Avx512 => unsafe { self.row_avx512(window, &rows, out) },
+            #[allow(unsafe_code)]
+            // SAFETY: `Simd::Avx2` is chosen only when the CPU reports AVX2 at run time.
+            Simd::Avx2 => unsafe { self.row_avx2(window, &rows, out) },
+            Simd::Portable => self.row::<LANES>(window, &rows, out),
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        self.row::<LANES>(window, &rows, out);
+    }
+
+    /// The noise at one position (the same bits as any render).
+    #[must_use]
+    pub fn eval(&self, x: f64, y: f64) -> f32 {
+        let w = Window::new(1, 1).at([x, y], 1.0);
+        let mut out = [0.0f32];
+        self.eval_row(&w, 0, &mut out);
+        out[0]
+    }
+
+    fn row_octave(&self, o: &Octave, y: f64) -> RowOctave {
+        let py = y / o.side;
+        let (iy, uy) = locate(py);
+        let mut keys = [[0u32; 3]; 3];
+        for (dz, k) in keys.iter_mut().enumerate() {
+            let layer = if self.three_d { o.zkeys[dz] } else { o.key2 };
+            for (dy, key) in k.iter_mut().enumerate() {
+                *key = row_key(iy.wrapping_add(dy as i32 - 1), layer);
+            }
+        }
+        RowOctave { py, iy, uy, keys }
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn row_avx2(&self, window: &Window, rows: &[RowOctave], out: &mut [f32]) {
+        self.row::<LANES>(window, rows, out);
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f")]
+    fn row_avx512(&self, window: &Window, rows: &[RowOctave], out: &mut [f32]) {
+        self.row::<WIDE_LANES>(window, rows, out);
+    }
+
+    /// One row, `L` pixels at a time; `inline(always)` so each SIMD wrapper gets its own copy.
+    #[inline(always)]
+    fn row<const L: usize>(&self, window: &Window, rows: &[RowOctave], out: &mut [f32]) {
+        let width = out.len();
+        let mut lane_index = [0.0f64; L];
+        for (l, v) in lane_index.iter_mut().enumerate() {
+            *v = l as f64;
+        }
+        let mut start = 0;
+        while start < width {
+            // `window.x(i)` lane by lane: the integer `x0 + i` is exact in f64 either way.
+            let base = (window.x0 + start as i64) as f64;
+            let mut x = [0.0f64; L];
+            for l in 0..L {
+                x[l] = window.offset[0] + (base + lane_index[l]) * window.scale;
+            }
+            let mut acc = [0.0f32; L];
+            let mut previous = [0.0f32; L];
+            for (o, (oct, ro)) in self.octaves.iter().zip(rows).enumerate() {
+                let n = self.basis_lanes::<L>(oct, ro, &x);
+                let w = oct.weight;
+                match self.kind {
+                    None | Some(FractalKind::Fbm) => {
+                        for l in 0..L {
+                            acc[l] += w * n[l];
+                        }
+                    }
+                    Some(FractalKind::Turbulence) => {
+                        for l in 0..L {
+                            acc[l] += w * n[l].abs();
+                        }
+                    }
+                    Some(FractalKind::Ridged {
+                        offset,
+                        weight_gain,
+                    }) => {
+                        for l in 0..L {
+                            let s = offset - n[l].abs();
+                            let mut s = s * s;
+                            if o > 0 {
+                                s *= min(max(previous[l] * weight_gain, 0.0), 1.0);
+                            }
+                            previous[l] = s;
+                            acc[l] += w * s;
+                        }
+                    }
+                }
+            }
+            let end = (start + L).min(width);
+            for (l, v) in out[start..end].iter_mut().enumerate() {
+                *v = self.mean + self.amplitude * acc[l];
+            }
+            start += L;
+        }
+    }
+
+    #[inline(always)]
+    fn basis_lanes<const L: usize>(&self, o: &Octave, r: &RowOctave, x: &[f64; L]) -> [f32; L] {
+        let mut n = [0.0f32; L];
+        match (&self.basis, self.three_d) {
+            (Basis::Gradient, false) => gradient2(o, r, x, &mut n, true),
+            (Basis::Value, false) => gradient2(o, r, x, &mut n, false),
+            (Basis::Gradient, true) => gradient3(o, r, x, &mut n, true),
+            (Basis::Value, true) => gradient3(o, r, x, &mut n, false),
+            (Basis::Simplex, false) => simplex2(o, r, x, &mut n),
+            (Basis::Simplex, true) => simplex3(o, r, x, &mut n),
+            (Basis::Worley(_), three_d) => {
+                if let Some(w) = &self.worley {
+                    // Metric and dimension as constants, so each inner loop is one straight
+                    // vectorisable body.
+                    match (w.metric, three_d) {
+                        (Metric::Euclidean, false) => {
+                            self.worley_lanes::<L, false, 0>(w, o, r, x, &mut n)
+                        }
+                        (Metric::Manhattan, false) => {
+                            self.worley_lanes::<L, false, 1>(w, o, r, x, &mut n)
+                        }
+                        (Metric::Chebyshev, false) => {
+                            self.worley_lanes::<L, false, 2>(w, o, r, x, &mut n)
+                        }
+                        (Metric::Euclidean, true) => {
+                            self.worley_lanes::<L, true, 0>(w, o, r, x, &mut n)
+                        }
+                        (Metric::Manhattan, true) => {
+                            self.worley_lanes::<L, true, 1>(w, o, r, x, &mut n)
+                        }
+                        (Metric::Chebyshev, true) => {
+                            self.worley_lanes::<L, true, 2>(w, o, r, x, &mut n)
+                        }
+                    }
+                }
+            }
+        }
+        n
+    }
+
+    /// Worley in the lanes: the 3×3 (×3) cells, then the exact search where it is not enough.
+    #[inline(always)]
+    fn worley_lanes<const L: usize, const THREE_D: bool, const METRIC: u8>(
+        &self,
+        w: &WorleyParams,
+        o: &Octave,
+        r: &RowOctave,
+        x: &[f64; L],
+        n: &mut [f32; L],
+    ) {
+        let three_d = THREE_D;
+        let metric = match METRIC {
+            0 => Metric::Euclidean,
+            1 => Metric::Manhattan,
+            _ => Metric::Chebyshev,
+        };
+        let mut ix = [0i32; L];
+        let mut ux = [0.0f32; L];
+        for l in 0..L {
+            (ix[l], ux[l]) = locate(x[l] / o.side);
+        }
+        let mut f = [[w.cap; L]; 4];
+        let dzs: &[i32] = if three_d { &[-1, 0, 1] } else { &[0] };
+        for &dz in dzs {
+            for dy in -1..=1i32 {
+                let key = r.keys[(dz + 1) as usize][(dy + 1) as usize];
+                let (ry, rz) = (r.uy - dy as f32, o.uz - dz as f32);
+                for dx in -1..=1i32 {
+                    let mut state = [0u32; L];
+                    let mut count = [0u32; L];
+                    for l in 0..L {
+                        state[l] = cell_hash_in_row(ix[l].wrapping_add(dx), key);
+                    }
+                    let most = match w.fixed {
+                        Some(c) => {
+                            count = [c; L];
+                            c
+                        }
+                        None => {
+                            for l in 0..L {
+                                state[l] = lcg_step(state[l]);
+                                let u = unit_f32(permute(state[l]));
+                                let mut c = 0;
+                                for &p in &w.cdf {
+                                    c += u32::from(u >= p);
+                                }
+                                count[l] = c;
+                            }
+                            let mut most = 0;
+                            for &c in &count {
+                                most = most.max(c);
+                            }
+                            most
+                        }
+                    };
+                    let rx = dx as f32;
+                    for p in 0..most {
+                        for l in 0..L {
+                            state[l] = lcg_step(state[l]);
+                            let ox = unit_f32(permute(state[l]));
+                            state[l] = lcg_step(state[l]);
+                            let oy = unit_f32(permute(state[l]));
+                            let ddx = ux[l] - (rx + ox);
+                            let ddy = ry - oy;
+                            let mut d = if three_d {
+                                state[l] = lcg_step(state[l]);
+                                let oz = unit_f32(permute(state[l]));
+                                distance3(metric, ddx, ddy, rz - oz)
+                            } else {
+                                distance2(metric, ddx, ddy)
+                            };
+                            if p >= count[l] {
+                                d = w.cap;
+                            }
+                            insert(&mut f, l, d);
+                        }
+                    }
+                }
+            }
+        }
+        for l in 0..L {
+            let gap = gap(ux[l], r.uy, o.uz, three_d, 1);
+            let gap = if w.metric == Metric::Euclidean {
+                gap * gap
+            } else {
+                gap
+            };
+            let mut fl = [f[0][l], f[1][l], f[2][l], f[3][l]];
+            if fl[w.needed] > gap {
+                fl = worley_search(
+                    w,
+                    fl,
+                    (ix[l], ux[l]),
+                    (r.iy, r.uy),
+                    (o.kz, o.uz),
+                    three_d,
+                    o,
+                );
+            }
+            n[l] = combine(w, fl);
+        }
+    }
+}
+
+/// Distance to the cells outside the `(2ring + 1)^d` block around the point's cell, per axis.
+#[inline(always)]
+fn gap(ux: f32, uy: f32, uz: f32, three_d: bool, ring: i32) -> f32 {
+    let r = ring as f32;
+    let mut g = min(min(ux + r, (r + 1.0) - ux), min(uy + r, (r + 1.0) - uy));
+    if three_d {
+        g = min(g, min(uz + r, (r + 1.0) - uz));
+    }
+    g
+}
+
+#[inline(always)]
+fn distance2(metric: Metric, dx: f32, dy: f32) -> f32 {
+    match metric {
+        Metric::Euclidean => dx * dx + dy * dy,
+        Metric::Manhattan => dx.abs() + dy.abs(),
+        Metric::Chebyshev => max(dx.abs(), dy.abs()),
+    }
+}
+
+#[inline(always)]
+fn distance3(metric: Metric, dx: f32, dy: f32, dz: f32) -> f32 {
+    match metric {
+        Metric::Euclidean => dx * dx + dy * dy + dz * dz,
+        Metric::Manhattan => dx.abs() + dy.abs() + dz.abs(),
+        Metric::Chebyshev => max(max(dx.abs(), dy.abs()), dz.abs()),
+    }
+}
+
+/// Inserts `d` into lane `l` of the ascending list `f` (the four smallest so far).
+#[inline(always)]
+fn insert<const L: usize>(f: &mut [[f32; L]; 4], l: usize, d: f32) {
+    let mut d = d;
+    for fk in f.iter_mut() {
+        let a = min(fk[l], d);
+        d = max(fk[l], d);
+        fk[l] = a;
+    }
+}
+
+/// `C₁F₁ + C₂F₂ + C₃F₃ + C₄F₄` from the sorted list (squared distances for the Euclidean metric).
+#[inline(always)]
+fn combine(w: &WorleyParams, f: [f32; 4]) -> f32 {
+    let f = if w.metric == Metric::Euclidean {
+        f.map(f32::sqrt)
+    } else {
+        f
+    };
+    let c = w.coefficients;
+    ((c[0] * f[0] + c[1] * f[1]) + c[2] * f[2]) + c[3] * f[3]
+}
+
+/// The exact search for one point, continuing from `f`, the four smallest distances over the
+/// 3×3 (×3) block: ring after ring of cells until the needed `F_n` is no farther than the
+/// unsearched cells, or [`WORLEY_MAX_RING`] rings. Returns the four smallest distances (squared
+/// for the Euclidean metric), as the lanes keep them; the four smallest of a set do not depend
+/// on the order it is visited in.
+fn worley_search(
+    w: &WorleyParams,
+    f: [f32; 4],
+    (ix, ux): (i32, f32),
+    (iy, uy): (i32, f32),
+    (kz, uz): (i32, f32),
+    three_d: bool,
+    o: &Octave,
+) -> [f32; 4] {
+    let mut list = f.map(|v| [v]);
+    let mut f = f;
+    for ring in 2..=WORLEY_MAX_RING {
+        let zr = if three_d { ring } else { 0 };
+        for dz in -zr..=zr {
+            for dy in -ring..=ring {
+                for dx in -ring..=ring {
+                    // Only the cells of this ring: the inner ones are in `list` already.
+                    if dx.abs().max(dy.abs()).max(dz.abs()) != ring {
+                        continue;
+                    }
+                    let (cx, cy, cz) = (
+                        ix.wrapping_add(dx),
+                        iy.wrapping_add(dy),
+                        kz.wrapping_add(dz),
+                    );
+                    let h = if three_d {
+                        hash3(cx, cy, cz, o.layer, o.key0)
+                    } else {
+                        cell_hash_in_row(cx, row_key(cy, o.key2))
+                    };
+                    let mut state = h;
+                    let count = match w.fixed {
+                        Some(c) => c,
+                        None => {
+                            state = lcg_step(state);
+                            let u = unit_f32(permute(state));
+                            w.cdf.iter().map(|&p| u32::from(u >= p)).sum()
+                        }
+                    };
+                    for _ in 0..count {
+                        state = lcg_step(state);
+                        let ox = unit_f32(permute(state));
+                        state = lcg_step(state);
+                        let oy = unit_f32(permute(state));
+                        let ddx = ux - (dx as f32 + ox);
+                        let ddy = (uy - dy as f32) - oy;
+                        let d = if three_d {
+                            state = lcg_step(state);
+                            let oz = unit_f32(permute(state));
+                            distance3(w.metric, ddx, ddy, (uz - dz as f32) - oz)
+                        } else {
+                            distance2(w.metric, ddx, ddy)
+                        };
+                        insert(&mut list, 0, d);
+                    }
+                }
+            }
+        }
+        f = [list[0][0], list[1][0], list[2][0], list[3][0]];
+        let g = gap(ux, uy, uz, three_d, ring);
+        let g = if w.metric == Metric::Euclidean {
+            g * g
+        } else {
+            g
+        };
+        if f[w.needed] <= g {
+            break;
+        }
+    }
+    f
+}
+
+/// 2D gradient (`gradient = true`) or value noise in the lanes.
+#[inline(always)]
+fn gradient2<const L: usize>(
+    o: &Octave,
+    r: &RowOctave,
+    x: &[f64; L],
+    n: &mut [f32; L],
+    gradient: bool,
+) {
+    let (k0, k1) = (r.keys[1][1], r.keys[1][2]);
+    let uy = r.uy;
+    let sy = fade(uy);
+    for l in 0..L {
+        let (ix, ux) = locate(x[l] / o.side);
+        let h00 = cell_hash_in_row(ix, k0);
+        let h10 = cell_hash_in_row(ix.wrapping_add(1), k0);
+        let h01 = cell_hash_in_row(ix, k1);
+        let h11 = cell_hash_in_row(ix.wrapping_add(1), k1);
+        let (n00, n10, n01, n11) = if gradient {
+            (
+                gradient_dot(h00, ux, uy, 0.0),
+                gradient_dot(h10, ux - 1.0, uy, 0.0),
+                gradient_dot(h01, ux, uy - 1.0, 0.0),
+                gradient_dot(h11, ux - 1.0, uy - 1.0, 0.0),
+            )
+        } else {
+            (
+                lattice_value(h00),
+                lattice_value(h10),
+                lattice_value(h01),
+                lattice_value(h11),
+            )
+        };
+        let sx = fade(ux);
+        let a = n00 + sx * (n10 - n00);
+        let b = n01 + sx * (n11 - n01);
+        n[l] = a + sy * (b - a);
+    }
+}
+
+/// 3D gradient or value noise on the plane of the octave's `z`, in the lanes.
+#[inline(always)]
+fn gradient3<const L: usize>(
+    o: &Octave,
+    r: &RowOctave,
+    x: &[f64; L],
+    n: &mut [f32; L],
+    gradient: bool,
+) {
+    let (uy, uz) = (r.uy, o.uz);
+    let (sy, sz) = (fade(uy), fade(uz));
+    // keys[z][y]: z cells kz, kz + 1 are indices 1, 2; so are y cells iy, iy + 1.
+    let k = [[r.keys[1][1], r.keys[1][2]], [r.keys[2][1], r.keys[2][2]]];
+    for l in 0..L {
+        let (ix, ux) = locate(x[l] / o.side);
+        let mut c = [[[0.0f32; 2]; 2]; 2];
+        for dz in 0..2 {
+            for dy in 0..2 {
+                for dx in 0..2 {
+                    let h = cell_hash_in_row(ix.wrapping_add(dx as i32), k[dz][dy]);
+                    c[dz][dy][dx] = if gradient {
+                        gradient_dot(h, ux - dx as f32, uy - dy as f32, uz - dz as f32)
+                    } else {
+                        lattice_value(h)
+                    };
+                }
+            }
+        }
+        let sx = fade(ux);
+        let lerp = |a: f32, b: f32, t: f32| a + t * (b - a);
+        let y0 = lerp(
+            lerp(c[0][0][0], c[0][0][1], sx),
+            lerp(c[0][1][0], c[0][1][1], sx),
+            sy,
+        );
+        let y1 = lerp(
+            lerp(c[1][0][0], c[1][0][1], sx),
+            lerp(c[1][1][0], c[1][1][1], sx),
+            sy,
+        );
+        n[l] = lerp(y0, y1, sz);
+    }
+}
+
+/// One simplex corner's term `max(0, r² − |δ|²)⁴ · (g · δ)`.
+#[inline(always)]
+fn simplex_term(h: u32, r2: f32, dx: f32, dy: f32, dz: f32) -> f32 {
+    let t = max(r2 - (dx * dx + dy * dy + dz * dz), 0.0);
+    let t2 = t * t;
+    t2 * t2 * gradient_dot(h, dx, dy, dz)
+}
+
+/// 2D simplex noise in the lanes.
+#[inline(always)]
+fn simplex2<const L: usize>(o: &Octave, r: &RowOctave, x: &[f64; L], n: &mut [f32; L]) {
+    let g2 = SIMPLEX_G2 as f32;
+    let py = r.py;
+    for l in 0..L {
+        let px = x[l] / o.side;
+        let s = (px + py) * SIMPLEX_F2;
+        let (i, fi) = split(px + s);
+        let (j, fj) = split(py + s);
+        let t = (fi + fj) * SIMPLEX_G2;
+        let x0 = (px - (fi - t)) as f32;
+        let y0 = (py - (fj - t)) as f32;
+        let step_x = x0 > y0;
+        let (i1, j1) = if step_x { (1, 0) } else { (0, 1) };
+        let x1 = (x0 - i1 as f32) + g2;
+        let y1 = (y0 - j1 as f32) + g2;
+        let x2 = (x0 - 1.0) + 2.0 * g2;
+        let y2 = (y0 - 1.0) + 2.0 * g2;
+        let h0 = cell_hash_in_row(i, row_key(j, o.key2));
+        let h1 = cell_hash_in_row(i.wrapping_add(i1), row_key(j.wrapping_add(j1), o.key2));
+        let h2 = cell_hash_in_row(i.wrapping_add(1), row_key(j.wrapping_add(1), o.key2));
+        let c0 = simplex_term(h0, SIMPLEX2_R2, x0, y0, 0.0);
+        let c1 = simplex_term(h1, SIMPLEX2_R2, x1, y1, 0.0);
+        let c2 = simplex_term(h2, SIMPLEX2_R2, x2, y2, 0.0);
+        n[l] = SIMPLEX2_SCALE * ((c0 + c1) + c2);
+    }
+}
+
+/// 3D simplex noise on the plane of the octave's `z`, in the lanes.
+#[inline(always)]
+fn simplex3<const L: usize>(o: &Octave, r: &RowOctave, x: &[f64; L], n: &mut [f32; L]) {
+    let g3 = SIMPLEX_G3 as f32;
+    let (py, pz) = (r.py, o.pz);
+    for l in 0..L {
+        let px = x[l] / o.side;
+        let s = ((px + py) + pz) * SIMPLEX_F3;
+        let (i, fi) = split(px + s);
+        let (j, fj) = split(py + s);
+        let (k, fk) = split(pz + s);
+        let t = ((fi + fj) + fk) * SIMPLEX_G3;
+        let x0 = (px - (fi - t)) as f32;
+        let y0 = (py - (fj - t)) as f32;
+        let z0 = (pz - (fk - t)) as f32;
+        // Gustavson's ranking of x0, y0, z0, written as selects.
+        let (a, b, c) = (x0 >= y0, y0 >= z0, x0 >= z0);
+        let i1 = i32::from(a && (b || c));
+        let j1 = i32::from(!a && b);
+        let k1 = i32::from(!b && (!a || !c));
+        let i2 = i32::from(a || (b && c));
+        let j2 = i32::from(b || !a);
+        let k2 = i32::from(!b || (!a && !c));
+        let corner = |di: i32, dj: i32, dk: i32, off: f32| {
+            let h = hash3(
+                i.wrapping_add(di),
+                j.wrapping_add(dj),
+                k.wrapping_add(dk),
+                o.layer,
+                o.key0,
+            );
+            simplex_term(
+                h,
+                SIMPLEX3_R2,
+                (x0 - di as f32) + off,
+                (y0 - dj as f32) + off,
+                (z0 - dk as f32) + off,
+            )
+        };
+        let c0 = corner(0, 0, 0, 0.0);
+        let c1 = corner(i1, j1, k1, g3);
+        let c2 = corner(i2, j2, k2, 2.0 * g3);
+        let c3 = corner(1, 1, 1, 3.0 * g3);
+        n[l] = SIMPLEX3_SCALE * (((c0 + c1) + c2) + c3);
+    }
+}
