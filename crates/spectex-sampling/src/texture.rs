@@ -117,8 +117,8 @@ impl TextureOptions {
     }
 }
 
-/// What the fit of one channel found.
-#[derive(Debug, Clone, PartialEq)]
+/// What the fit of one channel found (all zero for a channel without texture).
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct ChannelReport {
     /// Frequencies in `R` (whole grid, both halves of every pair).
     pub region_bins: usize,
@@ -196,14 +196,7 @@ pub fn fit_texture(
                     strata: vec![],
                     structure: None,
                 },
-                ChannelReport {
-                    region_bins: 0,
-                    region_energy: 0.0,
-                    structure_cosines: 0,
-                    blocks: 0,
-                    structure_error: 0.0,
-                    strata_cosines: 0,
-                },
+                ChannelReport::default(),
             ),
             other => other?,
         };
@@ -243,14 +236,7 @@ fn fit_channel(
     let (mut psd, mean) = exemplar_psd(channel)?;
     let budget = options.fit.budget as usize;
     let r = options.structure;
-    let mut report = ChannelReport {
-        region_bins: 0,
-        region_energy: 0.0,
-        structure_cosines: 0,
-        blocks: 0,
-        structure_error: 0.0,
-        strata_cosines: 0,
-    };
+    let mut report = ChannelReport::default();
     let mut channel_mean = mean;
     let mut structure = None;
     let mut strata_budget = budget;
