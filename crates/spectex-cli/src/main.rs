@@ -9,6 +9,7 @@ mod exemplar;
 mod io;
 mod phasor;
 mod procedural;
+mod relight;
 mod sheet;
 
 use std::path::{Path, PathBuf};
@@ -79,6 +80,11 @@ enum Command {
         after_help = "Examples:\n  spectex sheet -o sheets/\n  spectex sheet brick.png gravel.png -o sheets/ --turbulence 4\n  spectex sheet water.jpg -o sheets/ --ratios 0,0.2,0.35,1 --no-placement\n\nEach panel is a render of the exemplar's size at (1e4, -2e4), shown at --panel pixels. Panels\nwith r > 0 use random placement (unless --no-placement) and --turbulence. Prints a table of\nthe fits: |R|, J_R, blocks, stored cosines, special-function calls per pixel, and for colour\nexemplars the share of pixels farther than 0.1 (RGB) from every exemplar colour."
     )]
     Sheet(sheet::SheetCommand),
+    /// Shade a height map under a directional light, or write its normal map.
+    #[command(
+        after_help = "Examples:\n  spectex relight height.png -o lit.png --light 135,45 --strength 16\n  spectex relight height.png -o normals.png --normals --periodic\n\nThe surface is z = strength · value (pixels); normals by central differences, wrapping around\nthe borders with --periodic (for tiling textures), one-sided there otherwise. The normal map\nstores (n + 1)/2 with +y up the image (OpenGL convention)."
+    )]
+    Relight(relight::RelightCommand),
 }
 
 #[derive(Debug, Args)]
@@ -217,6 +223,7 @@ fn run(cli: Cli) -> Result<()> {
         Command::Phasor(cmd) => phasor::phasor(&cmd),
         Command::Slices(cmd) => phasor::slices(&cmd),
         Command::Sheet(cmd) => sheet::sheet(&cmd),
+        Command::Relight(cmd) => relight::relight(&cmd),
     }
 }
 

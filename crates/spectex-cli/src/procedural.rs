@@ -297,7 +297,7 @@ pub(crate) fn luminance(img: &Array3<f64>, name: &str) -> Array2<f64> {
     if img.dim().0 == 1 {
         return img.index_axis(Axis(0), 0).to_owned();
     }
-    eprintln!("note: {name} is in colour; its Rec. 709 luminance is fitted (grey noise)");
+    eprintln!("note: {name} is in colour; its Rec. 709 luminance is used");
     let w = [0.2126, 0.7152, 0.0722];
     let mut y = Array2::zeros((img.dim().1, img.dim().2));
     for (c, wc) in w.iter().enumerate() {

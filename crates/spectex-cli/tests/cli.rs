@@ -507,6 +507,81 @@ fn texture_by_example_end_to_end() {
 }
 
 #[test]
+fn relight_and_normal_maps() {
+    let dir = scratch("relight");
+    // A ramp rising to the right: under a light from the right (azimuth 0) at 45° the plane
+    // z = 0.5·x has n·l = (−0.5·cos45° + sin45°)/√1.25 everywhere, with no ambient.
+    let height = dir.join("ramp.png");
+    image::ImageBuffer::<image::Luma<u16>, _>::from_fn(64, 16, |x, _| {
+        image::Luma([(x * 1024) as u16])
+    })
+    .save(&height)
+    .unwrap();
+    // One pixel step is 1024/65535 of full scale; strength makes it 0.5 px.
+    let strength = format!("{}", 0.5 * 65535.0 / 1024.0);
+    let lit = dir.join("lit.exr");
+    let out = spectex(&[
+        "relight",
+        s(&height),
+        "-o",
+        s(&lit),
+        "--light",
+        "0,45",
+        "--ambient",
+        "0",
+        "--strength",
+        &strength,
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let img = image::open(&lit).unwrap().to_luma32f();
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    let want = (-0.5 * h + h) / 1.25f64.sqrt();
+    let got = f64::from(img.get_pixel(30, 8).0[0]);
+    assert!((got - want).abs() < 1e-5, "{got} vs {want}");
+
+    let normals = dir.join("normals.png");
+    let out = spectex(&[
+        "relight",
+        s(&height),
+        "-o",
+        s(&normals),
+        "--normals",
+        "--periodic",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let n = image::open(&normals).unwrap().to_rgb8();
+    assert_eq!(n.dimensions(), (64, 16));
+    // Interior: leaning to −x (red below 128), no y component (green 128), z up (blue > 128).
+    let p = n.get_pixel(30, 8).0;
+    assert!(
+        p[0] < 128 && (127..=128).contains(&p[1]) && p[2] > 128,
+        "{p:?}"
+    );
+
+    let empty = scratch("relight-bad");
+    let bad = empty.join("x.png");
+    assert_fails(
+        &spectex(&["relight", s(&height), "-o", s(&bad), "--light", "0,95"]),
+        &empty,
+        &["elevation", "[0, 90]"],
+    );
+    let missing = empty.join("missing.png");
+    assert_fails(
+        &spectex(&["relight", s(&missing), "-o", s(&bad)]),
+        &empty,
+        &["missing.png"],
+    );
+}
+
+#[test]
 fn texture_bad_options_fail_cleanly() {
     let dir = scratch("texture-bad");
     let out = dir.join("out.png");

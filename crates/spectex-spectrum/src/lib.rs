@@ -26,6 +26,7 @@
 mod error;
 pub mod fft;
 pub mod periodic;
+pub mod relief;
 pub mod rpn;
 pub mod welch;
 
