@@ -43,7 +43,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::error::{ModelError, check_range};
+use crate::error::{ModelError, check_level, check_range};
 
 /// Most octaves of a fractal sum.
 pub const MAX_OCTAVES: u32 = 16;
@@ -257,20 +257,8 @@ impl ClassicNoise {
             1e6,
             "[1, 1e6] pixels",
         )?;
-        check_range(
-            || "classic.amplitude".into(),
-            f64::from(self.amplitude),
-            -1e9,
-            1e9,
-            "[-1e9, 1e9]",
-        )?;
-        check_range(
-            || "classic.mean".into(),
-            f64::from(self.mean),
-            -1e9,
-            1e9,
-            "[-1e9, 1e9]",
-        )?;
+        check_level(|| "classic.amplitude".into(), self.amplitude)?;
+        check_level(|| "classic.mean".into(), self.mean)?;
         if let Basis::Worley(w) = &self.basis {
             for (i, c) in w.coefficients.iter().enumerate() {
                 check_range(

@@ -40,6 +40,11 @@ pub enum ModelError {
     },
 }
 
+/// Checks a constant or a gain (a mean, an amplitude): finite and within `[−1e9, 1e9]`.
+pub(crate) fn check_level(field: impl FnOnce() -> String, value: f32) -> Result<(), ModelError> {
+    check_range(field, f64::from(value), -1e9, 1e9, "[-1e9, 1e9]")
+}
+
 /// Checks that `value` is finite and within `[min, max]`.
 pub(crate) fn check_range(
     field: impl FnOnce() -> String,

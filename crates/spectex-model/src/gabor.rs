@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::error::{ModelError, check_range};
+use crate::error::{ModelError, check_level, check_range};
 
 /// Fraction of the kernel's peak at which the Gaussian is truncated (Lagae et al. use 0.05):
 /// the kernel radius is `r = √(−ln 0.05 / π) / a` and the grid cell size equals `r`.
@@ -72,13 +72,7 @@ impl GaborNoise {
     /// # Errors
     /// The first field found outside its range.
     pub fn validate(&self) -> Result<(), ModelError> {
-        check_range(
-            || "gabor.mean".into(),
-            f64::from(self.mean),
-            -1e9,
-            1e9,
-            "[-1e9, 1e9]",
-        )?;
+        check_level(|| "gabor.mean".into(), self.mean)?;
         check_range(
             || "gabor.amplitude".into(),
             f64::from(self.amplitude),

@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::error::{ModelError, check_len, check_range};
+use crate::error::{ModelError, check_len, check_level, check_range};
 
 /// Most strata in one model.
 pub const MAX_STRATA: usize = 64;
@@ -53,13 +53,7 @@ impl LrpNoise {
     /// # Errors
     /// The first field found outside its range.
     pub fn validate(&self) -> Result<(), ModelError> {
-        check_range(
-            || "lrp.mean".into(),
-            f64::from(self.mean),
-            -1e9,
-            1e9,
-            "[-1e9, 1e9]",
-        )?;
+        check_level(|| "lrp.mean".into(), self.mean)?;
         check_len(
             || "lrp.strata".into(),
             self.strata.len(),

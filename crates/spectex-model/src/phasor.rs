@@ -16,7 +16,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::error::{ModelError, check_len, check_range};
+use crate::error::{ModelError, check_len, check_level, check_range};
 
 /// Fraction of its peak at which the Gaussian kernel is truncated (as for Gabor noise, Lagae et
 /// al. 2009): the kernel radius is `r = √(−ln 0.05 / π) / b`, the grid cell side.
@@ -461,20 +461,8 @@ impl PhasorNoise {
             3.0,
             "2 or 3",
         )?;
-        check_range(
-            || "phasor.mean".into(),
-            f64::from(self.mean),
-            -1e9,
-            1e9,
-            "[-1e9, 1e9]",
-        )?;
-        check_range(
-            || "phasor.amplitude".into(),
-            f64::from(self.amplitude),
-            -1e9,
-            1e9,
-            "[-1e9, 1e9]",
-        )?;
+        check_level(|| "phasor.mean".into(), self.mean)?;
+        check_level(|| "phasor.amplitude".into(), self.amplitude)?;
         let band = "[0.001, 1] per pixel";
         self.bandwidth
             .validate("phasor.bandwidth", 1e-3, 1.0, band)?;

@@ -30,7 +30,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::error::{ModelError, check_len, check_range};
+use crate::error::{ModelError, check_len, check_level, check_range};
 use crate::lrp::validate_strata;
 use crate::math::cos_turns;
 use crate::random::{Prng, cell_hash};
@@ -373,13 +373,7 @@ impl TextureModel {
             (None, 1) => {}
             (Some(c), 3) => {
                 for i in 0..3 {
-                    check_range(
-                        || format!("texture.colour.mean[{i}]"),
-                        f64::from(c.mean[i]),
-                        -1e9,
-                        1e9,
-                        "[-1e9, 1e9]",
-                    )?;
+                    check_level(|| format!("texture.colour.mean[{i}]"), c.mean[i])?;
                     for j in 0..3 {
                         check_range(
                             || format!("texture.colour.basis[{i}][{j}]"),
@@ -400,13 +394,7 @@ impl TextureModel {
             }
         }
         for (c, ch) in self.channels.iter().enumerate() {
-            check_range(
-                || format!("texture.channels[{c}].mean"),
-                f64::from(ch.mean),
-                -1e9,
-                1e9,
-                "[-1e9, 1e9]",
-            )?;
+            check_level(|| format!("texture.channels[{c}].mean"), ch.mean)?;
             check_len(
                 || format!("texture.channels[{c}].strata"),
                 ch.strata.len(),
@@ -427,13 +415,7 @@ impl TextureModel {
                 1e6,
                 "[0, 1e6] pixels",
             )?;
-            check_range(
-                || "texture.turbulence.centre".into(),
-                f64::from(t.centre),
-                -1e9,
-                1e9,
-                "[-1e9, 1e9]",
-            )?;
+            check_level(|| "texture.turbulence.centre".into(), t.centre)?;
             check_len(
                 || "texture.turbulence.strata".into(),
                 t.strata.len(),
