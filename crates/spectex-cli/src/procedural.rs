@@ -9,7 +9,7 @@ use clap::{Args, Subcommand};
 use ndarray::{Array2, Array3, Axis};
 use spectex_cpu::{Evaluator, Window};
 use spectex_model::{GaborNoise, Model, Orientation, SpectralTarget};
-use spectex_sampling::{FitOptions, TextureOptions};
+use spectex_sampling::{FitOptions, Partition, TextureOptions};
 
 use crate::classic::{ClassicArgs, FractalArgs, WorleyArgs};
 use crate::io::{self, BitDepth};
@@ -267,12 +267,13 @@ enum NoiseKind {
 /// What every `noise` kind shares.
 #[derive(Debug, Args)]
 struct NoiseArgs {
-    /// Cosine budget J of the LRP model (ignored by gabor).
-    #[arg(long, default_value_t = 10)]
-    budget: u32,
-    /// Number of strata L of the LRP model (ignored by gabor).
-    #[arg(long, default_value_t = 1)]
-    strata: u32,
+    /// Cosine budget J of the LRP model (ignored by gabor) [default: 10; fractal: 48].
+    #[arg(long)]
+    budget: Option<u32>,
+    /// Number of strata L of the LRP model (ignored by gabor) [default: 1; fractal: 12, cut
+    /// in equal spans of log power].
+    #[arg(long)]
+    strata: Option<u32>,
     /// Seed.
     #[arg(long, default_value_t = 0)]
     seed: u32,
@@ -613,10 +614,18 @@ pub fn noise(cmd: &NoiseCommand) -> Result<()> {
             target
                 .validate()
                 .map_err(|e| anyhow!("{e}; check the spectrum's options"))?;
+            // A 1/f^β spectrum spans decades of power: strata of equal log-power spans, enough
+            // of them that each holds about one octave of frequencies
+            // (`tests/classic_fidelity.rs` measures the slopes this gives).
+            let (budget, strata, partition) = match &cmd.kind {
+                NoiseKind::Fractal { .. } => (48, 12, Partition::LogPower),
+                _ => (10, 1, Partition::EqualEnergy),
+            };
             let options = FitOptions {
-                budget: common.budget,
-                strata: common.strata,
+                budget: common.budget.unwrap_or(budget),
+                strata: common.strata.unwrap_or(strata),
                 seed: common.seed,
+                partition,
                 ..FitOptions::default()
             };
             let variance = f64::from(common.contrast).powi(2);

@@ -14,7 +14,7 @@ use ndarray::Array2;
 use spectex_cpu::{Evaluator, Window};
 use spectex_model::classic::{Basis, ClassicNoise, Fractal, FractalKind};
 use spectex_model::{Model, SpectralTarget};
-use spectex_sampling::{FitOptions, fit_target};
+use spectex_sampling::{FitOptions, Partition, fit_target};
 use spectex_spectrum::{Fft2, radial_profile, welch_psd_with_block};
 
 /// Least-squares slope of log power against log frequency over the radial bins in `[lo, hi]`.
@@ -41,25 +41,31 @@ fn log_log_slope(model: &Model, side: usize, block: usize, lo: f64, hi: f64) -> 
     sxy / sxx
 }
 
-/// With the survey's convention (magnitude ∝ 1/f^β) the power falls as f^(−2β).
+/// With the survey's convention (magnitude ∝ 1/f^β) the power falls as f^(−2β), within 0.1
+/// (issue 7), for isotropic roll-offs from ½ to 2. The fit is the one `spectex noise fractal`
+/// makes: J = 48 cosines in 12 strata of equal log-power spans (each about one octave;
+/// equal-energy strata put the whole weak tail of a steep spectrum into one flat stratum:
+/// β = 1.5 then measured −0.77).
 ///
-/// Known limits, measured with this fit (J = 48, 6 strata, 256² target grid) and not yet
-/// within 0.1: β = 1.5 gives ≈ −0.77 over [0.03, 0.3] (the power spans 4.5 decades and the
-/// LRP window's leakage from the strong low-frequency strata swamps the weak high
-/// frequencies), and β = 0.5 gives ≈ −1.12 (expected −1). β = 0.75 and 1 are within 0.1.
+/// Known limit, measured and not asserted: with the angular term (σ = 0.35 rad) the slope is
+/// −2.34 for β = 1. A level set of an anisotropic spectrum is a thin crescent across radii;
+/// §4.3's erosion (75% coverage) reduces it to its ridge, and the stratum's energy, spread
+/// evenly over the ridge, moves towards low frequencies. Coverage 0.3 gives −2.01 (β = 1) but
+/// −1.17 for β = ½, so no single coverage fixes it.
 #[test]
 fn spectral_fractal_power_falls_as_f_to_minus_two_beta() {
-    for beta in [0.75f32, 1.0] {
+    for beta in [0.5f32, 1.0, 1.5, 2.0] {
         let target = SpectralTarget::Fractal {
             beta,
-            angle: 0.0,
+            angle: 0.5,
             spread: None,
             min_frequency: 1.0 / 128.0,
         };
         let options = FitOptions {
             budget: 48,
-            strata: 6,
+            strata: 12,
             seed: 3,
+            partition: Partition::LogPower,
             ..FitOptions::default()
         };
         let lrp = fit_target(&target, 1.0, 256, &options).unwrap();

@@ -14,7 +14,8 @@ use crate::grid::{Bin, in_half_plane, mirror};
 use crate::kmeans::sub_strata;
 use crate::shrink::{MAX_COVERAGE, MIN_COVERAGE, shrink_unit};
 use crate::stratify::{
-    MAX_PSD_SIDE, distribute_budget, equal_energy_strata, validate_psd, window_width,
+    MAX_PSD_SIDE, Partition, distribute_budget, equal_energy_strata, log_power_strata,
+    validate_psd, window_width,
 };
 
 /// Options of a fit. Build one with struct update syntax over [`FitOptions::default`]; every
@@ -33,6 +34,9 @@ pub struct FitOptions {
     /// Share of a window's spectral energy kept inside the shrink distance δ, `[0.05, 0.99]`
     /// (§4.3: "at least 75% … the 75% threshold is empirical"). Default 0.75.
     pub coverage: f64,
+    /// How the power range is cut into the `L` strata. Default [`Partition::EqualEnergy`]
+    /// (§4.2); [`Partition::LogPower`] for targets spanning decades of power.
+    pub partition: Partition,
 }
 
 impl Default for FitOptions {
@@ -42,6 +46,7 @@ impl Default for FitOptions {
             strata: 4,
             seed: 0,
             coverage: 0.75,
+            partition: Partition::EqualEnergy,
         }
     }
 }
@@ -164,7 +169,10 @@ pub fn stratify(
     options: &FitOptions,
 ) -> Result<Stratification, SamplingError> {
     options.validate()?;
-    let partition = equal_energy_strata(psd, options.strata as usize)?;
+    let partition = match options.partition {
+        Partition::EqualEnergy => equal_energy_strata(psd, options.strata as usize)?,
+        Partition::LogPower => log_power_strata(psd, options.strata as usize)?,
+    };
     let size = psd.nrows();
     let energies: Vec<f64> = partition.iter().map(|s| s.energy).collect();
     let budgets = distribute_budget(&energies, options.budget as usize);
@@ -374,6 +382,21 @@ fn drop_negligible_tail(psd: &mut Array2<f64>) {
     }
 }
 
+/// Power below which [`fit_target`] drops a bin under [`Partition::LogPower`], relative to the
+/// target's highest power: 100 dB, an amplitude ratio of 10⁻⁵, far below what an 8-bit or
+/// 16-bit output shows.
+pub const LOG_POWER_FLOOR: f64 = 1e-10;
+
+/// Zeroes the bins of `psd` below [`LOG_POWER_FLOOR`] times its largest value. Under the
+/// log-power partition the weak tail is what the partition is for (a `1/f^β` target with
+/// β = 2 has 0.1% of its energy beyond a quarter of the sampling rate, which
+/// [`drop_negligible_tail`] would cut); only the underflowing tail of a density such as a
+/// Gaussian is dropped, so that it does not stretch the log range the strata divide.
+fn drop_below_floor(psd: &mut Array2<f64>) {
+    let max = psd.iter().copied().fold(0.0, f64::max);
+    psd.mapv_inplace(|p| if p < LOG_POWER_FLOOR * max { 0.0 } else { p });
+}
+
 /// Grid side used for a continuous target when a caller has no reason to choose another.
 pub const DEFAULT_TARGET_GRID: usize = 256;
 /// Smallest grid side accepted by [`fit_target`].
@@ -422,7 +445,10 @@ pub fn fit_target(
         target.power(signed_frequency(l, grid), signed_frequency(k, grid))
     });
     psd[[0, 0]] = 0.0;
-    drop_negligible_tail(&mut psd);
+    match options.partition {
+        Partition::EqualEnergy => drop_negligible_tail(&mut psd),
+        Partition::LogPower => drop_below_floor(&mut psd),
+    }
     // Checked before scaling, so that a NaN or a negative density is reported where it is.
     validate_psd(psd.view(), "spectral target")?;
     let sum: f64 = psd.iter().sum();

@@ -58,4 +58,5 @@ pub use fit::{
     DEFAULT_TARGET_GRID, FitOptions, MAX_IMAGE_SIDE, MAX_TARGET_GRID, MIN_TARGET_GRID,
     Stratification, StratumPlan, exemplar_psd, fit_image, fit_psd, fit_target, stratify,
 };
+pub use stratify::Partition;
 pub use texture::{TextureOptions, TextureReport, false_colour_fraction, fit_texture};

@@ -115,6 +115,22 @@ pub fn equal_energy_strata(
     psd: ArrayView2<'_, f64>,
     strata: usize,
 ) -> Result<Vec<EnergyStratum>, SamplingError> {
+    let (units, size) = sorted_units(psd, strata)?;
+    let total: f64 = units.iter().map(|u| u.weight).sum();
+    let mut before = 0.0;
+    Ok(assign(&units, size, strata, |unit| {
+        let midpoint = before + 0.5 * unit.weight;
+        before += unit.weight;
+        ((midpoint * strata as f64 / total).floor() as usize).min(strata - 1)
+    }))
+}
+
+/// The mirror pairs of `psd` with power, sorted by increasing power (ties by the
+/// representative's row-major index), after checking `psd` and `strata`; and the side `T`.
+fn sorted_units(
+    psd: ArrayView2<'_, f64>,
+    strata: usize,
+) -> Result<(Vec<Unit>, usize), SamplingError> {
     validate_psd(psd, "power spectrum")?;
     if !(1..=spectex_model::MAX_STRATA).contains(&strata) {
         return Err(SamplingError::OutOfRange {
@@ -149,7 +165,16 @@ pub fn equal_energy_strata(
     }
     // Row-major push order makes the stable sort's tie-break the representative's index.
     units.sort_by(|a, b| a.power.total_cmp(&b.power));
-    let total: f64 = units.iter().map(|u| u.weight).sum();
+    Ok((units, size))
+}
+
+/// Puts each of the sorted `units`, in order, into the stratum `choose` names.
+fn assign(
+    units: &[Unit],
+    size: usize,
+    strata: usize,
+    mut choose: impl FnMut(&Unit) -> usize,
+) -> Vec<EnergyStratum> {
     let area = (size * size) as f64;
     let mut out: Vec<EnergyStratum> = (0..strata)
         .map(|_| EnergyStratum {
@@ -159,12 +184,8 @@ pub fn equal_energy_strata(
             max_power: 0.0,
         })
         .collect();
-    let mut before = 0.0;
-    for unit in &units {
-        let midpoint = before + 0.5 * unit.weight;
-        let s = ((midpoint * strata as f64 / total).floor() as usize).min(strata - 1);
-        before += unit.weight;
-        let stratum = &mut out[s];
+    for unit in units {
+        let stratum = &mut out[choose(unit)];
         if stratum.bins.is_empty() {
             stratum.min_power = unit.power;
         }
@@ -175,7 +196,53 @@ pub fn equal_energy_strata(
             stratum.bins.push(mirror(unit.representative, size));
         }
     }
-    Ok(out)
+    out
+}
+
+/// How the power range of a spectrum is cut into strata ([`crate::FitOptions::partition`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Partition {
+    /// Equal energies (§4.2, the paper's choice; [`equal_energy_strata`]): right for exemplars,
+    /// whose power is concentrated in a few levels.
+    #[default]
+    EqualEnergy,
+    /// Equal shares of the logarithm of the power range ([`log_power_strata`]): for targets
+    /// whose power spans decades, such as `1/f^β` fractals. There an equal-energy cut puts
+    /// all the weak high frequencies of a steep spectrum (or all the strong low ones of a
+    /// shallow one) into one stratum, where the model's density is flat: its spectrum becomes a
+    /// plateau where the target falls by decades.
+    LogPower,
+}
+
+/// Partitions the spectrum into `strata` (`L`) strata of equal spans of `ln P` (§4.2's
+/// "partition the PSD range into L intervals I_S", with intervals equal on a log scale instead
+/// of in energy): with `p₀` and `p₁` the lowest and highest symmetrised powers, a mirror pair of
+/// power `p` goes to stratum `⌊L·ln(p/p₀)/ln(p₁/p₀)⌋` (clamped to `L − 1`; all to stratum 0
+/// when `p₀ = p₁`). Within a stratum the power then varies by at most the factor
+/// `(p₁/p₀)^(1/L)`, so the flat density the model gives a stratum follows the target within
+/// that factor, whatever the spectrum's dynamic range. Pairs, exclusions, the order of bins and
+/// the result's fields are as in [`equal_energy_strata`]; strata may be empty and have any
+/// energy.
+///
+/// # Errors
+/// As [`equal_energy_strata`].
+pub fn log_power_strata(
+    psd: ArrayView2<'_, f64>,
+    strata: usize,
+) -> Result<Vec<EnergyStratum>, SamplingError> {
+    let (units, size) = sorted_units(psd, strata)?;
+    let (low, high) = match (units.first(), units.last()) {
+        (Some(a), Some(b)) => (a.power, b.power),
+        _ => (1.0, 1.0),
+    };
+    let span = (high / low).ln();
+    Ok(assign(&units, size, strata, |unit| {
+        if span > 0.0 {
+            ((strata as f64 * (unit.power / low).ln() / span).floor() as usize).min(strata - 1)
+        } else {
+            0
+        }
+    }))
 }
 
 /// Distributes the cosine budget `J` over strata of the given energies (§4.2: "we then
@@ -445,5 +512,59 @@ mod tests {
                 ..
             })
         ));
+    }
+
+    /// Every bin with power lands in exactly one stratum, a mirror pair is never split, the
+    /// energies add up, and within a stratum the power varies by at most `(p₁/p₀)^(1/L)`;
+    /// the stratum of each pair is the one its log-power names, recomputed here directly.
+    #[test]
+    fn log_power_strata_bound_the_power_ratio_within_each_stratum() {
+        for size in [4usize, 16, 33] {
+            for seed in 0..3 {
+                let psd = random_psd(size, seed);
+                for strata in [1usize, 3, 8] {
+                    let out = log_power_strata(psd.view(), strata).unwrap();
+                    assert_eq!(out.len(), strata);
+                    let powers: Vec<f64> = psd
+                        .indexed_iter()
+                        .filter(|&((k, l), _)| (k, l) != (0, 0))
+                        .map(|((k, l), _)| symmetrised(&psd, [k, l]))
+                        .filter(|&p| p > 0.0)
+                        .collect();
+                    let p0 = powers.iter().copied().fold(f64::INFINITY, f64::min);
+                    let p1 = powers.iter().copied().fold(0.0, f64::max);
+                    let ratio = (p1 / p0).powf(1.0 / strata as f64);
+                    let mut owner = Array2::<i32>::from_elem((size, size), -1);
+                    let mut energy = 0.0;
+                    for (s, st) in out.iter().enumerate() {
+                        energy += st.energy;
+                        for &b in &st.bins {
+                            assert_eq!(owner[b], -1, "{b:?} twice");
+                            owner[b] = s as i32;
+                            let p = symmetrised(&psd, b);
+                            let expected =
+                                ((strata as f64 * (p / p0).ln() / (p1 / p0).ln()).floor() as usize)
+                                    .min(strata - 1);
+                            assert_eq!(s, expected, "size {size}, seed {seed}, bin {b:?}");
+                        }
+                        if !st.bins.is_empty() {
+                            assert!(st.max_power <= st.min_power * ratio * (1.0 + 1e-12));
+                        }
+                    }
+                    for ((k, l), &o) in owner.indexed_iter() {
+                        let has_power = (k, l) != (0, 0) && symmetrised(&psd, [k, l]) > 0.0;
+                        assert_eq!(o >= 0, has_power, "size {size}, bin ({k}, {l})");
+                        assert_eq!(o, owner[mirror([k, l], size)], "a mirror pair split");
+                    }
+                    let total = (psd.iter().sum::<f64>() - psd[[0, 0]]) / (size * size) as f64;
+                    assert!((energy - total).abs() <= 1e-12 * total);
+                }
+            }
+        }
+        // A flat spectrum has no log range: one stratum holds everything.
+        let flat = Array2::<f64>::ones((8, 8));
+        let out = log_power_strata(flat.view(), 4).unwrap();
+        assert_eq!(out[0].bins.len(), 63);
+        assert!(out[1..].iter().all(|s| s.bins.is_empty()));
     }
 }
