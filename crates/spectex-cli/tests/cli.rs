@@ -976,3 +976,109 @@ fn classic_bad_inputs_fail_cleanly() {
         assert_fails(&spectex(&a), &dir, &needles);
     }
 }
+
+/// `--device gpu` renders the classic noises (and `render MODEL --device gpu` their models)
+/// within one 16-bit level of the CPU's image, saying it used the GPU. Skips with a printed
+/// reason when no adapter exists, unless `SPECTEX_REQUIRE_GPU=1`.
+#[test]
+fn classic_noises_render_on_the_gpu() {
+    if let Err(e) = spectex_gpu::GpuContext::new() {
+        assert!(
+            !std::env::var("SPECTEX_REQUIRE_GPU").is_ok_and(|v| v == "1"),
+            "SPECTEX_REQUIRE_GPU=1 but no GPU: {e}"
+        );
+        eprintln!("SKIPPED classic_noises_render_on_the_gpu: {e}");
+        return;
+    }
+    let dir = scratch("classic-gpu");
+    let cases: &[(&str, &[&str])] = &[
+        ("perlin", &[]),
+        ("simplex", &["--dims", "3", "--z", "40.5"]),
+        (
+            "fbm",
+            &["--basis", "value", "--octaves", "3", "--sum", "ridged"],
+        ),
+        (
+            "worley",
+            &[
+                "--coefficients",
+                "-1,1,0,0",
+                "--metric",
+                "manhattan",
+                "--poisson",
+                "2",
+            ],
+        ),
+    ];
+    for (n, (kind, extra)) in cases.iter().enumerate() {
+        let model = dir.join(format!("{n}-{kind}.json"));
+        let mut images = Vec::new();
+        for device in ["cpu", "gpu"] {
+            let png = dir.join(format!("{n}-{kind}-{device}.png"));
+            let mut args = vec!["noise", kind, "-o", s(&png), "--model", s(&model)];
+            args.extend(["--size", "48x32", "--offset", "1e7,-3e6", "--seed", "2"]);
+            args.extend(["--bit-depth", "16", "--device", device]);
+            args.extend(extra.iter().copied());
+            let out = spectex(&args);
+            assert!(
+                out.status.success(),
+                "{kind} --device {device}: {}",
+                String::from_utf8_lossy(&out.stderr)
+            );
+            let stdout = String::from_utf8_lossy(&out.stdout);
+            let want = if device == "gpu" {
+                "on the GPU"
+            } else {
+                "on the CPU"
+            };
+            assert!(stdout.contains(want), "{kind}: {stdout}");
+            images.push(image::open(&png).unwrap().into_luma16());
+        }
+        // `spectex render` of the written model on the GPU.
+        let again = dir.join(format!("{n}-{kind}-render.png"));
+        let z = extra
+            .iter()
+            .position(|a| *a == "--z")
+            .map_or("0", |i| extra[i + 1]);
+        let out = spectex(&[
+            "render",
+            s(&model),
+            "-o",
+            s(&again),
+            "--size",
+            "48x32",
+            "--offset",
+            "1e7,-3e6",
+            "--bit-depth",
+            "16",
+            "--z",
+            z,
+            "--device",
+            "gpu",
+        ]);
+        assert!(
+            out.status.success(),
+            "render {kind}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        images.push(image::open(&again).unwrap().into_luma16());
+        assert_eq!(images[0].dimensions(), (48, 32));
+        let cpu = images[0].as_raw();
+        assert!(cpu.iter().any(|&v| v != cpu[0]), "{kind}: constant image");
+        for other in &images[1..] {
+            // The tolerances of spectex_crosscheck::tolerance::classic are below 1e-2 of a
+            // level at these amplitudes, except at a 3D simplex seam (≤ 3.2e-3 ≈ 210 levels).
+            let seam = if *kind == "simplex" { 210 } else { 1 };
+            let worst = cpu
+                .iter()
+                .zip(other.as_raw())
+                .map(|(a, b)| a.abs_diff(*b))
+                .max()
+                .unwrap();
+            assert!(
+                worst <= seam,
+                "{kind}: GPU differs from CPU by {worst} levels"
+            );
+        }
+    }
+}

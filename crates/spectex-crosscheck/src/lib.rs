@@ -26,8 +26,8 @@ mod report;
 pub mod tolerance;
 
 pub use compare::{
-    CaseWindow, Comparison, EXPECTED_FAILURES, Outcome, Verdict, check_model, compare,
-    expected_failure, judge, standard_windows,
+    CaseWindow, Comparison, EXPECTED_FAILURES, Outcome, Verdict, check_model, check_model_at_z,
+    compare, expected_failure, judge, standard_windows,
 };
 pub use report::{REPORT_DIR, write_failure_report, write_failure_report_in};
 pub use tolerance::Tolerance;

@@ -2,7 +2,8 @@
 //! (periods 4.5, 9, 16, 28 pixels, tables of 40 random frequencies — the model of
 //! `spectex-cpu`'s `eval` bench, so the numbers compare), one 1024² window, read back included;
 //! phasor noise in 2D and on a 3D plane (256², the CPU bench's models); and the synthetic grey
-//! and colour textures of `testdata/models` (128², frame time printed in ms).
+//! and colour textures of `testdata/models` (128², frame time printed in ms); and three classic
+//! noises of `testdata/models` (256²).
 //!
 //! `cargo bench -p spectex-gpu --bench gpu`; on lavapipe set `WGPU_ADAPTER_NAME=llvmpipe` (and
 //! `VK_DRIVER_FILES`/`VK_ICD_FILENAMES` to its ICD file). Skips with a message when no adapter
@@ -95,6 +96,43 @@ fn bench(c: &mut Criterion) {
         println!(
             "texture {name}, {side}²: {:.1} ms per frame on {} (one render)",
             start.elapsed().as_secs_f64() * 1e3,
+            gpu.adapter_name()
+        );
+        group.bench_function(format!("{name}_{side}x{side}"), |b| {
+            b.iter(|| gpu.render(black_box(&window)).expect("render"))
+        });
+    }
+    group.finish();
+
+    // Classic noises (the cross-check's cases), 256²: fBm of Perlin noise (5 octaves), 3D
+    // simplex noise, and 3D Worley turbulence (3 octaves of 27 cells), read-back included.
+    let side = 256;
+    let window = GpuWindow::new(side, side).at([1000.0, 2000.0], 1.0);
+    let mut group = c.benchmark_group("gpu_classic_eval");
+    group.throughput(Throughput::Elements((side * side) as u64));
+    group.sample_size(10);
+    for (name, json) in [
+        (
+            "perlin_fbm",
+            include_str!("../../../testdata/models/classic-perlin-fbm.json"),
+        ),
+        (
+            "simplex_3d",
+            include_str!("../../../testdata/models/classic-simplex-3d.json"),
+        ),
+        (
+            "worley_3d_turbulence",
+            include_str!("../../../testdata/models/classic-worley-3d-turbulence.json"),
+        ),
+    ] {
+        let model = spectex_model::from_json(json).expect("valid model");
+        let gpu = GpuEvaluator::new_at_z(&context, &model, 37.3).expect("valid model");
+        let start = Instant::now();
+        black_box(gpu.render(&window).expect("render"));
+        let seconds = start.elapsed().as_secs_f64();
+        println!(
+            "classic {name}, {side}²: {:.2} Mpix/s on {} (one render)",
+            (side * side) as f64 / seconds / 1e6,
             gpu.adapter_name()
         );
         group.bench_function(format!("{name}_{side}x{side}"), |b| {

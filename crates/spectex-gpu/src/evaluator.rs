@@ -5,6 +5,7 @@ use std::sync::mpsc;
 
 use spectex_model::Model;
 
+use crate::classic::{CLASSIC_AXIS_BYTES, ClassicPack};
 use crate::context::LostFlag;
 use crate::pack::{self, GABOR_AXIS_BYTES, GaborPack, LRP_AXIS_BYTES, LrpPack};
 use crate::phasor::{IMPULSE_BYTES, PhasorPack};
@@ -53,6 +54,10 @@ enum Packed {
         structures: wgpu::Buffer,
         blocks: wgpu::Buffer,
         cosines: wgpu::Buffer,
+    },
+    Classic {
+        pack: ClassicPack,
+        octaves: wgpu::Buffer,
     },
 }
 
@@ -152,6 +157,11 @@ impl GpuEvaluator {
                     },
                 )
             }
+            Model::Classic(m) => {
+                let pack = ClassicPack::new(m, z);
+                let octaves = storage_buffer(&device, "classic octaves", &pack.octaves);
+                ("classic", "classic_main", Packed::Classic { pack, octaves })
+            }
             #[allow(unreachable_patterns)] // reason: `Model` is non_exhaustive for other crates
             other => {
                 return Err(GpuError::Unsupported {
@@ -237,6 +247,7 @@ impl GpuEvaluator {
             Packed::Lrp { pack, .. } => LRP_AXIS_BYTES * pack.deltas.len() as u64,
             Packed::Gabor { .. } | Packed::Phasor { .. } => GABOR_AXIS_BYTES,
             Packed::Texture { .. } => PLACEMENT_AXIS_BYTES,
+            Packed::Classic { pack, .. } => CLASSIC_AXIS_BYTES * pack.octave_count() as u64,
         };
         // Output, plus a phasor profile's per-pixel parameters (3 values); a texture's largest
         // per-pixel buffer holds its strata and the two displacements.
@@ -392,6 +403,16 @@ impl GpuEvaluator {
                 extra.push(storage_buffer(device, "texture values", &t.values));
                 (t.params, t.columns, t.rows)
             }
+            Packed::Classic { pack, .. } => {
+                let mut params = pack.params;
+                params[0] = width as u32;
+                params[1] = height as u32;
+                (
+                    params.to_vec(),
+                    pack.axis(width, pack::columns(tile)),
+                    pack.axis(height, pack::rows(tile)),
+                )
+            }
         };
         let uniform = init_buffer(device, "params", &uniform, wgpu::BufferUsages::UNIFORM);
         let columns = storage_buffer(device, "columns", &columns);
@@ -417,6 +438,9 @@ impl GpuEvaluator {
         } = &self.model
         {
             buffers.extend([structures, blocks, cosines]);
+        }
+        if let Packed::Classic { octaves, .. } = &self.model {
+            buffers.push(octaves);
         }
         buffers.extend(extra.iter());
         buffers.extend([&columns, &rows, &output]);
@@ -554,6 +578,7 @@ fn bind_group_layout(device: &wgpu::Device, model: &Packed) -> wgpu::BindGroupLa
     let read_only = match model {
         Packed::Lrp { .. } => 5,
         Packed::Gabor { .. } => 2,
+        Packed::Classic { .. } => 3,
         Packed::Phasor { .. } | Packed::Texture { .. } => 6,
     };
     let buffer = |binding: u32, ty: wgpu::BufferBindingType| wgpu::BindGroupLayoutEntry {

@@ -20,6 +20,10 @@
 //!   displacement in the CPU's f32 order, and `shaders/texture.wgsl` adds the placement, the
 //!   block structure and the colour basis; [`GpuEvaluator::output_channels`] values (1 or 3) per
 //!   pixel, interleaved as on the CPU.
+//! * Classic noises (`Model::Classic`: gradient, simplex, value, Worley, fBm / turbulence /
+//!   ridged, 2D or a plane `z` of 3D): `shaders/classic.wgsl`, per pixel, with per-column,
+//!   per-row and per-octave cells and offsets from the host (for simplex, the per-axis parts of
+//!   the skewed coordinates as integer + f32 fraction).
 //!
 //! Adapter choice: `WGPU_ADAPTER_NAME` (a substring of the adapter's name, e.g. `llvmpipe`), else
 //! wgpu's high-performance default. Without a GPU, lavapipe (`apt-get install mesa-vulkan-drivers
@@ -56,6 +60,7 @@
 //! # Ok::<(), spectex_gpu::GpuError>(())
 //! ```
 
+mod classic;
 mod context;
 mod error;
 mod evaluator;

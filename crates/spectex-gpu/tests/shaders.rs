@@ -1,6 +1,6 @@
 //! Shader tidy checks that need no GPU: every registered module, as composed, parses and
 //! validates with naga; the registry and the files in `shaders/` match exactly; and the float
-//! constants of `common.wgsl` (and the Gabor and texture shaders) have the bits of the CPU's
+//! constants of `common.wgsl` (and the Gabor, texture and classic shaders) have the bits of the CPU's
 //! constants.
 
 #![allow(
@@ -160,6 +160,22 @@ fn float_constants_have_the_cpu_bits() {
         constant_values(&gabor, "NEG_LN_20"),
         [spectex_model::GABOR_TRUNCATION.ln() as f32]
     );
+    // The classic noises' simplex constants (the CPU's f64 unskew factors rounded to f32).
+    let classic = validate("classic");
+    for (name, want) in [
+        ("SIMPLEX_G2", spectex_model::classic::SIMPLEX_G2 as f32),
+        ("SIMPLEX_G3", spectex_model::classic::SIMPLEX_G3 as f32),
+        ("SIMPLEX2_R2", spectex_model::classic::SIMPLEX2_R2),
+        ("SIMPLEX2_SCALE", spectex_model::classic::SIMPLEX2_SCALE),
+        ("SIMPLEX3_R2", spectex_model::classic::SIMPLEX3_R2),
+        ("SIMPLEX3_SCALE", spectex_model::classic::SIMPLEX3_SCALE),
+    ] {
+        assert_eq!(
+            constant_values(&classic, name)[0].to_bits(),
+            want.to_bits(),
+            "classic.wgsl {name}"
+        );
+    }
     // The texture's placement cross-fade half-width.
     let texture = validate("texture");
     assert_eq!(

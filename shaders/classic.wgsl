@@ -1,0 +1,453 @@
+// classic.wgsl — the classic pointwise noises (improved Perlin gradient, simplex, value and
+// Worley noise, in 2D or on a plane z of 3D) and their fractal sums (fBm, turbulence, ridged),
+// the GPU twin of crates/spectex-cpu/src/classic.rs; the definitions and the randomness contract
+// are in crates/spectex-model/src/classic.rs. Composed after common.wgsl.
+//
+// Randomness: octave o is layer o. A 2D corner (i, j) hashes to cell_hash(i, j, o, seed), a 3D
+// corner (i, j, k) to cell_hash(i, j, o, cell_hash(k, 0, o, seed)); gradients take h >> 28,
+// value noise 2·unit_f32(h) − 1, a Worley cell seeds Prng(h) and draws a Poisson count (one
+// uniform against the f32 CDF) when the count is not fixed, then per point x, y (, z). Integer
+// work only, so every draw is the CPU's bit for bit.
+//
+// Positions (DESIGN invariant 2): no f64 here. The host computes in f64, per tile column and
+// row and per octave, p = x / c_o, the cell ⌊p⌋ and the offset f32(p − ⌊p⌋) (the CPU's own
+// split, so the lattice bases and Worley see the CPU's offsets bit for bit), and for simplex
+// noise the two parts p·(1 + F) and p·F of the skewed coordinates, each as an integer and an
+// f32 fraction. The skewed coordinate X = px + (px + py (+ pz))·F is not separable per pixel,
+// but it is a sum of per-axis parts: X = px·(1 + F) + py·F (+ pz·F), so the shader adds the
+// integer parts as integers and the fractions (each in [0, 1)) in f32, then takes the floor of
+// the fraction sum. The fractions lose nothing with the distance from the origin.
+//
+// The step position → (cell, offset) is one function per kind of basis (lattice_position,
+// simplex_position): a per-pixel displacement (domain warping) is to be added to the in-cell
+// offset there, before the floor that moves it into its cell.
+//
+// Floats: the CPU's f32 formulas in the CPU's order (fade by Horner, lerps a + t·(b − a),
+// gradients by selects and sign-bit flips, Worley distances and the min/max insertion network);
+// only FMA contraction by the compiler can make them differ (see spectex_crosscheck::tolerance::
+// classic). Simplex offsets are formed from the skewed fractions here and from f64 on the CPU,
+// so simplex noise agrees within that tolerance, not bit for bit.
+
+/// Per-dispatch values and the model's constants.
+struct ClassicParams {
+    width: u32,
+    height: u32,
+    seed: u32,
+    octaves: u32,
+    /// 0 gradient, 1 simplex, 2 value, 3 Worley.
+    basis: u32,
+    /// 1 for a 3D model (on the plane z of the octave table), 0 for 2D.
+    three_d: u32,
+    /// 0 none or fBm, 1 turbulence, 2 ridged.
+    fractal: u32,
+    /// Worley: 0 Euclidean, 1 Manhattan, 2 Chebyshev.
+    metric: u32,
+    /// Worley: the fixed count of points per cell, or 0 for a Poisson count.
+    fixed_count: u32,
+    /// Worley: n − 1 for the largest n with C_n ≠ 0.
+    needed: u32,
+    _pad0: u32,
+    _pad1: u32,
+    amplitude: f32,
+    mean: f32,
+    ridge_offset: f32,
+    weight_gain: f32,
+    /// Worley: C₁..C₄.
+    coefficients: vec4<f32>,
+    /// Worley: the largest distance kept (squared for the Euclidean metric).
+    cap: f32,
+    _pad2: u32,
+    _pad3: u32,
+    _pad4: u32,
+    /// Worley: the Poisson CDF P(N ≤ k), k = 0..15, rounded to f32.
+    cdf: array<vec4<f32>, 4>,
+}
+
+/// What one octave needs (host, f64 work rounded once).
+struct ClassicOctave {
+    /// gain^o.
+    weight: f32,
+    /// The plane z: its cell and offset (lattice bases and Worley, 3D).
+    z_cell: i32,
+    z_offset: f32,
+    /// layer_key(o, seed), for 2D hashes.
+    key2: u32,
+    /// The plane z's parts of the skewed coordinates (simplex, 3D; zero in 2D): pz·F as
+    /// cell + fraction (added to X and Y) and pz·(1 + F) (added to Z).
+    z_other_cell: i32,
+    z_other_frac: f32,
+    z_own_cell: i32,
+    z_own_frac: f32,
+}
+
+/// One column (or row) of the tile for one octave: p = x / c_o split as ⌊p⌋ and f32(p − ⌊p⌋);
+/// the skew parts p·(1 + F) ("own": added to the same axis) and p·F ("other": added to the other
+/// axes), each split the same way.
+struct ClassicAxis {
+    cell: i32,
+    offset: f32,
+    own_cell: i32,
+    own_frac: f32,
+    other_cell: i32,
+    other_frac: f32,
+}
+
+@group(0) @binding(0) var<uniform> params: ClassicParams;
+@group(0) @binding(1) var<storage, read> octaves: array<ClassicOctave>;
+@group(0) @binding(2) var<storage, read> columns: array<ClassicAxis>;
+@group(0) @binding(3) var<storage, read> rows: array<ClassicAxis>;
+@group(0) @binding(4) var<storage, read_write> output: array<f32>;
+
+/// The most rings of cells the Worley search visits (spectex_model::classic::WORLEY_MAX_RING).
+const WORLEY_MAX_RING: i32 = 6;
+/// (3 − √3)/6 and 1/6 rounded to f32 (the CPU's `SIMPLEX_G2 as f32`, `SIMPLEX_G3 as f32`).
+const SIMPLEX_G2: f32 = 0.21132487f;
+const SIMPLEX_G3: f32 = 0.16666667f;
+/// Squared kernel radii and output scales (spectex_model::classic).
+const SIMPLEX2_R2: f32 = 0.5f;
+const SIMPLEX2_SCALE: f32 = 70.0f;
+const SIMPLEX3_R2: f32 = 0.6f;
+const SIMPLEX3_SCALE: f32 = 32.0f;
+
+/// a + b on i32 with wrapping (as the CPU's wrapping_add).
+fn wrap_add(a: i32, b: i32) -> i32 {
+    return bitcast<i32>(bitcast<u32>(a) + bitcast<u32>(b));
+}
+
+fn wrap_add3(a: vec3<i32>, b: vec3<i32>) -> vec3<i32> {
+    return bitcast<vec3<i32>>(bitcast<vec3<u32>>(a) + bitcast<vec3<u32>>(b));
+}
+
+/// The hash of 2D corner (i, j) of the octave whose layer key is `key2`.
+fn hash2(i: i32, j: i32, key2: u32) -> u32 {
+    return cell_hash_in_row(i, row_key(j, key2));
+}
+
+/// The hash of 3D corner (i, j, k) of octave o: cell_hash(i, j, o, cell_hash(k, 0, o, seed)).
+fn hash3(i: i32, j: i32, k: i32, o: u32) -> u32 {
+    return cell_hash(i, j, o, cell_hash(k, 0, o, params.seed));
+}
+
+fn corner_hash(c: vec3<i32>, o: u32, key2: u32) -> u32 {
+    if (params.three_d == 1u) {
+        return hash3(c.x, c.y, c.z, o);
+    }
+    return hash2(c.x, c.y, key2);
+}
+
+/// 6t⁵ − 15t⁴ + 10t³ by Horner's rule (spectex_model::classic::fade).
+fn fade(t: f32) -> f32 {
+    return t * t * t * (t * (t * 6.0f - 15.0f) + 10.0f);
+}
+
+/// Perlin's grad(hash, x, y, z) chosen by the top four bits of h, by selects and sign-bit flips
+/// (spectex_model::classic::gradient_dot).
+fn gradient_dot(h: u32, x: f32, y: f32, z: f32) -> f32 {
+    let g = h >> 28u;
+    let u = select(y, x, g < 8u);
+    let v = select(select(z, x, g == 12u || g == 14u), y, g < 4u);
+    let su = bitcast<f32>(bitcast<u32>(u) ^ ((g & 1u) << 31u));
+    let sv = bitcast<f32>(bitcast<u32>(v) ^ ((g & 2u) << 30u));
+    return su + sv;
+}
+
+/// 2·unit_f32(h) − 1, exact (spectex_model::classic::lattice_value).
+fn lattice_value(h: u32) -> f32 {
+    return f32(h >> 8u) * 0x1p-23f - 1.0f;
+}
+
+fn lerp(a: f32, b: f32, t: f32) -> f32 {
+    return a + t * (b - a);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Position → (cell, offset).
+
+/// A point of a lattice basis or of Worley noise: its cell and its offset in the cell.
+struct Located {
+    cell: vec3<i32>,
+    offset: vec3<f32>,
+}
+
+/// The cell and in-cell offset of the pixel (column, row) for an octave: the host's split.
+/// Offsets in [0, 1] are kept as they are (the host's f32 rounding can give exactly 1, as the
+/// CPU's split does, and the CPU keeps it); an offset outside (after a displacement is added
+/// here) moves to its own cell by the floor.
+fn lattice_position(column: ClassicAxis, row: ClassicAxis, octave: ClassicOctave) -> Located {
+    let u = vec3<f32>(column.offset, row.offset, octave.z_offset);
+    let inside = u >= vec3<f32>(0.0f) & u <= vec3<f32>(1.0f);
+    let f = select(floor(u), vec3<f32>(0.0f), inside);
+    let cell = wrap_add3(vec3<i32>(column.cell, row.cell, octave.z_cell), vec3<i32>(f));
+    return Located(cell, u - f);
+}
+
+/// The skewed simplex cell (i, j, k) and the fraction in it of the pixel (column, row): per
+/// axis, the axis's own part plus the other axes' parts (integers added as integers, fractions
+/// in f32, in the order column, row, plane), then the floor of the fraction sum (in [0, 3)). A
+/// displacement d (cell units) would be skewed, d + (Σd)·F, and added to the fraction sum here.
+fn simplex_position(column: ClassicAxis, row: ClassicAxis, octave: ClassicOctave) -> Located {
+    let cells = wrap_add3(
+        wrap_add3(
+            vec3<i32>(column.own_cell, column.other_cell, column.other_cell),
+            vec3<i32>(row.other_cell, row.own_cell, row.other_cell),
+        ),
+        vec3<i32>(octave.z_other_cell, octave.z_other_cell, octave.z_own_cell),
+    );
+    let fractions = (vec3<f32>(column.own_frac, column.other_frac, column.other_frac)
+        + vec3<f32>(row.other_frac, row.own_frac, row.other_frac))
+        + vec3<f32>(octave.z_other_frac, octave.z_other_frac, octave.z_own_frac);
+    let f = floor(fractions);
+    return Located(wrap_add3(cells, vec3<i32>(f)), fractions - f);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Bases.
+
+/// Gradient (gradient = true) or value noise at p (2D: the z cell and offset are ignored).
+fn lattice_noise(p: Located, o: u32, key2: u32, gradient: bool) -> f32 {
+    let u = p.offset;
+    let sx = fade(u.x);
+    let sy = fade(u.y);
+    var c: array<f32, 8>;
+    let layers = select(1, 2, params.three_d == 1u);
+    for (var dz = 0; dz < layers; dz++) {
+        for (var dy = 0; dy < 2; dy++) {
+            for (var dx = 0; dx < 2; dx++) {
+                let h = corner_hash(wrap_add3(p.cell, vec3<i32>(dx, dy, dz)), o, key2);
+                var v: f32;
+                if (gradient) {
+                    let z = select(0.0f, u.z - f32(dz), params.three_d == 1u);
+                    v = gradient_dot(h, u.x - f32(dx), u.y - f32(dy), z);
+                } else {
+                    v = lattice_value(h);
+                }
+                c[dz * 4 + dy * 2 + dx] = v;
+            }
+        }
+    }
+    let y0 = lerp(lerp(c[0], c[1], sx), lerp(c[2], c[3], sx), sy);
+    if (params.three_d == 0u) {
+        return y0;
+    }
+    let y1 = lerp(lerp(c[4], c[5], sx), lerp(c[6], c[7], sx), sy);
+    return lerp(y0, y1, fade(u.z));
+}
+
+/// One simplex corner's term max(0, r² − |δ|²)⁴ · (g · δ).
+fn simplex_term(h: u32, r2: f32, dx: f32, dy: f32, dz: f32) -> f32 {
+    let t = max(r2 - (dx * dx + dy * dy + dz * dz), 0.0f);
+    let t2 = t * t;
+    return t2 * t2 * gradient_dot(h, dx, dy, dz);
+}
+
+/// 2D simplex noise (Gustavson 2005) from the skewed cell and fraction.
+fn simplex2(p: Located, key2: u32) -> f32 {
+    let t = (p.offset.x + p.offset.y) * SIMPLEX_G2;
+    let x0 = p.offset.x - t;
+    let y0 = p.offset.y - t;
+    let step_x = x0 > y0;
+    let i1 = select(0, 1, step_x);
+    let j1 = select(1, 0, step_x);
+    let x1 = (x0 - f32(i1)) + SIMPLEX_G2;
+    let y1 = (y0 - f32(j1)) + SIMPLEX_G2;
+    let x2 = (x0 - 1.0f) + 2.0f * SIMPLEX_G2;
+    let y2 = (y0 - 1.0f) + 2.0f * SIMPLEX_G2;
+    let i = p.cell.x;
+    let j = p.cell.y;
+    let h0 = hash2(i, j, key2);
+    let h1 = hash2(wrap_add(i, i1), wrap_add(j, j1), key2);
+    let h2 = hash2(wrap_add(i, 1), wrap_add(j, 1), key2);
+    let c0 = simplex_term(h0, SIMPLEX2_R2, x0, y0, 0.0f);
+    let c1 = simplex_term(h1, SIMPLEX2_R2, x1, y1, 0.0f);
+    let c2 = simplex_term(h2, SIMPLEX2_R2, x2, y2, 0.0f);
+    return SIMPLEX2_SCALE * ((c0 + c1) + c2);
+}
+
+/// One corner of 3D simplex noise: cell + d, offset δ0 − d + off.
+fn simplex3_corner(p: Located, x0: vec3<f32>, d: vec3<i32>, off: f32, o: u32) -> f32 {
+    let c = wrap_add3(p.cell, d);
+    let h = hash3(c.x, c.y, c.z, o);
+    let df = vec3<f32>(d);
+    return simplex_term(h, SIMPLEX3_R2, (x0.x - df.x) + off, (x0.y - df.y) + off, (x0.z - df.z) + off);
+}
+
+/// 3D simplex noise (Perlin 2001, Gustavson 2005) from the skewed cell and fraction.
+fn simplex3(p: Located, o: u32) -> f32 {
+    let t = ((p.offset.x + p.offset.y) + p.offset.z) * SIMPLEX_G3;
+    let x0 = p.offset - vec3<f32>(t);
+    // Gustavson's ranking of x0, y0, z0, as the CPU writes it.
+    let a = x0.x >= x0.y;
+    let b = x0.y >= x0.z;
+    let c = x0.x >= x0.z;
+    let d1 = vec3<i32>(
+        select(0, 1, a && (b || c)),
+        select(0, 1, !a && b),
+        select(0, 1, !b && (!a || !c)),
+    );
+    let d2 = vec3<i32>(
+        select(0, 1, a || (b && c)),
+        select(0, 1, b || !a),
+        select(0, 1, !b || (!a && !c)),
+    );
+    let c0 = simplex3_corner(p, x0, vec3<i32>(0), 0.0f, o);
+    let c1 = simplex3_corner(p, x0, d1, SIMPLEX_G3, o);
+    let c2 = simplex3_corner(p, x0, d2, 2.0f * SIMPLEX_G3, o);
+    let c3 = simplex3_corner(p, x0, vec3<i32>(1), 3.0f * SIMPLEX_G3, o);
+    return SIMPLEX3_SCALE * (((c0 + c1) + c2) + c3);
+}
+
+/// The Worley distance of the offset (dx, dy, dz) (squared for the Euclidean metric).
+fn worley_distance(dx: f32, dy: f32, dz: f32) -> f32 {
+    let three_d = params.three_d == 1u;
+    var d: f32;
+    switch params.metric {
+        case 1u: {
+            let m = abs(dx) + abs(dy);
+            d = select(m, m + abs(dz), three_d);
+        }
+        case 2u: {
+            let m = max(abs(dx), abs(dy));
+            d = select(m, max(m, abs(dz)), three_d);
+        }
+        default: {
+            let e = dx * dx + dy * dy;
+            d = select(e, e + dz * dz, three_d);
+        }
+    }
+    return d;
+}
+
+/// Distance from the offset u to the cells outside the (2·ring + 1)^d block around its cell.
+fn worley_gap(u: vec3<f32>, ring: i32) -> f32 {
+    let r = f32(ring);
+    var g = min(min(u.x + r, (r + 1.0f) - u.x), min(u.y + r, (r + 1.0f) - u.y));
+    if (params.three_d == 1u) {
+        g = min(g, min(u.z + r, (r + 1.0f) - u.z));
+    }
+    return select(g, g * g, params.metric == 0u);
+}
+
+/// The number of feature points of the cell whose stream is `prng`: fixed, or a Poisson count
+/// (one uniform u, the count of k with u ≥ P(N ≤ k)).
+fn worley_count(prng: ptr<function, Prng>) -> u32 {
+    if (params.fixed_count != 0u) {
+        return params.fixed_count;
+    }
+    let u = prng_next_f32(prng);
+    var count = 0u;
+    for (var k = 0u; k < 16u; k++) {
+        count += select(0u, 1u, u >= params.cdf[k / 4u][k % 4u]);
+    }
+    return count;
+}
+
+/// Worley noise C₁F₁ + C₂F₂ + C₃F₃ + C₄F₄ at p: the CPU's search, ring 1 (the 3×3(×3) block)
+/// first, then ring after ring until the needed F_n is no farther than the unsearched cells, or
+/// WORLEY_MAX_RING rings. The four smallest distances of a set do not depend on the order the
+/// set is visited in, so this visits the CPU's cells and keeps the CPU's four values.
+fn worley(p: Located, o: u32, key2: u32) -> f32 {
+    let three_d = params.three_d == 1u;
+    var f = array<f32, 4>(params.cap, params.cap, params.cap, params.cap);
+    let u = p.offset;
+    for (var ring = 1; ring <= WORLEY_MAX_RING; ring++) {
+        let zr = select(0, ring, three_d);
+        for (var dz = -zr; dz <= zr; dz++) {
+            for (var dy = -ring; dy <= ring; dy++) {
+                for (var dx = -ring; dx <= ring; dx++) {
+                    // Ring 1 is the whole 3×3(×3) block; later rings only their shell.
+                    if (ring > 1 && max(max(abs(dx), abs(dy)), abs(dz)) != ring) {
+                        continue;
+                    }
+                    let cell = wrap_add3(p.cell, vec3<i32>(dx, dy, dz));
+                    var prng = Prng(corner_hash(cell, o, key2));
+                    let count = worley_count(&prng);
+                    let ry = u.y - f32(dy);
+                    let rz = u.z - f32(dz);
+                    for (var n = 0u; n < count; n++) {
+                        let ox = prng_next_f32(&prng);
+                        let oy = prng_next_f32(&prng);
+                        let ddx = u.x - (f32(dx) + ox);
+                        let ddy = ry - oy;
+                        var ddz = 0.0f;
+                        if (three_d) {
+                            ddz = rz - prng_next_f32(&prng);
+                        }
+                        // The min/max insertion network of the CPU.
+                        var d = worley_distance(ddx, ddy, ddz);
+                        for (var k = 0; k < 4; k++) {
+                            let a = min(f[k], d);
+                            d = max(f[k], d);
+                            f[k] = a;
+                        }
+                    }
+                }
+            }
+        }
+        if (f[params.needed] <= worley_gap(u, ring)) {
+            break;
+        }
+    }
+    var g = vec4<f32>(f[0], f[1], f[2], f[3]);
+    if (params.metric == 0u) {
+        g = sqrt(g);
+    }
+    let c = params.coefficients;
+    return ((c.x * g.x + c.y * g.y) + c.z * g.z) + c.w * g.w;
+}
+
+/// The basis at pixel (column, row) for octave o.
+fn basis(column: ClassicAxis, row: ClassicAxis, octave: ClassicOctave, o: u32) -> f32 {
+    var n: f32;
+    switch params.basis {
+        case 1u: {
+            let p = simplex_position(column, row, octave);
+            if (params.three_d == 1u) {
+                n = simplex3(p, o);
+            } else {
+                n = simplex2(p, octave.key2);
+            }
+        }
+        case 2u: {
+            n = lattice_noise(lattice_position(column, row, octave), o, octave.key2, false);
+        }
+        case 3u: {
+            n = worley(lattice_position(column, row, octave), o, octave.key2);
+        }
+        default: {
+            n = lattice_noise(lattice_position(column, row, octave), o, octave.key2, true);
+        }
+    }
+    return n;
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn classic_main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if (gid.x >= params.width || gid.y >= params.height) {
+        return;
+    }
+    var acc = 0.0f;
+    var previous = 0.0f;
+    for (var o = 0u; o < params.octaves; o++) {
+        let octave = octaves[o];
+        let n = basis(columns[o * params.width + gid.x], rows[o * params.height + gid.y], octave, o);
+        let w = octave.weight;
+        switch params.fractal {
+            case 1u: {
+                acc += w * abs(n);
+            }
+            case 2u: {
+                let r = params.ridge_offset - abs(n);
+                var s = r * r;
+                if (o > 0u) {
+                    s *= min(max(previous * params.weight_gain, 0.0f), 1.0f);
+                }
+                previous = s;
+                acc += w * s;
+            }
+            default: {
+                acc += w * n;
+            }
+        }
+    }
+    output[gid.y * params.width + gid.x] = params.mean + params.amplitude * acc;
+}
