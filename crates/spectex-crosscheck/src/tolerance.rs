@@ -8,7 +8,10 @@
 //! its arithmetic rounding may differ. Each constant below bounds one such source for one term;
 //! a pixel's bound is the sum over its terms.
 
-use spectex_model::{FixedCosine, GaborNoise, LrpNoise, Model, Stratum, TextureModel};
+use spectex_model::{
+    FixedCosine, GABOR_TRUNCATION, GaborNoise, LrpNoise, MAX_WARP, Model, PHASOR_TRUNCATION,
+    PhasorNoise, PhasorOutput, Stratum, TextureModel, Warp,
+};
 
 /// Single-precision unit roundoff, `2⁻²⁴`.
 pub const F32_UNIT_ROUNDOFF: f64 = 5.960_464_477_539_063e-8;
@@ -102,6 +105,7 @@ pub fn tolerance(model: &Model) -> Option<Tolerance> {
         Model::Texture(m) => texture(m)
             .into_iter()
             .max_by(|a, b| a.max_abs.total_cmp(&b.max_abs)),
+        Model::Warp(m) => warp(m),
         #[allow(unreachable_patterns)] // reason: `Model` is non_exhaustive for other crates
         _ => None,
     }
@@ -282,10 +286,227 @@ pub fn gabor(m: &GaborNoise) -> Tolerance {
     Tolerance::from_max(k * count * per_term + SUMMATION_ROUNDINGS * F32_UNIT_ROUNDOFF * magnitude)
 }
 
+/// Largest `|dw/dy|` of the Kaiser–Bessel window `w(y)` (`y` in window widths), by central
+/// differences of the f64 definition on 3000 steps of its support, plus 1% for the grid.
+#[must_use]
+pub fn kaiser_bessel_slope() -> f64 {
+    let (n, h) = (3000, spectex_model::window::WINDOW_SUPPORT / 3000.0);
+    let w = spectex_model::window::kaiser_bessel;
+    (1..n)
+        .map(|i| {
+            let y = i as f64 * h;
+            ((w(y + h) - w(y - h)) / (2.0 * h)).abs()
+        })
+        .fold(0.0, f64::max)
+        * 1.01
+}
+
+/// Largest slope `|∂g/∂d|` of a Gaussian `exp(−π b²d²)`: `b·√(2π)·e^{−½}`, per pixel.
+fn gaussian_slope(bandwidth: f64) -> f64 {
+    bandwidth * (2.0 * std::f64::consts::PI).sqrt() * (-0.5f64).exp()
+}
+
+/// A pixel's bound on the impulses of 3×3 (3×3×3) cells of mean `lambda` each, as in
+/// [`gabor`]: exceeded with probability below 1e-9.
+fn impulse_count(cells: f64, lambda: f64) -> f64 {
+    let n = cells * lambda;
+    n + 6.0 * n.sqrt() + 6.0
+}
+
+/// How a model's value can change when its position moves by `δ` pixels:
+/// `|v(p + δ) − v(p)| ≤ slope·|δ| + jump` (`jump` for truncated kernels, which cut at 5% of
+/// their peak: any of them may enter or leave the support), with `cell` the grid side over which
+/// the GPU relocates a displaced point and `magnitude` a bound on `|v|`. `None` where no bound
+/// is derived (phase-based phasor outputs, whose slope is unbounded where `|𝒢| → 0`; the
+/// classic noises and textures, which the GPU does not warp).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Regularity {
+    /// Lipschitz bound away from the jumps, per pixel.
+    pub slope: f64,
+    /// Largest total jump.
+    pub jump: f64,
+    /// Largest `|value|`.
+    pub magnitude: f64,
+    /// Grid side, pixels.
+    pub cell: f64,
+}
+
+/// [`Regularity`] of `model`, by kind (see there).
+#[must_use]
+pub fn regularity(model: &Model) -> Option<Regularity> {
+    let tau = std::f64::consts::TAU;
+    match model {
+        Model::Lrp(m) => {
+            // Per stratum, 9 lattice points × J_S cosines of amplitude A_S: the window's slope
+            // over Δ_S and the cosine's 2π|f|.
+            let kb = kaiser_bessel_slope();
+            let (mut slope, mut magnitude, mut cell) = (0.0, f64::from(m.mean).abs(), 0.0f64);
+            for s in &m.strata {
+                let f_max = s
+                    .sub_strata
+                    .iter()
+                    .flatten()
+                    .map(|f| f64::from(f[0]).hypot(f64::from(f[1])))
+                    .fold(0.0, f64::max);
+                let delta = f64::from(s.window_width);
+                let terms = 9.0 * s.sub_strata.len() as f64 * f64::from(s.amplitude).abs();
+                slope += terms * (kb / delta + tau * f_max);
+                magnitude += terms;
+                cell = cell.max(delta);
+            }
+            Some(Regularity {
+                slope,
+                jump: 0.0,
+                magnitude,
+                cell,
+            })
+        }
+        Model::Gabor(m) => {
+            let terms = f64::from(m.amplitude).abs() * impulse_count(9.0, m.impulses_per_cell());
+            Some(Regularity {
+                slope: terms
+                    * (tau * f64::from(m.frequency) + gaussian_slope(f64::from(m.bandwidth))),
+                jump: terms * GABOR_TRUNCATION,
+                magnitude: terms + f64::from(m.mean).abs(),
+                cell: m.kernel_radius(),
+            })
+        }
+        Model::Phasor(m) => phasor_regularity(m),
+        Model::Warp(w) => {
+            // v(p) = b(p + d(p)): moving p by δ moves the base's point by δ + |s|·(slope of x
+            // or y)·δ per axis, √2 for the two axes together.
+            let b = regularity(&w.base)?;
+            let (x, y) = (regularity(&w.x)?, regularity(&w.y)?);
+            let s = f64::from(w.strength).abs();
+            let spread = 1.0 + std::f64::consts::SQRT_2 * s * x.slope.max(y.slope);
+            let jumps = std::f64::consts::SQRT_2 * s * x.jump.max(y.jump);
+            Some(Regularity {
+                slope: b.slope * spread,
+                // A jump of x or y moves the base's point by |s|·jump at most.
+                jump: b.jump + b.slope * jumps,
+                magnitude: b.magnitude,
+                cell: b.cell,
+            })
+        }
+        _ => None,
+    }
+}
+
+/// Phasor noise's Gabor (`Im 𝒢`) and intensity (`|𝒢|`) outputs: each kernel changes at most
+/// by `2π F_max + gaussian slope` per pixel and jumps by [`PHASOR_TRUNCATION`] at its radius.
+fn phasor_regularity(m: &PhasorNoise) -> Option<Regularity> {
+    if !matches!(m.output, PhasorOutput::Gabor | PhasorOutput::Intensity) {
+        return None;
+    }
+    let cells = if m.dimensions == 3 { 27.0 } else { 9.0 };
+    let terms = f64::from(m.amplitude).abs() * impulse_count(cells, m.impulses_per_cell());
+    let slope = std::f64::consts::TAU * m.frequency.range().1.min(0.5)
+        + gaussian_slope(m.bandwidth_range().1);
+    Some(Regularity {
+        slope: terms * slope,
+        jump: terms * PHASOR_TRUNCATION,
+        magnitude: terms + f64::from(m.mean).abs(),
+        cell: m.kernel_radius(),
+    })
+}
+
+/// The CPU–GPU bound of a model's value wherever a warp may use it: [`tolerance`], and for
+/// phasor noise's Gabor and intensity outputs the complex sum's bound
+/// ([`crate::phasor::complex_bound`], `√2` of it for the intensity) times the amplitude.
+fn value_tolerance(model: &Model) -> Option<f64> {
+    match model {
+        Model::Phasor(m) => {
+            let e = crate::phasor::complex_bound(m) * f64::from(m.amplitude).abs();
+            match m.output {
+                PhasorOutput::Gabor => Some(e),
+                PhasorOutput::Intensity => Some(std::f64::consts::SQRT_2 * e),
+                _ => None,
+            }
+        }
+        other => tolerance(other).map(|t| t.max_abs),
+    }
+}
+
+/// Domain warping (`spectex_model::warp`): `v(p) = b(p + d(p))`. The two sides evaluate the
+/// base at points `δ` apart, where per axis
+/// - the displacement differs by `|s|·E_{x,y}` (the clamp is 1-Lipschitz; `E` the x or y
+///   model's own bound);
+/// - `s·v` and, for a displaced warp, the f32 sum of displacements round on the GPU:
+///   2 roundings of `|d| ≤ D = min(MAX_WARP, |s|·max|v|)` per warp level;
+/// - the GPU relocates the point in f32 (`common.wgsl`, `warp_relocate`): offset plus
+///   displacement, the cell shift and the rebuilt offsets, 4 roundings of values up to
+///   `D + 3·cell`; the CPU's f64 sum rounds below that.
+///
+/// so `|δ| ≤ √2·(|s|·max E + 6·u·(D + 3·cell))`. The base's bound, plus its
+/// [`Regularity`] over `δ` (`slope·|δ| + jump`), is the warp's. `None` when a sub-model has no
+/// derived bound.
+#[must_use]
+pub fn warp(w: &Warp) -> Option<Tolerance> {
+    let base = value_tolerance(&w.base)?;
+    let b = regularity(&w.base)?;
+    let (ex, ey) = (value_tolerance(&w.x)?, value_tolerance(&w.y)?);
+    let (x, y) = (regularity(&w.x)?, regularity(&w.y)?);
+    let s = f64::from(w.strength).abs();
+    let reach = f64::from(MAX_WARP) * spectex_model::warp::depth(&Model::Warp(w.clone())) as f64;
+    let d = (s * x.magnitude.max(y.magnitude)).min(reach);
+    let delta =
+        std::f64::consts::SQRT_2 * (s * ex.max(ey) + 6.0 * F32_UNIT_ROUNDOFF * (d + 3.0 * b.cell));
+    Some(Tolerance::from_max(base + b.slope * delta + b.jump))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use spectex_model::{Orientation, Stratum};
+
+    /// The window falls from 1 to 0 over 1.5 widths, so its steepest slope is above 1/1.5;
+    /// numerically it is ≈ 1.27 (the f64 window's own values, not a fitted constant).
+    #[test]
+    fn kaiser_bessel_slope_is_plausible() {
+        let k = kaiser_bessel_slope();
+        assert!(k > 1.0 / 1.5 && k < 2.0, "{k}");
+    }
+
+    /// A warp's bound is the base's at strength 0 plus the GPU's relocation roundings, and it
+    /// grows with the strength; kinds without a derivation give none.
+    #[test]
+    fn warp_bound_grows_with_strength() {
+        let lrp = |seed| {
+            Model::Lrp(LrpNoise {
+                seed,
+                mean: 0.0,
+                strata: vec![Stratum {
+                    window_width: 10.0,
+                    amplitude: 0.1,
+                    sub_strata: vec![vec![[0.1, 0.2]]; 4],
+                }],
+            })
+        };
+        let w = |strength| Warp {
+            base: Box::new(lrp(1)),
+            x: Box::new(lrp(2)),
+            y: Box::new(lrp(3)),
+            strength,
+        };
+        let base = tolerance(&lrp(1)).unwrap().max_abs;
+        let at0 = warp(&w(0.0)).unwrap().max_abs;
+        // At strength 0 only the GPU's relocation of the point (a few ulps of 3 cells) is left.
+        assert!(at0 > base && at0 < 3.0 * base, "{at0} vs {base}");
+        assert!(warp(&w(8.0)).unwrap().max_abs > at0);
+        let classic = Warp {
+            base: Box::new(Model::Classic(spectex_model::ClassicNoise {
+                seed: 0,
+                dimensions: 2,
+                cell_size: 8.0,
+                basis: spectex_model::classic::Basis::Gradient,
+                fractal: None,
+                amplitude: 1.0,
+                mean: 0.0,
+            })),
+            ..w(1.0)
+        };
+        assert_eq!(warp(&classic), None);
+    }
 
     /// The bound grows linearly with the amplitude and with the number of cosines.
     #[test]
