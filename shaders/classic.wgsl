@@ -78,6 +78,8 @@ struct ClassicOctave {
     z_other_frac: f32,
     z_own_cell: i32,
     z_own_frac: f32,
+    /// 1 / c_o, cells per pixel (f32 of the f64 value), for domain warping.
+    inv_cell: f32,
 }
 
 /// One column (or row) of the tile for one octave: p = x / c_o split as ⌊p⌋ and f32(p − ⌊p⌋);
@@ -103,6 +105,9 @@ const WORLEY_MAX_RING: i32 = 6;
 /// (3 − √3)/6 and 1/6 rounded to f32 (the CPU's `SIMPLEX_G2 as f32`, `SIMPLEX_G3 as f32`).
 const SIMPLEX_G2: f32 = 0.21132487f;
 const SIMPLEX_G3: f32 = 0.16666667f;
+/// (√3 − 1)/2 and 1/3 rounded to f32: the skew of a warp's displacement.
+const SIMPLEX_F2: f32 = 0.36602542f;
+const SIMPLEX_F3: f32 = 0.33333334f;
 /// Squared kernel radii and output scales (spectex_model::classic).
 const SIMPLEX2_R2: f32 = 0.5f;
 const SIMPLEX2_SCALE: f32 = 70.0f;
@@ -164,7 +169,7 @@ fn lerp(a: f32, b: f32, t: f32) -> f32 {
 // Position → (cell, offset).
 
 /// A point of a lattice basis or of Worley noise: its cell and its offset in the cell.
-struct Located {
+struct Located3 {
     cell: vec3<i32>,
     offset: vec3<f32>,
 }
@@ -173,19 +178,29 @@ struct Located {
 /// Offsets in [0, 1] are kept as they are (the host's f32 rounding can give exactly 1, as the
 /// CPU's split does, and the CPU keeps it); an offset outside (after a displacement is added
 /// here) moves to its own cell by the floor.
-fn lattice_position(column: ClassicAxis, row: ClassicAxis, octave: ClassicOctave) -> Located {
+fn lattice_position(column: ClassicAxis, row: ClassicAxis, octave: ClassicOctave, d: vec2<f32>) -> Located3 {
+    if (warp_params.enabled == 1u) {
+        // Domain warping (common.wgsl): the displacement in cells moves the plane's point.
+        let x = warp_relocate(column.cell, column.offset, d.x * octave.inv_cell);
+        let y = warp_relocate(row.cell, row.offset, d.y * octave.inv_cell);
+        let z = octave.z_offset;
+        let fz = select(floor(z), 0.0f, z >= 0.0f && z <= 1.0f);
+        let cz = bitcast<i32>(bitcast<u32>(octave.z_cell) + bitcast<u32>(i32(fz)));
+        return Located3(vec3<i32>(x.cell, y.cell, cz), vec3<f32>(x.offset, y.offset, z - fz));
+    }
     let u = vec3<f32>(column.offset, row.offset, octave.z_offset);
     let inside = u >= vec3<f32>(0.0f) & u <= vec3<f32>(1.0f);
     let f = select(floor(u), vec3<f32>(0.0f), inside);
     let cell = wrap_add3(vec3<i32>(column.cell, row.cell, octave.z_cell), vec3<i32>(f));
-    return Located(cell, u - f);
+    return Located3(cell, u - f);
 }
 
 /// The skewed simplex cell (i, j, k) and the fraction in it of the pixel (column, row): per
 /// axis, the axis's own part plus the other axes' parts (integers added as integers, fractions
 /// in f32, in the order column, row, plane), then the floor of the fraction sum (in [0, 3)). A
-/// displacement d (cell units) would be skewed, d + (Σd)·F, and added to the fraction sum here.
-fn simplex_position(column: ClassicAxis, row: ClassicAxis, octave: ClassicOctave) -> Located {
+/// warp's displacement d (pixels; cells after `inv_cell`) is skewed, d + (Σd)·F, and added to
+/// the fraction sum before the floor.
+fn simplex_position(column: ClassicAxis, row: ClassicAxis, octave: ClassicOctave, d: vec2<f32>) -> Located3 {
     let cells = wrap_add3(
         wrap_add3(
             vec3<i32>(column.own_cell, column.other_cell, column.other_cell),
@@ -196,15 +211,21 @@ fn simplex_position(column: ClassicAxis, row: ClassicAxis, octave: ClassicOctave
     let fractions = (vec3<f32>(column.own_frac, column.other_frac, column.other_frac)
         + vec3<f32>(row.other_frac, row.own_frac, row.other_frac))
         + vec3<f32>(octave.z_other_frac, octave.z_other_frac, octave.z_own_frac);
-    let f = floor(fractions);
-    return Located(wrap_add3(cells, vec3<i32>(f)), fractions - f);
+    var moved = fractions;
+    if (warp_params.enabled == 1u) {
+        let dc = d * octave.inv_cell;
+        let skew = select(SIMPLEX_F2, SIMPLEX_F3, params.three_d == 1u) * (dc.x + dc.y);
+        moved = fractions + vec3<f32>(dc.x + skew, dc.y + skew, skew);
+    }
+    let f = floor(moved);
+    return Located3(wrap_add3(cells, vec3<i32>(f)), moved - f);
 }
 
 // ---------------------------------------------------------------------------------------------
 // Bases.
 
 /// Gradient (gradient = true) or value noise at p (2D: the z cell and offset are ignored).
-fn lattice_noise(p: Located, o: u32, key2: u32, gradient: bool) -> f32 {
+fn lattice_noise(p: Located3, o: u32, key2: u32, gradient: bool) -> f32 {
     let u = p.offset;
     let sx = fade(u.x);
     let sy = fade(u.y);
@@ -241,7 +262,7 @@ fn simplex_term(h: u32, r2: f32, dx: f32, dy: f32, dz: f32) -> f32 {
 }
 
 /// 2D simplex noise (Gustavson 2005) from the skewed cell and fraction.
-fn simplex2(p: Located, key2: u32) -> f32 {
+fn simplex2(p: Located3, key2: u32) -> f32 {
     let t = (p.offset.x + p.offset.y) * SIMPLEX_G2;
     let x0 = p.offset.x - t;
     let y0 = p.offset.y - t;
@@ -264,7 +285,7 @@ fn simplex2(p: Located, key2: u32) -> f32 {
 }
 
 /// One corner of 3D simplex noise: cell + d, offset δ0 − d + off.
-fn simplex3_corner(p: Located, x0: vec3<f32>, d: vec3<i32>, off: f32, o: u32) -> f32 {
+fn simplex3_corner(p: Located3, x0: vec3<f32>, d: vec3<i32>, off: f32, o: u32) -> f32 {
     let c = wrap_add3(p.cell, d);
     let h = hash3(c.x, c.y, c.z, o);
     let df = vec3<f32>(d);
@@ -272,7 +293,7 @@ fn simplex3_corner(p: Located, x0: vec3<f32>, d: vec3<i32>, off: f32, o: u32) ->
 }
 
 /// 3D simplex noise (Perlin 2001, Gustavson 2005) from the skewed cell and fraction.
-fn simplex3(p: Located, o: u32) -> f32 {
+fn simplex3(p: Located3, o: u32) -> f32 {
     let t = ((p.offset.x + p.offset.y) + p.offset.z) * SIMPLEX_G3;
     let x0 = p.offset - vec3<f32>(t);
     // Gustavson's ranking of x0, y0, z0, as the CPU writes it.
@@ -345,7 +366,7 @@ fn worley_count(prng: ptr<function, Prng>) -> u32 {
 /// first, then ring after ring until the needed F_n is no farther than the unsearched cells, or
 /// WORLEY_MAX_RING rings. The four smallest distances of a set do not depend on the order the
 /// set is visited in, so this visits the CPU's cells and keeps the CPU's four values.
-fn worley(p: Located, o: u32, key2: u32) -> f32 {
+fn worley(p: Located3, o: u32, key2: u32) -> f32 {
     let three_d = params.three_d == 1u;
     var f = array<f32, 4>(params.cap, params.cap, params.cap, params.cap);
     let u = p.offset;
@@ -396,11 +417,11 @@ fn worley(p: Located, o: u32, key2: u32) -> f32 {
 }
 
 /// The basis at pixel (column, row) for octave o.
-fn basis(column: ClassicAxis, row: ClassicAxis, octave: ClassicOctave, o: u32) -> f32 {
+fn basis(column: ClassicAxis, row: ClassicAxis, octave: ClassicOctave, o: u32, d: vec2<f32>) -> f32 {
     var n: f32;
     switch params.basis {
         case 1u: {
-            let p = simplex_position(column, row, octave);
+            let p = simplex_position(column, row, octave, d);
             if (params.three_d == 1u) {
                 n = simplex3(p, o);
             } else {
@@ -408,13 +429,13 @@ fn basis(column: ClassicAxis, row: ClassicAxis, octave: ClassicOctave, o: u32) -
             }
         }
         case 2u: {
-            n = lattice_noise(lattice_position(column, row, octave), o, octave.key2, false);
+            n = lattice_noise(lattice_position(column, row, octave, d), o, octave.key2, false);
         }
         case 3u: {
-            n = worley(lattice_position(column, row, octave), o, octave.key2);
+            n = worley(lattice_position(column, row, octave, d), o, octave.key2);
         }
         default: {
-            n = lattice_noise(lattice_position(column, row, octave), o, octave.key2, true);
+            n = lattice_noise(lattice_position(column, row, octave, d), o, octave.key2, true);
         }
     }
     return n;
@@ -427,9 +448,13 @@ fn classic_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     var acc = 0.0f;
     var previous = 0.0f;
+    var d = vec2<f32>(0.0f);
+    if (warp_params.enabled == 1u) {
+        d = warp_displacement[gid.y * params.width + gid.x];
+    }
     for (var o = 0u; o < params.octaves; o++) {
         let octave = octaves[o];
-        let n = basis(columns[o * params.width + gid.x], rows[o * params.height + gid.y], octave, o);
+        let n = basis(columns[o * params.width + gid.x], rows[o * params.height + gid.y], octave, o, d);
         let w = octave.weight;
         switch params.fractal {
             case 1u: {

@@ -225,3 +225,42 @@ fn atan2_turns(y: f32, x: f32) -> f32 {
     }
     return select(r, -r, y < 0.0f);
 }
+
+// ---------------------------------------------------------------------------------------------
+// Domain warping: the per-pixel displacement convention (spectex_model::warp), shared by every
+// model shader that can be warped. Bind group 1 holds
+//   binding 0: WarpParams (uniform) — `enabled` is 1 when the dispatch is displaced;
+//   binding 1: warp_displacement (read-only storage) — one vec2<f32> per pixel of the tile,
+//              row-major (index y·width + x, the output's pixel index), in model pixels,
+//              already clamped to ±MAX_WARP on the host; one unused element when disabled.
+// A shader applies it to the host's (cell, f32 offset) split of its pixel *before* it takes
+// the neighbouring cells: offset + d in cell units, then the cell moves by floor of that and
+// the offset keeps the fraction (warp_relocate), so the arithmetic stays on small numbers and a
+// warp at (10⁷, 10⁷) is as precise as at the origin. When `enabled` is 0 a shader must not
+// touch its positions at all (so an unwarped render keeps its bits). The host always binds
+// group 1 (a disabled one for unwarped renders).
+
+/// Whether this dispatch is displaced, and nothing else (padding to 16 bytes).
+struct WarpParams {
+    enabled: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
+}
+
+@group(1) @binding(0) var<uniform> warp_params: WarpParams;
+@group(1) @binding(1) var<storage, read> warp_displacement: array<vec2<f32>>;
+
+/// A point's cell on a grid and its offset in the cell (cell units, nominally [0, 1)).
+struct Located {
+    cell: i32,
+    offset: f32,
+}
+
+/// The point at `offset` in `cell` moved by `d` cell units: the cell shifts by ⌊offset + d⌋
+/// (wrapping like the CPU's i32 cells) and the offset keeps the fraction.
+fn warp_relocate(cell: i32, offset: f32, d: f32) -> Located {
+    let u = offset + d;
+    let shift = floor(u);
+    return Located(bitcast<i32>(bitcast<u32>(cell) + bitcast<u32>(i32(shift))), u - shift);
+}

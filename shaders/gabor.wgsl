@@ -41,7 +41,8 @@ struct GaborParams {
     frequency_cells: f32,
     dir_a: f32,
     dir_b: f32,
-    _pad0: u32,
+    /// 1 / r, cell units per pixel (f32 of the f64 value), for warping.
+    inv_radius: f32,
     _pad1: u32,
 }
 
@@ -97,9 +98,18 @@ fn gabor_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (gid.x >= params.width || gid.y >= params.height) {
         return;
     }
-    let column = columns[gid.x];
-    let row = rows[gid.y];
+    var column = columns[gid.x];
+    var row = rows[gid.y];
     let index = gid.y * params.width + gid.x;
+    if (warp_params.enabled == 1u) {
+        let d = warp_displacement[index] * params.inv_radius;
+        let cx = warp_relocate(column.cell, column.offset, d.x);
+        let cy = warp_relocate(row.cell, row.offset, d.y);
+        column.cell = cx.cell;
+        column.offset = cx.offset;
+        row.cell = cy.cell;
+        row.offset = cy.offset;
+    }
     if (column.valid == 0u || row.valid == 0u) {
         output[index] = params.mean;
         return;

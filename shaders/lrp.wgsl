@@ -44,6 +44,8 @@ struct LrpStratum {
     table_first: u32,
     /// J_s, the cosines per lattice point.
     cosines: u32,
+    /// Δ_s, the lattice period in pixels (f32 of the model's value), for warping.
+    delta: f32,
 }
 
 /// One column (or row) of the tile for one stratum: its lattice cell and the offsets to the
@@ -65,6 +67,21 @@ struct LatticeAxis {
 @group(0) @binding(5) var<storage, read> rows: array<LatticeAxis>;
 @group(0) @binding(6) var<storage, read_write> output: array<f32>;
 
+/// An axis entry moved by `d` pixels (domain warping, common.wgsl): offset k = 1 is the pixel's
+/// offset in its lattice cell, so it moves to u = offset + d, the cell by ⌊u/Δ⌋, and the four
+/// offsets are rebuilt from the remainder r = u − ⌊u/Δ⌋·Δ as r − (k − 1)·Δ. r lies in [0, Δ) up
+/// to roundings, and the cells c − 1 … c + 2 cover every lattice point within 1.5·Δ of any r in
+/// (−½Δ, 1.5Δ), so the support is always complete.
+fn lrp_displaced(axis: LatticeAxis, d: f32, delta: f32) -> LatticeAxis {
+    let u = axis.offset[1] + d;
+    let shift = floor(u / delta);
+    let r = u - shift * delta;
+    var moved: LatticeAxis;
+    moved.cell = bitcast<i32>(bitcast<u32>(axis.cell) + bitcast<u32>(i32(shift)));
+    moved.offset = array<f32, 4>(r + delta, r, r - delta, r - 2.0f * delta);
+    return moved;
+}
+
 /// Lattice index `cell + k − 1` with the CPU's wrapping i64 → i32 arithmetic.
 fn lattice_index(cell: i32, k: u32) -> i32 {
     return bitcast<i32>(bitcast<u32>(cell) + k - 1u);
@@ -78,26 +95,31 @@ fn lrp_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     var total = 0.0f;
     for (var s = 0u; s < params.strata; s++) {
         let stratum = strata[s];
-        let column = s * params.width + gid.x;
-        let row = s * params.height + gid.y;
+        var column = columns[s * params.width + gid.x];
+        var row = rows[s * params.height + gid.y];
+        if (warp_params.enabled == 1u) {
+            let d = warp_displacement[gid.y * params.width + gid.x];
+            column = lrp_displaced(column, d.x, stratum.delta);
+            row = lrp_displaced(row, d.y, stratum.delta);
+        }
         let key = layer_key(s, params.seed);
         var stratum_sum = 0.0f;
         for (var ky = 0u; ky < 4u; ky++) {
-            let dy = rows[row].offset[ky];
+            let dy = row.offset[ky];
             let dy2 = dy * dy;
             // A whole lattice row beyond the support contributes exactly 0: skip it.
             if (dy2 * stratum.inv_delta2 >= KB_SUPPORT2) {
                 continue;
             }
-            let rkey = row_key(lattice_index(rows[row].cell, ky), key);
+            let rkey = row_key(lattice_index(row.cell, ky), key);
             for (var kx = 0u; kx < 4u; kx++) {
-                let dx = columns[column].offset[kx];
+                let dx = column.offset[kx];
                 let r2 = (dx * dx + dy2) * stratum.inv_delta2;
                 if (r2 >= KB_SUPPORT2) {
                     continue;
                 }
                 let w = kaiser_bessel_r2(r2);
-                var prng = Prng(cell_hash_in_row(lattice_index(columns[column].cell, kx), rkey));
+                var prng = Prng(cell_hash_in_row(lattice_index(column.cell, kx), rkey));
                 var cosines = 0.0f;
                 for (var j = 0u; j < stratum.cosines; j++) {
                     let table = tables[stratum.table_first + j];

@@ -48,7 +48,9 @@ struct PhasorParams {
     duty_a: f32,
     duty_b: f32,
     weight: f32,
-    _pad0: u32,
+    /// 1 / side of the kernel cells, for warping (the host's box then covers the displaced
+    /// pixels' cells).
+    inv_side: f32,
     _pad1: u32,
 }
 
@@ -135,9 +137,18 @@ fn phasor_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (gid.x >= params.width || gid.y >= params.height) {
         return;
     }
-    let column = columns[gid.x];
-    let row = rows[gid.y];
+    var column = columns[gid.x];
+    var row = rows[gid.y];
     let index = gid.y * params.width + gid.x;
+    if (warp_params.enabled == 1u) {
+        let d = warp_displacement[index] * params.inv_side;
+        let cx = warp_relocate(column.cell, column.offset, d.x);
+        let cy = warp_relocate(row.cell, row.offset, d.y);
+        column.cell = cx.cell;
+        column.offset = cx.offset;
+        row.cell = cy.cell;
+        row.offset = cy.offset;
+    }
     if (column.valid == 0u || row.valid == 0u || params.z_valid == 0u) {
         output[index] = 0.0f;
         return;
@@ -154,6 +165,11 @@ fn phasor_main(@builtin(global_invocation_id) gid: vec3<u32>) {
             for (var sx = -1; sx <= 1; sx++) {
                 let dxs = column.offset - f32(sx);
                 let i = u32(column.cell + sx - params.box_i0);
+                // Never outside the host's box (it covers every pixel's cells); a guard, not a
+                // case: an out-of-box read would be a wrong cell, so it is skipped.
+                if (i >= params.box_cols || j >= params.box_rows) {
+                    continue;
+                }
                 let cell = cells[(u32(l) * params.box_rows + j) * params.box_cols + i];
                 for (var n = cell.x; n < cell.x + cell.y; n++) {
                     let imp = impulses[n];

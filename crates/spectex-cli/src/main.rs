@@ -11,6 +11,7 @@ mod phasor;
 mod procedural;
 mod relight;
 mod sheet;
+mod warp;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -62,7 +63,7 @@ enum Command {
     Synth(procedural::SynthCommand),
     /// Noise from a continuous spectrum (ring, lobe, band) as LRP noise, or Gabor noise.
     #[command(
-        after_help = "Examples:\n  spectex noise ring --radius 0.0625 --budget 3 -o ring.png\n  spectex noise lobe --frequency 0.1 --angle 30 --budget 10 -o lobe.png\n  spectex noise band --min 0.05 --max 0.1 -o band.png --model band.json\n  spectex noise gabor --frequency 0.0625 --impulses 27 -o gabor.png"
+        after_help = "Examples:\n  spectex noise ring --radius 0.0625 --budget 3 -o ring.png\n  spectex noise lobe --frequency 0.1 --angle 30 --budget 10 -o lobe.png\n  spectex noise band --min 0.05 --max 0.1 -o band.png --model band.json\n  spectex noise gabor --frequency 0.0625 --impulses 27 -o gabor.png\n  spectex noise warp --base model.json --by band.json --strength 24 -o warped.png"
     )]
     Noise(procedural::NoiseCommand),
     /// Phasor noise (Tricard et al. 2019): high-contrast oscillations with a chosen profile.

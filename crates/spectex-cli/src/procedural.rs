@@ -255,6 +255,12 @@ enum NoiseKind {
         #[command(flatten)]
         classic: ClassicArgs,
     },
+    /// Domain warping: --base evaluated at p + strength·(x(p), y(p)) for the --by (x) and
+    /// --by-y models (built-in fBms by default).
+    Warp {
+        #[command(flatten)]
+        warp: crate::warp::WarpArgs,
+    },
     /// Worley cellular noise C1·F1 + C2·F2 + C3·F3 + C4·F4 (Worley 1996), 2D or 3D.
     Worley {
         #[command(flatten)]
@@ -597,6 +603,7 @@ pub fn noise(cmd: &NoiseCommand) -> Result<()> {
             let (basis, scale) = crate::classic::fractal_basis(fractal, worley);
             return crate::classic::run(basis, Some(fractal), scale, classic);
         }
+        NoiseKind::Warp { warp } => return crate::warp::run(warp),
         NoiseKind::Worley { worley, classic } => {
             let (basis, scale) = crate::classic::worley_basis(worley);
             return crate::classic::run(basis, None, scale, classic);

@@ -1082,3 +1082,115 @@ fn classic_noises_render_on_the_gpu() {
         }
     }
 }
+
+fn testdata_model(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../../testdata/models/{name}.json"))
+}
+
+#[test]
+fn warp_end_to_end() {
+    use image::GenericImageView;
+    let dir = scratch("warp");
+    let (ring, gabor) = (
+        testdata_model("lrp-ring"),
+        testdata_model("gabor-isotropic"),
+    );
+    let cases: Vec<Vec<&str>> = vec![
+        vec![],
+        vec!["--base", s(&ring), "--by", s(&gabor), "--strength", "-12"],
+        vec!["--base", s(&ring), "--by", s(&gabor), "--by-y", s(&ring)],
+    ];
+    let mut images = Vec::new();
+    for (n, extra) in cases.iter().enumerate() {
+        let png = dir.join(format!("{n}.png"));
+        let model = dir.join(format!("{n}.json"));
+        let mut args = vec!["noise", "warp", "-o", s(&png), "--model", s(&model)];
+        args.extend(["--size", "48x32", "--offset", "1e7,-1e7"]);
+        args.extend(extra.iter().copied());
+        let out = spectex(&args);
+        assert!(
+            out.status.success(),
+            "{extra:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let again = dir.join(format!("{n}-again.png"));
+        let out = spectex(&[
+            "render",
+            s(&model),
+            "-o",
+            s(&again),
+            "--size",
+            "48x32",
+            "--offset",
+            "1e7,-1e7",
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let (a, b) = (image::open(&png).unwrap(), image::open(&again).unwrap());
+        assert_eq!(a.dimensions(), (48, 32));
+        assert_eq!(a.as_bytes(), b.as_bytes(), "{extra:?}: render differs");
+        assert!(
+            a.as_bytes().iter().any(|&v| v != a.as_bytes()[0]),
+            "constant"
+        );
+        images.push(a.as_bytes().to_vec());
+    }
+    // The warp changes the base, and --by-y changes the warp.
+    let base = dir.join("base.png");
+    let out = spectex(&[
+        "render",
+        s(&ring),
+        "-o",
+        s(&base),
+        "--size",
+        "48x32",
+        "--offset",
+        "1e7,-1e7",
+    ]);
+    assert!(out.status.success());
+    let base = image::open(&base).unwrap();
+    assert_ne!(base.as_bytes(), &images[1][..]);
+    assert_ne!(images[1], images[2]);
+}
+
+#[test]
+fn warp_bad_inputs_fail_cleanly() {
+    let dir = scratch("warp-bad");
+    let out = dir.join("out.png");
+    let o = s(&out);
+    let colour = testdata_model("texture-synthetic-colour");
+    let missing = dir.join("missing.json");
+    for (args, needles) in [
+        (
+            vec!["noise", "warp", "--strength", "1e6"],
+            vec!["warp.strength", "--strength"],
+        ),
+        (
+            vec!["noise", "warp", "--strength", "nan"],
+            vec!["warp.strength"],
+        ),
+        (
+            vec!["noise", "warp", "--by", s(&colour)],
+            vec!["warp.x", "--by"],
+        ),
+        (
+            vec!["noise", "warp", "--by-y", s(&colour)],
+            vec!["warp.y", "--by-y"],
+        ),
+        (
+            vec!["noise", "warp", "--base", s(&missing)],
+            vec!["cannot open model"],
+        ),
+        (
+            vec!["noise", "warp", "--offset", "1073741000,0"],
+            vec!["window position"],
+        ),
+    ] {
+        let mut a = args.clone();
+        a.extend(["-o", o]);
+        assert_fails(&spectex(&a), &dir, &needles);
+    }
+}

@@ -32,6 +32,7 @@ pub mod lrp;
 pub use spectex_model::math;
 pub mod phasor;
 pub mod texture;
+pub mod warp;
 
 use rayon::prelude::*;
 use spectex_model::{Model, ModelError};
@@ -43,6 +44,7 @@ pub use phasor::PhasorEvaluator;
 /// The window type is `spectex-model`'s, shared with the GPU evaluator.
 pub use spectex_model::{MAX_POSITION, MAX_WINDOW_PIXELS, MAX_WINDOW_SIDE, Window};
 pub use texture::TextureEvaluator;
+pub use warp::WarpEvaluator;
 
 /// Rows evaluated together by one task: the LRP evaluator draws each lattice row once per band
 /// instead of once per output row. Values do not depend on it.
@@ -98,6 +100,8 @@ pub enum Evaluator {
     Texture(Box<TextureEvaluator>),
     /// A classic pointwise noise (a 3D one on one plane `z`).
     Classic(Box<ClassicEvaluator>),
+    /// Domain warping of a base model by two displacement models.
+    Warp(Box<WarpEvaluator>),
 }
 
 impl Evaluator {
@@ -130,6 +134,7 @@ impl Evaluator {
             Model::Phasor(m) => Self::Phasor(Box::new(PhasorEvaluator::new(m, z))),
             Model::Texture(m) => Self::Texture(Box::new(TextureEvaluator::new(m))),
             Model::Classic(m) => Self::Classic(Box::new(ClassicEvaluator::new(m, z))),
+            Model::Warp(m) => Self::Warp(Box::new(WarpEvaluator::new(m, z)?)),
             #[allow(unreachable_patterns)] // reason: `Model` is non_exhaustive for other crates
             _ => unreachable!("every model kind of this version is handled"),
         })
@@ -140,6 +145,7 @@ impl Evaluator {
     pub fn output_channels(&self) -> usize {
         match self {
             Self::Texture(e) => e.output_channels(),
+            Self::Warp(e) => e.output_channels(),
             _ => 1,
         }
     }
@@ -153,7 +159,37 @@ impl Evaluator {
             Self::Gabor(e) => e.eval_row_at(window.y(row), |i| window.x(i), out),
             Self::Phasor(e) => e.eval_rows(window, row, out),
             Self::Classic(e) => e.eval_row(window, row, out),
+            Self::Warp(e) => e.eval_rows(window, row, out),
         }
+    }
+
+    /// Evaluates consecutive rows of `window` from row `first` into `out` (whole rows of
+    /// `window.width ·` [`output_channels`](Self::output_channels) values): the same bits as
+    /// row by row, with the work a band of rows shares done once.
+    pub fn eval_rows(&self, window: &Window, first: usize, out: &mut [f32]) {
+        let row_len = window.width * self.output_channels();
+        if row_len == 0 {
+            return;
+        }
+        match self {
+            Self::Lrp(e) => e.eval_rows(window, first, out),
+            Self::Phasor(e) => e.eval_rows(window, first, out),
+            Self::Texture(e) => e.eval_rows(window, first, out),
+            Self::Classic(e) => e.eval_rows(window, first, out),
+            Self::Warp(e) => e.eval_rows(window, first, out),
+            Self::Gabor(_) => {
+                for (r, line) in out.chunks_exact_mut(row_len).enumerate() {
+                    self.eval_row(window, first + r, line);
+                }
+            }
+        }
+    }
+
+    /// Evaluates the model at one position `p` (pixels) into `out`
+    /// ([`output_channels`](Self::output_channels) values): a one-pixel window at `p`, so the
+    /// same bits as any render whose pixel lies at `p`.
+    pub fn eval_point(&self, p: [f64; 2], out: &mut [f32]) {
+        self.eval_rows(&Window::new(1, 1).at(p, 1.0), 0, out);
     }
 
     /// Renders `window` row-major into a new buffer
@@ -180,6 +216,9 @@ impl Evaluator {
         progress: &(dyn Fn(usize) + Sync),
     ) -> Result<(), CpuError> {
         window.validate()?;
+        if let Self::Warp(e) = self {
+            e.check_window(window)?;
+        }
         let channels = self.output_channels();
         let needed = window.width * window.height * channels;
         if out.len() != needed {
@@ -195,18 +234,7 @@ impl Evaluator {
         out.par_chunks_mut(window.width * channels * BAND_ROWS)
             .enumerate()
             .for_each(|(band, lines)| {
-                let first = band * BAND_ROWS;
-                match self {
-                    Self::Lrp(e) => e.eval_rows(window, first, lines),
-                    Self::Phasor(e) => e.eval_rows(window, first, lines),
-                    Self::Texture(e) => e.eval_rows(window, first, lines),
-                    Self::Classic(e) => e.eval_rows(window, first, lines),
-                    _ => {
-                        for (r, line) in lines.chunks_exact_mut(window.width).enumerate() {
-                            self.eval_row(window, first + r, line);
-                        }
-                    }
-                }
+                self.eval_rows(window, band * BAND_ROWS, lines);
                 let rows = lines.len() / (window.width * channels);
                 let n = done.fetch_add(rows, std::sync::atomic::Ordering::Relaxed) + rows;
                 progress(n);
@@ -223,6 +251,7 @@ impl Evaluator {
             Self::Phasor(e) => e.kernels_per_pixel(),
             Self::Texture(e) => e.calls_per_pixel() as f64,
             Self::Classic(e) => e.evaluations_per_pixel(),
+            Self::Warp(e) => e.cost_per_pixel(),
         }
     }
 }

@@ -12,7 +12,10 @@ use spectex_model::classic::{
     Basis, ClassicNoise, FractalKind, Metric, SIMPLEX2_R2, SIMPLEX2_SCALE, SIMPLEX3_R2,
     SIMPLEX3_SCALE, WORLEY_MAX_RING,
 };
-use spectex_model::{FixedCosine, GaborNoise, LrpNoise, Model, Stratum, TextureModel};
+use spectex_model::{
+    FixedCosine, GABOR_TRUNCATION, GaborNoise, LrpNoise, MAX_WARP, Model, PHASOR_TRUNCATION,
+    PhasorNoise, PhasorOutput, Stratum, TextureModel, Warp,
+};
 
 /// Single-precision unit roundoff, `2⁻²⁴`.
 pub const F32_UNIT_ROUNDOFF: f64 = 5.960_464_477_539_063e-8;
@@ -107,6 +110,7 @@ pub fn tolerance(model: &Model) -> Option<Tolerance> {
         Model::Texture(m) => texture(m)
             .into_iter()
             .max_by(|a, b| a.max_abs.total_cmp(&b.max_abs)),
+        Model::Warp(m) => warp(m),
         #[allow(unreachable_patterns)] // reason: `Model` is non_exhaustive for other crates
         _ => None,
     }
@@ -442,10 +446,392 @@ pub fn classic(m: &ClassicNoise) -> Tolerance {
     )
 }
 
+/// Largest `|dw/dy|` of the Kaiser–Bessel window `w(y)` (`y` in window widths), by central
+/// differences of the f64 definition on 3000 steps of its support, plus 1% for the grid.
+#[must_use]
+pub fn kaiser_bessel_slope() -> f64 {
+    let (n, h) = (3000, spectex_model::window::WINDOW_SUPPORT / 3000.0);
+    let w = spectex_model::window::kaiser_bessel;
+    (1..n)
+        .map(|i| {
+            let y = i as f64 * h;
+            ((w(y + h) - w(y - h)) / (2.0 * h)).abs()
+        })
+        .fold(0.0, f64::max)
+        * 1.01
+}
+
+/// Largest slope `|∂g/∂d|` of a Gaussian `exp(−π b²d²)`: `b·√(2π)·e^{−½}`, per pixel.
+fn gaussian_slope(bandwidth: f64) -> f64 {
+    bandwidth * (2.0 * std::f64::consts::PI).sqrt() * (-0.5f64).exp()
+}
+
+/// A pixel's bound on the impulses of 3×3 (3×3×3) cells of mean `lambda` each, as in
+/// [`gabor`]: exceeded with probability below 1e-9.
+fn impulse_count(cells: f64, lambda: f64) -> f64 {
+    let n = cells * lambda;
+    n + 6.0 * n.sqrt() + 6.0
+}
+
+/// How a model's value can change when its position moves by `δ` pixels:
+/// `|v(p + δ) − v(p)| ≤ slope·|δ| + jump` (`jump` for truncated kernels, which cut at 5% of
+/// their peak: any of them may enter or leave the support), with `cell` the grid side over which
+/// the GPU relocates a displaced point and `magnitude` a bound on `|v|`. `None` where no bound
+/// is derived (phase-based phasor outputs, whose slope is unbounded where `|𝒢| → 0`; textures,
+/// which the GPU does not warp).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Regularity {
+    /// Lipschitz bound away from the jumps, per pixel.
+    pub slope: f64,
+    /// Largest total jump.
+    pub jump: f64,
+    /// Largest `|value|`.
+    pub magnitude: f64,
+    /// Grid side, pixels.
+    pub cell: f64,
+}
+
+/// [`Regularity`] of `model`, by kind (see there).
+#[must_use]
+pub fn regularity(model: &Model) -> Option<Regularity> {
+    let tau = std::f64::consts::TAU;
+    match model {
+        Model::Lrp(m) => {
+            // Per stratum, 9 lattice points × J_S cosines of amplitude A_S: the window's slope
+            // over Δ_S and the cosine's 2π|f|.
+            let kb = kaiser_bessel_slope();
+            let (mut slope, mut magnitude, mut cell) = (0.0, f64::from(m.mean).abs(), 0.0f64);
+            for s in &m.strata {
+                let f_max = s
+                    .sub_strata
+                    .iter()
+                    .flatten()
+                    .map(|f| f64::from(f[0]).hypot(f64::from(f[1])))
+                    .fold(0.0, f64::max);
+                let delta = f64::from(s.window_width);
+                let terms = 9.0 * s.sub_strata.len() as f64 * f64::from(s.amplitude).abs();
+                slope += terms * (kb / delta + tau * f_max);
+                magnitude += terms;
+                cell = cell.max(delta);
+            }
+            Some(Regularity {
+                slope,
+                jump: 0.0,
+                magnitude,
+                cell,
+            })
+        }
+        Model::Gabor(m) => {
+            let terms = f64::from(m.amplitude).abs() * impulse_count(9.0, m.impulses_per_cell());
+            Some(Regularity {
+                slope: terms
+                    * (tau * f64::from(m.frequency) + gaussian_slope(f64::from(m.bandwidth))),
+                jump: terms * GABOR_TRUNCATION,
+                magnitude: terms + f64::from(m.mean).abs(),
+                cell: m.kernel_radius(),
+            })
+        }
+        Model::Phasor(m) => phasor_regularity(m),
+        Model::Classic(m) => Some(classic_regularity(m)),
+        Model::Warp(w) => {
+            // v(p) = b(p + d(p)): moving p by δ moves the base's point by δ + |s|·(slope of x
+            // or y)·δ per axis, √2 for the two axes together.
+            let b = regularity(&w.base)?;
+            let (x, y) = (regularity(&w.x)?, regularity(&w.y)?);
+            let s = f64::from(w.strength).abs();
+            let spread = 1.0 + std::f64::consts::SQRT_2 * s * x.slope.max(y.slope);
+            let jumps = std::f64::consts::SQRT_2 * s * x.jump.max(y.jump);
+            Some(Regularity {
+                slope: b.slope * spread,
+                // A jump of x or y moves the base's point by |s|·jump at most.
+                jump: b.jump + b.slope * jumps,
+                magnitude: b.magnitude,
+                cell: b.cell,
+            })
+        }
+        _ => None,
+    }
+}
+
+/// The classic noises, per octave in cell units (the basis `N` and its gradient norm `L`):
+/// - **value**: `∂n/∂x` is a lerp of `fade'(t)·(b − a)` with `fade' ≤ 30/16` and
+///   `|b − a| ≤ 2`: 3.75 per axis, `N = 1`;
+/// - **gradient**: corner values `g·δ` with `|g·δ| ≤ 2` and `|∂(g·δ)/∂x| = |g_x| ≤ 1`:
+///   `1.875·4 + 1 = 8.5` per axis, `N = 2`;
+/// - **simplex**: [`simplex_bounds`]; 3D noise also jumps at simplex faces by
+///   `2·scale·(0.6 − ½)⁴` (see [`classic`]);
+/// - **Worley**: a distance is 1-Lipschitz in the Euclidean and Chebyshev metrics and
+///   `√d`-Lipschitz in the Manhattan one, and so is `F_n` (an order statistic) and its cap:
+///   `Σ|C_k|` times that, `N = 7·Σ|C_k|`.
+///
+/// A per-axis bound becomes a gradient norm by `√d`. Octave `o` divides by its cell side
+/// `c_o` pixels; fBm and turbulence add `gain^o` times it (`|·|` is 1-Lipschitz); ridged
+/// follows `s_o = (offset − |n_o|)²·clamp(w·s_{o−1}, 0, 1)`: `s'_o ≤ 2A·n'_o + A²·w·s'_{o−1}`,
+/// jumps alike. Times `|amplitude|`; `cell` is the first octave's side.
+fn classic_regularity(m: &ClassicNoise) -> Regularity {
+    let d = f64::from(m.dimensions);
+    let three_d = m.dimensions == 3;
+    let (lipschitz, n, jump) = match &m.basis {
+        Basis::Value => (3.75 * d.sqrt(), 1.0, 0.0),
+        Basis::Gradient => (8.5 * d.sqrt(), 2.0, 0.0),
+        Basis::Simplex => {
+            let (n, l) = simplex_bounds(three_d);
+            let seam = if three_d {
+                2.0 * f64::from(SIMPLEX3_SCALE) * (f64::from(SIMPLEX3_R2) - 0.5).powi(4)
+            } else {
+                0.0
+            };
+            (l, n, seam)
+        }
+        Basis::Worley(w) => {
+            let c: f64 = w.coefficients.iter().map(|c| f64::from(*c).abs()).sum();
+            let metric = if w.metric == Metric::Manhattan {
+                d.sqrt()
+            } else {
+                1.0
+            };
+            (c * metric, c * WORLEY_CAP, 0.0)
+        }
+    };
+    let (mut slope, mut jumps, mut magnitude) = (0.0, 0.0, 0.0);
+    let (mut previous_slope, mut previous_jump) = (0.0, 0.0);
+    for o in 0..m.octaves() {
+        let weight = f64::from(m.octave_weight(o)).abs();
+        let per_pixel = lipschitz / m.octave_cell(o);
+        match m.fractal.as_ref().map(|f| f.kind) {
+            Some(FractalKind::Ridged {
+                offset,
+                weight_gain,
+            }) => {
+                let offset = f64::from(offset);
+                let a = offset.max(n - offset);
+                let carry = a * a * f64::from(weight_gain);
+                let (s, j) = if o > 0 {
+                    (
+                        2.0 * a * per_pixel + carry * previous_slope,
+                        2.0 * a * jump + carry * previous_jump,
+                    )
+                } else {
+                    (2.0 * a * per_pixel, 2.0 * a * jump)
+                };
+                (previous_slope, previous_jump) = (s, j);
+                slope += weight * s;
+                jumps += weight * j;
+                magnitude += weight * a * a;
+            }
+            _ => {
+                slope += weight * per_pixel;
+                jumps += weight * jump;
+                magnitude += weight * n;
+            }
+        }
+    }
+    let amplitude = f64::from(m.amplitude).abs();
+    Regularity {
+        slope: amplitude * slope,
+        jump: amplitude * jumps,
+        magnitude: f64::from(m.mean).abs() + amplitude * magnitude,
+        cell: m.octave_cell(0),
+    }
+}
+
+/// Phasor noise's Gabor (`Im 𝒢`) and intensity (`|𝒢|`) outputs: each kernel changes at most
+/// by `2π F_max + gaussian slope` per pixel and jumps by [`PHASOR_TRUNCATION`] at its radius.
+fn phasor_regularity(m: &PhasorNoise) -> Option<Regularity> {
+    if !matches!(m.output, PhasorOutput::Gabor | PhasorOutput::Intensity) {
+        return None;
+    }
+    let cells = if m.dimensions == 3 { 27.0 } else { 9.0 };
+    let terms = f64::from(m.amplitude).abs() * impulse_count(cells, m.impulses_per_cell());
+    let slope = std::f64::consts::TAU * m.frequency.range().1.min(0.5)
+        + gaussian_slope(m.bandwidth_range().1);
+    Some(Regularity {
+        slope: terms * slope,
+        jump: terms * PHASOR_TRUNCATION,
+        magnitude: terms + f64::from(m.mean).abs(),
+        cell: m.kernel_radius(),
+    })
+}
+
+/// The CPU–GPU bound of a model's value wherever a warp may use it: [`tolerance`], and for
+/// phasor noise's Gabor and intensity outputs the complex sum's bound
+/// ([`crate::phasor::complex_bound`], `√2` of it for the intensity) times the amplitude.
+fn value_tolerance(model: &Model) -> Option<f64> {
+    match model {
+        Model::Phasor(m) => {
+            let e = crate::phasor::complex_bound(m) * f64::from(m.amplitude).abs();
+            match m.output {
+                PhasorOutput::Gabor => Some(e),
+                PhasorOutput::Intensity => Some(std::f64::consts::SQRT_2 * e),
+                _ => None,
+            }
+        }
+        other => tolerance(other).map(|t| t.max_abs),
+    }
+}
+
+/// Domain warping (`spectex_model::warp`): `v(p) = b(p + d(p))`. The two sides evaluate the
+/// base at points `δ` apart, where per axis
+/// - the displacement differs by `|s|·E_{x,y}` (the clamp is 1-Lipschitz; `E` the x or y
+///   model's own bound);
+/// - `s·v` and, for a displaced warp, the f32 sum of displacements round on the GPU:
+///   2 roundings of `|d| ≤ D = min(MAX_WARP, |s|·max|v|)` per warp level;
+/// - the GPU relocates the point in f32 (`common.wgsl`, `warp_relocate`): offset plus
+///   displacement, the cell shift and the rebuilt offsets, 4 roundings of values up to
+///   `D + 3·cell`; the CPU's f64 sum rounds below that.
+///
+/// so `|δ| ≤ √2·(|s|·max E + 6·u·(D + 3·cell))`. The base's bound, plus its
+/// [`Regularity`] over `δ` (`slope·|δ| + jump`), is the warp's. `None` when a sub-model has no
+/// derived bound.
+#[must_use]
+pub fn warp(w: &Warp) -> Option<Tolerance> {
+    let base = value_tolerance(&w.base)?;
+    let b = regularity(&w.base)?;
+    let (ex, ey) = (value_tolerance(&w.x)?, value_tolerance(&w.y)?);
+    let (x, y) = (regularity(&w.x)?, regularity(&w.y)?);
+    let s = f64::from(w.strength).abs();
+    let reach = f64::from(MAX_WARP) * spectex_model::warp::depth(&Model::Warp(w.clone())) as f64;
+    let d = (s * x.magnitude.max(y.magnitude)).min(reach);
+    let delta =
+        std::f64::consts::SQRT_2 * (s * ex.max(ey) + 6.0 * F32_UNIT_ROUNDOFF * (d + 3.0 * b.cell));
+    Some(Tolerance::from_max(base + b.slope * delta + b.jump))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use spectex_model::{Orientation, Stratum};
+
+    /// The window falls from 1 to 0 over 1.5 widths, so its steepest slope is above 1/1.5;
+    /// numerically it is ≈ 1.27 (the f64 window's own values, not a fitted constant).
+    #[test]
+    fn kaiser_bessel_slope_is_plausible() {
+        let k = kaiser_bessel_slope();
+        assert!(k > 1.0 / 1.5 && k < 2.0, "{k}");
+    }
+
+    /// The classic noises' slope bounds hold on fine CPU renders: along rows and columns sampled
+    /// every 1/16 pixel, no step changes the value by more than `slope·step + jump`, and the
+    /// bound is within a factor 12 of the steepest step seen (so it is not vacuous).
+    #[test]
+    fn classic_slope_bounds_hold_on_fine_renders() {
+        let model = |basis: Basis, dimensions: u32, fractal: Option<FractalKind>| ClassicNoise {
+            seed: 5,
+            dimensions,
+            cell_size: 8.0,
+            basis,
+            fractal: fractal.map(|kind| spectex_model::classic::Fractal {
+                kind,
+                octaves: 3,
+                lacunarity: 2.0,
+                gain: 0.5,
+            }),
+            amplitude: 0.7,
+            mean: 0.1,
+        };
+        let worley = |metric| {
+            Basis::Worley(spectex_model::classic::Worley {
+                metric,
+                coefficients: [-1.0, 1.0, 0.0, 0.0],
+                points: spectex_model::classic::FeaturePoints::Fixed(2),
+            })
+        };
+        let ridged = FractalKind::Ridged {
+            offset: 1.0,
+            weight_gain: 2.0,
+        };
+        for (name, m) in [
+            ("value", model(Basis::Value, 2, None)),
+            ("gradient", model(Basis::Gradient, 2, None)),
+            ("gradient 3d", model(Basis::Gradient, 3, None)),
+            ("simplex", model(Basis::Simplex, 2, None)),
+            (
+                "worley manhattan",
+                model(worley(Metric::Manhattan), 2, None),
+            ),
+            (
+                "worley euclidean",
+                model(worley(Metric::Euclidean), 2, None),
+            ),
+            ("fbm", model(Basis::Gradient, 2, Some(FractalKind::Fbm))),
+            ("ridged", model(Basis::Value, 2, Some(ridged))),
+        ] {
+            let r = regularity(&Model::Classic(m.clone())).unwrap();
+            let step = 1.0 / 16.0;
+            let eval = spectex_cpu::Evaluator::new_at_z(&Model::Classic(m), 3.3).unwrap();
+            let window = spectex_cpu::Window::new(256, 256).at([-37.0, 1.0e6], step);
+            let v = eval.render(&window).unwrap();
+            let mut steepest = 0.0f64;
+            for y in 0..256 {
+                for x in 0..256 {
+                    let here = f64::from(v[y * 256 + x]);
+                    if x + 1 < 256 {
+                        steepest = steepest.max((f64::from(v[y * 256 + x + 1]) - here).abs());
+                    }
+                    if y + 1 < 256 {
+                        steepest = steepest.max((f64::from(v[(y + 1) * 256 + x]) - here).abs());
+                    }
+                }
+            }
+            let bound = r.slope * step + r.jump + 1e-6;
+            assert!(steepest <= bound, "{name}: step {steepest} > bound {bound}");
+            assert!(
+                bound < 12.0 * steepest,
+                "{name}: bound {bound} vs step {steepest}"
+            );
+        }
+    }
+
+    /// A warp's bound is the base's at strength 0 plus the GPU's relocation roundings, and it
+    /// grows with the strength; kinds without a derivation give none.
+    #[test]
+    fn warp_bound_grows_with_strength() {
+        let lrp = |seed| {
+            Model::Lrp(LrpNoise {
+                seed,
+                mean: 0.0,
+                strata: vec![Stratum {
+                    window_width: 10.0,
+                    amplitude: 0.1,
+                    sub_strata: vec![vec![[0.1, 0.2]]; 4],
+                }],
+            })
+        };
+        let w = |strength| Warp {
+            base: Box::new(lrp(1)),
+            x: Box::new(lrp(2)),
+            y: Box::new(lrp(3)),
+            strength,
+        };
+        let base = tolerance(&lrp(1)).unwrap().max_abs;
+        let at0 = warp(&w(0.0)).unwrap().max_abs;
+        // At strength 0 only the GPU's relocation of the point (a few ulps of 3 cells) is left.
+        assert!(at0 > base && at0 < 3.0 * base, "{at0} vs {base}");
+        assert!(warp(&w(8.0)).unwrap().max_abs > at0);
+        // A classic base: its own bound plus its slope (8.5·√2 per cell of 8 px) times the
+        // displacement's error, so it grows with the strength.
+        let perlin = Model::Classic(ClassicNoise {
+            seed: 0,
+            dimensions: 2,
+            cell_size: 8.0,
+            basis: Basis::Gradient,
+            fractal: None,
+            amplitude: 1.0,
+            mean: 0.0,
+        });
+        let r = regularity(&perlin).unwrap();
+        assert!((r.slope - 8.5 * std::f64::consts::SQRT_2 / 8.0).abs() < 1e-12);
+        let classic = |strength| Warp {
+            base: Box::new(perlin.clone()),
+            ..w(strength)
+        };
+        let own = tolerance(&perlin).unwrap().max_abs;
+        let (a, b) = (warp(&classic(1.0)).unwrap(), warp(&classic(4.0)).unwrap());
+        assert!(
+            own < a.max_abs && a.max_abs < b.max_abs,
+            "{own} {a:?} {b:?}"
+        );
+    }
 
     /// The bound grows linearly with the amplitude and with the number of cosines.
     #[test]

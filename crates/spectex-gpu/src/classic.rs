@@ -36,12 +36,15 @@ fn split(p: f64) -> (u32, u32) {
     (cell as i64 as i32 as u32, ((p - cell) as f32).to_bits())
 }
 
+/// Words per octave of the octave table (`ClassicOctave` in `shaders/classic.wgsl`).
+const OCTAVE_WORDS: usize = 9;
+
 impl ClassicPack {
     /// Packs a validated model for the plane `z` (ignored in 2D).
     pub(crate) fn new(model: &ClassicNoise, z: f64) -> Self {
         let three_d = model.dimensions == 3;
         let skew = if three_d { SIMPLEX_F3 } else { SIMPLEX_F2 };
-        let mut octaves = Vec::with_capacity(8 * model.octaves() as usize);
+        let mut octaves = Vec::with_capacity(OCTAVE_WORDS * model.octaves() as usize);
         let mut sides = Vec::with_capacity(model.octaves() as usize);
         for o in 0..model.octaves() {
             let side = model.octave_cell(o);
@@ -63,6 +66,7 @@ impl ClassicPack {
                 z_other.1,
                 z_own.0,
                 z_own.1,
+                ((1.0 / side) as f32).to_bits(),
             ]);
         }
         let mut params = [0u32; PARAM_WORDS];
@@ -209,14 +213,17 @@ mod tests {
         assert_eq!(pack.params[6], 2);
         assert_eq!(pack.params[9], 1);
         assert_eq!(f32::from_bits(pack.params[20]), 49.0);
-        assert_eq!(pack.octaves.len(), 24);
+        assert_eq!(pack.octaves.len(), 3 * OCTAVE_WORDS);
         // Octave 1: side 8, z = 40 is cell 5, offset 0, weight ½.
-        assert_eq!(f32::from_bits(pack.octaves[8]), 0.5);
-        assert_eq!(pack.octaves[9], 5);
-        assert_eq!(f32::from_bits(pack.octaves[10]), 0.0);
-        assert_eq!(pack.octaves[11], layer_key(1, 9));
+        let o = OCTAVE_WORDS;
+        assert_eq!(f32::from_bits(pack.octaves[o]), 0.5);
+        assert_eq!(pack.octaves[o + 1], 5);
+        assert_eq!(f32::from_bits(pack.octaves[o + 2]), 0.0);
+        assert_eq!(pack.octaves[o + 3], layer_key(1, 9));
         // z·F3 = 5/3 and z·(1 + F3) = 20/3 in cells of octave 1.
-        assert_eq!(pack.octaves[12], 1);
-        assert_eq!(pack.octaves[14], 6);
+        assert_eq!(pack.octaves[o + 4], 1);
+        assert_eq!(pack.octaves[o + 6], 6);
+        // 1/8 cell per pixel, for warping.
+        assert_eq!(f32::from_bits(pack.octaves[o + 8]), 0.125);
     }
 }

@@ -3,7 +3,7 @@
 
 use std::sync::mpsc;
 
-use spectex_model::Model;
+use spectex_model::{Model, Warp};
 
 use crate::classic::{CLASSIC_AXIS_BYTES, ClassicPack};
 use crate::context::LostFlag;
@@ -27,8 +27,11 @@ pub struct GpuEvaluator {
     adapter_info: wgpu::AdapterInfo,
     limits: wgpu::Limits,
     lost: LostFlag,
-    pipeline: wgpu::ComputePipeline,
-    layout: wgpu::BindGroupLayout,
+    /// The model shader's pipeline and its group-0 layout; `None` for a warp, which only
+    /// drives its sub-evaluators.
+    pipeline: Option<(wgpu::ComputePipeline, wgpu::BindGroupLayout)>,
+    /// Group 1 of every model shader: the displacement convention of `common.wgsl`.
+    warp_layout: wgpu::BindGroupLayout,
     model: Packed,
     max_tile: [usize; 2],
 }
@@ -59,6 +62,33 @@ enum Packed {
         pack: ClassicPack,
         octaves: wgpu::Buffer,
     },
+    /// Domain warping: x and y rendered for the tile, then the base with their displacement.
+    Warp {
+        model: Warp,
+        /// The whole model, for [`spectex_model::warp::check_window`].
+        whole: Box<Model>,
+        base: Box<GpuEvaluator>,
+        x: Box<GpuEvaluator>,
+        y: Box<GpuEvaluator>,
+    },
+}
+
+/// Whether the GPU can evaluate `model` at displaced positions: the shaders that apply the
+/// displacement of `common.wgsl` (LRP, Gabor, phasor, classic), and warps built from them.
+fn displaceable(model: &Model) -> bool {
+    match model {
+        Model::Lrp(_) | Model::Gabor(_) | Model::Phasor(_) | Model::Classic(_) => true,
+        Model::Warp(w) => displaceable(&w.base) && displaceable(&w.x) && displaceable(&w.y),
+        _ => false,
+    }
+}
+
+/// The model kind's name as the JSON spells it (`Lrp`, `Texture`, …), for messages.
+fn kind_name(model: &Model) -> String {
+    format!("{model:?}")
+        .chars()
+        .take_while(|c| c.is_alphanumeric())
+        .collect()
 }
 
 /// Storage buffers larger than this are refused up front with [`GpuError::LimitsExceeded`].
@@ -93,8 +123,50 @@ impl GpuEvaluator {
                 range: "finite, |z| ≤ 2³⁰ pixels",
             });
         }
+        Self::build(context, model, z, false)
+    }
+
+    /// Builds a validated model; `displaced` when it will be evaluated at warped positions
+    /// (the base of a warp, or the x and y of a warp that is itself displaced).
+    fn build(
+        context: &GpuContext,
+        model: &Model,
+        z: f64,
+        displaced: bool,
+    ) -> Result<Self, GpuError> {
+        if displaced && !displaceable(model) {
+            return Err(GpuError::Unsupported {
+                kind: format!(
+                    "warped {} (the GPU warps LRP, Gabor, phasor and classic noise and warps of them)",
+                    kind_name(model)
+                ),
+            });
+        }
         let device = context.device().clone();
         let limits = device.limits();
+        let warp_layout = warp_group_layout(&device);
+        if let Model::Warp(w) = model {
+            let base = Self::build(context, &w.base, z, true)?;
+            let x = Self::build(context, &w.x, z, displaced)?;
+            let y = Self::build(context, &w.y, z, displaced)?;
+            return Ok(Self {
+                device,
+                queue: context.queue().clone(),
+                adapter_info: context.adapter_info(),
+                limits,
+                lost: context.lost_flag(),
+                pipeline: None,
+                warp_layout,
+                model: Packed::Warp {
+                    model: w.clone(),
+                    whole: Box::new(model.clone()),
+                    base: Box::new(base),
+                    x: Box::new(x),
+                    y: Box::new(y),
+                },
+                max_tile: [DEFAULT_MAX_TILE, DEFAULT_MAX_TILE],
+            });
+        }
         let scope = ErrorScopes::push(&device);
         let (shader, entry, model) = match model {
             Model::Lrp(m) => {
@@ -165,10 +237,7 @@ impl GpuEvaluator {
             #[allow(unreachable_patterns)] // reason: `Model` is non_exhaustive for other crates
             other => {
                 return Err(GpuError::Unsupported {
-                    kind: format!("{other:?}")
-                        .chars()
-                        .take_while(|c| c.is_alphanumeric())
-                        .collect(),
+                    kind: kind_name(other),
                 });
             }
         };
@@ -182,7 +251,7 @@ impl GpuEvaluator {
         let layout = bind_group_layout(&device, &model);
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some(shader),
-            bind_group_layouts: &[Some(&layout)],
+            bind_group_layouts: &[Some(&layout), Some(&warp_layout)],
             immediate_size: 0,
         });
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
@@ -200,8 +269,8 @@ impl GpuEvaluator {
             adapter_info: context.adapter_info(),
             limits,
             lost: context.lost_flag(),
-            pipeline,
-            layout,
+            pipeline: Some((pipeline, layout)),
+            warp_layout,
             model,
             max_tile: [DEFAULT_MAX_TILE, DEFAULT_MAX_TILE],
         })
@@ -213,6 +282,7 @@ impl GpuEvaluator {
     pub fn output_channels(&self) -> usize {
         match &self.model {
             Packed::Texture { pack, .. } => pack.channels(),
+            Packed::Warp { base, .. } => base.output_channels(),
             _ => 1,
         }
     }
@@ -243,18 +313,31 @@ impl GpuEvaluator {
     /// [`GpuError::LimitsExceeded`] if not even a one-pixel-wide tile fits.
     pub fn tile_size(&self, window: &GpuWindow) -> Result<[usize; 2], GpuError> {
         let limit = binding_limit(&self.limits);
+        if let Packed::Warp { base, x, y, .. } = &self.model {
+            // Every sub-evaluator renders the same tile.
+            let mut size = [
+                window.width.min(self.max_tile[0]),
+                window.height.min(self.max_tile[1]),
+            ];
+            for e in [base, x, y] {
+                let [w, h] = e.tile_size(window)?;
+                size = [size[0].min(w), size[1].min(h)];
+            }
+            return Ok(size);
+        }
         let axis_bytes = match &self.model {
             Packed::Lrp { pack, .. } => LRP_AXIS_BYTES * pack.deltas.len() as u64,
-            Packed::Gabor { .. } | Packed::Phasor { .. } => GABOR_AXIS_BYTES,
+            Packed::Gabor { .. } | Packed::Phasor { .. } | Packed::Warp { .. } => GABOR_AXIS_BYTES,
             Packed::Texture { .. } => PLACEMENT_AXIS_BYTES,
             Packed::Classic { pack, .. } => CLASSIC_AXIS_BYTES * pack.octave_count() as u64,
         };
-        // Output, plus a phasor profile's per-pixel parameters (3 values); a texture's largest
-        // per-pixel buffer holds its strata and the two displacements.
+        // Output or a warp's displacement (2 values), plus a phasor profile's per-pixel
+        // parameters (3 values); a texture's largest per-pixel buffer holds its strata and the
+        // two displacements.
         let pixel_bytes = match &self.model {
             Packed::Phasor { .. } => 16,
             Packed::Texture { pack, .. } => 4 * (pack.channels() as u64 + 2),
-            _ => 4,
+            _ => 8,
         };
         let by_axis = (limit / axis_bytes) as usize;
         let by_dispatch =
@@ -311,6 +394,9 @@ impl GpuEvaluator {
     /// [`GpuError::DeviceLost`] for device problems.
     pub fn render(&self, window: &GpuWindow) -> Result<Vec<f32>, GpuError> {
         window.validate()?;
+        if let Packed::Warp { whole, .. } = &self.model {
+            spectex_model::warp::check_window(whole, window)?;
+        }
         let [tile_width, tile_height] = self.tile_size(window)?;
         let channels = self.output_channels();
         let mut out = vec![0.0f32; window.width * window.height * channels];
@@ -335,7 +421,45 @@ impl GpuEvaluator {
     /// One dispatch over a window that fits the device's limits (for a texture, after the LRP
     /// dispatches of its strata and turbulence).
     pub(crate) fn render_tile(&self, tile: &GpuWindow) -> Result<Vec<f32>, GpuError> {
+        self.render_tile_displaced(tile, None)
+    }
+
+    /// [`render_tile`](Self::render_tile) at positions displaced by `displacement` (pixels,
+    /// `(dx, dy)` per pixel interleaved, row-major over the tile), bound as group 1 of the model
+    /// shader (`common.wgsl`). A warp renders its x and y at the (displaced) positions, adds
+    /// their clamped displacement in f32, and renders its base displaced by the sum.
+    fn render_tile_displaced(
+        &self,
+        tile: &GpuWindow,
+        displacement: Option<&[f32]>,
+    ) -> Result<Vec<f32>, GpuError> {
         let device = &self.device;
+        if let Packed::Warp {
+            model, base, x, y, ..
+        } = &self.model
+        {
+            let vx = x.render_tile_displaced(tile, displacement)?;
+            let vy = y.render_tile_displaced(tile, displacement)?;
+            let mut total = Vec::with_capacity(2 * vx.len());
+            for (k, (a, b)) in vx.iter().zip(&vy).enumerate() {
+                let d = [model.displacement(*a), model.displacement(*b)];
+                match displacement {
+                    Some(outer) => total.extend([outer[2 * k] + d[0], outer[2 * k + 1] + d[1]]),
+                    None => total.extend(d),
+                }
+            }
+            return base.render_tile_displaced(tile, Some(&total));
+        }
+        let Some((pipeline, layout)) = &self.pipeline else {
+            return Err(GpuError::Validation(
+                "internal: a model shader without its pipeline".to_owned(),
+            ));
+        };
+        if displacement.is_some() && matches!(self.model, Packed::Texture { .. }) {
+            return Err(GpuError::Unsupported {
+                kind: "warped Texture".to_owned(),
+            });
+        }
         // A texture's LRP passes run first, each in its own error scope.
         let texture_tile = match &self.model {
             Packed::Texture { pack, .. } => Some(pack.tile(tile)?),
@@ -386,7 +510,7 @@ impl GpuEvaluator {
                 )
             }
             Packed::Phasor { pack, .. } => {
-                let t = pack.tile(tile, binding_limit(&self.limits))?;
+                let t = pack.tile(tile, binding_limit(&self.limits), displacement)?;
                 extra.push(storage_buffer(device, "phasor cells", &t.cells));
                 extra.push(storage_buffer(device, "phasor impulses", &t.impulses));
                 extra.push(storage_buffer(
@@ -412,6 +536,11 @@ impl GpuEvaluator {
                     pack.axis(width, pack::columns(tile)),
                     pack.axis(height, pack::rows(tile)),
                 )
+            }
+            Packed::Warp { .. } => {
+                return Err(GpuError::Validation(
+                    "internal: a warp has no shader of its own".to_owned(),
+                ));
             }
         };
         let uniform = init_buffer(device, "params", &uniform, wgpu::BufferUsages::UNIFORM);
@@ -454,8 +583,31 @@ impl GpuEvaluator {
             .collect();
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("spectex tile"),
-            layout: &self.layout,
+            layout,
             entries: &entries,
+        });
+        let warp_uniform = init_buffer(
+            device,
+            "warp params",
+            &[u32::from(displacement.is_some()), 0, 0, 0],
+            wgpu::BufferUsages::UNIFORM,
+        );
+        let warp_words: Vec<u32> =
+            displacement.map_or_else(|| vec![0, 0], |d| d.iter().map(|v| v.to_bits()).collect());
+        let warp_buffer = storage_buffer(device, "warp displacement", &warp_words);
+        let warp_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("spectex warp"),
+            layout: &self.warp_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: warp_uniform.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: warp_buffer.as_entire_binding(),
+                },
+            ],
         });
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("spectex tile"),
@@ -465,8 +617,9 @@ impl GpuEvaluator {
                 label: Some("spectex tile"),
                 timestamp_writes: None,
             });
-            pass.set_pipeline(&self.pipeline);
+            pass.set_pipeline(pipeline);
             pass.set_bind_group(0, &bind_group, &[]);
+            pass.set_bind_group(1, &warp_group, &[]);
             pass.dispatch_workgroups(
                 width.div_ceil(WORKGROUP_SIDE) as u32,
                 height.div_ceil(WORKGROUP_SIDE) as u32,
@@ -572,6 +725,28 @@ fn init_buffer(
     })
 }
 
+/// Group 1 of every model shader (`common.wgsl`): the warp uniform and the per-pixel
+/// displacement.
+fn warp_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    let entry = |binding: u32, ty: wgpu::BufferBindingType| wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    };
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("spectex warp"),
+        entries: &[
+            entry(0, wgpu::BufferBindingType::Uniform),
+            entry(1, wgpu::BufferBindingType::Storage { read_only: true }),
+        ],
+    })
+}
+
 /// The bind group layout of a model's shader: binding 0 the uniform parameters, then read-only
 /// storage buffers, and last the output.
 fn bind_group_layout(device: &wgpu::Device, model: &Packed) -> wgpu::BindGroupLayout {
@@ -580,6 +755,7 @@ fn bind_group_layout(device: &wgpu::Device, model: &Packed) -> wgpu::BindGroupLa
         Packed::Gabor { .. } => 2,
         Packed::Classic { .. } => 3,
         Packed::Phasor { .. } | Packed::Texture { .. } => 6,
+        Packed::Warp { .. } => 0,
     };
     let buffer = |binding: u32, ty: wgpu::BufferBindingType| wgpu::BindGroupLayoutEntry {
         binding,

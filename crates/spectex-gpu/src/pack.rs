@@ -18,7 +18,7 @@ pub(crate) struct LrpPack {
     pub mean: f32,
     /// `Δ_s` in f64 (from the model's f32), per stratum.
     pub deltas: Vec<f64>,
-    /// `LrpStratum` records: inv_delta2, amplitude, table_first, cosines.
+    /// `LrpStratum` records: inv_delta2, amplitude, table_first, cosines, delta.
     pub strata: Vec<u32>,
     /// `(f_x, f_y)` bits of every table, concatenated.
     pub frequencies: Vec<u32>,
@@ -32,7 +32,7 @@ pub(crate) fn pack_lrp(model: &LrpNoise) -> LrpPack {
         seed: model.seed,
         mean: model.mean,
         deltas: Vec::with_capacity(model.strata.len()),
-        strata: Vec::with_capacity(4 * model.strata.len()),
+        strata: Vec::with_capacity(5 * model.strata.len()),
         frequencies: Vec::new(),
         tables: Vec::new(),
     };
@@ -44,6 +44,7 @@ pub(crate) fn pack_lrp(model: &LrpNoise) -> LrpPack {
         pack.strata.push(stratum.amplitude.to_bits());
         pack.strata.push((pack.tables.len() / 2) as u32);
         pack.strata.push(stratum.sub_strata.len() as u32);
+        pack.strata.push(stratum.window_width.to_bits());
         for table in &stratum.sub_strata {
             pack.tables.push((pack.frequencies.len() / 2) as u32);
             pack.tables.push(table.len() as u32);
@@ -127,7 +128,7 @@ pub(crate) fn pack_gabor(model: &GaborNoise) -> GaborPack {
         (frequency_cells as f32).to_bits(),
         dir_a.to_bits(),
         dir_b.to_bits(),
-        0,
+        ((1.0 / radius) as f32).to_bits(),
         0,
     ];
     GaborPack { radius, params }
@@ -203,8 +204,8 @@ mod tests {
         };
         let p = pack_lrp(&m);
         assert_eq!(p.tables, [0, 1, 1, 2, 3, 1]);
-        assert_eq!(p.strata[2..4], [0, 2]);
-        assert_eq!(p.strata[6..8], [2, 1]);
+        assert_eq!(p.strata[2..5], [0, 2, 4.0f32.to_bits()]);
+        assert_eq!(p.strata[7..10], [2, 1, 8.0f32.to_bits()]);
         assert_eq!(f32::from_bits(p.strata[0]), 1.0 / 16.0);
         assert_eq!(f32::from_bits(p.frequencies[6]), 0.25);
     }

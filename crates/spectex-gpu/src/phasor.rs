@@ -120,6 +120,7 @@ pub(crate) fn pack_phasor(model: &PhasorNoise, z: f64) -> Result<PhasorPack, Gpu
     params[21] = unit_at(a.duty.as_ref(), origin).to_bits();
     params[22] = unit_at(duty_b.as_ref(), origin).to_bits();
     params[23] = unit_at(weight.as_ref(), origin).to_bits();
+    params[24] = ((1.0 / kernels.side()) as f32).to_bits();
     if data.is_empty() {
         data.push(0);
     }
@@ -159,7 +160,16 @@ impl PhasorPack {
     }
 
     /// Draws the tile's cell box and builds its tables; `limit` bounds one storage buffer.
-    pub fn tile(&self, tile: &GpuWindow, limit: u64) -> Result<PhasorTile, GpuError> {
+    /// With a per-pixel `displacement` (pixels, `(dx, dy)` interleaved, row-major), the box
+    /// covers every displaced pixel's cells (one more cell on each side than the f64 cells, for
+    /// the shader's f32 relocation) and the profile parameters are read at the displaced
+    /// positions, as the CPU reads them.
+    pub fn tile(
+        &self,
+        tile: &GpuWindow,
+        limit: u64,
+        displacement: Option<&[f32]>,
+    ) -> Result<PhasorTile, GpuError> {
         let side = self.side();
         let (width, height) = (tile.width, tile.height);
         let columns = gabor_axis(side, width, columns(tile));
@@ -172,6 +182,34 @@ impl PhasorPack {
                 .fold(None, |acc: Option<(i32, i32)>, c| {
                     Some(acc.map_or((c, c), |(lo, hi)| (lo.min(c), hi.max(c))))
                 })
+        };
+        let displaced = |i: usize, j: usize| -> [f64; 2] {
+            match displacement {
+                Some(d) => {
+                    let k = 2 * (j * width + i);
+                    [tile.x(i) + f64::from(d[k]), tile.y(j) + f64::from(d[k + 1])]
+                }
+                None => [tile.x(i), tile.y(j)],
+            }
+        };
+        // The cell range of the displaced pixels, widened by one cell (f32 relocation).
+        let displaced_range = || {
+            let mut range: [Option<(i32, i32)>; 2] = [None, None];
+            for j in 0..height {
+                for i in 0..width {
+                    for (axis, &p) in displaced(i, j).iter().enumerate() {
+                        if let Some((c, _)) = locate_cell(p, side) {
+                            let (lo, hi) = range[axis].unwrap_or((c, c));
+                            range[axis] = Some((lo.min(c), hi.max(c)));
+                        }
+                    }
+                }
+            }
+            range.map(|r| r.map(|(lo, hi)| (lo.saturating_sub(1), hi.saturating_add(1))))
+        };
+        let [x_range, y_range] = match displacement {
+            Some(_) => displaced_range(),
+            None => [range(&columns), range(&rows)],
         };
         let (z_cell, z_offset, z_valid) = if self.kernels.three_d() {
             match locate_cell(self.z, side) {
@@ -189,7 +227,7 @@ impl PhasorPack {
         params[10] = z_valid;
         let mut cells = Vec::new();
         let mut impulses = Vec::new();
-        if let (Some((i_lo, i_hi)), Some((j_lo, j_hi))) = (range(&columns), range(&rows)) {
+        if let (Some((i_lo, i_hi)), Some((j_lo, j_hi))) = (x_range, y_range) {
             let (i0, j0) = (i_lo - 1, j_lo - 1);
             let (cols, rows_n) = ((i_hi + 1 - i0 + 1) as u32, (j_hi + 1 - j0 + 1) as u32);
             params[4] = i0 as u32;
@@ -201,6 +239,17 @@ impl PhasorPack {
             } else {
                 &[0]
             };
+            // A strongly warped tile may reach far more cells than its own box: refuse before
+            // drawing them rather than after.
+            let box_bytes = 8 * u64::from(cols) * u64::from(rows_n) * layers.len() as u64;
+            if box_bytes > limit {
+                return Err(GpuError::LimitsExceeded {
+                    what: "bytes of a tile's phasor cell table (a smaller tile, scale or warp \
+                           strength)",
+                    value: box_bytes,
+                    limit,
+                });
+            }
             let mut drawn: Vec<Impulse> = Vec::new();
             for &sz in layers {
                 for j in j0..j0 + rows_n as i32 {
@@ -231,7 +280,8 @@ impl PhasorPack {
             pixel_params.reserve(3 * width * height);
             for j in 0..height {
                 for i in 0..width {
-                    let p = [tile.x(i), tile.y(j), self.z];
+                    let [x, y] = displaced(i, j);
+                    let p = [x, y, self.z];
                     pixel_params.extend([
                         unit_at(self.duty_a.as_ref(), p).to_bits(),
                         unit_at(self.duty_b.as_ref(), p).to_bits(),

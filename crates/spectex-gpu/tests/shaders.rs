@@ -165,6 +165,8 @@ fn float_constants_have_the_cpu_bits() {
     for (name, want) in [
         ("SIMPLEX_G2", spectex_model::classic::SIMPLEX_G2 as f32),
         ("SIMPLEX_G3", spectex_model::classic::SIMPLEX_G3 as f32),
+        ("SIMPLEX_F2", spectex_model::classic::SIMPLEX_F2 as f32),
+        ("SIMPLEX_F3", spectex_model::classic::SIMPLEX_F3 as f32),
         ("SIMPLEX2_R2", spectex_model::classic::SIMPLEX2_R2),
         ("SIMPLEX2_SCALE", spectex_model::classic::SIMPLEX2_SCALE),
         ("SIMPLEX3_R2", spectex_model::classic::SIMPLEX3_R2),

@@ -3,7 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::ModelError;
-use crate::{ClassicNoise, GaborNoise, LrpNoise, PhasorNoise, TextureModel};
+use crate::{ClassicNoise, GaborNoise, LrpNoise, PhasorNoise, TextureModel, Warp};
 
 /// The `schema_version` this build writes.
 pub const SCHEMA_VERSION: u32 = 1;
@@ -29,6 +29,9 @@ pub enum Model {
     Texture(TextureModel),
     /// A classic pointwise noise (gradient, simplex, value, Worley; fractal sums of them).
     Classic(ClassicNoise),
+    /// Domain warping: a model evaluated at positions displaced by two others
+    /// ([`crate::warp`]).
+    Warp(Warp),
 }
 
 impl Model {
@@ -43,6 +46,17 @@ impl Model {
             Self::Phasor(m) => m.validate(),
             Self::Texture(m) => m.validate(),
             Self::Classic(m) => m.validate(),
+            Self::Warp(m) => m.validate(),
+        }
+    }
+
+    /// Values per pixel: 3 for a colour texture (or a warp of one), else 1.
+    #[must_use]
+    pub fn output_channels(&self) -> usize {
+        match self {
+            Self::Texture(m) => m.output_channels(),
+            Self::Warp(m) => m.base.output_channels(),
+            _ => 1,
         }
     }
 }
