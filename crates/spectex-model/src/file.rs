@@ -3,7 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::ModelError;
-use crate::{ClassicNoise, GaborNoise, LrpNoise, PhasorNoise, TextureModel};
+use crate::{ClassicNoise, GaborNoise, LrpNoise, PhasorNoise, TextureModel, WaveletNoise};
 
 /// The `schema_version` this build writes.
 pub const SCHEMA_VERSION: u32 = 1;
@@ -29,6 +29,8 @@ pub enum Model {
     Texture(TextureModel),
     /// A classic pointwise noise (gradient, simplex, value, Worley; fractal sums of them).
     Classic(ClassicNoise),
+    /// Wavelet noise (Cook & DeRose 2005): a band-limited tile summed over octave bands.
+    Wavelet(WaveletNoise),
 }
 
 impl Model {
@@ -43,6 +45,7 @@ impl Model {
             Self::Phasor(m) => m.validate(),
             Self::Texture(m) => m.validate(),
             Self::Classic(m) => m.validate(),
+            Self::Wavelet(m) => m.validate(),
         }
     }
 }

@@ -33,6 +33,7 @@ pub mod phasor_kernels;
 pub mod random;
 mod target;
 pub mod texture;
+pub mod wavelet;
 pub mod window;
 
 pub use classic::ClassicNoise;
@@ -48,3 +49,4 @@ pub use phasor::{
 };
 pub use target::SpectralTarget;
 pub use texture::{ColourBasis, FixedCosine, Structure, TextureChannel, TextureModel, Turbulence};
+pub use wavelet::WaveletNoise;
