@@ -32,6 +32,7 @@ pub mod lrp;
 pub use spectex_model::math;
 pub mod phasor;
 pub mod texture;
+pub mod wavelet;
 
 use rayon::prelude::*;
 use spectex_model::{Model, ModelError};
@@ -43,6 +44,7 @@ pub use phasor::PhasorEvaluator;
 /// The window type is `spectex-model`'s, shared with the GPU evaluator.
 pub use spectex_model::{MAX_POSITION, MAX_WINDOW_PIXELS, MAX_WINDOW_SIDE, Window};
 pub use texture::TextureEvaluator;
+pub use wavelet::WaveletEvaluator;
 
 /// Rows evaluated together by one task: the LRP evaluator draws each lattice row once per band
 /// instead of once per output row. Values do not depend on it.
@@ -98,6 +100,8 @@ pub enum Evaluator {
     Texture(Box<TextureEvaluator>),
     /// A classic pointwise noise (a 3D one on one plane `z`).
     Classic(Box<ClassicEvaluator>),
+    /// Wavelet noise (a 3D one on one plane `z`).
+    Wavelet(Box<WaveletEvaluator>),
 }
 
 impl Evaluator {
@@ -130,6 +134,7 @@ impl Evaluator {
             Model::Phasor(m) => Self::Phasor(Box::new(PhasorEvaluator::new(m, z))),
             Model::Texture(m) => Self::Texture(Box::new(TextureEvaluator::new(m))),
             Model::Classic(m) => Self::Classic(Box::new(ClassicEvaluator::new(m, z))),
+            Model::Wavelet(m) => Self::Wavelet(Box::new(WaveletEvaluator::new(m, z))),
             #[allow(unreachable_patterns)] // reason: `Model` is non_exhaustive for other crates
             _ => unreachable!("every model kind of this version is handled"),
         })
@@ -153,6 +158,7 @@ impl Evaluator {
             Self::Gabor(e) => e.eval_row_at(window.y(row), |i| window.x(i), out),
             Self::Phasor(e) => e.eval_rows(window, row, out),
             Self::Classic(e) => e.eval_row(window, row, out),
+            Self::Wavelet(e) => e.eval_row(window, row, out),
         }
     }
 
@@ -201,6 +207,7 @@ impl Evaluator {
                     Self::Phasor(e) => e.eval_rows(window, first, lines),
                     Self::Texture(e) => e.eval_rows(window, first, lines),
                     Self::Classic(e) => e.eval_rows(window, first, lines),
+                    Self::Wavelet(e) => e.eval_rows(window, first, lines),
                     _ => {
                         for (r, line) in lines.chunks_exact_mut(window.width).enumerate() {
                             self.eval_row(window, first + r, line);
@@ -223,6 +230,7 @@ impl Evaluator {
             Self::Phasor(e) => e.kernels_per_pixel(),
             Self::Texture(e) => e.calls_per_pixel() as f64,
             Self::Classic(e) => e.evaluations_per_pixel(),
+            Self::Wavelet(e) => e.samples_per_pixel(),
         }
     }
 }
