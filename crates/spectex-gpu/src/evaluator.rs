@@ -6,7 +6,9 @@ use std::sync::mpsc;
 use spectex_model::Model;
 
 use crate::context::LostFlag;
-use crate::pack::{self, GABOR_AXIS_BYTES, GaborPack, LRP_AXIS_BYTES, LrpPack};
+use crate::pack::{
+    self, GABOR_AXIS_BYTES, GaborPack, LRP_AXIS_BYTES, LrpPack, WAVELET_AXIS_BYTES, WaveletPack,
+};
 use crate::phasor::{IMPULSE_BYTES, PhasorPack};
 use crate::texture::{PLACEMENT_AXIS_BYTES, TexturePack};
 use crate::{GpuContext, GpuError, GpuWindow, wgsl_source};
@@ -53,6 +55,11 @@ enum Packed {
         structures: wgpu::Buffer,
         blocks: wgpu::Buffer,
         cosines: wgpu::Buffer,
+    },
+    Wavelet {
+        pack: Box<WaveletPack>,
+        tile: wgpu::Buffer,
+        bands: wgpu::Buffer,
     },
 }
 
@@ -152,6 +159,20 @@ impl GpuEvaluator {
                     },
                 )
             }
+            Model::Wavelet(m) => {
+                let pack = pack::pack_wavelet(m, z);
+                let tile = storage_buffer(&device, "wavelet tile", &pack.tile);
+                let bands = storage_buffer(&device, "wavelet bands", &pack.band_words);
+                (
+                    "wavelet",
+                    "wavelet_main",
+                    Packed::Wavelet {
+                        pack: Box::new(pack),
+                        tile,
+                        bands,
+                    },
+                )
+            }
             #[allow(unreachable_patterns)] // reason: `Model` is non_exhaustive for other crates
             other => {
                 return Err(GpuError::Unsupported {
@@ -237,6 +258,7 @@ impl GpuEvaluator {
             Packed::Lrp { pack, .. } => LRP_AXIS_BYTES * pack.deltas.len() as u64,
             Packed::Gabor { .. } | Packed::Phasor { .. } => GABOR_AXIS_BYTES,
             Packed::Texture { .. } => PLACEMENT_AXIS_BYTES,
+            Packed::Wavelet { pack, .. } => WAVELET_AXIS_BYTES * pack.bands.len() as u64,
         };
         // Output, plus a phasor profile's per-pixel parameters (3 values); a texture's largest
         // per-pixel buffer holds its strata and the two displacements.
@@ -392,6 +414,23 @@ impl GpuEvaluator {
                 extra.push(storage_buffer(device, "texture values", &t.values));
                 (t.params, t.columns, t.rows)
             }
+            Packed::Wavelet { pack, .. } => {
+                let params = [
+                    width as u32,
+                    height as u32,
+                    pack.bands.len() as u32,
+                    pack.n,
+                    pack.dimensions,
+                    pack.mean.to_bits(),
+                    0,
+                    0,
+                ];
+                (
+                    params.to_vec(),
+                    pack::wavelet_axis(pack, 0, width, pack::columns(tile)),
+                    pack::wavelet_axis(pack, 1, height, pack::rows(tile)),
+                )
+            }
         };
         let uniform = init_buffer(device, "params", &uniform, wgpu::BufferUsages::UNIFORM);
         let columns = storage_buffer(device, "columns", &columns);
@@ -417,6 +456,9 @@ impl GpuEvaluator {
         } = &self.model
         {
             buffers.extend([structures, blocks, cosines]);
+        }
+        if let Packed::Wavelet { tile, bands, .. } = &self.model {
+            buffers.extend([tile, bands]);
         }
         buffers.extend(extra.iter());
         buffers.extend([&columns, &rows, &output]);
@@ -554,6 +596,7 @@ fn bind_group_layout(device: &wgpu::Device, model: &Packed) -> wgpu::BindGroupLa
     let read_only = match model {
         Packed::Lrp { .. } => 5,
         Packed::Gabor { .. } => 2,
+        Packed::Wavelet { .. } => 4,
         Packed::Phasor { .. } | Packed::Texture { .. } => 6,
     };
     let buffer = |binding: u32, ty: wgpu::BufferBindingType| wgpu::BindGroupLayoutEntry {
