@@ -8,7 +8,9 @@
 //! its arithmetic rounding may differ. Each constant below bounds one such source for one term;
 //! a pixel's bound is the sum over its terms.
 
-use spectex_model::{FixedCosine, GaborNoise, LrpNoise, Model, Stratum, TextureModel};
+use spectex_model::{
+    FixedCosine, GaborNoise, LrpNoise, Model, Stratum, TextureModel, WaveletNoise,
+};
 
 /// Single-precision unit roundoff, `2⁻²⁴`.
 pub const F32_UNIT_ROUNDOFF: f64 = 5.960_464_477_539_063e-8;
@@ -99,12 +101,43 @@ pub fn tolerance(model: &Model) -> Option<Tolerance> {
     match model {
         Model::Lrp(m) => Some(lrp(m)),
         Model::Gabor(m) => Some(gabor(m)),
+        Model::Wavelet(m) => Some(wavelet(m)),
         Model::Texture(m) => texture(m)
             .into_iter()
             .max_by(|a, b| a.max_abs.total_cmp(&b.max_abs)),
         #[allow(unreachable_patterns)] // reason: `Model` is non_exhaustive for other crates
         _ => None,
     }
+}
+
+/// Roundings of one wavelet band per axis on either side: the B-spline weights `(1−f)²/2`,
+/// `f²/2` and `1 − w₀ − w₂` (at most 4 roundings each, values ≤ 1), and the axis's weighted sum
+/// of 3 values (3 products and 2 sums, which an FMA may fuse): 9 per axis.
+pub const WAVELET_AXIS_ROUNDINGS: f64 = 9.0;
+
+/// Wavelet noise (Cook & DeRose 2005; `spectex_model::wavelet`). Both sides read the same f32
+/// tile at the same indices and f32 fractions (located on the host by one function). Per band
+/// `b`, the value `a_b · Σ w T` has magnitude at most `|a_b| · max|T|` (the weights of each axis
+/// sum to 1 and are non-negative), computed with [`WAVELET_AXIS_ROUNDINGS`] per axis over `d`
+/// axes plus the product by `a_b` and the accumulation (2): each side is within
+/// `(9d + 2)·u·|a_b|·max|T|` of the exact value, so the two sides within twice that; the final
+/// `mean + acc` and the band order add [`SUMMATION_ROUNDINGS`] of `|mean| + Σ|a_b|·max|T|`.
+#[must_use]
+pub fn wavelet(m: &WaveletNoise) -> Tolerance {
+    let u = F32_UNIT_ROUNDOFF;
+    let peak = m
+        .tile()
+        .values
+        .iter()
+        .fold(0.0f64, |a, &v| a.max(f64::from(v).abs()));
+    let per_band = 2.0 * (WAVELET_AXIS_ROUNDINGS * f64::from(m.dimensions) + 2.0) * u;
+    let bands: f64 = m
+        .bands()
+        .iter()
+        .map(|b| f64::from(b.amplitude).abs() * peak)
+        .sum();
+    let magnitude = f64::from(m.mean).abs() + bands;
+    Tolerance::from_max(per_band * bands + SUMMATION_ROUNDINGS * u * magnitude)
 }
 
 /// LRP (Gilet et al. 2014, Eq. 1–2): per stratum, 9 lattice points × `J_S` cosines of
@@ -303,6 +336,36 @@ mod tests {
         assert!((lrp(&model(0.2, 4)).max_abs / a - 2.0).abs() < 1e-12);
         assert!((lrp(&model(0.1, 8)).max_abs / a - 2.0).abs() < 1e-12);
         assert!(a > 0.0 && a < 1e-3, "{a}");
+    }
+
+    /// The wavelet bound is the derivation's sum: for one band of weight 1 and zero mean,
+    /// `(2(9d + 2) + 64)·u·amplitude·max|T|`; it scales with the amplitude, grows with `d`, and
+    /// a mean adds `64·u·|mean|`.
+    #[test]
+    fn wavelet_bound_follows_its_derivation() {
+        let model = |dimensions: u32, amplitude: f32, mean: f32| WaveletNoise {
+            seed: 4,
+            dimensions,
+            tile_size: 16,
+            cell_size: 8.0,
+            bands: vec![1.0],
+            amplitude,
+            mean,
+        };
+        let m = model(2, 0.5, 0.0);
+        let peak = m
+            .tile()
+            .values
+            .iter()
+            .fold(0.0f64, |a, &v| a.max(f64::from(v).abs()));
+        let want = (2.0 * 20.0 + 64.0) * F32_UNIT_ROUNDOFF * 0.5 * peak;
+        assert!((wavelet(&m).max_abs / want - 1.0).abs() < 1e-12);
+        let doubled = wavelet(&model(2, 1.0, 0.0)).max_abs;
+        assert!((doubled / wavelet(&m).max_abs - 2.0).abs() < 1e-12);
+        let with_mean = wavelet(&model(2, 0.5, 3.0)).max_abs - wavelet(&m).max_abs;
+        assert!((with_mean - 64.0 * F32_UNIT_ROUNDOFF * 3.0).abs() < 1e-15);
+        assert!(wavelet(&model(3, 0.5, 0.0)).max_abs > 0.0);
+        assert_eq!(tolerance(&Model::Wavelet(m.clone())), Some(wavelet(&m)));
     }
 
     /// `2e + e²` is the exact worst case of `Σ|a² − b²|/Σa²` for `b = a·(1 + e)`.
