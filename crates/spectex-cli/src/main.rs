@@ -11,6 +11,7 @@ mod phasor;
 mod procedural;
 mod relight;
 mod sheet;
+mod wavelet;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
