@@ -12,6 +12,7 @@ mod procedural;
 mod relight;
 mod sheet;
 mod warp;
+mod wavelet;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;

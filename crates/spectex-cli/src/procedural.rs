@@ -268,6 +268,11 @@ enum NoiseKind {
         #[command(flatten)]
         classic: ClassicArgs,
     },
+    /// Wavelet noise (Cook & DeRose 2005): a band-limited tile summed over octave bands, 2D or 3D.
+    Wavelet {
+        #[command(flatten)]
+        wavelet: crate::wavelet::WaveletArgs,
+    },
 }
 
 /// What every `noise` kind shares.
@@ -604,6 +609,7 @@ pub fn noise(cmd: &NoiseCommand) -> Result<()> {
             return crate::classic::run(basis, Some(fractal), scale, classic);
         }
         NoiseKind::Warp { warp } => return crate::warp::run(warp),
+        NoiseKind::Wavelet { wavelet } => return crate::wavelet::run(wavelet),
         NoiseKind::Worley { worley, classic } => {
             let (basis, scale) = crate::classic::worley_basis(worley);
             return crate::classic::run(basis, None, scale, classic);

@@ -33,6 +33,7 @@ pub use spectex_model::math;
 pub mod phasor;
 pub mod texture;
 pub mod warp;
+pub mod wavelet;
 
 use rayon::prelude::*;
 use spectex_model::{Model, ModelError};
@@ -45,6 +46,7 @@ pub use phasor::PhasorEvaluator;
 pub use spectex_model::{MAX_POSITION, MAX_WINDOW_PIXELS, MAX_WINDOW_SIDE, Window};
 pub use texture::TextureEvaluator;
 pub use warp::WarpEvaluator;
+pub use wavelet::WaveletEvaluator;
 
 /// Rows evaluated together by one task: the LRP evaluator draws each lattice row once per band
 /// instead of once per output row. Values do not depend on it.
@@ -102,6 +104,8 @@ pub enum Evaluator {
     Classic(Box<ClassicEvaluator>),
     /// Domain warping of a base model by two displacement models.
     Warp(Box<WarpEvaluator>),
+    /// Wavelet noise (a 3D one on one plane `z`).
+    Wavelet(Box<WaveletEvaluator>),
 }
 
 impl Evaluator {
@@ -135,6 +139,7 @@ impl Evaluator {
             Model::Texture(m) => Self::Texture(Box::new(TextureEvaluator::new(m))),
             Model::Classic(m) => Self::Classic(Box::new(ClassicEvaluator::new(m, z))),
             Model::Warp(m) => Self::Warp(Box::new(WarpEvaluator::new(m, z)?)),
+            Model::Wavelet(m) => Self::Wavelet(Box::new(WaveletEvaluator::new(m, z))),
             #[allow(unreachable_patterns)] // reason: `Model` is non_exhaustive for other crates
             _ => unreachable!("every model kind of this version is handled"),
         })
@@ -160,6 +165,7 @@ impl Evaluator {
             Self::Phasor(e) => e.eval_rows(window, row, out),
             Self::Classic(e) => e.eval_row(window, row, out),
             Self::Warp(e) => e.eval_rows(window, row, out),
+            Self::Wavelet(e) => e.eval_row(window, row, out),
         }
     }
 
@@ -177,6 +183,7 @@ impl Evaluator {
             Self::Texture(e) => e.eval_rows(window, first, out),
             Self::Classic(e) => e.eval_rows(window, first, out),
             Self::Warp(e) => e.eval_rows(window, first, out),
+            Self::Wavelet(e) => e.eval_rows(window, first, out),
             Self::Gabor(_) => {
                 for (r, line) in out.chunks_exact_mut(row_len).enumerate() {
                     self.eval_row(window, first + r, line);
@@ -252,6 +259,7 @@ impl Evaluator {
             Self::Texture(e) => e.calls_per_pixel() as f64,
             Self::Classic(e) => e.evaluations_per_pixel(),
             Self::Warp(e) => e.cost_per_pixel(),
+            Self::Wavelet(e) => e.samples_per_pixel(),
         }
     }
 }

@@ -7,7 +7,9 @@ use spectex_model::{Model, Warp};
 
 use crate::classic::{CLASSIC_AXIS_BYTES, ClassicPack};
 use crate::context::LostFlag;
-use crate::pack::{self, GABOR_AXIS_BYTES, GaborPack, LRP_AXIS_BYTES, LrpPack};
+use crate::pack::{
+    self, GABOR_AXIS_BYTES, GaborPack, LRP_AXIS_BYTES, LrpPack, WAVELET_AXIS_BYTES, WaveletPack,
+};
 use crate::phasor::{IMPULSE_BYTES, PhasorPack};
 use crate::texture::{PLACEMENT_AXIS_BYTES, TexturePack};
 use crate::{GpuContext, GpuError, GpuWindow, wgsl_source};
@@ -71,13 +73,22 @@ enum Packed {
         x: Box<GpuEvaluator>,
         y: Box<GpuEvaluator>,
     },
+    Wavelet {
+        pack: Box<WaveletPack>,
+        tile: wgpu::Buffer,
+        bands: wgpu::Buffer,
+    },
 }
 
 /// Whether the GPU can evaluate `model` at displaced positions: the shaders that apply the
-/// displacement of `common.wgsl` (LRP, Gabor, phasor, classic), and warps built from them.
+/// displacement of `common.wgsl` (LRP, Gabor, phasor, classic, wavelet), and warps built from them.
 fn displaceable(model: &Model) -> bool {
     match model {
-        Model::Lrp(_) | Model::Gabor(_) | Model::Phasor(_) | Model::Classic(_) => true,
+        Model::Lrp(_)
+        | Model::Gabor(_)
+        | Model::Phasor(_)
+        | Model::Classic(_)
+        | Model::Wavelet(_) => true,
         Model::Warp(w) => displaceable(&w.base) && displaceable(&w.x) && displaceable(&w.y),
         _ => false,
     }
@@ -137,7 +148,7 @@ impl GpuEvaluator {
         if displaced && !displaceable(model) {
             return Err(GpuError::Unsupported {
                 kind: format!(
-                    "warped {} (the GPU warps LRP, Gabor, phasor and classic noise and warps of them)",
+                    "warped {} (the GPU warps LRP, Gabor, phasor, classic and wavelet noise and warps of them)",
                     kind_name(model)
                 ),
             });
@@ -233,6 +244,20 @@ impl GpuEvaluator {
                 let pack = ClassicPack::new(m, z);
                 let octaves = storage_buffer(&device, "classic octaves", &pack.octaves);
                 ("classic", "classic_main", Packed::Classic { pack, octaves })
+            }
+            Model::Wavelet(m) => {
+                let pack = pack::pack_wavelet(m, z);
+                let tile = storage_buffer(&device, "wavelet tile", &pack.tile);
+                let bands = storage_buffer(&device, "wavelet bands", &pack.band_words);
+                (
+                    "wavelet",
+                    "wavelet_main",
+                    Packed::Wavelet {
+                        pack: Box::new(pack),
+                        tile,
+                        bands,
+                    },
+                )
             }
             #[allow(unreachable_patterns)] // reason: `Model` is non_exhaustive for other crates
             other => {
@@ -330,6 +355,7 @@ impl GpuEvaluator {
             Packed::Gabor { .. } | Packed::Phasor { .. } | Packed::Warp { .. } => GABOR_AXIS_BYTES,
             Packed::Texture { .. } => PLACEMENT_AXIS_BYTES,
             Packed::Classic { pack, .. } => CLASSIC_AXIS_BYTES * pack.octave_count() as u64,
+            Packed::Wavelet { pack, .. } => WAVELET_AXIS_BYTES * pack.bands.len() as u64,
         };
         // Output or a warp's displacement (2 values), plus a phasor profile's per-pixel
         // parameters (3 values); a texture's largest per-pixel buffer holds its strata and the
@@ -542,6 +568,23 @@ impl GpuEvaluator {
                     "internal: a warp has no shader of its own".to_owned(),
                 ));
             }
+            Packed::Wavelet { pack, .. } => {
+                let params = [
+                    width as u32,
+                    height as u32,
+                    pack.bands.len() as u32,
+                    pack.n,
+                    pack.dimensions,
+                    pack.mean.to_bits(),
+                    0,
+                    0,
+                ];
+                (
+                    params.to_vec(),
+                    pack::wavelet_axis(pack, 0, width, pack::columns(tile)),
+                    pack::wavelet_axis(pack, 1, height, pack::rows(tile)),
+                )
+            }
         };
         let uniform = init_buffer(device, "params", &uniform, wgpu::BufferUsages::UNIFORM);
         let columns = storage_buffer(device, "columns", &columns);
@@ -570,6 +613,9 @@ impl GpuEvaluator {
         }
         if let Packed::Classic { octaves, .. } = &self.model {
             buffers.push(octaves);
+        }
+        if let Packed::Wavelet { tile, bands, .. } = &self.model {
+            buffers.extend([tile, bands]);
         }
         buffers.extend(extra.iter());
         buffers.extend([&columns, &rows, &output]);
@@ -754,6 +800,7 @@ fn bind_group_layout(device: &wgpu::Device, model: &Packed) -> wgpu::BindGroupLa
         Packed::Lrp { .. } => 5,
         Packed::Gabor { .. } => 2,
         Packed::Classic { .. } => 3,
+        Packed::Wavelet { .. } => 4,
         Packed::Phasor { .. } | Packed::Texture { .. } => 6,
         Packed::Warp { .. } => 0,
     };

@@ -2,7 +2,8 @@
 //! rows into the per-axis tables through which the shaders receive positions (f64 work done here,
 //! so the device needs only f32 and integers; see the precision notes in `shaders/lrp.wgsl`).
 
-use spectex_model::{GaborNoise, LrpNoise, Orientation};
+use spectex_model::wavelet::{Band, locate_sample};
+use spectex_model::{GaborNoise, LrpNoise, Orientation, WaveletNoise};
 
 use crate::GpuWindow;
 
@@ -142,6 +143,70 @@ pub(crate) fn gabor_axis(radius: f64, count: usize, position: impl Fn(usize) -> 
         match spectex_model::grid::locate_cell(position(i), radius) {
             Some((cell, offset)) => words.extend([cell as u32, offset.to_bits(), 1]),
             None => words.extend([0, 0, 0]),
+        }
+    }
+    words
+}
+
+/// Bytes of one `WaveletAxis` entry of `wavelet.wgsl` (index, fraction), per band.
+pub(crate) const WAVELET_AXIS_BYTES: u64 = 8;
+
+/// A wavelet noise as buffer words: its tile (built on the host by the model's one function),
+/// its `WaveletBand` records, and what the host needs per tile.
+#[derive(Debug, Clone)]
+pub(crate) struct WaveletPack {
+    pub n: u32,
+    pub dimensions: u32,
+    pub mean: f32,
+    pub bands: Vec<Band>,
+    /// f32 bits of the tile, `x` fastest.
+    pub tile: Vec<u32>,
+    /// `WaveletBand` records: amplitude, first z layer, z fraction, `1/c_b` (for warping).
+    pub band_words: Vec<u32>,
+}
+
+/// Packs a validated wavelet noise for the plane `z`.
+pub(crate) fn pack_wavelet(model: &WaveletNoise, z: f64) -> WaveletPack {
+    let tile = model.tile();
+    let n = model.tile_size;
+    let bands = model.bands();
+    let mut band_words = Vec::with_capacity(4 * bands.len());
+    for b in &bands {
+        let (k0, f) = if model.dimensions == 3 {
+            locate_sample(z, b.side, b.offset[2], n)
+        } else {
+            (0, 0.0)
+        };
+        band_words.extend([
+            b.amplitude.to_bits(),
+            k0,
+            f.to_bits(),
+            ((1.0 / b.side) as f32).to_bits(),
+        ]);
+    }
+    WaveletPack {
+        n,
+        dimensions: model.dimensions,
+        mean: model.mean,
+        bands,
+        tile: tile.values.iter().map(|v| v.to_bits()).collect(),
+        band_words,
+    }
+}
+
+/// `WaveletAxis` records for `count` positions along `axis` (0 = x, 1 = y), band-major: the
+/// first tile index and the fraction of [`locate_sample`], the CPU's call.
+pub(crate) fn wavelet_axis(
+    pack: &WaveletPack,
+    axis: usize,
+    count: usize,
+    position: impl Fn(usize) -> f64,
+) -> Vec<u32> {
+    let mut words = Vec::with_capacity(2 * count * pack.bands.len());
+    for b in &pack.bands {
+        for i in 0..count {
+            let (index, f) = locate_sample(position(i), b.side, b.offset[axis], pack.n);
+            words.extend([index, f.to_bits()]);
         }
     }
     words

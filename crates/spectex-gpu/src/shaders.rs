@@ -59,6 +59,12 @@ pub const SHADERS: &[ShaderFile] = &[
         entry_points: &["classic_main"],
     },
     ShaderFile {
+        name: "wavelet",
+        source: include_str!("../../../shaders/wavelet.wgsl"),
+        needs_common: true,
+        entry_points: &["wavelet_main"],
+    },
+    ShaderFile {
         name: "probe",
         source: include_str!("../../../shaders/probe.wgsl"),
         needs_common: true,

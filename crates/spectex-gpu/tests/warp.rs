@@ -18,7 +18,7 @@ use spectex_model::classic::{
 use spectex_model::fixtures::{lrp_four_strata, phasor_pwm};
 use spectex_model::{
     GaborNoise, LrpNoise, MAX_POSITION, MAX_WARP, Model, Orientation, PhasorOrientation,
-    PhasorOutput, Stratum, TextureChannel, TextureModel, Warp,
+    PhasorOutput, Stratum, TextureChannel, TextureModel, Warp, WaveletNoise,
 };
 
 /// An LRP noise that is exactly `mean` everywhere (amplitude 0).
@@ -97,6 +97,18 @@ fn bases() -> Vec<(&'static str, Model)> {
                 2,
                 None,
             ),
+        ),
+        (
+            "wavelet 3d",
+            Model::Wavelet(WaveletNoise {
+                seed: 2,
+                dimensions: 3,
+                tile_size: 32,
+                cell_size: 5.0,
+                bands: vec![1.0, 0.5],
+                amplitude: 0.4,
+                mean: 0.5,
+            }),
         ),
     ]
 }

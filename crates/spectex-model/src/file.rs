@@ -3,7 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::ModelError;
-use crate::{ClassicNoise, GaborNoise, LrpNoise, PhasorNoise, TextureModel, Warp};
+use crate::{ClassicNoise, GaborNoise, LrpNoise, PhasorNoise, TextureModel, Warp, WaveletNoise};
 
 /// The `schema_version` this build writes.
 pub const SCHEMA_VERSION: u32 = 1;
@@ -32,6 +32,8 @@ pub enum Model {
     /// Domain warping: a model evaluated at positions displaced by two others
     /// ([`crate::warp`]).
     Warp(Warp),
+    /// Wavelet noise (Cook & DeRose 2005): a band-limited tile summed over octave bands.
+    Wavelet(WaveletNoise),
 }
 
 impl Model {
@@ -47,6 +49,7 @@ impl Model {
             Self::Texture(m) => m.validate(),
             Self::Classic(m) => m.validate(),
             Self::Warp(m) => m.validate(),
+            Self::Wavelet(m) => m.validate(),
         }
     }
 

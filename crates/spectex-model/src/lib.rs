@@ -34,6 +34,7 @@ pub mod random;
 mod target;
 pub mod texture;
 pub mod warp;
+pub mod wavelet;
 pub mod window;
 
 pub use classic::ClassicNoise;
@@ -50,3 +51,4 @@ pub use phasor::{
 pub use target::SpectralTarget;
 pub use texture::{ColourBasis, FixedCosine, Structure, TextureChannel, TextureModel, Turbulence};
 pub use warp::{MAX_WARP, Warp};
+pub use wavelet::WaveletNoise;

@@ -1,0 +1,125 @@
+// wavelet.wgsl — wavelet noise (Cook & DeRose 2005), the GPU twin of
+// crates/spectex-cpu/src/wavelet.rs; the definition is the module doc of
+// crates/spectex-model/src/wavelet.rs. Composed after common.wgsl (only for the shared header;
+// no random draws happen here, only the warp displacement convention: the host builds the band-limited tile once, in f64, with the
+// function the CPU uses, and uploads it as f32).
+//
+// Positions: the host computes, per band and per column (row) of the tile, u = x / c_b + ½ in
+// f64, m = ⌊u⌋, the first tile index (m − 1 + o_b) mod n and the fraction f32(u − m)
+// (`spectex_model::wavelet::locate_sample`, the CPU's call), and per band the same for the plane
+// z. So the device needs only integer indices below n and f32 fractions in [0, 1], and the
+// precision does not depend on the distance from the origin.
+//
+// Sum order (the CPU's): z weights first (3D), then y, then x, each sum left to right, then
+// acc = acc + a_b · s over bands in order and mean + acc. Plain `*` and `+`; a compiler may still
+// contract them into FMAs (crosscheck tolerance `tolerance::wavelet`).
+
+struct WaveletParams {
+    width: u32,
+    height: u32,
+    /// Number of bands.
+    bands: u32,
+    /// Tile side n.
+    n: u32,
+    /// 2 or 3.
+    dimensions: u32,
+    mean: f32,
+    _pad0: u32,
+    _pad1: u32,
+}
+
+/// One band: its weight a_b and, in 3D, the first tile layer and fraction of the plane z.
+struct WaveletBand {
+    amplitude: f32,
+    z_index: u32,
+    z_fraction: f32,
+    /// 1 / c_b, samples per pixel (f32 of the f64 value), for domain warping.
+    inv_side: f32,
+}
+
+/// One column (or row) of one band: the first of its three tile indices and the fraction.
+struct WaveletAxis {
+    index: u32,
+    fraction: f32,
+}
+
+@group(0) @binding(0) var<uniform> params: WaveletParams;
+@group(0) @binding(1) var<storage, read> tile: array<f32>;
+@group(0) @binding(2) var<storage, read> bands: array<WaveletBand>;
+@group(0) @binding(3) var<storage, read> columns: array<WaveletAxis>;
+@group(0) @binding(4) var<storage, read> rows: array<WaveletAxis>;
+@group(0) @binding(5) var<storage, read_write> output: array<f32>;
+
+/// Quadratic B-spline weights of samples m − 1, m, m + 1 (spectex_model::wavelet::spline_weights).
+fn spline_weights(f: f32) -> vec3<f32> {
+    let g = 1.0f - f;
+    let w0 = 0.5f * g * g;
+    let w2 = 0.5f * f * f;
+    return vec3<f32>(w0, (1.0f - w0) - w2, w2);
+}
+
+/// i + 1 mod n for i < n.
+fn next_index(i: u32) -> u32 {
+    return select(i + 1u, 0u, i + 1u == params.n);
+}
+
+/// The plane value at (i, j) of a band: the tile in 2D, the z-weighted sum of three layers in 3D.
+fn plane(i: u32, j: u32, band: WaveletBand) -> f32 {
+    let n = params.n;
+    let o = j * n + i;
+    if (params.dimensions == 2u) {
+        return tile[o];
+    }
+    let wz = spline_weights(band.z_fraction);
+    let k0 = band.z_index;
+    let k1 = next_index(k0);
+    let k2 = next_index(k1);
+    let nn = n * n;
+    return (wz.x * tile[k0 * nn + o] + wz.y * tile[k1 * nn + o]) + wz.z * tile[k2 * nn + o];
+}
+
+/// Σ_j w_{y,j} · plane(i, j).
+fn row_value(i: u32, j0: u32, wy: vec3<f32>, band: WaveletBand) -> f32 {
+    let j1 = next_index(j0);
+    let j2 = next_index(j1);
+    return (wy.x * plane(i, j0, band) + wy.y * plane(i, j1, band)) + wy.z * plane(i, j2, band);
+}
+
+/// An axis entry moved by `d` pixels (domain warping, common.wgsl): the fraction plus `d` in
+/// samples, the first index shifted by its floor modulo n (in i64-free i32 arithmetic: the
+/// shift is at most MAX_WARP samples, the index below n ≤ 256).
+fn displaced(a: WaveletAxis, d: f32, inv_side: f32) -> WaveletAxis {
+    let moved = warp_relocate(i32(a.index), a.fraction, d * inv_side);
+    let n = i32(params.n);
+    return WaveletAxis(u32(((moved.cell % n) + n) % n), moved.offset);
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn wavelet_main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if (gid.x >= params.width || gid.y >= params.height) {
+        return;
+    }
+    var acc = 0.0f;
+    var d = vec2<f32>(0.0f);
+    if (warp_params.enabled == 1u) {
+        d = warp_displacement[gid.y * params.width + gid.x];
+    }
+    for (var b = 0u; b < params.bands; b++) {
+        let band = bands[b];
+        var column = columns[b * params.width + gid.x];
+        var row = rows[b * params.height + gid.y];
+        if (warp_params.enabled == 1u) {
+            column = displaced(column, d.x, band.inv_side);
+            row = displaced(row, d.y, band.inv_side);
+        }
+        let wx = spline_weights(column.fraction);
+        let wy = spline_weights(row.fraction);
+        let i0 = column.index;
+        let i1 = next_index(i0);
+        let i2 = next_index(i1);
+        let s = (wx.x * row_value(i0, row.index, wy, band) + wx.y * row_value(i1, row.index, wy, band))
+            + wx.z * row_value(i2, row.index, wy, band);
+        acc = acc + band.amplitude * s;
+    }
+    output[gid.y * params.width + gid.x] = params.mean + acc;
+}
