@@ -743,8 +743,14 @@ fn value_tolerance(model: &Model) -> Option<f64> {
 ///   `D + 3·cell`; the CPU's f64 sum rounds below that.
 ///
 /// so `|δ| ≤ √2·(|s|·max E + 6·u·(D + 3·cell))`. The base's bound, plus its
-/// [`Regularity`] over `δ` (`slope·|δ| + jump`), is the warp's. `None` when a sub-model has no
-/// derived bound.
+/// [`Regularity`] over `δ` (`slope·|δ| + jump`), is the warp's largest error. `None` when a
+/// sub-model has no derived bound.
+///
+/// The mean: a truncated kernel's jump shows only at the pixels within `|δ|` of its support's
+/// circle (radius `r`, the regularity's `cell`): the annulus `2πr·2|δ|` over the disc `πr²`, a
+/// share `4|δ|/r` of the pixels it covers, for kernels at random positions. As `jump` already
+/// sums every kernel that can reach a pixel, the jumps add at most `jump·min(1, 4|δ|/r)` to the
+/// mean, the smooth part [`MEAN_FRACTION`] of its bound as for every model.
 #[must_use]
 pub fn warp(w: &Warp) -> Option<Tolerance> {
     let base = value_tolerance(&w.base)?;
@@ -756,7 +762,16 @@ pub fn warp(w: &Warp) -> Option<Tolerance> {
     let d = (s * x.magnitude.max(y.magnitude)).min(reach);
     let delta =
         std::f64::consts::SQRT_2 * (s * ex.max(ey) + 6.0 * F32_UNIT_ROUNDOFF * (d + 3.0 * b.cell));
-    Some(Tolerance::from_max(base + b.slope * delta + b.jump))
+    let smooth = base + b.slope * delta;
+    let near = if b.cell > 0.0 {
+        (4.0 * delta / b.cell).min(1.0)
+    } else {
+        1.0
+    };
+    Some(Tolerance {
+        max_abs: smooth + b.jump,
+        mean_abs: MEAN_FRACTION * smooth + b.jump * near,
+    })
 }
 
 #[cfg(test)]
@@ -863,6 +878,44 @@ mod tests {
 
     /// A warp's bound is the base's at strength 0 plus the GPU's relocation roundings, and it
     /// grows with the strength; kinds without a derivation give none.
+    /// A phasor base's truncation jumps set the warp's largest error but only their share
+    /// `4|δ|/r` of the mean: the mean bound is the smooth part's quarter plus that share.
+    #[test]
+    fn warp_mean_counts_jumps_only_near_kernel_boundaries() {
+        let mut phasor = spectex_model::fixtures::phasor_pwm(
+            2,
+            spectex_model::PhasorOrientation::TwoLobes {
+                angle_a: 0.4,
+                angle_b: 1.2,
+            },
+        );
+        phasor.output = PhasorOutput::Gabor;
+        let lrp = Model::Lrp(LrpNoise {
+            seed: 1,
+            mean: 0.0,
+            strata: vec![Stratum {
+                window_width: 10.0,
+                amplitude: 0.1,
+                sub_strata: vec![vec![[0.1, 0.2]]; 4],
+            }],
+        });
+        let w = Warp {
+            base: Box::new(Model::Phasor(phasor.clone())),
+            x: Box::new(lrp.clone()),
+            y: Box::new(lrp),
+            strength: 6.0,
+        };
+        let t = warp(&w).unwrap();
+        let r = regularity(&Model::Phasor(phasor)).unwrap();
+        let smooth = t.max_abs - r.jump;
+        assert!(r.jump > 0.0 && smooth > 0.0);
+        assert!(t.mean_abs > MEAN_FRACTION * smooth);
+        assert!(
+            t.mean_abs < MEAN_FRACTION * smooth + 0.01 * r.jump,
+            "{t:?} {r:?}"
+        );
+    }
+
     #[test]
     fn warp_bound_grows_with_strength() {
         let lrp = |seed| {
