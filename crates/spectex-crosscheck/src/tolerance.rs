@@ -444,11 +444,24 @@ pub fn classic(m: &ClassicNoise) -> Tolerance {
             (c * WORLEY_CAP * (per_distance + 4.0) * u, c * WORLEY_CAP)
         }
     };
-    let mut sum = 0.0;
-    let mut magnitude = 0.0;
-    let mut previous = 0.0;
+    let (sum, magnitude) = octave_sum(m, n, |_| e);
+    let amplitude = f64::from(m.amplitude).abs();
+    Tolerance::from_max(
+        amplitude * sum
+            + SUMMATION_ROUNDINGS * u * (f64::from(m.mean).abs() + amplitude * magnitude),
+    )
+}
+
+/// A per-octave bound `t_o` (an error, a slope or a jump of the basis, `|basis| ≤ n`) carried
+/// through the fractal sum: `Σ gain^o·t_o` for fBm and turbulence (`|·|` is 1-Lipschitz);
+/// for ridged, `s_o = (offset − |n_o|)²·clamp(w·s_{o−1}, 0, 1)` with `|offset − |n|| ≤ A =
+/// max(offset, n − offset)` gives `t'_o = 2A·t_o + A²·w·t'_{o−1}` and `Σ gain^o·t'_o`. Also
+/// returns the bound on `Σ gain^o·|term|` (`n`, or `A²` for ridged).
+fn octave_sum(m: &ClassicNoise, n: f64, term: impl Fn(u32) -> f64) -> (f64, f64) {
+    let (mut sum, mut magnitude, mut previous) = (0.0, 0.0, 0.0);
     for o in 0..m.octaves() {
         let weight = f64::from(m.octave_weight(o)).abs();
+        let t = term(o);
         match m.fractal.as_ref().map(|f| f.kind) {
             Some(FractalKind::Ridged {
                 offset,
@@ -456,25 +469,21 @@ pub fn classic(m: &ClassicNoise) -> Tolerance {
             }) => {
                 let offset = f64::from(offset);
                 let a = offset.max(n - offset);
-                let mut err = 2.0 * a * e;
+                let mut carried = 2.0 * a * t;
                 if o > 0 {
-                    err += a * a * f64::from(weight_gain) * previous;
+                    carried += a * a * f64::from(weight_gain) * previous;
                 }
-                previous = err;
-                sum += weight * err;
+                previous = carried;
+                sum += weight * carried;
                 magnitude += weight * a * a;
             }
             _ => {
-                sum += weight * e;
+                sum += weight * t;
                 magnitude += weight * n;
             }
         }
     }
-    let amplitude = f64::from(m.amplitude).abs();
-    Tolerance::from_max(
-        amplitude * sum
-            + SUMMATION_ROUNDINGS * u * (f64::from(m.mean).abs() + amplitude * magnitude),
-    )
+    (sum, magnitude)
 }
 
 /// Largest `|dw/dy|` of the Kaiser–Bessel window `w(y)` (`y` in window widths), by central
@@ -655,39 +664,8 @@ fn classic_regularity(m: &ClassicNoise) -> Regularity {
             (c * metric, c * WORLEY_CAP, 0.0)
         }
     };
-    let (mut slope, mut jumps, mut magnitude) = (0.0, 0.0, 0.0);
-    let (mut previous_slope, mut previous_jump) = (0.0, 0.0);
-    for o in 0..m.octaves() {
-        let weight = f64::from(m.octave_weight(o)).abs();
-        let per_pixel = lipschitz / m.octave_cell(o);
-        match m.fractal.as_ref().map(|f| f.kind) {
-            Some(FractalKind::Ridged {
-                offset,
-                weight_gain,
-            }) => {
-                let offset = f64::from(offset);
-                let a = offset.max(n - offset);
-                let carry = a * a * f64::from(weight_gain);
-                let (s, j) = if o > 0 {
-                    (
-                        2.0 * a * per_pixel + carry * previous_slope,
-                        2.0 * a * jump + carry * previous_jump,
-                    )
-                } else {
-                    (2.0 * a * per_pixel, 2.0 * a * jump)
-                };
-                (previous_slope, previous_jump) = (s, j);
-                slope += weight * s;
-                jumps += weight * j;
-                magnitude += weight * a * a;
-            }
-            _ => {
-                slope += weight * per_pixel;
-                jumps += weight * jump;
-                magnitude += weight * n;
-            }
-        }
-    }
+    let (slope, magnitude) = octave_sum(m, n, |o| lipschitz / m.octave_cell(o));
+    let (jumps, _) = octave_sum(m, n, |_| jump);
     let amplitude = f64::from(m.amplitude).abs();
     Regularity {
         slope: amplitude * slope,

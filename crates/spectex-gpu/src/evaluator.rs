@@ -774,7 +774,18 @@ fn init_buffer(
 /// Group 1 of every model shader (`common.wgsl`): the warp uniform and the per-pixel
 /// displacement.
 fn warp_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
-    let entry = |binding: u32, ty: wgpu::BufferBindingType| wgpu::BindGroupLayoutEntry {
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("spectex warp"),
+        entries: &[
+            buffer_entry(0, wgpu::BufferBindingType::Uniform),
+            buffer_entry(1, wgpu::BufferBindingType::Storage { read_only: true }),
+        ],
+    })
+}
+
+/// A compute-stage buffer binding of a bind group layout.
+fn buffer_entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
         binding,
         visibility: wgpu::ShaderStages::COMPUTE,
         ty: wgpu::BindingType::Buffer {
@@ -783,14 +794,7 @@ fn warp_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
             min_binding_size: None,
         },
         count: None,
-    };
-    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some("spectex warp"),
-        entries: &[
-            entry(0, wgpu::BufferBindingType::Uniform),
-            entry(1, wgpu::BufferBindingType::Storage { read_only: true }),
-        ],
-    })
+    }
 }
 
 /// The bind group layout of a model's shader: binding 0 the uniform parameters, then read-only
@@ -804,24 +808,14 @@ fn bind_group_layout(device: &wgpu::Device, model: &Packed) -> wgpu::BindGroupLa
         Packed::Phasor { .. } | Packed::Texture { .. } => 6,
         Packed::Warp { .. } => 0,
     };
-    let buffer = |binding: u32, ty: wgpu::BufferBindingType| wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer {
-            ty,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    };
-    let mut entries = vec![buffer(0, wgpu::BufferBindingType::Uniform)];
+    let mut entries = vec![buffer_entry(0, wgpu::BufferBindingType::Uniform)];
     for binding in 1..=read_only {
-        entries.push(buffer(
+        entries.push(buffer_entry(
             binding,
             wgpu::BufferBindingType::Storage { read_only: true },
         ));
     }
-    entries.push(buffer(
+    entries.push(buffer_entry(
         read_only + 1,
         wgpu::BufferBindingType::Storage { read_only: false },
     ));
