@@ -865,6 +865,8 @@ fn phasor_bad_inputs_fail_cleanly() {
     }
 }
 
+/// The classic noises and wavelet noise from `spectex noise`, at (1e7, −1e7) and on 3D planes, and
+/// `spectex render` of the models they write gives the same bytes.
 #[test]
 fn classic_noises_end_to_end() {
     use image::GenericImageView;
@@ -881,6 +883,24 @@ fn classic_noises_end_to_end() {
         (
             "worley",
             &["--coefficients", "-1,1,0,0", "--metric", "manhattan"],
+        ),
+        ("wavelet", &[]),
+        (
+            "wavelet",
+            &["--tile", "64", "--cell", "8", "--bands", "1,0.5,0.25"],
+        ),
+        (
+            "wavelet",
+            &[
+                "--dims",
+                "3",
+                "--z",
+                "40.5",
+                "--bands",
+                "1,-0.7",
+                "--amplitude",
+                "0.2",
+            ],
         ),
     ];
     for (n, (kind, extra)) in cases.iter().enumerate() {

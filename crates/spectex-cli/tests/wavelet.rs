@@ -1,4 +1,5 @@
-//! Wavelet noise end to end (`spectex noise wavelet`, `spectex render`, bad inputs) and the
+//! Wavelet noise's bad inputs (its end-to-end run is in `tests/cli.rs`, with the classic
+//! noises) and the
 //! science of Cook & DeRose 2005 measured with `spectex_spectrum::Fft2`: the tile is
 //! band-limited (little energy below half its Nyquist frequency), it has zero mean up to the
 //! analysis filter's DC gain (an identity), and the multiband sum's spectrum is the
@@ -41,78 +42,6 @@ fn scratch(name: &str) -> PathBuf {
 
 fn s(p: &Path) -> &str {
     p.to_str().unwrap()
-}
-
-#[test]
-fn wavelet_end_to_end_on_the_cpu() {
-    use image::GenericImageView;
-    let dir = scratch("wavelet");
-    let cases: &[&[&str]] = &[
-        &[],
-        &["--tile", "64", "--cell", "8", "--bands", "1,0.5,0.25"],
-        &[
-            "--dims",
-            "3",
-            "--z",
-            "40.5",
-            "--bands",
-            "1,-0.7",
-            "--amplitude",
-            "0.2",
-        ],
-    ];
-    for (n, extra) in cases.iter().enumerate() {
-        let png = dir.join(format!("{n}.png"));
-        let model = dir.join(format!("{n}.json"));
-        let mut args = vec!["noise", "wavelet", "-o", s(&png), "--model", s(&model)];
-        args.extend(["--size", "64x48", "--offset", "1e7,-1e7", "--seed", "5"]);
-        args.extend(["--device", "cpu"]);
-        args.extend(extra.iter().copied());
-        let out = spectex(&args);
-        assert!(
-            out.status.success(),
-            "{extra:?}: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let again = dir.join(format!("{n}-again.png"));
-        let z = extra
-            .iter()
-            .position(|a| *a == "--z")
-            .map_or("0", |i| extra[i + 1]);
-        let out = spectex(&[
-            "render",
-            s(&model),
-            "-o",
-            s(&again),
-            "--size",
-            "64x48",
-            "--offset",
-            "1e7,-1e7",
-            "--z",
-            z,
-        ]);
-        assert!(
-            out.status.success(),
-            "render: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let (a, b) = (image::open(&png).unwrap(), image::open(&again).unwrap());
-        assert_eq!(a.dimensions(), (64, 48));
-        assert_eq!(
-            a.as_bytes(),
-            b.as_bytes(),
-            "{extra:?}: render differs from noise"
-        );
-        assert!(
-            a.as_bytes().iter().any(|&v| v != a.as_bytes()[0]),
-            "{extra:?}: constant"
-        );
-        let text = std::fs::read_to_string(&model).unwrap();
-        assert!(matches!(
-            spectex_model::from_json(&text).unwrap(),
-            Model::Wavelet(_)
-        ));
-    }
 }
 
 #[test]
