@@ -10,24 +10,11 @@
 
 use spectex_cpu::{CpuError, Evaluator, Window};
 use spectex_model::classic::{Basis, ClassicNoise, Fractal, FractalKind};
-use spectex_model::fixtures::{lrp_four_strata, phasor_pwm};
+use spectex_model::fixtures::{constant, gabor_isotropic, lrp_four_strata, phasor_pwm};
 use spectex_model::{
-    ColourBasis, GaborNoise, MAX_POSITION, MAX_WARP, Model, ModelError, Orientation,
-    PhasorOrientation, Stratum, TextureChannel, TextureModel, Warp,
+    ColourBasis, MAX_POSITION, MAX_WARP, Model, ModelError, PhasorOrientation, Stratum,
+    TextureChannel, TextureModel, Warp,
 };
-
-/// A classic noise that is the constant `mean` everywhere (amplitude 0).
-fn constant(mean: f32) -> Model {
-    Model::Classic(ClassicNoise {
-        seed: 0,
-        dimensions: 2,
-        cell_size: 16.0,
-        basis: Basis::Gradient,
-        fractal: None,
-        amplitude: 0.0,
-        mean,
-    })
-}
 
 fn fbm(seed: u32) -> Model {
     Model::Classic(ClassicNoise {
@@ -74,18 +61,7 @@ fn colour_texture() -> Model {
 fn bases() -> Vec<(&'static str, Model)> {
     vec![
         ("lrp", Model::Lrp(lrp_four_strata(8))),
-        (
-            "gabor",
-            Model::Gabor(GaborNoise {
-                seed: 3,
-                mean: 0.5,
-                amplitude: 0.1,
-                bandwidth: 0.05,
-                frequency: 0.0625,
-                orientation: Orientation::Isotropic { min: 0.0, max: 6.0 },
-                impulses_per_kernel: 16.0,
-            }),
-        ),
+        ("gabor", Model::Gabor(gabor_isotropic())),
         (
             "phasor",
             Model::Phasor(phasor_pwm(

@@ -15,10 +15,10 @@ use spectex_gpu::{GpuError, GpuEvaluator, GpuWindow};
 use spectex_model::classic::{
     Basis, ClassicNoise, FeaturePoints, Fractal, FractalKind, Metric, Worley,
 };
-use spectex_model::fixtures::{lrp_four_strata, phasor_pwm};
+use spectex_model::fixtures::{gabor_isotropic, lrp_four_strata, phasor_pwm};
 use spectex_model::{
-    GaborNoise, LrpNoise, MAX_POSITION, MAX_WARP, Model, Orientation, PhasorOrientation,
-    PhasorOutput, Stratum, TextureChannel, TextureModel, Warp, WaveletNoise,
+    LrpNoise, MAX_POSITION, MAX_WARP, Model, PhasorOrientation, PhasorOutput, Stratum,
+    TextureChannel, TextureModel, Warp, WaveletNoise,
 };
 
 /// An LRP noise that is exactly `mean` everywhere (amplitude 0).
@@ -54,18 +54,7 @@ fn bases() -> Vec<(&'static str, Model)> {
     phasor.output = PhasorOutput::Gabor;
     vec![
         ("lrp", Model::Lrp(lrp_four_strata(6))),
-        (
-            "gabor",
-            Model::Gabor(GaborNoise {
-                seed: 3,
-                mean: 0.5,
-                amplitude: 0.1,
-                bandwidth: 0.05,
-                frequency: 0.0625,
-                orientation: Orientation::Isotropic { min: 0.0, max: 6.0 },
-                impulses_per_kernel: 16.0,
-            }),
-        ),
+        ("gabor", Model::Gabor(gabor_isotropic())),
         ("phasor", Model::Phasor(phasor)),
         (
             "classic perlin fbm",

@@ -1,8 +1,12 @@
-//! Reproducible synthetic models shared by the benches of every evaluator crate, so that CPU,
-//! GPU and their comparison time the same model.
+//! Reproducible synthetic models shared by the benches and tests of every evaluator crate, so
+//! that CPU, GPU and their comparison time and check the same model.
 
+use crate::classic::{Basis, ClassicNoise};
 use crate::random::{Prng, cell_hash};
-use crate::{Field, LrpNoise, PhasorNoise, PhasorOrientation, PhasorOutput, Profile, Stratum};
+use crate::{
+    Field, GaborNoise, LrpNoise, Model, Orientation, PhasorNoise, PhasorOrientation, PhasorOutput,
+    Profile, Stratum,
+};
 
 /// A 4-stratum LRP model with `budget` cosines per lattice point in all (at least one per
 /// stratum), spread as evenly as possible; window widths Δ_S = 4.5, 9, 16, 28 pixels (the periods
@@ -54,6 +58,36 @@ pub fn phasor_pwm(dimensions: u8, orientation: PhasorOrientation) -> PhasorNoise
         mean: 0.0,
         amplitude: 1.0,
     }
+}
+
+/// Isotropic Gabor noise: frequency 1/16, bandwidth 0.05, 16 impulses per kernel, amplitude 0.1
+/// around 0.5, seed 3.
+#[must_use]
+pub fn gabor_isotropic() -> GaborNoise {
+    GaborNoise {
+        seed: 3,
+        mean: 0.5,
+        amplitude: 0.1,
+        bandwidth: 0.05,
+        frequency: 0.0625,
+        orientation: Orientation::Isotropic { min: 0.0, max: 6.0 },
+        impulses_per_kernel: 16.0,
+    }
+}
+
+/// A model that is exactly `mean` everywhere: gradient noise of amplitude 0 (a warp's constant
+/// displacement, for instance).
+#[must_use]
+pub fn constant(mean: f32) -> Model {
+    Model::Classic(ClassicNoise {
+        seed: 0,
+        dimensions: 2,
+        cell_size: 16.0,
+        basis: Basis::Gradient,
+        fractal: None,
+        amplitude: 0.0,
+        mean,
+    })
 }
 
 #[cfg(test)]

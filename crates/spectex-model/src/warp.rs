@@ -181,19 +181,7 @@ pub fn check_window(model: &Model, window: &Window) -> Result<(), WindowError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::classic::{Basis, ClassicNoise};
-
-    fn constant(mean: f32) -> Model {
-        Model::Classic(ClassicNoise {
-            seed: 0,
-            dimensions: 2,
-            cell_size: 16.0,
-            basis: Basis::Gradient,
-            fractal: None,
-            amplitude: 0.0,
-            mean,
-        })
-    }
+    use crate::fixtures::constant;
 
     fn warp(base: Model) -> Warp {
         Warp {
