@@ -168,8 +168,17 @@ fn texture_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let n = params.width * params.height;
     let pixel = gid.y * params.width + gid.x;
     let nc = params.channels;
-    let column = columns[gid.x];
-    let row = rows[gid.y];
+    var column = columns[gid.x];
+    var row = rows[gid.y];
+    if (warp_params.enabled == 1u) {
+        // Domain warping (common.wgsl): the placement cells move by the displacement in cells
+        // of side T/2 (a power of two, so the scaling is exact).
+        let dw = warp_displacement[pixel] * (2.0f / f32(params.period));
+        let x = warp_relocate(column.cell, column.offset, dw.x);
+        let y = warp_relocate(row.cell, row.offset, dw.y);
+        column = PlacementAxis(x.cell, x.offset);
+        row = PlacementAxis(y.cell, y.offset);
+    }
     let d = vec2<f32>(values[nc * n + pixel], values[(nc + 1u) * n + pixel]);
 
     // Placement taps (`TextureModel::placement`).

@@ -318,7 +318,8 @@ pub fn check_model_at_z(
     }
     let tolerances = match model {
         Model::Texture(m) => crate::tolerance::texture(m),
-        _ => vec![tolerance(model).ok_or(CrosscheckError::Unsupported)?],
+        // A warp's bound holds for every component of its base (it takes the largest).
+        _ => vec![tolerance(model).ok_or(CrosscheckError::Unsupported)?; model.output_channels()],
     };
     let cpu = Evaluator::new_at_z(model, z)?;
     let gpu = GpuEvaluator::new_at_z(context, model, z)?;

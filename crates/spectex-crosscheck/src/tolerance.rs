@@ -198,7 +198,6 @@ pub fn lrp(m: &LrpNoise) -> Tolerance {
 #[must_use]
 pub fn texture(m: &TextureModel) -> Vec<Tolerance> {
     let u = F32_UNIT_ROUNDOFF;
-    let tau = std::f64::consts::TAU;
     let strata_magnitude = |strata: &[Stratum]| -> f64 {
         strata
             .iter()
@@ -240,41 +239,11 @@ pub fn texture(m: &TextureModel) -> Vec<Tolerance> {
                 .max_abs
             };
             if let Some(s) = &ch.structure {
-                let n = f64::from(2 * m.period / s.blocks);
-                let delta = f64::from(m.period / s.blocks);
-                let k1 = |c: &FixedCosine| {
-                    f64::from(c.frequency[0].unsigned_abs() + c.frequency[1].unsigned_abs())
-                };
-                let kmax = |c: &FixedCosine| {
-                    f64::from(
-                        c.frequency[0]
-                            .unsigned_abs()
-                            .max(c.frequency[1].unsigned_abs()),
-                    )
-                };
-                let (mut e_max, mut s_max, mut g_max) = (0.0f64, 0.0f64, 0.0f64);
-                for block in &s.cosines {
-                    let a: f64 = block.iter().map(|c| f64::from(c.amplitude)).sum();
-                    let e: f64 = block
-                        .iter()
-                        .map(|c| {
-                            let turns = k1(c) / 2.0 + 1.0;
-                            let phase = tau * PHASE_ROUNDINGS * u * turns;
-                            f64::from(c.amplitude) * 2.0 * (phase + COS_ABS_ERROR)
-                        })
-                        .sum::<f64>()
-                        + SUMMATION_ROUNDINGS * u * a;
-                    let g: f64 = block.iter().map(|c| f64::from(c.amplitude) * kmax(c)).sum();
-                    e_max = e_max.max(e);
-                    s_max = s_max.max(a);
-                    g_max = g_max.max(g);
-                }
-                let weights_slope = if s.blocks == 1 {
-                    0.0
-                } else {
-                    std::f64::consts::PI * s_max / delta
-                };
-                let slope = tau * g_max / n + weights_slope;
+                let StructureBounds {
+                    error: e_max,
+                    sum: s_max,
+                    slope,
+                } = structure_bounds(m.period, s);
                 bound += PLACEMENT_TAP_SUM * e_max
                     + 12.0 * TEXTURE_WEIGHT_ABS_ERROR * s_max
                     + PLACEMENT_TAP_SUM * 2.0 * slope * displacement;
@@ -299,6 +268,59 @@ pub fn texture(m: &TextureModel) -> Vec<Tolerance> {
                 Tolerance::from_max(bound + SUMMATION_ROUNDINGS * u * magnitude)
             })
             .collect(),
+    }
+}
+
+/// Bounds of one channel's structure `n_R` ([`texture`]): the rounding error `e_B` of its
+/// worst block, the largest `Σ A` of a block (`|n_R| ≤` it: the block weights are a partition of
+/// unity), and its slope along an axis, `2π·max_B Σ A|k|_∞/N` (the cosines) plus `π·S/Δ_R` (the
+/// blend weights, `|h'| ≤ π/(2Δ_R)`, two per axis; none when `b = 1`).
+struct StructureBounds {
+    error: f64,
+    sum: f64,
+    slope: f64,
+}
+
+fn structure_bounds(period: u32, s: &spectex_model::Structure) -> StructureBounds {
+    let u = F32_UNIT_ROUNDOFF;
+    let tau = std::f64::consts::TAU;
+    let n = f64::from(2 * period / s.blocks);
+    let delta = f64::from(period / s.blocks);
+    let k1 =
+        |c: &FixedCosine| f64::from(c.frequency[0].unsigned_abs() + c.frequency[1].unsigned_abs());
+    let kmax = |c: &FixedCosine| {
+        f64::from(
+            c.frequency[0]
+                .unsigned_abs()
+                .max(c.frequency[1].unsigned_abs()),
+        )
+    };
+    let (mut e_max, mut s_max, mut g_max) = (0.0f64, 0.0f64, 0.0f64);
+    for block in &s.cosines {
+        let a: f64 = block.iter().map(|c| f64::from(c.amplitude)).sum();
+        let e: f64 = block
+            .iter()
+            .map(|c| {
+                let turns = k1(c) / 2.0 + 1.0;
+                let phase = tau * PHASE_ROUNDINGS * u * turns;
+                f64::from(c.amplitude) * 2.0 * (phase + COS_ABS_ERROR)
+            })
+            .sum::<f64>()
+            + SUMMATION_ROUNDINGS * u * a;
+        let g: f64 = block.iter().map(|c| f64::from(c.amplitude) * kmax(c)).sum();
+        e_max = e_max.max(e);
+        s_max = s_max.max(a);
+        g_max = g_max.max(g);
+    }
+    let weights_slope = if s.blocks == 1 {
+        0.0
+    } else {
+        std::f64::consts::PI * s_max / delta
+    };
+    StructureBounds {
+        error: e_max,
+        sum: s_max,
+        slope: tau * g_max / n + weights_slope,
     }
 }
 
@@ -517,8 +539,7 @@ fn impulse_count(cells: f64, lambda: f64) -> f64 {
 /// `|v(p + δ) − v(p)| ≤ slope·|δ| + jump` (`jump` for truncated kernels, which cut at 5% of
 /// their peak: any of them may enter or leave the support), with `cell` the grid side over which
 /// the GPU relocates a displaced point and `magnitude` a bound on `|v|`. `None` where no bound
-/// is derived (phase-based phasor outputs, whose slope is unbounded where `|𝒢| → 0`; textures,
-/// which the GPU does not warp).
+/// is derived (phase-based phasor outputs, whose slope is unbounded where `|𝒢| → 0`).
 ///
 /// Wavelet noise: see the derivation in the code (B-spline weights' derivatives).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -575,6 +596,7 @@ pub fn regularity(model: &Model) -> Option<Regularity> {
         }
         Model::Phasor(m) => phasor_regularity(m),
         Model::Classic(m) => Some(classic_regularity(m)),
+        Model::Texture(m) => Some(texture_regularity(m)),
         Model::Wavelet(m) => {
             // Quadratic B-spline weights have derivatives −(1 − f), 1 − 2f, f: Σ|w'| ≤ 2, so a
             // band changes by at most 2·max|tile| per sample along an axis (the other axes'
@@ -675,6 +697,88 @@ fn classic_regularity(m: &ClassicNoise) -> Regularity {
     }
 }
 
+/// A texture by example, per channel (gradient norms, per pixel):
+/// - the strata: the LRP bound of [`regularity`];
+/// - the structure at the taps: `Σ|ω| ≤ 2` ([`PLACEMENT_TAP_SUM`]) times `√2·slope_R`
+///   ([`structure_bounds`], per axis) times the norm of `∂q/∂p`, `1 + √2·σ·Σ_S L_S` (the
+///   turbulence `σ(Σ_S|n_S| − c)` per axis, `|·|` 1-Lipschitz, `L_S` its strata's LRP slopes);
+/// - the placement weights (random placement): a cell's axis weight `g = sin²(πa/2)`, `a`
+///   crossing `2·PLACEMENT_BLEND` cells of side `P = T/2`, changes by at most `γ = 2π/P` per
+///   pixel; the taps' raw weights `w_k` sum to 1 with `Σw² ≥ ¼`, so the normalised
+///   `ω_k = w_k/√Σw²` change by at most `γ/√Σw² + w_k·γ/(Σw²)^{3/2} ≤ 2γ + 8w_kγ`, in all
+///   `≤ 16γ` per axis, times `|n_R| ≤ S`, `√2` for the norm.
+///
+/// The colour rows add `Σ_c |B_ic|` of them; the slope is the largest component's. No jumps (the
+/// placement is cross-faded, the structure periodic); `cell` the largest grid the GPU relocates
+/// on (the placement cell or a stratum's window).
+fn texture_regularity(m: &TextureModel) -> Regularity {
+    let root2 = std::f64::consts::SQRT_2;
+    let lrp_of = |seed: u32, mean: f32, strata: &[Stratum]| {
+        regularity(&Model::Lrp(LrpNoise {
+            seed,
+            mean,
+            strata: strata.to_vec(),
+        }))
+    };
+    let p = m.placement_cell();
+    let mut cell = p;
+    let turbulence = m.turbulence.as_ref().map_or(0.0, |t| {
+        f64::from(t.sigma).abs()
+            * t.strata
+                .iter()
+                .filter_map(|st| lrp_of(0, 0.0, std::slice::from_ref(st)))
+                .map(|r| {
+                    cell = cell.max(r.cell);
+                    r.slope
+                })
+                .sum::<f64>()
+    });
+    let gamma = std::f64::consts::TAU / p;
+    let channels: Vec<(f64, f64)> = m
+        .channels
+        .iter()
+        .map(|ch| {
+            let (mut slope, mut magnitude) = (0.0, f64::from(ch.mean).abs());
+            if let Some(r) = lrp_of(ch.seed, 0.0, &ch.strata).filter(|_| !ch.strata.is_empty()) {
+                slope += r.slope;
+                magnitude += r.magnitude;
+                cell = cell.max(r.cell);
+            }
+            if let Some(s) = &ch.structure {
+                let b = structure_bounds(m.period, s);
+                slope += PLACEMENT_TAP_SUM * root2 * b.slope * (1.0 + root2 * turbulence);
+                if m.random_placement {
+                    slope += 16.0 * gamma * b.sum * root2;
+                }
+                magnitude += PLACEMENT_TAP_SUM * b.sum;
+            }
+            (slope, magnitude)
+        })
+        .collect();
+    let (slope, magnitude) = match &m.colour {
+        None => channels
+            .iter()
+            .fold((0.0f64, 0.0f64), |a, c| (a.0.max(c.0), a.1.max(c.1))),
+        Some(c) => (0..3).fold((0.0f64, 0.0f64), |a, i| {
+            let row = |k: usize| f64::from(c.basis[i][k]).abs();
+            let slope: f64 = channels.iter().enumerate().map(|(k, v)| row(k) * v.0).sum();
+            let magnitude: f64 = f64::from(c.mean[i]).abs()
+                + channels
+                    .iter()
+                    .enumerate()
+                    .map(|(k, v)| row(k) * v.1)
+                    .sum::<f64>();
+            (a.0.max(slope), a.1.max(magnitude))
+        }),
+    };
+    Regularity {
+        slope,
+        jump: 0.0,
+        magnitude,
+        cell,
+    }
+}
+
 /// Phasor noise's Gabor (`Im 𝒢`) and intensity (`|𝒢|`) outputs: each kernel changes at most
 /// by `2π F_max + gaussian slope` per pixel and jumps by [`PHASOR_TRUNCATION`] at its radius.
 fn phasor_regularity(m: &PhasorNoise) -> Option<Regularity> {
@@ -765,9 +869,10 @@ mod tests {
         assert!(k > 1.0 / 1.5 && k < 2.0, "{k}");
     }
 
-    /// The classic noises' slope bounds hold on fine CPU renders: along rows and columns sampled
-    /// every 1/16 pixel, no step changes the value by more than `slope·step + jump`, and the
-    /// bound is within a factor 12 of the steepest step seen (so it is not vacuous).
+    /// The slope bounds of the classic noises, wavelet noise and a texture hold on fine CPU
+    /// renders: along rows and columns sampled every 1/16 pixel, no step changes the value by
+    /// more than `slope·step + jump`, and the bound is within a factor (12, or 150 for the
+    /// texture) of the steepest step seen (so it is not vacuous).
     #[test]
     fn classic_slope_bounds_hold_on_fine_renders() {
         let model = |basis: Basis, dimensions: u32, fractal: Option<FractalKind>| ClassicNoise {
@@ -819,6 +924,14 @@ mod tests {
                 "bands": [1.0, 0.5], "amplitude": 0.4, "mean": 0.5}"#,
         )
         .unwrap();
+        let grey = std::fs::read_to_string(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../testdata/models/texture-synthetic-grey.json"
+        ))
+        .unwrap();
+        // The texture's bound sums the worst case of every one of its strata's 9·J cosines and of
+        // the turbulence's: valid, and measured 100× the steepest step on this model.
+        check_slope_on_fine_render("texture", &spectex_model::from_json(&grey).unwrap(), 150.0);
         check_slope_on_fine_render("wavelet 2d", &Model::Wavelet(wavelet.clone()), 12.0);
         wavelet.dimensions = 3;
         check_slope_on_fine_render("wavelet 3d", &Model::Wavelet(wavelet), 12.0);

@@ -81,14 +81,15 @@ enum Packed {
 }
 
 /// Whether the GPU can evaluate `model` at displaced positions: the shaders that apply the
-/// displacement of `common.wgsl` (LRP, Gabor, phasor, classic, wavelet), and warps built from them.
+/// displacement of `common.wgsl` (every kind), and warps built from them.
 fn displaceable(model: &Model) -> bool {
     match model {
         Model::Lrp(_)
         | Model::Gabor(_)
         | Model::Phasor(_)
         | Model::Classic(_)
-        | Model::Wavelet(_) => true,
+        | Model::Wavelet(_)
+        | Model::Texture(_) => true,
         Model::Warp(w) => displaceable(&w.base) && displaceable(&w.x) && displaceable(&w.y),
         _ => false,
     }
@@ -454,7 +455,7 @@ impl GpuEvaluator {
     /// `(dx, dy)` per pixel interleaved, row-major over the tile), bound as group 1 of the model
     /// shader (`common.wgsl`). A warp renders its x and y at the (displaced) positions, adds
     /// their clamped displacement in f32, and renders its base displaced by the sum.
-    fn render_tile_displaced(
+    pub(crate) fn render_tile_displaced(
         &self,
         tile: &GpuWindow,
         displacement: Option<&[f32]>,
@@ -481,14 +482,9 @@ impl GpuEvaluator {
                 "internal: a model shader without its pipeline".to_owned(),
             ));
         };
-        if displacement.is_some() && matches!(self.model, Packed::Texture { .. }) {
-            return Err(GpuError::Unsupported {
-                kind: "warped Texture".to_owned(),
-            });
-        }
         // A texture's LRP passes run first, each in its own error scope.
         let texture_tile = match &self.model {
-            Packed::Texture { pack, .. } => Some(pack.tile(tile)?),
+            Packed::Texture { pack, .. } => Some(pack.tile(tile, displacement)?),
             _ => None,
         };
         let scope = ErrorScopes::push(device);

@@ -154,15 +154,19 @@ impl TexturePack {
             .chain(self.turbulence.iter().flatten())
     }
 
-    /// Renders the tile's strata and turbulence on the device and builds the texture pass's
-    /// tables.
-    pub fn tile(&self, tile: &GpuWindow) -> Result<TextureTile, GpuError> {
+    /// Renders the tile's strata and turbulence on the device (at positions displaced by a
+    /// warp's `displacement`, if any) and builds the texture pass's tables.
+    pub fn tile(
+        &self,
+        tile: &GpuWindow,
+        displacement: Option<&[f32]>,
+    ) -> Result<TextureTile, GpuError> {
         let n = tile.width * tile.height;
         let nc = self.channels();
         let mut values: Vec<f32> = Vec::with_capacity((nc + 2) * n);
         for (ch, evaluator) in self.model.channels.iter().zip(&self.strata) {
             match evaluator {
-                Some(e) => values.extend(e.render_tile(tile)?),
+                Some(e) => values.extend(e.render_tile_displaced(tile, displacement)?),
                 None => values.resize(values.len() + n, ch.mean),
             }
         }
@@ -170,7 +174,10 @@ impl TexturePack {
         for evaluators in &self.turbulence {
             let mut sum = vec![0.0f32; n];
             for e in evaluators {
-                for (s, v) in sum.iter_mut().zip(e.render_tile(tile)?) {
+                for (s, v) in sum
+                    .iter_mut()
+                    .zip(e.render_tile_displaced(tile, displacement)?)
+                {
                     *s += v.abs();
                 }
             }
