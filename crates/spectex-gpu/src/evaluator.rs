@@ -149,7 +149,7 @@ impl GpuEvaluator {
         if displaced && !displaceable(model) {
             return Err(GpuError::Unsupported {
                 kind: format!(
-                    "warped {} (the GPU warps LRP, Gabor, phasor, classic and wavelet noise and warps of them)",
+                    "warped {} (a model kind whose shader takes no displacement)",
                     kind_name(model)
                 ),
             });
