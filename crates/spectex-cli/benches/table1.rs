@@ -15,6 +15,9 @@
     reason = "a bench fails loudly on the first unexpected error"
 )]
 
+#[path = "../tests/common/mod.rs"]
+mod common;
+
 use std::time::Instant;
 
 use ndarray::Array3;
@@ -31,20 +34,7 @@ const EXEMPLARS: &[&str] = &[
 ];
 
 fn load(path: &std::path::Path) -> Array3<f64> {
-    let img = image::open(path).unwrap();
-    if img.color().has_color() {
-        let img = img.to_rgb32f();
-        let (w, h) = img.dimensions();
-        Array3::from_shape_fn((3, h as usize, w as usize), |(c, y, x)| {
-            f64::from(img.get_pixel(x as u32, y as u32).0[c])
-        })
-    } else {
-        let img = img.to_luma32f();
-        let (w, h) = img.dimensions();
-        Array3::from_shape_fn((1, h as usize, w as usize), |(_, y, x)| {
-            f64::from(img.get_pixel(x as u32, y as u32).0[0])
-        })
-    }
+    common::planes(&image::open(path).unwrap())
 }
 
 /// Bytes of stored frequencies: strata tables (2 f32 per entry) and structure cosines (2 i32,

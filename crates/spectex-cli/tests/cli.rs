@@ -6,27 +6,12 @@
     reason = "a test fails loudly on the first unexpected None or Err"
 )]
 
+mod common;
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
-fn spectex(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_spectex"))
-        .args(args)
-        .output()
-        .expect("the spectex binary runs")
-}
-
-/// A fresh directory under the target dir for one test.
-fn scratch(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("cli-{name}"));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
+use common::{s, scratch, spectex, spectex_ok, z_of};
 
 /// Asserts the failure contract: exit 1, exactly one stderr line starting `error: ` that
 /// contains every `needle`, and no file left in `dir` (not even a temporary one).
@@ -304,12 +289,7 @@ fn help_has_examples() {
 fn fit_render_synth_and_noise_end_to_end() {
     let dir = scratch("procedural");
     let model = dir.join("model.json");
-    let out = spectex(&["fit", "-o", s(&model), "--budget", "8", "--strata", "2"]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    spectex_ok(&["fit", "-o", s(&model), "--budget", "8", "--strata", "2"]);
     let text = std::fs::read_to_string(&model).unwrap();
     let parsed = spectex_model::from_json(&text).unwrap();
     // The built-in exemplar is in colour: a colour texture of three PCA channels, each with
@@ -327,7 +307,7 @@ fn fit_render_synth_and_noise_end_to_end() {
 
     // Far away and scaled: a valid image of the asked size, on the CPU.
     let far = dir.join("far.exr");
-    let out = spectex(&[
+    let out = spectex_ok(&[
         "render",
         s(&model),
         "-o",
@@ -341,18 +321,13 @@ fn fit_render_synth_and_noise_end_to_end() {
         "--device",
         "cpu",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     let img = image::open(&far).unwrap();
     assert_eq!((img.width(), img.height()), (48, 32));
     assert!(String::from_utf8_lossy(&out.stdout).contains("on the CPU"));
 
     // Auto renders on whatever exists and says which.
     let auto = dir.join("auto.png");
-    let out = spectex(&[
+    let out = spectex_ok(&[
         "render",
         s(&model),
         "-o",
@@ -362,26 +337,16 @@ fn fit_render_synth_and_noise_end_to_end() {
         "--device",
         "auto",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     assert!(String::from_utf8_lossy(&out.stdout).contains("on the "));
 
     let synth = dir.join("synth.png");
-    let out = spectex(&["synth", "-o", s(&synth), "--budget", "4", "--size", "40x40"]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    spectex_ok(&["synth", "-o", s(&synth), "--budget", "4", "--size", "40x40"]);
     assert_eq!(image::open(&synth).unwrap().width(), 40);
 
     for kind in ["ring", "lobe", "band", "gabor"] {
         let png = dir.join(format!("{kind}.png"));
         let json = dir.join(format!("{kind}.json"));
-        let out = spectex(&[
+        spectex_ok(&[
             "noise",
             kind,
             "-o",
@@ -391,11 +356,6 @@ fn fit_render_synth_and_noise_end_to_end() {
             "--model",
             s(&json),
         ]);
-        assert!(
-            out.status.success(),
-            "{kind}: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
         spectex_model::from_json(&std::fs::read_to_string(&json).unwrap()).unwrap();
     }
 }
@@ -416,7 +376,7 @@ fn texture_by_example_end_to_end() {
     .save(&grey)
     .unwrap();
     let model = dir.join("tex.json");
-    let out = spectex(&[
+    spectex_ok(&[
         "fit",
         s(&grey),
         "-o",
@@ -429,11 +389,6 @@ fn texture_by_example_end_to_end() {
         "2",
         "--random-placement",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     let parsed = spectex_model::from_json(&std::fs::read_to_string(&model).unwrap()).unwrap();
     let spectex_model::Model::Texture(tex) = &parsed else {
         panic!("fit wrote {parsed:?}")
@@ -450,12 +405,7 @@ fn texture_by_example_end_to_end() {
         .sum();
     assert_eq!(strata, 14);
     let png = dir.join("tex.png");
-    let out = spectex(&["render", s(&model), "-o", s(&png), "--size", "64x48"]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    spectex_ok(&["render", s(&model), "-o", s(&png), "--size", "64x48"]);
     let img = image::open(&png).unwrap();
     assert_eq!((img.width(), img.height()), (64, 48));
     assert!(!img.color().has_color());
@@ -464,7 +414,7 @@ fn texture_by_example_end_to_end() {
     let colour = dir.join("colour.png");
     write_png(&colour, 64, 64);
     let synth = dir.join("synth.png");
-    let out = spectex(&[
+    spectex_ok(&[
         "synth",
         s(&colour),
         "-o",
@@ -474,18 +424,13 @@ fn texture_by_example_end_to_end() {
         "--size",
         "40x30",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     let img = image::open(&synth).unwrap();
     assert_eq!((img.width(), img.height()), (40, 30));
     assert!(img.color().has_color());
 
     // A contact sheet: exemplar + 4 panels of 32 px with 6 px gaps.
     let sheets = dir.join("sheets");
-    let out = spectex(&[
+    let out = spectex_ok(&[
         "sheet",
         s(&grey),
         "-o",
@@ -495,11 +440,6 @@ fn texture_by_example_end_to_end() {
         "--budget",
         "10",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     let table = String::from_utf8_lossy(&out.stdout);
     assert!(table.contains("| grey | 0.35 |"), "{table}");
     let sheet = image::open(sheets.join("grey_sheet.png")).unwrap();
@@ -520,7 +460,7 @@ fn relight_and_normal_maps() {
     // One pixel step is 1024/65535 of full scale; strength makes it 0.5 px.
     let strength = format!("{}", 0.5 * 65535.0 / 1024.0);
     let lit = dir.join("lit.exr");
-    let out = spectex(&[
+    spectex_ok(&[
         "relight",
         s(&height),
         "-o",
@@ -532,11 +472,6 @@ fn relight_and_normal_maps() {
         "--strength",
         &strength,
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     let img = image::open(&lit).unwrap().to_luma32f();
     let h = std::f64::consts::FRAC_1_SQRT_2;
     let want = (-0.5 * h + h) / 1.25f64.sqrt();
@@ -544,7 +479,7 @@ fn relight_and_normal_maps() {
     assert!((got - want).abs() < 1e-5, "{got} vs {want}");
 
     let normals = dir.join("normals.png");
-    let out = spectex(&[
+    spectex_ok(&[
         "relight",
         s(&height),
         "-o",
@@ -552,11 +487,6 @@ fn relight_and_normal_maps() {
         "--normals",
         "--periodic",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     let n = image::open(&normals).unwrap().to_rgb8();
     assert_eq!(n.dimensions(), (64, 16));
     // Interior: leaning to −x (red below 128), no y component (green 128), z up (blue > 128).
@@ -705,7 +635,7 @@ fn phasor_and_slices_end_to_end() {
     let control = dir.join("control.png");
     write_png(&control, 32, 16);
     let (img, model) = (dir.join("pwm.png"), dir.join("pwm.json"));
-    let out = spectex(&[
+    spectex_ok(&[
         "phasor",
         "-o",
         s(&img),
@@ -724,18 +654,8 @@ fn phasor_and_slices_end_to_end() {
         "--model",
         s(&model),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     let again = dir.join("again.png");
-    let out = spectex(&["render", s(&model), "-o", s(&again), "--size", "96x64"]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    spectex_ok(&["render", s(&model), "-o", s(&again), "--size", "96x64"]);
     assert_eq!(
         std::fs::read(&img).unwrap(),
         std::fs::read(&again).unwrap(),
@@ -749,7 +669,7 @@ fn phasor_and_slices_end_to_end() {
 
     for kind in ["phase", "intensity", "gabor", "profiled"] {
         let p = dir.join(format!("{kind}.png"));
-        let out = spectex(&[
+        spectex_ok(&[
             "phasor",
             "-o",
             s(&p),
@@ -761,15 +681,10 @@ fn phasor_and_slices_end_to_end() {
             "--harmonics",
             "1:1,3:0.33:90",
         ]);
-        assert!(
-            out.status.success(),
-            "{kind}: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
     }
 
     let slab = dir.join("slab.json");
-    let out = spectex(&[
+    spectex_ok(&[
         "phasor",
         "-o",
         s(&dir.join("slab.png")),
@@ -780,13 +695,8 @@ fn phasor_and_slices_end_to_end() {
         "--model",
         s(&slab),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     let layers = dir.join("layers");
-    let out = spectex(&[
+    spectex_ok(&[
         "slices",
         s(&slab),
         "--z-range",
@@ -798,11 +708,6 @@ fn phasor_and_slices_end_to_end() {
         "--size",
         "32x32",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     let index = std::fs::read_to_string(layers.join("layers.csv")).unwrap();
     assert_eq!(
         index,
@@ -909,19 +814,11 @@ fn classic_noises_end_to_end() {
         let mut args = vec!["noise", kind, "-o", s(&png), "--model", s(&model)];
         args.extend(["--size", "64x48", "--offset", "1e7,-1e7", "--seed", "5"]);
         args.extend(extra.iter().copied());
-        let out = spectex(&args);
-        assert!(
-            out.status.success(),
-            "{kind} {extra:?}: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        spectex_ok(&args);
         // `spectex render` on the written model gives the same image.
         let again = dir.join(format!("{n}-{kind}-again.png"));
-        let z = extra
-            .iter()
-            .position(|a| *a == "--z")
-            .map_or("0", |i| extra[i + 1]);
-        let out = spectex(&[
+        let z = z_of(extra);
+        spectex_ok(&[
             "render",
             s(&model),
             "-o",
@@ -933,11 +830,6 @@ fn classic_noises_end_to_end() {
             "--z",
             z,
         ]);
-        assert!(
-            out.status.success(),
-            "render {kind}: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
         let (a, b) = (image::open(&png).unwrap(), image::open(&again).unwrap());
         assert_eq!(a.dimensions(), (64, 48));
         assert_eq!(
@@ -1039,12 +931,7 @@ fn classic_noises_render_on_the_gpu() {
             args.extend(["--size", "48x32", "--offset", "1e7,-3e6", "--seed", "2"]);
             args.extend(["--bit-depth", "16", "--device", device]);
             args.extend(extra.iter().copied());
-            let out = spectex(&args);
-            assert!(
-                out.status.success(),
-                "{kind} --device {device}: {}",
-                String::from_utf8_lossy(&out.stderr)
-            );
+            let out = spectex_ok(&args);
             let stdout = String::from_utf8_lossy(&out.stdout);
             let want = if device == "gpu" {
                 "on the GPU"
@@ -1056,11 +943,8 @@ fn classic_noises_render_on_the_gpu() {
         }
         // `spectex render` of the written model on the GPU.
         let again = dir.join(format!("{n}-{kind}-render.png"));
-        let z = extra
-            .iter()
-            .position(|a| *a == "--z")
-            .map_or("0", |i| extra[i + 1]);
-        let out = spectex(&[
+        let z = z_of(extra);
+        spectex_ok(&[
             "render",
             s(&model),
             "-o",
@@ -1076,11 +960,6 @@ fn classic_noises_render_on_the_gpu() {
             "--device",
             "gpu",
         ]);
-        assert!(
-            out.status.success(),
-            "render {kind}: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
         images.push(image::open(&again).unwrap().into_luma16());
         assert_eq!(images[0].dimensions(), (48, 32));
         let cpu = images[0].as_raw();
@@ -1127,14 +1006,9 @@ fn warp_end_to_end() {
         let mut args = vec!["noise", "warp", "-o", s(&png), "--model", s(&model)];
         args.extend(["--size", "48x32", "--offset", "1e7,-1e7"]);
         args.extend(extra.iter().copied());
-        let out = spectex(&args);
-        assert!(
-            out.status.success(),
-            "{extra:?}: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        spectex_ok(&args);
         let again = dir.join(format!("{n}-again.png"));
-        let out = spectex(&[
+        spectex_ok(&[
             "render",
             s(&model),
             "-o",
@@ -1144,11 +1018,6 @@ fn warp_end_to_end() {
             "--offset",
             "1e7,-1e7",
         ]);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
         let (a, b) = (image::open(&png).unwrap(), image::open(&again).unwrap());
         assert_eq!(a.dimensions(), (48, 32));
         assert_eq!(a.as_bytes(), b.as_bytes(), "{extra:?}: render differs");

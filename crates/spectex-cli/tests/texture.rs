@@ -15,6 +15,9 @@
     reason = "the measured numbers are reported in closing notes"
 )]
 
+mod common;
+
+use common::planes;
 use ndarray::{Array2, Array3, ArrayView2, Axis, s};
 use spectex_cpu::{Evaluator, Window};
 use spectex_model::random::{Prng, cell_hash};
@@ -31,23 +34,7 @@ fn shared(name: &str) -> Option<Array3<f64>> {
         println!("skipping {name}: ../shared/testdata/textures is absent");
         return None;
     }
-    Some(to_array(image::open(format!("{dir}/{name}")).unwrap()))
-}
-
-fn to_array(img: image::DynamicImage) -> Array3<f64> {
-    if img.color().has_color() {
-        let img = img.to_rgb32f();
-        let (w, h) = img.dimensions();
-        Array3::from_shape_fn((3, h as usize, w as usize), |(c, y, x)| {
-            f64::from(img.get_pixel(x as u32, y as u32).0[c])
-        })
-    } else {
-        let img = img.to_luma32f();
-        let (w, h) = img.dimensions();
-        Array3::from_shape_fn((1, h as usize, w as usize), |(_, y, x)| {
-            f64::from(img.get_pixel(x as u32, y as u32).0[0])
-        })
-    }
+    Some(planes(&image::open(format!("{dir}/{name}")).unwrap()))
 }
 
 fn builtin() -> Array3<f64> {
@@ -56,7 +43,7 @@ fn builtin() -> Array3<f64> {
         "/../../testdata/default_exemplar.png"
     ))
     .unwrap();
-    to_array(image::load_from_memory(&bytes).unwrap())
+    planes(&image::load_from_memory(&bytes).unwrap())
 }
 
 /// Oriented sinusoids plus hashed noise, in about [0, 1].

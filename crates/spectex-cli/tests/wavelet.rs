@@ -16,33 +16,15 @@
     reason = "the measured fractions are the test's report"
 )]
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
+use common::{s, scratch, spectex};
 use ndarray::Array2;
 use num_complex::Complex;
 use spectex_cpu::{Evaluator, Window};
 use spectex_model::wavelet::{ANALYSIS, band_pass_tile, gaussian_tile};
 use spectex_model::{Model, WaveletNoise};
 use spectex_spectrum::Fft2;
-
-fn spectex(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_spectex"))
-        .args(args)
-        .output()
-        .expect("the spectex binary runs")
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("cli-{name}"));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
 
 #[test]
 fn wavelet_bad_inputs_fail_cleanly() {
