@@ -147,6 +147,15 @@ pub fn wavelet(m: &WaveletNoise) -> Tolerance {
     Tolerance::from_max(per_band * bands + SUMMATION_ROUNDINGS * u * magnitude)
 }
 
+/// The largest `|f|` in a stratum's tables, cycles per pixel.
+fn max_frequency(s: &Stratum) -> f64 {
+    s.sub_strata
+        .iter()
+        .flatten()
+        .map(|f| f64::from(f[0]).hypot(f64::from(f[1])))
+        .fold(0.0, f64::max)
+}
+
 /// LRP (Gilet et al. 2014, Eq. 1–2): per stratum, 9 lattice points × `J_S` cosines of
 /// amplitude `A_S` times a window ≤ 1. Per term: the cosine's error from its phase (the offset
 /// to a lattice point is at most `1.5·√2·Δ_S`, so `|f·p| ≤ |f|_max·2.13·Δ_S` turns, plus the
@@ -156,12 +165,7 @@ pub fn lrp(m: &LrpNoise) -> Tolerance {
     let mut bound = 0.0;
     let mut magnitude = 0.0;
     for s in &m.strata {
-        let f_max = s
-            .sub_strata
-            .iter()
-            .flatten()
-            .map(|f| f64::from(f[0]).hypot(f64::from(f[1])))
-            .fold(0.0, f64::max);
+        let f_max = max_frequency(s);
         let turns = f_max * 2.13 * f64::from(s.window_width) + 1.0;
         let phase = std::f64::consts::TAU * PHASE_ROUNDINGS * F32_UNIT_ROUNDOFF * turns;
         let per_term = 2.0 * (phase + COS_ABS_ERROR + WINDOW_ABS_ERROR);
@@ -565,12 +569,7 @@ pub fn regularity(model: &Model) -> Option<Regularity> {
             let kb = kaiser_bessel_slope();
             let (mut slope, mut magnitude, mut cell) = (0.0, f64::from(m.mean).abs(), 0.0f64);
             for s in &m.strata {
-                let f_max = s
-                    .sub_strata
-                    .iter()
-                    .flatten()
-                    .map(|f| f64::from(f[0]).hypot(f64::from(f[1])))
-                    .fold(0.0, f64::max);
+                let f_max = max_frequency(s);
                 let delta = f64::from(s.window_width);
                 let terms = 9.0 * s.sub_strata.len() as f64 * f64::from(s.amplitude).abs();
                 slope += terms * (kb / delta + tau * f_max);

@@ -80,21 +80,6 @@ enum Packed {
     },
 }
 
-/// Whether the GPU can evaluate `model` at displaced positions: the shaders that apply the
-/// displacement of `common.wgsl` (every kind), and warps built from them.
-fn displaceable(model: &Model) -> bool {
-    match model {
-        Model::Lrp(_)
-        | Model::Gabor(_)
-        | Model::Phasor(_)
-        | Model::Classic(_)
-        | Model::Wavelet(_)
-        | Model::Texture(_) => true,
-        Model::Warp(w) => displaceable(&w.base) && displaceable(&w.x) && displaceable(&w.y),
-        _ => false,
-    }
-}
-
 /// The model kind's name as the JSON spells it (`Lrp`, `Texture`, …), for messages.
 fn kind_name(model: &Model) -> String {
     format!("{model:?}")
@@ -135,32 +120,19 @@ impl GpuEvaluator {
                 range: "finite, |z| ≤ 2³⁰ pixels",
             });
         }
-        Self::build(context, model, z, false)
+        Self::build(context, model, z)
     }
 
-    /// Builds a validated model; `displaced` when it will be evaluated at warped positions
-    /// (the base of a warp, or the x and y of a warp that is itself displaced).
-    fn build(
-        context: &GpuContext,
-        model: &Model,
-        z: f64,
-        displaced: bool,
-    ) -> Result<Self, GpuError> {
-        if displaced && !displaceable(model) {
-            return Err(GpuError::Unsupported {
-                kind: format!(
-                    "warped {} (a model kind whose shader takes no displacement)",
-                    kind_name(model)
-                ),
-            });
-        }
+    /// Builds a validated model. Every model shader takes the displacement of `common.wgsl`
+    /// (bind group 1), so any model can be a warp's base, x or y.
+    fn build(context: &GpuContext, model: &Model, z: f64) -> Result<Self, GpuError> {
         let device = context.device().clone();
         let limits = device.limits();
         let warp_layout = warp_group_layout(&device);
         if let Model::Warp(w) = model {
-            let base = Self::build(context, &w.base, z, true)?;
-            let x = Self::build(context, &w.x, z, displaced)?;
-            let y = Self::build(context, &w.y, z, displaced)?;
+            let base = Self::build(context, &w.base, z)?;
+            let x = Self::build(context, &w.x, z)?;
+            let y = Self::build(context, &w.y, z)?;
             return Ok(Self {
                 device,
                 queue: context.queue().clone(),
