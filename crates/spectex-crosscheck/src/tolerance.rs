@@ -939,31 +939,29 @@ mod tests {
     /// Renders `m` every 1/16 pixel and checks its steepest step against [`regularity`]: within
     /// the bound, and the bound within `factor` of it.
     fn check_slope_on_fine_render(name: &str, m: &Model, factor: f64) {
-        {
-            let r = regularity(m).unwrap();
-            let step = 1.0 / 16.0;
-            let eval = spectex_cpu::Evaluator::new_at_z(m, 3.3).unwrap();
-            let window = spectex_cpu::Window::new(256, 256).at([-37.0, 1.0e6], step);
-            let v = eval.render(&window).unwrap();
-            let mut steepest = 0.0f64;
-            for y in 0..256 {
-                for x in 0..256 {
-                    let here = f64::from(v[y * 256 + x]);
-                    if x + 1 < 256 {
-                        steepest = steepest.max((f64::from(v[y * 256 + x + 1]) - here).abs());
-                    }
-                    if y + 1 < 256 {
-                        steepest = steepest.max((f64::from(v[(y + 1) * 256 + x]) - here).abs());
-                    }
+        let r = regularity(m).unwrap();
+        let step = 1.0 / 16.0;
+        let eval = spectex_cpu::Evaluator::new_at_z(m, 3.3).unwrap();
+        let window = spectex_cpu::Window::new(256, 256).at([-37.0, 1.0e6], step);
+        let v = eval.render(&window).unwrap();
+        let mut steepest = 0.0f64;
+        for y in 0..256 {
+            for x in 0..256 {
+                let here = f64::from(v[y * 256 + x]);
+                if x + 1 < 256 {
+                    steepest = steepest.max((f64::from(v[y * 256 + x + 1]) - here).abs());
+                }
+                if y + 1 < 256 {
+                    steepest = steepest.max((f64::from(v[(y + 1) * 256 + x]) - here).abs());
                 }
             }
-            let bound = r.slope * step + r.jump + 1e-6;
-            assert!(steepest <= bound, "{name}: step {steepest} > bound {bound}");
-            assert!(
-                bound < factor * steepest,
-                "{name}: bound {bound} vs step {steepest}"
-            );
         }
+        let bound = r.slope * step + r.jump + 1e-6;
+        assert!(steepest <= bound, "{name}: step {steepest} > bound {bound}");
+        assert!(
+            bound < factor * steepest,
+            "{name}: bound {bound} vs step {steepest}"
+        );
     }
 
     /// A warp's bound is the base's at strength 0 plus the GPU's relocation roundings, and it
