@@ -22,7 +22,8 @@ pub(crate) struct WarpArgs {
     /// default: a zero-mean Perlin fBm with 64-pixel cells.
     #[arg(long, value_name = "MODEL")]
     by: Option<PathBuf>,
-    /// The y displacement (.json); default: --by's model with its seed plus 1.
+    /// The y displacement (.json); default: --by's model with every seed in it (nested
+    /// models' too) plus 1.
     #[arg(long, value_name = "MODEL")]
     by_y: Option<PathBuf>,
     /// Pixels of displacement per unit of the displacement models (−65536 to 65536);
@@ -57,26 +58,6 @@ fn fbm(seed: u32, amplitude: f32, mean: f32) -> Model {
     })
 }
 
-/// `model` with its seed advanced by one (for a warp, its base's), so the y displacement is an
-/// independent copy of the x one.
-fn next_seed(model: &Model) -> Model {
-    let mut m = model.clone();
-    match &mut m {
-        Model::Lrp(n) => n.seed = n.seed.wrapping_add(1),
-        Model::Gabor(n) => n.seed = n.seed.wrapping_add(1),
-        Model::Phasor(n) => n.seed = n.seed.wrapping_add(1),
-        Model::Classic(n) => n.seed = n.seed.wrapping_add(1),
-        Model::Texture(n) => {
-            for c in &mut n.channels {
-                c.seed = c.seed.wrapping_add(1);
-            }
-        }
-        Model::Warp(w) => *w.base = next_seed(&w.base),
-        _ => {}
-    }
-    m
-}
-
 /// `spectex noise warp`.
 pub(crate) fn run(args: &WarpArgs) -> Result<()> {
     crate::io::check_output(&args.render.output, args.render.bit_depth)?;
@@ -90,7 +71,7 @@ pub(crate) fn run(args: &WarpArgs) -> Result<()> {
     };
     let y = match &args.by_y {
         Some(path) => read_model(path)?,
-        None => next_seed(&x),
+        None => x.reseeded(1),
     };
     let model = Model::Warp(Warp {
         base: Box::new(base),
@@ -114,19 +95,4 @@ pub(crate) fn run(args: &WarpArgs) -> Result<()> {
         write_model(path, &model)?;
     }
     render_to_file(&model, &args.render, (512, 512))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn next_seed_changes_the_noise_not_its_shape() {
-        let x = fbm(7, 1.0, 0.0);
-        let Model::Classic(y) = next_seed(&x) else {
-            panic!("kind changed");
-        };
-        assert_eq!(y.seed, 8);
-        assert_eq!(Model::Classic(ClassicNoise { seed: 7, ..y }), x);
-    }
 }

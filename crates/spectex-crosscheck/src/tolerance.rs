@@ -112,8 +112,7 @@ pub fn tolerance(model: &Model) -> Option<Tolerance> {
             .into_iter()
             .max_by(|a, b| a.max_abs.total_cmp(&b.max_abs)),
         Model::Warp(m) => warp(m),
-        #[allow(unreachable_patterns)] // reason: `Model` is non_exhaustive for other crates
-        _ => None,
+        Model::Phasor(_) => None,
     }
 }
 
@@ -641,7 +640,6 @@ pub fn regularity(model: &Model) -> Option<Regularity> {
                 cell: b.cell,
             })
         }
-        _ => None,
     }
 }
 

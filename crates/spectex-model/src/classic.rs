@@ -377,6 +377,18 @@ pub fn lattice_value(h: u32) -> f32 {
     ((h >> 8) as i32) as f32 * (2.0 / 16_777_216.0) - 1.0
 }
 
+impl crate::ModelKind for ClassicNoise {
+    const NAME: &'static str = "classic";
+
+    fn validate(&self) -> Result<(), ModelError> {
+        ClassicNoise::validate(self)
+    }
+
+    fn visit_seeds(&mut self, visit: &mut dyn FnMut(&mut u32)) {
+        visit(&mut self.seed);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -128,3 +128,15 @@ impl GaborNoise {
         }
     }
 }
+
+impl crate::ModelKind for GaborNoise {
+    const NAME: &'static str = "gabor";
+
+    fn validate(&self) -> Result<(), ModelError> {
+        GaborNoise::validate(self)
+    }
+
+    fn visit_seeds(&mut self, visit: &mut dyn FnMut(&mut u32)) {
+        visit(&mut self.seed);
+    }
+}

@@ -118,3 +118,15 @@ pub(crate) fn validate_strata(prefix: &str, strata: &[Stratum]) -> Result<(), Mo
     }
     Ok(())
 }
+
+impl crate::ModelKind for LrpNoise {
+    const NAME: &'static str = "lrp";
+
+    fn validate(&self) -> Result<(), ModelError> {
+        LrpNoise::validate(self)
+    }
+
+    fn visit_seeds(&mut self, visit: &mut dyn FnMut(&mut u32)) {
+        visit(&mut self.seed);
+    }
+}

@@ -621,6 +621,18 @@ fn validate_profile(p: &Profile, name: &str, depth: usize) -> Result<(), ModelEr
     }
 }
 
+impl crate::ModelKind for PhasorNoise {
+    const NAME: &'static str = "phasor";
+
+    fn validate(&self) -> Result<(), ModelError> {
+        PhasorNoise::validate(self)
+    }
+
+    fn visit_seeds(&mut self, visit: &mut dyn FnMut(&mut u32)) {
+        visit(&mut self.seed);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

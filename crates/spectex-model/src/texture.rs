@@ -494,6 +494,30 @@ impl TextureModel {
     }
 }
 
+impl crate::ModelKind for TextureModel {
+    const NAME: &'static str = "texture";
+
+    fn validate(&self) -> Result<(), ModelError> {
+        TextureModel::validate(self)
+    }
+
+    fn output_channels(&self) -> usize {
+        TextureModel::output_channels(self)
+    }
+
+    fn visit_seeds(&mut self, visit: &mut dyn FnMut(&mut u32)) {
+        visit(&mut self.seed);
+        for channel in &mut self.channels {
+            visit(&mut channel.seed);
+        }
+        if let Some(turbulence) = &mut self.turbulence {
+            for seed in &mut turbulence.seeds {
+                visit(seed);
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

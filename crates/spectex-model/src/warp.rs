@@ -178,6 +178,24 @@ pub fn check_window(model: &Model, window: &Window) -> Result<(), WindowError> {
     }
 }
 
+impl crate::ModelKind for Warp {
+    const NAME: &'static str = "warp";
+
+    fn validate(&self) -> Result<(), ModelError> {
+        Warp::validate(self)
+    }
+
+    fn output_channels(&self) -> usize {
+        self.base.output_channels()
+    }
+
+    fn visit_seeds(&mut self, visit: &mut dyn FnMut(&mut u32)) {
+        self.base.visit_seeds(visit);
+        self.x.visit_seeds(visit);
+        self.y.visit_seeds(visit);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

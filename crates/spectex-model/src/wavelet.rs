@@ -395,6 +395,18 @@ pub fn spline_weights(f: f32) -> [f32; 3] {
     [w0, (1.0 - w0) - w2, w2]
 }
 
+impl crate::ModelKind for WaveletNoise {
+    const NAME: &'static str = "wavelet";
+
+    fn validate(&self) -> Result<(), ModelError> {
+        WaveletNoise::validate(self)
+    }
+
+    fn visit_seeds(&mut self, visit: &mut dyn FnMut(&mut u32)) {
+        visit(&mut self.seed);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
