@@ -359,7 +359,7 @@ fn record(report: &mut Report, case: u32, o: &Observation) {
             });
         }
     }
-    if o.accepted && report.worst_build.is_none_or(|(s, _)| o.build_seconds > s) {
+    if o.build_seconds > 0.0 && report.worst_build.is_none_or(|(s, _)| o.build_seconds > s) {
         report.worst_build = Some((o.build_seconds, case));
     }
 }

@@ -44,3 +44,6 @@ pub mod limits;
 pub mod models;
 pub mod mutate;
 pub mod strategy;
+
+/// The property-testing crate the strategies are built with, for tests composing them.
+pub use proptest;
