@@ -742,7 +742,10 @@ fn a_dev_only_crate_is_taken_only_as_a_dev_dependency_by_its_takers() {
     );
     let edges = dependency_direction_offences(&tree.root);
     assert_reported(&edges, &["spectex-cpu", "[dependencies]", "dev-only"]);
-    assert_reported(&edges, &["spectex-gpu", "build-dependencies.kit", "dev-only"]);
+    assert_reported(
+        &edges,
+        &["spectex-gpu", "build-dependencies.kit", "dev-only"],
+    );
     assert_reported(&edges, &["spectex-model", "[dev-dependencies]", "dev-only"]);
     assert_eq!(edges.len(), 3, "{edges:#?}");
 }
