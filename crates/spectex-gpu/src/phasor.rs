@@ -395,4 +395,25 @@ mod tests {
         assert_matches_wgsl::<PhasorParams>("phasor", "PhasorParams");
         assert_matches_wgsl::<PhasorImpulse>("phasor", "PhasorImpulse");
     }
+
+    /// A nested blend is refused before any device work, naming the kind as model files do.
+    #[test]
+    fn nested_blends_are_unsupported_in_phasor_models() {
+        let mut model =
+            spectex_model::fixtures::phasor_pwm(2, spectex_model::PhasorOrientation::Isotropic);
+        let blend = |a: Profile| Profile::Blend {
+            a: Box::new(a),
+            b: Box::new(Profile::Sine),
+            weight: Field::constant(0.5),
+        };
+        model.profile = blend(blend(Profile::Sine));
+        match pack(&model, 0.0) {
+            Err(e @ GpuError::Unsupported { kind: "phasor", .. }) => assert_eq!(
+                e.to_string(),
+                "the GPU evaluator does not support profiles with nested blends (one blend of \
+                 two profiles is supported) in phasor models"
+            ),
+            other => panic!("expected Unsupported for a phasor model, got {other:?}"),
+        }
+    }
 }

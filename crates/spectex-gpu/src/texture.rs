@@ -167,7 +167,7 @@ impl GpuKind for TextureModel {
         }
         let structures = pack_structures(self);
         let limit = binding_limit(&context.limits());
-        // As the tables were words before: one unused cosine where there is none.
+        // What the cosine table occupies on the device (one unused record where there is none).
         let needed = size_of_val(structures.cosines.as_slice()).max(size_of::<[f32; 4]>()) as u64;
         if needed > limit {
             return Err(GpuError::LimitsExceeded {
