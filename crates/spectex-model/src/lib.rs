@@ -2,7 +2,7 @@
 //!
 //! It holds the serde types of every model ([`LrpNoise`], [`GaborNoise`], the
 //! [`SpectralTarget`]s an LRP noise is built from), versioned model files ([`from_json`],
-//! [`to_json`]), the Kaiser–Bessel window ([`window`]), and the **randomness contract** (DESIGN.md invariant 1, specified in
+//! [`to_json`]), the Kaiser–Bessel window ([`window`]), and the **randomness contract** (invariant 1, specified in
 //! `docs/ARCHITECTURE.md`): one integer hash of (cell x, cell y, layer, seed) and one `u32`
 //! PRNG stepped with wrapping integer arithmetic. Every random choice spectex makes — a phase
 //! of Random Phase Noise today, a frequency index or an impulse position of a procedural model
