@@ -40,10 +40,10 @@ pub mod window;
 
 pub use classic::ClassicNoise;
 pub use error::ModelError;
-pub use file::{Model, SCHEMA_VERSION, SUPPORTED_SCHEMA_VERSIONS, from_json, to_json};
+pub use file::{SCHEMA_VERSION, SUPPORTED_SCHEMA_VERSIONS, from_json, to_json};
 pub use gabor::{GABOR_TRUNCATION, GaborNoise, NEG_LN_20, Orientation};
 pub use grid::{MAX_POSITION, MAX_WINDOW_PIXELS, MAX_WINDOW_SIDE, Window, WindowError};
-pub use kind::{KIND_NAMES, ModelKind};
+pub use kind::{KIND_NAMES, Model, ModelKind};
 pub use lrp::{LrpNoise, MAX_COSINES, MAX_STRATA, MAX_TABLE, Stratum};
 pub use phasor::{
     COHERENT_BANDWIDTH_RATIO, COHERENT_SPREAD, Field, Harmonic, MAX_FIELD_SIDE,
