@@ -62,15 +62,15 @@ pub(crate) struct LrpKernel {
 /// An LRP model's tables: its strata, every sub-stratum's `(f_x, f_y)` concatenated, and the
 /// `(start, len)` of every sub-stratum's table, strata in order.
 #[derive(Debug, Clone)]
-struct Packed {
+struct LrpTables {
     strata: Vec<LrpStratum>,
     frequencies: Vec<[f32; 2]>,
     tables: Vec<[u32; 2]>,
 }
 
 /// Packs a validated LRP model.
-fn pack(model: &LrpNoise) -> Packed {
-    let mut packed = Packed {
+fn pack(model: &LrpNoise) -> LrpTables {
+    let mut packed = LrpTables {
         strata: Vec::with_capacity(model.strata.len()),
         frequencies: Vec::new(),
         tables: Vec::new(),
