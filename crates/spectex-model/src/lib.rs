@@ -2,7 +2,7 @@
 //!
 //! It holds the serde types of every model ([`LrpNoise`], [`GaborNoise`], the
 //! [`SpectralTarget`]s an LRP noise is built from), versioned model files ([`from_json`],
-//! [`to_json`]), the Kaiser–Bessel window ([`window`]), and the **randomness contract** (DESIGN.md invariant 1, specified in
+//! [`to_json`]), the Kaiser–Bessel window ([`window`]), and the **randomness contract** (invariant 1, specified in
 //! `docs/ARCHITECTURE.md`): one integer hash of (cell x, cell y, layer, seed) and one `u32`
 //! PRNG stepped with wrapping integer arithmetic. Every random choice spectex makes — a phase
 //! of Random Phase Noise today, a frequency index or an impulse position of a procedural model
@@ -40,10 +40,10 @@ pub mod window;
 
 pub use classic::ClassicNoise;
 pub use error::ModelError;
-pub use file::{Model, SCHEMA_VERSION, SUPPORTED_SCHEMA_VERSIONS, from_json, to_json};
+pub use file::{SCHEMA_VERSION, SUPPORTED_SCHEMA_VERSIONS, from_json, to_json};
 pub use gabor::{GABOR_TRUNCATION, GaborNoise, NEG_LN_20, Orientation};
 pub use grid::{MAX_POSITION, MAX_WINDOW_PIXELS, MAX_WINDOW_SIDE, Window, WindowError};
-pub use kind::{KIND_NAMES, ModelKind};
+pub use kind::{KIND_NAMES, Model, ModelKind};
 pub use lrp::{LrpNoise, MAX_COSINES, MAX_STRATA, MAX_TABLE, Stratum};
 pub use phasor::{
     COHERENT_BANDWIDTH_RATIO, COHERENT_SPREAD, Field, Harmonic, MAX_FIELD_SIDE,

@@ -22,8 +22,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::Model;
 use crate::error::{ModelError, check_range};
-use crate::file::Model;
 use crate::grid::{MAX_POSITION, Window, WindowError};
 
 /// Largest displacement along one axis, pixels (`2¹⁶`, exact in f32): displacements are clamped
