@@ -647,11 +647,10 @@ fn far(p: &dyn Prepared, model: &Model, plan: &Plan) -> Outcome {
             .map(stats)
             .collect::<Result<_, _>>()?;
         for c in 0..nc {
-            let pickers: [(&str, fn(&(f64, f64)) -> f64); 2] =
-                [("mean", |s| s.0), ("standard deviation", |s| s.1)];
-            for (name, pick) in pickers {
-                let n: Vec<f64> = near.iter().map(|s| pick(&s[c])).collect();
-                let f: Vec<f64> = far.iter().map(|s| pick(&s[c])).collect();
+            for (name, moment) in [("mean", 0), ("standard deviation", 1)] {
+                let pick = |s: &Vec<(f64, f64)>| if moment == 0 { s[c].0 } else { s[c].1 };
+                let n: Vec<f64> = near.iter().map(pick).collect();
+                let f: Vec<f64> = far.iter().map(pick).collect();
                 let (mn, sn) = spread(&n);
                 let (mf, sf) = spread(&f);
                 let se = (sn * sn / n.len() as f64 + sf * sf / f.len() as f64).sqrt();
