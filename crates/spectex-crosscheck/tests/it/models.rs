@@ -30,6 +30,11 @@ const SLICE_Z: f64 = 37.3;
 /// Environment variable that turns a missing adapter from a skip into a failure.
 const REQUIRE_GPU_ENV: &str = "SPECTEX_REQUIRE_GPU";
 
+/// Environment variable naming a file to which the suite also writes its `crosscheck:` lines, for
+/// `cargo xtask ci` and `verify` to print after the test run (libtest shows a passing test's
+/// output only with `--nocapture`).
+const SUMMARY_ENV: &str = "SPECTEX_CROSSCHECK_SUMMARY";
+
 fn model_files() -> Vec<PathBuf> {
     let dir = PathBuf::from(concat!(
         env!("CARGO_MANIFEST_DIR"),
@@ -64,6 +69,7 @@ fn every_shipped_model_agrees_on_cpu_and_gpu() {
     };
     let adapter = context.adapter_name();
     let mut failed = Vec::new();
+    let mut summary = String::new();
     for file in &files {
         let case = file.file_stem().unwrap().to_string_lossy().into_owned();
         let model = spectex_model::from_json(&std::fs::read_to_string(file).unwrap())
@@ -89,19 +95,26 @@ fn every_shipped_model_agrees_on_cpu_and_gpu() {
             .max_by(|a, b| a.max_abs.total_cmp(&b.max_abs))
             .unwrap();
         let passed = outcomes.iter().all(|(_, o)| o.passed());
-        println!(
+        let line = format!(
             "crosscheck: {case:<20} on {adapter}: max error {worst_max:.2e}, mean error \
              {worst_mean:.2e}, tolerance {:.2e} (mean {:.2e}): {}",
             tolerance.max_abs,
             tolerance.mean_abs,
             if passed { "pass" } else { "FAIL" }
         );
+        println!("{line}");
+        summary.push_str(&line);
+        summary.push('\n');
         for (window, outcome) in &outcomes {
             println!("    {window}: {}", outcome.summary());
             if !outcome.passed() {
                 failed.push(format!("{case} {}: {}", window.name, outcome.summary()));
             }
         }
+    }
+    if let Some(path) = std::env::var_os(SUMMARY_ENV) {
+        std::fs::write(&path, &summary)
+            .unwrap_or_else(|e| panic!("{SUMMARY_ENV}={}: {e}", path.display()));
     }
     assert!(
         failed.is_empty(),
