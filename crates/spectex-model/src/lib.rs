@@ -33,6 +33,7 @@ mod phasor;
 pub mod phasor_kernels;
 pub mod random;
 mod target;
+pub mod texton;
 pub mod texture;
 pub mod warp;
 pub mod wavelet;
@@ -51,6 +52,7 @@ pub use phasor::{
     RAMP_EXTENT,
 };
 pub use target::SpectralTarget;
+pub use texton::TextonNoise;
 pub use texture::{ColourBasis, FixedCosine, Structure, TextureChannel, TextureModel, Turbulence};
 pub use warp::{MAX_WARP, Warp};
 pub use wavelet::WaveletNoise;
