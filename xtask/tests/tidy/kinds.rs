@@ -334,10 +334,10 @@ pub(crate) fn kind_list_offences(root: &Path) -> Vec<String> {
             variants.extend(enum_variants(&code[start..]).into_iter().map(snake_case));
         }
         for line in code.lines() {
-            if let Some(rest) = line.trim().strip_prefix("const NAME: &'static str = \"") {
-                if let Some(name) = rest.split('"').next() {
-                    names.insert(name.to_owned());
-                }
+            if let Some(rest) = line.trim().strip_prefix("const NAME: &'static str = \"")
+                && let Some(name) = rest.split('"').next()
+            {
+                names.insert(name.to_owned());
             }
         }
     }
@@ -393,15 +393,11 @@ fn enum_variants(code: &str) -> Vec<String> {
             '}' if depth == 0 => break,
             '}' => depth -= 1,
             c if depth == 0 && (c.is_alphanumeric() || c == '_') => token.push(c),
-            ',' if depth == 0 => {
-                if !token.is_empty() {
-                    variants.push(std::mem::take(&mut token));
-                }
+            ',' if depth == 0 && !token.is_empty() => {
+                variants.push(std::mem::take(&mut token));
             }
-            _ if depth == 0 => {
-                if !token.is_empty() && !token.starts_with(char::is_uppercase) {
-                    token.clear();
-                }
+            _ if depth == 0 && !token.is_empty() && !token.starts_with(char::is_uppercase) => {
+                token.clear();
             }
             _ => {}
         }
