@@ -65,6 +65,12 @@ pub const SHADERS: &[ShaderFile] = &[
         entry_points: &["wavelet_main"],
     },
     ShaderFile {
+        name: "texton",
+        source: include_str!("../../../shaders/texton.wgsl"),
+        needs_common: true,
+        entry_points: &["texton_main"],
+    },
+    ShaderFile {
         name: "probe",
         source: include_str!("../../../shaders/probe.wgsl"),
         needs_common: true,

@@ -41,8 +41,8 @@ struct Term {
 fn rho2_error(m: &TextonNoise) -> (f64, f64) {
     let (a, b) = (f64::from(m.radii[0]), f64::from(m.radii[1]));
     let aspect = a.max(b) / a.min(b);
-    let dq = 2.0 * COS_ABS_ERROR * std::f64::consts::SQRT_2 * aspect
-        + Q_ROUNDINGS * F32_UNIT_ROUNDOFF;
+    let dq =
+        2.0 * COS_ABS_ERROR * std::f64::consts::SQRT_2 * aspect + Q_ROUNDINGS * F32_UNIT_ROUNDOFF;
     let dr2 = 2.0 * std::f64::consts::SQRT_2 * 2.0 * dq + 2.0 * F32_UNIT_ROUNDOFF;
     (dq, dr2)
 }
@@ -74,7 +74,9 @@ fn term(m: &TextonNoise) -> Term {
             values,
         } => {
             let (w, h) = (*width as usize, *height as usize);
-            let largest = values.iter().fold(0.0f64, |a, &v| a.max(f64::from(v).abs()));
+            let largest = values
+                .iter()
+                .fold(0.0f64, |a, &v| a.max(f64::from(v).abs()));
             let mut step = 0.0f64;
             for y in 0..h {
                 for x in 0..w {
@@ -104,8 +106,9 @@ fn texton_count(m: &TextonNoise) -> f64 {
     let cells = side * side;
     match m.placement {
         Placement::Grid { .. } => cells,
-        Placement::Poisson { density } => impulse_count(cells, f64::from(density))
-            .min(cells * f64::from(MAX_TEXTONS_PER_CELL)),
+        Placement::Poisson { density } => {
+            impulse_count(cells, f64::from(density)).min(cells * f64::from(MAX_TEXTONS_PER_CELL))
+        }
     }
 }
 
@@ -130,10 +133,15 @@ pub fn texton(m: &TextonNoise) -> Tolerance {
         Combine::Sum => n,
         Combine::Max => 1.0,
     };
-    let magnitude = n * w * 1.0f64.max(match &m.spot {
-        Spot::Image { values, .. } => values.iter().fold(0.0f64, |a, &v| a.max(f64::from(v).abs())),
-        _ => 1.0,
-    }) + f64::from(m.mean).abs();
+    let magnitude = n
+        * w
+        * 1.0f64.max(match &m.spot {
+            Spot::Image { values, .. } => values
+                .iter()
+                .fold(0.0f64, |a, &v| a.max(f64::from(v).abs())),
+            _ => 1.0,
+        })
+        + f64::from(m.mean).abs();
     let rounding = SUMMATION_ROUNDINGS * F32_UNIT_ROUNDOFF * magnitude;
     let smooth = terms * w * t.smooth + rounding;
     let (_, dr2) = rho2_error(m);
@@ -168,7 +176,9 @@ impl CheckKind for TextonNoise {
                 height,
                 values,
             } => {
-                let largest = values.iter().fold(0.0f64, |a, &v| a.max(f64::from(v).abs()));
+                let largest = values
+                    .iter()
+                    .fold(0.0f64, |a, &v| a.max(f64::from(v).abs()));
                 // Neighbouring texels differ by at most twice the largest.
                 let side = f64::from((*width).max(*height));
                 (2.0 * largest * side / (2.0 * r), largest, largest)
@@ -203,10 +213,11 @@ mod tests {
             combine: Combine::Max,
             ..m
         };
-        let extra = texton_count(&dense) - texton_count(&sparse);
+        // Weights up to 1 (the default range), so the magnitude grows by the extra count.
+        let extra = (texton_count(&dense) - texton_count(&sparse)) * weight(&dense);
         let (a, b) = (texton(&max(sparse)).max_abs, texton(&max(dense)).max_abs);
         // Only the summation term, which counts the textons' magnitude, differs.
-        let summation = SUMMATION_ROUNDINGS * F32_UNIT_ROUNDOFF * extra * weight(&dense);
+        let summation = SUMMATION_ROUNDINGS * F32_UNIT_ROUNDOFF * extra;
         assert!((b - a - summation).abs() < 1e-12, "{a} vs {b}");
     }
 
