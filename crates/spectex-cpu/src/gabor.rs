@@ -34,7 +34,7 @@
 //!    in f64 and rounded to f32; the frequency vector is `F₀r·(cos_turns(τ), cos_turns(τ − ¼))`.
 //!    (The anisotropic vector `F₀r·(cos angle, sin angle)` is computed in f64 and rounded.)
 //!
-//! # Precision (DESIGN.md invariant 2)
+//! # Precision (invariant 2 of docs/ARCHITECTURE.md)
 //!
 //! A position `x` in pixels (f64) becomes `p = x / r`, the cell `⌊p⌋` (i32) and the local offset
 //! `p − ⌊p⌋` in f64 (exact), rounded to f32. All per-impulse arithmetic is then in f32 in cell

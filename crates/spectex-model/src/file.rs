@@ -2,42 +2,13 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::Model;
 use crate::error::ModelError;
-use crate::{ClassicNoise, GaborNoise, LrpNoise, PhasorNoise, TextureModel, Warp, WaveletNoise};
 
 /// The `schema_version` this build writes.
 pub const SCHEMA_VERSION: u32 = 1;
 /// Every `schema_version` this build reads.
 pub const SUPPORTED_SCHEMA_VERSIONS: &[u32] = &[1];
-
-/// Any procedural model spectex evaluates: one variant per kind, each a [`crate::ModelKind`].
-///
-/// Deliberately not `#[non_exhaustive]`: a `match` over it in another crate must name every
-/// kind, so the compiler points at each place a new kind is missed (the tidy test forbids
-/// wildcard arms over `Model` outside this crate).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, rename_all = "snake_case")]
-#[allow(
-    clippy::large_enum_variant,
-    reason = "a model is built once per render and never stored in bulk"
-)]
-pub enum Model {
-    /// Local Random-Phase noise.
-    Lrp(LrpNoise),
-    /// Gabor noise.
-    Gabor(GaborNoise),
-    /// Phasor noise.
-    Phasor(PhasorNoise),
-    /// Texture by example: structure, strata, turbulence, placement, colour.
-    Texture(TextureModel),
-    /// A classic pointwise noise (gradient, simplex, value, Worley; fractal sums of them).
-    Classic(ClassicNoise),
-    /// Domain warping: a model evaluated at positions displaced by two others
-    /// ([`crate::warp`]).
-    Warp(Warp),
-    /// Wavelet noise (Cook & DeRose 2005): a band-limited tile summed over octave bands.
-    Wavelet(WaveletNoise),
-}
 
 #[derive(Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]

@@ -1,12 +1,15 @@
 //! What every model kind provides at the model layer ([`ModelKind`]), and the one registry of
 //! kinds ([`for_each_kind!`](crate::for_each_kind)) that [`Model`]'s methods dispatch through.
 //!
-//! A kind is a struct (its serde type) implementing [`ModelKind`] plus one variant of [`Model`]
-//! named in `for_each_kind!`. Nothing else in this crate matches over [`Model`], and the other
+//! A kind is a struct (its serde type, in its own module) implementing [`ModelKind`], plus its
+//! variant of [`Model`], its arm in `for_each_kind!` and its name in [`KIND_NAMES`], all three
+//! in this file. Nothing else in this crate matches over [`Model`], and the other
 //! crates reach a kind through their own per-kind traits with one dispatch each.
 
+use serde::{Deserialize, Serialize};
+
 use crate::error::ModelError;
-use crate::file::Model;
+use crate::{ClassicNoise, GaborNoise, LrpNoise, PhasorNoise, TextureModel, Warp, WaveletNoise};
 
 /// The model-layer definition of one kind: its name, validation, output channels and seeds.
 pub trait ModelKind {
@@ -26,6 +29,35 @@ pub trait ModelKind {
 
     /// Calls `visit` on every seed the model holds, nested models' included, in a fixed order.
     fn visit_seeds(&mut self, visit: &mut dyn FnMut(&mut u32));
+}
+
+/// Any procedural model spectex evaluates: one variant per kind, each a [`crate::ModelKind`].
+///
+/// Deliberately not `#[non_exhaustive]`: a `match` over it in another crate must name every
+/// kind, so the compiler points at each place a new kind is missed (the tidy test forbids
+/// wildcard arms over `Model` outside this crate).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, rename_all = "snake_case")]
+#[allow(
+    clippy::large_enum_variant,
+    reason = "a model is built once per render and never stored in bulk"
+)]
+pub enum Model {
+    /// Local Random-Phase noise.
+    Lrp(LrpNoise),
+    /// Gabor noise.
+    Gabor(GaborNoise),
+    /// Phasor noise.
+    Phasor(PhasorNoise),
+    /// Texture by example: structure, strata, turbulence, placement, colour.
+    Texture(TextureModel),
+    /// A classic pointwise noise (gradient, simplex, value, Worley; fractal sums of them).
+    Classic(ClassicNoise),
+    /// Domain warping: a model evaluated at positions displaced by two others
+    /// ([`crate::warp`]).
+    Warp(Warp),
+    /// Wavelet noise (Cook & DeRose 2005): a band-limited tile summed over octave bands.
+    Wavelet(WaveletNoise),
 }
 
 /// Calls `$body` with `$m` bound to the kind struct inside `$model` (by the reference the match
@@ -71,13 +103,13 @@ macro_rules! for_each_kind {
 /// The names of every kind, in the order of [`Model`]'s variants (for registries, docs and the
 /// tidy test that keeps the docs' list of kinds true).
 pub const KIND_NAMES: &[&str] = &[
-    <crate::LrpNoise as ModelKind>::NAME,
-    <crate::GaborNoise as ModelKind>::NAME,
-    <crate::PhasorNoise as ModelKind>::NAME,
-    <crate::TextureModel as ModelKind>::NAME,
-    <crate::ClassicNoise as ModelKind>::NAME,
-    <crate::Warp as ModelKind>::NAME,
-    <crate::WaveletNoise as ModelKind>::NAME,
+    <LrpNoise as ModelKind>::NAME,
+    <GaborNoise as ModelKind>::NAME,
+    <PhasorNoise as ModelKind>::NAME,
+    <TextureModel as ModelKind>::NAME,
+    <ClassicNoise as ModelKind>::NAME,
+    <Warp as ModelKind>::NAME,
+    <WaveletNoise as ModelKind>::NAME,
 ];
 
 impl Model {

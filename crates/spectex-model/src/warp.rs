@@ -22,8 +22,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::Model;
 use crate::error::{ModelError, check_range};
-use crate::file::Model;
 use crate::grid::{MAX_POSITION, Window, WindowError};
 
 mod builder;

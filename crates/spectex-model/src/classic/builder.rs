@@ -8,10 +8,10 @@
 //! on the model's parameters. The defaults are the `spectex noise perlin|simplex|value|fbm|worley`
 //! flags' defaults.
 
+use crate::Model;
 use crate::classic::{Basis, ClassicNoise, FeaturePoints, Fractal, FractalKind, Metric, Worley};
 use crate::defaults::{DEFAULT_SEED, Levels};
 use crate::error::ModelError;
-use crate::file::Model;
 
 impl ClassicNoise {
     /// Seed unless [`ClassicNoiseBuilder::seed`] is given.

@@ -1,9 +1,9 @@
 //! The builder of [`GaborNoise`], with the `spectex noise gabor` defaults:
 //! `GaborNoise::builder().frequency(0.1).angle(0.5).build()?`.
 
+use crate::Model;
 use crate::defaults::{DEFAULT_MEAN, DEFAULT_SEED, DEFAULT_STD_DEV};
 use crate::error::ModelError;
-use crate::file::Model;
 use crate::gabor::{GaborNoise, Orientation};
 
 impl GaborNoise {

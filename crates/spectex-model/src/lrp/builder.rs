@@ -5,9 +5,9 @@
 //!
 //! [`SpectralTarget`]: crate::SpectralTarget
 
+use crate::Model;
 use crate::defaults::{DEFAULT_MEAN, DEFAULT_SEED};
 use crate::error::ModelError;
-use crate::file::Model;
 use crate::lrp::{LrpNoise, Stratum};
 
 impl LrpNoise {

@@ -1,9 +1,9 @@
 //! The builder of [`PhasorNoise`], with the `spectex phasor` defaults:
 //! `PhasorNoise::builder().profile(Profile::square(0.25)).build()?`.
 
+use crate::Model;
 use crate::defaults::{DEFAULT_SEED, Levels};
 use crate::error::ModelError;
-use crate::file::Model;
 use crate::phasor::{
     COHERENT_BANDWIDTH_RATIO, COHERENT_SPREAD, Field, PhasorNoise, PhasorOrientation, PhasorOutput,
     Profile,

@@ -1,10 +1,10 @@
 //! The builder of [`Warp`], with the `spectex noise warp` defaults: any model displaced by
 //! built-in zero-mean Perlin fBms, `Warp::of(base).strength(24.0).build()?`.
 
+use crate::Model;
 use crate::classic::ClassicNoise;
 use crate::defaults::DEFAULT_SEED;
 use crate::error::ModelError;
-use crate::file::Model;
 use crate::warp::Warp;
 
 impl Warp {

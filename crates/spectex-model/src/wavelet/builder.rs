@@ -1,9 +1,9 @@
 //! The builder of [`WaveletNoise`], with the `spectex noise wavelet` defaults:
 //! `WaveletNoise::builder().bands(vec![1.0, 0.5, 0.25]).build()?`.
 
+use crate::Model;
 use crate::defaults::{DEFAULT_MEAN, DEFAULT_SEED, DEFAULT_STD_DEV};
 use crate::error::ModelError;
-use crate::file::Model;
 use crate::wavelet::WaveletNoise;
 
 impl WaveletNoise {
