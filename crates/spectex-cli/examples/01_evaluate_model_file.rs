@@ -35,7 +35,7 @@ fn main() -> Result<()> {
     let out = out_dir.join("01_model.png");
     save_png(&out, &window, evaluator.output_channels(), &values)?;
     println!(
-        "wrote {} (a {} model, {}×{} at (1e7, -2.5e6))",
+        "wrote {} ({} model, {}×{} at (1e7, -2.5e6))",
         out.display(),
         model.kind(),
         window.width,

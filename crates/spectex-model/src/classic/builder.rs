@@ -20,7 +20,8 @@ impl ClassicNoise {
     pub const DEFAULT_DIMENSIONS: u32 = 2;
     /// Side of a lattice cell of the first octave, pixels.
     pub const DEFAULT_CELL_SIZE: f32 = 32.0;
-    /// Octaves of a fractal sum (six halvings of a 32-pixel cell reach 1 pixel).
+    /// Octaves of a fractal sum: with the default cell and lacunarity the sixth octave's cell
+    /// is 1 pixel (32/2⁵), the finest that validation accepts.
     pub const DEFAULT_OCTAVES: u32 = 6;
     /// Frequency ratio between octaves.
     pub const DEFAULT_LACUNARITY: f32 = 2.0;

@@ -11,11 +11,11 @@ impl GaborNoise {
     pub const DEFAULT_SEED: u32 = DEFAULT_SEED;
     /// `F₀`, cycles per pixel: a 16-pixel period.
     pub const DEFAULT_FREQUENCY: f32 = 0.0625;
-    /// `a`, per pixel: a kernel radius of about 11 pixels, so about 0.7 periods of `F₀` each
-    /// side of the centre.
+    /// `a`, per pixel: a kernel radius `√(ln 20/π)/a` of about 20 pixels, a little over one
+    /// period of `F₀` each side of the centre.
     pub const DEFAULT_BANDWIDTH: f32 = 0.05;
-    /// Impulses per kernel footprint: Lagae et al.'s examples use tens; 32 makes the sum
-    /// close to Gaussian.
+    /// Impulses per kernel footprint (Lagae et al.'s examples use tens: the more impulses, the
+    /// closer the sum is to Gaussian).
     pub const DEFAULT_IMPULSES_PER_KERNEL: f32 = 32.0;
     /// Fully isotropic directions, `[0, 2π]`.
     pub const DEFAULT_ORIENTATION: Orientation = Orientation::Isotropic {

@@ -16,10 +16,10 @@ impl PhasorNoise {
     pub const DEFAULT_DIMENSIONS: u8 = 2;
     /// `F`, cycles per pixel: stripes 20 pixels apart.
     pub const DEFAULT_FREQUENCY: f32 = 0.05;
-    /// `b`, per pixel: kernels of radius about 28 pixels, so stripes stay coherent over about
-    /// three periods.
+    /// `b`, per pixel: kernels of radius `√(ln 20/π)/b`, about 49 pixels, each spanning about
+    /// five periods of the default frequency.
     pub const DEFAULT_BANDWIDTH: f32 = 0.02;
-    /// Impulses per kernel footprint: enough for the intensity to rarely vanish.
+    /// Impulses per kernel footprint.
     pub const DEFAULT_IMPULSES_PER_KERNEL: f32 = 32.0;
     /// Direction of the kernels (the bi-lobe case along x) unless another orientation is given.
     pub const DEFAULT_ANGLE: f32 = 0.0;

@@ -14,7 +14,7 @@ impl WaveletNoise {
     /// Tile side of a 2D noise, samples: 128² values, so repetition is rare at the default
     /// cell (a 2048-pixel period).
     pub const DEFAULT_TILE_SIZE_2D: u32 = 128;
-    /// Tile side of a 3D noise, samples (the paper's size): 32³ values.
+    /// Tile side of a 3D noise, samples: 32³ values.
     pub const DEFAULT_TILE_SIZE_3D: u32 = 32;
     /// Pixels per tile sample of the first band.
     pub const DEFAULT_CELL_SIZE: f32 = 16.0;
