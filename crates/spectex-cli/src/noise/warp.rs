@@ -6,10 +6,10 @@ use std::path::PathBuf;
 
 use anyhow::{Result, anyhow};
 use clap::Args;
-use spectex_model::classic::{Basis, ClassicNoise, Fractal, FractalKind};
-use spectex_model::{Model, ModelError, Warp};
+use spectex_model::{Model, ModelError, Warp, WarpBuilder};
 
-use crate::procedural::{RenderArgs, read_model, render_to_file, write_model};
+use crate::model_file::{read_model, write_model};
+use crate::render::{RenderArgs, render_to_file};
 
 /// The options of `spectex noise warp`.
 #[derive(Debug, Args)]
@@ -28,10 +28,10 @@ pub(crate) struct WarpArgs {
     by_y: Option<PathBuf>,
     /// Pixels of displacement per unit of the displacement models (−65536 to 65536);
     /// displacements are clamped to ±65536 pixels.
-    #[arg(long, default_value_t = 16.0, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = Warp::DEFAULT_STRENGTH, allow_hyphen_values = true)]
     strength: f32,
     /// Seed of the built-in displacement (x uses it, y the next one).
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = Warp::DEFAULT_SEED)]
     seed: u32,
     /// Also write the warp model to this .json file (render it again with `spectex render`).
     #[arg(long, value_name = "MODEL")]
@@ -40,46 +40,10 @@ pub(crate) struct WarpArgs {
     render: RenderArgs,
 }
 
-/// A Perlin fBm of 5 octaves on 64-pixel cells: `mean + amplitude·fBm`.
-fn fbm(seed: u32, amplitude: f32, mean: f32) -> Model {
-    Model::Classic(ClassicNoise {
-        seed,
-        dimensions: 2,
-        cell_size: 64.0,
-        basis: Basis::Gradient,
-        fractal: Some(Fractal {
-            kind: FractalKind::Fbm,
-            octaves: 5,
-            lacunarity: 2.0,
-            gain: 0.5,
-        }),
-        amplitude,
-        mean,
-    })
-}
-
 /// `spectex noise warp`.
 pub(crate) fn run(args: &WarpArgs) -> Result<()> {
     crate::io::check_output(&args.render.output, args.render.bit_depth)?;
-    let base = match &args.base {
-        Some(path) => read_model(path)?,
-        None => fbm(args.seed.wrapping_add(1_000), 0.5, 0.5),
-    };
-    let x = match &args.by {
-        Some(path) => read_model(path)?,
-        None => fbm(args.seed, 1.0, 0.0),
-    };
-    let y = match &args.by_y {
-        Some(path) => read_model(path)?,
-        None => x.reseeded(1),
-    };
-    let model = Model::Warp(Warp {
-        base: Box::new(base),
-        x: Box::new(x),
-        y: Box::new(y),
-        strength: args.strength,
-    });
-    model.validate().map_err(|e| match &e {
+    let warp = builder(args)?.build().map_err(|e| match &e {
         ModelError::OutOfRange { field, .. } if field == "warp.strength" => {
             anyhow!("{e}; set --strength within it")
         }
@@ -91,8 +55,50 @@ pub(crate) fn run(args: &WarpArgs) -> Result<()> {
         }
         _ => anyhow!("{e}; check --base, --by and --by-y"),
     })?;
+    let model = Model::from(warp);
     if let Some(path) = &args.model {
         write_model(path, &model)?;
     }
     render_to_file(&model, &args.render, (512, 512))
+}
+
+/// The flags as a builder, with the model files read in the order base, x, y: the built-in
+/// fBms where a file is not given, and y = x with every seed plus one without `--by-y`.
+fn builder(args: &WarpArgs) -> Result<WarpBuilder> {
+    let mut builder = Warp::builder().seed(args.seed).strength(args.strength);
+    if let Some(path) = &args.base {
+        builder = builder.base(read_model(path)?);
+    }
+    if let Some(path) = &args.by {
+        builder = builder.by(read_model(path)?);
+    }
+    if let Some(path) = &args.by_y {
+        builder = builder.by_y(read_model(path)?);
+    }
+    Ok(builder)
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::Parser;
+
+    use super::*;
+
+    #[derive(Debug, Parser)]
+    struct WarpCommand {
+        #[command(flatten)]
+        args: WarpArgs,
+    }
+
+    #[test]
+    fn defaults_are_the_builders() {
+        let args = WarpCommand::try_parse_from(["warp", "-o", "x.png", "--seed", "4"]);
+        let args = args.expect("valid flags").args;
+        let warp = builder(&args).expect("no file to read").build();
+        let expected = Warp::builder().seed(4).build();
+        assert_eq!(warp.expect("valid"), expected.expect("valid"));
+        let plain = WarpCommand::try_parse_from(["warp", "-o", "x.png"]).expect("valid flags");
+        let plain = builder(&plain.args).expect("no file to read");
+        assert_eq!(plain, Warp::builder());
+    }
 }
