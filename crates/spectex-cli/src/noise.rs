@@ -1,11 +1,12 @@
 //! `spectex noise`: procedural noises built from flags, one module per family of subcommands
 //! (LRP noise of a continuous spectrum, Gabor, the classic noises, wavelet noise, domain
-//! warping), each building its model through `spectex_model`'s builders, writing it if asked
+//! warping, textons), each building its model through `spectex_model`'s builders, writing it if asked
 //! (`--model`) and rendering it.
 
 mod classic;
 mod gabor;
 mod spectral;
+mod texton;
 mod warp;
 mod wavelet;
 
@@ -54,6 +55,9 @@ enum NoiseKind {
     Worley(classic::WorleyNoiseArgs),
     /// Wavelet noise (Cook & DeRose 2005): a band-limited tile summed over octave bands, 2D or 3D.
     Wavelet(wavelet::WaveletArgs),
+    /// Texton placement / spot noise (survey §2.3): ellipsoids, Gaussian spots or an image
+    /// placed on a jittered grid or at Poisson points, rotated, scaled, summed or maxed.
+    Texton(texton::TextonArgs),
 }
 
 /// What the noises of a spectrum (and Gabor noise) share.
@@ -110,5 +114,6 @@ pub fn noise(cmd: &NoiseCommand) -> Result<()> {
         NoiseKind::Warp(args) => warp::run(args),
         NoiseKind::Worley(args) => classic::worley(args),
         NoiseKind::Wavelet(args) => wavelet::run(args),
+        NoiseKind::Texton(args) => texton::run(args),
     }
 }
