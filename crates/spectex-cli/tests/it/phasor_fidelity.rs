@@ -3,7 +3,8 @@
 //! peaks at the kernel frequency, and its spectrum of variance has (nearly) no low-frequency
 //! energy where Gabor noise's has a central lobe (§3.1.3, Figs. 4, 7, 11, 12).
 //!
-//! `cargo test -p spectex-cli --test phasor_fidelity -- --nocapture` prints the measured table.
+//! `cargo test -p spectex-cli --test it phasor_fidelity:: -- --nocapture` prints the measured
+//! table.
 
 #![allow(
     clippy::unwrap_used,

@@ -4,7 +4,8 @@
 //! and skips those parts with a printed reason when it is absent; the built-in exemplar and
 //! synthetic images are always used.
 //!
-//! `cargo test --release -p spectex-cli --test texture -- --nocapture` prints the measurements.
+//! `cargo test --release -p spectex-cli --test it texture:: -- --nocapture` prints the
+//! measurements.
 
 #![allow(
     clippy::unwrap_used,
@@ -15,7 +16,7 @@
     reason = "the measured numbers are reported in closing notes"
 )]
 
-mod common;
+use crate::common;
 
 use common::planes;
 use ndarray::{Array2, Array3, ArrayView2, Axis, s};
@@ -362,7 +363,7 @@ fn texture_models_round_trip_through_json_and_tile_invisibly() {
 /// random placement. This test checks that the shipped file has the shape today's fit gives
 /// (bits of a fit may move with the FFT's SIMD path, so values are not compared); regenerate
 /// it deliberately with
-/// `SPECTEX_BLESS=1 cargo test -p spectex-cli --test texture fitted_crosscheck_case`.
+/// `SPECTEX_BLESS=1 cargo test -p spectex-cli --test it fitted_crosscheck_case`.
 #[test]
 fn fitted_crosscheck_case_is_current() {
     let img = builtin().slice(s![.., 0..64, 0..64]).to_owned();

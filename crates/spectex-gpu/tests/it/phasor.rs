@@ -8,7 +8,7 @@
     reason = "a test fails loudly on the first unexpected None or Err"
 )]
 
-mod common;
+use crate::common;
 
 use common::first_bit_difference;
 use spectex_gpu::{GpuError, GpuEvaluator, GpuWindow};

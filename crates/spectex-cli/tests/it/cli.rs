@@ -6,7 +6,7 @@
     reason = "a test fails loudly on the first unexpected None or Err"
 )]
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::Output;

@@ -10,7 +10,7 @@
     reason = "a test fails loudly on the first unexpected None or Err"
 )]
 
-mod common;
+use crate::common;
 
 use common::{cpu_cos_turns, cpu_exp_poly, cpu_fract_turns, cpu_kaiser_bessel_r2};
 

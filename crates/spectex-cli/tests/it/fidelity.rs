@@ -3,7 +3,8 @@
 //! claims in a form that cannot pass by accident. Uses `../shared/testdata/textures/` and skips
 //! with a printed reason when it is absent.
 //!
-//! `cargo test --release -p spectex-cli --test fidelity -- --nocapture` prints the tables.
+//! `cargo test --release -p spectex-cli --test it fidelity:: -- --nocapture --skip _fidelity::`
+//! prints the tables.
 
 #![allow(
     clippy::unwrap_used,

@@ -14,7 +14,7 @@
     reason = "the measured agreement is the test's report"
 )]
 
-mod common;
+use crate::common;
 
 use spectex_gpu::{GpuEvaluator, GpuWindow};
 use spectex_model::Model;

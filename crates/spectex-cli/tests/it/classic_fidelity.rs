@@ -2,7 +2,7 @@
 //! survey's 1/f^β fractal (Eq. (8)) built as LRP noise has a radial power spectrum falling as
 //! f^(−2β), and fBm with gain g and lacunarity λ has the slope its self-similarity implies.
 //!
-//! `cargo test --release -p spectex-cli --test classic_fidelity -- --nocapture` prints them.
+//! `cargo test --release -p spectex-cli --test it classic_fidelity:: -- --nocapture` prints them.
 
 #![allow(
     clippy::unwrap_used,

@@ -6,7 +6,7 @@
     reason = "a test fails loudly on the first unexpected None or Err"
 )]
 
-mod common;
+use crate::common;
 
 use spectex_gpu::{GpuError, GpuEvaluator, GpuWindow};
 use spectex_model::{LrpNoise, Model, Stratum};

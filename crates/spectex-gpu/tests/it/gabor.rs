@@ -11,7 +11,7 @@
     reason = "a test fails loudly on the first unexpected None or Err"
 )]
 
-mod common;
+use crate::common;
 
 use common::{cpu_cos_turns, cpu_exp_poly, first_bit_difference};
 use spectex_gpu::{GpuEvaluator, GpuWindow};
@@ -154,7 +154,7 @@ fn reference(m: &GaborNoise, x: f64, y: f64) -> Reference {
 }
 
 /// Error bound of the device's f32 evaluation, per unit of `Σ|K·w|` (cell units; `2⁻²⁴ ≈ 6e-8`
-/// is an f32 half-ulp near 1). The CPU's derivation (crates/spectex-cpu/tests/gabor.rs) with the
+/// is an f32 half-ulp near 1). The CPU's derivation (crates/spectex-cpu/tests/it/gabor.rs) with the
 /// device's function tolerances of contract.rs:
 /// - offsets `d` good to 1.5e-7 per component → Gaussian `exp(−ln 20·d²)`: `δ(d²) ≈ 8e-7` times
 ///   `ln 20 ≈ 3`, plus `exp_poly`'s 2e-6: relative ≤ 4.5e-6;

@@ -11,7 +11,7 @@
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
-mod common;
+use crate::common;
 
 use common::{ATAN_TURNS, COS_TURNS, KB_POLY};
 use spectex_gpu::{SHADERS, wgsl_source};

@@ -1,8 +1,6 @@
 //! Helpers shared by the GPU tests: one place that decides whether a test without an adapter
 //! skips (loudly) or fails (`SPECTEX_REQUIRE_GPU=1`), and bit-comparison messages.
 
-#![allow(dead_code, reason = "each test binary uses a different subset")]
-
 use spectex_gpu::GpuContext;
 use spectex_model::LrpNoise;
 use spectex_model::random::{Prng, cell_hash};
@@ -41,11 +39,9 @@ pub fn first_bit_difference(a: &[f32], b: &[f32]) -> Option<usize> {
 
 // The CPU's f32 functions (defined once in spectex-model, which this crate may depend on): used to
 // count how many device values are bit-identical to what the CPU computes.
-#[allow(unused_imports, reason = "each test binary uses a different subset")]
 pub use spectex_model::math::{
-    ATAN_TURNS, COS_TURNS, KB_POLY, atan2_turns as cpu_atan2_turns, cos_turns as cpu_cos_turns,
-    exp_poly as cpu_exp_poly, fract_turns as cpu_fract_turns,
-    kaiser_bessel_r2 as cpu_kaiser_bessel_r2,
+    ATAN_TURNS, COS_TURNS, KB_POLY, cos_turns as cpu_cos_turns, exp_poly as cpu_exp_poly,
+    fract_turns as cpu_fract_turns, kaiser_bessel_r2 as cpu_kaiser_bessel_r2,
 };
 
 /// The CPU's f32 evaluation of one LRP pixel (crates/spectex-cpu/src/lrp.rs), transcribed: same

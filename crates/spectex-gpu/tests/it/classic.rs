@@ -12,7 +12,7 @@
     reason = "a test fails loudly on the first unexpected None or Err"
 )]
 
-mod common;
+use crate::common;
 
 use common::gpu_or_skip;
 use spectex_gpu::{GpuContext, GpuError, GpuEvaluator, GpuWindow};

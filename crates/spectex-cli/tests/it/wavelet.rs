@@ -16,7 +16,7 @@
     reason = "the measured fractions are the test's report"
 )]
 
-mod common;
+use crate::common;
 
 use common::{s, scratch, spectex};
 use ndarray::Array2;

@@ -3,7 +3,7 @@
 //! what they hold is reviewable here rather than in JSON: small structures of a few cosines per
 //! block, one or two random-phase strata, turbulence and random placement. This test checks that
 //! the shipped files are exactly what the generators write; regenerate them deliberately with
-//! `SPECTEX_BLESS=1 cargo test -p spectex-crosscheck --test texture_fixtures`.
+//! `SPECTEX_BLESS=1 cargo test -p spectex-crosscheck --test it texture_fixtures`.
 
 #![allow(
     clippy::unwrap_used,
@@ -145,7 +145,7 @@ fn shipped_texture_cases_are_the_generators_output() {
         let shipped = std::fs::read_to_string(&path).unwrap_or_else(|e| {
             panic!(
                 "{}: {e}; write it with SPECTEX_BLESS=1 cargo test -p spectex-crosscheck \
-                 --test texture_fixtures",
+                 --test it texture_fixtures",
                 path.display()
             )
         });
