@@ -4,15 +4,36 @@
 //
 // Integers: WGSL `u32` arithmetic wraps (mod 2^32), `>>` on `u32` is a logical shift and the
 // shift amounts below are in 4..19, so every integer function here gives the same bits as the
-// Rust one; `tests/contract.rs` checks it on the device.
+// Rust one; `crates/spectex-gpu/tests/it/contract.rs` checks it on the device.
 //
 // Floats: every constant is written with the `f` suffix, which WGSL parses directly as a
 // correctly rounded f32 (an unsuffixed literal is an abstract float rounded twice); the decimal
 // strings are the shortest round-trip forms of the Rust f32 constants, and
-// `tests/shaders.rs` checks their bits through naga. The arithmetic is the CPU's, in the same
+// `crates/spectex-gpu/tests/it/shaders.rs` checks their bits through naga. The arithmetic is the CPU's, in the same
 // order; a WGSL compiler may still contract `a * b + c` into a fused multiply-add, which WGSL
 // cannot forbid, so these functions are accurate to the stated tolerances but not guaranteed to
-// be bit-identical to the CPU (tests/contract.rs reports how many bits differ on the adapter).
+// be bit-identical to the CPU (crates/spectex-gpu/tests/it/contract.rs reports how many bits differ on the adapter).
+//
+// Displacement convention (GPU warping):
+//
+// Every model shader is composed after `common.wgsl`, which declares bind group 1: binding 0
+// `WarpParams { enabled: u32, pad ×3 }` (uniform) and binding 1 `warp_displacement:
+// array<vec2<f32>>` (read-only storage), one `(dx, dy)` in model pixels per tile pixel, index
+// `y·width + x` (the output's), already clamped and summed over nested warps on the host. The host
+// binds group 1 for every dispatch (`enabled = 0` and one unused element when not warping). A
+// shader that supports warping reads the displacement only when `enabled == 1` and applies it to
+// the host's `(cell, f32 offset)` split of its pixel before taking neighbouring cells:
+// `warp_relocate(cell, offset, d / cell_side)` (offset + d, the cell moved by the floor, the
+// fraction kept; LRP rebuilds its four lattice offsets from the remainder the same way), so the
+// arithmetic stays on numbers of the cell's size and positions near 10⁷ keep their precision.
+// Where the host draws cells for a tile (phasor), it widens the box to the displaced pixels' cells
+// (plus one for the f32 relocation). `classic.wgsl` relocates each octave's (cell, offset) with
+// `1/c_o` from its octave table (simplex noise skews the displacement, `d + (Σd)·F`, and adds it
+// to the skewed fraction before the floor); `wavelet.wgsl` relocates each band's tile index
+// (modulo the tile side) with `1/c_b`; `texture.wgsl` relocates its placement cells. Every model
+// shader does this, so any model can be warped on the GPU; a new shader must apply `warp_relocate`
+// to its axis splits too (the GPU warp tests shift every kind's window with constant
+// displacements).
 
 // ---------------------------------------------------------------------------------------------
 // Integer hash and PRNG (PCG: Jarzynski & Olano, "Hash Functions for GPU Rendering", JCGT 2020).

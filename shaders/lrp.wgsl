@@ -8,7 +8,7 @@
 // a lattice point are Prng(cell_hash(cx, cy, s, seed)): per cosine j in order, the table index
 // next_u32() % len_j, then the phase next_f32() in turns. The value is Σ_s (in order) + mean.
 //
-// Positions (DESIGN.md invariant 2). WGSL has no f64, so the host does the f64 part: for each
+// Positions (invariant 2 of docs/ARCHITECTURE.md). WGSL has no f64, so the host does the f64 part: for each
 // stratum and each column i of the tile it computes the window position x_i (f64, the CPU's
 // expression), the lattice column c_i = ⌊x_i / Δ⌋, and the four offsets
 // d_k = f32(x_i − (c_i + k − 1)·Δ) for k = 0..3, i.e. to the lattice columns c_i − 1 … c_i + 2,

@@ -804,3 +804,19 @@ fn simplex3<const L: usize>(o: &Octave, r: &RowOctave, x: &[f64; L], n: &mut [f3
         n[l] = SIMPLEX3_SCALE * (((c0 + c1) + c2) + c3);
     }
 }
+
+impl crate::CpuKind for ClassicNoise {
+    fn cpu_kernel(&self, z: f64) -> Result<Box<dyn crate::RowKernel>, crate::CpuError> {
+        Ok(Box::new(ClassicEvaluator::new(self, z)))
+    }
+}
+
+impl crate::RowKernel for ClassicEvaluator {
+    fn cost_per_pixel(&self) -> f64 {
+        self.evaluations_per_pixel()
+    }
+
+    fn eval_rows(&self, window: &Window, first: usize, out: &mut [f32]) {
+        ClassicEvaluator::eval_rows(self, window, first, out);
+    }
+}

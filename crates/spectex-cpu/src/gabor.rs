@@ -34,7 +34,7 @@
 //!    in f64 and rounded to f32; the frequency vector is `F₀r·(cos_turns(τ), cos_turns(τ − ¼))`.
 //!    (The anisotropic vector `F₀r·(cos angle, sin angle)` is computed in f64 and rounded.)
 //!
-//! # Precision (DESIGN.md invariant 2)
+//! # Precision (invariant 2 of docs/ARCHITECTURE.md)
 //!
 //! A position `x` in pixels (f64) becomes `p = x / r`, the cell `⌊p⌋` (i32) and the local offset
 //! `p − ⌊p⌋` in f64 (exact), rounded to f32. All per-impulse arithmetic is then in f32 in cell
@@ -83,7 +83,7 @@
 
 use spectex_model::grid::locate_cell as locate;
 use spectex_model::random::{Prng, cell_hash_in_row, layer_key, row_key};
-use spectex_model::{GaborNoise, NEG_LN_20, Orientation};
+use spectex_model::{GaborNoise, NEG_LN_20, Orientation, Window};
 
 use crate::math::{cos_turns, exp_poly};
 
@@ -432,6 +432,27 @@ fn angle_sin_cos(theta: f64) -> (f64, f64) {
 #[allow(clippy::disallowed_methods)]
 fn libm_exp(z: f64) -> f64 {
     z.exp()
+}
+
+impl crate::CpuKind for GaborNoise {
+    fn cpu_kernel(&self, _z: f64) -> Result<Box<dyn crate::RowKernel>, crate::CpuError> {
+        Ok(Box::new(GaborEvaluator::new(self)))
+    }
+}
+
+impl crate::RowKernel for GaborEvaluator {
+    fn cost_per_pixel(&self) -> f64 {
+        self.cosines_per_pixel()
+    }
+
+    fn eval_rows(&self, window: &Window, first: usize, out: &mut [f32]) {
+        if window.width == 0 {
+            return;
+        }
+        for (r, line) in out.chunks_exact_mut(window.width).enumerate() {
+            self.eval_row_at(window.y(first + r), |i| window.x(i), line);
+        }
+    }
 }
 
 #[cfg(test)]

@@ -31,12 +31,13 @@ pub mod lrp;
 /// The f32 functions both evaluators share, defined once in `spectex-model`.
 pub use spectex_model::math;
 pub mod phasor;
+pub mod texton;
 pub mod texture;
 pub mod warp;
 pub mod wavelet;
 
 use rayon::prelude::*;
-use spectex_model::{Model, ModelError};
+use spectex_model::{Model, ModelError, ModelKind};
 
 pub use classic::ClassicEvaluator;
 pub use gabor::GaborEvaluator;
@@ -89,23 +90,57 @@ impl From<spectex_model::WindowError> for CpuError {
     }
 }
 
+/// A model kind's CPU kernel: what [`Evaluator`] runs for it. Each kind implements it in its
+/// own module; the per-kind evaluators ([`LrpEvaluator`], …) are these kernels.
+///
+/// A kernel must give a pixel the same bits whatever window, band of rows or thread evaluates
+/// it (invariants 3 and 4 of `docs/ARCHITECTURE.md`).
+pub trait RowKernel: Send + Sync {
+    /// Values per pixel (interleaved): 1, or 3 for colour.
+    fn output_channels(&self) -> usize {
+        1
+    }
+
+    /// Kernel, cosine or lattice evaluations per pixel, for reports and benches.
+    fn cost_per_pixel(&self) -> f64;
+
+    /// Evaluates consecutive rows of `window` from row `first` into `out` (whole rows of
+    /// `window.width · output_channels()` values).
+    fn eval_rows(&self, window: &Window, first: usize, out: &mut [f32]);
+
+    /// Checks what [`Window::validate`] cannot know: a kind whose positions reach beyond the
+    /// window (a warp) checks that they stay in range.
+    ///
+    /// # Errors
+    /// [`CpuError::Window`] naming the parameter.
+    fn check_window(&self, window: &Window) -> Result<(), CpuError> {
+        let _ = window;
+        Ok(())
+    }
+}
+
+/// How a model kind (a [`ModelKind`] of `spectex-model`) builds its CPU kernel.
+pub trait CpuKind: ModelKind {
+    /// The kernel of a **validated** model on the plane `z` (ignored by 2D models).
+    ///
+    /// # Errors
+    /// A nested model that cannot be prepared.
+    fn cpu_kernel(&self, z: f64) -> Result<Box<dyn RowKernel>, CpuError>;
+}
+
 /// A model prepared for evaluation. Building it validates the model; rendering can then fail
 /// only on a bad window.
-pub enum Evaluator {
-    /// Local Random-Phase noise.
-    Lrp(LrpEvaluator),
-    /// Gabor noise.
-    Gabor(GaborEvaluator),
-    /// Phasor noise (a 3D model on one plane `z`).
-    Phasor(Box<PhasorEvaluator>),
-    /// Texture by example (1 or 3 values per pixel).
-    Texture(Box<TextureEvaluator>),
-    /// A classic pointwise noise (a 3D one on one plane `z`).
-    Classic(Box<ClassicEvaluator>),
-    /// Domain warping of a base model by two displacement models.
-    Warp(Box<WarpEvaluator>),
-    /// Wavelet noise (a 3D one on one plane `z`).
-    Wavelet(Box<WaveletEvaluator>),
+pub struct Evaluator {
+    kind: &'static str,
+    kernel: Box<dyn RowKernel>,
+}
+
+impl std::fmt::Debug for Evaluator {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Evaluator")
+            .field("kind", &self.kind)
+            .finish_non_exhaustive()
+    }
 }
 
 impl Evaluator {
@@ -132,64 +167,41 @@ impl Evaluator {
                 range: "finite, |z| ≤ 2³⁰ pixels",
             });
         }
-        Ok(match model {
-            Model::Lrp(m) => Self::Lrp(LrpEvaluator::new(m)),
-            Model::Gabor(m) => Self::Gabor(GaborEvaluator::new(m)),
-            Model::Phasor(m) => Self::Phasor(Box::new(PhasorEvaluator::new(m, z))),
-            Model::Texture(m) => Self::Texture(Box::new(TextureEvaluator::new(m))),
-            Model::Classic(m) => Self::Classic(Box::new(ClassicEvaluator::new(m, z))),
-            Model::Warp(m) => Self::Warp(Box::new(WarpEvaluator::new(m, z)?)),
-            Model::Wavelet(m) => Self::Wavelet(Box::new(WaveletEvaluator::new(m, z))),
-            #[allow(unreachable_patterns)] // reason: `Model` is non_exhaustive for other crates
-            _ => unreachable!("every model kind of this version is handled"),
+        // The one dispatch over model kinds in this crate: every kind implements `CpuKind`.
+        let kernel =
+            spectex_model::for_each_kind!(model, m: K => <K as CpuKind>::cpu_kernel(m, z)?);
+        Ok(Self {
+            kind: model.kind(),
+            kernel,
         })
+    }
+
+    /// The model kind's name ([`ModelKind::NAME`]).
+    #[must_use]
+    pub fn kind(&self) -> &'static str {
+        self.kind
     }
 
     /// Values per pixel: 3 for a colour texture (interleaved RGB), else 1.
     #[must_use]
     pub fn output_channels(&self) -> usize {
-        match self {
-            Self::Texture(e) => e.output_channels(),
-            Self::Warp(e) => e.output_channels(),
-            _ => 1,
-        }
+        self.kernel.output_channels()
     }
 
     /// Evaluates one row of `window` into `out` (`window.width ·`
     /// [`output_channels`](Self::output_channels) values).
     pub fn eval_row(&self, window: &Window, row: usize, out: &mut [f32]) {
-        match self {
-            Self::Texture(e) => e.eval_rows(window, row, out),
-            Self::Lrp(e) => e.eval_row(window, row, out),
-            Self::Gabor(e) => e.eval_row_at(window.y(row), |i| window.x(i), out),
-            Self::Phasor(e) => e.eval_rows(window, row, out),
-            Self::Classic(e) => e.eval_row(window, row, out),
-            Self::Warp(e) => e.eval_rows(window, row, out),
-            Self::Wavelet(e) => e.eval_row(window, row, out),
-        }
+        self.eval_rows(window, row, out);
     }
 
     /// Evaluates consecutive rows of `window` from row `first` into `out` (whole rows of
     /// `window.width ·` [`output_channels`](Self::output_channels) values): the same bits as
     /// row by row, with the work a band of rows shares done once.
     pub fn eval_rows(&self, window: &Window, first: usize, out: &mut [f32]) {
-        let row_len = window.width * self.output_channels();
-        if row_len == 0 {
+        if window.width * self.output_channels() == 0 {
             return;
         }
-        match self {
-            Self::Lrp(e) => e.eval_rows(window, first, out),
-            Self::Phasor(e) => e.eval_rows(window, first, out),
-            Self::Texture(e) => e.eval_rows(window, first, out),
-            Self::Classic(e) => e.eval_rows(window, first, out),
-            Self::Warp(e) => e.eval_rows(window, first, out),
-            Self::Wavelet(e) => e.eval_rows(window, first, out),
-            Self::Gabor(_) => {
-                for (r, line) in out.chunks_exact_mut(row_len).enumerate() {
-                    self.eval_row(window, first + r, line);
-                }
-            }
-        }
+        self.kernel.eval_rows(window, first, out);
     }
 
     /// Evaluates the model at one position `p` (pixels) into `out`
@@ -223,9 +235,7 @@ impl Evaluator {
         progress: &(dyn Fn(usize) + Sync),
     ) -> Result<(), CpuError> {
         window.validate()?;
-        if let Self::Warp(e) = self {
-            e.check_window(window)?;
-        }
+        self.kernel.check_window(window)?;
         let channels = self.output_channels();
         let needed = window.width * window.height * channels;
         if out.len() != needed {
@@ -252,14 +262,6 @@ impl Evaluator {
     /// Kernel or cosine evaluations per pixel, for reports.
     #[must_use]
     pub fn cost_per_pixel(&self) -> f64 {
-        match self {
-            Self::Lrp(e) => e.cosines_per_pixel() as f64,
-            Self::Gabor(e) => e.cosines_per_pixel(),
-            Self::Phasor(e) => e.kernels_per_pixel(),
-            Self::Texture(e) => e.calls_per_pixel() as f64,
-            Self::Classic(e) => e.evaluations_per_pixel(),
-            Self::Warp(e) => e.cost_per_pixel(),
-            Self::Wavelet(e) => e.samples_per_pixel(),
-        }
+        self.kernel.cost_per_pixel()
     }
 }

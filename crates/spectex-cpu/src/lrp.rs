@@ -422,3 +422,19 @@ fn support_span(
     }
     (lo <= hi && lane_r2(window, lo, lx, dy2, inv_delta2) < 2.25).then_some((lo, hi))
 }
+
+impl crate::CpuKind for LrpNoise {
+    fn cpu_kernel(&self, _z: f64) -> Result<Box<dyn crate::RowKernel>, crate::CpuError> {
+        Ok(Box::new(LrpEvaluator::new(self)))
+    }
+}
+
+impl crate::RowKernel for LrpEvaluator {
+    fn cost_per_pixel(&self) -> f64 {
+        self.cosines_per_pixel() as f64
+    }
+
+    fn eval_rows(&self, window: &Window, first: usize, out: &mut [f32]) {
+        LrpEvaluator::eval_rows(self, window, first, out);
+    }
+}

@@ -251,3 +251,19 @@ fn profile(shape: &Profile, re: f32, im: f32, p: [f64; 3]) -> f32 {
         }
     }
 }
+
+impl crate::CpuKind for PhasorNoise {
+    fn cpu_kernel(&self, z: f64) -> Result<Box<dyn crate::RowKernel>, crate::CpuError> {
+        Ok(Box::new(PhasorEvaluator::new(self, z)))
+    }
+}
+
+impl crate::RowKernel for PhasorEvaluator {
+    fn cost_per_pixel(&self) -> f64 {
+        self.kernels_per_pixel()
+    }
+
+    fn eval_rows(&self, window: &Window, first: usize, out: &mut [f32]) {
+        PhasorEvaluator::eval_rows(self, window, first, out);
+    }
+}

@@ -128,3 +128,23 @@ impl TextureEvaluator {
         }
     }
 }
+
+impl crate::CpuKind for TextureModel {
+    fn cpu_kernel(&self, _z: f64) -> Result<Box<dyn crate::RowKernel>, crate::CpuError> {
+        Ok(Box::new(TextureEvaluator::new(self)))
+    }
+}
+
+impl crate::RowKernel for TextureEvaluator {
+    fn output_channels(&self) -> usize {
+        TextureEvaluator::output_channels(self)
+    }
+
+    fn cost_per_pixel(&self) -> f64 {
+        self.calls_per_pixel() as f64
+    }
+
+    fn eval_rows(&self, window: &Window, first: usize, out: &mut [f32]) {
+        TextureEvaluator::eval_rows(self, window, first, out);
+    }
+}

@@ -88,3 +88,27 @@ impl WarpEvaluator {
         }
     }
 }
+
+impl crate::CpuKind for Warp {
+    fn cpu_kernel(&self, z: f64) -> Result<Box<dyn crate::RowKernel>, CpuError> {
+        Ok(Box::new(WarpEvaluator::new(self, z)?))
+    }
+}
+
+impl crate::RowKernel for WarpEvaluator {
+    fn output_channels(&self) -> usize {
+        WarpEvaluator::output_channels(self)
+    }
+
+    fn cost_per_pixel(&self) -> f64 {
+        WarpEvaluator::cost_per_pixel(self)
+    }
+
+    fn eval_rows(&self, window: &Window, first: usize, out: &mut [f32]) {
+        WarpEvaluator::eval_rows(self, window, first, out);
+    }
+
+    fn check_window(&self, window: &Window) -> Result<(), CpuError> {
+        WarpEvaluator::check_window(self, window)
+    }
+}

@@ -182,3 +182,19 @@ impl WaveletEvaluator {
         }
     }
 }
+
+impl crate::CpuKind for WaveletNoise {
+    fn cpu_kernel(&self, z: f64) -> Result<Box<dyn crate::RowKernel>, crate::CpuError> {
+        Ok(Box::new(WaveletEvaluator::new(self, z)))
+    }
+}
+
+impl crate::RowKernel for WaveletEvaluator {
+    fn cost_per_pixel(&self) -> f64 {
+        self.samples_per_pixel()
+    }
+
+    fn eval_rows(&self, window: &Window, first: usize, out: &mut [f32]) {
+        WaveletEvaluator::eval_rows(self, window, first, out);
+    }
+}

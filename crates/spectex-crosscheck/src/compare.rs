@@ -1,15 +1,11 @@
-//! One model, one window: render on both evaluators, measure the differences, judge them
-//! against the model's [`Tolerance`], with adapter-specific expected failures.
+//! Measuring two renders of one window and judging the differences: the generic criterion
+//! (each component's max, mean and spectral error within its [`Tolerance`]), the verdict of a
+//! kind's own criterion, and the adapter-specific expected failures.
 
 use ndarray::Array2;
-use spectex_cpu::{Evaluator, Window};
-use spectex_gpu::{GpuContext, GpuEvaluator};
-use spectex_model::Model;
 use spectex_spectrum::{Fft2, welch_psd};
 
-use crate::CrosscheckError;
-use crate::report::write_failure_report;
-use crate::tolerance::{Tolerance, tolerance};
+use crate::tolerance::Tolerance;
 
 /// Adapter-specific expected failures: `(case prefix, adapter-name substring, reason)`. A case
 /// listed here that passes on a matching adapter fails ("unexpected pass"), so the table cannot
@@ -54,9 +50,9 @@ impl std::fmt::Display for CaseWindow {
     }
 }
 
-/// The three windows of every case: at the origin, at `(10⁷, 10⁷)` (DESIGN invariant 2), and at
-/// a fractional scale and offset; 128² each, which keeps lavapipe fast and leaves Welch 9 blocks
-/// of 64².
+/// The three windows of every case: at the origin, at `(10⁷, 10⁷)` (invariant 2 of
+/// `docs/ARCHITECTURE.md`), and at a fractional scale and offset; 128² each, which keeps
+/// lavapipe fast and leaves Welch 9 blocks of 64².
 #[must_use]
 pub fn standard_windows() -> Vec<CaseWindow> {
     vec![
@@ -172,7 +168,7 @@ pub fn compare(width: usize, height: usize, cpu: Vec<f32>, gpu: Vec<f32>) -> Com
 }
 
 /// Component `channel` of an interleaved render with `channels` values per pixel.
-fn plane(values: &[f32], channels: usize, channel: usize) -> Vec<f32> {
+pub(crate) fn plane(values: &[f32], channels: usize, channel: usize) -> Vec<f32> {
     values
         .iter()
         .skip(channel)
@@ -192,6 +188,19 @@ pub enum Verdict {
     ExpectedFail(&'static str),
     /// Within tolerance although [`EXPECTED_FAILURES`] says it should fail (the reason).
     UnexpectedPass(&'static str),
+}
+
+impl Verdict {
+    /// The verdict of a window that fails for the reasons `why` (none: it passes), given the
+    /// expected failure `expected` declared for it.
+    fn from_reasons(why: Vec<String>, expected: Option<&'static str>) -> Self {
+        match (why.is_empty(), expected) {
+            (true, None) => Self::Pass,
+            (true, Some(reason)) => Self::UnexpectedPass(reason),
+            (false, None) => Self::Fail(why),
+            (false, Some(reason)) => Self::ExpectedFail(reason),
+        }
+    }
 }
 
 /// A comparison with its tolerance and verdict.
@@ -269,99 +278,32 @@ pub fn judge(
             c.spectral, spectral_tolerance
         ));
     }
-    let verdict = match (why.is_empty(), expected) {
-        (true, None) => Verdict::Pass,
-        (true, Some(reason)) => Verdict::UnexpectedPass(reason),
-        (false, None) => Verdict::Fail(why),
-        (false, Some(reason)) => Verdict::ExpectedFail(reason),
-    };
     Outcome {
         comparison,
         tolerance,
         spectral_tolerance,
-        verdict,
+        verdict: Verdict::from_reasons(why, expected),
     }
 }
 
-/// Renders `model` on both evaluators for each window and judges the differences; writes a
-/// failure report ([`write_failure_report`]) for every window that does not pass. A model with
-/// several values per pixel (a colour texture) is judged component by component, each against
-/// its own tolerance ([`crate::tolerance::texture`]): one outcome per window and component, in
-/// that order.
-///
-/// # Errors
-/// An evaluator refusing the model or a window, a device failure, a model kind without a
-/// tolerance, or a report that could not be written.
-pub fn check_model(
-    context: &GpuContext,
-    case: &str,
-    model: &Model,
-    windows: &[CaseWindow],
-) -> Result<Vec<(CaseWindow, Outcome)>, CrosscheckError> {
-    check_model_at_z(context, case, model, windows, 0.0)
-}
-
-/// As [`check_model`], on the plane `z` (pixels) of a 3D classic noise; 2D models ignore it, and
-/// phasor models are judged on `z = 0` (their own check).
-///
-/// # Errors
-/// As [`check_model`].
-pub fn check_model_at_z(
-    context: &GpuContext,
-    case: &str,
-    model: &Model,
-    windows: &[CaseWindow],
-    z: f64,
-) -> Result<Vec<(CaseWindow, Outcome)>, CrosscheckError> {
-    if let Model::Phasor(m) = model {
-        return crate::phasor::check_phasor(context, case, m, windows);
+/// Judges `comparison` by a kind's own criterion
+/// ([`CheckKind::own_verdict`](crate::CheckKind::own_verdict)): `why` are the reasons it
+/// fails (none when it passes). `tolerance` is what reports show; the spectra are not judged
+/// (an infinite spectral tolerance), since the kind's criterion says which differences are
+/// allowed where.
+#[must_use]
+pub fn judge_by_reasons(
+    comparison: Comparison,
+    tolerance: Tolerance,
+    why: Vec<String>,
+    expected: Option<&'static str>,
+) -> Outcome {
+    Outcome {
+        comparison,
+        tolerance,
+        spectral_tolerance: f64::INFINITY,
+        verdict: Verdict::from_reasons(why, expected),
     }
-    let tolerances = match model {
-        Model::Texture(m) => crate::tolerance::texture(m),
-        // A warp's bound holds for every component of its base (it takes the largest).
-        _ => vec![tolerance(model).ok_or(CrosscheckError::Unsupported)?; model.output_channels()],
-    };
-    let cpu = Evaluator::new_at_z(model, z)?;
-    let gpu = GpuEvaluator::new_at_z(context, model, z)?;
-    let channels = cpu.output_channels();
-    if gpu.output_channels() != channels || tolerances.len() != channels {
-        return Err(CrosscheckError::Channels {
-            cpu: channels,
-            gpu: gpu.output_channels(),
-            tolerances: tolerances.len(),
-        });
-    }
-    let adapter = context.adapter_name();
-    let mut outcomes = Vec::new();
-    for &w in windows {
-        // One window type for both evaluators (spectex_model::Window).
-        let window = Window::new(w.width, w.height).at(w.offset, w.scale);
-        let a = cpu.render(&window)?;
-        let b = gpu.render(&window)?;
-        for (c, &tolerance) in tolerances.iter().enumerate() {
-            let (comparison, name) = if channels == 1 {
-                (
-                    compare(w.width, w.height, a.clone(), b.clone()),
-                    case.to_owned(),
-                )
-            } else {
-                let mut comparison = compare(
-                    w.width,
-                    w.height,
-                    plane(&a, channels, c),
-                    plane(&b, channels, c),
-                );
-                comparison.channel = Some(c);
-                (comparison, format!("{case}-c{c}"))
-            };
-            let outcome = judge(comparison, tolerance, expected_failure(case, &adapter));
-            if !matches!(outcome.verdict, Verdict::Pass) {
-                write_failure_report(&format!("{name}-{}", w.name), &adapter, &w, &outcome)?;
-            }
-            outcomes.push((w, outcome));
-        }
-    }
-    Ok(outcomes)
 }
 
 #[cfg(test)]

@@ -2,10 +2,24 @@
 //! max / mean absolute error, the 99.9th percentile of the error and the relative distance
 //! between their Welch spectra (from `spectex-spectrum`), each against a tolerance derived from
 //! the model ([`tolerance`]), writing actual and difference images and a report on failure.
+//! A kind whose outputs those measures cannot judge (phasor noise: phases wrap, profiles jump)
+//! brings its own criterion.
 //!
-//! The two evaluators are independent implementations of one contract (DESIGN invariant 1):
+//! The two evaluators are independent implementations of one contract (invariant 1 of `docs/ARCHITECTURE.md`):
 //! their integer draws are bit-identical, so every difference is float rounding, bounded by
 //! the constants of [`tolerance`].
+//!
+//! Each model kind is judged through its [`CheckKind`] (its tolerance per output component, its
+//! regularity under a warp, the plane it is checked on, its own criterion if it has one),
+//! implemented in the kind's own module of [`tolerance`]; [`tolerance::check_kind`] is the one
+//! dispatch over kinds. A new kind adds its file there and one `pub mod` line in
+//! `tolerance/mod.rs`, and the compiler points at that dispatch until it does.
+//!
+//! The modules form a DAG; each uses only those listed before it:
+//! `error` ([`CrosscheckError`]) and [`tolerance`] (bounds and criteria, no rendering; its
+//! kind modules use only its shared items and, for composite kinds, other kinds' modules) ←
+//! `compare` (measuring two renders, verdicts) ← `report` (failure images and reports) ←
+//! `check` ([`check_model`]: renders, judges by the kind's criterion, reports).
 //!
 //! ```no_run
 //! use spectex_crosscheck::{check_model, standard_windows};
@@ -20,50 +34,17 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod check;
 mod compare;
-pub mod phasor;
+mod error;
 mod report;
 pub mod tolerance;
 
+pub use check::{check_model, check_model_at_z};
 pub use compare::{
-    CaseWindow, Comparison, EXPECTED_FAILURES, Outcome, Verdict, check_model, check_model_at_z,
-    compare, expected_failure, judge, standard_windows,
+    CaseWindow, Comparison, EXPECTED_FAILURES, Outcome, Verdict, compare, expected_failure, judge,
+    judge_by_reasons, standard_windows,
 };
+pub use error::CrosscheckError;
 pub use report::{REPORT_DIR, write_failure_report, write_failure_report_in};
-pub use tolerance::Tolerance;
-
-/// Why a cross-check could not run (a failed comparison is an [`Outcome`], not an error).
-#[derive(Debug, thiserror::Error)]
-#[non_exhaustive]
-pub enum CrosscheckError {
-    /// The CPU evaluator refused the model or window.
-    #[error("CPU evaluator: {0}")]
-    Cpu(#[from] spectex_cpu::CpuError),
-    /// The GPU evaluator refused the model or window, or the device failed.
-    #[error("GPU evaluator: {0}")]
-    Gpu(#[from] spectex_gpu::GpuError),
-    /// The model has no derivable tolerance (a kind this version of the crate does not know).
-    #[error("no cross-check tolerance is defined for this kind of model; add one in tolerance.rs")]
-    Unsupported,
-    /// The evaluators disagree on the values per pixel, or the tolerance does not match them.
-    #[error(
-        "values per pixel differ: CPU {cpu}, GPU {gpu}, tolerances {tolerances}; both evaluators \
-         must interleave the same components"
-    )]
-    Channels {
-        /// The CPU evaluator's `output_channels`.
-        cpu: usize,
-        /// The GPU evaluator's `output_channels`.
-        gpu: usize,
-        /// Tolerances derived for the model.
-        tolerances: usize,
-    },
-    /// Writing a failure report failed.
-    #[error("writing the report {path}: {source}")]
-    Report {
-        /// The file.
-        path: String,
-        /// The I/O or encoding error.
-        source: std::io::Error,
-    },
-}
+pub use tolerance::{CheckKind, Tolerance};

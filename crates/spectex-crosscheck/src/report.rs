@@ -3,8 +3,8 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::CrosscheckError;
 use crate::compare::{CaseWindow, Outcome};
+use crate::error::CrosscheckError;
 
 /// Where reports go, relative to the workspace root (`CARGO_TARGET_DIR` is honoured).
 pub const REPORT_DIR: &str = "target/crosscheck";

@@ -1,7 +1,6 @@
-//! Classic noises on the host: a [`ClassicNoise`] into the words of `ClassicParams` and of the
-//! octave table of `shaders/classic.wgsl`, and a tile's columns and rows into `ClassicAxis`
-//! records (the f64 work: cells, f32 offsets, and the per-axis parts of simplex noise's skewed
-//! coordinates).
+//! Classic noises on the device (`shaders/classic.wgsl`): a [`ClassicNoise`] into the uniform
+//! and the octave table, and a tile's columns and rows into [`ClassicAxis`] records (the f64
+//! work: cells, f32 offsets, and the per-axis parts of simplex noise's skewed coordinates).
 
 use spectex_model::classic::{
     Basis, ClassicNoise, FeaturePoints, FractalKind, Metric, SIMPLEX_F2, SIMPLEX_F3,
@@ -9,19 +8,91 @@ use spectex_model::classic::{
 };
 use spectex_model::random::layer_key;
 
-/// Bytes of one `ClassicAxis` record (cell, offset, and two skew parts as cell + fraction),
-/// per octave.
-pub(crate) const CLASSIC_AXIS_BYTES: u64 = 24;
-/// Words of `ClassicParams`.
-const PARAM_WORDS: usize = 40;
+use crate::axis::{columns, rows};
+use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
+use crate::layout::wgsl_struct;
+use crate::pipeline::Shaded;
+use crate::{GpuContext, GpuError, GpuWindow};
 
-/// A classic noise as buffer words, plus what the host needs per tile.
+wgsl_struct! {
+    /// `ClassicParams` of `classic.wgsl`; `width` and `height` are the tile's.
+    pub(crate) struct ClassicParams {
+        width: u32,
+        height: u32,
+        seed: u32,
+        octaves: u32,
+        /// 0 gradient, 1 simplex, 2 value, 3 Worley.
+        basis: u32,
+        /// 1 for a 3D model (on the plane `z` of the octave table), 0 for 2D.
+        three_d: u32,
+        /// 0 none or fBm, 1 turbulence, 2 ridged.
+        fractal: u32,
+        /// Worley: 0 Euclidean, 1 Manhattan, 2 Chebyshev.
+        metric: u32,
+        /// Worley: the fixed count of points per cell, or 0 for a Poisson count.
+        fixed_count: u32,
+        /// Worley: `n − 1` for the largest `n` with `C_n ≠ 0`.
+        needed: u32,
+        // Padding: `amplitude` starts the next 16-byte row in the WGSL struct.
+        _pad0: u32,
+        _pad1: u32,
+        amplitude: f32,
+        mean: f32,
+        ridge_offset: f32,
+        weight_gain: f32,
+        /// Worley: `C₁..C₄` (a `vec4<f32>`).
+        coefficients: [f32; 4],
+        /// Worley: the largest distance kept (squared for the Euclidean metric).
+        cap: f32,
+        // Padding: `cdf` is an array of `vec4<f32>`, aligned to 16 bytes.
+        _pad2: u32,
+        _pad3: u32,
+        _pad4: u32,
+        /// Worley: the Poisson CDF `P(N ≤ k)`, `k = 0..15`, as four `vec4<f32>`.
+        cdf: [[f32; 4]; 4],
+    }
+}
+
+wgsl_struct! {
+    /// `ClassicOctave` of `classic.wgsl`.
+    pub(crate) struct ClassicOctave {
+        /// `gain^o`.
+        weight: f32,
+        /// The plane `z`: its cell and offset (lattice bases and Worley, 3D).
+        z_cell: i32,
+        z_offset: f32,
+        /// `layer_key(o, seed)`, for 2D hashes.
+        key2: u32,
+        /// The plane `z`'s parts of the skewed coordinates (simplex, 3D; zero in 2D): `pz·F`
+        /// and `pz·(1 + F)`, each as cell + fraction.
+        z_other_cell: i32,
+        z_other_frac: f32,
+        z_own_cell: i32,
+        z_own_frac: f32,
+        /// `1/c_o` (f32 of the f64 value), for warping.
+        inv_cell: f32,
+    }
+}
+
+wgsl_struct! {
+    /// `ClassicAxis` of `classic.wgsl`: per octave, `p = x / c_o` split as the CPU splits it,
+    /// and the skew parts `p·(1 + F)` (own) and `p·F` (other), each split into an integer and an
+    /// f32 fraction in f64.
+    pub(crate) struct ClassicAxis {
+        cell: i32,
+        offset: f32,
+        own_cell: i32,
+        own_frac: f32,
+        other_cell: i32,
+        other_frac: f32,
+    }
+}
+
+/// A classic noise on the device: its uniform (tile size set per tile) and what the host needs
+/// per tile.
 #[derive(Debug, Clone)]
-pub(crate) struct ClassicPack {
-    /// The words of `ClassicParams`; words 0 and 1 (width, height) are set per tile.
-    pub params: [u32; PARAM_WORDS],
-    /// `ClassicOctave` records.
-    pub octaves: Vec<u32>,
+pub(crate) struct ClassicKernel {
+    params: ClassicParams,
     /// Cell side of each octave, pixels (f64, as the CPU divides by it).
     sides: Vec<f64>,
     /// The simplex skew factor `F` of the model's dimension.
@@ -31,118 +102,107 @@ pub(crate) struct ClassicPack {
 /// `(⌊p⌋ as i32, f32(p − ⌊p⌋))`, the CPU's split (`spectex_cpu::classic`'s `locate`): exact in
 /// f64, rounded to f32 once. `|p| ≤ 2³¹` for every validated model and window, so the cell fits;
 /// it wraps as the CPU's does beyond.
-fn split(p: f64) -> (u32, u32) {
+fn split(p: f64) -> (i32, f32) {
     let cell = p.floor();
-    (cell as i64 as i32 as u32, ((p - cell) as f32).to_bits())
+    (cell as i64 as i32, (p - cell) as f32)
 }
 
-/// Words per octave of the octave table (`ClassicOctave` in `shaders/classic.wgsl`).
-const OCTAVE_WORDS: usize = 9;
-
-impl ClassicPack {
-    /// Packs a validated model for the plane `z` (ignored in 2D).
-    pub(crate) fn new(model: &ClassicNoise, z: f64) -> Self {
-        let three_d = model.dimensions == 3;
-        let skew = if three_d { SIMPLEX_F3 } else { SIMPLEX_F2 };
-        let mut octaves = Vec::with_capacity(OCTAVE_WORDS * model.octaves() as usize);
-        let mut sides = Vec::with_capacity(model.octaves() as usize);
-        for o in 0..model.octaves() {
-            let side = model.octave_cell(o);
-            sides.push(side);
-            let (z_cell, z_offset, z_other, z_own) = if three_d {
-                let pz = z / side;
-                let (cell, offset) = split(pz);
-                let other = pz * skew;
-                (cell, offset, split(other), split(pz + other))
-            } else {
-                (0, 0, (0, 0), (0, 0))
-            };
-            octaves.extend([
-                model.octave_weight(o).to_bits(),
-                z_cell,
-                z_offset,
-                layer_key(o, model.seed),
-                z_other.0,
-                z_other.1,
-                z_own.0,
-                z_own.1,
-                ((1.0 / side) as f32).to_bits(),
-            ]);
-        }
-        let mut params = [0u32; PARAM_WORDS];
-        params[2] = model.seed;
-        params[3] = model.octaves();
-        params[4] = match model.basis {
+/// Packs a validated model for the plane `z` (ignored in 2D): the kernel and the octave table.
+fn pack(model: &ClassicNoise, z: f64) -> (ClassicKernel, Vec<ClassicOctave>) {
+    let three_d = model.dimensions == 3;
+    let skew = if three_d { SIMPLEX_F3 } else { SIMPLEX_F2 };
+    let mut octaves = Vec::with_capacity(model.octaves() as usize);
+    let mut sides = Vec::with_capacity(model.octaves() as usize);
+    for o in 0..model.octaves() {
+        let side = model.octave_cell(o);
+        sides.push(side);
+        let (z_cell, z_offset, z_other, z_own) = if three_d {
+            let pz = z / side;
+            let (cell, offset) = split(pz);
+            let other = pz * skew;
+            (cell, offset, split(other), split(pz + other))
+        } else {
+            (0, 0.0, (0, 0.0), (0, 0.0))
+        };
+        octaves.push(ClassicOctave {
+            weight: model.octave_weight(o),
+            z_cell,
+            z_offset,
+            key2: layer_key(o, model.seed),
+            z_other_cell: z_other.0,
+            z_other_frac: z_other.1,
+            z_own_cell: z_own.0,
+            z_own_frac: z_own.1,
+            inv_cell: (1.0 / side) as f32,
+        });
+    }
+    let kind = model.fractal.as_ref().map(|f| f.kind);
+    let mut params = ClassicParams {
+        seed: model.seed,
+        octaves: model.octaves(),
+        basis: match model.basis {
             Basis::Gradient => 0,
             Basis::Simplex => 1,
             Basis::Value => 2,
             Basis::Worley(_) => 3,
-        };
-        params[5] = u32::from(three_d);
-        let kind = model.fractal.as_ref().map(|f| f.kind);
-        params[6] = match kind {
+        },
+        three_d: u32::from(three_d),
+        fractal: match kind {
             None | Some(FractalKind::Fbm) => 0,
             Some(FractalKind::Turbulence) => 1,
             Some(FractalKind::Ridged { .. }) => 2,
+        },
+        amplitude: model.amplitude,
+        mean: model.mean,
+        ..bytemuck::Zeroable::zeroed()
+    };
+    if let Some(FractalKind::Ridged {
+        offset,
+        weight_gain,
+    }) = kind
+    {
+        params.ridge_offset = offset;
+        params.weight_gain = weight_gain;
+    }
+    if let Basis::Worley(w) = &model.basis {
+        params.metric = match w.metric {
+            Metric::Euclidean => 0,
+            Metric::Manhattan => 1,
+            Metric::Chebyshev => 2,
         };
-        if let Some(FractalKind::Ridged {
-            offset,
-            weight_gain,
-        }) = kind
-        {
-            params[14] = offset.to_bits();
-            params[15] = weight_gain.to_bits();
-        }
-        params[12] = model.amplitude.to_bits();
-        params[13] = model.mean.to_bits();
-        if let Basis::Worley(w) = &model.basis {
-            params[7] = match w.metric {
-                Metric::Euclidean => 0,
-                Metric::Manhattan => 1,
-                Metric::Chebyshev => 2,
-            };
-            params[8] = match w.points {
-                FeaturePoints::Fixed(n) => n,
-                FeaturePoints::Poisson(_) => 0,
-            };
-            params[9] = (w.needed() - 1) as u32;
-            for (k, c) in w.coefficients.iter().enumerate() {
-                params[16 + k] = c.to_bits();
-            }
-            // The CPU's cap: WORLEY_MAX_RING + 1 cells, squared for the Euclidean metric.
-            let cap = (WORLEY_MAX_RING + 1) as f32;
-            let cap = if w.metric == Metric::Euclidean {
-                cap * cap
-            } else {
-                cap
-            };
-            params[20] = cap.to_bits();
-            let cdf = w
-                .points
-                .poisson_cdf()
-                .unwrap_or([0.0; WORLEY_MAX_POINTS as usize]);
-            for (k, p) in cdf.iter().enumerate() {
-                params[24 + k] = p.to_bits();
-            }
-        }
-        Self {
+        params.fixed_count = match w.points {
+            FeaturePoints::Fixed(n) => n,
+            FeaturePoints::Poisson(_) => 0,
+        };
+        params.needed = (w.needed() - 1) as u32;
+        params.coefficients = w.coefficients;
+        // The CPU's cap: WORLEY_MAX_RING + 1 cells, squared for the Euclidean metric.
+        let cap = (WORLEY_MAX_RING + 1) as f32;
+        params.cap = if w.metric == Metric::Euclidean {
+            cap * cap
+        } else {
+            cap
+        };
+        let cdf = w
+            .points
+            .poisson_cdf()
+            .unwrap_or([0.0; WORLEY_MAX_POINTS as usize]);
+        params.cdf = bytemuck::cast(cdf);
+    }
+    (
+        ClassicKernel {
             params,
-            octaves,
             sides,
             skew,
-        }
-    }
+        },
+        octaves,
+    )
+}
 
-    /// Octaves of the model.
-    pub(crate) fn octave_count(&self) -> usize {
-        self.sides.len()
-    }
-
-    /// `ClassicAxis` records for `count` positions `position(i)`, octave-major: `p = x / c_o`
-    /// split as the CPU splits it, and the skew parts `p·(1 + F)` and `p·F`, each split into an
-    /// integer and an f32 fraction in f64.
-    pub(crate) fn axis(&self, count: usize, position: impl Fn(usize) -> f64) -> Vec<u32> {
-        let mut words = Vec::with_capacity(6 * count * self.sides.len());
+impl ClassicKernel {
+    /// [`ClassicAxis`] records for `count` positions `position(i)`, octave-major.
+    fn axis(&self, count: usize, position: impl Fn(usize) -> f64) -> Vec<ClassicAxis> {
+        let mut records = Vec::with_capacity(count * self.sides.len());
         for &side in &self.sides {
             for i in 0..count {
                 let p = position(i) / side;
@@ -150,16 +210,60 @@ impl ClassicPack {
                 let other = p * self.skew;
                 let (own_cell, own_frac) = split(p + other);
                 let (other_cell, other_frac) = split(other);
-                words.extend([cell, offset, own_cell, own_frac, other_cell, other_frac]);
+                records.push(ClassicAxis {
+                    cell,
+                    offset,
+                    own_cell,
+                    own_frac,
+                    other_cell,
+                    other_frac,
+                });
             }
         }
-        words
+        records
+    }
+}
+
+impl GpuKind for ClassicNoise {
+    fn gpu_kernel(&self, context: &GpuContext, z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
+        let (kernel, octaves) = pack(self, z);
+        Shaded::boxed(context, kernel, &[Table::new("classic octaves", &octaves)])
+    }
+}
+
+impl ShaderKernel for ClassicKernel {
+    const SHADER: &'static str = "classic";
+    const ENTRY_POINT: &'static str = "classic_main";
+
+    fn axis_bytes(&self) -> u64 {
+        (size_of::<ClassicAxis>() * self.sides.len()) as u64
+    }
+
+    fn tile_tables(
+        &self,
+        tile: &GpuWindow,
+        _displacement: Option<&[f32]>,
+        _limit: u64,
+    ) -> Result<TileTables, GpuError> {
+        let params = ClassicParams {
+            width: tile.width as u32,
+            height: tile.height as u32,
+            ..self.params
+        };
+        Ok(TileTables::new(
+            &params,
+            vec![
+                Table::new("classic columns", &self.axis(tile.width, columns(tile))),
+                Table::new("classic rows", &self.axis(tile.height, rows(tile))),
+            ],
+        ))
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::layout::check::assert_matches_wgsl;
     use spectex_model::classic::{Fractal, Worley};
 
     fn model(basis: Basis, dimensions: u32) -> ClassicNoise {
@@ -182,22 +286,29 @@ mod tests {
         }
     }
 
+    #[test]
+    fn records_match_the_wgsl() {
+        assert_matches_wgsl::<ClassicParams>("classic", "ClassicParams");
+        assert_matches_wgsl::<ClassicOctave>("classic", "ClassicOctave");
+        assert_matches_wgsl::<ClassicAxis>("classic", "ClassicAxis");
+    }
+
     /// The skewed coordinate `X = p_x + (p_x + p_y)·F` rebuilt from the column's own part and the
     /// row's other part (integers plus fractions) is the f64 value within f32 rounding, far away.
     #[test]
     fn skew_parts_add_up_to_the_skewed_coordinate() {
-        let pack = ClassicPack::new(&model(Basis::Simplex, 2), 0.0);
+        let (kernel, _) = pack(&model(Basis::Simplex, 2), 0.0);
         let (x, y) = (1.0e7 + 0.3, -3.0e6 + 0.7);
-        let cols = pack.axis(1, |_| x);
-        let rows = pack.axis(1, |_| y);
+        let col = kernel.axis(1, |_| x)[0];
+        let row = kernel.axis(1, |_| y)[0];
         let (px, py) = (x / 16.0, y / 16.0);
         let want = px + (px + py) * SIMPLEX_F2;
-        let int = f64::from(cols[2] as i32) + f64::from(rows[4] as i32);
-        let frac = f64::from(f32::from_bits(cols[3])) + f64::from(f32::from_bits(rows[5]));
+        let int = f64::from(col.own_cell) + f64::from(row.other_cell);
+        let frac = f64::from(col.own_frac) + f64::from(row.other_frac);
         assert!((int + frac - want).abs() < 2e-7, "{} vs {want}", int + frac);
         // The lattice split is the exact floor and the rounded remainder.
-        assert_eq!(cols[0] as i32, px.floor() as i32);
-        assert_eq!(f32::from_bits(cols[1]), (px - px.floor()) as f32);
+        assert_eq!(col.cell, px.floor() as i32);
+        assert_eq!(col.offset, (px - px.floor()) as f32);
     }
 
     #[test]
@@ -207,23 +318,26 @@ mod tests {
             coefficients: [-1.0, 1.0, 0.0, 0.0],
             points: FeaturePoints::Poisson(2.0),
         };
-        let pack = ClassicPack::new(&model(Basis::Worley(w), 3), 40.0);
-        assert_eq!(pack.params[3], 3);
-        assert_eq!(pack.params[4], 3);
-        assert_eq!(pack.params[6], 2);
-        assert_eq!(pack.params[9], 1);
-        assert_eq!(f32::from_bits(pack.params[20]), 49.0);
-        assert_eq!(pack.octaves.len(), 3 * OCTAVE_WORDS);
+        let (kernel, octaves) = pack(&model(Basis::Worley(w), 3), 40.0);
+        let p = kernel.params;
+        assert_eq!((p.octaves, p.basis, p.fractal, p.needed), (3, 3, 2, 1));
+        assert_eq!(p.cap, 49.0);
+        let cdf = FeaturePoints::Poisson(2.0)
+            .poisson_cdf()
+            .unwrap_or_default();
+        assert_eq!(bytemuck::cast::<_, [f32; 16]>(p.cdf), cdf);
+        assert_eq!(octaves.len(), 3);
         // Octave 1: side 8, z = 40 is cell 5, offset 0, weight ½.
-        let o = OCTAVE_WORDS;
-        assert_eq!(f32::from_bits(pack.octaves[o]), 0.5);
-        assert_eq!(pack.octaves[o + 1], 5);
-        assert_eq!(f32::from_bits(pack.octaves[o + 2]), 0.0);
-        assert_eq!(pack.octaves[o + 3], layer_key(1, 9));
+        let o = octaves[1];
+        assert_eq!((o.weight, o.z_cell, o.z_offset), (0.5, 5, 0.0));
+        assert_eq!(o.key2, layer_key(1, 9));
         // z·F3 = 5/3 and z·(1 + F3) = 20/3 in cells of octave 1.
-        assert_eq!(pack.octaves[o + 4], 1);
-        assert_eq!(pack.octaves[o + 6], 6);
+        assert_eq!((o.z_other_cell, o.z_own_cell), (1, 6));
         // 1/8 cell per pixel, for warping.
-        assert_eq!(f32::from_bits(pack.octaves[o + 8]), 0.125);
+        assert_eq!(o.inv_cell, 0.125);
+        // The bytes the device receives: the CDF starts at word 24, the octave's cell at word 1.
+        let words: &[u32] = bytemuck::cast_slice(std::slice::from_ref(&p));
+        assert_eq!(words[24..40], cdf.map(f32::to_bits));
+        assert_eq!(bytemuck::cast_slice::<_, u32>(&octaves)[9 + 1], 5);
     }
 }

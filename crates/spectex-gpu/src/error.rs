@@ -45,11 +45,13 @@ pub enum GpuError {
     /// The model failed validation.
     #[error(transparent)]
     Model(#[from] ModelError),
-    /// The model is of a kind this build of the GPU evaluator does not evaluate.
-    #[error("the GPU evaluator does not support {kind} models")]
+    /// The model uses a feature of its kind that the GPU evaluator does not evaluate.
+    #[error("the GPU evaluator does not support {feature} in {kind} models")]
     Unsupported {
-        /// The model kind.
-        kind: String,
+        /// The model kind ([`Model::kind`](spectex_model::Model::kind)).
+        kind: &'static str,
+        /// What it lacks, e.g. `profiles with nested blends`.
+        feature: String,
     },
     /// A window parameter is out of range.
     #[error("window {parameter} = {value} is outside its valid range {range}")]

@@ -24,6 +24,13 @@
 //!   ridged, 2D or a plane `z` of 3D): `shaders/classic.wgsl`, per pixel, with per-column,
 //!   per-row and per-octave cells and offsets from the host (for simplex, the per-axis parts of
 //!   the skewed coordinates as integer + f32 fraction).
+//! * Kinds: each model kind is one module implementing the crate's `GpuKind` trait (its kernel:
+//!   a shader kind's WGSL name, tables packed once, uniform and tables per tile, bytes per tile
+//!   column and pixel for tiling; a warp drives three sub-evaluators instead), and
+//!   [`GpuEvaluator::new_at_z`] is the one dispatch over kinds. Pipeline layouts are derived
+//!   from the shaders (`layout: None`), and every record the device reads is a `#[repr(C)]`
+//!   `bytemuck::Pod` struct whose field offsets a test holds against naga's layout of its WGSL
+//!   twin. A new kind adds its module, its `shaders/<kind>.wgsl` and one [`SHADERS`] entry.
 //!
 //! Adapter choice: `WGPU_ADAPTER_NAME` (a substring of the adapter's name, e.g. `llvmpipe`), else
 //! wgpu's high-performance default. Without a GPU, lavapipe (`apt-get install mesa-vulkan-drivers
@@ -60,14 +67,26 @@
 //! # Ok::<(), spectex_gpu::GpuError>(())
 //! ```
 
-mod classic;
+// Infrastructure: the device, the public evaluator, the kernel traits, the shared pipeline
+// code, the records' layout check and the shader registry.
+mod axis;
 mod context;
 mod error;
 mod evaluator;
-mod pack;
-mod phasor;
+mod kernel;
+mod layout;
+mod pipeline;
 pub mod shaders;
+
+// One module per model kind: its records, packing and `GpuKind` implementation.
+mod classic;
+mod gabor;
+mod lrp;
+mod phasor;
+mod texton;
 mod texture;
+mod warp;
+mod wavelet;
 
 pub use context::{ADAPTER_NAME_ENV, GpuContext};
 pub use error::{GpuError, LAVAPIPE_HINT};

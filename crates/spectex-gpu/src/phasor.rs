@@ -1,20 +1,67 @@
-//! Host side of `shaders/phasor.wgsl`: the model's profile flattened into parameters and a data
-//! table, and per tile the box of kernel cells its pixels reach (drawn by
+//! Phasor noise on the device (`shaders/phasor.wgsl`): the model's profile flattened into
+//! parameters and a data table, and per tile the box of kernel cells its pixels reach (drawn by
 //! `spectex_model::phasor_kernels`, the code the CPU evaluator uses) and, where the profile's
 //! fields vary in space, each pixel's duty cycles and blend weight (f64, as the CPU computes them).
 
 use spectex_model::grid::locate_cell;
 use spectex_model::phasor_kernels::{Impulse, PhasorKernels};
-use spectex_model::{Field, PhasorNoise, PhasorOutput, Profile};
+use spectex_model::{Field, ModelKind, PhasorNoise, PhasorOutput, Profile};
 
-use crate::GpuError;
-use crate::GpuWindow;
-use crate::pack::{columns, gabor_axis, rows};
+use crate::axis::{CellAxis, cell_axis, columns, rows};
+use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
+use crate::layout::wgsl_struct;
+use crate::pipeline::Shaded;
+use crate::{GpuContext, GpuError, GpuWindow};
 
-/// Words of `PhasorParams`.
-pub(crate) const PARAM_WORDS: usize = 28;
-/// Bytes of one impulse record (two `vec4<f32>`).
-pub(crate) const IMPULSE_BYTES: u64 = 32;
+wgsl_struct! {
+    /// `PhasorParams` of `phasor.wgsl`; the tile size, cell box and plane are set per tile.
+    pub(crate) struct PhasorParams {
+        width: u32,
+        height: u32,
+        /// 1 for a 3D model (cells `k − 1, k, k + 1`), else 0.
+        three_d: u32,
+        /// 0 profiled, 1 phase, 2 intensity, 3 Gabor (`Im 𝒢`).
+        output_kind: u32,
+        /// The cell box: first column and row, columns, rows.
+        box_i0: i32,
+        box_j0: i32,
+        box_cols: u32,
+        box_rows: u32,
+        /// The plane's cell layer and offset (3D), and whether it is in range.
+        z_cell: i32,
+        z_offset: f32,
+        z_valid: u32,
+        /// 1 when per-pixel profile parameters are bound (else the constants below are used).
+        per_pixel: u32,
+        mean: f32,
+        amplitude: f32,
+        /// Profile leaves A and B: kind (0 sine, 1 square, 2 triangle, 3 sawtooth, 4 samples,
+        /// 5 harmonics), start and length in the profile data.
+        a_kind: u32,
+        a_start: u32,
+        a_len: u32,
+        b_kind: u32,
+        b_start: u32,
+        b_len: u32,
+        /// 1 when the profile is a blend `(1 − s)·A + s·B`.
+        blend: u32,
+        duty_a: f32,
+        duty_b: f32,
+        weight: f32,
+        /// `1/side` of the kernel cells, for warping.
+        inv_side: f32,
+        // Padding, as the WGSL struct has it (the struct is 26 words; naga lays it out so).
+        _pad1: u32,
+    }
+}
+
+wgsl_struct! {
+    /// `PhasorImpulse` of `phasor.wgsl`: `(o, ψ)` and `(f, sharp)` of [`Impulse`].
+    pub(crate) struct PhasorImpulse {
+        o_psi: [f32; 4],
+        f: [f32; 4],
+    }
+}
 
 /// One leaf of a profile as the shader reads it.
 #[derive(Debug, Clone)]
@@ -28,22 +75,21 @@ struct Leaf {
 
 /// A phasor model ready to render tile by tile.
 #[derive(Debug, Clone)]
-pub(crate) struct PhasorPack {
+pub(crate) struct PhasorKernel {
     kernels: PhasorKernels,
     /// The plane of a 3D model.
     z: f64,
-    params: [u32; PARAM_WORDS],
-    /// Sampled-profile values and harmonic triples, f32 bits.
-    pub profile_data: Vec<u32>,
+    /// The uniform's model part (the tile's fields are set per tile).
+    params: PhasorParams,
     duty_a: Option<Field>,
     duty_b: Option<Field>,
     weight: Option<Field>,
     per_pixel: bool,
     /// Mean impulses per cell, for sizing tiles.
-    pub lambda: f64,
+    lambda: f64,
 }
 
-fn leaf(profile: &Profile, data: &mut Vec<u32>) -> Result<Leaf, GpuError> {
+fn leaf(profile: &Profile, data: &mut Vec<f32>) -> Result<Leaf, GpuError> {
     let start = data.len() as u32;
     let (kind, len, duty) = match profile {
         Profile::Sine => (0, 0, None),
@@ -51,20 +97,21 @@ fn leaf(profile: &Profile, data: &mut Vec<u32>) -> Result<Leaf, GpuError> {
         Profile::Triangle => (2, 0, None),
         Profile::Sawtooth => (3, 0, None),
         Profile::Samples { values } => {
-            data.extend(values.iter().map(|v| v.to_bits()));
+            data.extend(values);
             (4, values.len() as u32, None)
         }
         Profile::Harmonics { terms } => {
             for h in terms {
                 // The CPU's `h.k as f32` and `(phase / 2π) as f32`.
                 let shift = (f64::from(h.phase) / std::f64::consts::TAU) as f32;
-                data.extend([(h.k as f32).to_bits(), h.weight.to_bits(), shift.to_bits()]);
+                data.extend([h.k as f32, h.weight, shift]);
             }
             (5, terms.len() as u32, None)
         }
         Profile::Blend { .. } => {
             return Err(GpuError::Unsupported {
-                kind: "phasor profiles with nested blends (one blend of two profiles is supported)"
+                kind: PhasorNoise::NAME,
+                feature: "profiles with nested blends (one blend of two profiles is supported)"
                     .into(),
             });
         }
@@ -82,8 +129,8 @@ fn unit_at(field: Option<&Field>, p: [f64; 3]) -> f32 {
     field.map_or(0.0, |f| f.at(p[0], p[1], p[2]).clamp(0.0, 1.0) as f32)
 }
 
-/// Packs a validated phasor model for the plane `z`.
-pub(crate) fn pack_phasor(model: &PhasorNoise, z: f64) -> Result<PhasorPack, GpuError> {
+/// Packs a validated phasor model for the plane `z`: the kernel and the profile data.
+fn pack(model: &PhasorNoise, z: f64) -> Result<(PhasorKernel, Vec<f32>), GpuError> {
     let mut data = Vec::new();
     let (a, b, weight) = match &model.profile {
         Profile::Blend { a, b, weight } => (
@@ -101,84 +148,119 @@ pub(crate) fn pack_phasor(model: &PhasorNoise, z: f64) -> Result<PhasorPack, Gpu
     let per_pixel = !(constant(&a.duty) && constant(&duty_b) && constant(&weight));
     let origin = [0.0; 3];
     let kernels = PhasorKernels::new(model);
-    let mut params = [0u32; PARAM_WORDS];
-    params[2] = u32::from(kernels.three_d());
-    params[3] = match model.output {
-        PhasorOutput::Profiled => 0,
-        PhasorOutput::Phase => 1,
-        PhasorOutput::Intensity => 2,
-        PhasorOutput::Gabor => 3,
+    let mut params = PhasorParams {
+        three_d: u32::from(kernels.three_d()),
+        output_kind: match model.output {
+            PhasorOutput::Profiled => 0,
+            PhasorOutput::Phase => 1,
+            PhasorOutput::Intensity => 2,
+            PhasorOutput::Gabor => 3,
+        },
+        per_pixel: u32::from(per_pixel),
+        mean: model.mean,
+        amplitude: model.amplitude,
+        a_kind: a.kind,
+        a_start: a.start,
+        a_len: a.len,
+        duty_a: unit_at(a.duty.as_ref(), origin),
+        duty_b: unit_at(duty_b.as_ref(), origin),
+        weight: unit_at(weight.as_ref(), origin),
+        inv_side: (1.0 / kernels.side()) as f32,
+        ..bytemuck::Zeroable::zeroed()
     };
-    params[11] = u32::from(per_pixel);
-    params[12] = model.mean.to_bits();
-    params[13] = model.amplitude.to_bits();
-    params[14..17].copy_from_slice(&[a.kind, a.start, a.len]);
     if let Some(b) = &b {
-        params[17..20].copy_from_slice(&[b.kind, b.start, b.len]);
-        params[20] = 1;
+        (params.b_kind, params.b_start, params.b_len) = (b.kind, b.start, b.len);
+        params.blend = 1;
     }
-    params[21] = unit_at(a.duty.as_ref(), origin).to_bits();
-    params[22] = unit_at(duty_b.as_ref(), origin).to_bits();
-    params[23] = unit_at(weight.as_ref(), origin).to_bits();
-    params[24] = ((1.0 / kernels.side()) as f32).to_bits();
-    if data.is_empty() {
-        data.push(0);
-    }
-    Ok(PhasorPack {
+    let kernel = PhasorKernel {
         z: if kernels.three_d() { z } else { 0.0 },
         kernels,
         params,
-        profile_data: data,
         duty_a: a.duty,
         duty_b,
         weight,
         per_pixel,
         lambda: model.impulses_per_cell(),
-    })
+    };
+    Ok((kernel, data))
 }
 
-/// The buffers of one tile.
-pub(crate) struct PhasorTile {
-    pub params: Vec<u32>,
-    pub cells: Vec<u32>,
-    pub impulses: Vec<u32>,
-    pub pixel_params: Vec<u32>,
-    pub columns: Vec<u32>,
-    pub rows: Vec<u32>,
+impl GpuKind for PhasorNoise {
+    fn gpu_kernel(&self, context: &GpuContext, z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
+        let (kernel, profile_data) = pack(self, z)?;
+        Shaded::boxed(
+            context,
+            kernel,
+            &[Table::new("phasor profile", &profile_data)],
+        )
+    }
 }
 
-impl PhasorPack {
+impl PhasorKernel {
     /// Cell side of the kernel grid, pixels.
-    pub fn side(&self) -> f64 {
+    fn side(&self) -> f64 {
         self.kernels.side()
     }
 
     /// Cells in the box of a `width × height` tile at `scale` (for sizing tiles).
-    pub fn box_cells(&self, width: usize, height: usize, scale: f64) -> f64 {
+    fn box_cells(&self, width: usize, height: usize, scale: f64) -> f64 {
         let along = |n: usize| n as f64 * scale / self.side() + 4.0;
         along(width) * along(height) * if self.kernels.three_d() { 3.0 } else { 1.0 }
     }
+}
 
-    /// Draws the tile's cell box and builds its tables; `limit` bounds one storage buffer.
-    /// With a per-pixel `displacement` (pixels, `(dx, dy)` interleaved, row-major), the box
+impl ShaderKernel for PhasorKernel {
+    const SHADER: &'static str = "phasor";
+    const ENTRY_POINT: &'static str = "phasor_main";
+
+    fn axis_bytes(&self) -> u64 {
+        size_of::<CellAxis>() as u64
+    }
+
+    /// The output or the displacement (2 values) and the per-pixel profile parameters
+    /// (3 values, where the profile's fields vary).
+    fn pixel_bytes(&self) -> u64 {
+        16
+    }
+
+    /// The tile's box of kernel cells must fit one buffer, with room for a Poisson count well
+    /// above its mean (`1.5λ + 4` impulses per cell).
+    fn fit_tile(
+        &self,
+        window: &GpuWindow,
+        [mut width, mut height]: [usize; 2],
+        limit: u64,
+    ) -> Result<[usize; 2], GpuError> {
+        let per_cell = (1.5 * self.lambda + 4.0) * size_of::<PhasorImpulse>() as f64;
+        while width > 1 || height > 1 {
+            if self.box_cells(width, height, window.scale) * per_cell <= limit as f64 / 2.0 {
+                break;
+            }
+            width = width.div_ceil(2);
+            height = height.div_ceil(2);
+        }
+        Ok([width, height])
+    }
+
+    /// Draws the tile's cell box and builds its tables. With a per-pixel `displacement`, the box
     /// covers every displaced pixel's cells (one more cell on each side than the f64 cells, for
     /// the shader's f32 relocation) and the profile parameters are read at the displaced
     /// positions, as the CPU reads them.
-    pub fn tile(
+    fn tile_tables(
         &self,
         tile: &GpuWindow,
-        limit: u64,
         displacement: Option<&[f32]>,
-    ) -> Result<PhasorTile, GpuError> {
+        limit: u64,
+    ) -> Result<TileTables, GpuError> {
         let side = self.side();
         let (width, height) = (tile.width, tile.height);
-        let columns = gabor_axis(side, width, columns(tile));
-        let rows = gabor_axis(side, height, rows(tile));
-        let range = |words: &[u32]| {
-            words
-                .chunks_exact(3)
-                .filter(|w| w[2] == 1)
-                .map(|w| w[0] as i32)
+        let columns = cell_axis(side, width, columns(tile));
+        let rows = cell_axis(side, height, rows(tile));
+        let range = |records: &[CellAxis]| {
+            records
+                .iter()
+                .filter(|r| r.valid == 1)
+                .map(|r| r.cell)
                 .fold(None, |acc: Option<(i32, i32)>, c| {
                     Some(acc.map_or((c, c), |(lo, hi)| (lo.min(c), hi.max(c))))
                 })
@@ -219,21 +301,21 @@ impl PhasorPack {
         } else {
             (0, 0.0, 1)
         };
-        let mut params = self.params;
-        params[0] = width as u32;
-        params[1] = height as u32;
-        params[8] = z_cell as u32;
-        params[9] = z_offset.to_bits();
-        params[10] = z_valid;
-        let mut cells = Vec::new();
-        let mut impulses = Vec::new();
+        let mut params = PhasorParams {
+            width: width as u32,
+            height: height as u32,
+            z_cell,
+            z_offset,
+            z_valid,
+            ..self.params
+        };
+        let mut cells: Vec<[u32; 2]> = Vec::new();
+        let mut impulses: Vec<PhasorImpulse> = Vec::new();
         if let (Some((i_lo, i_hi)), Some((j_lo, j_hi))) = (x_range, y_range) {
             let (i0, j0) = (i_lo - 1, j_lo - 1);
             let (cols, rows_n) = ((i_hi + 1 - i0 + 1) as u32, (j_hi + 1 - j0 + 1) as u32);
-            params[4] = i0 as u32;
-            params[5] = j0 as u32;
-            params[6] = cols;
-            params[7] = rows_n;
+            (params.box_i0, params.box_j0) = (i0, j0);
+            (params.box_cols, params.box_rows) = (cols, rows_n);
             let layers: &[i32] = if self.kernels.three_d() {
                 &[-1, 0, 1]
             } else {
@@ -241,7 +323,10 @@ impl PhasorPack {
             };
             // A strongly warped tile may reach far more cells than its own box: refuse before
             // drawing them rather than after.
-            let box_bytes = 8 * u64::from(cols) * u64::from(rows_n) * layers.len() as u64;
+            let box_bytes = size_of::<[u32; 2]>() as u64
+                * u64::from(cols)
+                * u64::from(rows_n)
+                * layers.len() as u64;
             if box_bytes > limit {
                 return Err(GpuError::LimitsExceeded {
                     what: "bytes of a tile's phasor cell table (a smaller tile, scale or warp \
@@ -255,27 +340,24 @@ impl PhasorPack {
                 for j in j0..j0 + rows_n as i32 {
                     for i in i0..i0 + cols as i32 {
                         self.kernels.draw_cell([i, j, z_cell + sz], &mut drawn);
-                        cells.extend([(impulses.len() / 8) as u32, drawn.len() as u32]);
-                        for imp in &drawn {
-                            impulses.extend(
-                                [imp.o[0], imp.o[1], imp.o[2], imp.psi]
-                                    .iter()
-                                    .chain(&[imp.f[0], imp.f[1], imp.f[2], imp.sharp])
-                                    .map(|v| v.to_bits()),
-                            );
-                        }
+                        cells.push([impulses.len() as u32, drawn.len() as u32]);
+                        impulses.extend(drawn.iter().map(|imp| PhasorImpulse {
+                            o_psi: [imp.o[0], imp.o[1], imp.o[2], imp.psi],
+                            f: [imp.f[0], imp.f[1], imp.f[2], imp.sharp],
+                        }));
                     }
                 }
-                if 4 * impulses.len() as u64 > limit {
+                let bytes = size_of_val(impulses.as_slice()) as u64;
+                if bytes > limit {
                     return Err(GpuError::LimitsExceeded {
                         what: "bytes of a tile's phasor impulses (use a smaller tile or scale)",
-                        value: 4 * impulses.len() as u64,
+                        value: bytes,
                         limit,
                     });
                 }
             }
         }
-        let mut pixel_params = Vec::new();
+        let mut pixel_params: Vec<f32> = Vec::new();
         if self.per_pixel {
             pixel_params.reserve(3 * width * height);
             for j in 0..height {
@@ -283,20 +365,55 @@ impl PhasorPack {
                     let [x, y] = displaced(i, j);
                     let p = [x, y, self.z];
                     pixel_params.extend([
-                        unit_at(self.duty_a.as_ref(), p).to_bits(),
-                        unit_at(self.duty_b.as_ref(), p).to_bits(),
-                        unit_at(self.weight.as_ref(), p).to_bits(),
+                        unit_at(self.duty_a.as_ref(), p),
+                        unit_at(self.duty_b.as_ref(), p),
+                        unit_at(self.weight.as_ref(), p),
                     ]);
                 }
             }
         }
-        Ok(PhasorTile {
-            params: params.to_vec(),
-            cells,
-            impulses,
-            pixel_params,
-            columns,
-            rows,
-        })
+        Ok(TileTables::new(
+            &params,
+            vec![
+                Table::new("phasor cells", &cells),
+                Table::new("phasor impulses", &impulses),
+                Table::new("phasor pixel params", &pixel_params),
+                Table::new("phasor columns", &columns),
+                Table::new("phasor rows", &rows),
+            ],
+        ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::layout::check::assert_matches_wgsl;
+
+    #[test]
+    fn records_match_the_wgsl() {
+        assert_matches_wgsl::<PhasorParams>("phasor", "PhasorParams");
+        assert_matches_wgsl::<PhasorImpulse>("phasor", "PhasorImpulse");
+    }
+
+    /// A nested blend is refused before any device work, naming the kind as model files do.
+    #[test]
+    fn nested_blends_are_unsupported_in_phasor_models() {
+        let mut model =
+            spectex_model::fixtures::phasor_pwm(2, spectex_model::PhasorOrientation::Isotropic);
+        let blend = |a: Profile| Profile::Blend {
+            a: Box::new(a),
+            b: Box::new(Profile::Sine),
+            weight: Field::constant(0.5),
+        };
+        model.profile = blend(blend(Profile::Sine));
+        match pack(&model, 0.0) {
+            Err(e @ GpuError::Unsupported { kind: "phasor", .. }) => assert_eq!(
+                e.to_string(),
+                "the GPU evaluator does not support profiles with nested blends (one blend of \
+                 two profiles is supported) in phasor models"
+            ),
+            other => panic!("expected Unsupported for a phasor model, got {other:?}"),
+        }
     }
 }

@@ -1,7 +1,7 @@
 //! The shader registry: every WGSL file of `shaders/`, embedded with `include_str!`, and how a
 //! module is composed at load time (the common module prepended to each model shader).
 //!
-//! `tests/shaders.rs` checks that this table and the files in `shaders/` match exactly and that
+//! `tests/it/shaders.rs` checks that this table and the files in `shaders/` match exactly and that
 //! every composed module parses and validates with naga.
 
 /// The WGSL twin of the randomness contract and of the CPU's scalar functions.
@@ -65,6 +65,12 @@ pub const SHADERS: &[ShaderFile] = &[
         entry_points: &["wavelet_main"],
     },
     ShaderFile {
+        name: "texton",
+        source: include_str!("../../../shaders/texton.wgsl"),
+        needs_common: true,
+        entry_points: &["texton_main"],
+    },
+    ShaderFile {
         name: "probe",
         source: include_str!("../../../shaders/probe.wgsl"),
         needs_common: true,
@@ -87,6 +93,86 @@ pub fn wgsl_source(name: &str) -> Option<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Parses and validates the composed module `name`, panicking with naga's annotated source.
+    fn parse(name: &str) -> (naga::Module, naga::valid::ModuleInfo) {
+        let source = wgsl_source(name).unwrap_or_default();
+        let module = naga::front::wgsl::parse_str(&source)
+            .unwrap_or_else(|e| panic!("{name}.wgsl:\n{}", e.emit_to_string(&source)));
+        let info = naga::valid::Validator::new(
+            naga::valid::ValidationFlags::all(),
+            naga::valid::Capabilities::default(),
+        )
+        .validate(&module)
+        .unwrap_or_else(|e| panic!("{name}.wgsl:\n{}", e.emit_to_string(&source)));
+        (module, info)
+    }
+
+    /// A model shader's pipeline layout is derived from the shader (`layout: None`), and such a
+    /// layout holds only the bindings its entry point uses, while the host binds every binding
+    /// the file declares (`pipeline::Shaded`): so in a file with one entry point (every model
+    /// shader) that entry point must use them all. Group 0 must also follow the convention the
+    /// host binds by: the uniform at 0, read-only tables at 1, 2, … and the output last; group 1
+    /// is `common.wgsl`'s displacement. (The probe's two entry points bind disjoint halves of
+    /// its group 0, and its tests bind each half on its own.)
+    #[test]
+    fn model_shaders_use_every_binding_in_the_host_order() {
+        use naga::{AddressSpace, StorageAccess};
+        for file in SHADERS.iter().filter(|f| f.entry_points.len() == 1) {
+            let (module, info) = parse(file.name);
+            let uses = info.get_entry_point(0);
+            let mut group0 = Vec::new();
+            let mut group1 = Vec::new();
+            for (handle, var) in module.global_variables.iter() {
+                let Some(binding) = &var.binding else {
+                    continue;
+                };
+                let name = var.name.as_deref().unwrap_or("?");
+                assert!(
+                    !uses[handle].is_empty(),
+                    "{}.wgsl: {} does not use @group({}) @binding({}) {name}",
+                    file.name,
+                    file.entry_points[0],
+                    binding.group,
+                    binding.binding
+                );
+                match binding.group {
+                    0 => group0.push((binding.binding, var.space)),
+                    1 => group1.push((binding.binding, name)),
+                    g => panic!("{}.wgsl: {name} in group {g}", file.name),
+                }
+            }
+            group0.sort_by_key(|(b, _)| *b);
+            group1.sort_unstable();
+            let read = AddressSpace::Storage {
+                access: StorageAccess::LOAD,
+            };
+            let write = AddressSpace::Storage {
+                access: StorageAccess::LOAD | StorageAccess::STORE,
+            };
+            let last = group0.len().saturating_sub(1);
+            for (k, &(binding, space)) in group0.iter().enumerate() {
+                let want = match k {
+                    0 => AddressSpace::Uniform,
+                    k if k == last => write,
+                    _ => read,
+                };
+                assert_eq!(
+                    (binding, space),
+                    (k as u32, want),
+                    "{}.wgsl: group 0 binding {k}",
+                    file.name
+                );
+            }
+            assert!(group0.len() >= 2, "{}.wgsl: group 0 {group0:?}", file.name);
+            assert_eq!(
+                group1,
+                [(0, "warp_params"), (1, "warp_displacement")],
+                "{}.wgsl: group 1",
+                file.name
+            );
+        }
+    }
 
     #[test]
     fn names_are_unique_and_composition_prepends_common() {

@@ -1,87 +1,99 @@
-//! Host side of `shaders/texture.wgsl`: a texture model's structures packed into tables once,
-//! its random-phase strata and turbulence strata as LRP evaluators on the same device, and per
-//! tile the strata values, the turbulence displacement (summed and scaled here in the CPU's f32
-//! order) and the placement cells of every column and row (f64, `locate_cell`).
+//! Textures by example on the device (`shaders/texture.wgsl`): the structures packed into tables
+//! once, the random-phase strata and turbulence strata as LRP evaluators on the same device, and
+//! per tile the strata values, the turbulence displacement (summed and scaled here in the CPU's
+//! f32 order) and the placement cells of every column and row (f64, `locate_cell`).
 
 use spectex_model::grid::locate_cell;
 use spectex_model::texture::PLACEMENT_LAYER;
 use spectex_model::{LrpNoise, Model, TextureModel};
 
+use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
+use crate::layout::wgsl_struct;
+use crate::pipeline::{Shaded, binding_limit};
 use crate::{GpuContext, GpuError, GpuEvaluator, GpuWindow};
 
-/// Words of `TextureParams`.
-const PARAM_WORDS: usize = 24;
-/// Words of one `ChannelStructure`.
-const CHANNEL_WORDS: usize = 8;
-/// Bytes of one `PlacementAxis` entry (cell, offset).
-pub(crate) const PLACEMENT_AXIS_BYTES: u64 = 8;
+wgsl_struct! {
+    /// `TextureParams` of `texture.wgsl`.
+    pub(crate) struct TextureParams {
+        width: u32,
+        height: u32,
+        /// 1 or 3.
+        channels: u32,
+        /// `T`, the structure period in pixels.
+        period: u32,
+        /// Seed of the placement shifts.
+        seed: u32,
+        /// 1 when placement cells draw random shifts.
+        random_placement: u32,
+        /// 1 when a colour basis maps the channels to RGB.
+        colour: u32,
+        /// [`PLACEMENT_LAYER`] (one definition, passed by the host).
+        placement_layer: u32,
+        /// The colour basis' mean (a `vec4<f32>`, `w` unused).
+        colour_mean: [f32; 4],
+        /// Row `i` maps the channels to component `i` (`vec4<f32>` rows, `w` unused).
+        basis: [[f32; 4]; 3],
+    }
+}
+
+wgsl_struct! {
+    /// `ChannelStructure` of `texture.wgsl`: one channel's fixed-phase structure.
+    pub(crate) struct ChannelStructure {
+        /// `b`, blocks per period side.
+        blocks: u32,
+        /// Index in the block table of this channel's block 0.
+        first_block: u32,
+        /// 0 when the channel has no structure (`n_R = 0`).
+        present: u32,
+        // Padding: the WGSL struct keeps its floats in a second 16-byte row.
+        _pad0: u32,
+        /// `Δ_R = T/b`, `1/Δ_R` and `1/N` as the CPU rounds them (`1/(2T)` when `b = 1`).
+        delta: f32,
+        inv_delta: f32,
+        inv_n: f32,
+        _pad1: f32,
+    }
+}
+
+wgsl_struct! {
+    /// `PlacementAxis` of `texture.wgsl`: a position's placement cell and offset.
+    pub(crate) struct PlacementAxis {
+        cell: i32,
+        offset: f32,
+    }
+}
 
 /// A texture model ready to render tile by tile.
 #[derive(Debug)]
-pub(crate) struct TexturePack {
-    pub model: TextureModel,
+pub(crate) struct TextureKernel {
+    model: TextureModel,
     /// Each channel's strata with its mean, `None` where the channel has no strata.
     strata: Vec<Option<GpuEvaluator>>,
     /// Turbulence strata per axis, each a single-stratum LRP noise of mean 0.
     turbulence: [Vec<GpuEvaluator>; 2],
-    /// `ChannelStructure` records, one per channel.
-    pub structures: Vec<u32>,
-    /// `(start, count)` of every block of every structure.
-    pub blocks: Vec<u32>,
-    /// `(k_x, k_y, A, φ)` f32 bits of every fixed cosine.
-    pub cosines: Vec<u32>,
 }
 
-/// The buffers of one tile.
-pub(crate) struct TextureTile {
-    pub params: Vec<u32>,
-    /// `channels + 2` planes: strata per channel, then the x and y displacements.
-    pub values: Vec<u32>,
-    pub columns: Vec<u32>,
-    pub rows: Vec<u32>,
+/// The structure tables of a texture: a [`ChannelStructure`] per channel, the `(start, count)`
+/// of every block of every structure, and `(k_x, k_y, A, φ)` of every fixed cosine.
+struct Structures {
+    channels: Vec<ChannelStructure>,
+    blocks: Vec<[u32; 2]>,
+    cosines: Vec<[f32; 4]>,
 }
 
-/// Packs a validated texture model; `limit` bounds one storage buffer.
-pub(crate) fn pack_texture(
-    context: &GpuContext,
-    model: &TextureModel,
-    limit: u64,
-) -> Result<TexturePack, GpuError> {
-    let strata = model
-        .channels
-        .iter()
-        .map(|ch| {
-            if ch.strata.is_empty() {
-                return Ok(None);
-            }
-            let lrp = LrpNoise {
-                seed: ch.seed,
-                mean: ch.mean,
-                strata: ch.strata.clone(),
-            };
-            GpuEvaluator::new(context, &Model::Lrp(lrp)).map(Some)
-        })
-        .collect::<Result<Vec<_>, GpuError>>()?;
-    let mut turbulence: [Vec<GpuEvaluator>; 2] = [Vec::new(), Vec::new()];
-    if let Some(t) = &model.turbulence {
-        for (axis, evaluators) in turbulence.iter_mut().enumerate() {
-            for (s, stratum) in t.strata.iter().enumerate() {
-                let lrp = LrpNoise {
-                    seed: t.seed(axis, s),
-                    mean: 0.0,
-                    strata: vec![stratum.clone()],
-                };
-                evaluators.push(GpuEvaluator::new(context, &Model::Lrp(lrp))?);
-            }
-        }
-    }
-    let mut structures = Vec::with_capacity(CHANNEL_WORDS * model.channels.len());
-    let mut blocks = Vec::new();
-    let mut cosines = Vec::new();
+/// Packs the structures of a validated texture model.
+fn pack_structures(model: &TextureModel) -> Structures {
+    let mut channels = Vec::with_capacity(model.channels.len());
+    let mut blocks: Vec<[u32; 2]> = Vec::new();
+    let mut cosines: Vec<[f32; 4]> = Vec::new();
     for ch in &model.channels {
-        let first_block = (blocks.len() / 2) as u32;
+        let first_block = blocks.len() as u32;
         let Some(s) = &ch.structure else {
-            structures.extend([1, first_block, 0, 0, 0, 0, 0, 0]);
+            channels.push(ChannelStructure {
+                blocks: 1,
+                first_block,
+                ..bytemuck::Zeroable::zeroed()
+            });
             continue;
         };
         // The CPU's `Structure::eval` constants, rounded as it rounds them.
@@ -92,77 +104,154 @@ pub(crate) fn pack_texture(
             let inv_delta = 1.0 / delta;
             (delta, inv_delta, 0.5 * inv_delta)
         };
-        structures.extend([
-            s.blocks,
+        channels.push(ChannelStructure {
+            blocks: s.blocks,
             first_block,
-            1,
-            0,
-            delta.to_bits(),
-            inv_delta.to_bits(),
-            inv_n.to_bits(),
-            0,
-        ]);
+            present: 1,
+            _pad0: 0,
+            delta,
+            inv_delta,
+            inv_n,
+            _pad1: 0.0,
+        });
         for block in &s.cosines {
-            blocks.extend([(cosines.len() / 4) as u32, block.len() as u32]);
-            for c in block {
-                cosines.extend([
-                    (c.frequency[0] as f32).to_bits(),
-                    (c.frequency[1] as f32).to_bits(),
-                    c.amplitude.to_bits(),
-                    c.phase.to_bits(),
-                ]);
-            }
+            blocks.push([cosines.len() as u32, block.len() as u32]);
+            cosines.extend(block.iter().map(|c| {
+                [
+                    c.frequency[0] as f32,
+                    c.frequency[1] as f32,
+                    c.amplitude,
+                    c.phase,
+                ]
+            }));
         }
     }
-    // A binding's buffer must hold at least one element of its array (a texture without any
-    // structure still binds the tables): one unused block and one unused cosine.
-    if blocks.is_empty() {
-        blocks.extend([0, 0]);
-    }
-    if cosines.is_empty() {
-        cosines.extend([0; 4]);
-    }
-    let needed = 4 * cosines.len() as u64;
-    if needed > limit {
-        return Err(GpuError::LimitsExceeded {
-            what: "texture structure cosines (bytes in one storage buffer)",
-            value: needed,
-            limit,
-        });
-    }
-    Ok(TexturePack {
-        model: model.clone(),
-        strata,
-        turbulence,
-        structures,
+    // A texture without any structure still binds the block and cosine tables: `Table` gives
+    // each one unused record.
+    Structures {
+        channels,
         blocks,
         cosines,
-    })
+    }
 }
 
-impl TexturePack {
+impl GpuKind for TextureModel {
+    fn gpu_kernel(&self, context: &GpuContext, _z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
+        let strata = self
+            .channels
+            .iter()
+            .map(|ch| {
+                if ch.strata.is_empty() {
+                    return Ok(None);
+                }
+                let lrp = LrpNoise {
+                    seed: ch.seed,
+                    mean: ch.mean,
+                    strata: ch.strata.clone(),
+                };
+                GpuEvaluator::new(context, &Model::Lrp(lrp)).map(Some)
+            })
+            .collect::<Result<Vec<_>, GpuError>>()?;
+        let mut turbulence: [Vec<GpuEvaluator>; 2] = [Vec::new(), Vec::new()];
+        if let Some(t) = &self.turbulence {
+            for (axis, evaluators) in turbulence.iter_mut().enumerate() {
+                for (s, stratum) in t.strata.iter().enumerate() {
+                    let lrp = LrpNoise {
+                        seed: t.seed(axis, s),
+                        mean: 0.0,
+                        strata: vec![stratum.clone()],
+                    };
+                    evaluators.push(GpuEvaluator::new(context, &Model::Lrp(lrp))?);
+                }
+            }
+        }
+        let structures = pack_structures(self);
+        let limit = binding_limit(&context.limits());
+        // What the cosine table occupies on the device (one unused record where there is none).
+        let needed = size_of_val(structures.cosines.as_slice()).max(size_of::<[f32; 4]>()) as u64;
+        if needed > limit {
+            return Err(GpuError::LimitsExceeded {
+                what: "texture structure cosines (bytes in one storage buffer)",
+                value: needed,
+                limit,
+            });
+        }
+        let kernel = TextureKernel {
+            model: self.clone(),
+            strata,
+            turbulence,
+        };
+        Shaded::boxed(
+            context,
+            kernel,
+            &[
+                Table::new("texture structures", &structures.channels),
+                Table::new("texture blocks", &structures.blocks),
+                Table::new("texture cosines", &structures.cosines),
+            ],
+        )
+    }
+}
+
+impl TextureKernel {
     /// Values per pixel.
-    pub fn channels(&self) -> usize {
+    fn channels(&self) -> usize {
         self.model.channels.len()
     }
 
-    /// The LRP evaluators this texture runs per tile (for sizing tiles).
-    pub fn evaluators(&self) -> impl Iterator<Item = &GpuEvaluator> {
+    /// The LRP evaluators this texture runs per tile.
+    fn evaluators(&self) -> impl Iterator<Item = &GpuEvaluator> {
         self.strata
             .iter()
             .flatten()
             .chain(self.turbulence.iter().flatten())
     }
+}
+
+impl ShaderKernel for TextureKernel {
+    const SHADER: &'static str = "texture";
+    const ENTRY_POINT: &'static str = "texture_main";
+
+    fn output_channels(&self) -> usize {
+        self.channels()
+    }
+
+    fn axis_bytes(&self) -> u64 {
+        size_of::<PlacementAxis>() as u64
+    }
+
+    /// The largest per-pixel buffer holds the strata of every channel and the two
+    /// displacements.
+    fn pixel_bytes(&self) -> u64 {
+        4 * (self.channels() as u64 + 2)
+    }
+
+    /// Each LRP pass renders the same tile in one dispatch: it must fit them all.
+    fn fit_tile(
+        &self,
+        window: &GpuWindow,
+        [mut width, mut height]: [usize; 2],
+        _limit: u64,
+    ) -> Result<[usize; 2], GpuError> {
+        for e in self.evaluators() {
+            let [w, h] = e.tile_size(window)?;
+            width = width.min(w);
+            height = height.min(h);
+        }
+        Ok([width, height])
+    }
 
     /// Renders the tile's strata and turbulence on the device (at positions displaced by a
     /// warp's `displacement`, if any) and builds the texture pass's tables.
-    pub fn tile(
+    fn tile_tables(
         &self,
         tile: &GpuWindow,
         displacement: Option<&[f32]>,
-    ) -> Result<TextureTile, GpuError> {
+        _limit: u64,
+    ) -> Result<TileTables, GpuError> {
         let n = tile.width * tile.height;
         let nc = self.channels();
+        // `channels + 2` planes: strata per channel, then the x and y displacements.
         let mut values: Vec<f32> = Vec::with_capacity((nc + 2) * n);
         for (ch, evaluator) in self.model.channels.iter().zip(&self.strata) {
             match evaluator {
@@ -189,40 +278,53 @@ impl TexturePack {
             values.extend(sum);
         }
         let side = self.model.placement_cell();
-        let axis = |count: usize, position: &dyn Fn(usize) -> f64| -> Vec<u32> {
+        let axis = |count: usize, position: &dyn Fn(usize) -> f64| -> Vec<PlacementAxis> {
             (0..count)
-                .flat_map(|i| {
+                .map(|i| {
                     let (cell, offset) = locate_cell(position(i), side).unwrap_or((0, 0.0));
-                    [cell as u32, offset.to_bits()]
+                    PlacementAxis { cell, offset }
                 })
                 .collect()
         };
         let columns = axis(tile.width, &|i| tile.x(i));
         let rows = axis(tile.height, &|j| tile.y(j));
-        let mut params = vec![0u32; PARAM_WORDS];
-        params[..8].copy_from_slice(&[
-            tile.width as u32,
-            tile.height as u32,
-            nc as u32,
-            self.model.period,
-            self.model.seed,
-            u32::from(self.model.random_placement),
-            u32::from(self.model.colour.is_some()),
-            PLACEMENT_LAYER,
-        ]);
+        let mut params = TextureParams {
+            width: tile.width as u32,
+            height: tile.height as u32,
+            channels: nc as u32,
+            period: self.model.period,
+            seed: self.model.seed,
+            random_placement: u32::from(self.model.random_placement),
+            colour: u32::from(self.model.colour.is_some()),
+            placement_layer: PLACEMENT_LAYER,
+            ..bytemuck::Zeroable::zeroed()
+        };
         if let Some(c) = &self.model.colour {
             for i in 0..3 {
-                params[8 + i] = c.mean[i].to_bits();
-                for j in 0..3 {
-                    params[12 + 4 * i + j] = c.basis[i][j].to_bits();
-                }
+                params.colour_mean[i] = c.mean[i];
+                params.basis[i][..3].copy_from_slice(&c.basis[i]);
             }
         }
-        Ok(TextureTile {
-            params,
-            values: values.iter().map(|v| v.to_bits()).collect(),
-            columns,
-            rows,
-        })
+        Ok(TileTables::new(
+            &params,
+            vec![
+                Table::new("texture values", &values),
+                Table::new("texture columns", &columns),
+                Table::new("texture rows", &rows),
+            ],
+        ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::layout::check::assert_matches_wgsl;
+
+    #[test]
+    fn records_match_the_wgsl() {
+        assert_matches_wgsl::<TextureParams>("texture", "TextureParams");
+        assert_matches_wgsl::<ChannelStructure>("texture", "ChannelStructure");
+        assert_matches_wgsl::<PlacementAxis>("texture", "PlacementAxis");
     }
 }

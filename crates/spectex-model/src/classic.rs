@@ -45,6 +45,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{ModelError, check_level, check_range};
 
+mod builder;
+pub use builder::{ClassicNoiseBuilder, FractalNoiseBuilder};
+
 /// Most octaves of a fractal sum.
 pub const MAX_OCTAVES: u32 = 16;
 /// Most feature points in one Worley cell (fixed counts and the Poisson count's cap).
@@ -375,6 +378,18 @@ pub fn gradient_dot(h: u32, x: f32, y: f32, z: f32) -> f32 {
 #[must_use]
 pub fn lattice_value(h: u32) -> f32 {
     ((h >> 8) as i32) as f32 * (2.0 / 16_777_216.0) - 1.0
+}
+
+impl crate::ModelKind for ClassicNoise {
+    const NAME: &'static str = "classic";
+
+    fn validate(&self) -> Result<(), ModelError> {
+        ClassicNoise::validate(self)
+    }
+
+    fn visit_seeds(&mut self, visit: &mut dyn FnMut(&mut u32)) {
+        visit(&mut self.seed);
+    }
 }
 
 #[cfg(test)]

@@ -2,67 +2,13 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::Model;
 use crate::error::ModelError;
-use crate::{ClassicNoise, GaborNoise, LrpNoise, PhasorNoise, TextureModel, Warp, WaveletNoise};
 
 /// The `schema_version` this build writes.
 pub const SCHEMA_VERSION: u32 = 1;
 /// Every `schema_version` this build reads.
 pub const SUPPORTED_SCHEMA_VERSIONS: &[u32] = &[1];
-
-/// Any procedural model spectex evaluates.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, rename_all = "snake_case")]
-#[non_exhaustive]
-#[allow(
-    clippy::large_enum_variant,
-    reason = "a model is built once per render and never stored in bulk"
-)]
-pub enum Model {
-    /// Local Random-Phase noise.
-    Lrp(LrpNoise),
-    /// Gabor noise.
-    Gabor(GaborNoise),
-    /// Phasor noise.
-    Phasor(PhasorNoise),
-    /// Texture by example: structure, strata, turbulence, placement, colour.
-    Texture(TextureModel),
-    /// A classic pointwise noise (gradient, simplex, value, Worley; fractal sums of them).
-    Classic(ClassicNoise),
-    /// Domain warping: a model evaluated at positions displaced by two others
-    /// ([`crate::warp`]).
-    Warp(Warp),
-    /// Wavelet noise (Cook & DeRose 2005): a band-limited tile summed over octave bands.
-    Wavelet(WaveletNoise),
-}
-
-impl Model {
-    /// Checks every field of the model.
-    ///
-    /// # Errors
-    /// The first field found outside its range.
-    pub fn validate(&self) -> Result<(), ModelError> {
-        match self {
-            Self::Lrp(m) => m.validate(),
-            Self::Gabor(m) => m.validate(),
-            Self::Phasor(m) => m.validate(),
-            Self::Texture(m) => m.validate(),
-            Self::Classic(m) => m.validate(),
-            Self::Warp(m) => m.validate(),
-            Self::Wavelet(m) => m.validate(),
-        }
-    }
-
-    /// Values per pixel: 3 for a colour texture (or a warp of one), else 1.
-    #[must_use]
-    pub fn output_channels(&self) -> usize {
-        match self {
-            Self::Texture(m) => m.output_channels(),
-            Self::Warp(m) => m.base.output_channels(),
-            _ => 1,
-        }
-    }
-}
 
 #[derive(Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]

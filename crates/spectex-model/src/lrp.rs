@@ -5,6 +5,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{ModelError, check_len, check_level, check_range};
 
+mod builder;
+pub use builder::LrpNoiseBuilder;
+
 /// Most strata in one model.
 pub const MAX_STRATA: usize = 64;
 /// Most cosines per cell in one stratum (`J_S`).
@@ -117,4 +120,16 @@ pub(crate) fn validate_strata(prefix: &str, strata: &[Stratum]) -> Result<(), Mo
         }
     }
     Ok(())
+}
+
+impl crate::ModelKind for LrpNoise {
+    const NAME: &'static str = "lrp";
+
+    fn validate(&self) -> Result<(), ModelError> {
+        LrpNoise::validate(self)
+    }
+
+    fn visit_seeds(&mut self, visit: &mut dyn FnMut(&mut u32)) {
+        visit(&mut self.seed);
+    }
 }

@@ -18,6 +18,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{ModelError, check_len, check_level, check_range};
 
+mod builder;
+pub use builder::PhasorNoiseBuilder;
+
 /// Fraction of its peak at which the Gaussian kernel is truncated (as for Gabor noise, Lagae et
 /// al. 2009): the kernel radius is `r = √(−ln 0.05 / π) / b`, the grid cell side.
 pub const PHASOR_TRUNCATION: f64 = 0.05;
@@ -618,6 +621,18 @@ fn validate_profile(p: &Profile, name: &str, depth: usize) -> Result<(), ModelEr
             validate_profile(a, &format!("{name}.blend.a"), depth + 1)?;
             validate_profile(b, &format!("{name}.blend.b"), depth + 1)
         }
+    }
+}
+
+impl crate::ModelKind for PhasorNoise {
+    const NAME: &'static str = "phasor";
+
+    fn validate(&self) -> Result<(), ModelError> {
+        PhasorNoise::validate(self)
+    }
+
+    fn visit_seeds(&mut self, visit: &mut dyn FnMut(&mut u32)) {
+        visit(&mut self.seed);
     }
 }
 

@@ -5,6 +5,34 @@
 //! RXS-M-XS output permutation. Only wrapping `u32` multiplication, addition, shifts and
 //! xor are used, so WGSL (which has exactly these operations on `u32`) reproduces every bit.
 //! Floats are built from integer bits by an exact conversion (no rounding can differ).
+//!
+//! # Layers in use
+//!
+//! Random Phase Noise draws its phase at DFT index `(k, l)` (row, column) from
+//! `cell_hash(l, k, 0, seed)` — `θ = 2π · b/2³²`, evaluated as `e^{iθ}` by a three-table product
+//! accurate to a few ulps — and ADSN draws pixel `(x, y)`'s Gaussian by Box–Muller from the PRNG
+//! seeded with `cell_hash(x, y, 1, seed)`. LRP stratum `s` seeds lattice point `(i, j)`'s PRNG with
+//! `cell_hash(i, j, s, seed)` and draws, per sub-stratum in order, the table index (`next_u32 %
+//! len`) then the phase (`unit_f32`). Gabor noise uses layer 0 with a Poisson count per cell, then
+//! per impulse its offsets, weight and (isotropic) direction. Phasor noise uses layer 0 for its
+//! kernels and layer 1 for the coherent direction process; a 3D cell `(i, j, k)` seeds with
+//! `cell_hash(i, j, layer, cell_hash(k, 0, layer, seed))`; per impulse: offsets, the direction
+//! draws of its orientation mode, then a phase offset; a graded bandwidth adds one thinning uniform
+//! after the offsets (`spectex_model::phasor_kernels` lists them). Texture placement cell `(cx,
+//! cy)` draws its shift `(x, y) = T·(unit_f32, unit_f32)` from the PRNG seeded with `cell_hash(cx,
+//! cy, PLACEMENT_LAYER = 0x504C4143 "PLAC", seed)`; texture channels and turbulence strata are LRP
+//! noises with their own seeds (stored in the model). k-means seeding in `spectex-sampling` uses
+//! `kmeans::KMEANS_LAYER`. Classic noises use layer `o` for octave `o`: 2D corner `(i, j)` hashes
+//! to `cell_hash(i, j, o, seed)`, 3D corner `(i, j, k)` to `cell_hash(i, j, o, cell_hash(k, 0, o,
+//! seed))`; gradient and simplex noise take the gradient index `h >> 28`, value noise
+//! `2·unit_f32(h) − 1`; a Worley cell seeds the PRNG with `h` and draws a Poisson count (one
+//! uniform against the f32 CDF) when the count is not fixed, then per point its offsets `x`, `y` (,
+//! `z`). New models take new layer numbers per stratum or octave and list them here. Wavelet noise
+//! uses `WAVELET_LAYER = 0x57415645` ("WAVE"): 2D tile sample `(i, j)` seeds the PRNG with
+//! `cell_hash(i, j, WAVELET_LAYER, seed)`, 3D `(i, j, k)` with `cell_hash(i, j, WAVELET_LAYER,
+//! cell_hash(k, 0, WAVELET_LAYER, seed))`, and draws two words for one Box–Muller Gaussian in f64;
+//! band `b` draws its tile offsets (`next_u32 % n` per axis) from `cell_hash(b, −1, WAVELET_LAYER,
+//! seed)`.
 
 /// Multiplier of the 32-bit LCG step (PCG's default 32-bit multiplier).
 pub const LCG_MULTIPLIER: u32 = 747_796_405;

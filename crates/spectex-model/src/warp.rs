@@ -22,9 +22,12 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::Model;
 use crate::error::{ModelError, check_range};
-use crate::file::Model;
 use crate::grid::{MAX_POSITION, Window, WindowError};
+
+mod builder;
+pub use builder::WarpBuilder;
 
 /// Largest displacement along one axis, pixels (`2¹⁶`, exact in f32): displacements are clamped
 /// to `±MAX_WARP` on every evaluator.
@@ -175,6 +178,24 @@ pub fn check_window(model: &Model, window: &Window) -> Result<(), WindowError> {
             range: "[-(2^30 - 65536·n), 2^30 - 65536·n] model pixels for a model with n nested warps",
         }),
         None => Ok(()),
+    }
+}
+
+impl crate::ModelKind for Warp {
+    const NAME: &'static str = "warp";
+
+    fn validate(&self) -> Result<(), ModelError> {
+        Warp::validate(self)
+    }
+
+    fn output_channels(&self) -> usize {
+        self.base.output_channels()
+    }
+
+    fn visit_seeds(&mut self, visit: &mut dyn FnMut(&mut u32)) {
+        self.base.visit_seeds(visit);
+        self.x.visit_seeds(visit);
+        self.y.visit_seeds(visit);
     }
 }
 

@@ -57,6 +57,9 @@ use serde::{Deserialize, Serialize};
 use crate::error::{ModelError, check_level, check_range};
 use crate::random::{Prng, cell_hash, open_unit_f64, unit_f64};
 
+mod builder;
+pub use builder::WaveletNoiseBuilder;
+
 /// The randomness-contract layer of wavelet noise (`"WAVE"`).
 pub const WAVELET_LAYER: u32 = 0x5741_5645;
 /// Most bands.
@@ -393,6 +396,18 @@ pub fn spline_weights(f: f32) -> [f32; 3] {
     let w0 = 0.5 * g * g;
     let w2 = 0.5 * f * f;
     [w0, (1.0 - w0) - w2, w2]
+}
+
+impl crate::ModelKind for WaveletNoise {
+    const NAME: &'static str = "wavelet";
+
+    fn validate(&self) -> Result<(), ModelError> {
+        WaveletNoise::validate(self)
+    }
+
+    fn visit_seeds(&mut self, visit: &mut dyn FnMut(&mut u32)) {
+        visit(&mut self.seed);
+    }
 }
 
 #[cfg(test)]

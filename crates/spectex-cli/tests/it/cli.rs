@@ -770,7 +770,7 @@ fn phasor_bad_inputs_fail_cleanly() {
     }
 }
 
-/// The classic noises and wavelet noise from `spectex noise`, at (1e7, −1e7) and on 3D planes, and
+/// The classic noises, wavelet noise and textons from `spectex noise`, at (1e7, −1e7) and on 3D planes, and
 /// `spectex render` of the models they write gives the same bytes.
 #[test]
 fn classic_noises_end_to_end() {
@@ -805,6 +805,20 @@ fn classic_noises_end_to_end() {
                 "1,-0.7",
                 "--amplitude",
                 "0.2",
+            ],
+        ),
+        ("texton", &[]),
+        (
+            "texton",
+            &[
+                "--density",
+                "2.5",
+                "--spot",
+                "gaussian",
+                "--combine",
+                "max",
+                "--radii",
+                "9,9",
             ],
         ),
     ];
@@ -881,6 +895,22 @@ fn classic_bad_inputs_fail_cleanly() {
         (
             vec!["noise", "worley", "--coefficients", "1,nan,0,0"],
             vec!["--coefficients", "[-1000, 1000]"],
+        ),
+        (
+            vec!["noise", "texton", "--radii", "200,3"],
+            vec!["texton.radii", "--radii", "3·cell_size"],
+        ),
+        (
+            vec!["noise", "texton", "--density", "9"],
+            vec!["--density", "(0, 8]"],
+        ),
+        (
+            vec!["noise", "texton", "--texton-scale", "0,1"],
+            vec!["--texton-scale", "[0.001, 16]"],
+        ),
+        (
+            vec!["noise", "texton", "--radii", "1"],
+            vec!["--radii", "A,B"],
         ),
     ] {
         let mut a = args.clone();

@@ -10,4 +10,5 @@ mod common;
 mod fidelity;
 mod phasor_fidelity;
 mod texture;
+mod warp_reseed;
 mod wavelet;

@@ -1,4 +1,4 @@
-//! Wavelet noise's bad inputs (its end-to-end run is in `tests/cli.rs`, with the classic
+//! Wavelet noise's bad inputs (its end-to-end run is in `tests/it/cli.rs`, with the classic
 //! noises) and the
 //! science of Cook & DeRose 2005 measured with `spectex_spectrum::Fft2`: the tile is
 //! band-limited (little energy below half its Nyquist frequency), it has zero mean up to the

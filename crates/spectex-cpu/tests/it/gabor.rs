@@ -261,7 +261,7 @@ fn eval_matches_the_reference_near_the_origin_and_at_negative_coordinates() {
     }
 }
 
-/// DESIGN.md invariant 2: a window at `(10⁷, 10⁷)` (and farther) is as precise as one at the
+/// Invariant 2 of docs/ARCHITECTURE.md: a window at `(10⁷, 10⁷)` (and farther) is as precise as one at the
 /// origin, with the same tolerance.
 #[test]
 fn eval_is_as_precise_far_away() {

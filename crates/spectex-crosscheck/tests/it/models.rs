@@ -1,10 +1,11 @@
 //! The cross-check suite: every model in `testdata/models/*.json`, rendered on the CPU and the
 //! GPU at the origin, at `(10⁷, 10⁷)` and at a fractional scale, compared within the model's
-//! derived tolerances (phasor models pixel by pixel, phases on the circle: `phasor.rs`; colour
-//! textures component by component). Prints one `crosscheck:` line per model (what
+//! derived tolerances (phasor models pixel by pixel, phases on the circle:
+//! `crates/spectex-crosscheck/src/tolerance/phasor.rs`; colour textures component by
+//! component). Prints one `crosscheck:` line per model (what
 //! `cargo xtask verify` shows) and one per window; on a failure, images and reports go to
-//! `target/crosscheck/`. 3D classic noises are compared on the plane [`SLICE_Z`], off their
-//! lattice planes.
+//! `target/crosscheck/`. Each model is checked on the plane its kind chooses
+//! (`CheckKind::check_plane`: 3D classic noises off their lattice planes).
 //!
 //! Skips with a printed reason when no GPU adapter exists, unless `SPECTEX_REQUIRE_GPU=1`.
 
@@ -19,13 +20,8 @@
 
 use std::path::PathBuf;
 
-use spectex_crosscheck::check_model_at_z;
-use spectex_crosscheck::standard_windows;
+use spectex_crosscheck::{check_model, standard_windows};
 use spectex_gpu::GpuContext;
-
-/// The plane on which 3D classic noises are compared: off the lattice planes of every octave of
-/// the shipped cases (cells of 32, 24, 16, 8 pixels).
-const SLICE_Z: f64 = 37.3;
 
 /// Environment variable that turns a missing adapter from a skip into a failure.
 const REQUIRE_GPU_ENV: &str = "SPECTEX_REQUIRE_GPU";
@@ -74,11 +70,7 @@ fn every_shipped_model_agrees_on_cpu_and_gpu() {
         let case = file.file_stem().unwrap().to_string_lossy().into_owned();
         let model = spectex_model::from_json(&std::fs::read_to_string(file).unwrap())
             .unwrap_or_else(|e| panic!("{}: {e}", file.display()));
-        let z = match &model {
-            spectex_model::Model::Classic(m) if m.dimensions == 3 => SLICE_Z,
-            _ => 0.0,
-        };
-        let outcomes = check_model_at_z(&context, &case, &model, &standard_windows(), z)
+        let outcomes = check_model(&context, &case, &model, &standard_windows())
             .unwrap_or_else(|e| panic!("{case}: {e}"));
         let worst_max = outcomes
             .iter()

@@ -1,7 +1,9 @@
-//! Cross-checking phasor noise. Its outputs are not all continuous functions of the complex sum
-//! `𝒢 = re + i·im` both evaluators compute: the phase wraps at ±½ turn and is ill-conditioned
-//! where the intensity vanishes, and square and sawtooth profiles jump. So each window is judged
-//! pixel by pixel:
+//! Phasor noise: its own criterion ([`CheckKind::own_verdict`]), its bounds and regularity.
+//! Its outputs are not all continuous functions of the complex sum `𝒢 = re + i·im` both
+//! evaluators compute: the phase wraps at ±½ turn and is ill-conditioned where the intensity
+//! vanishes, and square and sawtooth profiles jump. So each window is judged pixel by pixel,
+//! from the renders of the model and of its Gabor, intensity and phase outputs (its
+//! [`CheckKind::companions`]):
 //!
 //! - the Gabor (`Im 𝒢`) and intensity (`|𝒢|`) renders of the same kernels within
 //!   [`complex_bound`] `E` (and `√2·E`): these check the sum itself;
@@ -15,22 +17,18 @@
 //! same host code for both evaluators (`spectex_model::phasor_kernels`), so only the per-pixel
 //! f32 arithmetic can differ.
 
-use spectex_cpu::Evaluator;
-use spectex_gpu::{GpuContext, GpuEvaluator};
-use spectex_model::{Field, Model, PhasorNoise, PhasorOutput, Profile, Window};
+use spectex_model::{Field, Model, PHASOR_TRUNCATION, PhasorNoise, PhasorOutput, Profile};
 
-use crate::compare::{CaseWindow, Outcome, Verdict, compare, expected_failure};
-use crate::tolerance::{
-    COS_ABS_ERROR, EXP_REL_ERROR, F32_UNIT_ROUNDOFF, PHASE_ROUNDINGS, SUMMATION_ROUNDINGS,
-    Tolerance,
+use super::{
+    COS_ABS_ERROR, CheckKind, EXP_REL_ERROR, F32_UNIT_ROUNDOFF, PHASE_ROUNDINGS, Regularity,
+    SUMMATION_ROUNDINGS, Tolerance, gaussian_slope, impulse_count,
 };
-use crate::{CrosscheckError, write_failure_report};
 
 /// Absolute error of `atan2_turns` on either side, turns (5e-8 measured bound, spectex-model).
 pub const ATAN_ERROR: f64 = 5e-8;
 
 /// Bound `E` on `|Δre|` and `|Δim|` at any pixel: the impulse count of the 3×3 (3×3×3) cells
-/// bounded as in [`crate::tolerance::gabor`] (`n + 6√n + 6` for a Poisson mean `n`); per impulse
+/// bounded as in [`super::gabor::gabor`] (`n + 6√n + 6` for a Poisson mean `n`); per impulse
 /// the phase `f·d + ψ` (offsets within 2 cells per axis: `|f·d| ≤ 2√dims·F·r` turns) rounded
 /// [`PHASE_ROUNDINGS`] times, [`COS_ABS_ERROR`] and [`EXP_REL_ERROR`], on each side; plus the
 /// summation of up to `count` terms of magnitude ≤ 1.
@@ -163,6 +161,7 @@ fn judge_pixels(m: &PhasorNoise, e: f64, renders: &[(Vec<f32>, Vec<f32>)]) -> Ve
     why
 }
 
+/// `m` rendering `output` at zero mean and unit amplitude: one of its companions.
 fn variant(m: &PhasorNoise, output: PhasorOutput) -> Model {
     Model::Phasor(PhasorNoise {
         output,
@@ -172,63 +171,65 @@ fn variant(m: &PhasorNoise, output: PhasorOutput) -> Model {
     })
 }
 
-/// Renders `model`'s output and its Gabor, intensity and phase variants on both evaluators for
-/// each window; judges them as the module doc says and writes a failure report for every window
-/// that does not pass.
-///
-/// # Errors
-/// An evaluator refusing the model or a window, a device failure, or a report that could not be
-/// written.
-pub fn check_phasor(
-    context: &GpuContext,
-    case: &str,
-    m: &PhasorNoise,
-    windows: &[CaseWindow],
-) -> Result<Vec<(CaseWindow, Outcome)>, CrosscheckError> {
-    let e = complex_bound(m);
-    let amplitude = f64::from(m.amplitude).abs();
-    let model = Model::Phasor(m.clone());
-    let kinds = [
-        PhasorOutput::Gabor,
-        PhasorOutput::Intensity,
-        PhasorOutput::Phase,
-    ];
-    let mut pairs = vec![(Evaluator::new(&model)?, GpuEvaluator::new(context, &model)?)];
-    for kind in kinds {
-        let v = variant(m, kind);
-        pairs.push((Evaluator::new(&v)?, GpuEvaluator::new(context, &v)?));
+/// Phasor noise's Gabor (`Im 𝒢`) and intensity (`|𝒢|`) outputs: each kernel changes at most
+/// by `2π F_max + gaussian slope` per pixel and jumps by [`PHASOR_TRUNCATION`] at its radius.
+fn phasor_regularity(m: &PhasorNoise) -> Option<Regularity> {
+    if !matches!(m.output, PhasorOutput::Gabor | PhasorOutput::Intensity) {
+        return None;
     }
-    let adapter = context.adapter_name();
-    let mut outcomes = Vec::new();
-    for &w in windows {
-        let window = Window::new(w.width, w.height).at(w.offset, w.scale);
-        let mut renders = Vec::new();
-        for (cpu, gpu) in &pairs {
-            renders.push((cpu.render(&window)?, gpu.render(&window)?));
-        }
-        let why = judge_pixels(m, e, &renders);
-        let own = &renders[0];
-        let comparison = compare(w.width, w.height, own.0.clone(), own.1.clone());
-        let expected = expected_failure(case, &adapter);
-        let verdict = match (why.is_empty(), expected) {
-            (true, None) => Verdict::Pass,
-            (true, Some(reason)) => Verdict::UnexpectedPass(reason),
-            (false, None) => Verdict::Fail(why),
-            (false, Some(reason)) => Verdict::ExpectedFail(reason),
-        };
-        let tolerance = Tolerance::from_max(amplitude * e);
-        let outcome = Outcome {
-            spectral_tolerance: f64::INFINITY,
-            comparison,
-            tolerance,
-            verdict,
-        };
-        if !matches!(outcome.verdict, Verdict::Pass) {
-            write_failure_report(&format!("{case}-{}", w.name), &adapter, &w, &outcome)?;
-        }
-        outcomes.push((w, outcome));
+    let cells = if m.dimensions == 3 { 27.0 } else { 9.0 };
+    let terms = f64::from(m.amplitude).abs() * impulse_count(cells, m.impulses_per_cell());
+    let slope = std::f64::consts::TAU * m.frequency.range().1.min(0.5)
+        + gaussian_slope(m.bandwidth_range().1);
+    Some(Regularity {
+        slope: terms * slope,
+        jump: terms * PHASOR_TRUNCATION,
+        magnitude: terms + f64::from(m.mean).abs(),
+        cell: m.kernel_radius(),
+    })
+}
+
+/// The companions' outputs, in the order [`judge_pixels`] reads their renders.
+const COMPANIONS: [PhasorOutput; 3] = [
+    PhasorOutput::Gabor,
+    PhasorOutput::Intensity,
+    PhasorOutput::Phase,
+];
+
+impl CheckKind for PhasorNoise {
+    /// The complex sum's bound ([`complex_bound`]) times the amplitude: what reports show. It
+    /// bounds no output by itself (the intensity's bound is `√2` of it, and phases and profiles
+    /// may wrap or flip); the criterion is [`own_verdict`](CheckKind::own_verdict).
+    fn tolerances(&self) -> Option<Vec<Tolerance>> {
+        let amplitude = f64::from(self.amplitude).abs();
+        Some(vec![Tolerance::from_max(amplitude * complex_bound(self))])
     }
-    Ok(outcomes)
+
+    fn regularity(&self) -> Option<Regularity> {
+        phasor_regularity(self)
+    }
+
+    /// For the Gabor and intensity outputs, the complex sum's bound ([`complex_bound`], `√2` of
+    /// it for the intensity) times the amplitude; none for the phase-based outputs.
+    fn value_bound(&self) -> Option<f64> {
+        let e = complex_bound(self) * f64::from(self.amplitude).abs();
+        match self.output {
+            PhasorOutput::Gabor => Some(e),
+            PhasorOutput::Intensity => Some(std::f64::consts::SQRT_2 * e),
+            PhasorOutput::Phase | PhasorOutput::Profiled => None,
+        }
+    }
+
+    fn companions(&self) -> Vec<Model> {
+        COMPANIONS
+            .iter()
+            .map(|&output| variant(self, output))
+            .collect()
+    }
+
+    fn own_verdict(&self, renders: &[(Vec<f32>, Vec<f32>)]) -> Option<Vec<String>> {
+        Some(judge_pixels(self, complex_bound(self), renders))
+    }
 }
 
 #[cfg(test)]

@@ -3,9 +3,10 @@
 
 use anyhow::{Result, anyhow};
 use clap::Args;
-use spectex_model::{Model, ModelError, WaveletNoise};
+use spectex_model::{Model, ModelError, WaveletNoise, WaveletNoiseBuilder};
 
-use crate::procedural::{RenderArgs, render_to_file, write_model};
+use crate::model_file::write_model;
+use crate::render::{RenderArgs, render_to_file};
 
 /// The options of `spectex noise wavelet`.
 #[derive(Debug, Args)]
@@ -15,22 +16,22 @@ pub(crate) struct WaveletArgs {
     #[arg(long, value_name = "N")]
     tile: Option<u32>,
     /// Pixels per tile sample of the first (coarsest) band (1 to 1e6).
-    #[arg(long, value_name = "PX", default_value_t = 16.0)]
+    #[arg(long, value_name = "PX", default_value_t = WaveletNoise::DEFAULT_CELL_SIZE)]
     cell: f32,
     /// Weights of the bands W1,W2,… (1 to 16); band b has 2^b times the first one's frequency.
     #[arg(long, value_name = "W1,W2,…", default_value = "1", value_parser = parse_bands, allow_hyphen_values = true)]
     bands: Bands,
     /// 2 (a plane) or 3 (a volume sliced at --z).
-    #[arg(long, default_value_t = 2)]
+    #[arg(long, default_value_t = WaveletNoise::DEFAULT_DIMENSIONS)]
     dims: u32,
     /// Seed.
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = WaveletNoise::DEFAULT_SEED)]
     seed: u32,
     /// Standard deviation of the noise (the bands are normalised by √Σw²).
-    #[arg(long, default_value_t = 0.15, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = WaveletNoise::DEFAULT_AMPLITUDE, allow_hyphen_values = true)]
     amplitude: f32,
     /// Constant added.
-    #[arg(long, default_value_t = 0.5, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = WaveletNoise::DEFAULT_MEAN, allow_hyphen_values = true)]
     mean: f32,
     /// Also write the model to this .json file (render it again with `spectex render`).
     #[arg(long, value_name = "MODEL")]
@@ -72,24 +73,56 @@ fn flag(field: &str) -> &'static str {
 /// Builds the model, writes it if asked, and renders it.
 pub(crate) fn run(args: &WaveletArgs) -> Result<()> {
     crate::io::check_output(&args.render.output, args.render.bit_depth)?;
-    let model = WaveletNoise {
-        seed: args.seed,
-        dimensions: args.dims,
-        tile_size: args.tile.unwrap_or(if args.dims == 3 { 32 } else { 128 }),
-        cell_size: args.cell,
-        bands: args.bands.0.clone(),
-        amplitude: args.amplitude,
-        mean: args.mean,
-    };
-    model.validate().map_err(|e| match &e {
+    let model = builder(args).build().map_err(|e| match &e {
         ModelError::OutOfRange { field, .. } | ModelError::Length { field, .. } => {
             anyhow!("{e}; set {} within it", flag(field))
         }
         _ => anyhow!("{e}"),
     })?;
-    let model = Model::Wavelet(model);
+    let model = Model::from(model);
     if let Some(path) = &args.model {
         write_model(path, &model)?;
     }
     render_to_file(&model, &args.render, (512, 512))
+}
+
+/// The flags as a builder (the tile side of the dimensions without `--tile`).
+fn builder(args: &WaveletArgs) -> WaveletNoiseBuilder {
+    let builder = WaveletNoise::builder()
+        .seed(args.seed)
+        .dimensions(args.dims)
+        .cell_size(args.cell)
+        .bands(args.bands.0.clone())
+        .amplitude(args.amplitude)
+        .mean(args.mean);
+    match args.tile {
+        Some(tile) => builder.tile_size(tile),
+        None => builder,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::Parser;
+
+    use super::*;
+
+    #[derive(Debug, Parser)]
+    struct Wavelet {
+        #[command(flatten)]
+        args: WaveletArgs,
+    }
+
+    fn parse(flags: &[&str]) -> WaveletArgs {
+        let argv = ["wavelet", "-o", "x.png"].iter().chain(flags);
+        Wavelet::try_parse_from(argv).expect("valid flags").args
+    }
+
+    #[test]
+    fn defaults_are_the_builders() {
+        assert_eq!(builder(&parse(&[])), WaveletNoise::builder());
+        let volume = builder(&parse(&["--dims", "3"])).build();
+        let expected = WaveletNoise::builder().dimensions(3).build();
+        assert_eq!(volume.expect("valid"), expected.expect("valid"));
+    }
 }

@@ -1,0 +1,151 @@
+//! Gabor noise on the device (`shaders/gabor.wgsl`): the constants the CPU's Gabor evaluator
+//! computes, by the same f64 expressions, in the uniform, and per tile each column's and row's
+//! kernel-grid cell and offset.
+
+use spectex_model::{GaborNoise, Orientation};
+
+use crate::axis::{CellAxis, cell_axis, columns, rows};
+use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
+use crate::layout::wgsl_struct;
+use crate::pipeline::Shaded;
+use crate::{GpuContext, GpuError, GpuWindow};
+
+/// The Poisson count's renormalisation chunk (the CPU's `POISSON_CHUNK`).
+const POISSON_CHUNK: f64 = 64.0;
+
+wgsl_struct! {
+    /// `GaborParams` of `gabor.wgsl`; `width` and `height` are the tile's.
+    pub(crate) struct GaborParams {
+        width: u32,
+        height: u32,
+        seed: u32,
+        /// 0: one frequency vector `(dir_a, dir_b)`; 1: a random angle in turns
+        /// `dir_a + u·dir_b`.
+        direction_kind: u32,
+        mean: f32,
+        amplitude: f32,
+        /// `exp(−ρ)`, the Knuth threshold once the `exp(64)` chunks are used up.
+        poisson_threshold: f32,
+        /// `⌊λ / 64⌋`.
+        poisson_chunks: u32,
+        /// `exp(64)` and `exp(−64)` rounded to f32.
+        chunk_up: f32,
+        chunk_down: f32,
+        /// `N_max = ⌊4λ + 32⌋`.
+        max_impulses: u32,
+        /// `F₀·r`, cycles per cell.
+        frequency_cells: f32,
+        dir_a: f32,
+        dir_b: f32,
+        /// `1/r` (f32 of the f64 value), for warping.
+        inv_radius: f32,
+        // Padding to a whole 16-byte uniform row, as the WGSL struct has it.
+        _pad1: u32,
+    }
+}
+
+/// A Gabor noise on the device: its uniform (tile size set per tile) and its grid.
+#[derive(Debug, Clone)]
+pub(crate) struct GaborKernel {
+    /// Kernel radius `r` = grid cell side, pixels.
+    radius: f64,
+    params: GaborParams,
+}
+
+/// Packs a validated Gabor model.
+fn pack(model: &GaborNoise) -> GaborKernel {
+    let radius = model.kernel_radius();
+    let lambda = model.impulses_per_cell();
+    let chunks = (lambda / POISSON_CHUNK).floor();
+    let rest = lambda - chunks * POISSON_CHUNK;
+    let frequency_cells = f64::from(model.frequency) * radius;
+    let (direction_kind, dir_a, dir_b) = match model.orientation {
+        Orientation::Anisotropic { angle } => {
+            let (sin, cos) = f64::from(angle).sin_cos();
+            (
+                0u32,
+                (frequency_cells * cos) as f32,
+                (frequency_cells * sin) as f32,
+            )
+        }
+        Orientation::Isotropic { min, max } => {
+            let turn = std::f64::consts::TAU;
+            (
+                1u32,
+                (f64::from(min) / turn).rem_euclid(1.0) as f32,
+                ((f64::from(max) - f64::from(min)) / turn) as f32,
+            )
+        }
+    };
+    let params = GaborParams {
+        width: 0,
+        height: 0,
+        seed: model.seed,
+        direction_kind,
+        mean: model.mean,
+        amplitude: model.amplitude,
+        poisson_threshold: (-rest).exp() as f32,
+        poisson_chunks: chunks as u32,
+        chunk_up: POISSON_CHUNK.exp() as f32,
+        chunk_down: (-POISSON_CHUNK).exp() as f32,
+        max_impulses: (4.0 * lambda + 32.0).floor().max(1.0) as u32,
+        frequency_cells: frequency_cells as f32,
+        dir_a,
+        dir_b,
+        inv_radius: (1.0 / radius) as f32,
+        _pad1: 0,
+    };
+    GaborKernel { radius, params }
+}
+
+impl GpuKind for GaborNoise {
+    fn gpu_kernel(&self, context: &GpuContext, _z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
+        Shaded::boxed(context, pack(self), &[])
+    }
+}
+
+impl ShaderKernel for GaborKernel {
+    const SHADER: &'static str = "gabor";
+    const ENTRY_POINT: &'static str = "gabor_main";
+
+    fn axis_bytes(&self) -> u64 {
+        size_of::<CellAxis>() as u64
+    }
+
+    fn tile_tables(
+        &self,
+        tile: &GpuWindow,
+        _displacement: Option<&[f32]>,
+        _limit: u64,
+    ) -> Result<TileTables, GpuError> {
+        let params = GaborParams {
+            width: tile.width as u32,
+            height: tile.height as u32,
+            ..self.params
+        };
+        Ok(TileTables::new(
+            &params,
+            vec![
+                Table::new(
+                    "gabor columns",
+                    &cell_axis(self.radius, tile.width, columns(tile)),
+                ),
+                Table::new(
+                    "gabor rows",
+                    &cell_axis(self.radius, tile.height, rows(tile)),
+                ),
+            ],
+        ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::layout::check::assert_matches_wgsl;
+
+    #[test]
+    fn params_match_the_wgsl() {
+        assert_matches_wgsl::<GaborParams>("gabor", "GaborParams");
+    }
+}

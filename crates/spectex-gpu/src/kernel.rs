@@ -1,0 +1,163 @@
+//! What a model kind provides on the device: [`GpuKind`] builds a kind's [`GpuKernel`] once per
+//! model; a kind with a shader of its own implements [`ShaderKernel`] (its WGSL, its uniform and
+//! tables per tile, its sizes for tiling) and [`Shaded`](crate::pipeline::Shaded) turns that into
+//! a kernel, while a kind that only combines others (a warp) implements [`GpuKernel`] directly.
+//!
+//! Each kind implements these in its own module; [`GpuEvaluator::new_at_z`] is the one dispatch
+//! over kinds, through `spectex_model::for_each_kind!`.
+//!
+//! [`GpuEvaluator::new_at_z`]: crate::GpuEvaluator::new_at_z
+
+use std::fmt;
+
+use spectex_model::ModelKind;
+
+use crate::{GpuContext, GpuError, GpuWindow};
+
+/// The device layer of one model kind.
+pub(crate) trait GpuKind: ModelKind {
+    /// The kernel of a **validated** model on the plane `z` (ignored by 2D models): its tables
+    /// packed and uploaded, its pipeline built.
+    ///
+    /// # Errors
+    /// [`GpuError::LimitsExceeded`] when a table does not fit one storage buffer,
+    /// [`GpuError::Unsupported`] for a feature of the kind the device path lacks,
+    /// [`GpuError::Validation`] if the device rejects the shader or the buffers.
+    fn gpu_kernel(&self, context: &GpuContext, z: f64) -> Result<Box<dyn GpuKernel>, GpuError>;
+}
+
+/// A model prepared on the device, rendering one tile at a time.
+pub(crate) trait GpuKernel: fmt::Debug + Send + Sync {
+    /// Values per pixel in the output, interleaved: 1, or 3 for colour.
+    fn output_channels(&self) -> usize;
+
+    /// The largest tile (pixels per side) for `window`, at most `cap`, whose buffers and
+    /// dispatch fit the device's limits.
+    ///
+    /// # Errors
+    /// [`GpuError::LimitsExceeded`] if not even a one-pixel tile fits.
+    fn tile_size(&self, window: &GpuWindow, cap: [usize; 2]) -> Result<[usize; 2], GpuError>;
+
+    /// Checks what [`GpuWindow::validate`] cannot know: a kind whose positions reach beyond the
+    /// window (a warp) checks that they stay in range.
+    ///
+    /// # Errors
+    /// [`GpuError::Window`] naming the parameter.
+    fn check_window(&self, window: &GpuWindow) -> Result<(), GpuError> {
+        let _ = window;
+        Ok(())
+    }
+
+    /// The values of `tile` (which fits [`tile_size`](Self::tile_size)), row-major, channels
+    /// interleaved, at positions displaced by `displacement` (pixels, `(dx, dy)` per pixel
+    /// interleaved, row-major over the tile) when given: `common.wgsl`'s convention.
+    ///
+    /// # Errors
+    /// [`GpuError::Validation`], [`GpuError::DeviceLost`], or [`GpuError::LimitsExceeded`] for
+    /// a per-tile table (a warped tile can reach far more cells than its own box).
+    fn render_tile(
+        &self,
+        tile: &GpuWindow,
+        displacement: Option<&[f32]>,
+    ) -> Result<Vec<f32>, GpuError>;
+}
+
+/// A kind rendered by a compute shader of its own: everything kind-specific about it, and
+/// nothing about wgpu (pipelines, bind groups, dispatch and read-back are
+/// [`Shaded`](crate::pipeline::Shaded)'s).
+///
+/// Bind group 0 of its shader is, in binding order: the uniform (binding 0), the tables packed
+/// once (handed to `Shaded::boxed` in that order), the per-tile tables of
+/// [`tile_tables`](Self::tile_tables) in order, and last the `f32` output. Bind group 1 is the
+/// displacement of `common.wgsl`. The layouts come from the shader itself.
+pub(crate) trait ShaderKernel: fmt::Debug + Send + Sync + 'static {
+    /// The shader's name in the registry (`shaders/<SHADER>.wgsl`).
+    const SHADER: &'static str;
+    /// Its compute entry point.
+    const ENTRY_POINT: &'static str;
+
+    /// Values per pixel in the output, interleaved.
+    fn output_channels(&self) -> usize {
+        1
+    }
+
+    /// Bytes of the per-column (and per-row) tables for one tile column (row): what bounds a
+    /// tile's side through the storage-binding limit.
+    fn axis_bytes(&self) -> u64;
+
+    /// Bytes per pixel of the tile's largest per-pixel buffer: the output or the displacement
+    /// (two `f32`) unless the kind uploads more per pixel.
+    fn pixel_bytes(&self) -> u64 {
+        8
+    }
+
+    /// Shrinks a tile that fits the generic limits for what the kind adds (a phasor's box of
+    /// kernel cells, a texture's LRP passes); `limit` bounds one storage buffer.
+    ///
+    /// # Errors
+    /// As [`GpuKernel::tile_size`].
+    fn fit_tile(
+        &self,
+        window: &GpuWindow,
+        size: [usize; 2],
+        limit: u64,
+    ) -> Result<[usize; 2], GpuError> {
+        let _ = (window, limit);
+        Ok(size)
+    }
+
+    /// The uniform and the per-tile tables of `tile` (displaced by `displacement` when given,
+    /// which a kind drawing cells on the host must cover); `limit` bounds one storage buffer.
+    ///
+    /// # Errors
+    /// [`GpuError::LimitsExceeded`] for a table over `limit`; a kind running passes of its own
+    /// first (a texture's strata) passes their errors on.
+    fn tile_tables(
+        &self,
+        tile: &GpuWindow,
+        displacement: Option<&[f32]>,
+        limit: u64,
+    ) -> Result<TileTables, GpuError>;
+}
+
+/// One storage table as the device receives it.
+#[derive(Debug, Clone)]
+pub(crate) struct Table {
+    /// A debugging label for the buffer.
+    pub label: &'static str,
+    /// Its bytes: at least one record, since a binding may not be smaller than one element of
+    /// the array the shader declares (the layout derived from the shader says so).
+    pub bytes: Vec<u8>,
+}
+
+impl Table {
+    /// The records `records`, or one zeroed record where there are none (the shader reads no
+    /// further than the counts it is given, so the filler is never read).
+    pub(crate) fn new<T: bytemuck::Pod>(label: &'static str, records: &[T]) -> Self {
+        let bytes = if records.is_empty() {
+            bytemuck::bytes_of(&T::zeroed()).to_vec()
+        } else {
+            bytemuck::cast_slice(records).to_vec()
+        };
+        Self { label, bytes }
+    }
+}
+
+/// What a [`ShaderKernel`] uploads for one tile.
+#[derive(Debug, Clone)]
+pub(crate) struct TileTables {
+    /// The uniform of binding 0 (the shader's params struct) as bytes.
+    pub uniform: Vec<u8>,
+    /// The per-tile storage tables, in binding order (the columns and rows last).
+    pub tables: Vec<Table>,
+}
+
+impl TileTables {
+    /// A uniform record and the tile's tables.
+    pub(crate) fn new<U: bytemuck::Pod>(uniform: &U, tables: Vec<Table>) -> Self {
+        Self {
+            uniform: bytemuck::bytes_of(uniform).to_vec(),
+            tables,
+        }
+    }
+}

@@ -1,0 +1,96 @@
+//! Records the device reads: `#[repr(C)]` [`bytemuck::Pod`] structs that mirror the WGSL structs
+//! of `shaders/` field for field, declared through [`wgsl_struct!`] so that a test can hold each
+//! one against naga's layout of its WGSL twin (same field names, same offsets, same size).
+//!
+//! WGSL lays out `u32`, `i32` and `f32` at 4 bytes, `vec4<f32>` at 16 and a struct at its
+//! largest member's alignment; every record here is made of 4-byte scalars and arrays of them,
+//! with explicit `_pad` fields wherever the WGSL struct has them (uniforms are padded to whole
+//! 16-byte rows, and a `vec4` member must start on a 16-byte boundary), so `repr(C)` adds no
+//! padding of its own and `Pod` (which refuses implicit padding) holds.
+
+/// One record's field names and byte offsets, in declaration order, for the layout test (the
+/// only reader, so it exists in test builds only).
+#[cfg(test)]
+pub(crate) trait WgslStruct: bytemuck::Pod {
+    /// `(field name, byte offset)` of every field.
+    const FIELDS: &'static [(&'static str, usize)];
+}
+
+/// Declares a `#[repr(C)]`, `Pod` record mirroring a WGSL struct (same field names, in the same
+/// order) and, in test builds, implements `WgslStruct` for it, so its offsets are checked
+/// against naga's.
+macro_rules! wgsl_struct {
+    (
+        $(#[$meta:meta])*
+        $vis:vis struct $name:ident {
+            $( $(#[$field_meta:meta])* $field:ident : $ty:ty ),* $(,)?
+        }
+    ) => {
+        $(#[$meta])*
+        #[repr(C)]
+        #[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+        $vis struct $name {
+            $( $(#[$field_meta])* pub $field: $ty ),*
+        }
+
+        #[cfg(test)]
+        impl $crate::layout::WgslStruct for $name {
+            const FIELDS: &'static [(&'static str, usize)] =
+                &[$( (stringify!($field), ::core::mem::offset_of!($name, $field)) ),*];
+        }
+    };
+}
+pub(crate) use wgsl_struct;
+
+#[cfg(test)]
+pub(crate) mod check {
+    //! The layout test's helper: naga's view of a WGSL struct against a Rust record.
+
+    use super::WgslStruct;
+
+    /// Panics unless the struct `wgsl_name` of the composed module `shader` has exactly the
+    /// fields of `T` (names and byte offsets, as naga lays them out) and `T`'s size is the
+    /// struct's array stride (its size rounded to its alignment: what one element of a
+    /// `Vec<T>` upload must occupy, and for a uniform the struct's size).
+    pub(crate) fn assert_matches_wgsl<T: WgslStruct>(shader: &str, wgsl_name: &str) {
+        let source = crate::wgsl_source(shader)
+            .unwrap_or_else(|| panic!("{shader} is not in the shader registry"));
+        let module = naga::front::wgsl::parse_str(&source).unwrap_or_else(|e| {
+            panic!(
+                "{shader}.wgsl does not parse:\n{}",
+                e.emit_to_string(&source)
+            )
+        });
+        let mut layouter = naga::proc::Layouter::default();
+        layouter
+            .update(module.to_ctx())
+            .unwrap_or_else(|e| panic!("{shader}.wgsl: naga cannot lay out its types: {e}"));
+        let (handle, members) = module
+            .types
+            .iter()
+            .find_map(|(handle, ty)| match &ty.inner {
+                naga::TypeInner::Struct { members, .. }
+                    if ty.name.as_deref() == Some(wgsl_name) =>
+                {
+                    Some((handle, members))
+                }
+                _ => None,
+            })
+            .unwrap_or_else(|| panic!("{shader}.wgsl has no struct {wgsl_name}"));
+        let wgsl: Vec<(&str, usize)> = members
+            .iter()
+            .map(|m| (m.name.as_deref().unwrap_or("?"), m.offset as usize))
+            .collect();
+        assert_eq!(
+            T::FIELDS,
+            wgsl.as_slice(),
+            "{shader}.wgsl {wgsl_name}: (field, offset) of the Rust record vs naga's layout"
+        );
+        let stride = layouter[handle].to_stride() as usize;
+        assert_eq!(
+            size_of::<T>(),
+            stride,
+            "{shader}.wgsl {wgsl_name}: size of the Rust record vs naga's stride"
+        );
+    }
+}

@@ -1,0 +1,260 @@
+//! LRP noise on the device (`shaders/lrp.wgsl`): the model's strata, frequency tables and
+//! sub-strata packed once, and per tile the lattice cell of every column and row with its f32
+//! offsets to the nearby lattice points (f64 on the host, so a window at `(10⁷, 10⁷)` is as
+//! precise as one at the origin).
+
+use spectex_model::LrpNoise;
+
+use crate::axis::{columns, rows};
+use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
+use crate::layout::wgsl_struct;
+use crate::pipeline::{Shaded, binding_limit};
+use crate::{GpuContext, GpuError, GpuWindow};
+
+wgsl_struct! {
+    /// `LrpParams` of `lrp.wgsl`.
+    pub(crate) struct LrpParams {
+        width: u32,
+        height: u32,
+        strata: u32,
+        seed: u32,
+        mean: f32,
+        // Padding to a whole 16-byte uniform row, as the WGSL struct has it.
+        _pad0: u32,
+        _pad1: u32,
+        _pad2: u32,
+    }
+}
+
+wgsl_struct! {
+    /// `LrpStratum` of `lrp.wgsl`: one stratum's constants.
+    pub(crate) struct LrpStratum {
+        /// `1/Δ²` rounded to f32 from f64 (the CPU's `(1.0 / (delta * delta)) as f32`).
+        inv_delta2: f32,
+        amplitude: f32,
+        /// Index in the sub-strata table of the stratum's cosine 0.
+        table_first: u32,
+        /// `J_s`, the cosines per lattice point.
+        cosines: u32,
+        /// `Δ_s` (the model's f32), for warping.
+        delta: f32,
+    }
+}
+
+wgsl_struct! {
+    /// `LatticeAxis` of `lrp.wgsl`: a position's lattice cell `c = ⌊x/Δ⌋` (wrapped to i32 as
+    /// the CPU does) and `f32(x − (c + k − 1)·Δ)` for `k = 0..3`.
+    pub(crate) struct LatticeAxis {
+        cell: i32,
+        offset: [f32; 4],
+    }
+}
+
+/// What an LRP noise needs per tile once its tables are on the device.
+#[derive(Debug, Clone)]
+pub(crate) struct LrpKernel {
+    seed: u32,
+    mean: f32,
+    /// `Δ_s` in f64 (from the model's f32), per stratum.
+    deltas: Vec<f64>,
+}
+
+/// An LRP model's tables: its strata, every sub-stratum's `(f_x, f_y)` concatenated, and the
+/// `(start, len)` of every sub-stratum's table, strata in order.
+#[derive(Debug, Clone)]
+struct LrpTables {
+    strata: Vec<LrpStratum>,
+    frequencies: Vec<[f32; 2]>,
+    tables: Vec<[u32; 2]>,
+}
+
+/// Packs a validated LRP model.
+fn pack(model: &LrpNoise) -> LrpTables {
+    let mut packed = LrpTables {
+        strata: Vec::with_capacity(model.strata.len()),
+        frequencies: Vec::new(),
+        tables: Vec::new(),
+    };
+    for stratum in &model.strata {
+        let delta = f64::from(stratum.window_width);
+        packed.strata.push(LrpStratum {
+            inv_delta2: (1.0 / (delta * delta)) as f32,
+            amplitude: stratum.amplitude,
+            table_first: packed.tables.len() as u32,
+            cosines: stratum.sub_strata.len() as u32,
+            delta: stratum.window_width,
+        });
+        for table in &stratum.sub_strata {
+            packed
+                .tables
+                .push([packed.frequencies.len() as u32, table.len() as u32]);
+            packed.frequencies.extend(table);
+        }
+    }
+    packed
+}
+
+/// [`LatticeAxis`] records for `count` positions `position(i)`, stratum-major.
+pub(crate) fn lattice_axis(
+    deltas: &[f64],
+    count: usize,
+    position: impl Fn(usize) -> f64,
+) -> Vec<LatticeAxis> {
+    let mut records = Vec::with_capacity(deltas.len() * count);
+    for &delta in deltas {
+        for i in 0..count {
+            let x = position(i);
+            let cell = (x / delta).floor() as i64;
+            let offset = [-1, 0, 1, 2].map(|k| (x - (cell + k) as f64 * delta) as f32);
+            records.push(LatticeAxis {
+                cell: cell as i32,
+                offset,
+            });
+        }
+    }
+    records
+}
+
+impl GpuKind for LrpNoise {
+    fn gpu_kernel(&self, context: &GpuContext, _z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
+        let packed = pack(self);
+        let limit = binding_limit(&context.limits());
+        let needed = size_of_val(packed.frequencies.as_slice()) as u64;
+        if needed > limit {
+            return Err(GpuError::LimitsExceeded {
+                what: "frequency tables (bytes in one storage buffer)",
+                value: needed,
+                limit,
+            });
+        }
+        let kernel = LrpKernel {
+            seed: self.seed,
+            mean: self.mean,
+            deltas: self
+                .strata
+                .iter()
+                .map(|s| f64::from(s.window_width))
+                .collect(),
+        };
+        Shaded::boxed(
+            context,
+            kernel,
+            &[
+                Table::new("lrp strata", &packed.strata),
+                Table::new("lrp frequencies", &packed.frequencies),
+                Table::new("lrp tables", &packed.tables),
+            ],
+        )
+    }
+}
+
+impl ShaderKernel for LrpKernel {
+    const SHADER: &'static str = "lrp";
+    const ENTRY_POINT: &'static str = "lrp_main";
+
+    fn axis_bytes(&self) -> u64 {
+        (size_of::<LatticeAxis>() * self.deltas.len()) as u64
+    }
+
+    fn tile_tables(
+        &self,
+        tile: &GpuWindow,
+        _displacement: Option<&[f32]>,
+        _limit: u64,
+    ) -> Result<TileTables, GpuError> {
+        let params = LrpParams {
+            width: tile.width as u32,
+            height: tile.height as u32,
+            strata: self.deltas.len() as u32,
+            seed: self.seed,
+            mean: self.mean,
+            ..bytemuck::Zeroable::zeroed()
+        };
+        Ok(TileTables::new(
+            &params,
+            vec![
+                Table::new(
+                    "lrp columns",
+                    &lattice_axis(&self.deltas, tile.width, columns(tile)),
+                ),
+                Table::new(
+                    "lrp rows",
+                    &lattice_axis(&self.deltas, tile.height, rows(tile)),
+                ),
+            ],
+        ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::layout::check::assert_matches_wgsl;
+
+    #[test]
+    fn records_match_the_wgsl() {
+        assert_matches_wgsl::<LrpParams>("lrp", "LrpParams");
+        assert_matches_wgsl::<LrpStratum>("lrp", "LrpStratum");
+        assert_matches_wgsl::<LatticeAxis>("lrp", "LatticeAxis");
+    }
+
+    #[test]
+    fn lattice_offsets_are_the_rounded_f64_differences() {
+        let records = lattice_axis(&[9.5], 3, |i| 1.0e7 + i as f64 * 0.25);
+        for (i, r) in records.iter().enumerate() {
+            let x = 1.0e7 + i as f64 * 0.25;
+            let cell = (x / 9.5).floor() as i64;
+            assert_eq!(i64::from(r.cell), cell);
+            for k in 0..4 {
+                let want = (x - (cell + k as i64 - 1) as f64 * 9.5) as f32;
+                assert_eq!(r.offset[k], want);
+            }
+            // The pixel lies in [cell, cell + 1) lattice steps: offset k = 1 is in [0, Δ).
+            assert!((0.0..=9.5).contains(&r.offset[1]), "{}", r.offset[1]);
+        }
+    }
+
+    #[test]
+    fn pack_concatenates_tables_in_order() {
+        use spectex_model::Stratum;
+        let m = LrpNoise {
+            seed: 3,
+            mean: 0.5,
+            strata: vec![
+                Stratum {
+                    window_width: 4.0,
+                    amplitude: 1.0,
+                    sub_strata: vec![vec![[0.1, 0.2]], vec![[0.3, 0.4], [0.0, 0.1]]],
+                },
+                Stratum {
+                    window_width: 8.0,
+                    amplitude: 2.0,
+                    sub_strata: vec![vec![[0.25, 0.0]]],
+                },
+            ],
+        };
+        let p = pack(&m);
+        assert_eq!(p.tables, [[0, 1], [1, 2], [3, 1]]);
+        assert_eq!(
+            (
+                p.strata[0].table_first,
+                p.strata[0].cosines,
+                p.strata[0].delta
+            ),
+            (0, 2, 4.0)
+        );
+        assert_eq!(
+            (
+                p.strata[1].table_first,
+                p.strata[1].cosines,
+                p.strata[1].delta
+            ),
+            (2, 1, 8.0)
+        );
+        assert_eq!(p.strata[0].inv_delta2, 1.0 / 16.0);
+        assert_eq!(p.frequencies[3], [0.25, 0.0]);
+        // The bytes the device receives: a stratum is five words, in the WGSL's order.
+        let words: &[u32] = bytemuck::cast_slice(&p.strata);
+        assert_eq!(words[7..10], [2, 1, 8.0f32.to_bits()]);
+    }
+}

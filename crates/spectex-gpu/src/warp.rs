@@ -1,0 +1,72 @@
+//! Domain warping on the device: a [`Warp`] has no shader of its own. Per tile it renders x and y
+//! (displaced themselves when the warp is), applies [`Warp::displacement`] on the host in f32,
+//! and renders its base displaced by the sum through the base's own shader (`common.wgsl`'s
+//! displacement convention, bind group 1 of every model shader).
+
+use spectex_model::{Model, Warp};
+
+use crate::kernel::{GpuKernel, GpuKind};
+use crate::{GpuContext, GpuError, GpuEvaluator, GpuWindow};
+
+/// A warp's three sub-evaluators.
+#[derive(Debug)]
+pub(crate) struct WarpKernel {
+    model: Warp,
+    /// The whole model, for [`spectex_model::warp::check_window`].
+    whole: Model,
+    base: GpuEvaluator,
+    x: GpuEvaluator,
+    y: GpuEvaluator,
+}
+
+impl GpuKind for Warp {
+    fn gpu_kernel(&self, context: &GpuContext, z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
+        Ok(Box::new(WarpKernel {
+            model: self.clone(),
+            whole: Model::Warp(self.clone()),
+            base: GpuEvaluator::prepared(context, &self.base, z)?,
+            x: GpuEvaluator::prepared(context, &self.x, z)?,
+            y: GpuEvaluator::prepared(context, &self.y, z)?,
+        }))
+    }
+}
+
+impl GpuKernel for WarpKernel {
+    fn output_channels(&self) -> usize {
+        self.base.output_channels()
+    }
+
+    /// Every sub-evaluator renders the same tile: the smallest of theirs.
+    fn tile_size(&self, window: &GpuWindow, cap: [usize; 2]) -> Result<[usize; 2], GpuError> {
+        let mut size = [window.width.min(cap[0]), window.height.min(cap[1])];
+        for e in [&self.base, &self.x, &self.y] {
+            let [w, h] = e.tile_size(window)?;
+            size = [size[0].min(w), size[1].min(h)];
+        }
+        Ok(size)
+    }
+
+    fn check_window(&self, window: &GpuWindow) -> Result<(), GpuError> {
+        Ok(spectex_model::warp::check_window(&self.whole, window)?)
+    }
+
+    /// x and y at the (displaced) positions, their clamped displacement added in f32 to the
+    /// outer one, and the base displaced by the sum.
+    fn render_tile(
+        &self,
+        tile: &GpuWindow,
+        displacement: Option<&[f32]>,
+    ) -> Result<Vec<f32>, GpuError> {
+        let vx = self.x.render_tile_displaced(tile, displacement)?;
+        let vy = self.y.render_tile_displaced(tile, displacement)?;
+        let mut total = Vec::with_capacity(2 * vx.len());
+        for (k, (a, b)) in vx.iter().zip(&vy).enumerate() {
+            let d = [self.model.displacement(*a), self.model.displacement(*b)];
+            match displacement {
+                Some(outer) => total.extend([outer[2 * k] + d[0], outer[2 * k + 1] + d[1]]),
+                None => total.extend(d),
+            }
+        }
+        self.base.render_tile_displaced(tile, Some(&total))
+    }
+}

@@ -1,0 +1,158 @@
+//! Wavelet noise on the device (`shaders/wavelet.wgsl`): the model's tile (built on the host by
+//! the model's one function) and its bands uploaded once, and per tile and band each column's
+//! and row's tile index and fraction, located in f64 by [`locate_sample`] (the CPU's call).
+
+use spectex_model::WaveletNoise;
+use spectex_model::wavelet::{Band, locate_sample};
+
+use crate::axis::{columns, rows};
+use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
+use crate::layout::wgsl_struct;
+use crate::pipeline::Shaded;
+use crate::{GpuContext, GpuError, GpuWindow};
+
+wgsl_struct! {
+    /// `WaveletParams` of `wavelet.wgsl`.
+    pub(crate) struct WaveletParams {
+        width: u32,
+        height: u32,
+        bands: u32,
+        /// Tile side `n`.
+        n: u32,
+        /// 2 or 3.
+        dimensions: u32,
+        mean: f32,
+        // Padding to a whole 16-byte uniform row, as the WGSL struct has it.
+        _pad0: u32,
+        _pad1: u32,
+    }
+}
+
+wgsl_struct! {
+    /// `WaveletBand` of `wavelet.wgsl`: a band's amplitude, the plane `z`'s first tile layer and
+    /// fraction, and `1/c_b` (for warping).
+    pub(crate) struct WaveletBand {
+        amplitude: f32,
+        z_index: u32,
+        z_fraction: f32,
+        inv_side: f32,
+    }
+}
+
+wgsl_struct! {
+    /// `WaveletAxis` of `wavelet.wgsl`: a position's first tile index and fraction in one band.
+    pub(crate) struct WaveletAxis {
+        index: u32,
+        fraction: f32,
+    }
+}
+
+/// A wavelet noise on the device: what the host needs per tile.
+#[derive(Debug, Clone)]
+pub(crate) struct WaveletKernel {
+    n: u32,
+    dimensions: u32,
+    mean: f32,
+    bands: Vec<Band>,
+}
+
+impl WaveletKernel {
+    /// [`WaveletAxis`] records for `count` positions along `axis` (0 = x, 1 = y), band-major.
+    fn axis(&self, axis: usize, count: usize, position: impl Fn(usize) -> f64) -> Vec<WaveletAxis> {
+        let mut records = Vec::with_capacity(count * self.bands.len());
+        for b in &self.bands {
+            for i in 0..count {
+                let (index, fraction) = locate_sample(position(i), b.side, b.offset[axis], self.n);
+                records.push(WaveletAxis { index, fraction });
+            }
+        }
+        records
+    }
+}
+
+/// The band records of a validated model for the plane `z`.
+fn band_records(model: &WaveletNoise, bands: &[Band], z: f64) -> Vec<WaveletBand> {
+    bands
+        .iter()
+        .map(|b| {
+            let (z_index, z_fraction) = if model.dimensions == 3 {
+                locate_sample(z, b.side, b.offset[2], model.tile_size)
+            } else {
+                (0, 0.0)
+            };
+            WaveletBand {
+                amplitude: b.amplitude,
+                z_index,
+                z_fraction,
+                inv_side: (1.0 / b.side) as f32,
+            }
+        })
+        .collect()
+}
+
+impl GpuKind for WaveletNoise {
+    fn gpu_kernel(&self, context: &GpuContext, z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
+        let bands = self.bands();
+        let band_records = band_records(self, &bands, z);
+        let kernel = WaveletKernel {
+            n: self.tile_size,
+            dimensions: self.dimensions,
+            mean: self.mean,
+            bands,
+        };
+        Shaded::boxed(
+            context,
+            kernel,
+            &[
+                Table::new("wavelet tile", &self.tile().values),
+                Table::new("wavelet bands", &band_records),
+            ],
+        )
+    }
+}
+
+impl ShaderKernel for WaveletKernel {
+    const SHADER: &'static str = "wavelet";
+    const ENTRY_POINT: &'static str = "wavelet_main";
+
+    fn axis_bytes(&self) -> u64 {
+        (size_of::<WaveletAxis>() * self.bands.len()) as u64
+    }
+
+    fn tile_tables(
+        &self,
+        tile: &GpuWindow,
+        _displacement: Option<&[f32]>,
+        _limit: u64,
+    ) -> Result<TileTables, GpuError> {
+        let params = WaveletParams {
+            width: tile.width as u32,
+            height: tile.height as u32,
+            bands: self.bands.len() as u32,
+            n: self.n,
+            dimensions: self.dimensions,
+            mean: self.mean,
+            ..bytemuck::Zeroable::zeroed()
+        };
+        Ok(TileTables::new(
+            &params,
+            vec![
+                Table::new("wavelet columns", &self.axis(0, tile.width, columns(tile))),
+                Table::new("wavelet rows", &self.axis(1, tile.height, rows(tile))),
+            ],
+        ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::layout::check::assert_matches_wgsl;
+
+    #[test]
+    fn records_match_the_wgsl() {
+        assert_matches_wgsl::<WaveletParams>("wavelet", "WaveletParams");
+        assert_matches_wgsl::<WaveletBand>("wavelet", "WaveletBand");
+        assert_matches_wgsl::<WaveletAxis>("wavelet", "WaveletAxis");
+    }
+}

@@ -1,0 +1,186 @@
+//! What every model kind provides at the model layer ([`ModelKind`]), and the one registry of
+//! kinds ([`for_each_kind!`](crate::for_each_kind)) that [`Model`]'s methods dispatch through.
+//!
+//! A kind is a struct (its serde type, in its own module) implementing [`ModelKind`], plus its
+//! variant of [`Model`], its arm in `for_each_kind!` and its name in [`KIND_NAMES`], all three
+//! in this file. Nothing else in this crate matches over [`Model`], and the other
+//! crates reach a kind through their own per-kind traits with one dispatch each.
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::ModelError;
+use crate::{
+    ClassicNoise, GaborNoise, LrpNoise, PhasorNoise, TextonNoise, TextureModel, Warp, WaveletNoise,
+};
+
+/// The model-layer definition of one kind: its name, validation, output channels and seeds.
+pub trait ModelKind {
+    /// The kind's name: its tag in model files (`{"lrp": …}`), in messages, registries and docs.
+    const NAME: &'static str;
+
+    /// Checks every field.
+    ///
+    /// # Errors
+    /// The first field found outside its range, with its dotted path.
+    fn validate(&self) -> Result<(), ModelError>;
+
+    /// Values per pixel: 1 (grey) unless the kind says otherwise (a colour texture gives 3).
+    fn output_channels(&self) -> usize {
+        1
+    }
+
+    /// Calls `visit` on every seed the model holds, nested models' included, in a fixed order.
+    fn visit_seeds(&mut self, visit: &mut dyn FnMut(&mut u32));
+}
+
+/// Any procedural model spectex evaluates: one variant per kind, each a [`crate::ModelKind`].
+///
+/// Deliberately not `#[non_exhaustive]`: a `match` over it in another crate must name every
+/// kind, so the compiler points at each place a new kind is missed (the tidy test forbids
+/// wildcard arms over `Model` outside this crate).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, rename_all = "snake_case")]
+#[allow(
+    clippy::large_enum_variant,
+    reason = "a model is built once per render and never stored in bulk"
+)]
+pub enum Model {
+    /// Local Random-Phase noise.
+    Lrp(LrpNoise),
+    /// Gabor noise.
+    Gabor(GaborNoise),
+    /// Phasor noise.
+    Phasor(PhasorNoise),
+    /// Texture by example: structure, strata, turbulence, placement, colour.
+    Texture(TextureModel),
+    /// A classic pointwise noise (gradient, simplex, value, Worley; fractal sums of them).
+    Classic(ClassicNoise),
+    /// Domain warping: a model evaluated at positions displaced by two others
+    /// ([`crate::warp`]).
+    Warp(Warp),
+    /// Wavelet noise (Cook & DeRose 2005): a band-limited tile summed over octave bands.
+    Wavelet(WaveletNoise),
+    /// Texton placement and spot noise (survey §2.3, §3.1.5).
+    Texton(TextonNoise),
+}
+
+/// Calls `$body` with `$m` bound to the kind struct inside `$model` (by the reference the match
+/// gives), for every kind: the one list of kinds in this crate. `$Kind` names the struct's type,
+/// so `<$Kind as ModelKind>::NAME` is reachable.
+#[macro_export]
+#[doc(hidden)]
+macro_rules! for_each_kind {
+    ($model:expr, $m:ident : $Kind:ident => $body:expr) => {
+        match $model {
+            $crate::Model::Lrp($m) => {
+                type $Kind = $crate::LrpNoise;
+                $body
+            }
+            $crate::Model::Gabor($m) => {
+                type $Kind = $crate::GaborNoise;
+                $body
+            }
+            $crate::Model::Phasor($m) => {
+                type $Kind = $crate::PhasorNoise;
+                $body
+            }
+            $crate::Model::Texture($m) => {
+                type $Kind = $crate::TextureModel;
+                $body
+            }
+            $crate::Model::Classic($m) => {
+                type $Kind = $crate::ClassicNoise;
+                $body
+            }
+            $crate::Model::Warp($m) => {
+                type $Kind = $crate::Warp;
+                $body
+            }
+            $crate::Model::Wavelet($m) => {
+                type $Kind = $crate::WaveletNoise;
+                $body
+            }
+            $crate::Model::Texton($m) => {
+                type $Kind = $crate::TextonNoise;
+                $body
+            }
+        }
+    };
+}
+
+/// The names of every kind, in the order of [`Model`]'s variants (for registries, docs and the
+/// tidy test that keeps the docs' list of kinds true).
+pub const KIND_NAMES: &[&str] = &[
+    <LrpNoise as ModelKind>::NAME,
+    <GaborNoise as ModelKind>::NAME,
+    <PhasorNoise as ModelKind>::NAME,
+    <TextureModel as ModelKind>::NAME,
+    <ClassicNoise as ModelKind>::NAME,
+    <Warp as ModelKind>::NAME,
+    <WaveletNoise as ModelKind>::NAME,
+    <TextonNoise as ModelKind>::NAME,
+];
+
+impl Model {
+    /// The kind's name ([`ModelKind::NAME`]): `"lrp"`, `"classic"`, … (the model file's tag).
+    #[must_use]
+    pub fn kind(&self) -> &'static str {
+        for_each_kind!(self, _m: K => <K as ModelKind>::NAME)
+    }
+
+    /// Checks every field of the model.
+    ///
+    /// # Errors
+    /// The first field found outside its range.
+    pub fn validate(&self) -> Result<(), ModelError> {
+        for_each_kind!(self, m: K => <K as ModelKind>::validate(m))
+    }
+
+    /// Values per pixel: 3 for a colour texture (or a warp of one), else 1.
+    #[must_use]
+    pub fn output_channels(&self) -> usize {
+        for_each_kind!(self, m: K => <K as ModelKind>::output_channels(m))
+    }
+
+    /// Calls `visit` on every seed of the model, nested models' included.
+    pub fn visit_seeds(&mut self, visit: &mut dyn FnMut(&mut u32)) {
+        for_each_kind!(self, m: K => <K as ModelKind>::visit_seeds(m, visit));
+    }
+
+    /// The same model with every seed it holds (nested models' too) advanced by `delta`,
+    /// wrapping: an independent copy of the same noise (same spectrum and parameters).
+    #[must_use]
+    pub fn reseeded(&self, delta: u32) -> Self {
+        let mut model = self.clone();
+        model.visit_seeds(&mut |seed| *seed = seed.wrapping_add(delta));
+        model
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fixtures;
+
+    #[test]
+    fn kind_names_are_the_model_file_tags() {
+        for model in [
+            Model::Lrp(fixtures::lrp_four_strata(10)),
+            Model::Gabor(fixtures::gabor_isotropic()),
+            fixtures::constant(0.5),
+        ] {
+            let json = crate::to_json(&model).expect("valid fixture");
+            let value: serde_json::Value = serde_json::from_str(&json).expect("JSON");
+            let tag = value["model"]
+                .as_object()
+                .and_then(|o| o.keys().next().cloned())
+                .expect("one tag");
+            assert_eq!(tag, model.kind());
+            assert!(KIND_NAMES.contains(&model.kind()));
+        }
+        let mut sorted = KIND_NAMES.to_vec();
+        sorted.sort_unstable();
+        sorted.dedup();
+        assert_eq!(sorted.len(), KIND_NAMES.len(), "kind names are distinct");
+    }
+}
