@@ -480,6 +480,27 @@ fn ci(ws: &Workspace) -> Result<()> {
         )),
     }
     steps.push(step("cargo test --doc", &["test", "--workspace", "--doc"]));
+    // The numbered examples, run as a user would (`cargo run --example`), in the test profile
+    // whose artefacts the test step has just built, so nothing is compiled again.
+    let examples_out = ws.root.join("target").join("examples-out");
+    fs::create_dir_all(&examples_out)
+        .with_context(|| format!("creating {}", examples_out.display()))?;
+    for name in example_names(ws)? {
+        let out = examples_out.to_string_lossy().into_owned();
+        let args = [
+            "run",
+            "--profile",
+            "test",
+            "-q",
+            "-p",
+            "spectex-cli",
+            "--example",
+            &name,
+            "--",
+            &out,
+        ];
+        steps.push(step(&format!("cargo run --example {name}"), &args));
+    }
     run_steps("ci", steps)?;
     summary.report()
 }
@@ -755,4 +776,17 @@ mod tests {
         );
         assert_eq!(parse_median_ns(r#"{"mean":{"point_estimate":1.0}}"#), None);
     }
+}
+
+/// The numbered examples of `crates/spectex-cli/examples/` (file stems, sorted).
+fn example_names(ws: &Workspace) -> Result<Vec<String>> {
+    let dir = ws.root.join("crates/spectex-cli/examples");
+    let mut names: Vec<String> = fs::read_dir(&dir)
+        .with_context(|| format!("reading {}", dir.display()))?
+        .filter_map(|entry| entry.ok().map(|e| e.path()))
+        .filter(|path| path.extension().is_some_and(|ext| ext == "rs"))
+        .filter_map(|path| path.file_stem().map(|s| s.to_string_lossy().into_owned()))
+        .collect();
+    names.sort();
+    Ok(names)
 }

@@ -404,6 +404,12 @@ pub fn bilinear(values: &[f32], width: u32, height: u32, qu: f32, qv: f32) -> f3
     top + (bottom - top) * fy
 }
 
+impl From<TextonNoise> for crate::Model {
+    fn from(model: TextonNoise) -> Self {
+        Self::Texton(model)
+    }
+}
+
 impl crate::ModelKind for TextonNoise {
     const NAME: &'static str = "texton";
 
