@@ -748,6 +748,19 @@ fn parse_median_ns(json: &str) -> Option<f64> {
     value[..end].parse().ok()
 }
 
+/// The numbered examples of `crates/spectex-cli/examples/` (file stems, sorted).
+fn example_names(ws: &Workspace) -> Result<Vec<String>> {
+    let dir = ws.root.join("crates/spectex-cli/examples");
+    let mut names: Vec<String> = fs::read_dir(&dir)
+        .with_context(|| format!("reading {}", dir.display()))?
+        .filter_map(|entry| entry.ok().map(|e| e.path()))
+        .filter(|path| path.extension().is_some_and(|ext| ext == "rs"))
+        .filter_map(|path| path.file_stem().map(|s| s.to_string_lossy().into_owned()))
+        .collect();
+    names.sort();
+    Ok(names)
+}
+
 #[cfg(test)]
 mod tests {
     use super::{json_string_field, parse_median_ns};
@@ -776,17 +789,4 @@ mod tests {
         );
         assert_eq!(parse_median_ns(r#"{"mean":{"point_estimate":1.0}}"#), None);
     }
-}
-
-/// The numbered examples of `crates/spectex-cli/examples/` (file stems, sorted).
-fn example_names(ws: &Workspace) -> Result<Vec<String>> {
-    let dir = ws.root.join("crates/spectex-cli/examples");
-    let mut names: Vec<String> = fs::read_dir(&dir)
-        .with_context(|| format!("reading {}", dir.display()))?
-        .filter_map(|entry| entry.ok().map(|e| e.path()))
-        .filter(|path| path.extension().is_some_and(|ext| ext == "rs"))
-        .filter_map(|path| path.file_stem().map(|s| s.to_string_lossy().into_owned()))
-        .collect();
-    names.sort();
-    Ok(names)
 }
