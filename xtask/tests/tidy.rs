@@ -40,7 +40,24 @@ const ALLOWED_PROJECT_DEPENDENCIES: &[(&str, &[&str])] = &[
             "spectex-crosscheck",
         ],
     ),
+    (
+        "spectex-testkit",
+        &[
+            "spectex-model",
+            "spectex-cpu",
+            "spectex-gpu",
+            "spectex-spectrum",
+        ],
+    ),
 ];
+
+/// Project crates that exist for tests only, and the crates that may take each — as a
+/// dev-dependency and in no other section. Any other dependency on them is an offence, so a
+/// test kit never ends up in a library's build.
+const DEV_ONLY_DEPENDENCIES: &[(&str, &[&str])] = &[(
+    "spectex-testkit",
+    &["spectex-cpu", "spectex-gpu", "spectex-cli"],
+)];
 
 /// Folders of a crate whose `.rs` files are modules that must start with a `//!` line.
 const SOURCE_DIRS: &[&str] = &["src", "tests", "benches", "examples"];
@@ -125,6 +142,24 @@ fn dependency_direction_offences(root: &Path) -> Vec<String> {
 
     let mut check = |manifest: PathBuf, krate: &str, allowed: &[&str]| {
         for dep in dependencies(&manifest) {
+            if let Some((_, takers)) = DEV_ONLY_DEPENDENCIES
+                .iter()
+                .find(|(name, _)| *name == dep.name)
+            {
+                if !(takers.contains(&krate) && is_dev_section(&dep.section)) {
+                    offences.push(format!(
+                        "{}:{}: {krate} -> {} in [{}]; {} is dev-only: only {} may take it, \
+                         in [dev-dependencies]",
+                        relative(root, &manifest),
+                        dep.line,
+                        dep.name,
+                        dep.section,
+                        dep.name,
+                        takers.join(", "),
+                    ));
+                }
+                continue;
+            }
             if dep.name.starts_with("spectex-") && !allowed.contains(&dep.name.as_str()) {
                 let may = if allowed.is_empty() {
                     "no project crate".to_owned()
@@ -270,6 +305,19 @@ enum Section {
 }
 
 const DEPENDENCY_KINDS: &[&str] = &["dependencies", "dev-dependencies", "build-dependencies"];
+
+/// Whether a dependency section header (`dev-dependencies`, `dev-dependencies.foo`,
+/// `target.'cfg(unix)'.dev-dependencies`) declares dev-dependencies.
+fn is_dev_section(header: &str) -> bool {
+    let local = match header.strip_prefix("target.") {
+        Some(rest) => match target_spec_end(rest) {
+            Some(end) => &rest[end..],
+            None => return false,
+        },
+        None => header,
+    };
+    local.split('.').next().map(str::trim) == Some("dev-dependencies")
+}
 
 fn classify(header: &str) -> Section {
     // The target part may itself hold dots (`cfg(target_os = "a.b")`), so strip it as a prefix.
@@ -704,4 +752,66 @@ fn checks_report_what_a_broken_fake_tree_plants() {
     let root = tree.root.clone();
     drop(tree);
     assert!(!root.exists(), "{} was not removed", root.display());
+}
+
+#[test]
+fn a_dev_only_crate_is_taken_only_as_a_dev_dependency_by_its_takers() {
+    let tree = FakeTree::new("dev-only");
+    // Allowed: the takers, in [dev-dependencies] (plain, table and target-specific forms).
+    tree.write(
+        "crates/spectex-cpu/Cargo.toml",
+        &manifest(
+            "spectex-cpu",
+            "[dev-dependencies]\nspectex-testkit.workspace = true\n",
+        ),
+    );
+    tree.write(
+        "crates/spectex-gpu/Cargo.toml",
+        &manifest(
+            "spectex-gpu",
+            "[dev-dependencies.spectex-testkit]\nworkspace = true\n",
+        ),
+    );
+    tree.write(
+        "crates/spectex-cli/Cargo.toml",
+        &manifest(
+            "spectex-cli",
+            "[target.'cfg(unix)'.dev-dependencies]\n\
+             spectex-testkit = { workspace = true, features = [\"cpu\"] }\n",
+        ),
+    );
+    assert_eq!(
+        dependency_direction_offences(&tree.root),
+        Vec::<String>::new()
+    );
+    // Offences: a taker's normal or build dependency, and a crate that is not a taker.
+    tree.write(
+        "crates/spectex-cpu/Cargo.toml",
+        &manifest(
+            "spectex-cpu",
+            "[dependencies]\nspectex-testkit.workspace = true\n",
+        ),
+    );
+    tree.write(
+        "crates/spectex-gpu/Cargo.toml",
+        &manifest(
+            "spectex-gpu",
+            "[build-dependencies.kit]\npackage = \"spectex-testkit\"\nworkspace = true\n",
+        ),
+    );
+    tree.write(
+        "crates/spectex-model/Cargo.toml",
+        &manifest(
+            "spectex-model",
+            "[dev-dependencies]\nspectex-testkit.workspace = true\n",
+        ),
+    );
+    let edges = dependency_direction_offences(&tree.root);
+    assert_reported(&edges, &["spectex-cpu", "[dependencies]", "dev-only"]);
+    assert_reported(
+        &edges,
+        &["spectex-gpu", "build-dependencies.kit", "dev-only"],
+    );
+    assert_reported(&edges, &["spectex-model", "[dev-dependencies]", "dev-only"]);
+    assert_eq!(edges.len(), 3, "{edges:#?}");
 }

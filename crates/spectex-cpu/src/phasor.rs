@@ -37,9 +37,13 @@
 //! same bits. Impulse draws are cached per band of rows, which changes nothing but speed.
 
 use spectex_model::phasor_kernels::{Impulse, PhasorKernels};
-use spectex_model::{NEG_LN_20, PhasorNoise, PhasorOutput, Profile, Window};
+use spectex_model::{NEG_LN_20, PhasorNoise, PhasorOrientation, PhasorOutput, Profile, Window};
 
 use crate::math::{atan2_turns, cos_turns, exp_poly, sin_turns};
+
+/// Cell columns per pixel beyond which a row is evaluated pixel by pixel: a pixel alone needs 3
+/// columns, so past this sharing the columns of a row saves nothing.
+const SPARSE_CELLS_PER_PIXEL: usize = 4;
 
 /// A phasor noise model prepared for evaluation at a fixed `z` (ignored by 2D models).
 #[derive(Debug, Clone)]
@@ -71,11 +75,18 @@ impl PhasorEvaluator {
     }
 
     /// Kernel evaluations per pixel (every impulse of the neighbouring cells is visited), for
-    /// reports: `9λ` in 2D, `27λ` in 3D.
+    /// reports: `9λ` in 2D, `27λ` in 3D. A coherent orientation sums, for each kernel, the
+    /// direction process over its own neighbouring cells (the same density): `9λ(1 + 9λ)` and
+    /// `27λ(1 + 27λ)`.
     #[must_use]
     pub fn kernels_per_pixel(&self) -> f64 {
         let cells = if self.kernels.three_d() { 27.0 } else { 9.0 };
-        cells * self.model.impulses_per_cell()
+        let kernels = cells * self.model.impulses_per_cell();
+        if matches!(self.model.orientation, PhasorOrientation::Coherent { .. }) {
+            kernels * (1.0 + kernels)
+        } else {
+            kernels
+        }
     }
 
     /// Holds the cell rows `(j + s_y, k + s_z)` for a row of pixels, columns `i0..=i1`.
@@ -123,6 +134,23 @@ impl PhasorEvaluator {
         let g = &self.kernels;
         let (x_first, x_last) = (window.x(0), window.x(width - 1));
         let columns = g.locate(x_first).zip(g.locate(x_last));
+        // A minified row (pixels several cells apart) would draw every cell column between its
+        // ends — work and memory growing with the row's extent, not its pixels, and a column
+        // count past i32 for a row across the whole position range. Then each pixel is
+        // evaluated alone: a one-pixel window draws only its own cells and gives the same bits
+        // (tiles are invisible).
+        let span = columns.map_or(0, |((c0, _), (c1, _))| {
+            (i64::from(c1) - i64::from(c0)).unsigned_abs()
+        });
+        if span > (SPARSE_CELLS_PER_PIXEL * width + 8) as u64 {
+            for (r, line) in out.chunks_exact_mut(width).enumerate() {
+                for (i, v) in line.iter_mut().enumerate() {
+                    let pixel = window.tile(i, first + r, 1, 1);
+                    self.eval_rows(&pixel, 0, std::slice::from_mut(v));
+                }
+            }
+            return;
+        }
         let z = if g.three_d() {
             g.locate(self.z)
         } else {

@@ -45,7 +45,9 @@ pub(crate) fn check_level(field: impl FnOnce() -> String, value: f32) -> Result<
     check_range(field, f64::from(value), -1e9, 1e9, "[-1e9, 1e9]")
 }
 
-/// Checks that `value` is finite and within `[min, max]`.
+/// Checks that `value` is finite and within `[min, max]`. A bound that f32 cannot hold (0.01,
+/// π) is also met by the f32 nearest it: that is what a model file writing the bound reads as
+/// (`0.01` is 0.0099999998 as f32), and it must not be refused.
 pub(crate) fn check_range(
     field: impl FnOnce() -> String,
     value: f64,
@@ -53,7 +55,11 @@ pub(crate) fn check_range(
     max: f64,
     range: &'static str,
 ) -> Result<(), ModelError> {
-    if value.is_finite() && value >= min && value <= max {
+    let at_f32_bound = |bound: f64| value == f64::from(bound as f32);
+    if value.is_finite()
+        && (value >= min || at_f32_bound(min))
+        && (value <= max || at_f32_bound(max))
+    {
         Ok(())
     } else {
         Err(ModelError::OutOfRange {
@@ -80,5 +86,22 @@ pub(crate) fn check_len(
             len,
             range,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_bound_is_met_by_the_f32_nearest_it() {
+        let check =
+            |v: f32, lo: f64, hi: f64| check_range(|| "f".into(), f64::from(v), lo, hi, "r");
+        // 0.01f32 lies below 0.01 and π as f32 above π: both are the bound a file writes.
+        assert!(check(0.01, 0.01, 1000.0).is_ok());
+        assert!(check(std::f32::consts::PI, 0.0, std::f64::consts::PI).is_ok());
+        assert!(check(0.01f32.next_down(), 0.01, 1000.0).is_err());
+        assert!(check(std::f32::consts::PI.next_up(), 0.0, std::f64::consts::PI).is_err());
+        assert!(check(f32::NAN, 0.0, 1.0).is_err());
     }
 }

@@ -69,8 +69,8 @@ impl Window {
     #[must_use]
     pub fn tile(&self, x: usize, y: usize, width: usize, height: usize) -> Self {
         Self {
-            x0: self.x0 + x as i64,
-            y0: self.y0 + y as i64,
+            x0: self.x0.saturating_add(x as i64),
+            y0: self.y0.saturating_add(y as i64),
             width,
             height,
             ..*self
@@ -81,14 +81,16 @@ impl Window {
     #[inline]
     #[must_use]
     pub fn x(&self, i: usize) -> f64 {
-        self.offset[0] + (self.x0 + i as i64) as f64 * self.scale
+        // Saturating: a corner past i64 (a window no validation accepts) must give a position
+        // out of range, not an overflow panic; within range it is the plain sum.
+        self.offset[0] + self.x0.saturating_add(i as i64) as f64 * self.scale
     }
 
     /// Position of the window's row `j` (y).
     #[inline]
     #[must_use]
     pub fn y(&self, j: usize) -> f64 {
-        self.offset[1] + (self.y0 + j as i64) as f64 * self.scale
+        self.offset[1] + self.y0.saturating_add(j as i64) as f64 * self.scale
     }
 
     /// Checks sizes, finiteness and the reachable position range.
@@ -182,6 +184,22 @@ mod tests {
             (Window::new(5, 5).at([0.0, 0.0], 0.0), "scale"),
             (Window::new(5, 5).at([f64::NAN, 0.0], 1.0), "offset x"),
             (Window::new(5, 5).at([0.0, 2e9], 1.0), "window position"),
+            // Corners past i64: refused, not an overflow (found by the kit's fuzzing).
+            (
+                Window {
+                    x0: i64::MAX - 2,
+                    ..Window::new(5, 5)
+                },
+                "window position",
+            ),
+            (
+                Window {
+                    y0: i64::MAX - 1,
+                    ..Window::new(5, 5)
+                }
+                .tile(0, 3, 5, 2),
+                "window position",
+            ),
         ];
         for (w, name) in cases {
             match w.validate() {

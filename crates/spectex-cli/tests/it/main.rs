@@ -8,6 +8,7 @@ mod classic_fidelity;
 mod cli;
 mod common;
 mod fidelity;
+mod fuzz_images;
 mod phasor_fidelity;
 mod texture;
 mod warp_reseed;

@@ -9,6 +9,7 @@ mod classic;
 mod common;
 mod contract;
 mod gabor;
+mod kit;
 mod lrp;
 mod phasor;
 mod shaders;
