@@ -4,15 +4,15 @@
 //
 // Integers: WGSL `u32` arithmetic wraps (mod 2^32), `>>` on `u32` is a logical shift and the
 // shift amounts below are in 4..19, so every integer function here gives the same bits as the
-// Rust one; `tests/contract.rs` checks it on the device.
+// Rust one; `crates/spectex-gpu/tests/it/contract.rs` checks it on the device.
 //
 // Floats: every constant is written with the `f` suffix, which WGSL parses directly as a
 // correctly rounded f32 (an unsuffixed literal is an abstract float rounded twice); the decimal
 // strings are the shortest round-trip forms of the Rust f32 constants, and
-// `tests/shaders.rs` checks their bits through naga. The arithmetic is the CPU's, in the same
+// `crates/spectex-gpu/tests/it/shaders.rs` checks their bits through naga. The arithmetic is the CPU's, in the same
 // order; a WGSL compiler may still contract `a * b + c` into a fused multiply-add, which WGSL
 // cannot forbid, so these functions are accurate to the stated tolerances but not guaranteed to
-// be bit-identical to the CPU (tests/contract.rs reports how many bits differ on the adapter).
+// be bit-identical to the CPU (crates/spectex-gpu/tests/it/contract.rs reports how many bits differ on the adapter).
 //
 // Displacement convention (GPU warping):
 //

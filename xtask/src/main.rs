@@ -16,7 +16,9 @@ use std::time::{Instant, SystemTime};
 const COMMANDS: &[(&str, &str)] = &[
     (
         "ci",
-        "what CI runs: cargo fmt --check, clippy -D warnings, all tests, doc tests",
+        "what CI runs: installs rustfmt, clippy and lavapipe if missing; fmt --check, clippy \
+         -D warnings, every test once with the GPU on lavapipe, doc tests, one line per \
+         cross-checked model (XTASK_TEST_RUNNER=nextest: tests by cargo-nextest)",
     ),
     (
         "verify",
@@ -123,7 +125,7 @@ impl Workspace {
 
 /// One numbered step of a command.
 struct Step {
-    title: &'static str,
+    title: String,
     command: Command,
 }
 
@@ -133,6 +135,7 @@ fn run_steps(name: &str, steps: Vec<Step>) -> Result<()> {
     let count = steps.len();
     for (i, mut step) in steps.into_iter().enumerate() {
         eprintln!("xtask: [{}/{count}] {}", i + 1, step.title);
+        let step_started = Instant::now();
         run_command(&mut step.command).with_context(|| {
             format!(
                 "`cargo xtask {name}` failed at step {}/{count} ({})",
@@ -140,6 +143,11 @@ fn run_steps(name: &str, steps: Vec<Step>) -> Result<()> {
                 step.title
             )
         })?;
+        eprintln!(
+            "xtask: [{}/{count}] done in {:.1} s",
+            i + 1,
+            step_started.elapsed().as_secs_f64()
+        );
     }
     eprintln!(
         "xtask: {name} passed: {count} step(s) in {:.1} s",
@@ -168,57 +176,114 @@ fn show(command: &Command) -> String {
         .join(" ")
 }
 
-/// Fails, saying how to install them, unless `cargo fmt` and `cargo clippy` both run.
-fn require_rustfmt_and_clippy(ws: &Workspace) -> Result<()> {
-    let missing: Vec<&str> = [("rustfmt", "fmt"), ("clippy", "clippy")]
-        .into_iter()
-        .filter(|(_, subcommand)| {
-            !ws.cargo(&[subcommand, "--version"])
-                .stdout(Stdio::null())
-                .stderr(Stdio::null())
-                .status()
-                .is_ok_and(|status| status.success())
-        })
-        .map(|(tool, _)| tool)
-        .collect();
-    if !missing.is_empty() {
+/// Whether `command` starts and exits successfully (its output discarded).
+fn runs(command: &mut Command) -> bool {
+    command
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .status()
+        .is_ok_and(|status| status.success())
+}
+
+/// Installs rustfmt and clippy with rustup when either is missing; fails, saying how to install
+/// them, when that is not possible.
+fn ensure_rustfmt_and_clippy(ws: &Workspace) -> Result<()> {
+    let missing = || -> Vec<&'static str> {
+        [("rustfmt", "fmt"), ("clippy", "clippy")]
+            .into_iter()
+            .filter(|(_, subcommand)| !runs(&mut ws.cargo(&[subcommand, "--version"])))
+            .map(|(tool, _)| tool)
+            .collect()
+    };
+    let first = missing();
+    if first.is_empty() {
+        return Ok(());
+    }
+    // rustup installs components for the user who owns the toolchain: no root needed. Under
+    // `cargo`, RUSTUP_TOOLCHAIN names the toolchain running us, so that one gets them.
+    if runs(Command::new("rustup").arg("--version")) {
+        let mut add = Command::new("rustup");
+        add.args(["component", "add"]).args(&first);
+        eprintln!("xtask: {} missing: {}", first.join(" and "), show(&add));
+        run_command(&mut add)?;
+    }
+    let still = missing();
+    if !still.is_empty() {
         bail!(
             "{} not installed; install with: rustup component add rustfmt clippy",
-            missing.join(" and ")
+            still.join(" and ")
         );
     }
     Ok(())
 }
 
-fn ci(ws: &Workspace) -> Result<()> {
-    require_rustfmt_and_clippy(ws)?;
-    let step = |title, args: &[&str]| Step {
-        title,
-        command: ws.cargo(args),
+/// Whether this process runs as root (effective uid 0, from `/proc/self/status`).
+fn is_root() -> bool {
+    fs::read_to_string("/proc/self/status").is_ok_and(|status| {
+        status
+            .lines()
+            .find_map(|line| line.strip_prefix("Uid:"))
+            .and_then(|ids| ids.split_whitespace().nth(1))
+            == Some("0")
+    })
+}
+
+/// The Debian packages of lavapipe (software Vulkan) and the Vulkan loader wgpu opens.
+const LAVAPIPE_PACKAGES: &[&str] = &["mesa-vulkan-drivers", "libvulkan1"];
+
+/// The packages of `packages` that dpkg does not list as installed; none where there is no dpkg
+/// (not Debian or Ubuntu: there [`lavapipe_icd`] says what is missing).
+fn missing_debian_packages<'a>(packages: &[&'a str]) -> Vec<&'a str> {
+    packages
+        .iter()
+        .copied()
+        .filter(|package| {
+            Command::new("dpkg-query")
+                .args(["--show", "--showformat=${Status}", package])
+                .stderr(Stdio::null())
+                .output()
+                .is_ok_and(|out| String::from_utf8_lossy(&out.stdout) != "install ok installed")
+        })
+        .collect()
+}
+
+/// `apt-get update` and `apt-get install` of `packages` when running as root with apt-get;
+/// otherwise an error saying what to install.
+fn apt_install(packages: &[&str], what: &str) -> Result<()> {
+    let install = ["install", "-y", "--no-install-recommends"];
+    if !is_root() || !runs(Command::new("apt-get").arg("--version")) {
+        bail!(
+            "{what} is not installed; install it as root with `apt-get update && apt-get {} {}`",
+            install.join(" "),
+            packages.join(" ")
+        );
+    }
+    eprintln!("xtask: installing {what}: {}", packages.join(" "));
+    let apt_get = |args: &[&str]| {
+        run_command(
+            Command::new("apt-get")
+                .args(args)
+                .env("DEBIAN_FRONTEND", "noninteractive"),
+        )
     };
-    run_steps(
-        "ci",
-        vec![
-            step("cargo fmt --check", &["fmt", "--all", "--", "--check"]),
-            step(
-                "cargo clippy -D warnings",
-                &[
-                    "clippy",
-                    "--workspace",
-                    "--all-targets",
-                    "--",
-                    "-D",
-                    "warnings",
-                ],
-            ),
-            step(
-                "cargo test --all-targets",
-                &["test", "--workspace", "--all-targets"],
-            ),
-            step("cargo test --doc", &["test", "--workspace", "--doc"]),
-        ],
-    )?;
-    verify(ws)
+    apt_get(&["update"])?;
+    apt_get(&[&install[..], packages].concat())
+}
+
+/// The lavapipe ICD, after installing lavapipe and the Vulkan loader (as root, on Debian or
+/// Ubuntu) when they are missing. An ICD named by `VK_DRIVER_FILES`/`VK_ICD_FILENAMES` is the
+/// user's choice and installs nothing.
+fn ensure_lavapipe() -> Result<PathBuf> {
+    if ["VK_DRIVER_FILES", "VK_ICD_FILENAMES"]
+        .iter()
+        .all(|var| env::var_os(var).is_none())
+    {
+        let missing = missing_debian_packages(LAVAPIPE_PACKAGES);
+        if !missing.is_empty() {
+            apt_install(&missing, "lavapipe (software Vulkan, for the GPU tests)")?;
+        }
+    }
+    lavapipe_icd()
 }
 
 /// Where Debian's `mesa-vulkan-drivers` puts the lavapipe ICD file.
@@ -259,65 +324,339 @@ fn lavapipe_icd() -> Result<PathBuf> {
     })
 }
 
-/// `cargo xtask verify`: the GPU tests and the cross-check suite on lavapipe, with a missing
-/// adapter an error (`SPECTEX_REQUIRE_GPU=1`); prints the suite's line per model.
-fn verify(ws: &Workspace) -> Result<()> {
-    let icd = lavapipe_icd()?;
-    eprintln!("xtask: verify on lavapipe, ICD {}", icd.display());
-    let gpu_env = |command: &mut Command| {
-        command
-            .env("VK_DRIVER_FILES", &icd)
-            .env("VK_ICD_FILENAMES", &icd)
-            .env("WGPU_ADAPTER_NAME", "llvmpipe")
-            .env("SPECTEX_REQUIRE_GPU", "1");
+/// Sets the environment that runs the GPU tests on lavapipe and makes a missing adapter a
+/// failure (`SPECTEX_REQUIRE_GPU=1`) instead of a skip.
+fn lavapipe_env(command: &mut Command, icd: &Path) {
+    command
+        .env("VK_DRIVER_FILES", icd)
+        .env("VK_ICD_FILENAMES", icd)
+        .env("WGPU_ADAPTER_NAME", "llvmpipe")
+        .env("SPECTEX_REQUIRE_GPU", "1");
+}
+
+/// What runs the tests: `cargo test`, or cargo-nextest with `XTASK_TEST_RUNNER=nextest`. On the
+/// 2-core CI machine nextest was no faster (one 90 s fidelity test bounds both; nextest starts a
+/// process per test and cannot run the table1 bench, so the benches need a second command), so
+/// it is a choice, not the default.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum TestRunner {
+    Nextest,
+    Cargo,
+}
+
+impl TestRunner {
+    fn from_env(ws: &Workspace) -> Result<Self> {
+        match env::var("XTASK_TEST_RUNNER").as_deref() {
+            Err(_) | Ok("" | "cargo") => Ok(Self::Cargo),
+            Ok("nextest") if runs(&mut ws.cargo(&["nextest", "--version"])) => Ok(Self::Nextest),
+            Ok("nextest") => bail!(
+                "XTASK_TEST_RUNNER=nextest but cargo-nextest is not installed; install it with \
+                 `cargo install cargo-nextest --locked`, or unset XTASK_TEST_RUNNER"
+            ),
+            Ok(other) => bail!("XTASK_TEST_RUNNER must be `cargo` or `nextest`, not `{other}`"),
+        }
+    }
+}
+
+/// The cargo target directory (`CARGO_TARGET_DIR`, relative to the workspace root, else
+/// `target/`).
+fn target_dir(ws: &Workspace) -> PathBuf {
+    match env::var_os("CARGO_TARGET_DIR") {
+        Some(target) => ws.root.join(target),
+        None => ws.root.join("target"),
+    }
+}
+
+/// The file the cross-check suite (`crates/spectex-crosscheck/tests/it/models.rs`) writes its
+/// `crosscheck:` lines to, one per model, when `SPECTEX_CROSSCHECK_SUMMARY` names it: the test
+/// run that checks the models is the one that reports them, so nothing is built or run twice.
+struct CrosscheckSummary {
+    path: PathBuf,
+}
+
+impl CrosscheckSummary {
+    const ENV: &str = "SPECTEX_CROSSCHECK_SUMMARY";
+
+    /// `target/crosscheck/summary.txt`, with an earlier run's summary removed so that only this
+    /// run's lines can be reported.
+    fn prepare(ws: &Workspace) -> Result<Self> {
+        let dir = target_dir(ws).join("crosscheck");
+        fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
+        let path = dir.join("summary.txt");
+        match fs::remove_file(&path) {
+            Err(err) if err.kind() != std::io::ErrorKind::NotFound => {
+                return Err(err).with_context(|| format!("removing {}", path.display()));
+            }
+            _ => {}
+        }
+        Ok(Self { path })
+    }
+
+    fn apply(&self, command: &mut Command) {
+        command.env(Self::ENV, &self.path);
+    }
+
+    /// Prints the suite's lines; fails when it wrote none (it skipped, or did not run).
+    fn report(&self) -> Result<()> {
+        let text = match fs::read_to_string(&self.path) {
+            Ok(text) => text,
+            Err(err) if err.kind() == std::io::ErrorKind::NotFound => String::new(),
+            Err(err) => {
+                return Err(err).with_context(|| format!("reading {}", self.path.display()));
+            }
+        };
+        let lines: Vec<&str> = text
+            .lines()
+            .filter(|l| l.starts_with("crosscheck:"))
+            .collect();
+        if lines.is_empty() {
+            bail!(
+                "the cross-check suite wrote no model line to {}: did it skip, or not run?",
+                self.path.display()
+            );
+        }
+        for line in &lines {
+            println!("{line}");
+        }
+        eprintln!(
+            "xtask: verify passed: {} model(s) agree on CPU and lavapipe",
+            lines.len()
+        );
+        Ok(())
+    }
+}
+
+/// `cargo xtask ci`. The tests run once, on lavapipe with `SPECTEX_REQUIRE_GPU=1`, so the GPU
+/// tests and the cross-check suite of `cargo xtask verify` run (and are built) in the test step,
+/// and verify's report comes from that run. Every cargo command gets the same environment and
+/// the test commands the same package selection (`--workspace`): a different selection unifies
+/// dependency features differently and rebuilds the test binaries.
+fn ci(ws: &Workspace) -> Result<()> {
+    ensure_rustfmt_and_clippy(ws)?;
+    let icd = ensure_lavapipe()?;
+    let runner = TestRunner::from_env(ws)?;
+    let summary = CrosscheckSummary::prepare(ws)?;
+    eprintln!(
+        "xtask: ci with {}, GPU tests on lavapipe (ICD {})",
+        match runner {
+            TestRunner::Nextest => "cargo nextest",
+            TestRunner::Cargo => "cargo test",
+        },
+        icd.display()
+    );
+    let step = |title: &str, args: &[&str]| {
+        let mut command = ws.cargo(args);
+        lavapipe_env(&mut command, &icd);
+        summary.apply(&mut command);
+        Step {
+            title: title.to_owned(),
+            command,
+        }
     };
-    let mut gpu_tests = ws.cargo(&["test", "-p", "spectex-gpu", "--tests"]);
-    gpu_env(&mut gpu_tests);
-    run_steps(
-        "verify",
-        vec![Step {
-            title: "cargo test -p spectex-gpu (lavapipe, SPECTEX_REQUIRE_GPU=1)",
-            command: gpu_tests,
-        }],
-    )?;
-    let mut suite = ws.cargo(&[
+    let mut steps = vec![
+        step("cargo fmt --check", &["fmt", "--all", "--", "--check"]),
+        step(
+            "cargo clippy -D warnings",
+            &[
+                "clippy",
+                "--workspace",
+                "--all-targets",
+                "--",
+                "-D",
+                "warnings",
+            ],
+        ),
+    ];
+    match runner {
+        TestRunner::Nextest => {
+            steps.push(step(
+                "cargo nextest run --workspace --tests (GPU tests and cross-check on lavapipe)",
+                &["nextest", "run", "--workspace", "--tests"],
+            ));
+            // The benches in test mode (one quick pass each): nextest cannot list the table1
+            // bench, which has its own `main`. `--benches` would run the libraries' unit tests
+            // again (a library is a bench target too); `--bench '*'` is the [[bench]]es only.
+            steps.push(step(
+                "cargo test --bench '*' (each bench once, as a test)",
+                &["test", "--workspace", "--bench", "*"],
+            ));
+        }
+        TestRunner::Cargo => steps.push(step(
+            "cargo test --all-targets (GPU tests and cross-check on lavapipe)",
+            &["test", "--workspace", "--all-targets"],
+        )),
+    }
+    steps.push(step("cargo test --doc", &["test", "--workspace", "--doc"]));
+    // The numbered examples, run as a user would (`cargo run --example`), in the test profile
+    // whose artefacts the test step has just built, so nothing is compiled again.
+    let examples_out = ws.root.join("target").join("examples-out");
+    fs::create_dir_all(&examples_out)
+        .with_context(|| format!("creating {}", examples_out.display()))?;
+    for name in example_names(ws)? {
+        let out = examples_out.to_string_lossy().into_owned();
+        let args = [
+            "run",
+            "--profile",
+            "test",
+            "-q",
+            "-p",
+            "spectex-cli",
+            "--example",
+            &name,
+            "--",
+            &out,
+        ];
+        steps.push(step(&format!("cargo run --example {name}"), &args));
+    }
+    run_steps("ci", steps)?;
+    summary.report()
+}
+
+/// The crates whose tests `cargo xtask verify` runs.
+const VERIFIED_PACKAGES: &[&str] = &["spectex-gpu", "spectex-crosscheck"];
+
+/// `cargo xtask verify`: the GPU tests and the cross-check suite on lavapipe, with a missing
+/// adapter an error (`SPECTEX_REQUIRE_GPU=1`); prints the suite's line per model. The tests are
+/// those `cargo xtask ci` builds (`--workspace`), picked by package after the build: selecting
+/// the two crates with `-p` would resolve dependency features for them alone and build nearly
+/// everything a second time.
+fn verify(ws: &Workspace) -> Result<()> {
+    let icd = ensure_lavapipe()?;
+    eprintln!("xtask: verify on lavapipe, ICD {}", icd.display());
+    let summary = CrosscheckSummary::prepare(ws)?;
+    let gpu_env = |command: &mut Command| {
+        lavapipe_env(command, &icd);
+        summary.apply(command);
+    };
+    let steps = match TestRunner::from_env(ws)? {
+        TestRunner::Nextest => {
+            let filter = VERIFIED_PACKAGES
+                .iter()
+                .map(|p| format!("package({p})"))
+                .collect::<Vec<_>>()
+                .join(" | ");
+            let mut command = ws.cargo(&["nextest", "run", "--workspace", "--tests", "-E"]);
+            command.arg(&filter);
+            gpu_env(&mut command);
+            vec![Step {
+                title: format!("cargo nextest run -E '{filter}' (lavapipe, SPECTEX_REQUIRE_GPU=1)"),
+                command,
+            }]
+        }
+        TestRunner::Cargo => test_executables(ws, &gpu_env, VERIFIED_PACKAGES)?
+            .into_iter()
+            .map(|test| {
+                let mut command = Command::new(&test.executable);
+                // What `cargo test` gives a test binary.
+                command
+                    .current_dir(&test.package_dir)
+                    .env("CARGO_MANIFEST_DIR", &test.package_dir);
+                gpu_env(&mut command);
+                Step {
+                    title: format!("{} (lavapipe, SPECTEX_REQUIRE_GPU=1)", test.source),
+                    command,
+                }
+            })
+            .collect(),
+    };
+    run_steps("verify", steps)?;
+    summary.report()
+}
+
+/// A test binary cargo built.
+struct TestExecutable {
+    executable: PathBuf,
+    package_dir: PathBuf,
+    /// The target's source file relative to the workspace root, to name it.
+    source: String,
+}
+
+/// The test binaries of `packages` among those of `cargo test --workspace --tests`, building
+/// them first when they are not up to date (with `env`, the environment of the runs).
+fn test_executables(
+    ws: &Workspace,
+    env: &dyn Fn(&mut Command),
+    packages: &[&str],
+) -> Result<Vec<TestExecutable>> {
+    let mut build = ws.cargo(&[
         "test",
-        "-p",
-        "spectex-crosscheck",
+        "--workspace",
         "--tests",
-        "--",
-        "--nocapture",
+        "--no-run",
+        "--message-format=json-render-diagnostics",
     ]);
-    gpu_env(&mut suite);
-    eprintln!("xtask: cross-check suite: {}", show(&suite));
-    let output = suite
+    env(&mut build);
+    eprintln!("xtask: building the tests: {}", show(&build));
+    let output = build
         .stderr(Stdio::inherit())
         .output()
-        .with_context(|| format!("could not start `{}`", show(&suite)))?;
-    let stdout = String::from_utf8_lossy(&output.stdout);
-    let lines: Vec<&str> = stdout
-        .lines()
-        .filter(|l| l.starts_with("crosscheck:"))
-        .collect();
+        .with_context(|| format!("could not start `{}`", show(&build)))?;
     if !output.status.success() {
-        print!("{stdout}");
+        bail!("`{}` failed ({})", show(&build), output.status);
+    }
+    let mut found = Vec::new();
+    for line in String::from_utf8_lossy(&output.stdout).lines() {
+        if !line.contains(r#""reason":"compiler-artifact""#) {
+            continue;
+        }
+        let (Some(executable), Some(manifest), Some(source)) = (
+            json_string_field(line, "executable"),
+            json_string_field(line, "manifest_path"),
+            json_string_field(line, "src_path"),
+        ) else {
+            continue; // a library, or a test without an executable
+        };
+        let Some(package_dir) = Path::new(&manifest).parent() else {
+            continue;
+        };
+        if packages
+            .iter()
+            .any(|p| package_dir.ends_with(Path::new("crates").join(p)))
+        {
+            found.push(TestExecutable {
+                executable: executable.into(),
+                package_dir: package_dir.to_path_buf(),
+                source: Path::new(&source)
+                    .strip_prefix(&ws.root)
+                    .unwrap_or(Path::new(&source))
+                    .display()
+                    .to_string(),
+            });
+        }
+    }
+    if found.is_empty() {
         bail!(
-            "the cross-check suite failed ({}); images and reports are in target/crosscheck/",
-            output.status
+            "`{}` built no test of {}",
+            show(&build),
+            packages.join(" or ")
         );
     }
-    if lines.is_empty() {
-        print!("{stdout}");
-        bail!("the cross-check suite printed no model line: did it skip?");
+    found.sort_by(|a, b| a.source.cmp(&b.source));
+    Ok(found)
+}
+
+/// The string value of the first `"key":"…"` in a line of cargo's JSON messages (which have no
+/// spaces between tokens); `None` when the key is absent or not a string (`"executable":null`).
+/// Found by string search, so that xtask needs no JSON library.
+fn json_string_field(line: &str, key: &str) -> Option<String> {
+    let start = line.find(&format!("\"{key}\":\""))? + key.len() + 4;
+    let mut value = String::new();
+    let mut chars = line[start..].chars();
+    loop {
+        match chars.next()? {
+            '"' => return Some(value),
+            '\\' => match chars.next()? {
+                'n' => value.push('\n'),
+                't' => value.push('\t'),
+                'u' => {
+                    let hex: String = chars.by_ref().take(4).collect();
+                    value.push(char::from_u32(u32::from_str_radix(&hex, 16).ok()?)?);
+                }
+                escaped => value.push(escaped), // \" \\ \/
+            },
+            c => value.push(c),
+        }
     }
-    for line in &lines {
-        println!("{line}");
-    }
-    eprintln!(
-        "xtask: verify passed: {} model(s) agree on CPU and lavapipe",
-        lines.len()
-    );
-    Ok(())
 }
 
 /// Cases per campaign of `cargo xtask fuzz` unless `--cases` says otherwise.
@@ -437,7 +776,7 @@ fn bench(ws: &Workspace, mut extra: Vec<OsString>) -> Result<()> {
     run_steps(
         "bench",
         vec![Step {
-            title: "cargo bench -p spectex-spectrum --bench rpn",
+            title: "cargo bench -p spectex-spectrum --bench rpn".into(),
             command,
         }],
     )?;
@@ -446,7 +785,7 @@ fn bench(ws: &Workspace, mut extra: Vec<OsString>) -> Result<()> {
     run_steps(
         "bench",
         vec![Step {
-            title: "cargo bench -p spectex-cli --bench table1",
+            title: "cargo bench -p spectex-cli --bench table1".into(),
             command: ws.cargo(&["bench", "-p", "spectex-cli", "--bench", "table1"]),
         }],
     )
@@ -457,10 +796,7 @@ fn criterion_dir(ws: &Workspace) -> PathBuf {
     if let Some(home) = env::var_os("CRITERION_HOME") {
         return PathBuf::from(home);
     }
-    match env::var_os("CARGO_TARGET_DIR") {
-        Some(target) => ws.root.join(target).join("criterion"),
-        None => ws.root.join("target").join("criterion"),
-    }
+    target_dir(ws).join("criterion")
 }
 
 /// Prints the median of every benchmark in `group_dir`, then the FFT-equivalents whose ids exist.
@@ -523,9 +859,36 @@ fn parse_median_ns(json: &str) -> Option<f64> {
     value[..end].parse().ok()
 }
 
+/// The numbered examples of `crates/spectex-cli/examples/` (file stems, sorted).
+fn example_names(ws: &Workspace) -> Result<Vec<String>> {
+    let dir = ws.root.join("crates/spectex-cli/examples");
+    let mut names: Vec<String> = fs::read_dir(&dir)
+        .with_context(|| format!("reading {}", dir.display()))?
+        .filter_map(|entry| entry.ok().map(|e| e.path()))
+        .filter(|path| path.extension().is_some_and(|ext| ext == "rs"))
+        .filter_map(|path| path.file_stem().map(|s| s.to_string_lossy().into_owned()))
+        .collect();
+    names.sort();
+    Ok(names)
+}
+
 #[cfg(test)]
 mod tests {
-    use super::{campaign_counts, parse_median_ns};
+    use super::{campaign_counts, json_string_field, parse_median_ns};
+
+    #[test]
+    fn string_fields_are_read_from_cargo_messages() {
+        let line = r#"{"reason":"compiler-artifact","manifest_path":"/w/a \"b\"\\c/Cargo.toml","target":{"name":"it","src_path":"/w/tests/it/main.rs"},"executable":null,"fresh":true,"x":"\u00e9\n"}"#;
+        assert_eq!(
+            json_string_field(line, "manifest_path").as_deref(),
+            Some(r#"/w/a "b"\c/Cargo.toml"#)
+        );
+        assert_eq!(json_string_field(line, "name").as_deref(), Some("it"));
+        assert_eq!(json_string_field(line, "executable"), None);
+        assert_eq!(json_string_field(line, "missing"), None);
+        assert_eq!(json_string_field(line, "x").as_deref(), Some("é\n"));
+        assert_eq!(json_string_field(r#"{"a":"unterminated"#, "a"), None);
+    }
 
     #[test]
     fn campaign_summaries_give_cases_and_findings() {

@@ -1,5 +1,6 @@
-//! Tidy checks on the workspace itself: crate dependency direction, module doc lines, and members
-//! inheriting lints and dependency versions from the workspace.
+//! Tidy checks on the workspace itself: crate dependency direction, module doc lines, members
+//! inheriting lints and dependency versions from the workspace, and one integration-test binary
+//! per crate.
 //!
 //! Each check is a function from a workspace root to a list of offences, so the negative tests at
 //! the end can run it on a small fake tree and prove that it can fail.
@@ -95,6 +96,18 @@ fn workspace_members_use_workspace_lints_and_versions() {
         offences.is_empty(),
         "members must say `[lints] workspace = true` and `foo.workspace = true` \
          (versions live in the root [workspace.dependencies]):\n  {}",
+        offences.join("\n  ")
+    );
+}
+
+#[test]
+fn integration_tests_are_one_binary_per_crate() {
+    let offences = extra_test_binaries(&workspace_root());
+    assert!(
+        offences.is_empty(),
+        "integration tests live in one binary per crate, `tests/it/main.rs` with one module per \
+         file (every extra binary links all the dependencies again); make these modules of \
+         `tests/it/`:\n  {}",
         offences.join("\n  ")
     );
 }
@@ -227,6 +240,38 @@ fn workspace_inheritance_offences(root: &Path) -> Vec<String> {
             }
         }
     }
+    offences
+}
+
+/// The integration-test targets cargo finds in the crates other than `tests/it/main.rs`: each
+/// `tests/*.rs` and each other `tests/*/main.rs` is a binary of its own.
+fn extra_test_binaries(root: &Path) -> Vec<String> {
+    let mut offences = Vec::new();
+    for krate in crate_dirs(root) {
+        let tests = krate.join("tests");
+        let Ok(entries) = fs::read_dir(&tests) else {
+            continue;
+        };
+        for entry in entries {
+            let path = entry
+                .unwrap_or_else(|e| panic!("reading {}: {e}", tests.display()))
+                .path();
+            let target = if path.is_dir() {
+                path.join("main.rs")
+            } else {
+                path.clone()
+            };
+            let is_target = if path.is_dir() {
+                target.is_file() && path.file_name().is_none_or(|name| name != "it")
+            } else {
+                path.extension().is_some_and(|ext| ext == "rs")
+            };
+            if is_target {
+                offences.push(relative(root, &target));
+            }
+        }
+    }
+    offences.sort();
     offences
 }
 
@@ -596,6 +641,11 @@ fn checks_pass_on_a_clean_fake_tree_in_every_manifest_form() {
         ),
     );
     tree.write("crates/spectex-cpu/tests/deep/nested.rs", "//! Nested.\n");
+    tree.write(
+        "crates/spectex-cpu/tests/it/main.rs",
+        "//! Tests.\nmod lrp;\n",
+    );
+    tree.write("crates/spectex-cpu/tests/it/lrp.rs", "//! LRP.\n");
     assert_eq!(
         dependency_direction_offences(&tree.root),
         Vec::<String>::new()
@@ -605,6 +655,7 @@ fn checks_pass_on_a_clean_fake_tree_in_every_manifest_form() {
         workspace_inheritance_offences(&tree.root),
         Vec::<String>::new()
     );
+    assert_eq!(extra_test_binaries(&tree.root), Vec::<String>::new());
 }
 
 #[test]
@@ -650,6 +701,13 @@ fn checks_report_what_a_broken_fake_tree_plants() {
         "fn main() {}\n",
     );
     tree.write("xtask/tests/tidy.rs", "/// An item doc.\n");
+    // Integration-test binaries besides `tests/it/main.rs`.
+    tree.write("crates/spectex-gpu/tests/it/main.rs", "//! Tests.\n");
+    tree.write(
+        "crates/spectex-gpu/tests/extra.rs",
+        "//! A second binary.\n",
+    );
+    tree.write("crates/spectex-cli/tests/other/main.rs", "//! A third.\n");
 
     let edges = dependency_direction_offences(&tree.root);
     let cpu = Path::new("crates/spectex-cpu/Cargo.toml")
@@ -685,6 +743,11 @@ fn checks_report_what_a_broken_fake_tree_plants() {
     );
     assert_reported(&inheritance, &["spectex-gpu", "rand does not use"]);
     assert_eq!(inheritance.len(), 3, "{inheritance:#?}");
+
+    let binaries = extra_test_binaries(&tree.root);
+    assert_reported(&binaries, &["spectex-gpu", "extra.rs"]);
+    assert_reported(&binaries, &["spectex-cli", "other", "main.rs"]);
+    assert_eq!(binaries.len(), 2, "{binaries:#?}");
 
     let root = tree.root.clone();
     drop(tree);

@@ -15,7 +15,7 @@
     reason = "a bench fails loudly on the first unexpected error"
 )]
 
-#[path = "../tests/common/mod.rs"]
+#[path = "../tests/it/common/mod.rs"]
 mod common;
 
 use std::time::Instant;

@@ -25,19 +25,6 @@ pub enum SpectraFormat {
 /// Decades of power shown by a display-mapped power spectrum.
 const DISPLAY_DECADES: f64 = 6.0;
 
-/// Rec. 709 luminance of a colour image, or the single channel of a grey one.
-fn luminance(img: &Array3<f64>) -> Array2<f64> {
-    if img.dim().0 == 1 {
-        return img.index_axis(Axis(0), 0).to_owned();
-    }
-    let w = [0.2126, 0.7152, 0.0722];
-    let mut y = Array2::zeros((img.dim().1, img.dim().2));
-    for (c, wc) in w.iter().enumerate() {
-        y.scaled_add(*wc, &img.index_axis(Axis(0), c));
-    }
-    y
-}
-
 /// Maps a log-magnitude image linearly onto [0, 1] by its own range.
 fn normalise(a: &Array2<f64>) -> Array2<f64> {
     let (lo, hi) = a
@@ -87,8 +74,8 @@ pub fn run(img: &Array3<f64>, name: &str, dir: &Path, format: SpectraFormat) -> 
             .index_axis_mut(Axis(0), c)
             .assign(&d.smooth.mapv(|v| v + 0.5));
     }
-    let luma = luminance(img);
-    let luma_p = luminance(&periodic);
+    let luma = io::luminance(img);
+    let luma_p = io::luminance(&periodic);
     let psd = welch_psd(luma.view(), &mut fft)?;
     let var = variance_spectrum(luma.view(), &mut fft)?;
     let log_raw = log_magnitude_spectrum(luma.view(), &mut fft);

@@ -1,13 +1,14 @@
 //! Image files in and out: decoding PNG/JPEG into `(channel, row, column)` arrays of `f64` in
 //! `[0, 1]`, and writing PNG (8/16-bit) or OpenEXR (32-bit float) through a temporary file that
-//! is renamed into place, so no half-written output is ever left behind.
+//! is renamed into place, so no half-written output is ever left behind; and the grey levels
+//! (Rec. 709 luminance) of a loaded image.
 
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, anyhow, bail};
 use image::{DynamicImage, ImageBuffer, ImageEncoder, ImageReader, Limits, Luma, Rgb};
-use ndarray::Array3;
+use ndarray::{Array2, Array3, Axis};
 
 /// Largest input side accepted by the decoder (also the synthesis limit).
 pub const MAX_INPUT_SIDE: u32 = 16_384;
@@ -55,6 +56,29 @@ pub fn load(path: &Path) -> Result<Loaded> {
         )
     })?;
     decode(&bytes, &format!("input '{}'", path.display()))
+}
+
+/// Rec. 709 luminance of a colour image (`0.2126 R + 0.7152 G + 0.0722 B`), or the single
+/// channel of a grey one.
+pub fn luminance(img: &Array3<f64>) -> Array2<f64> {
+    if img.dim().0 == 1 {
+        return img.index_axis(Axis(0), 0).to_owned();
+    }
+    let w = [0.2126, 0.7152, 0.0722];
+    let mut y = Array2::zeros((img.dim().1, img.dim().2));
+    for (c, wc) in w.iter().enumerate() {
+        y.scaled_add(*wc, &img.index_axis(Axis(0), c));
+    }
+    y
+}
+
+/// The image as grey levels for a command that reads grey (a height map, a control image):
+/// its [`luminance`], with a note when `name` is in colour.
+pub fn grey(img: &Array3<f64>, name: &str) -> Array2<f64> {
+    if img.dim().0 != 1 {
+        eprintln!("note: {name} is in colour; its Rec. 709 luminance is used");
+    }
+    luminance(img)
 }
 
 fn to_array(img: &DynamicImage) -> Loaded {

@@ -4,15 +4,16 @@
 //! every failure into one `error: …` line that says what to do, with exit status 1.
 
 mod analyze;
-mod classic;
+mod device;
 mod exemplar;
+mod fit;
 mod io;
+mod model_file;
+mod noise;
 mod phasor;
-mod procedural;
 mod relight;
+mod render;
 mod sheet;
-mod warp;
-mod wavelet;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -51,22 +52,22 @@ enum Command {
     #[command(
         after_help = "Examples:\n  spectex fit -o model.json\n  spectex fit gravel.png -o gravel.json --budget 100 --strata 4 --seed 3\n\nThe example's Welch power spectrum is split into L strata of equal energy, each sampled by\nJ/L cosines per lattice point (k-means sub-strata of the eroded stratum).\n\nTexture by example (Gilet et al. 2014, §5): --structure r keeps the phases of the\nhighest-energy frequencies holding the share r of the energy (r = 0.1 to 0.35 keeps structure;\n1 reproduces the exemplar periodically), --turbulence σ distorts that structure by σ pixels,\n--random-placement shifts half-period blocks at random. Colour examples are decorrelated by\nPCA and fitted channel by channel."
     )]
-    Fit(procedural::FitCommand),
+    Fit(fit::FitCommand),
     /// Render a model file at any window: size, offset (anywhere, even 1e7,1e7) and scale.
     #[command(
         after_help = "Examples:\n  spectex render model.json -o out.png --size 1024x1024\n  spectex render model.json -o far.exr --offset 1e7,1e7 --scale 0.5"
     )]
-    Render(procedural::RenderCommand),
+    Render(render::RenderCommand),
     /// Fit an LRP noise or texture model to an example and render it (fit + render in one step).
     #[command(
         after_help = "Examples:\n  spectex synth -o out.png\n  spectex synth gravel.png -o big.png --budget 50 --size 2048x2048\n  spectex synth brick.png -o brick.png --structure 0.2 --turbulence 4 --random-placement\n\nColour examples give colour textures (PCA channels); --structure, --turbulence and\n--random-placement make a texture model as in `spectex fit`."
     )]
-    Synth(procedural::SynthCommand),
+    Synth(fit::SynthCommand),
     /// Noise from a continuous spectrum (ring, lobe, band) as LRP noise, or Gabor noise.
     #[command(
         after_help = "Examples:\n  spectex noise ring --radius 0.0625 --budget 3 -o ring.png\n  spectex noise lobe --frequency 0.1 --angle 30 --budget 10 -o lobe.png\n  spectex noise band --min 0.05 --max 0.1 -o band.png --model band.json\n  spectex noise gabor --frequency 0.0625 --impulses 27 -o gabor.png\n  spectex noise warp --base model.json --by band.json --strength 24 -o warped.png"
     )]
-    Noise(procedural::NoiseCommand),
+    Noise(noise::NoiseCommand),
     /// Phasor noise (Tricard et al. 2019): high-contrast oscillations with a chosen profile.
     #[command(
         after_help = "Examples:\n  spectex phasor -o stripes.png --angle 30\n  spectex phasor -o pwm.png --profile square --duty 0.25 --coherent\n  spectex phasor -o tiles.png --profile square --duty-image grey.png --orientation-image grey.png\n  spectex phasor -o wood.png --harmonics 1:1,2:0.5,3:0.33 --model wood.json\n  spectex phasor -o graded.png --frequency-image grey.png --bandwidth-image grey.png\n  spectex phasor -o phase.png --output-kind phase --two-lobes 0,60\n  spectex phasor -o slab.png --three-d --isotropic --z 12.5 --model slab.json"
@@ -218,10 +219,10 @@ fn run(cli: Cli) -> Result<()> {
             let (loaded, name) = load_input(args.input.as_deref())?;
             analyze::run(&loaded.pixels, &name, &args.output, args.format)
         }
-        Command::Fit(cmd) => procedural::fit(&cmd),
-        Command::Render(cmd) => procedural::render(&cmd),
-        Command::Synth(cmd) => procedural::synth(&cmd),
-        Command::Noise(cmd) => procedural::noise(&cmd),
+        Command::Fit(cmd) => fit::fit(&cmd),
+        Command::Render(cmd) => render::render(&cmd),
+        Command::Synth(cmd) => fit::synth(&cmd),
+        Command::Noise(cmd) => noise::noise(&cmd),
         Command::Phasor(cmd) => phasor::phasor(&cmd),
         Command::Slices(cmd) => phasor::slices(&cmd),
         Command::Sheet(cmd) => sheet::sheet(&cmd),

@@ -8,14 +8,12 @@ use clap::{Args, ValueEnum};
 use ndarray::Array3;
 use spectex_cpu::{Evaluator, Window};
 use spectex_model::{
-    COHERENT_BANDWIDTH_RATIO, COHERENT_SPREAD, Field, Harmonic, Model, PhasorNoise,
-    PhasorOrientation, PhasorOutput, Profile,
+    Field, Harmonic, Model, PhasorNoise, PhasorOrientation, PhasorOutput, Profile,
 };
 
 use crate::io;
-use crate::procedural::{
-    RenderArgs, luminance, progress_bar, read_model, render_to_file, write_model,
-};
+use crate::model_file::{read_model, write_model};
+use crate::render::{RenderArgs, progress_bar, render_to_file};
 
 /// The oscillation profile.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -47,10 +45,10 @@ pub enum OutputKind {
 #[derive(Debug, Args)]
 pub struct PhasorCommand {
     /// Kernel frequency F, cycles per pixel (0 < F ≤ 0.5).
-    #[arg(long, default_value_t = 0.05)]
+    #[arg(long, default_value_t = PhasorNoise::DEFAULT_FREQUENCY)]
     frequency: f32,
     /// Gaussian bandwidth b per pixel: kernels exp(−π b² |x|²), cut at 5% of their peak.
-    #[arg(long, default_value_t = 0.02)]
+    #[arg(long, default_value_t = PhasorNoise::DEFAULT_BANDWIDTH)]
     bandwidth: f32,
     /// Greyscale image grading the frequency from --frequency (black) to --frequency-max
     /// (white), stretched over the output (read at each kernel's centre).
@@ -67,7 +65,7 @@ pub struct PhasorCommand {
     #[arg(long, default_value_t = 0.04)]
     bandwidth_max: f32,
     /// Mean impulses per kernel footprint (0.01 to 200).
-    #[arg(long, default_value_t = 32.0)]
+    #[arg(long, default_value_t = PhasorNoise::DEFAULT_IMPULSES_PER_KERNEL)]
     impulses: f32,
     /// Kernel direction, degrees from x (the bi-lobe case). Default 0 unless another
     /// orientation option is given.
@@ -105,7 +103,7 @@ pub struct PhasorCommand {
     #[arg(long)]
     three_d: bool,
     /// Seed.
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = PhasorNoise::DEFAULT_SEED)]
     seed: u32,
     /// Also write the model to this .json file.
     #[arg(long, value_name = "MODEL")]
@@ -154,7 +152,7 @@ fn parse_harmonics(s: &str) -> Result<HarmonicList, String> {
 /// A greyscale image as a field stretched over an output of `width` pixels.
 fn image_field(path: &Path, width: usize, min: f32, max: f32) -> Result<Field> {
     let (loaded, name) = crate::load_input(Some(path))?;
-    let grey = luminance(&loaded.pixels, &name);
+    let grey = io::grey(&loaded.pixels, &name);
     let (h, w) = grey.dim();
     if w > spectex_model::MAX_FIELD_SIDE || h > spectex_model::MAX_FIELD_SIDE {
         bail!(
@@ -182,10 +180,7 @@ fn build(cmd: &PhasorCommand, width: usize) -> Result<PhasorNoise> {
     } else if cmd.isotropic {
         PhasorOrientation::Isotropic
     } else if cmd.coherent {
-        PhasorOrientation::Coherent {
-            spread: COHERENT_SPREAD,
-            bandwidth_ratio: COHERENT_BANDWIDTH_RATIO,
-        }
+        PhasorOrientation::coherent()
     } else if let Some([a, b]) = cmd.two_lobes {
         PhasorOrientation::TwoLobes {
             angle_a: a.to_radians(),
@@ -210,45 +205,42 @@ fn build(cmd: &PhasorCommand, width: usize) -> Result<PhasorNoise> {
             },
         },
     };
-    let (output, mean, amplitude) = match cmd.output_kind {
-        OutputKind::Profiled if matches!(profile, Profile::Square { .. }) => {
-            (PhasorOutput::Profiled, 0.0, 1.0)
-        }
-        OutputKind::Profiled => (PhasorOutput::Profiled, 0.5, 0.5),
-        OutputKind::Phase => (PhasorOutput::Phase, 0.5, 1.0),
-        OutputKind::Intensity => (PhasorOutput::Intensity, 0.0, 1.0 / 6.0),
-        OutputKind::Gabor => (PhasorOutput::Gabor, 0.5, 1.0 / 6.0),
+    let output = match cmd.output_kind {
+        OutputKind::Profiled => PhasorOutput::Profiled,
+        OutputKind::Phase => PhasorOutput::Phase,
+        OutputKind::Intensity => PhasorOutput::Intensity,
+        OutputKind::Gabor => PhasorOutput::Gabor,
     };
-    let model = PhasorNoise {
-        seed: cmd.seed,
-        dimensions: if cmd.three_d { 3 } else { 2 },
-        bandwidth: match &cmd.bandwidth_image {
-            Some(path) => image_field(path, width, cmd.bandwidth, cmd.bandwidth_max)?,
-            None => Field::constant(cmd.bandwidth),
-        },
-        frequency: match &cmd.frequency_image {
-            Some(path) => image_field(path, width, cmd.frequency, cmd.frequency_max)?,
-            None => Field::constant(cmd.frequency),
-        },
-        orientation,
-        impulses_per_kernel: cmd.impulses,
-        profile,
-        output,
-        mean,
-        amplitude,
+    let bandwidth = match &cmd.bandwidth_image {
+        Some(path) => image_field(path, width, cmd.bandwidth, cmd.bandwidth_max)?,
+        None => Field::constant(cmd.bandwidth),
     };
-    model.validate().map_err(|e| {
-        anyhow!(
-            "{e}; check --frequency(-max), --bandwidth(-max), --impulses, --duty and the angles"
-        )
-    })?;
-    Ok(model)
+    let frequency = match &cmd.frequency_image {
+        Some(path) => image_field(path, width, cmd.frequency, cmd.frequency_max)?,
+        None => Field::constant(cmd.frequency),
+    };
+    // The mean and amplitude default to `PhasorNoise::default_levels`: the output in [0, 1].
+    PhasorNoise::builder()
+        .seed(cmd.seed)
+        .dimensions(if cmd.three_d { 3 } else { 2 })
+        .bandwidth_field(bandwidth)
+        .frequency_field(frequency)
+        .orientation(orientation)
+        .impulses_per_kernel(cmd.impulses)
+        .profile(profile)
+        .output(output)
+        .build()
+        .map_err(|e| {
+            anyhow!(
+                "{e}; check --frequency(-max), --bandwidth(-max), --impulses, --duty and the angles"
+            )
+        })
 }
 
 /// `spectex phasor`.
 pub fn phasor(cmd: &PhasorCommand) -> Result<()> {
     let size = cmd.render.size.unwrap_or((512, 512));
-    let model = Model::Phasor(build(cmd, size.0)?);
+    let model = Model::from(build(cmd, size.0)?);
     if let Some(path) = &cmd.model {
         write_model(path, &model)?;
     }
@@ -351,4 +343,51 @@ pub fn slices(cmd: &SlicesCommand) -> Result<()> {
         );
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::Parser;
+
+    use super::*;
+
+    #[derive(Debug, Parser)]
+    struct Phasor {
+        #[command(flatten)]
+        cmd: PhasorCommand,
+    }
+
+    fn model(flags: &[&str]) -> PhasorNoise {
+        let argv = ["phasor", "-o", "x.png"].iter().chain(flags);
+        let cmd = Phasor::try_parse_from(argv).expect("valid flags").cmd;
+        build(&cmd, 512).expect("valid model")
+    }
+
+    #[test]
+    fn defaults_are_the_builders() {
+        let built = PhasorNoise::builder().build().expect("defaults are valid");
+        assert_eq!(model(&[]), built);
+        let pwm = PhasorNoise::builder()
+            .profile(Profile::square(0.25))
+            .orientation(PhasorOrientation::coherent())
+            .build();
+        let flags = ["--profile", "square", "--duty", "0.25", "--coherent"];
+        assert_eq!(model(&flags), pwm.expect("valid"));
+    }
+
+    #[test]
+    fn outputs_are_shown_in_the_unit_interval() {
+        for (kind, output) in [
+            ("phase", PhasorOutput::Phase),
+            ("intensity", PhasorOutput::Intensity),
+            ("gabor", PhasorOutput::Gabor),
+        ] {
+            let noise = model(&["--output-kind", kind]);
+            let levels = PhasorNoise::default_levels(output, &Profile::Sine);
+            assert_eq!(
+                (noise.output, noise.mean, noise.amplitude),
+                (output, levels.mean, levels.amplitude)
+            );
+        }
+    }
 }

@@ -55,7 +55,7 @@ fn parse_light(s: &str) -> Result<[f64; 2], String> {
 pub fn relight(cmd: &RelightCommand) -> Result<()> {
     let format = io::check_output(&cmd.output, cmd.bit_depth)?;
     let (loaded, name) = crate::load_input(Some(&cmd.input))?;
-    let height = crate::procedural::luminance(&loaded.pixels, &name);
+    let height = io::grey(&loaded.pixels, &name);
     let edges = if cmd.periodic {
         Edges::Wrap
     } else {

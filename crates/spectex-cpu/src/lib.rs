@@ -31,6 +31,7 @@ pub mod lrp;
 /// The f32 functions both evaluators share, defined once in `spectex-model`.
 pub use spectex_model::math;
 pub mod phasor;
+pub mod texton;
 pub mod texture;
 pub mod warp;
 pub mod wavelet;

@@ -83,6 +83,7 @@ mod classic;
 mod gabor;
 mod lrp;
 mod phasor;
+mod texton;
 mod texture;
 mod warp;
 mod wavelet;

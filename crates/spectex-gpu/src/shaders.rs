@@ -1,7 +1,7 @@
 //! The shader registry: every WGSL file of `shaders/`, embedded with `include_str!`, and how a
 //! module is composed at load time (the common module prepended to each model shader).
 //!
-//! `tests/shaders.rs` checks that this table and the files in `shaders/` match exactly and that
+//! `tests/it/shaders.rs` checks that this table and the files in `shaders/` match exactly and that
 //! every composed module parses and validates with naga.
 
 /// The WGSL twin of the randomness contract and of the CPU's scalar functions.
@@ -63,6 +63,12 @@ pub const SHADERS: &[ShaderFile] = &[
         source: include_str!("../../../shaders/wavelet.wgsl"),
         needs_common: true,
         entry_points: &["wavelet_main"],
+    },
+    ShaderFile {
+        name: "texton",
+        source: include_str!("../../../shaders/texton.wgsl"),
+        needs_common: true,
+        entry_points: &["texton_main"],
     },
     ShaderFile {
         name: "probe",

@@ -45,6 +45,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{ModelError, check_level, check_range};
 
+mod builder;
+pub use builder::{ClassicNoiseBuilder, FractalNoiseBuilder};
+
 /// Most octaves of a fractal sum.
 pub const MAX_OCTAVES: u32 = 16;
 /// Most feature points in one Worley cell (fixed counts and the Poisson count's cap).

@@ -9,7 +9,9 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::ModelError;
-use crate::{ClassicNoise, GaborNoise, LrpNoise, PhasorNoise, TextureModel, Warp, WaveletNoise};
+use crate::{
+    ClassicNoise, GaborNoise, LrpNoise, PhasorNoise, TextonNoise, TextureModel, Warp, WaveletNoise,
+};
 
 /// The model-layer definition of one kind: its name, validation, output channels and seeds.
 pub trait ModelKind {
@@ -58,6 +60,8 @@ pub enum Model {
     Warp(Warp),
     /// Wavelet noise (Cook & DeRose 2005): a band-limited tile summed over octave bands.
     Wavelet(WaveletNoise),
+    /// Texton placement and spot noise (survey §2.3, §3.1.5).
+    Texton(TextonNoise),
 }
 
 /// Calls `$body` with `$m` bound to the kind struct inside `$model` (by the reference the match
@@ -96,6 +100,10 @@ macro_rules! for_each_kind {
                 type $Kind = $crate::WaveletNoise;
                 $body
             }
+            $crate::Model::Texton($m) => {
+                type $Kind = $crate::TextonNoise;
+                $body
+            }
         }
     };
 }
@@ -110,6 +118,7 @@ pub const KIND_NAMES: &[&str] = &[
     <ClassicNoise as ModelKind>::NAME,
     <Warp as ModelKind>::NAME,
     <WaveletNoise as ModelKind>::NAME,
+    <TextonNoise as ModelKind>::NAME,
 ];
 
 impl Model {

@@ -19,8 +19,28 @@
 //! let u = a.next_f32();
 //! assert!((0.0..1.0).contains(&u));
 //! ```
+//!
+//! Every kind has a builder whose defaults are documented constants (`ClassicNoise::DEFAULT_OCTAVES`,
+//! `GaborNoise::DEFAULT_FREQUENCY`, …, the `spectex` command's defaults) and whose `build()`
+//! validates, naming the field and its range on error; after it, evaluation cannot fail on the
+//! model's parameters. A kind struct becomes a [`Model`] (what the evaluators and model files
+//! take) by `into()`. LRP noise from a spectrum and textures by example come from
+//! `spectex_sampling` instead (`LrpFromTarget`, `fit_image`, `fit_texture`).
+//!
+//! ```
+//! use spectex_model::{ClassicNoise, Model, WaveletNoise, from_json, to_json};
+//!
+//! let fbm: Model = ClassicNoise::fbm().octaves(5).seed(3).build()?.into();
+//! let wavelet: Model = WaveletNoise::builder().bands(vec![1.0, 0.5]).build()?.into();
+//! // Models are files: versioned JSON, validated on load.
+//! for model in [fbm, wavelet] {
+//!     assert_eq!(from_json(&to_json(&model)?)?, model);
+//! }
+//! # Ok::<(), spectex_model::ModelError>(())
+//! ```
 
 pub mod classic;
+mod defaults;
 mod error;
 mod file;
 pub mod fixtures;
@@ -33,24 +53,27 @@ mod phasor;
 pub mod phasor_kernels;
 pub mod random;
 mod target;
+pub mod texton;
 pub mod texture;
 pub mod warp;
 pub mod wavelet;
 pub mod window;
 
-pub use classic::ClassicNoise;
+pub use classic::{ClassicNoise, ClassicNoiseBuilder, FractalNoiseBuilder};
+pub use defaults::{DEFAULT_MEAN, DEFAULT_SEED, DEFAULT_STD_DEV, Levels};
 pub use error::ModelError;
 pub use file::{SCHEMA_VERSION, SUPPORTED_SCHEMA_VERSIONS, from_json, to_json};
-pub use gabor::{GABOR_TRUNCATION, GaborNoise, NEG_LN_20, Orientation};
+pub use gabor::{GABOR_TRUNCATION, GaborNoise, GaborNoiseBuilder, NEG_LN_20, Orientation};
 pub use grid::{MAX_POSITION, MAX_WINDOW_PIXELS, MAX_WINDOW_SIDE, Window, WindowError};
 pub use kind::{KIND_NAMES, Model, ModelKind};
-pub use lrp::{LrpNoise, MAX_COSINES, MAX_STRATA, MAX_TABLE, Stratum};
+pub use lrp::{LrpNoise, LrpNoiseBuilder, MAX_COSINES, MAX_STRATA, MAX_TABLE, Stratum};
 pub use phasor::{
     COHERENT_BANDWIDTH_RATIO, COHERENT_SPREAD, Field, Harmonic, MAX_FIELD_SIDE,
-    MAX_PROFILE_SAMPLES, PHASOR_TRUNCATION, PhasorNoise, PhasorOrientation, PhasorOutput, Profile,
-    RAMP_EXTENT,
+    MAX_PROFILE_SAMPLES, PHASOR_TRUNCATION, PhasorNoise, PhasorNoiseBuilder, PhasorOrientation,
+    PhasorOutput, Profile, RAMP_EXTENT,
 };
 pub use target::SpectralTarget;
+pub use texton::TextonNoise;
 pub use texture::{ColourBasis, FixedCosine, Structure, TextureChannel, TextureModel, Turbulence};
-pub use warp::{MAX_WARP, Warp};
-pub use wavelet::WaveletNoise;
+pub use warp::{MAX_WARP, Warp, WarpBuilder};
+pub use wavelet::{WaveletNoise, WaveletNoiseBuilder};

@@ -5,6 +5,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{ModelError, check_len, check_level, check_range};
 
+mod builder;
+pub use builder::LrpNoiseBuilder;
+
 /// Most strata in one model.
 pub const MAX_STRATA: usize = 64;
 /// Most cosines per cell in one stratum (`J_S`).

@@ -18,6 +18,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{ModelError, check_len, check_level, check_range};
 
+mod builder;
+pub use builder::PhasorNoiseBuilder;
+
 /// Fraction of its peak at which the Gaussian kernel is truncated (as for Gabor noise, Lagae et
 /// al. 2009): the kernel radius is `r = √(−ln 0.05 / π) / b`, the grid cell side.
 pub const PHASOR_TRUNCATION: f64 = 0.05;

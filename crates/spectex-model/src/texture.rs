@@ -48,6 +48,12 @@ pub const MAX_STRUCTURE_COSINES: usize = 1 << 22;
 pub const MAX_CHANNELS: usize = 3;
 
 /// A texture by example.
+///
+/// It has no builder: its structure, strata and colour basis are measured from an exemplar,
+/// so a texture comes from `spectex_sampling::fit_texture(exemplar, &TextureOptions { structure:
+/// 0.2, turbulence: 3.0, random_placement: true, .. })`, which returns it with a report of what
+/// the fit kept (`crates/spectex-cli/examples/02_fit_and_render.rs` does it and renders the
+/// result). Its seeds can then be changed with [`crate::Model::reseeded`].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TextureModel {
@@ -515,6 +521,12 @@ impl crate::ModelKind for TextureModel {
                 visit(seed);
             }
         }
+    }
+}
+
+impl From<TextureModel> for crate::Model {
+    fn from(texture: TextureModel) -> Self {
+        Self::Texture(texture)
     }
 }
 

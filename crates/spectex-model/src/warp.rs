@@ -26,6 +26,9 @@ use crate::Model;
 use crate::error::{ModelError, check_range};
 use crate::grid::{MAX_POSITION, Window, WindowError};
 
+mod builder;
+pub use builder::WarpBuilder;
+
 /// Largest displacement along one axis, pixels (`2¹⁶`, exact in f32): displacements are clamped
 /// to `±MAX_WARP` on every evaluator.
 pub const MAX_WARP: f32 = 65_536.0;

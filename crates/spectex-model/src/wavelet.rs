@@ -57,6 +57,9 @@ use serde::{Deserialize, Serialize};
 use crate::error::{ModelError, check_level, check_range};
 use crate::random::{Prng, cell_hash, open_unit_f64, unit_f64};
 
+mod builder;
+pub use builder::WaveletNoiseBuilder;
+
 /// The randomness-contract layer of wavelet noise (`"WAVE"`).
 pub const WAVELET_LAYER: u32 = 0x5741_5645;
 /// Most bands.

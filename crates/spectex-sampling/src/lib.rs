@@ -47,6 +47,7 @@ pub mod amplitude;
 pub mod erosion;
 mod error;
 mod fit;
+mod from_target;
 pub mod grid;
 pub mod kmeans;
 pub mod shrink;
@@ -58,5 +59,6 @@ pub use fit::{
     DEFAULT_TARGET_GRID, FitOptions, MAX_IMAGE_SIDE, MAX_TARGET_GRID, MIN_TARGET_GRID,
     Stratification, StratumPlan, exemplar_psd, fit_image, fit_psd, fit_target, stratify,
 };
+pub use from_target::LrpFromTarget;
 pub use stratify::Partition;
 pub use texture::{TextureOptions, TextureReport, false_colour_fraction, fit_texture};

@@ -22,6 +22,7 @@ pub mod classic;
 pub mod gabor;
 pub mod lrp;
 pub mod phasor;
+pub mod texton;
 pub mod texture;
 pub mod warp;
 pub mod wavelet;

@@ -1,0 +1,232 @@
+//! `spectex fit` and `spectex synth`: an LRP noise or a texture model fitted to an example
+//! image (Gilet et al. 2014, §4 and §5), written as a model file or rendered.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result, anyhow};
+use clap::Args;
+use ndarray::Axis;
+use spectex_model::{LrpNoise, Model, TextureModel};
+use spectex_sampling::{FitOptions, TextureOptions};
+
+use crate::io;
+use crate::model_file::write_model;
+use crate::render::{RenderArgs, render_to_file};
+
+/// Options shared by every command that fits an LRP model.
+#[derive(Debug, Args)]
+pub struct FitArgs {
+    /// Cosine budget J: cosines per lattice point over all strata (1 to 1024).
+    #[arg(long, default_value_t = 50)]
+    budget: u32,
+    /// Number of strata L (1 to 64, at most J; the paper uses 4).
+    #[arg(long, default_value_t = 4)]
+    strata: u32,
+    /// Seed of the fit (k-means seeding) and of the model's random phases.
+    #[arg(long, default_value_t = 0)]
+    seed: u32,
+    /// Texture by example: share r of the exemplar's energy whose phases are kept (0 to 1;
+    /// the paper's §5; 0.1–0.35 keeps structure, 1 reproduces the exemplar periodically).
+    #[arg(long, value_name = "r", default_value_t = 0.0)]
+    structure: f64,
+    /// Distort the structure by turbulence of this scale, pixels (0 to 1e4; about the size of
+    /// the texture's features).
+    #[arg(long, value_name = "σ", default_value_t = 0.0)]
+    turbulence: f64,
+    /// Shift blocks of half the structure's period at random, to break its periodicity.
+    #[arg(long)]
+    random_placement: bool,
+    /// Take the structure from the raw exemplar block instead of its periodic component.
+    #[arg(long)]
+    raw_structure: bool,
+}
+
+impl FitArgs {
+    fn options(&self) -> FitOptions {
+        FitOptions {
+            budget: self.budget,
+            strata: self.strata,
+            seed: self.seed,
+            ..FitOptions::default()
+        }
+    }
+
+    fn texture_options(&self) -> TextureOptions {
+        TextureOptions {
+            fit: self.options(),
+            structure: self.structure,
+            turbulence: self.turbulence,
+            random_placement: self.random_placement,
+            periodic: !self.raw_structure,
+            ..TextureOptions::default()
+        }
+    }
+
+    /// Whether the texture model (rather than plain LRP noise) is asked for.
+    fn wants_texture(&self) -> bool {
+        self.structure > 0.0 || self.turbulence > 0.0 || self.random_placement
+    }
+}
+
+/// Arguments of `spectex fit`.
+#[derive(Debug, Args)]
+pub struct FitCommand {
+    /// Example image; the built-in exemplar if omitted.
+    input: Option<PathBuf>,
+    /// Model file to write (.json).
+    #[arg(short, long, value_name = "MODEL")]
+    output: PathBuf,
+    #[command(flatten)]
+    fit: FitArgs,
+}
+
+/// Arguments of `spectex synth`.
+#[derive(Debug, Args)]
+pub struct SynthCommand {
+    /// Example image; the built-in exemplar if omitted.
+    input: Option<PathBuf>,
+    #[command(flatten)]
+    fit: FitArgs,
+    #[command(flatten)]
+    render: RenderArgs,
+}
+
+/// What a fit gives: plain LRP noise (a grey exemplar without texture options) or a texture.
+enum Fitted {
+    Noise(LrpNoise),
+    Texture(TextureModel),
+}
+
+impl Fitted {
+    fn to_model(&self) -> Model {
+        match self {
+            Self::Noise(noise) => noise.clone().into(),
+            Self::Texture(texture) => texture.clone().into(),
+        }
+    }
+}
+
+/// Fits the example (the built-in exemplar if `input` is `None`); also returns its size.
+fn fit_example(input: Option<&Path>, fit: &FitArgs) -> Result<(Fitted, (usize, usize))> {
+    // Options first: a bad --budget or --structure is reported before any input is read.
+    fit.texture_options()
+        .validate()
+        .map_err(|e| anyhow!("{e}; check --budget, --strata, --structure and --turbulence"))?;
+    let (loaded, name) = crate::load_input(input)?;
+    let (channels, h, w) = loaded.pixels.dim();
+    if channels == 1 && !fit.wants_texture() {
+        let grey = loaded.pixels.index_axis(Axis(0), 0);
+        let model = spectex_sampling::fit_image(grey, &fit.options())
+            .with_context(|| format!("cannot fit {name}"))?;
+        return Ok((Fitted::Noise(model), (w, h)));
+    }
+    // `io` has dropped any alpha channel: 1 or 3 channels remain.
+    let (model, report) =
+        spectex_sampling::fit_texture(loaded.pixels.view(), &fit.texture_options())
+            .with_context(|| format!("cannot fit {name}"))?;
+    if fit.structure > 0.0 {
+        for (c, ch) in report.channels.iter().enumerate() {
+            eprintln!(
+                "note: channel {c}: R holds {:.1}% of the energy in {} frequencies; n_R uses J_R = {} \
+                 cosines in {}×{} blocks (mean deviation {:.5}), strata {} cosines",
+                100.0 * ch.region_energy,
+                ch.region_bins,
+                ch.structure_cosines,
+                ch.blocks,
+                ch.blocks,
+                ch.structure_error,
+                ch.strata_cosines
+            );
+        }
+    }
+    Ok((Fitted::Texture(model), (w, h)))
+}
+
+/// `spectex fit`.
+pub fn fit(cmd: &FitCommand) -> Result<()> {
+    let (fitted, _) = fit_example(cmd.input.as_deref(), &cmd.fit)?;
+    write_model(&cmd.output, &fitted.to_model())?;
+    #[allow(clippy::print_stdout)] // reason: the command's result summary
+    match &fitted {
+        Fitted::Noise(m) => {
+            println!(
+                "wrote {} (LRP noise, {} strata, J = {}):",
+                cmd.output.display(),
+                m.strata.len(),
+                m.budget()
+            );
+            for (s, st) in m.strata.iter().enumerate() {
+                println!(
+                    "  stratum {s}: J_S = {:>3}, Δ_S = {:7.2} px, A_S = {:.5}, {} frequencies",
+                    st.cosines(),
+                    st.window_width,
+                    st.amplitude,
+                    st.sub_strata.iter().map(Vec::len).sum::<usize>()
+                );
+            }
+        }
+        Fitted::Texture(m) => {
+            println!(
+                "wrote {} (texture, {} channel(s), period {} px, {} special-function calls per pixel{}{}):",
+                cmd.output.display(),
+                m.channels.len(),
+                m.period,
+                m.special_calls_per_pixel(),
+                if m.turbulence.is_some() {
+                    ", turbulence"
+                } else {
+                    ""
+                },
+                if m.random_placement {
+                    ", random placement"
+                } else {
+                    ""
+                },
+            );
+            for (c, ch) in m.channels.iter().enumerate() {
+                let (blocks, fixed) = ch
+                    .structure
+                    .as_ref()
+                    .map_or((0, 0), |s| (s.blocks, s.total_cosines()));
+                println!(
+                    "  channel {c}: {} strata ({} cosines), structure {blocks}×{blocks} blocks, {fixed} fixed cosines stored",
+                    ch.strata.len(),
+                    ch.strata
+                        .iter()
+                        .map(spectex_model::Stratum::cosines)
+                        .sum::<usize>()
+                );
+            }
+        }
+    }
+    Ok(())
+}
+
+/// `spectex synth`.
+pub fn synth(cmd: &SynthCommand) -> Result<()> {
+    io::check_output(&cmd.render.output, cmd.render.bit_depth)?;
+    let (fitted, size) = fit_example(cmd.input.as_deref(), &cmd.fit)?;
+    render_to_file(&fitted.to_model(), &cmd.render, size)
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::Parser;
+
+    use super::*;
+
+    /// `spectex fit`'s flags alone.
+    #[derive(Debug, Parser)]
+    struct Fit {
+        #[command(flatten)]
+        fit: FitArgs,
+    }
+
+    #[test]
+    fn fit_defaults_are_the_library_defaults() {
+        let args = Fit::try_parse_from(["fit"]).expect("no flag is required");
+        assert_eq!(args.fit.options(), FitOptions::default());
+        assert_eq!(args.fit.texture_options(), TextureOptions::default());
+        assert!(!args.fit.wants_texture());
+    }
+}

@@ -1,0 +1,119 @@
+//! `spectex noise`: procedural noises built from flags, one module per family of subcommands
+//! (LRP noise of a continuous spectrum, Gabor, the classic noises, wavelet noise, domain
+//! warping, textons), each building its model through `spectex_model`'s builders, writing it if asked
+//! (`--model`) and rendering it.
+
+mod classic;
+mod gabor;
+mod spectral;
+mod texton;
+mod warp;
+mod wavelet;
+
+use std::path::PathBuf;
+
+use anyhow::{Result, bail};
+use clap::{Args, Subcommand};
+use spectex_model::classic::Basis;
+
+use crate::render::RenderArgs;
+
+/// Arguments of `spectex noise`.
+#[derive(Debug, Args)]
+pub struct NoiseCommand {
+    #[command(subcommand)]
+    kind: NoiseKind,
+}
+
+/// The continuous spectra of the paper's Fig. 3 and Fig. 10, Gabor noise for comparison, the
+/// survey's 1/f^β fractal spectra, and the classic pointwise noises.
+#[derive(Debug, Subcommand)]
+enum NoiseKind {
+    /// Isotropic noise whose power lies on a ring of radius F (Fig. 10).
+    Ring(spectral::RingArgs),
+    /// Anisotropic noise: two Gaussian lobes at ±F in direction ANGLE (Fig. 3).
+    Lobe(spectral::LobeArgs),
+    /// Band-pass noise: constant power for MIN ≤ |f| ≤ MAX.
+    Band(spectral::BandArgs),
+    /// Gabor noise by sparse convolution (Lagae et al. 2009), for comparison with LRP noise.
+    Gabor(gabor::GaborArgs),
+    /// A random-phase 1/f^β fractal with the survey's angular term (Eq. (8)), as LRP noise:
+    /// continuous and infinite; --contrast is the RMS roughness.
+    Fractal(spectral::FractalArgs),
+    /// Improved Perlin gradient noise (Perlin 2002), 2D or 3D (sliced at --z).
+    Perlin(classic::ClassicArgs),
+    /// Simplex noise (Perlin 2001, Gustavson 2005), 2D or 3D.
+    Simplex(classic::ClassicArgs),
+    /// Value noise: random lattice values with quintic interpolation, 2D or 3D.
+    Value(classic::ClassicArgs),
+    /// Fractal sum over octaves (fBm, turbulence, ridged multifractal) of a basis.
+    Fbm(classic::FbmArgs),
+    /// Domain warping: --base evaluated at p + strength·(x(p), y(p)) for the --by (x) and
+    /// --by-y models (built-in fBms by default).
+    Warp(warp::WarpArgs),
+    /// Worley cellular noise C1·F1 + C2·F2 + C3·F3 + C4·F4 (Worley 1996), 2D or 3D.
+    Worley(classic::WorleyNoiseArgs),
+    /// Wavelet noise (Cook & DeRose 2005): a band-limited tile summed over octave bands, 2D or 3D.
+    Wavelet(wavelet::WaveletArgs),
+    /// Texton placement / spot noise (survey §2.3): ellipsoids, Gaussian spots or an image
+    /// placed on a jittered grid or at Poisson points, rotated, scaled, summed or maxed.
+    Texton(texton::TextonArgs),
+}
+
+/// What the noises of a spectrum (and Gabor noise) share.
+#[derive(Debug, Args)]
+struct NoiseArgs {
+    /// Cosine budget J of the LRP model (ignored by gabor) [default: 10; fractal: 48].
+    #[arg(long)]
+    budget: Option<u32>,
+    /// Number of strata L of the LRP model (ignored by gabor) [default: 1; fractal: 12, cut
+    /// in equal spans of log power].
+    #[arg(long)]
+    strata: Option<u32>,
+    /// Seed.
+    #[arg(long, default_value_t = spectex_model::DEFAULT_SEED)]
+    seed: u32,
+    /// Standard deviation of the noise around its mean.
+    #[arg(long, default_value_t = spectex_model::DEFAULT_STD_DEV)]
+    contrast: f32,
+    /// Mean of the noise.
+    #[arg(long, default_value_t = spectex_model::DEFAULT_MEAN)]
+    mean: f32,
+    /// Also write the model to this .json file.
+    #[arg(long, value_name = "MODEL")]
+    model: Option<PathBuf>,
+    #[command(flatten)]
+    render: RenderArgs,
+}
+
+impl NoiseArgs {
+    /// Refuses a `--contrast` that cannot be a standard deviation, before anything is built.
+    fn check_contrast(&self) -> Result<()> {
+        if !(self.contrast.is_finite() && self.contrast > 0.0) {
+            bail!(
+                "--contrast = {} must be a positive number (the noise's standard deviation)",
+                self.contrast
+            );
+        }
+        Ok(())
+    }
+}
+
+/// `spectex noise`.
+pub fn noise(cmd: &NoiseCommand) -> Result<()> {
+    match &cmd.kind {
+        NoiseKind::Ring(args) => spectral::ring(args),
+        NoiseKind::Lobe(args) => spectral::lobe(args),
+        NoiseKind::Band(args) => spectral::band(args),
+        NoiseKind::Gabor(args) => gabor::run(args),
+        NoiseKind::Fractal(args) => spectral::fractal(args),
+        NoiseKind::Perlin(args) => classic::run(Basis::Gradient, None, args),
+        NoiseKind::Simplex(args) => classic::run(Basis::Simplex, None, args),
+        NoiseKind::Value(args) => classic::run(Basis::Value, None, args),
+        NoiseKind::Fbm(args) => classic::fbm(args),
+        NoiseKind::Warp(args) => warp::run(args),
+        NoiseKind::Worley(args) => classic::worley(args),
+        NoiseKind::Wavelet(args) => wavelet::run(args),
+        NoiseKind::Texton(args) => texton::run(args),
+    }
+}

@@ -1,0 +1,113 @@
+//! `spectex noise gabor`: Gabor noise by sparse convolution (Lagae et al. 2009) from flags, its
+//! amplitude chosen for `--contrast` by `GaborNoise::unit_std_dev`.
+
+use anyhow::{Result, anyhow};
+use clap::Args;
+use spectex_model::{GaborNoise, GaborNoiseBuilder, Model};
+
+use super::NoiseArgs;
+use crate::io;
+use crate::model_file::write_model;
+use crate::render::render_to_file;
+
+/// The options of `spectex noise gabor`.
+#[derive(Debug, Args)]
+pub(super) struct GaborArgs {
+    /// Kernel frequency F₀, cycles per pixel.
+    #[arg(long, default_value_t = GaborNoise::DEFAULT_FREQUENCY)]
+    frequency: f32,
+    /// Gaussian bandwidth a, per pixel.
+    #[arg(long, default_value_t = GaborNoise::DEFAULT_BANDWIDTH)]
+    bandwidth: f32,
+    /// Orientation in degrees; omit for isotropic noise.
+    #[arg(long, allow_hyphen_values = true)]
+    angle: Option<f32>,
+    /// Mean number of impulses per kernel footprint.
+    #[arg(long, default_value_t = GaborNoise::DEFAULT_IMPULSES_PER_KERNEL)]
+    impulses: f32,
+    #[command(flatten)]
+    common: NoiseArgs,
+}
+
+/// `spectex noise gabor`.
+pub(super) fn run(args: &GaborArgs) -> Result<()> {
+    let common = &args.common;
+    io::check_output(&common.render.output, common.render.bit_depth)?;
+    common.check_contrast()?;
+    let noise = builder(args)
+        .build()
+        .map_err(|e| anyhow!("{e}; check the gabor options"))?;
+    let model = Model::from(noise);
+    if let Some(path) = &common.model {
+        write_model(path, &model)?;
+    }
+    render_to_file(&model, &common.render, (512, 512))
+}
+
+/// The flags as a builder (isotropic directions without `--angle`).
+fn builder(args: &GaborArgs) -> GaborNoiseBuilder {
+    let builder = GaborNoise::builder()
+        .seed(args.common.seed)
+        .mean(args.common.mean)
+        .std_dev(args.common.contrast)
+        .bandwidth(args.bandwidth)
+        .frequency(args.frequency)
+        .impulses_per_kernel(args.impulses);
+    match args.angle {
+        Some(degrees) => builder.angle(degrees.to_radians()),
+        None => builder,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::Parser;
+    use spectex_model::Orientation;
+
+    use super::*;
+
+    #[derive(Debug, Parser)]
+    struct Gabor {
+        #[command(flatten)]
+        args: GaborArgs,
+    }
+
+    fn parse(flags: &[&str]) -> GaborArgs {
+        let argv = ["gabor", "-o", "x.png"].iter().chain(flags);
+        Gabor::try_parse_from(argv).expect("valid flags").args
+    }
+
+    #[test]
+    fn defaults_are_the_builders() {
+        assert_eq!(builder(&parse(&[])), GaborNoise::builder());
+    }
+
+    #[test]
+    fn flags_reach_the_model() {
+        let noise = builder(&parse(&[
+            "--angle",
+            "30",
+            "--frequency",
+            "0.1",
+            "--impulses",
+            "16",
+            "--contrast",
+            "0.1",
+            "--seed",
+            "5",
+        ]))
+        .build()
+        .expect("valid");
+        assert_eq!(
+            noise.orientation,
+            Orientation::Anisotropic {
+                angle: 30f32.to_radians()
+            }
+        );
+        assert_eq!(
+            (noise.frequency, noise.impulses_per_kernel, noise.seed),
+            (0.1, 16.0, 5)
+        );
+        assert!((f64::from(noise.amplitude) * noise.unit_std_dev() - 0.1).abs() < 1e-6);
+    }
+}

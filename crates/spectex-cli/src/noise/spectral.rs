@@ -1,0 +1,197 @@
+//! `spectex noise ring|lobe|band|fractal`: LRP noise whose power spectrum follows a continuous
+//! target (the paper's Fig. 10 ring and Fig. 3 lobes, a band-pass annulus, the survey's 1/f^β
+//! fractal), fitted by `spectex_sampling::LrpFromTarget`.
+
+use anyhow::{Context, Result, anyhow};
+use clap::Args;
+use spectex_model::{Model, SpectralTarget};
+use spectex_sampling::LrpFromTarget;
+
+use super::NoiseArgs;
+use crate::io;
+use crate::model_file::write_model;
+use crate::render::render_to_file;
+
+/// The options of `spectex noise ring`.
+#[derive(Debug, Args)]
+pub(super) struct RingArgs {
+    /// Ring radius, cycles per pixel.
+    #[arg(long, default_value_t = 0.0625)]
+    radius: f32,
+    /// Gaussian half-width of the ring, cycles per pixel.
+    #[arg(long, default_value_t = 0.005)]
+    width: f32,
+    #[command(flatten)]
+    common: NoiseArgs,
+}
+
+/// The options of `spectex noise lobe`.
+#[derive(Debug, Args)]
+pub(super) struct LobeArgs {
+    /// Distance of the lobes from the origin, cycles per pixel.
+    #[arg(long, default_value_t = 0.1)]
+    frequency: f32,
+    /// Direction, degrees.
+    #[arg(long, default_value_t = 30.0, allow_hyphen_values = true)]
+    angle: f32,
+    /// Standard deviation of each lobe, cycles per pixel.
+    #[arg(long, default_value_t = 0.01)]
+    width: f32,
+    #[command(flatten)]
+    common: NoiseArgs,
+}
+
+/// The options of `spectex noise band`.
+#[derive(Debug, Args)]
+pub(super) struct BandArgs {
+    /// Inner radius, cycles per pixel.
+    #[arg(long, default_value_t = 0.05)]
+    min: f32,
+    /// Outer radius, cycles per pixel.
+    #[arg(long, default_value_t = 0.1)]
+    max: f32,
+    #[command(flatten)]
+    common: NoiseArgs,
+}
+
+/// The options of `spectex noise fractal`.
+#[derive(Debug, Args)]
+pub(super) struct FractalArgs {
+    /// β, the roll-off of the magnitude spectrum (0 to 4): the power falls as f^(−2β).
+    #[arg(long, default_value_t = 1.5)]
+    beta: f32,
+    /// θ₀, the dominant direction of the frequencies, degrees.
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    angle: f32,
+    /// σ, the angular standard deviation, degrees (isotropic if omitted).
+    #[arg(long)]
+    spread: Option<f32>,
+    /// Lowest frequency with power, cycles per pixel (1/8192 to 0.25).
+    #[arg(long, default_value_t = 1.0 / 128.0)]
+    min_frequency: f32,
+    #[command(flatten)]
+    common: NoiseArgs,
+}
+
+/// `spectex noise ring`.
+pub(super) fn ring(args: &RingArgs) -> Result<()> {
+    let target = SpectralTarget::Ring {
+        radius: args.radius,
+        width: args.width,
+    };
+    run(target, &args.common)
+}
+
+/// `spectex noise lobe`.
+pub(super) fn lobe(args: &LobeArgs) -> Result<()> {
+    let target = SpectralTarget::Lobes {
+        frequency: args.frequency,
+        angle: args.angle.to_radians(),
+        width: args.width,
+    };
+    run(target, &args.common)
+}
+
+/// `spectex noise band`.
+pub(super) fn band(args: &BandArgs) -> Result<()> {
+    let target = SpectralTarget::Band {
+        min: args.min,
+        max: args.max,
+    };
+    run(target, &args.common)
+}
+
+/// `spectex noise fractal`.
+pub(super) fn fractal(args: &FractalArgs) -> Result<()> {
+    let target = SpectralTarget::Fractal {
+        beta: args.beta,
+        angle: args.angle.to_radians(),
+        spread: args.spread.map(f32::to_radians),
+        min_frequency: args.min_frequency,
+    };
+    run(target, &args.common)
+}
+
+/// Builds the LRP noise of `target`, writes it if asked, and renders it.
+fn run(target: SpectralTarget, common: &NoiseArgs) -> Result<()> {
+    io::check_output(&common.render.output, common.render.bit_depth)?;
+    common.check_contrast()?;
+    target
+        .validate()
+        .map_err(|e| anyhow!("{e}; check the spectrum's options"))?;
+    let model = Model::from(
+        builder(target, common)
+            .build()
+            .context("cannot build the noise")?,
+    );
+    if let Some(path) = &common.model {
+        write_model(path, &model)?;
+    }
+    render_to_file(&model, &common.render, (512, 512))
+}
+
+/// The flags as a builder: the target's defaults where `--budget` or `--strata` is omitted.
+fn builder(target: SpectralTarget, common: &NoiseArgs) -> LrpFromTarget {
+    let mut builder = LrpFromTarget::new(target)
+        .seed(common.seed)
+        .std_dev(common.contrast)
+        .mean(common.mean);
+    if let Some(budget) = common.budget {
+        builder = builder.budget(budget);
+    }
+    if let Some(strata) = common.strata {
+        builder = builder.strata(strata);
+    }
+    builder
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::Parser;
+    use spectex_sampling::{FitOptions, Partition};
+
+    use super::*;
+
+    #[derive(Debug, Parser)]
+    enum Noise {
+        Ring(RingArgs),
+        Fractal(FractalArgs),
+    }
+
+    #[test]
+    fn defaults_are_the_builders() {
+        let Ok(Noise::Ring(ring)) = Noise::try_parse_from(["noise", "ring", "-o", "x.png"]) else {
+            panic!("ring parses");
+        };
+        let target = SpectralTarget::Ring {
+            radius: 0.0625,
+            width: 0.005,
+        };
+        assert_eq!(
+            builder(target.clone(), &ring.common),
+            LrpFromTarget::new(target)
+        );
+        let Ok(Noise::Fractal(fractal)) =
+            Noise::try_parse_from(["noise", "fractal", "-o", "x.png"])
+        else {
+            panic!("fractal parses");
+        };
+        let target = SpectralTarget::Fractal {
+            beta: 1.5,
+            angle: 0.0,
+            spread: None,
+            min_frequency: 1.0 / 128.0,
+        };
+        let options = builder(target, &fractal.common).options();
+        assert_eq!(
+            options,
+            FitOptions {
+                budget: 48,
+                strata: 12,
+                seed: 0,
+                partition: Partition::LogPower,
+                ..FitOptions::default()
+            }
+        );
+    }
+}

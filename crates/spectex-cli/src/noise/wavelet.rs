@@ -1,0 +1,128 @@
+//! `spectex noise wavelet`: wavelet noise (Cook & DeRose 2005, `spectex_model::wavelet`) from
+//! flags, written as a model (`--model`) and rendered.
+
+use anyhow::{Result, anyhow};
+use clap::Args;
+use spectex_model::{Model, ModelError, WaveletNoise, WaveletNoiseBuilder};
+
+use crate::model_file::write_model;
+use crate::render::{RenderArgs, render_to_file};
+
+/// The options of `spectex noise wavelet`.
+#[derive(Debug, Args)]
+pub(crate) struct WaveletArgs {
+    /// Side of the periodic noise tile, samples: even, 16 to 256 in 2D, 16 to 64 in 3D
+    /// (default 128 in 2D, 32 in 3D).
+    #[arg(long, value_name = "N")]
+    tile: Option<u32>,
+    /// Pixels per tile sample of the first (coarsest) band (1 to 1e6).
+    #[arg(long, value_name = "PX", default_value_t = WaveletNoise::DEFAULT_CELL_SIZE)]
+    cell: f32,
+    /// Weights of the bands W1,W2,… (1 to 16); band b has 2^b times the first one's frequency.
+    #[arg(long, value_name = "W1,W2,…", default_value = "1", value_parser = parse_bands, allow_hyphen_values = true)]
+    bands: Bands,
+    /// 2 (a plane) or 3 (a volume sliced at --z).
+    #[arg(long, default_value_t = WaveletNoise::DEFAULT_DIMENSIONS)]
+    dims: u32,
+    /// Seed.
+    #[arg(long, default_value_t = WaveletNoise::DEFAULT_SEED)]
+    seed: u32,
+    /// Standard deviation of the noise (the bands are normalised by √Σw²).
+    #[arg(long, default_value_t = WaveletNoise::DEFAULT_AMPLITUDE, allow_hyphen_values = true)]
+    amplitude: f32,
+    /// Constant added.
+    #[arg(long, default_value_t = WaveletNoise::DEFAULT_MEAN, allow_hyphen_values = true)]
+    mean: f32,
+    /// Also write the model to this .json file (render it again with `spectex render`).
+    #[arg(long, value_name = "MODEL")]
+    model: Option<std::path::PathBuf>,
+    #[command(flatten)]
+    render: RenderArgs,
+}
+
+/// Band weights as parsed from `--bands`.
+#[derive(Debug, Clone)]
+pub(crate) struct Bands(Vec<f32>);
+
+fn parse_bands(s: &str) -> Result<Bands, String> {
+    s.split(',')
+        .map(|w| w.trim().parse::<f32>())
+        .collect::<Result<Vec<_>, _>>()
+        .map(Bands)
+        .map_err(|_| {
+            format!("'{s}' is not a list of band weights; write W1,W2,…, for example 1,0.5,0.25")
+        })
+}
+
+/// The command-line flag that sets a model field, for error messages.
+fn flag(field: &str) -> &'static str {
+    const FLAGS: &[(&str, &str)] = &[
+        ("tile_size", "--tile"),
+        ("cell_size", "--cell"),
+        ("bands", "--bands (or --cell)"),
+        ("dimensions", "--dims"),
+        ("amplitude", "--amplitude"),
+        ("mean", "--mean"),
+    ];
+    FLAGS
+        .iter()
+        .find(|(f, _)| field.contains(f))
+        .map_or("the noise options", |(_, flag)| flag)
+}
+
+/// Builds the model, writes it if asked, and renders it.
+pub(crate) fn run(args: &WaveletArgs) -> Result<()> {
+    crate::io::check_output(&args.render.output, args.render.bit_depth)?;
+    let model = builder(args).build().map_err(|e| match &e {
+        ModelError::OutOfRange { field, .. } | ModelError::Length { field, .. } => {
+            anyhow!("{e}; set {} within it", flag(field))
+        }
+        _ => anyhow!("{e}"),
+    })?;
+    let model = Model::from(model);
+    if let Some(path) = &args.model {
+        write_model(path, &model)?;
+    }
+    render_to_file(&model, &args.render, (512, 512))
+}
+
+/// The flags as a builder (the tile side of the dimensions without `--tile`).
+fn builder(args: &WaveletArgs) -> WaveletNoiseBuilder {
+    let builder = WaveletNoise::builder()
+        .seed(args.seed)
+        .dimensions(args.dims)
+        .cell_size(args.cell)
+        .bands(args.bands.0.clone())
+        .amplitude(args.amplitude)
+        .mean(args.mean);
+    match args.tile {
+        Some(tile) => builder.tile_size(tile),
+        None => builder,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::Parser;
+
+    use super::*;
+
+    #[derive(Debug, Parser)]
+    struct Wavelet {
+        #[command(flatten)]
+        args: WaveletArgs,
+    }
+
+    fn parse(flags: &[&str]) -> WaveletArgs {
+        let argv = ["wavelet", "-o", "x.png"].iter().chain(flags);
+        Wavelet::try_parse_from(argv).expect("valid flags").args
+    }
+
+    #[test]
+    fn defaults_are_the_builders() {
+        assert_eq!(builder(&parse(&[])), WaveletNoise::builder());
+        let volume = builder(&parse(&["--dims", "3"])).build();
+        let expected = WaveletNoise::builder().dimensions(3).build();
+        assert_eq!(volume.expect("valid"), expected.expect("valid"));
+    }
+}

@@ -1,0 +1,116 @@
+//! Rendering a model into an image file: the window and output flags every rendering command
+//! shares ([`RenderArgs`]), `spectex render`, and the progress bar.
+
+use std::io::IsTerminal;
+use std::path::PathBuf;
+
+use anyhow::{Result, anyhow};
+use clap::Args;
+use ndarray::Array3;
+use spectex_cpu::{Evaluator, Window};
+use spectex_model::Model;
+
+use crate::device::{self, Device};
+use crate::io::{self, BitDepth};
+use crate::model_file::read_model;
+
+/// Where and how to render.
+#[derive(Debug, Args)]
+pub struct RenderArgs {
+    /// Output image: .png (clamped to [0, 1]) or .exr (32-bit float, values kept).
+    #[arg(short, long, value_name = "OUT")]
+    pub(crate) output: PathBuf,
+    /// Output size WIDTHxHEIGHT (1 to 65536 per side).
+    #[arg(long, value_name = "WxH", value_parser = crate::parse_size)]
+    pub(crate) size: Option<(usize, usize)>,
+    /// Position of the top-left pixel, X,Y in model pixels (any finite values up to ±2^30).
+    #[arg(long, value_name = "X,Y", value_parser = parse_offset, allow_hyphen_values = true)]
+    pub(crate) offset: Option<[f64; 2]>,
+    /// Model pixels per output pixel (0 < S ≤ 1e6).
+    #[arg(long, default_value_t = 1.0)]
+    pub(crate) scale: f64,
+    /// Bits per channel of a PNG output.
+    #[arg(long, value_enum, default_value = "8")]
+    pub(crate) bit_depth: BitDepth,
+    /// The plane z (model pixels) on which a 3D model is evaluated; 2D models ignore it.
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    pub(crate) z: f64,
+    /// Evaluator: the CPU reference, the GPU (wgpu; WGPU_ADAPTER_NAME picks the adapter), or
+    /// auto (the GPU when an adapter exists, else the CPU; says which it used).
+    #[arg(long, value_enum, default_value = "cpu")]
+    pub(crate) device: Device,
+}
+
+/// Parses `X,Y`.
+fn parse_offset(s: &str) -> Result<[f64; 2], String> {
+    let err = || format!("'{s}' is not an offset; write X,Y, for example 1e7,1e7 or -20.5,3");
+    let (x, y) = s.split_once(',').ok_or_else(err)?;
+    let x: f64 = x.trim().parse().map_err(|_| err())?;
+    let y: f64 = y.trim().parse().map_err(|_| err())?;
+    Ok([x, y])
+}
+
+/// Arguments of `spectex render`.
+#[derive(Debug, Args)]
+pub struct RenderCommand {
+    /// Model file (.json) written by `spectex fit` or `spectex noise --model`.
+    model: PathBuf,
+    #[command(flatten)]
+    render: RenderArgs,
+}
+
+/// `spectex render`.
+pub fn render(cmd: &RenderCommand) -> Result<()> {
+    let model = read_model(&cmd.model)?;
+    render_to_file(&model, &cmd.render, (512, 512))
+}
+
+/// Renders `model` as `args` says (`default_size` unless `--size`), showing progress on a
+/// terminal, and writes the image.
+pub(crate) fn render_to_file(
+    model: &Model,
+    args: &RenderArgs,
+    default_size: (usize, usize),
+) -> Result<()> {
+    let format = io::check_output(&args.output, args.bit_depth)?;
+    let (width, height) = args.size.unwrap_or(default_size);
+    let window = Window::new(width, height).at(args.offset.unwrap_or([0.0, 0.0]), args.scale);
+    window
+        .validate()
+        .map_err(|e| anyhow!("{e}; check --size, --offset and --scale"))?;
+    let eval = Evaluator::new_at_z(model, args.z).map_err(|e| anyhow!("{e}; check --z"))?;
+    let rendered = device::render(model, args.z, &window, args.device, &eval)?;
+    let pixels = &rendered.pixels;
+    let channels = pixels.len() / (width * height).max(1);
+    let image = Array3::from_shape_fn((channels, height, width), |(c, y, x)| {
+        f64::from(pixels[(y * width + x) * channels + c])
+    });
+    let report = io::save(&args.output, &image, format)?;
+    #[allow(clippy::print_stdout)] // reason: the command's result summary
+    {
+        println!(
+            "wrote {} ({width}×{height} on the {}, {:.1} evaluations per pixel, {:.2} Mpix/s)",
+            args.output.display(),
+            rendered.device,
+            eval.cost_per_pixel(),
+            (width * height) as f64 / rendered.seconds.max(1e-9) / 1e6
+        );
+    }
+    crate::note_clipping(report);
+    Ok(())
+}
+
+/// A progress bar on stderr when it is a terminal; hidden (and free) when piped.
+pub(crate) fn progress_bar(len: u64, what: &'static str) -> indicatif::ProgressBar {
+    if !std::io::stderr().is_terminal() || len < 256 {
+        return indicatif::ProgressBar::hidden();
+    }
+    let bar = indicatif::ProgressBar::new(len);
+    if let Ok(style) =
+        indicatif::ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} rows, {eta} left")
+    {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    bar.set_message(what);
+    bar
+}

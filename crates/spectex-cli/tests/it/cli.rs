@@ -1,0 +1,1115 @@
+//! End-to-end tests of the `spectex` binary: outputs on success, and on bad input one
+//! `error: …` line, exit status 1 and no output file.
+
+#![allow(
+    clippy::unwrap_used,
+    reason = "a test fails loudly on the first unexpected None or Err"
+)]
+
+use crate::common;
+
+use std::path::{Path, PathBuf};
+use std::process::Output;
+
+use common::{s, scratch, spectex, spectex_ok, z_of};
+
+/// Asserts the failure contract: exit 1, exactly one stderr line starting `error: ` that
+/// contains every `needle`, and no file left in `dir` (not even a temporary one).
+fn assert_fails(out: &Output, dir: &Path, needles: &[&str]) {
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "exit status; stderr: {stderr}");
+    let lines: Vec<&str> = stderr.lines().filter(|l| !l.trim().is_empty()).collect();
+    assert_eq!(lines.len(), 1, "one line expected, got: {stderr}");
+    assert!(lines[0].starts_with("error: "), "{stderr}");
+    for n in needles {
+        assert!(lines[0].contains(n), "'{n}' missing from: {stderr}");
+    }
+    let left: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    assert!(left.is_empty(), "files left behind: {left:?}");
+}
+
+fn write_png(path: &Path, w: u32, h: u32) {
+    image::RgbImage::from_fn(w, h, |x, y| {
+        image::Rgb([(x * 7) as u8, (y * 3) as u8, ((x + y) * 5) as u8])
+    })
+    .save(path)
+    .unwrap();
+}
+
+#[test]
+fn rpn_on_the_built_in_exemplar() {
+    let dir = scratch("default");
+    let out = dir.join("out.png");
+    let o = spectex(&["rpn", "-o", s(&out)]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let img = image::open(&out).unwrap();
+    assert_eq!((img.width(), img.height()), (256, 256));
+    assert!(img.color().has_color());
+    // Only the output is there: the temporary file was renamed, not copied.
+    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1);
+}
+
+#[test]
+fn rpn_sizes_depths_formats_and_seeds() {
+    let dir = scratch("formats");
+    let input = dir.join("in.png");
+    write_png(&input, 40, 30);
+    let p16 = dir.join("a.png");
+    let o = spectex(&[
+        "rpn",
+        s(&input),
+        "-o",
+        s(&p16),
+        "--size",
+        "100x64",
+        "--seed",
+        "9",
+        "--bit-depth",
+        "16",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let img = image::open(&p16).unwrap();
+    assert_eq!((img.width(), img.height()), (100, 64));
+    assert_eq!(img.color(), image::ColorType::Rgb16);
+
+    // EXR keeps values exactly as f32: the mean of each channel equals the sample's.
+    let exr = dir.join("a.exr");
+    let o = spectex(&["rpn", s(&input), "-o", s(&exr), "--adsn", "--size", "64x64"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = image::open(&exr).unwrap().to_rgb32f();
+    let sample = image::open(&input).unwrap().to_rgb32f();
+    for c in 0..3 {
+        let mean = |im: &image::Rgb32FImage| {
+            im.pixels().map(|p| f64::from(p.0[c])).sum::<f64>()
+                / f64::from(im.width() * im.height())
+        };
+        assert!((mean(&out) - mean(&sample)).abs() < 1e-5, "channel {c}");
+    }
+
+    // Same seed, same bytes; the output is a pure function of input and seed.
+    let (x, y) = (dir.join("x.png"), dir.join("y.png"));
+    assert!(
+        spectex(&["rpn", s(&input), "-o", s(&x), "--seed", "5"])
+            .status
+            .success()
+    );
+    assert!(
+        spectex(&["rpn", s(&input), "-o", s(&y), "--seed", "5"])
+            .status
+            .success()
+    );
+    assert_eq!(std::fs::read(&x).unwrap(), std::fs::read(&y).unwrap());
+}
+
+#[test]
+fn grey_and_alpha_inputs() {
+    let dir = scratch("grey");
+    let grey = dir.join("g.png");
+    image::GrayImage::from_fn(20, 20, |x, y| image::Luma([((x * y) % 256) as u8]))
+        .save(&grey)
+        .unwrap();
+    let out = dir.join("g-out.png");
+    assert!(spectex(&["rpn", s(&grey), "-o", s(&out)]).status.success());
+    assert_eq!(image::open(&out).unwrap().color(), image::ColorType::L8);
+
+    let rgba = dir.join("a.png");
+    image::RgbaImage::from_fn(20, 20, |x, y| {
+        image::Rgba([x as u8 * 9, y as u8 * 9, 100, 128])
+    })
+    .save(&rgba)
+    .unwrap();
+    let out = dir.join("a-out.png");
+    let o = spectex(&["rpn", s(&rgba), "-o", s(&out)]);
+    assert!(o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("alpha channel"));
+    assert_eq!(image::open(&out).unwrap().color(), image::ColorType::Rgb8);
+}
+
+#[test]
+fn analyze_writes_every_file() {
+    let dir = scratch("analyze");
+    let out = dir.join("analysis");
+    let o = spectex(&["analyze", "-o", s(&out)]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for f in [
+        "periodic.png",
+        "smooth.png",
+        "log_spectrum.png",
+        "log_spectrum_periodic.png",
+        "welch_psd.png",
+        "variance_spectrum.png",
+        "radial_profile.csv",
+    ] {
+        assert!(out.join(f).is_file(), "{f} missing");
+    }
+    let csv = std::fs::read_to_string(out.join("radial_profile.csv")).unwrap();
+    assert!(csv.starts_with("radius_cycles_per_pixel,count,red,green,blue,luminance\n"));
+    // Welch block for the 256² exemplar is 128²: every one of its frequencies is counted once.
+    let counted: usize = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(1).unwrap().parse::<usize>().unwrap())
+        .sum();
+    assert_eq!(counted, 128 * 128);
+    let psd = image::open(out.join("welch_psd.png")).unwrap();
+    assert_eq!((psd.width(), psd.height()), (128, 128));
+
+    let exr = dir.join("exr");
+    assert!(
+        spectex(&["analyze", "-o", s(&exr), "--format", "exr"])
+            .status
+            .success()
+    );
+    assert!(exr.join("welch_psd.exr").is_file());
+}
+
+#[test]
+fn bad_inputs_fail_cleanly() {
+    let dir = scratch("bad");
+    let out = dir.join("out.png");
+    let o = s(&out);
+
+    assert_fails(
+        &spectex(&["rpn", "/nonexistent/x.png", "-o", o]),
+        &dir,
+        &["cannot open input", "check the path"],
+    );
+
+    let corrupt = scratch("bad-corrupt-in").join("c.png");
+    std::fs::write(&corrupt, b"\x89PNG\r\n\x1a\n this is not really a png").unwrap();
+    assert_fails(
+        &spectex(&["rpn", s(&corrupt), "-o", o]),
+        &dir,
+        &["cannot decode", "corrupt"],
+    );
+
+    let text = scratch("bad-text-in").join("t.png");
+    std::fs::write(&text, b"hello").unwrap();
+    assert_fails(
+        &spectex(&["rpn", s(&text), "-o", o]),
+        &dir,
+        &["not a PNG or JPEG"],
+    );
+
+    let tiny_dir = scratch("bad-tiny-in");
+    let one = tiny_dir.join("one.png");
+    write_png(&one, 1, 1);
+    assert_fails(
+        &spectex(&["rpn", s(&one), "-o", o]),
+        &dir,
+        &["1×1", "at least 2×2"],
+    );
+    let line = tiny_dir.join("line.png");
+    write_png(&line, 10, 1);
+    assert_fails(&spectex(&["rpn", s(&line), "-o", o]), &dir, &["10×1"]);
+
+    assert_fails(
+        &spectex(&["rpn", "-o", o, "--size", "0x0"]),
+        &dir,
+        &["output size is 0×0", "--size"],
+    );
+    assert_fails(
+        &spectex(&["rpn", "-o", o, "--size", "100x100"]),
+        &dir,
+        &["at least 256×256"],
+    );
+    assert_fails(
+        &spectex(&["rpn", "-o", o, "--size", "100000x300"]),
+        &dir,
+        &["16384", "smaller --size"],
+    );
+    assert_fails(
+        &spectex(&["rpn", "-o", o, "--size", "9000x9000"]),
+        &dir,
+        &["67108864"],
+    );
+    assert_fails(
+        &spectex(&["rpn", "-o", o, "--size", "12"]),
+        &dir,
+        &["WIDTHxHEIGHT"],
+    );
+    assert_fails(
+        &spectex(&["rpn", "-o", o, "--seed", "4294967296"]),
+        &dir,
+        &["--seed"],
+    );
+    assert_fails(&spectex(&["rpn", "-o", o, "--bogus"]), &dir, &["--bogus"]);
+    assert_fails(
+        &spectex(&["rpn", "-o", "/nonexistent-dir/out.png"]),
+        &dir,
+        &["not accessible", "create it"],
+    );
+    assert_fails(
+        &spectex(&["rpn", "-o", s(&dir.join("out.jpg"))]),
+        &dir,
+        &[".jpg", ".png", ".exr"],
+    );
+    assert_fails(&spectex(&["rpn", "-o", s(&dir)]), &dir, &["extension"]);
+    assert_fails(
+        &spectex(&["analyze", s(&one), "-o", s(&dir.join("an"))]),
+        &dir,
+        &["1×1"],
+    );
+}
+
+#[test]
+fn unwritable_output_directory() {
+    // Root ignores permission bits, so only run the check where they bite.
+    let dir = scratch("readonly");
+    let ro = dir.join("ro");
+    std::fs::create_dir(&ro).unwrap();
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(&ro, std::fs::Permissions::from_mode(0o555)).unwrap();
+        if std::fs::write(ro.join("probe"), b"x").is_ok() {
+            eprintln!("skipping the read-only check: running as a user that ignores permissions");
+            std::fs::remove_file(ro.join("probe")).unwrap();
+            return;
+        }
+        let out = spectex(&["rpn", "-o", s(&ro.join("out.png"))]);
+        assert_fails(&out, &ro, &["cannot write into"]);
+    }
+}
+
+#[test]
+fn help_has_examples() {
+    for cmd in [&["--help"][..], &["rpn", "--help"], &["analyze", "--help"]] {
+        let o = spectex(cmd);
+        assert!(o.status.success());
+        let text = String::from_utf8_lossy(&o.stdout);
+        assert!(text.contains("Examples:"), "{cmd:?}: {text}");
+    }
+}
+
+#[test]
+fn fit_render_synth_and_noise_end_to_end() {
+    let dir = scratch("procedural");
+    let model = dir.join("model.json");
+    spectex_ok(&["fit", "-o", s(&model), "--budget", "8", "--strata", "2"]);
+    let text = std::fs::read_to_string(&model).unwrap();
+    let parsed = spectex_model::from_json(&text).unwrap();
+    // The built-in exemplar is in colour: a colour texture of three PCA channels, each with
+    // the whole budget in random-phase strata (no --structure).
+    let spectex_model::Model::Texture(tex) = &parsed else {
+        panic!("fit wrote {parsed:?}")
+    };
+    assert_eq!(tex.channels.len(), 3);
+    assert!(tex.colour.is_some());
+    for ch in &tex.channels {
+        let budget: usize = ch.strata.iter().map(spectex_model::Stratum::cosines).sum();
+        assert_eq!(budget, 8);
+        assert!(ch.structure.is_none());
+    }
+
+    // Far away and scaled: a valid image of the asked size, on the CPU.
+    let far = dir.join("far.exr");
+    let out = spectex_ok(&[
+        "render",
+        s(&model),
+        "-o",
+        s(&far),
+        "--size",
+        "48x32",
+        "--offset",
+        "1e7,1e7",
+        "--scale",
+        "0.5",
+        "--device",
+        "cpu",
+    ]);
+    let img = image::open(&far).unwrap();
+    assert_eq!((img.width(), img.height()), (48, 32));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("on the CPU"));
+
+    // Auto renders on whatever exists and says which.
+    let auto = dir.join("auto.png");
+    let out = spectex_ok(&[
+        "render",
+        s(&model),
+        "-o",
+        s(&auto),
+        "--size",
+        "32x32",
+        "--device",
+        "auto",
+    ]);
+    assert!(String::from_utf8_lossy(&out.stdout).contains("on the "));
+
+    let synth = dir.join("synth.png");
+    spectex_ok(&["synth", "-o", s(&synth), "--budget", "4", "--size", "40x40"]);
+    assert_eq!(image::open(&synth).unwrap().width(), 40);
+
+    for kind in ["ring", "lobe", "band", "gabor"] {
+        let png = dir.join(format!("{kind}.png"));
+        let json = dir.join(format!("{kind}.json"));
+        spectex_ok(&[
+            "noise",
+            kind,
+            "-o",
+            s(&png),
+            "--size",
+            "32x32",
+            "--model",
+            s(&json),
+        ]);
+        spectex_model::from_json(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    }
+}
+
+#[test]
+fn texture_by_example_end_to_end() {
+    let dir = scratch("texture");
+    // A grey exemplar with structure: bricks-like stripes plus a ramp of noise.
+    let grey = dir.join("grey.png");
+    image::GrayImage::from_fn(96, 80, |x, y| {
+        let stripe = if (y / 8 + (x / 24) % 2) % 2 == 0 {
+            60
+        } else {
+            190
+        };
+        image::Luma([(stripe + ((x * 37 + y * 91) % 29)) as u8])
+    })
+    .save(&grey)
+    .unwrap();
+    let model = dir.join("tex.json");
+    spectex_ok(&[
+        "fit",
+        s(&grey),
+        "-o",
+        s(&model),
+        "--budget",
+        "20",
+        "--structure",
+        "0.3",
+        "--turbulence",
+        "2",
+        "--random-placement",
+    ]);
+    let parsed = spectex_model::from_json(&std::fs::read_to_string(&model).unwrap()).unwrap();
+    let spectex_model::Model::Texture(tex) = &parsed else {
+        panic!("fit wrote {parsed:?}")
+    };
+    assert_eq!(tex.channels.len(), 1);
+    assert!(tex.random_placement && tex.turbulence.is_some());
+    let structure = tex.channels[0].structure.as_ref().unwrap();
+    // J_R = round(0.3 · 20) = 6 cosines per block at most; the strata get the other 14.
+    assert!(structure.cosines.iter().all(|b| b.len() <= 6));
+    let strata: usize = tex.channels[0]
+        .strata
+        .iter()
+        .map(spectex_model::Stratum::cosines)
+        .sum();
+    assert_eq!(strata, 14);
+    let png = dir.join("tex.png");
+    spectex_ok(&["render", s(&model), "-o", s(&png), "--size", "64x48"]);
+    let img = image::open(&png).unwrap();
+    assert_eq!((img.width(), img.height()), (64, 48));
+    assert!(!img.color().has_color());
+
+    // Colour in, colour out; synth takes the same options.
+    let colour = dir.join("colour.png");
+    write_png(&colour, 64, 64);
+    let synth = dir.join("synth.png");
+    spectex_ok(&[
+        "synth",
+        s(&colour),
+        "-o",
+        s(&synth),
+        "--structure",
+        "0.2",
+        "--size",
+        "40x30",
+    ]);
+    let img = image::open(&synth).unwrap();
+    assert_eq!((img.width(), img.height()), (40, 30));
+    assert!(img.color().has_color());
+
+    // A contact sheet: exemplar + 4 panels of 32 px with 6 px gaps.
+    let sheets = dir.join("sheets");
+    let out = spectex_ok(&[
+        "sheet",
+        s(&grey),
+        "-o",
+        s(&sheets),
+        "--panel",
+        "32",
+        "--budget",
+        "10",
+    ]);
+    let table = String::from_utf8_lossy(&out.stdout);
+    assert!(table.contains("| grey | 0.35 |"), "{table}");
+    let sheet = image::open(sheets.join("grey_sheet.png")).unwrap();
+    assert_eq!((sheet.width(), sheet.height()), (5 * 32 + 4 * 6, 32));
+}
+
+#[test]
+fn relight_and_normal_maps() {
+    let dir = scratch("relight");
+    // A ramp rising to the right: under a light from the right (azimuth 0) at 45° the plane
+    // z = 0.5·x has n·l = (−0.5·cos45° + sin45°)/√1.25 everywhere, with no ambient.
+    let height = dir.join("ramp.png");
+    image::ImageBuffer::<image::Luma<u16>, _>::from_fn(64, 16, |x, _| {
+        image::Luma([(x * 1024) as u16])
+    })
+    .save(&height)
+    .unwrap();
+    // One pixel step is 1024/65535 of full scale; strength makes it 0.5 px.
+    let strength = format!("{}", 0.5 * 65535.0 / 1024.0);
+    let lit = dir.join("lit.exr");
+    spectex_ok(&[
+        "relight",
+        s(&height),
+        "-o",
+        s(&lit),
+        "--light",
+        "0,45",
+        "--ambient",
+        "0",
+        "--strength",
+        &strength,
+    ]);
+    let img = image::open(&lit).unwrap().to_luma32f();
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    let want = (-0.5 * h + h) / 1.25f64.sqrt();
+    let got = f64::from(img.get_pixel(30, 8).0[0]);
+    assert!((got - want).abs() < 1e-5, "{got} vs {want}");
+
+    let normals = dir.join("normals.png");
+    spectex_ok(&[
+        "relight",
+        s(&height),
+        "-o",
+        s(&normals),
+        "--normals",
+        "--periodic",
+    ]);
+    let n = image::open(&normals).unwrap().to_rgb8();
+    assert_eq!(n.dimensions(), (64, 16));
+    // Interior: leaning to −x (red below 128), no y component (green 128), z up (blue > 128).
+    let p = n.get_pixel(30, 8).0;
+    assert!(
+        p[0] < 128 && (127..=128).contains(&p[1]) && p[2] > 128,
+        "{p:?}"
+    );
+
+    let empty = scratch("relight-bad");
+    let bad = empty.join("x.png");
+    assert_fails(
+        &spectex(&["relight", s(&height), "-o", s(&bad), "--light", "0,95"]),
+        &empty,
+        &["elevation", "[0, 90]"],
+    );
+    let missing = empty.join("missing.png");
+    assert_fails(
+        &spectex(&["relight", s(&missing), "-o", s(&bad)]),
+        &empty,
+        &["missing.png"],
+    );
+}
+
+#[test]
+fn texture_bad_options_fail_cleanly() {
+    let dir = scratch("texture-bad");
+    let out = dir.join("out.png");
+    assert_fails(
+        &spectex(&["synth", "-o", s(&out), "--structure", "1.5"]),
+        &dir,
+        &["structure", "[0, 1]", "--structure"],
+    );
+    assert_fails(
+        &spectex(&["synth", "-o", s(&out), "--turbulence=-1"]),
+        &dir,
+        &["turbulence", "pixels"],
+    );
+    assert_fails(
+        &spectex(&["fit", "-o", s(&dir.join("m.json")), "--structure", "NaN"]),
+        &dir,
+        &["structure"],
+    );
+    assert_fails(
+        &spectex(&["sheet", "-o", s(&dir.join("sheets")), "--ratios", "0,2"]),
+        &dir,
+        &["--ratios", "[0, 1]"],
+    );
+}
+
+#[test]
+fn procedural_bad_inputs_fail_cleanly() {
+    let dir = scratch("procedural-bad");
+    let out = dir.join("out.png");
+    let o = s(&out);
+    let models = scratch("procedural-bad-models");
+    let write = |name: &str, text: &str| {
+        let p = models.join(name);
+        std::fs::write(&p, text).unwrap();
+        p
+    };
+
+    assert_fails(
+        &spectex(&["fit", "-o", s(&dir.join("m.json")), "--budget", "0"]),
+        &dir,
+        &["budget"],
+    );
+    assert_fails(
+        &spectex(&[
+            "fit",
+            "-o",
+            s(&dir.join("m.json")),
+            "--budget",
+            "2",
+            "--strata",
+            "4",
+        ]),
+        &dir,
+        &["strata"],
+    );
+    assert_fails(
+        &spectex(&["render", "/nonexistent/m.json", "-o", o]),
+        &dir,
+        &["cannot open model"],
+    );
+
+    let valid = r#"{"schema_version": 1, "model": {"gabor": {"seed": 1, "mean": 0.5,
+        "amplitude": 0.2, "bandwidth": 0.05, "frequency": 0.06,
+        "orientation": {"anisotropic": {"angle": 0.5}}, "impulses_per_kernel": 8.0}}}"#;
+    let ok = write("ok.json", valid);
+    let unknown = write(
+        "unknown.json",
+        &valid.replace("\"seed\"", "\"colour\": 1, \"seed\""),
+    );
+    assert_fails(
+        &spectex(&["render", s(&unknown), "-o", o]),
+        &dir,
+        &["colour"],
+    );
+    let version = write(
+        "version.json",
+        &valid.replace("\"schema_version\": 1", "\"schema_version\": 99"),
+    );
+    assert_fails(
+        &spectex(&["render", s(&version), "-o", o]),
+        &dir,
+        &["schema_version"],
+    );
+    let nan = write(
+        "nan.json",
+        &valid.replace("\"bandwidth\": 0.05", "\"bandwidth\": -1.0"),
+    );
+    assert_fails(
+        &spectex(&["render", s(&nan), "-o", o]),
+        &dir,
+        &["bandwidth"],
+    );
+    assert_fails(
+        &spectex(&["render", s(&ok), "-o", o, "--scale", "0"]),
+        &dir,
+        &["scale"],
+    );
+    assert_fails(
+        &spectex(&["render", s(&ok), "-o", o, "--size", "0x0"]),
+        &dir,
+        &["size"],
+    );
+    assert_fails(
+        &spectex(&["render", s(&ok), "-o", o, "--device", "tpu"]),
+        &dir,
+        &["tpu"],
+    );
+    assert_fails(
+        &spectex(&["render", s(&ok), "-o", o, "--offset", "nan,3"]),
+        &dir,
+        &["offset"],
+    );
+}
+
+/// `spectex phasor` from flags (with a model file, control images and every output kind),
+/// `render` of the written model giving the same image, and `slices` writing ordered layers
+/// and their index.
+#[test]
+fn phasor_and_slices_end_to_end() {
+    let dir = scratch("phasor");
+    let control = dir.join("control.png");
+    write_png(&control, 32, 16);
+    let (img, model) = (dir.join("pwm.png"), dir.join("pwm.json"));
+    spectex_ok(&[
+        "phasor",
+        "-o",
+        s(&img),
+        "--size",
+        "96x64",
+        "--profile",
+        "square",
+        "--duty-image",
+        s(&control),
+        "--orientation-image",
+        s(&control),
+        "--frequency-image",
+        s(&control),
+        "--bandwidth-image",
+        s(&control),
+        "--model",
+        s(&model),
+    ]);
+    let again = dir.join("again.png");
+    spectex_ok(&["render", s(&model), "-o", s(&again), "--size", "96x64"]);
+    assert_eq!(
+        std::fs::read(&img).unwrap(),
+        std::fs::read(&again).unwrap(),
+        "render of the model file differs from phasor's own output"
+    );
+    let pwm = image::open(&img).unwrap().to_luma8();
+    assert!(
+        pwm.pixels().all(|p| p[0] == 0 || p[0] == 255),
+        "PWM not binary"
+    );
+
+    for kind in ["phase", "intensity", "gabor", "profiled"] {
+        let p = dir.join(format!("{kind}.png"));
+        spectex_ok(&[
+            "phasor",
+            "-o",
+            s(&p),
+            "--size",
+            "40x30",
+            "--coherent",
+            "--output-kind",
+            kind,
+            "--harmonics",
+            "1:1,3:0.33:90",
+        ]);
+    }
+
+    let slab = dir.join("slab.json");
+    spectex_ok(&[
+        "phasor",
+        "-o",
+        s(&dir.join("slab.png")),
+        "--three-d",
+        "--isotropic",
+        "--size",
+        "32x32",
+        "--model",
+        s(&slab),
+    ]);
+    let layers = dir.join("layers");
+    spectex_ok(&[
+        "slices",
+        s(&slab),
+        "--z-range",
+        "-4,4",
+        "--layers",
+        "3",
+        "-o",
+        s(&layers),
+        "--size",
+        "32x32",
+    ]);
+    let index = std::fs::read_to_string(layers.join("layers.csv")).unwrap();
+    assert_eq!(
+        index,
+        "layer,z,file\n0,-4,layer_00000.png\n1,0,layer_00001.png\n2,4,layer_00002.png\n"
+    );
+    // The middle layer is the plane z = 0, which `phasor --z 0` rendered.
+    assert_eq!(
+        std::fs::read(layers.join("layer_00001.png")).unwrap(),
+        std::fs::read(dir.join("slab.png")).unwrap()
+    );
+    assert_ne!(
+        std::fs::read(layers.join("layer_00000.png")).unwrap(),
+        std::fs::read(layers.join("layer_00002.png")).unwrap()
+    );
+}
+
+#[test]
+fn phasor_bad_inputs_fail_cleanly() {
+    let dir = scratch("phasor-bad");
+    let o = dir.join("out.png");
+    for (args, needle) in [
+        (vec!["--frequency", "0.9"], "phasor.frequency"),
+        (vec!["--bandwidth", "0"], "phasor.bandwidth"),
+        (vec!["--impulses", "0"], "impulses_per_kernel"),
+        (vec!["--profile", "square", "--duty", "1.5"], "duty"),
+        (
+            vec!["--duty-image", "/nonexistent.png", "--profile", "square"],
+            "nonexistent",
+        ),
+        (vec!["--harmonics", "0:1"], "harmonics"),
+        (vec!["--harmonics", "x"], "harmonic"),
+        (vec!["--two-lobes", "10"], "pair"),
+        (vec!["--three-d", "--z", "NaN"], "z"),
+        (
+            vec![
+                "--bandwidth-image",
+                "/nonexistent.png",
+                "--bandwidth-max",
+                "0.2",
+            ],
+            "nonexistent",
+        ),
+    ] {
+        let mut all = vec!["phasor", "-o", s(&o), "--size", "16x16"];
+        all.extend(args);
+        assert_fails(&spectex(&all), &dir, &[needle]);
+    }
+    let m = dir.join("m.json");
+    let out = spectex(&["phasor", "-o", s(&o), "--size", "8x8", "--model", s(&m)]);
+    assert!(out.status.success());
+    let layers = scratch("phasor-bad-layers");
+    for (args, needle) in [
+        (vec!["--layers", "0", "--z-range", "0,1"], "--layers"),
+        (vec!["--layers", "2", "--z-range", "0"], "pair"),
+        (vec!["--layers", "2", "--z-range", "0,inf"], "finite"),
+    ] {
+        let mut all = vec!["slices", s(&m), "-o", s(&layers)];
+        all.extend(args);
+        assert_fails(&spectex(&all), &layers, &[needle]);
+    }
+}
+
+/// The classic noises, wavelet noise and textons from `spectex noise`, at (1e7, −1e7) and on 3D planes, and
+/// `spectex render` of the models they write gives the same bytes.
+#[test]
+fn classic_noises_end_to_end() {
+    use image::GenericImageView;
+    let dir = scratch("classic");
+    let cases: &[(&str, &[&str])] = &[
+        ("perlin", &[]),
+        ("simplex", &["--dims", "3", "--z", "40.5"]),
+        ("value", &["--dims", "3", "--z", "-3"]),
+        ("fbm", &["--octaves", "4", "--sum", "ridged"]),
+        (
+            "fbm",
+            &["--basis", "worley", "--poisson", "2", "--sum", "turbulence"],
+        ),
+        (
+            "worley",
+            &["--coefficients", "-1,1,0,0", "--metric", "manhattan"],
+        ),
+        ("wavelet", &[]),
+        (
+            "wavelet",
+            &["--tile", "64", "--cell", "8", "--bands", "1,0.5,0.25"],
+        ),
+        (
+            "wavelet",
+            &[
+                "--dims",
+                "3",
+                "--z",
+                "40.5",
+                "--bands",
+                "1,-0.7",
+                "--amplitude",
+                "0.2",
+            ],
+        ),
+        ("texton", &[]),
+        (
+            "texton",
+            &[
+                "--density",
+                "2.5",
+                "--spot",
+                "gaussian",
+                "--combine",
+                "max",
+                "--radii",
+                "9,9",
+            ],
+        ),
+    ];
+    for (n, (kind, extra)) in cases.iter().enumerate() {
+        let png = dir.join(format!("{n}-{kind}.png"));
+        let model = dir.join(format!("{n}-{kind}.json"));
+        let mut args = vec!["noise", kind, "-o", s(&png), "--model", s(&model)];
+        args.extend(["--size", "64x48", "--offset", "1e7,-1e7", "--seed", "5"]);
+        args.extend(extra.iter().copied());
+        spectex_ok(&args);
+        // `spectex render` on the written model gives the same image.
+        let again = dir.join(format!("{n}-{kind}-again.png"));
+        let z = z_of(extra);
+        spectex_ok(&[
+            "render",
+            s(&model),
+            "-o",
+            s(&again),
+            "--size",
+            "64x48",
+            "--offset",
+            "1e7,-1e7",
+            "--z",
+            z,
+        ]);
+        let (a, b) = (image::open(&png).unwrap(), image::open(&again).unwrap());
+        assert_eq!(a.dimensions(), (64, 48));
+        assert_eq!(
+            a.as_bytes(),
+            b.as_bytes(),
+            "{kind} {extra:?}: render differs from noise"
+        );
+        assert!(
+            a.as_bytes().iter().any(|&v| v != a.as_bytes()[0]),
+            "{kind} {extra:?}: constant image"
+        );
+    }
+}
+
+#[test]
+fn classic_bad_inputs_fail_cleanly() {
+    let dir = scratch("classic-bad");
+    let out = dir.join("out.png");
+    let o = s(&out);
+    for (args, needles) in [
+        (
+            vec!["noise", "perlin", "--cell", "0.5"],
+            vec!["--cell", "[1, 1e6]"],
+        ),
+        (
+            vec!["noise", "simplex", "--dims", "4"],
+            vec!["--dims", "2 or 3"],
+        ),
+        (
+            vec!["noise", "fbm", "--cell", "32", "--octaves", "7"],
+            vec!["--octaves", "at least 1 pixel"],
+        ),
+        (
+            vec!["noise", "fbm", "--gain", "3"],
+            vec!["--gain", "[0, 2]"],
+        ),
+        (
+            vec!["noise", "fbm", "--sum", "ridged", "--weight-gain", "20"],
+            vec!["--weight-gain", "[0, 16]"],
+        ),
+        (
+            vec!["noise", "worley", "--poisson", "9"],
+            vec!["--poisson", "[0.5, 4]"],
+        ),
+        (
+            vec!["noise", "worley", "--points", "0"],
+            vec!["--points", "1 to 16"],
+        ),
+        (
+            vec!["noise", "worley", "--coefficients", "1,nan,0,0"],
+            vec!["--coefficients", "[-1000, 1000]"],
+        ),
+        (
+            vec!["noise", "texton", "--radii", "200,3"],
+            vec!["texton.radii", "--radii", "3·cell_size"],
+        ),
+        (
+            vec!["noise", "texton", "--density", "9"],
+            vec!["--density", "(0, 8]"],
+        ),
+        (
+            vec!["noise", "texton", "--texton-scale", "0,1"],
+            vec!["--texton-scale", "[0.001, 16]"],
+        ),
+        (
+            vec!["noise", "texton", "--radii", "1"],
+            vec!["--radii", "A,B"],
+        ),
+    ] {
+        let mut a = args.clone();
+        a.extend(["-o", o]);
+        assert_fails(&spectex(&a), &dir, &needles);
+    }
+}
+
+/// `--device gpu` renders the classic noises (and `render MODEL --device gpu` their models)
+/// within one 16-bit level of the CPU's image, saying it used the GPU. Skips with a printed
+/// reason when no adapter exists, unless `SPECTEX_REQUIRE_GPU=1`.
+#[test]
+fn classic_noises_render_on_the_gpu() {
+    if let Err(e) = spectex_gpu::GpuContext::new() {
+        assert!(
+            !std::env::var("SPECTEX_REQUIRE_GPU").is_ok_and(|v| v == "1"),
+            "SPECTEX_REQUIRE_GPU=1 but no GPU: {e}"
+        );
+        eprintln!("SKIPPED classic_noises_render_on_the_gpu: {e}");
+        return;
+    }
+    let dir = scratch("classic-gpu");
+    let cases: &[(&str, &[&str])] = &[
+        ("perlin", &[]),
+        ("simplex", &["--dims", "3", "--z", "40.5"]),
+        (
+            "fbm",
+            &["--basis", "value", "--octaves", "3", "--sum", "ridged"],
+        ),
+        (
+            "worley",
+            &[
+                "--coefficients",
+                "-1,1,0,0",
+                "--metric",
+                "manhattan",
+                "--poisson",
+                "2",
+            ],
+        ),
+    ];
+    for (n, (kind, extra)) in cases.iter().enumerate() {
+        let model = dir.join(format!("{n}-{kind}.json"));
+        let mut images = Vec::new();
+        for device in ["cpu", "gpu"] {
+            let png = dir.join(format!("{n}-{kind}-{device}.png"));
+            let mut args = vec!["noise", kind, "-o", s(&png), "--model", s(&model)];
+            args.extend(["--size", "48x32", "--offset", "1e7,-3e6", "--seed", "2"]);
+            args.extend(["--bit-depth", "16", "--device", device]);
+            args.extend(extra.iter().copied());
+            let out = spectex_ok(&args);
+            let stdout = String::from_utf8_lossy(&out.stdout);
+            let want = if device == "gpu" {
+                "on the GPU"
+            } else {
+                "on the CPU"
+            };
+            assert!(stdout.contains(want), "{kind}: {stdout}");
+            images.push(image::open(&png).unwrap().into_luma16());
+        }
+        // `spectex render` of the written model on the GPU.
+        let again = dir.join(format!("{n}-{kind}-render.png"));
+        let z = z_of(extra);
+        spectex_ok(&[
+            "render",
+            s(&model),
+            "-o",
+            s(&again),
+            "--size",
+            "48x32",
+            "--offset",
+            "1e7,-3e6",
+            "--bit-depth",
+            "16",
+            "--z",
+            z,
+            "--device",
+            "gpu",
+        ]);
+        images.push(image::open(&again).unwrap().into_luma16());
+        assert_eq!(images[0].dimensions(), (48, 32));
+        let cpu = images[0].as_raw();
+        assert!(cpu.iter().any(|&v| v != cpu[0]), "{kind}: constant image");
+        for other in &images[1..] {
+            // The tolerances of spectex_crosscheck::tolerance::classic are below 1e-2 of a
+            // level at these amplitudes, except at a 3D simplex seam (≤ 3.2e-3 ≈ 210 levels).
+            let seam = if *kind == "simplex" { 210 } else { 1 };
+            let worst = cpu
+                .iter()
+                .zip(other.as_raw())
+                .map(|(a, b)| a.abs_diff(*b))
+                .max()
+                .unwrap();
+            assert!(
+                worst <= seam,
+                "{kind}: GPU differs from CPU by {worst} levels"
+            );
+        }
+    }
+}
+
+fn testdata_model(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../../testdata/models/{name}.json"))
+}
+
+#[test]
+fn warp_end_to_end() {
+    use image::GenericImageView;
+    let dir = scratch("warp");
+    let (ring, gabor) = (
+        testdata_model("lrp-ring"),
+        testdata_model("gabor-isotropic"),
+    );
+    let cases: Vec<Vec<&str>> = vec![
+        vec![],
+        vec!["--base", s(&ring), "--by", s(&gabor), "--strength", "-12"],
+        vec!["--base", s(&ring), "--by", s(&gabor), "--by-y", s(&ring)],
+    ];
+    let mut images = Vec::new();
+    for (n, extra) in cases.iter().enumerate() {
+        let png = dir.join(format!("{n}.png"));
+        let model = dir.join(format!("{n}.json"));
+        let mut args = vec!["noise", "warp", "-o", s(&png), "--model", s(&model)];
+        args.extend(["--size", "48x32", "--offset", "1e7,-1e7"]);
+        args.extend(extra.iter().copied());
+        spectex_ok(&args);
+        let again = dir.join(format!("{n}-again.png"));
+        spectex_ok(&[
+            "render",
+            s(&model),
+            "-o",
+            s(&again),
+            "--size",
+            "48x32",
+            "--offset",
+            "1e7,-1e7",
+        ]);
+        let (a, b) = (image::open(&png).unwrap(), image::open(&again).unwrap());
+        assert_eq!(a.dimensions(), (48, 32));
+        assert_eq!(a.as_bytes(), b.as_bytes(), "{extra:?}: render differs");
+        assert!(
+            a.as_bytes().iter().any(|&v| v != a.as_bytes()[0]),
+            "constant"
+        );
+        images.push(a.as_bytes().to_vec());
+    }
+    // The warp changes the base, and --by-y changes the warp.
+    let base = dir.join("base.png");
+    let out = spectex(&[
+        "render",
+        s(&ring),
+        "-o",
+        s(&base),
+        "--size",
+        "48x32",
+        "--offset",
+        "1e7,-1e7",
+    ]);
+    assert!(out.status.success());
+    let base = image::open(&base).unwrap();
+    assert_ne!(base.as_bytes(), &images[1][..]);
+    assert_ne!(images[1], images[2]);
+}
+
+#[test]
+fn warp_bad_inputs_fail_cleanly() {
+    let dir = scratch("warp-bad");
+    let out = dir.join("out.png");
+    let o = s(&out);
+    let colour = testdata_model("texture-synthetic-colour");
+    let missing = dir.join("missing.json");
+    for (args, needles) in [
+        (
+            vec!["noise", "warp", "--strength", "1e6"],
+            vec!["warp.strength", "--strength"],
+        ),
+        (
+            vec!["noise", "warp", "--strength", "nan"],
+            vec!["warp.strength"],
+        ),
+        (
+            vec!["noise", "warp", "--by", s(&colour)],
+            vec!["warp.x", "--by"],
+        ),
+        (
+            vec!["noise", "warp", "--by-y", s(&colour)],
+            vec!["warp.y", "--by-y"],
+        ),
+        (
+            vec!["noise", "warp", "--base", s(&missing)],
+            vec!["cannot open model"],
+        ),
+        (
+            vec!["noise", "warp", "--offset", "1073741000,0"],
+            vec!["window position"],
+        ),
+    ] {
+        let mut a = args.clone();
+        a.extend(["-o", o]);
+        assert_fails(&spectex(&a), &dir, &needles);
+    }
+}

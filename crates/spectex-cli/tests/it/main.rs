@@ -1,0 +1,15 @@
+//! Integration tests of the `spectex` command (run end to end) and the fidelity measurements
+//! on renders of models the CLI builds.
+//!
+//! One test binary for the crate, a module per file: every test binary is another link of all
+//! the dependencies.
+
+mod classic_fidelity;
+mod cli;
+mod common;
+mod fidelity;
+mod fuzz_images;
+mod phasor_fidelity;
+mod texture;
+mod warp_reseed;
+mod wavelet;

@@ -1,0 +1,11 @@
+//! Integration tests of the CPU evaluator, one module per model kind.
+//!
+//! One test binary for the crate, a module per file: every test binary is another link of all
+//! the dependencies.
+
+mod classic;
+mod gabor;
+mod lrp;
+mod phasor;
+mod warp;
+mod wavelet;

@@ -1,0 +1,8 @@
+//! Integration tests of spectex-crosscheck: the cross-check suite over `testdata/models/` and
+//! the generators of its texture fixtures.
+//!
+//! One test binary for the crate, a module per file: every test binary is another link of all
+//! the dependencies.
+
+mod models;
+mod texture_fixtures;

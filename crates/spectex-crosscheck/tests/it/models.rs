@@ -1,0 +1,117 @@
+//! The cross-check suite: every model in `testdata/models/*.json`, rendered on the CPU and the
+//! GPU at the origin, at `(10⁷, 10⁷)` and at a fractional scale, compared within the model's
+//! derived tolerances (phasor models pixel by pixel, phases on the circle:
+//! `crates/spectex-crosscheck/src/tolerance/phasor.rs`; colour textures component by
+//! component). Prints one `crosscheck:` line per model (what
+//! `cargo xtask verify` shows) and one per window; on a failure, images and reports go to
+//! `target/crosscheck/`. Each model is checked on the plane its kind chooses
+//! (`CheckKind::check_plane`: 3D classic noises off their lattice planes).
+//!
+//! Skips with a printed reason when no GPU adapter exists, unless `SPECTEX_REQUIRE_GPU=1`.
+
+#![allow(
+    clippy::unwrap_used,
+    reason = "a test fails loudly on the first unexpected None or Err"
+)]
+#![allow(
+    clippy::print_stdout,
+    reason = "the per-model lines are the suite's report"
+)]
+
+use std::path::PathBuf;
+
+use spectex_crosscheck::{check_model, standard_windows};
+use spectex_gpu::GpuContext;
+
+/// Environment variable that turns a missing adapter from a skip into a failure.
+const REQUIRE_GPU_ENV: &str = "SPECTEX_REQUIRE_GPU";
+
+/// Environment variable naming a file to which the suite also writes its `crosscheck:` lines, for
+/// `cargo xtask ci` and `verify` to print after the test run (libtest shows a passing test's
+/// output only with `--nocapture`).
+const SUMMARY_ENV: &str = "SPECTEX_CROSSCHECK_SUMMARY";
+
+fn model_files() -> Vec<PathBuf> {
+    let dir = PathBuf::from(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../testdata/models"
+    ));
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "json"))
+        .collect();
+    files.sort();
+    files
+}
+
+#[test]
+fn every_shipped_model_agrees_on_cpu_and_gpu() {
+    let files = model_files();
+    assert!(
+        files.len() >= 10,
+        "testdata/models should hold the LRP (2 fitted, ring), Gabor (2), phasor (5), texture and \
+         classic cases"
+    );
+    let context = match GpuContext::new() {
+        Ok(c) => c,
+        Err(e) if std::env::var(REQUIRE_GPU_ENV).is_ok_and(|v| v == "1") => {
+            panic!("{REQUIRE_GPU_ENV}=1 but no GPU: {e}")
+        }
+        Err(e) => {
+            println!("SKIPPED cross-check: {e}");
+            return;
+        }
+    };
+    let adapter = context.adapter_name();
+    let mut failed = Vec::new();
+    let mut summary = String::new();
+    for file in &files {
+        let case = file.file_stem().unwrap().to_string_lossy().into_owned();
+        let model = spectex_model::from_json(&std::fs::read_to_string(file).unwrap())
+            .unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+        let outcomes = check_model(&context, &case, &model, &standard_windows())
+            .unwrap_or_else(|e| panic!("{case}: {e}"));
+        let worst_max = outcomes
+            .iter()
+            .map(|(_, o)| o.comparison.max_abs)
+            .fold(0.0, f64::max);
+        let worst_mean = outcomes
+            .iter()
+            .map(|(_, o)| o.comparison.mean_abs)
+            .fold(0.0, f64::max);
+        // A colour texture has one tolerance per component: report the largest.
+        let tolerance = outcomes
+            .iter()
+            .map(|(_, o)| o.tolerance)
+            .max_by(|a, b| a.max_abs.total_cmp(&b.max_abs))
+            .unwrap();
+        let passed = outcomes.iter().all(|(_, o)| o.passed());
+        let line = format!(
+            "crosscheck: {case:<20} on {adapter}: max error {worst_max:.2e}, mean error \
+             {worst_mean:.2e}, tolerance {:.2e} (mean {:.2e}): {}",
+            tolerance.max_abs,
+            tolerance.mean_abs,
+            if passed { "pass" } else { "FAIL" }
+        );
+        println!("{line}");
+        summary.push_str(&line);
+        summary.push('\n');
+        for (window, outcome) in &outcomes {
+            println!("    {window}: {}", outcome.summary());
+            if !outcome.passed() {
+                failed.push(format!("{case} {}: {}", window.name, outcome.summary()));
+            }
+        }
+    }
+    if let Some(path) = std::env::var_os(SUMMARY_ENV) {
+        std::fs::write(&path, &summary)
+            .unwrap_or_else(|e| panic!("{SUMMARY_ENV}={}: {e}", path.display()));
+    }
+    assert!(
+        failed.is_empty(),
+        "{} window(s) failed; images and reports in target/crosscheck/:\n{}",
+        failed.len(),
+        failed.join("\n")
+    );
+}

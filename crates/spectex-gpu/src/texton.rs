@@ -1,0 +1,160 @@
+//! Texton placement / spot noise on the device (`shaders/texton.wgsl`): the model's constants
+//! in the uniform, its Poisson CDF and image texels packed once, and per tile each column's and
+//! row's texton-grid cell and offset (the CPU's split).
+
+use spectex_model::TextonNoise;
+use spectex_model::texton::{Combine, MAX_TEXTONS_PER_CELL, Placement, Spot};
+
+use crate::axis::{CellAxis, cell_axis, columns, rows};
+use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
+use crate::layout::wgsl_struct;
+use crate::pipeline::Shaded;
+use crate::{GpuContext, GpuError, GpuWindow};
+
+wgsl_struct! {
+    /// `TextonParams` of `texton.wgsl`; `width` and `height` are the tile's.
+    pub(crate) struct TextonParams {
+        width: u32,
+        height: u32,
+        seed: u32,
+        reach: i32,
+        /// 0: grid, 1: Poisson.
+        placement: u32,
+        /// 0: ellipsoid, 1: Gaussian, 2: image.
+        spot: u32,
+        /// 0: sum, 1: maximum.
+        combine: u32,
+        image_width: u32,
+        image_height: u32,
+        jitter: f32,
+        cell_size: f32,
+        /// `1/C` (f32 of the f64 value), for warping.
+        inv_cell: f32,
+        radius_a: f32,
+        radius_b: f32,
+        rotation_lo: f32,
+        rotation_hi: f32,
+        scale_lo: f32,
+        scale_hi: f32,
+        intensity_lo: f32,
+        intensity_hi: f32,
+        mean: f32,
+        // Padding to a whole 16-byte uniform row, as the WGSL struct has it.
+        _pad0: u32,
+        _pad1: u32,
+        _pad2: u32,
+    }
+}
+
+/// A texton model on the device.
+#[derive(Debug, Clone)]
+pub(crate) struct TextonKernel {
+    cell_size: f64,
+    params: TextonParams,
+}
+
+impl GpuKind for TextonNoise {
+    fn gpu_kernel(&self, context: &GpuContext, _z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
+        let (jitter, placement) = match self.placement {
+            Placement::Grid { jitter } => (jitter, 0),
+            Placement::Poisson { .. } => (0.0, 1),
+        };
+        // The CDF (zeros for a grid, which never reads it), then the image's texels.
+        let mut data: Vec<f32> = self
+            .poisson_cdf()
+            .unwrap_or([0.0; MAX_TEXTONS_PER_CELL as usize])
+            .to_vec();
+        let (spot, image_width, image_height) = match &self.spot {
+            Spot::Ellipsoid => (0, 0, 0),
+            Spot::Gaussian => (1, 0, 0),
+            Spot::Image {
+                width,
+                height,
+                values,
+            } => {
+                data.extend_from_slice(values);
+                (2, *width, *height)
+            }
+        };
+        let kernel = TextonKernel {
+            cell_size: f64::from(self.cell_size),
+            params: TextonParams {
+                width: 0,
+                height: 0,
+                seed: self.seed,
+                reach: self.reach(),
+                placement,
+                spot,
+                combine: match self.combine {
+                    Combine::Sum => 0,
+                    Combine::Max => 1,
+                },
+                image_width,
+                image_height,
+                jitter,
+                cell_size: self.cell_size,
+                inv_cell: (1.0 / f64::from(self.cell_size)) as f32,
+                radius_a: self.radii[0],
+                radius_b: self.radii[1],
+                rotation_lo: self.rotation[0],
+                rotation_hi: self.rotation[1],
+                scale_lo: self.scale[0],
+                scale_hi: self.scale[1],
+                intensity_lo: self.intensity[0],
+                intensity_hi: self.intensity[1],
+                mean: self.mean,
+                _pad0: 0,
+                _pad1: 0,
+                _pad2: 0,
+            },
+        };
+        Shaded::boxed(context, kernel, &[Table::new("texton model data", &data)])
+    }
+}
+
+impl ShaderKernel for TextonKernel {
+    const SHADER: &'static str = "texton";
+    const ENTRY_POINT: &'static str = "texton_main";
+
+    fn axis_bytes(&self) -> u64 {
+        size_of::<CellAxis>() as u64
+    }
+
+    fn tile_tables(
+        &self,
+        tile: &GpuWindow,
+        _displacement: Option<&[f32]>,
+        _limit: u64,
+    ) -> Result<TileTables, GpuError> {
+        let params = TextonParams {
+            width: tile.width as u32,
+            height: tile.height as u32,
+            ..self.params
+        };
+        Ok(TileTables::new(
+            &params,
+            vec![
+                Table::new(
+                    "texton columns",
+                    &cell_axis(self.cell_size, tile.width, columns(tile)),
+                ),
+                Table::new(
+                    "texton rows",
+                    &cell_axis(self.cell_size, tile.height, rows(tile)),
+                ),
+            ],
+        ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::layout::check::assert_matches_wgsl;
+
+    #[test]
+    fn params_and_axis_match_the_wgsl() {
+        assert_matches_wgsl::<TextonParams>("texton", "TextonParams");
+        assert_matches_wgsl::<CellAxis>("texton", "TextonAxis");
+    }
+}

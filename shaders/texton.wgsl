@@ -1,0 +1,190 @@
+// texton.wgsl — texton placement / spot noise (survey §2.3, §3.1.5), the GPU twin of
+// crates/spectex-cpu/src/texton.rs; the definition is the module doc of
+// crates/spectex-model/src/texton.rs. Composed after common.wgsl.
+//
+// Cell (i, j) seeds Prng(cell_hash(i, j, TEXTON_LAYER, seed)) and draws: for Poisson placement
+// one uniform u, the count being the number of k < 16 with u ≥ cdf[k]; then per texton its
+// offsets, rotation (turns), scale and weight. A pixel visits the cells within `reach` of its
+// own, rows outer and columns inner, textons in draw order, and adds (or keeps the largest of)
+// w·g(q) with the CPU's expressions in the CPU's order, so on an adapter that rounds `/` and
+// `sqrt` correctly and does not contract `a * b + c` the values are the CPU's bit for bit.
+//
+// Positions: the host computes, per column of the tile, p = x / C in f64, the cell ⌊p⌋ and the
+// offset p − ⌊p⌋ rounded once to f32 (spectex_model::grid::locate_cell, the CPU's split), and a
+// flag that is 0 where it is out of the i32 cell range. Rows likewise.
+
+/// Per-dispatch values and the model's constants.
+struct TextonParams {
+    width: u32,
+    height: u32,
+    seed: u32,
+    /// Cells beyond a pixel's own that its textons reach.
+    reach: i32,
+    /// 0: grid (one texton per cell), 1: Poisson count from `model_data[0..16]`.
+    placement: u32,
+    /// 0: ellipsoid, 1: Gaussian, 2: image (`model_data[16..]`, row-major).
+    spot: u32,
+    /// 0: sum, 1: maximum over a canvas of 0.
+    combine: u32,
+    image_width: u32,
+    image_height: u32,
+    /// Grid jitter, cells.
+    jitter: f32,
+    /// C, pixels per cell.
+    cell_size: f32,
+    /// 1 / C (f32 of the f64 value), for warping.
+    inv_cell: f32,
+    /// (a, b), pixels.
+    radius_a: f32,
+    radius_b: f32,
+    rotation_lo: f32,
+    rotation_hi: f32,
+    scale_lo: f32,
+    scale_hi: f32,
+    intensity_lo: f32,
+    intensity_hi: f32,
+    mean: f32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
+}
+
+/// One column (or row): its cell, the offset in the cell (cell units) and whether it is inside
+/// the usable range.
+struct TextonAxis {
+    cell: i32,
+    offset: f32,
+    valid: u32,
+}
+
+@group(0) @binding(0) var<uniform> params: TextonParams;
+/// The Poisson CDF (16 values, rounded to f32 by the host) then the image texels.
+@group(0) @binding(1) var<storage, read> model_data: array<f32>;
+@group(0) @binding(2) var<storage, read> columns: array<TextonAxis>;
+@group(0) @binding(3) var<storage, read> rows: array<TextonAxis>;
+@group(0) @binding(4) var<storage, read_write> output: array<f32>;
+
+/// The randomness-contract layer of texton cells ("TEXT").
+const TEXTON_LAYER: u32 = 0x54455854u;
+/// Most textons in one cell.
+const MAX_TEXTONS_PER_CELL: u32 = 16u;
+/// −ln 20 = ln 0.05: the Gaussian spot's exponent at ρ = 1.
+const NEG_LN_20: f32 = -2.9957323f;
+/// Where the image texels start in `model_data`.
+const IMAGE_START: u32 = 16u;
+
+fn lerp_range(lo: f32, hi: f32, u: f32) -> f32 {
+    return lo + (hi - lo) * u;
+}
+
+/// Bilinear sample of the image stretched over [−1, 1]², edges clamped (CPU: texton::bilinear).
+fn bilinear(qu: f32, qv: f32) -> f32 {
+    let w = params.image_width;
+    let h = params.image_height;
+    let x = (qu + 1.0f) * 0.5f * f32(w) - 0.5f;
+    let y = (qv + 1.0f) * 0.5f * f32(h) - 0.5f;
+    let x0 = floor(x);
+    let y0 = floor(y);
+    let fx = x - x0;
+    let fy = y - y0;
+    let xa = min(u32(max(x0, 0.0f)), w - 1u);
+    let xb = min(u32(max(x0 + 1.0f, 0.0f)), w - 1u);
+    let ya = min(u32(max(y0, 0.0f)), h - 1u);
+    let yb = min(u32(max(y0 + 1.0f, 0.0f)), h - 1u);
+    let v00 = model_data[IMAGE_START + ya * w + xa];
+    let v01 = model_data[IMAGE_START + ya * w + xb];
+    let v10 = model_data[IMAGE_START + yb * w + xa];
+    let v11 = model_data[IMAGE_START + yb * w + xb];
+    let top = v00 + (v01 - v00) * fx;
+    let bottom = v10 + (v11 - v10) * fx;
+    return top + (bottom - top) * fy;
+}
+
+/// The texton's shape at (t_x, t_y) cell units from its centre (CPU: TextonNoise::spot_at).
+fn spot_at(tx: f32, ty: f32, c: f32, s: f32, inv_a: f32, inv_b: f32) -> f32 {
+    let dx = tx * params.cell_size;
+    let dy = ty * params.cell_size;
+    let u = c * dx + s * dy;
+    let v = c * dy - s * dx;
+    let qu = u * inv_a;
+    let qv = v * inv_b;
+    let r2 = qu * qu + qv * qv;
+    if (r2 >= 1.0f) {
+        return 0.0f;
+    }
+    if (params.spot == 0u) {
+        return sqrt(1.0f - r2);
+    }
+    if (params.spot == 1u) {
+        return exp_poly(NEG_LN_20 * r2);
+    }
+    return bilinear(qu, qv);
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn texton_main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if (gid.x >= params.width || gid.y >= params.height) {
+        return;
+    }
+    var column = columns[gid.x];
+    var row = rows[gid.y];
+    let index = gid.y * params.width + gid.x;
+    if (warp_params.enabled == 1u) {
+        let d = warp_displacement[index] * params.inv_cell;
+        let cx = warp_relocate(column.cell, column.offset, d.x);
+        let cy = warp_relocate(row.cell, row.offset, d.y);
+        column.cell = cx.cell;
+        column.offset = cx.offset;
+        row.cell = cy.cell;
+        row.offset = cy.offset;
+    }
+    if (column.valid == 0u || row.valid == 0u) {
+        output[index] = params.mean;
+        return;
+    }
+    let reach = params.reach;
+    var acc = 0.0f;
+    for (var dj = -reach; dj <= reach; dj++) {
+        let cell_y = bitcast<i32>(bitcast<u32>(row.cell) + bitcast<u32>(dj));
+        for (var di = -reach; di <= reach; di++) {
+            let cell_x = bitcast<i32>(bitcast<u32>(column.cell) + bitcast<u32>(di));
+            var prng = Prng(cell_hash(cell_x, cell_y, TEXTON_LAYER, params.seed));
+            var count = 1u;
+            if (params.placement == 1u) {
+                let u = prng_next_f32(&prng);
+                count = 0u;
+                for (var k = 0u; k < MAX_TEXTONS_PER_CELL; k++) {
+                    if (u >= model_data[k]) {
+                        count += 1u;
+                    }
+                }
+            }
+            for (var n = 0u; n < count; n++) {
+                var ox: f32;
+                var oy: f32;
+                if (params.placement == 1u) {
+                    ox = prng_next_f32(&prng);
+                    oy = prng_next_f32(&prng);
+                } else {
+                    ox = 0.5f + params.jitter * (prng_next_f32(&prng) - 0.5f);
+                    oy = 0.5f + params.jitter * (prng_next_f32(&prng) - 0.5f);
+                }
+                let turns = lerp_range(params.rotation_lo, params.rotation_hi, prng_next_f32(&prng));
+                let scale = lerp_range(params.scale_lo, params.scale_hi, prng_next_f32(&prng));
+                let weight = lerp_range(params.intensity_lo, params.intensity_hi, prng_next_f32(&prng));
+                let inv_a = 1.0f / (params.radius_a * scale);
+                let inv_b = 1.0f / (params.radius_b * scale);
+                let tx = column.offset - (f32(di) + ox);
+                let ty = row.offset - (f32(dj) + oy);
+                let contribution =
+                    weight * spot_at(tx, ty, cos_turns(turns), sin_turns(turns), inv_a, inv_b);
+                if (params.combine == 0u) {
+                    acc += contribution;
+                } else if (contribution > acc) {
+                    acc = contribution;
+                }
+            }
+        }
+    }
+    output[index] = params.mean + acc;
+}
