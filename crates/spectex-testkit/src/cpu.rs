@@ -34,6 +34,9 @@ const TEXTURE_STRATA_MAX_COST: f64 = 9.0 * (MAX_COSINES as f64 + 1.0) * MAX_STRA
 const TEXTURE_MAX_COST: f64 = MAX_CHANNELS as f64
     * (TEXTURE_STRATA_MAX_COST + 4.0 * MAX_COSINES as f64)
     + 2.0 * TEXTURE_STRATA_MAX_COST;
+/// `(2·reach + 1)²` cells of `density` textons: reach at most 3 cells, density at most 8.
+const TEXTON_MAX_COST: f64 = 49.0 * spectex_model::texton::MAX_DENSITY as f64;
+const _: () = assert!(spectex_model::texton::MAX_REACH == 3);
 /// A warp costs its base's and its two displacements' costs, so a tree of warps nested
 /// [`MAX_WARP_DEPTH`] deep costs at most its `3^depth` leaves at the largest leaf cost (a
 /// texture's).
@@ -51,6 +54,7 @@ pub const COST_BOUNDS: &[(&str, f64)] = &[
     ("classic", CLASSIC_MAX_COST),
     ("warp", WARP_MAX_COST),
     ("wavelet", WAVELET_MAX_COST),
+    ("texton", TEXTON_MAX_COST),
 ];
 
 const _: () = assert!(6561 == 3usize.pow(MAX_WARP_DEPTH as u32));

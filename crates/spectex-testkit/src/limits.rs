@@ -207,6 +207,36 @@ fn warp_chain(depth: usize) -> Model {
     model
 }
 
+/// Poisson textons of density 8 whose largest radius at the largest scale is `reach` cells;
+/// the spot a 1024 × 1024 image, or a Gaussian.
+fn texton(reach: f32, image: bool) -> Model {
+    let side = spectex_model::texton::MAX_IMAGE_SIDE;
+    Model::Texton(spectex_model::TextonNoise {
+        seed: 14,
+        cell_size: 1.0,
+        placement: spectex_model::texton::Placement::Poisson {
+            density: spectex_model::texton::MAX_DENSITY,
+        },
+        spot: if image {
+            spectex_model::texton::Spot::Image {
+                width: side,
+                height: side,
+                values: (0..side * side)
+                    .map(|k| (k % 251) as f32 * 3.98e6)
+                    .collect(),
+            }
+        } else {
+            spectex_model::texton::Spot::Gaussian
+        },
+        radii: [reach / spectex_model::texton::MAX_SCALE, 1e-3],
+        rotation: [-1e4, 1e4],
+        scale: [1e-3, spectex_model::texton::MAX_SCALE],
+        intensity: [-1e9, 1e9],
+        combine: spectex_model::texton::Combine::Sum,
+        mean: 1e9,
+    })
+}
+
 /// Every limit case: at the limit (valid) and one step past it (invalid).
 #[must_use]
 pub fn limit_cases() -> Vec<LimitCase> {
@@ -377,6 +407,12 @@ pub fn limit_cases() -> Vec<LimitCase> {
             warp_chain(MAX_WARP_DEPTH + 1),
             false,
         ),
+        case(
+            "texton: reach 3, density 8, a 1024 × 1024 image",
+            texton(3.0, true),
+            true,
+        ),
+        case("texton: reach 4", texton(3.01, false), false),
     ]
 }
 
