@@ -7,6 +7,8 @@
 //!   and broken properties with shrunk inputs. The CPU targets ([`cpu`]) run an input through
 //!   JSON → `from_json` → `spectex_cpu::Evaluator` and check that what validation accepts
 //!   renders finite values in bounded time per pixel ([`cpu::COST_BOUNDS`]).
+//! - **References** ([`reference`]): slow f64 direct sums of the definitions (LRP, Gabor noise)
+//!   that the CPU and the GPU tests both compare against.
 //! - **Invariance** ([`invariance`]): the checks every kind must pass — tiles, thread counts,
 //!   far offsets, reseeding — over every `testdata/models/*.json` by one
 //!   [`check`](invariance::check), on any evaluator implementing
@@ -43,6 +45,7 @@ pub mod invariance;
 pub mod limits;
 pub mod models;
 pub mod mutate;
+pub mod reference;
 pub mod strategy;
 
 /// The property-testing crate the strategies are built with, for tests composing them.

@@ -2,8 +2,9 @@
 //! variance of Lagae et al. (Campbell's theorem), and the location of its spectral peak.
 
 use spectex_cpu::gabor::GaborEvaluator;
-use spectex_model::random::{Prng, cell_hash};
+use spectex_model::random::Prng;
 use spectex_model::{GaborNoise, Orientation};
+use spectex_testkit::reference::{self, GaborReference};
 use std::f64::consts::{PI, TAU};
 
 fn model(
@@ -27,107 +28,9 @@ fn model(
 }
 
 // ---------------------------------------------------------------------------------------------
-// The slow reference: the contract transcribed from the module doc, evaluated in f64.
+// The error bound against the slow f64 reference (`spectex_testkit::reference::gabor`, the
+// contract transcribed from the module doc).
 // ---------------------------------------------------------------------------------------------
-
-/// One impulse in pixels.
-struct Impulse {
-    x: f64,
-    y: f64,
-    /// `K·w`.
-    kw: f64,
-    /// Unit frequency direction.
-    dir: (f64, f64),
-}
-
-/// The per-cell count: Knuth's product of f32 uniforms against `exp(−λ)`, renormalised by
-/// `exp(64)` per 64 of λ, capped at `⌊4λ + 32⌋`.
-fn reference_count(prng: &mut Prng, lambda: f64) -> u32 {
-    let chunks0 = (lambda / 64.0).floor();
-    let threshold = (-(lambda - 64.0 * chunks0)).exp() as f32;
-    let (up, down) = (64f64.exp() as f32, (-64f64).exp() as f32);
-    let cap = (4.0 * lambda + 32.0).floor() as u32;
-    let mut chunks = chunks0 as u32;
-    let mut p = 1.0f32;
-    for k in 0..cap {
-        p *= prng.next_f32();
-        while chunks > 0 && p < down {
-            p *= up;
-            chunks -= 1;
-        }
-        if chunks == 0 && p < threshold {
-            return k;
-        }
-    }
-    cap
-}
-
-fn reference_cell(m: &GaborNoise, i: i32, j: i32) -> Vec<Impulse> {
-    let r = m.kernel_radius();
-    let mut prng = Prng::new(cell_hash(i, j, 0, m.seed));
-    let n = reference_count(&mut prng, m.impulses_per_cell());
-    (0..n)
-        .map(|_| {
-            let ox = f64::from(prng.next_f32());
-            let oy = f64::from(prng.next_f32());
-            let w = 2.0 * f64::from(prng.next_f32()) - 1.0;
-            let theta = match m.orientation {
-                Orientation::Anisotropic { angle } => f64::from(angle),
-                Orientation::Isotropic { min, max } => {
-                    let u = f64::from(prng.next_f32());
-                    f64::from(min) + u * (f64::from(max) - f64::from(min))
-                }
-            };
-            Impulse {
-                x: (f64::from(i) + ox) * r,
-                y: (f64::from(j) + oy) * r,
-                kw: f64::from(m.amplitude) * w,
-                dir: (theta.cos(), theta.sin()),
-            }
-        })
-        .collect()
-}
-
-/// The reference value, the sum of `|K·w|` over contributing impulses (the scale of the f32
-/// error), and whether some impulse has `|d²/r² − 1| < 2e-6` (where a rounding can legitimately
-/// switch a 0.05·K·w step on or off: the evaluator's `d²` is good to about 7e-7 in cell units, see
-/// [`tolerance`]; a point has such an impulse with probability ≈ `2·impulses_per_kernel·2e-6`).
-struct Reference {
-    value: f64,
-    weight_sum: f64,
-    near_edge: bool,
-}
-
-/// Direct sum over the 5×5 cells around the point (one ring more than the evaluator's 3×3, so a
-/// wrong neighbourhood shows up).
-fn reference(m: &GaborNoise, x: f64, y: f64) -> Reference {
-    let r = m.kernel_radius();
-    let (ci, cj) = ((x / r).floor() as i32, (y / r).floor() as i32);
-    let a = f64::from(m.bandwidth);
-    let f0 = f64::from(m.frequency);
-    let mut out = Reference {
-        value: f64::from(m.mean),
-        weight_sum: 0.0,
-        near_edge: false,
-    };
-    for j in cj - 2..=cj + 2 {
-        for i in ci - 2..=ci + 2 {
-            for imp in reference_cell(m, i, j) {
-                let (dx, dy) = (x - imp.x, y - imp.y);
-                let d2 = dx * dx + dy * dy;
-                if (d2 / (r * r) - 1.0).abs() < 2e-6 {
-                    out.near_edge = true;
-                }
-                if d2 < r * r {
-                    let phase = TAU * f0 * (imp.dir.0 * dx + imp.dir.1 * dy);
-                    out.value += imp.kw * (-PI * a * a * d2).exp() * phase.cos();
-                    out.weight_sum += imp.kw.abs();
-                }
-            }
-        }
-    }
-    out
-}
 
 /// Error bound of the f32 evaluation, per unit of `Σ|K·w|`, derived from the evaluator's steps
 /// (cell units; `2⁻²⁴ ≈ 6e-8` is an f32 half-ulp near 1):
@@ -141,7 +44,7 @@ fn reference(m: &GaborNoise, x: f64, y: f64) -> Reference {
 ///
 /// This is a worst-case bound, linear in the number of terms; the measured errors are below a
 /// tenth of it (the tests print the worst ratio with `--nocapture`).
-fn tolerance(m: &GaborNoise, r: &Reference) -> f64 {
+fn tolerance(m: &GaborNoise, r: &GaborReference) -> f64 {
     let f_cell = f64::from(m.frequency) * m.kernel_radius();
     let per_weight = 3.5e-6 + 2e-7 + TAU * f_cell * 6e-7 + 50.0 * 6e-8;
     per_weight * r.weight_sum + 2f64.powi(-23) * r.value.abs()
@@ -153,7 +56,7 @@ fn check_against_reference(case: &str, m: &GaborNoise, points: &[(f64, f64)]) {
     let g = GaborEvaluator::new(m);
     let (mut skipped, mut worst_ratio) = (0, 0.0f64);
     for (idx, &(x, y)) in points.iter().enumerate() {
-        let want = reference(m, x, y);
+        let want = reference::gabor(m, x, y);
         if want.near_edge {
             skipped += 1;
             continue;

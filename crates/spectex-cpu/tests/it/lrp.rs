@@ -12,8 +12,8 @@
 
 use spectex_cpu::{Evaluator, LrpEvaluator, Window};
 use spectex_model::random::{Prng, cell_hash};
-use spectex_model::window::kaiser_bessel;
 use spectex_model::{LrpNoise, Model, Stratum};
+use spectex_testkit::reference;
 
 /// A model with several strata of different periods, table sizes and budgets.
 fn model(seed: u32) -> LrpNoise {
@@ -45,32 +45,6 @@ fn model(seed: u32) -> LrpNoise {
             },
         ],
     }
-}
-
-/// The definition, Eq. (1)–(2), in f64 with libm: every lattice point of every stratum within
-/// the window's support, draws in the contract's order.
-fn reference(m: &LrpNoise, x: f64, y: f64) -> f64 {
-    let mut sum = f64::from(m.mean);
-    for (s, st) in m.strata.iter().enumerate() {
-        let d = f64::from(st.window_width);
-        let (cx, cy) = ((x / d).round() as i64, (y / d).round() as i64);
-        for ly in cy - 2..=cy + 2 {
-            for lx in cx - 2..=cx + 2 {
-                let (px, py) = (x - lx as f64 * d, y - ly as f64 * d);
-                let w = kaiser_bessel((px * px + py * py).sqrt() / d);
-                let mut prng = Prng::new(cell_hash(lx as i32, ly as i32, s as u32, m.seed));
-                let mut c = 0.0;
-                for table in &st.sub_strata {
-                    let f = table[(prng.next_u32() % table.len() as u32) as usize];
-                    let phase = f64::from(prng.next_f32());
-                    let turns = f64::from(f[0]) * px + f64::from(f[1]) * py + phase;
-                    c += (2.0 * std::f64::consts::PI * turns).cos();
-                }
-                sum += f64::from(st.amplitude) * w * c;
-            }
-        }
-    }
-    sum
 }
 
 /// Error bound of the f32 evaluation: per cosine term, the f32 rounding of an argument of at
@@ -107,7 +81,7 @@ fn matches_the_definition_near_and_far() {
                     base + prng.next_f64() * 100.0,
                     base * 0.5 + prng.next_f64() * 100.0,
                 );
-                let (got, want) = (f64::from(eval.eval(x, y)), reference(&m, x, y));
+                let (got, want) = (f64::from(eval.eval(x, y)), reference::lrp(&m, x, y));
                 assert!(
                     (got - want).abs() <= tol,
                     "seed {seed} at ({x}, {y}): {got} vs {want}, tolerance {tol:e}"

@@ -15,9 +15,10 @@ use crate::common;
 
 use common::{cpu_cos_turns, cpu_exp_poly, first_bit_difference};
 use spectex_gpu::{GpuEvaluator, GpuWindow};
-use spectex_model::random::{Prng, cell_hash, cell_hash_in_row, layer_key, row_key};
+use spectex_model::random::{Prng, cell_hash_in_row, layer_key, row_key};
 use spectex_model::{GaborNoise, Model, Orientation};
-use std::f64::consts::{PI, TAU};
+use spectex_testkit::reference::{self, GaborReference};
+use std::f64::consts::TAU;
 
 fn model(
     seed: u32,
@@ -78,80 +79,7 @@ fn models() -> Vec<(&'static str, GaborNoise)> {
 }
 
 // ---------------------------------------------------------------------------------------------
-// The slow reference, in f64.
-
-/// Knuth's product of f32 uniforms against `exp(−λ)`, renormalised by `exp(64)` per 64 of λ,
-/// capped at `⌊4λ + 32⌋` (integer and exact f32 work: the device must agree exactly).
-fn reference_count(prng: &mut Prng, lambda: f64) -> u32 {
-    let chunks0 = (lambda / 64.0).floor();
-    let threshold = (-(lambda - 64.0 * chunks0)).exp() as f32;
-    let (up, down) = (64f64.exp() as f32, (-64f64).exp() as f32);
-    let cap = (4.0 * lambda + 32.0).floor() as u32;
-    let mut chunks = chunks0 as u32;
-    let mut p = 1.0f32;
-    for k in 0..cap {
-        p *= prng.next_f32();
-        while chunks > 0 && p < down {
-            p *= up;
-            chunks -= 1;
-        }
-        if chunks == 0 && p < threshold {
-            return k;
-        }
-    }
-    cap
-}
-
-struct Reference {
-    value: f64,
-    /// `Σ|K·w|` over contributing impulses: the scale of the f32 error.
-    weight_sum: f64,
-    /// Some impulse lies within 2e-6 (relative) of the truncation radius, where a rounding may
-    /// legitimately switch a `0.05·K·w` step on or off.
-    near_edge: bool,
-}
-
-/// Direct sum over the 5×5 cells around the point.
-fn reference(m: &GaborNoise, x: f64, y: f64) -> Reference {
-    let r = m.kernel_radius();
-    let (ci, cj) = ((x / r).floor() as i32, (y / r).floor() as i32);
-    let a = f64::from(m.bandwidth);
-    let f0 = f64::from(m.frequency);
-    let mut out = Reference {
-        value: f64::from(m.mean),
-        weight_sum: 0.0,
-        near_edge: false,
-    };
-    for j in cj - 2..=cj + 2 {
-        for i in ci - 2..=ci + 2 {
-            let mut prng = Prng::new(cell_hash(i, j, 0, m.seed));
-            let n = reference_count(&mut prng, m.impulses_per_cell());
-            for _ in 0..n {
-                let ox = f64::from(prng.next_f32());
-                let oy = f64::from(prng.next_f32());
-                let kw = f64::from(m.amplitude) * (2.0 * f64::from(prng.next_f32()) - 1.0);
-                let theta = match m.orientation {
-                    Orientation::Anisotropic { angle } => f64::from(angle),
-                    Orientation::Isotropic { min, max } => {
-                        let u = f64::from(prng.next_f32());
-                        f64::from(min) + u * (f64::from(max) - f64::from(min))
-                    }
-                };
-                let (dx, dy) = (x - (f64::from(i) + ox) * r, y - (f64::from(j) + oy) * r);
-                let d2 = dx * dx + dy * dy;
-                if (d2 / (r * r) - 1.0).abs() < 2e-6 {
-                    out.near_edge = true;
-                }
-                if d2 < r * r {
-                    let phase = TAU * f0 * (theta.cos() * dx + theta.sin() * dy);
-                    out.value += kw * (-PI * a * a * d2).exp() * phase.cos();
-                    out.weight_sum += kw.abs();
-                }
-            }
-        }
-    }
-    out
-}
+// The error bound against the slow f64 reference (`spectex_testkit::reference::gabor`).
 
 /// Error bound of the device's f32 evaluation, per unit of `Σ|K·w|` (cell units; `2⁻²⁴ ≈ 6e-8`
 /// is an f32 half-ulp near 1). The CPU's derivation (crates/spectex-cpu/tests/it/gabor.rs) with the
@@ -162,7 +90,7 @@ fn reference(m: &GaborNoise, x: f64, y: f64) -> Reference {
 ///   the direction `(cos_turns, cos_turns)` good to 1e-6 each → `F₀r·1.5e-6`; times 2π; plus
 ///   `cos_turns`' 1e-6;
 /// - summation in 8 lanes and a 3-level tree: ≤ `50·2⁻²⁴·Σ|K·w|`.
-fn tolerance(m: &GaborNoise, r: &Reference) -> f64 {
+fn tolerance(m: &GaborNoise, r: &GaborReference) -> f64 {
     let f_cell = f64::from(m.frequency) * m.kernel_radius();
     let per_weight = 4.5e-6 + 1e-6 + TAU * f_cell * (6e-7 + 1.5e-6) + 50.0 * 6e-8;
     per_weight * r.weight_sum + 2f64.powi(-23) * r.value.abs()
@@ -191,7 +119,7 @@ fn cpu_transcription(m: &GaborNoise, x: f64, y: f64) -> f32 {
         for t in -1i32..=1 {
             let uyt = uy - t as f32;
             let mut prng = Prng::new(cell_hash_in_row(ci + s, row_key(cj + t, key)));
-            for _ in 0..reference_count(&mut prng, lambda) {
+            for _ in 0..reference::gabor_count(&mut prng, lambda) {
                 let ox = prng.next_f32();
                 let oy = prng.next_f32();
                 let w = 2.0 * prng.next_f32() - 1.0;
@@ -236,7 +164,7 @@ fn check(case: &str, gpu: &GpuEvaluator, m: &GaborNoise, window: &GpuWindow) {
             let (x, y) = (window.x(i), window.y(j));
             let g = got[j * window.width + i];
             same += usize::from(g.to_bits() == cpu_transcription(m, x, y).to_bits());
-            let want = reference(m, x, y);
+            let want = reference::gabor(m, x, y);
             if want.near_edge {
                 skipped += 1;
                 continue;

@@ -1,8 +1,9 @@
 //! The test kit (`spectex-testkit`, without its CPU parts) on the GPU evaluator: generated
 //! models of every kind through validation, the packer and a render (never a panic, a hang, an
 //! untyped error or a non-finite value), and the invariance harness — tiles, far offset,
-//! reseeding — over every `testdata/models/*.json`, one line per model. Skips loudly without an
-//! adapter unless `SPECTEX_REQUIRE_GPU=1`.
+//! reseeding — over every `testdata/models/*.json`, one line per model; and the kit's models at
+//! each limit, rendered near, far and minified. Skips loudly without an adapter unless
+//! `SPECTEX_REQUIRE_GPU=1`.
 
 #![allow(
     clippy::unwrap_used,
@@ -23,6 +24,7 @@ use spectex_model::{MAX_POSITION, Model};
 use spectex_testkit::cases::{ModelCase, describe, model_cases};
 use spectex_testkit::fuzz::{Observation, Settings, Target, run};
 use spectex_testkit::invariance::{Backend, Plan, Prepared, check, testdata_cases};
+use spectex_testkit::limits::limit_cases;
 
 /// Cases CI runs (each builds a pipeline on lavapipe: about 20 ms).
 const CI_CASES: u32 = 120;
@@ -144,4 +146,56 @@ fn every_testdata_model_passes_the_invariance_checks_on_the_gpu() {
         }
     }
     assert!(failed.is_empty(), "{}", failed.join("\n"));
+}
+
+/// Every valid limit case of the kit packs (or is refused as unsupported or past a device
+/// limit, typed) and renders finite values at a pixel, a far patch and a minified row whose
+/// pixels lie 10⁶ pixels apart (a host table spanning the row's extent would not fit).
+#[test]
+fn models_at_each_limit_render_on_the_gpu() {
+    let Some(context) = common::gpu_or_skip("limits on the GPU") else {
+        return;
+    };
+    // Not the full warp tree at the depth limit (6561 leaves): the GPU builds one evaluator,
+    // with its pipeline and buffers, per nested model — more than 3 GB and minutes on lavapipe
+    // (bounded by the depth limit, but past a test's budget; reported to the GPU layer).
+    let cases = limit_cases()
+        .into_iter()
+        .filter(|c| c.valid && !c.name.starts_with("warp: a full tree"));
+    for case in cases {
+        let started = Instant::now();
+        let evaluator = match GpuEvaluator::new_at_z(&context, &case.model, 37.3) {
+            Ok(e) => e,
+            Err(e @ (GpuError::Unsupported { .. } | GpuError::LimitsExceeded { .. })) => {
+                println!("limits on the gpu: {:<50} refused: {e}", case.name);
+                continue;
+            }
+            Err(e) => panic!("{}: {e}", case.name),
+        };
+        for window in [
+            GpuWindow::new(1, 1),
+            GpuWindow::new(2, 2).at([-1.0e7 + 0.5, 1.0e7 - 0.25], 0.37),
+            GpuWindow::new(8, 2).at([-4.0e6, 3.0e6], 1e6),
+        ] {
+            match evaluator.render(&window) {
+                Ok(values) => assert!(
+                    values.iter().all(|v| v.is_finite()),
+                    "{} in {window:?}: {values:?}",
+                    case.name
+                ),
+                Err(e @ GpuError::LimitsExceeded { .. }) => {
+                    println!(
+                        "limits on the gpu: {:<50} {window:?} refused: {e}",
+                        case.name
+                    );
+                }
+                Err(e) => panic!("{} in {window:?}: {e}", case.name),
+            }
+        }
+        println!(
+            "limits on the gpu: {:<50} build + 21 pixels in {:.3} s",
+            case.name,
+            started.elapsed().as_secs_f64()
+        );
+    }
 }

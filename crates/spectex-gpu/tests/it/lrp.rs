@@ -15,8 +15,8 @@ use crate::common;
 use common::{first_bit_difference, lrp_f32};
 use spectex_gpu::{GpuEvaluator, GpuWindow};
 use spectex_model::random::{Prng, cell_hash};
-use spectex_model::window::kaiser_bessel;
 use spectex_model::{LrpNoise, Model, Stratum};
+use spectex_testkit::reference;
 
 /// Three strata of different periods, table sizes and budgets (small `J` keeps lavapipe fast).
 fn model(seed: u32) -> LrpNoise {
@@ -50,34 +50,7 @@ fn model(seed: u32) -> LrpNoise {
     }
 }
 
-/// The definition in f64 with libm: every lattice point within two cells of the pixel (one ring
-/// more than the support needs), draws in the contract's order, arguments relative to the
-/// lattice point.
-fn reference(m: &LrpNoise, x: f64, y: f64) -> f64 {
-    let mut sum = f64::from(m.mean);
-    for (s, st) in m.strata.iter().enumerate() {
-        let d = f64::from(st.window_width);
-        let (cx, cy) = ((x / d).round() as i64, (y / d).round() as i64);
-        for ly in cy - 2..=cy + 2 {
-            for lx in cx - 2..=cx + 2 {
-                let (px, py) = (x - lx as f64 * d, y - ly as f64 * d);
-                let w = kaiser_bessel((px * px + py * py).sqrt() / d);
-                let mut prng = Prng::new(cell_hash(lx as i32, ly as i32, s as u32, m.seed));
-                let mut c = 0.0;
-                for table in &st.sub_strata {
-                    let f = table[(prng.next_u32() % table.len() as u32) as usize];
-                    let phase = f64::from(prng.next_f32());
-                    let turns = f64::from(f[0]) * px + f64::from(f[1]) * py + phase;
-                    c += (std::f64::consts::TAU * turns).cos();
-                }
-                sum += f64::from(st.amplitude) * w * c;
-            }
-        }
-    }
-    sum
-}
-
-/// Error bound of the device's f32 evaluation against [`reference`], per stratum, summed.
+/// Error bound of the device's f32 evaluation against [`reference::lrp`], per stratum, summed.
 ///
 /// Per cosine term, with `ε = 2⁻²³` and `arg = f_max·1.5Δ + 1` turns bounding every intermediate
 /// of `f_x·d_x + (f_y·d_y + φ)`:
@@ -119,7 +92,7 @@ fn check(case: &str, gpu: &GpuEvaluator, m: &LrpNoise, window: &GpuWindow) -> (f
         for i in 0..window.width {
             let (x, y) = (window.x(i), window.y(j));
             let g = got[j * window.width + i];
-            let want = reference(m, x, y);
+            let want = reference::lrp(m, x, y);
             let err = (f64::from(g) - want).abs();
             assert!(
                 err <= tol,
