@@ -1,5 +1,6 @@
-//! LRP evaluation against a slow f64 reference built from the randomness contract, and the
-//! invariants: same bits for any thread count, tiling and SIMD level; precision far away.
+//! LRP evaluation against the slow f64 reference of `spectex_testkit::reference`, precision far
+//! away, exact support edges at any zoom, and the same bits on every SIMD level (tilings and
+//! thread counts: the kit's invariance harness, over every testdata model).
 
 #![allow(
     clippy::unwrap_used,
@@ -93,51 +94,6 @@ fn matches_the_definition_near_and_far() {
 
 fn bits(v: &[f32]) -> Vec<u32> {
     v.iter().map(|x| x.to_bits()).collect()
-}
-
-#[test]
-fn same_bits_for_any_thread_count() {
-    let eval = Evaluator::new(&Model::Lrp(model(5))).unwrap();
-    let window = Window::new(97, 61).at([-40.25, 17.5], 0.75);
-    let run = |threads| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-            .install(|| eval.render(&window).unwrap())
-    };
-    let one = run(1);
-    for threads in [2, 3, 8] {
-        assert_eq!(bits(&one), bits(&run(threads)), "{threads} threads");
-    }
-}
-
-#[test]
-fn same_bits_for_any_tiling() {
-    let eval = Evaluator::new(&Model::Lrp(model(6))).unwrap();
-    let window = Window::new(83, 45).at([1.0e7 + 0.3, -2.0e5], 1.3);
-    let whole = eval.render(&window).unwrap();
-    for (tw, th) in [(1, 1), (7, 5), (16, 16), (83, 1), (13, 45)] {
-        let mut tiled = vec![0.0f32; whole.len()];
-        for ty in (0..45).step_by(th) {
-            for tx in (0..83).step_by(tw) {
-                let (w, h) = (tw.min(83 - tx), th.min(45 - ty));
-                let tile = eval.render(&window.tile(tx, ty, w, h)).unwrap();
-                for r in 0..h {
-                    tiled[(ty + r) * 83 + tx..(ty + r) * 83 + tx + w]
-                        .copy_from_slice(&tile[r * w..(r + 1) * w]);
-                }
-            }
-        }
-        let first = bits(&whole)
-            .iter()
-            .zip(bits(&tiled))
-            .position(|(a, b)| *a != b);
-        assert_eq!(
-            first, None,
-            "tiles {tw}×{th}: first differing index {first:?}"
-        );
-    }
 }
 
 /// A row evaluates each lattice point only over the pixels of its support's chord; a pixel just
