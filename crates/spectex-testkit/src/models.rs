@@ -9,6 +9,7 @@ use proptest::prelude::*;
 use spectex_model::classic::{
     Basis, FeaturePoints, Fractal, FractalKind, MAX_OCTAVES, Metric, WORLEY_MAX_POINTS, Worley,
 };
+use spectex_model::texton::{Combine, MAX_DENSITY, MAX_REACH, Placement, Spot, TextonNoise};
 use spectex_model::texture::{MAX_CHANNELS, MAX_PERIOD};
 use spectex_model::warp::{MAX_STRENGTH, MAX_WARP_DEPTH};
 use spectex_model::wavelet::{MAX_BANDS, MAX_TILE_2D, MAX_TILE_3D, MIN_TILE};
@@ -42,6 +43,7 @@ pub const KIND_STRATEGIES: &[(&str, KindStrategy)] = &[
     ("wavelet", |o, _| {
         wavelet(o).prop_map(Model::Wavelet).boxed()
     }),
+    ("texton", |o, _| texton(o).prop_map(Model::Texton).boxed()),
 ];
 
 /// Warps nested at most in generated models: two past [`MAX_WARP_DEPTH`], so the limit itself
@@ -639,6 +641,80 @@ pub fn wavelet(o: Odds) -> BoxedStrategy<WaveletNoise> {
                     cell_size,
                     bands,
                     amplitude,
+                    mean,
+                }
+            },
+        )
+        .boxed()
+}
+
+// ---------------------------------------------------------------------------------------------
+// Texton placement.
+
+/// A texton noise: grid or Poisson placement, ellipsoid, Gaussian or a small image (sometimes
+/// with a texel count that does not match its sides), ranges drawn inside and beyond their
+/// limits; without the odds the cell is widened so the texton reaches at most 3 cells.
+pub fn texton(o: Odds) -> BoxedStrategy<TextonNoise> {
+    let placement = prop_oneof![
+        f32_in(0.0, 1.0, o).prop_map(|jitter| Placement::Grid { jitter }),
+        f32_in(0.01, MAX_DENSITY, o).prop_map(|density| Placement::Poisson { density }),
+    ];
+    let image = (u32_in(1, 6, o), u32_in(1, 6, o)).prop_flat_map(move |(width, height)| {
+        let n = (width as usize * height as usize).min(64);
+        let len = prop_oneof![8 => Just(n), 1 => Just(n + 1), 1 => Just(n.saturating_sub(1))];
+        len.prop_flat_map(move |len| {
+            proptest::collection::vec(f32_in(-2.0, 2.0, o), len).prop_map(move |values| {
+                Spot::Image {
+                    width,
+                    height,
+                    values,
+                }
+            })
+        })
+    });
+    let spot = prop_oneof![Just(Spot::Ellipsoid), Just(Spot::Gaussian), image];
+    let pair = |lo: f32, hi: f32| (f32_in(lo, hi, o), f32_in(lo, hi, o)).prop_map(|(a, b)| [a, b]);
+    (
+        seed(),
+        f32_in(1.0, 4096.0, o),
+        placement,
+        spot,
+        pair(0.5, 64.0),
+        pair(-2.0, 2.0),
+        pair(0.05, 2.0),
+        (level(o), level(o)).prop_map(|(a, b)| [a, b]),
+        prop_oneof![Just(Combine::Sum), Just(Combine::Max)],
+        level(o),
+    )
+        .prop_map(
+            move |(
+                seed,
+                cell,
+                placement,
+                spot,
+                radii,
+                rotation,
+                scale,
+                intensity,
+                combine,
+                mean,
+            )| {
+                let mut cell_size = cell;
+                if o.bad == 0 {
+                    // The texton's reach, `max(a, b)·max s / C`, within MAX_REACH cells.
+                    let reach = radii[0].max(radii[1]) * scale[0].max(scale[1]);
+                    cell_size = cell_size.max((reach / MAX_REACH as f32) * 1.01).min(4096.0);
+                }
+                TextonNoise {
+                    seed,
+                    cell_size,
+                    placement,
+                    spot,
+                    radii,
+                    rotation,
+                    scale,
+                    intensity,
+                    combine,
                     mean,
                 }
             },
