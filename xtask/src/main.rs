@@ -719,7 +719,9 @@ fn fuzz(ws: &Workspace, args: &[OsString]) -> Result<()> {
         let stdout = String::from_utf8_lossy(&output.stdout);
         let mut in_summary = false;
         for line in stdout.lines() {
-            // A summary is its `fuzz <name>: N cases …` line and the indented lines after it.
+            // A summary is its `fuzz <name>: N cases …` line and the indented lines after it;
+            // with --nocapture the harness's `test <name> ... ` may stand before it on the line.
+            let line = line.find("fuzz ").map_or(line, |i| &line[i..]);
             if let Some((cases, findings)) = campaign_counts(line) {
                 in_summary = true;
                 total_cases += cases;
