@@ -7,6 +7,7 @@ use std::time::Instant;
 
 use spectex_cpu::{CpuError, Evaluator};
 use spectex_model::classic::MAX_OCTAVES;
+use spectex_model::texton::{MAX_REACH, MAX_TEXTONS_PER_CELL};
 use spectex_model::texture::MAX_CHANNELS;
 use spectex_model::warp::MAX_WARP_DEPTH;
 use spectex_model::wavelet::MAX_BANDS;
@@ -28,15 +29,15 @@ const PHASOR_MAX_COST: f64 = 27.0 * 64.0 * (1.0 + 27.0 * 64.0);
 const CLASSIC_MAX_COST: f64 = 27.0 * MAX_OCTAVES as f64;
 /// `3^d` tile samples per band, at most 16 bands.
 const WAVELET_MAX_COST: f64 = 27.0 * MAX_BANDS as f64;
+/// Textons visited per pixel: `(2·MAX_REACH + 1)²` cells of at most `MAX_TEXTONS_PER_CELL`.
+const TEXTON_MAX_COST: f64 =
+    ((2 * MAX_REACH + 1) * (2 * MAX_REACH + 1) * MAX_TEXTONS_PER_CELL) as f64;
 /// One channel's or one turbulence axis's strata: `9(J_S + 1)` calls for each of 64 strata.
 const TEXTURE_STRATA_MAX_COST: f64 = 9.0 * (MAX_COSINES as f64 + 1.0) * MAX_STRATA as f64;
 /// Three channels of strata and a structure (4 blocks of 1024 cosines), and two turbulence axes.
 const TEXTURE_MAX_COST: f64 = MAX_CHANNELS as f64
     * (TEXTURE_STRATA_MAX_COST + 4.0 * MAX_COSINES as f64)
     + 2.0 * TEXTURE_STRATA_MAX_COST;
-/// `(2·reach + 1)²` cells of `density` textons: reach at most 3 cells, density at most 8.
-const TEXTON_MAX_COST: f64 = 49.0 * spectex_model::texton::MAX_DENSITY as f64;
-const _: () = assert!(spectex_model::texton::MAX_REACH == 3);
 /// A warp costs its base's and its two displacements' costs, so a tree of warps nested
 /// [`MAX_WARP_DEPTH`] deep costs at most its `3^depth` leaves at the largest leaf cost (a
 /// texture's).

@@ -9,17 +9,15 @@ use proptest::prelude::*;
 use spectex_model::classic::{
     Basis, FeaturePoints, Fractal, FractalKind, MAX_OCTAVES, Metric, WORLEY_MAX_POINTS, Worley,
 };
-use spectex_model::texton::{
-    Combine, MAX_DENSITY, MAX_IMAGE_SIDE, MAX_REACH, MAX_SCALE, Placement, Spot,
-};
+use spectex_model::texton::{Combine, MAX_DENSITY, MAX_REACH, Placement, Spot, TextonNoise};
 use spectex_model::texture::{MAX_CHANNELS, MAX_PERIOD};
 use spectex_model::warp::{MAX_STRENGTH, MAX_WARP_DEPTH};
 use spectex_model::wavelet::{MAX_BANDS, MAX_TILE_2D, MAX_TILE_3D, MIN_TILE};
 use spectex_model::{
     ClassicNoise, ColourBasis, Field, FixedCosine, GaborNoise, Harmonic, LrpNoise, MAX_COSINES,
     MAX_FIELD_SIDE, MAX_PROFILE_SAMPLES, MAX_STRATA, Model, Orientation, PhasorNoise,
-    PhasorOrientation, PhasorOutput, Profile, Stratum, Structure, TextonNoise, TextureChannel,
-    TextureModel, Turbulence, Warp, WaveletNoise,
+    PhasorOrientation, PhasorOutput, Profile, Stratum, Structure, TextureChannel, TextureModel,
+    Turbulence, Warp, WaveletNoise,
 };
 
 use crate::strategy::{Odds, f32_in, f32_inside, list, odds, u32_from, u32_in};
@@ -651,66 +649,62 @@ pub fn wavelet(o: Odds) -> BoxedStrategy<WaveletNoise> {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Texton placement and spot noise.
+// Texton placement.
 
-/// A texton spot: an ellipsoid, a Gaussian, or a small grey image (with the odds: no texels, a
-/// side past 1024, a value count that does not match).
-fn spot(o: Odds) -> BoxedStrategy<Spot> {
-    let side = prop_oneof![
-        9 => u32_in(1, 6, o),
-        u32::from(o.bad > 0) => Just(MAX_IMAGE_SIDE + 1),
-    ];
-    let image =
-        (side.clone(), side, any::<bool>()).prop_flat_map(move |(width, height, mismatch)| {
-            let n = (width as usize).saturating_mul(height as usize);
-            let count = if n > 64 {
-                1
-            } else if mismatch && o.bad > 0 {
-                n + 1
-            } else {
-                n
-            };
-            proptest::collection::vec(level(o), count).prop_map(move |values| Spot::Image {
-                width,
-                height,
-                values,
-            })
-        });
-    prop_oneof![Just(Spot::Ellipsoid), Just(Spot::Gaussian), image].boxed()
-}
-
-/// A texton noise: grid or Poisson placement, every spot, rotation, scale and intensity ranges,
-/// sum or max. Without the odds the radii keep the texton within [`MAX_REACH`] cells.
+/// A texton noise: grid or Poisson placement, ellipsoid, Gaussian or a small image (sometimes
+/// with a texel count that does not match its sides), ranges drawn inside and beyond their
+/// limits; without the odds the cell is widened so the texton reaches at most 3 cells.
 pub fn texton(o: Odds) -> BoxedStrategy<TextonNoise> {
     let placement = prop_oneof![
         f32_in(0.0, 1.0, o).prop_map(|jitter| Placement::Grid { jitter }),
-        f32_in(1e-3, MAX_DENSITY, o).prop_map(|density| Placement::Poisson { density }),
+        f32_in(0.01, MAX_DENSITY, o).prop_map(|density| Placement::Poisson { density }),
     ];
-    let combine = prop_oneof![Just(Combine::Sum), Just(Combine::Max)];
+    let image = (u32_in(1, 6, o), u32_in(1, 6, o)).prop_flat_map(move |(width, height)| {
+        let n = (width as usize * height as usize).min(64);
+        let len = prop_oneof![8 => Just(n), 1 => Just(n + 1), 1 => Just(n.saturating_sub(1))];
+        len.prop_flat_map(move |len| {
+            proptest::collection::vec(f32_in(-2.0, 2.0, o), len).prop_map(move |values| {
+                Spot::Image {
+                    width,
+                    height,
+                    values,
+                }
+            })
+        })
+    });
+    let spot = prop_oneof![Just(Spot::Ellipsoid), Just(Spot::Gaussian), image];
+    let pair = |lo: f32, hi: f32| (f32_in(lo, hi, o), f32_in(lo, hi, o)).prop_map(|(a, b)| [a, b]);
     (
-        (seed(), f32_in(1.0, 4096.0, o), placement, spot(o)),
-        (
-            [f32_in(1e-3, 1.0, o), f32_in(1e-3, 1.0, o)],
-            [f32_in(1e-3, 65_536.0, o), f32_in(1e-3, 65_536.0, o)],
-            [f32_in(-1e4, 1e4, o), f32_in(-1e4, 1e4, o)],
-            [f32_in(1e-3, MAX_SCALE, o), f32_in(1e-3, MAX_SCALE, o)],
-        ),
-        ([level(o), level(o)], combine, level(o)),
+        seed(),
+        f32_in(1.0, 4096.0, o),
+        placement,
+        spot,
+        pair(0.5, 64.0),
+        pair(-2.0, 2.0),
+        pair(0.05, 2.0),
+        (level(o), level(o)).prop_map(|(a, b)| [a, b]),
+        prop_oneof![Just(Combine::Sum), Just(Combine::Max)],
+        level(o),
     )
         .prop_map(
             move |(
-                (seed, cell_size, placement, spot),
-                (fraction, any_radii, rotation, scale),
-                (intensity, combine, mean),
+                seed,
+                cell,
+                placement,
+                spot,
+                radii,
+                rotation,
+                scale,
+                intensity,
+                combine,
+                mean,
             )| {
-                // Valid radii reach at most MAX_REACH cells at the largest scale: a fraction of
-                // that; with the odds, any radii.
-                let radii = if o.bad > 0 {
-                    any_radii
-                } else {
-                    let most = MAX_REACH as f32 * cell_size / scale[0].max(scale[1]);
-                    fraction.map(|f| (f * most).max(1e-3))
-                };
+                let mut cell_size = cell;
+                if o.bad == 0 {
+                    // The texton's reach, `max(a, b)·max s / C`, within MAX_REACH cells.
+                    let reach = radii[0].max(radii[1]) * scale[0].max(scale[1]);
+                    cell_size = cell_size.max((reach / MAX_REACH as f32) * 1.01).min(4096.0);
+                }
                 TextonNoise {
                     seed,
                     cell_size,
