@@ -90,6 +90,35 @@ impl From<spectex_model::WindowError> for CpuError {
     }
 }
 
+/// Cell (or lattice) columns per pixel beyond which a row is *minified*: a kernel that draws
+/// every column between a row's ends would do work and allocate memory growing with the row's
+/// extent rather than its pixels (a 64-pixel row at scale 1e6 spans 10⁸ columns), while a
+/// pixel alone needs only a few columns around its own.
+const SPARSE_COLUMNS_PER_PIXEL: u64 = 4;
+
+/// Whether a row of `width` pixels whose cells span `columns` columns (plus `reach` columns a
+/// kernel reads beyond each end) is minified (see [`SPARSE_COLUMNS_PER_PIXEL`]).
+pub(crate) fn is_minified(columns: u64, reach: u64, width: usize) -> bool {
+    columns > SPARSE_COLUMNS_PER_PIXEL * width as u64 + 8 + 2 * reach
+}
+
+/// Evaluates rows `first..` of `window` into `out` (one value per pixel) pixel by pixel, each
+/// through `eval_rows` on its one-pixel window: the same bits as a render of the whole rows
+/// (tiles are invisible), with only each pixel's own cells drawn. The minified-row path of
+/// the kernels that share cell columns along a row.
+pub(crate) fn eval_pixel_by_pixel(
+    window: &Window,
+    first: usize,
+    out: &mut [f32],
+    eval_rows: impl Fn(&Window, usize, &mut [f32]),
+) {
+    for (r, line) in out.chunks_exact_mut(window.width).enumerate() {
+        for (i, v) in line.iter_mut().enumerate() {
+            eval_rows(&window.tile(i, first + r, 1, 1), 0, std::slice::from_mut(v));
+        }
+    }
+}
+
 /// A model kind's CPU kernel: what [`Evaluator`] runs for it. Each kind implements it in its
 /// own module; the per-kind evaluators ([`LrpEvaluator`], …) are these kernels.
 ///

@@ -33,9 +33,6 @@ use spectex_model::Window;
 const LANES: usize = 8;
 /// Lanes of the AVX-512 path: one 512-bit register of f32.
 const WIDE_LANES: usize = 16;
-/// Lattice columns per pixel beyond which a row is evaluated pixel by pixel: a pixel alone needs
-/// 4 columns, so past this sharing the columns of a row saves nothing.
-const SPARSE_COLUMNS_PER_PIXEL: usize = 4;
 
 struct PreparedStratum {
     delta: f64,
@@ -238,21 +235,12 @@ impl LrpEvaluator {
             .iter()
             .map(|s| StratumLattice::new(s, x_min, x_max))
             .collect();
-        // A minified row (pixels several lattice periods apart) would draw every lattice column
-        // between its ends, used or not — work and memory growing with the row's extent, not
-        // its pixels (a 64-pixel row at scale 1e6 spans 10⁸ columns). Then each pixel is
-        // evaluated alone: a one-pixel window draws only its own columns and gives the same
-        // bits (tiles are invisible).
+        // A minified row: each pixel alone (`crate::is_minified`).
         if lattices
             .iter()
-            .any(|l| l.cols > SPARSE_COLUMNS_PER_PIXEL * width + 8)
+            .any(|l| crate::is_minified(l.cols as u64, 0, width))
         {
-            for (r, line) in out.chunks_exact_mut(width).enumerate() {
-                for (i, v) in line.iter_mut().enumerate() {
-                    let pixel = window.tile(i, first + r, 1, 1);
-                    self.eval_rows(&pixel, 0, std::slice::from_mut(v));
-                }
-            }
+            crate::eval_pixel_by_pixel(window, first, out, |w, f, o| self.eval_rows(w, f, o));
             return;
         }
         // One stratum's row, padded so that a full group of lanes may be written past its end.

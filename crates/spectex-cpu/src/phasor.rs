@@ -41,10 +41,6 @@ use spectex_model::{NEG_LN_20, PhasorNoise, PhasorOrientation, PhasorOutput, Pro
 
 use crate::math::{atan2_turns, cos_turns, exp_poly, sin_turns};
 
-/// Cell columns per pixel beyond which a row is evaluated pixel by pixel: a pixel alone needs 3
-/// columns, so past this sharing the columns of a row saves nothing.
-const SPARSE_CELLS_PER_PIXEL: usize = 4;
-
 /// A phasor noise model prepared for evaluation at a fixed `z` (ignored by 2D models).
 #[derive(Debug, Clone)]
 pub struct PhasorEvaluator {
@@ -134,21 +130,13 @@ impl PhasorEvaluator {
         let g = &self.kernels;
         let (x_first, x_last) = (window.x(0), window.x(width - 1));
         let columns = g.locate(x_first).zip(g.locate(x_last));
-        // A minified row (pixels several cells apart) would draw every cell column between its
-        // ends — work and memory growing with the row's extent, not its pixels, and a column
-        // count past i32 for a row across the whole position range. Then each pixel is
-        // evaluated alone: a one-pixel window draws only its own cells and gives the same bits
-        // (tiles are invisible).
+        // A minified row: each pixel alone (`crate::is_minified`; a row across the whole
+        // position range would also count columns past i32).
         let span = columns.map_or(0, |((c0, _), (c1, _))| {
             (i64::from(c1) - i64::from(c0)).unsigned_abs()
         });
-        if span > (SPARSE_CELLS_PER_PIXEL * width + 8) as u64 {
-            for (r, line) in out.chunks_exact_mut(width).enumerate() {
-                for (i, v) in line.iter_mut().enumerate() {
-                    let pixel = window.tile(i, first + r, 1, 1);
-                    self.eval_rows(&pixel, 0, std::slice::from_mut(v));
-                }
-            }
+        if crate::is_minified(span, 0, width) {
+            crate::eval_pixel_by_pixel(window, first, out, |w, f, o| self.eval_rows(w, f, o));
             return;
         }
         let z = if g.three_d() {

@@ -9,10 +9,6 @@ use spectex_model::{Window, grid::locate_cell};
 
 use crate::{CpuError, CpuKind, RowKernel};
 
-/// Cell columns per pixel beyond which a row is evaluated pixel by pixel (a pixel alone needs
-/// `2·reach + 1`, so past this sharing the columns of a row saves nothing).
-const SPARSE_CELLS_PER_PIXEL: usize = 4;
-
 /// A texton model prepared for evaluation.
 pub struct TextonEvaluator {
     model: TextonNoise,
@@ -76,19 +72,10 @@ impl RowKernel for TextonEvaluator {
         let lo = columns.iter().map(|c| c.0).min().unwrap_or(0) - self.reach;
         let hi = columns.iter().map(|c| c.0).max().unwrap_or(0) + self.reach;
         let reach = self.reach;
-        // A minified row (pixels several cells apart) would draw every cell column between its
-        // ends — work and memory growing with the row's extent, not its pixels (8 pixels at
-        // scale 1e6 over 1-pixel cells: 10⁷ columns of up to 16 textons, for 7 cell rows).
-        // Then each pixel is evaluated alone: a one-pixel window draws only its own cells and
-        // gives the same bits (tiles are invisible).
-        let span = i64::from(hi) - i64::from(lo) + 1;
-        if span > (SPARSE_CELLS_PER_PIXEL * width) as i64 + 8 + 2 * i64::from(reach) {
-            for (r, line) in out.chunks_exact_mut(width).enumerate() {
-                for (i, v) in line.iter_mut().enumerate() {
-                    let pixel = window.tile(i, first + r, 1, 1);
-                    self.eval_rows(&pixel, 0, std::slice::from_mut(v));
-                }
-            }
+        // A minified row: each pixel alone (`crate::is_minified`).
+        let span = (i64::from(hi) - i64::from(lo) + 1).unsigned_abs();
+        if crate::is_minified(span, reach.unsigned_abs().into(), width) {
+            crate::eval_pixel_by_pixel(window, first, out, |w, f, o| self.eval_rows(w, f, o));
             return;
         }
         // The textons of the cell rows around the current row's cell, redrawn when it changes.

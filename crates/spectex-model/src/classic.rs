@@ -184,16 +184,7 @@ impl FeaturePoints {
         let Self::Poisson(mean) = *self else {
             return None;
         };
-        let lambda = f64::from(mean);
-        let mut cdf = [0.0f32; WORLEY_MAX_POINTS as usize];
-        let mut term = (-lambda).exp();
-        let mut sum = 0.0;
-        for (k, c) in cdf.iter_mut().enumerate() {
-            sum += term;
-            *c = sum as f32;
-            term *= lambda / (k + 1) as f64;
-        }
-        Some(cdf)
+        Some(crate::random::poisson_cdf(f64::from(mean)))
     }
 
     /// The most points a cell can hold.

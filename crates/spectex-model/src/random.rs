@@ -123,6 +123,23 @@ pub fn open_unit_f64(bits: u32) -> f64 {
     (f64::from(bits) + 0.5) * (1.0 / 4_294_967_296.0)
 }
 
+/// The Poisson CDF `P(N ≤ k)` of mean `mean` for `k < N`, summed in f64 and rounded to f32
+/// once per entry: the table every evaluator compares one uniform `u` against to draw a capped
+/// Poisson count (the number of `k` with `u ≥ P(N ≤ k)`), for Worley feature points and texton
+/// placement alike.
+#[must_use]
+pub fn poisson_cdf<const N: usize>(mean: f64) -> [f32; N] {
+    let mut cdf = [0.0f32; N];
+    let mut term = (-mean).exp();
+    let mut sum = 0.0;
+    for (k, c) in cdf.iter_mut().enumerate() {
+        sum += term;
+        *c = sum as f32;
+        term *= mean / (k + 1) as f64;
+    }
+    cdf
+}
+
 /// The contract's pseudo-random stream: an LCG on `u32` whose outputs are permuted.
 ///
 /// `next_u32` returns `hash(state)` and then advances `state` by one LCG step, so the first

@@ -176,9 +176,16 @@ impl TextonNoise {
     /// Cells beyond a pixel's own that its textons can reach: `⌈max(a, b)·max s / C⌉`.
     #[must_use]
     pub fn reach(&self) -> i32 {
-        let radius = f64::from(self.radii[0].max(self.radii[1]))
-            * f64::from(self.scale[0].max(self.scale[1]));
-        (radius / f64::from(self.cell_size)).ceil().max(0.0) as i32
+        (self.support_radius() / f64::from(self.cell_size))
+            .ceil()
+            .max(0.0) as i32
+    }
+
+    /// The largest distance from its centre at which a texton contributes, pixels:
+    /// `max(a, b)·max s`.
+    #[must_use]
+    pub fn support_radius(&self) -> f64 {
+        f64::from(self.radii[0].max(self.radii[1])) * f64::from(self.scale[0].max(self.scale[1]))
     }
 
     /// The Poisson CDF `P(N ≤ k)`, `k < MAX_TEXTONS_PER_CELL`, rounded to f32 (f64 sums), or
@@ -188,16 +195,7 @@ impl TextonNoise {
         let Placement::Poisson { density } = self.placement else {
             return None;
         };
-        let lambda = f64::from(density);
-        let mut cdf = [0.0f32; MAX_TEXTONS_PER_CELL as usize];
-        let mut term = (-lambda).exp();
-        let mut sum = 0.0;
-        for (k, c) in cdf.iter_mut().enumerate() {
-            sum += term;
-            *c = sum as f32;
-            term *= lambda / (k + 1) as f64;
-        }
-        Some(cdf)
+        Some(crate::random::poisson_cdf(f64::from(density)))
     }
 
     /// Calls `visit` with the textons of cell `(i, j)`, in draw order (module docs).
@@ -361,11 +359,9 @@ impl TextonNoise {
         check_level(|| "texton.mean".into(), self.mean)?;
         let reach = self.reach();
         if reach > MAX_REACH as i32 {
-            let radius = f64::from(self.radii[0].max(self.radii[1]))
-                * f64::from(self.scale[0].max(self.scale[1]));
             return Err(ModelError::OutOfRange {
                 field: "texton.radii".into(),
-                value: radius,
+                value: self.support_radius(),
                 range: "max(radii)·max(scale) ≤ 3·cell_size (a texton reaches 3 cells at most)",
             });
         }

@@ -53,9 +53,9 @@ fn rho2_error(m: &TextonNoise) -> (f64, f64) {
 ///   roundings;
 /// - Gaussian `exp(−ln 20·ρ²)`: slope `ln 20` in `ρ²` and [`EXP_REL_ERROR`] on either side; a
 ///   texton crossing `ρ² = 1` jumps by its truncation, 5% of its peak;
-/// - image: the bilinear sample's slope `D·max(W, H)/2` per unit of `q` (`D` the largest step
-///   between neighbouring texels) times `|δq|`, its roundings; crossing the edge jumps by the
-///   largest texel.
+/// - image: the bilinear sample's slope `step·max(W, H)/2` per unit of `q` (`step` the largest
+///   difference between neighbouring texels) times `|δq|`, its roundings; crossing the edge
+///   jumps by the largest texel.
 fn term(m: &TextonNoise) -> Term {
     let (dq, dr2) = rho2_error(m);
     let u = F32_UNIT_ROUNDOFF;
@@ -68,33 +68,67 @@ fn term(m: &TextonNoise) -> Term {
             smooth: f64::from(-NEG_LN_20) * dr2 + 2.0 * EXP_REL_ERROR,
             jump: 0.05,
         },
-        Spot::Image {
-            width,
-            height,
-            values,
-        } => {
-            let (w, h) = (*width as usize, *height as usize);
-            let largest = values
-                .iter()
-                .fold(0.0f64, |a, &v| a.max(f64::from(v).abs()));
-            let mut step = 0.0f64;
-            for y in 0..h {
-                for x in 0..w {
-                    let v = f64::from(values[y * w + x]);
-                    if x + 1 < w {
-                        step = step.max((f64::from(values[y * w + x + 1]) - v).abs());
-                    }
-                    if y + 1 < h {
-                        step = step.max((f64::from(values[(y + 1) * w + x]) - v).abs());
-                    }
-                }
-            }
-            let side = (*width).max(*height) as f64;
+        Spot::Image { .. } => {
+            let shape = shape(&m.spot);
             Term {
-                smooth: step * side * dq + BILINEAR_ROUNDINGS * u * largest,
-                jump: largest,
+                smooth: shape.step * shape.side * dq + BILINEAR_ROUNDINGS * u * shape.peak,
+                jump: shape.peak,
             }
         }
+    }
+}
+
+/// What the tolerances need of a spot's shape: its largest `|g|`, and for an image the largest
+/// step between neighbouring texels and its longer side (the bilinear sample's slope is
+/// `step·side/2` per unit of `q`).
+struct Shape {
+    peak: f64,
+    step: f64,
+    side: f64,
+}
+
+fn shape(spot: &Spot) -> Shape {
+    let Spot::Image {
+        width,
+        height,
+        values,
+    } = spot
+    else {
+        // √(1 − ρ²) and exp(−ln 20·ρ²) peak at 1 and have no texels.
+        return Shape {
+            peak: 1.0,
+            step: 0.0,
+            side: 0.0,
+        };
+    };
+    let (w, h) = (*width as usize, *height as usize);
+    let texel = |x: usize, y: usize| f64::from(values[y * w + x]);
+    let mut step = 0.0f64;
+    for y in 0..h {
+        for x in 0..w {
+            if x + 1 < w {
+                step = step.max((texel(x + 1, y) - texel(x, y)).abs());
+            }
+            if y + 1 < h {
+                step = step.max((texel(x, y + 1) - texel(x, y)).abs());
+            }
+        }
+    }
+    Shape {
+        peak: values
+            .iter()
+            .fold(0.0f64, |a, &v| a.max(f64::from(v).abs())),
+        step,
+        side: (*width).max(*height) as f64,
+    }
+}
+
+/// How many textons' errors add up at a pixel: every one visited under the addition rule, one
+/// under the maximum rule (a maximum is 1-Lipschitz in each argument).
+fn combined_terms(m: &TextonNoise) -> f64 {
+    match m.combine {
+        Combine::Sum => texton_count(m),
+        Combine::Max => 1.0,
     }
 }
 
@@ -129,19 +163,8 @@ pub fn texton(m: &TextonNoise) -> Tolerance {
     let t = term(m);
     let w = weight(m);
     let n = texton_count(m);
-    let terms = match m.combine {
-        Combine::Sum => n,
-        Combine::Max => 1.0,
-    };
-    let magnitude = n
-        * w
-        * 1.0f64.max(match &m.spot {
-            Spot::Image { values, .. } => values
-                .iter()
-                .fold(0.0f64, |a, &v| a.max(f64::from(v).abs())),
-            _ => 1.0,
-        })
-        + f64::from(m.mean).abs();
+    let terms = combined_terms(m);
+    let magnitude = n * w * shape(&m.spot).peak + f64::from(m.mean).abs();
     let rounding = SUMMATION_ROUNDINGS * F32_UNIT_ROUNDOFF * magnitude;
     let smooth = terms * w * t.smooth + rounding;
     let (_, dr2) = rho2_error(m);
@@ -161,37 +184,23 @@ impl CheckKind for TextonNoise {
     }
 
     /// The Gaussian and image spots are Lipschitz inside their support (slopes `2·ln 20/r` per
-    /// unit `ρ` and `D·max(W, H)/(2r)`, with `r = min(a, b)·min s`) and jump at its edge; the
+    /// unit `ρ` and `step·max(W, H)/(2r)`, with `r = min(a, b)·min s`) and jump at its edge; the
     /// ellipsoid's slope is unbounded at its edge (`√(1 − ρ²)`), so no regularity is derived
     /// for it and a warp over it is not cross-checked.
     fn regularity(&self) -> Option<Regularity> {
-        let n = texton_count(self);
         let w = weight(self);
         let r = f64::from(self.radii[0].min(self.radii[1]) * self.scale[0].min(self.scale[1]));
-        let (slope, jump, peak) = match &self.spot {
+        let shape = shape(&self.spot);
+        let (slope, jump) = match &self.spot {
             Spot::Ellipsoid => return None,
-            Spot::Gaussian => (2.0 * f64::from(-NEG_LN_20) / r, 0.05, 1.0),
-            Spot::Image {
-                width,
-                height,
-                values,
-            } => {
-                let largest = values
-                    .iter()
-                    .fold(0.0f64, |a, &v| a.max(f64::from(v).abs()));
-                // Neighbouring texels differ by at most twice the largest.
-                let side = f64::from((*width).max(*height));
-                (2.0 * largest * side / (2.0 * r), largest, largest)
-            }
+            Spot::Gaussian => (2.0 * f64::from(-NEG_LN_20) / r, 0.05),
+            Spot::Image { .. } => (shape.step * shape.side / (2.0 * r), shape.peak),
         };
-        let terms = match self.combine {
-            Combine::Sum => n,
-            Combine::Max => 1.0,
-        };
+        let terms = combined_terms(self);
         Some(Regularity {
             slope: terms * w * slope,
             jump: terms * w * jump,
-            magnitude: n * w * peak + f64::from(self.mean).abs(),
+            magnitude: texton_count(self) * w * shape.peak + f64::from(self.mean).abs(),
             cell: f64::from(self.cell_size),
         })
     }
@@ -213,8 +222,10 @@ mod tests {
             combine: Combine::Max,
             ..m
         };
-        // Weights up to 1 (the default range), so the magnitude grows by the extra count.
-        let extra = (texton_count(&dense) - texton_count(&sparse)) * weight(&dense);
+        // The default texton reaches 14·1.25 = 17.5 px < C = 32 px: 3×3 cells. Sparse: 9
+        // textons; dense: a Poisson count of mean 9·6 = 54 bounded by 54 + 6√54 + 6 (under the
+        // cap 9·16). Weights reach 1 (the default range [0.5, 1]).
+        let extra = (54.0 + 6.0 * 54.0f64.sqrt() + 6.0) - 9.0;
         let (a, b) = (texton(&max(sparse)).max_abs, texton(&max(dense)).max_abs);
         // Only the summation term, which counts the textons' magnitude, differs.
         let summation = SUMMATION_ROUNDINGS * F32_UNIT_ROUNDOFF * extra;
