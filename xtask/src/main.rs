@@ -481,32 +481,44 @@ fn ci(ws: &Workspace) -> Result<()> {
                 &["test", "--workspace", "--bench", "*"],
             ));
         }
+        // Every target but the examples, which are built once as programs below: with
+        // `--all-targets` they would also be linked a second time as test harnesses.
+        // `--bench '*'` is the [[bench]]es only (`--benches` adds the libraries again).
         TestRunner::Cargo => steps.push(step(
-            "cargo test --all-targets (GPU tests and cross-check on lavapipe)",
-            &["test", "--workspace", "--all-targets"],
+            "cargo test --lib --bins --tests --bench '*' (GPU tests and cross-check on lavapipe)",
+            &[
+                "test",
+                "--workspace",
+                "--lib",
+                "--bins",
+                "--tests",
+                "--bench",
+                "*",
+            ],
         )),
     }
     steps.push(step("cargo test --doc", &["test", "--workspace", "--doc"]));
-    // The numbered examples, run as a user would (`cargo run --example`), in the test profile
-    // whose artefacts the test step has just built, so nothing is compiled again.
-    let examples_out = ws.root.join("target").join("examples-out");
+    // The numbered examples, built in the test profile with the workspace's feature set (the
+    // dependencies the test step built, so only the examples are compiled) and run as
+    // `cargo run --example NAME` would run them. `cargo run -p spectex-cli` would resolve features
+    // for that package alone and rebuild much of the workspace.
+    steps.push(step(
+        "cargo build --examples (test profile)",
+        &["build", "--workspace", "--examples", "--profile", "test"],
+    ));
+    let examples_out = target_dir(ws).join("examples-out");
     fs::create_dir_all(&examples_out)
         .with_context(|| format!("creating {}", examples_out.display()))?;
+    let examples_bin = target_dir(ws).join("debug").join("examples");
     for name in example_names(ws)? {
-        let out = examples_out.to_string_lossy().into_owned();
-        let args = [
-            "run",
-            "--profile",
-            "test",
-            "-q",
-            "-p",
-            "spectex-cli",
-            "--example",
-            &name,
-            "--",
-            &out,
-        ];
-        steps.push(step(&format!("cargo run --example {name}"), &args));
+        let mut command =
+            Command::new(examples_bin.join(format!("{name}{}", env::consts::EXE_SUFFIX)));
+        command.arg(&examples_out).current_dir(&ws.root);
+        lavapipe_env(&mut command, &icd);
+        steps.push(Step {
+            title: format!("example {name} (as `cargo run --example {name}` runs it)"),
+            command,
+        });
     }
     run_steps("ci", steps)?;
     summary.report()
