@@ -5,6 +5,58 @@ use ndarray::{Array2, ArrayView2};
 use num_complex::Complex;
 use rustfft::{FftDirection, FftNum, FftPlanner};
 
+/// The sample types [`Fft2`] transforms: `f64` (and `f32` in this crate's own tests).
+///
+/// Why a trait and not `Fft2<T: FftNum>` alone: the transform's body plans with rustfft, whose
+/// algorithms (every radix, SIMD level and size class) are generic over the sample type. A generic
+/// `Fft2` method would be compiled again, with all of them, in every crate and test binary that
+/// calls it (generics are not shared across crates in optimised builds): about a minute of
+/// compilation each on a 2-core machine. Each type's transform is instead one non-generic
+/// function compiled here once, that callers link to.
+pub trait FftFloat: FftNum + sealed::Sealed {
+    /// Transforms a row-major `height × width` buffer in place ([`Fft2::process_slice`]).
+    #[doc(hidden)]
+    fn process_slice(
+        engine: &mut Fft2<Self>,
+        data: &mut [Complex<Self>],
+        height: usize,
+        width: usize,
+        direction: FftDirection,
+    );
+}
+
+mod sealed {
+    pub trait Sealed {}
+    impl Sealed for f64 {}
+    #[cfg(test)]
+    impl Sealed for f32 {}
+}
+
+impl FftFloat for f64 {
+    fn process_slice(
+        engine: &mut Fft2<Self>,
+        data: &mut [Complex<Self>],
+        height: usize,
+        width: usize,
+        direction: FftDirection,
+    ) {
+        engine.process_slice_generic(data, height, width, direction);
+    }
+}
+
+#[cfg(test)]
+impl FftFloat for f32 {
+    fn process_slice(
+        engine: &mut Fft2<Self>,
+        data: &mut [Complex<Self>],
+        height: usize,
+        width: usize,
+        direction: FftDirection,
+    ) {
+        engine.process_slice_generic(data, height, width, direction);
+    }
+}
+
 /// A reusable 2D FFT engine.
 ///
 /// Holds a [`FftPlanner`] (which caches one plan per length and direction) and the scratch and
@@ -26,19 +78,19 @@ use rustfft::{FftDirection, FftNum, FftPlanner};
 /// fft.inverse_normalized(&mut a);
 /// assert!(a.iter().zip(&original).all(|(p, q)| (p - q).norm() < 1e-9));
 /// ```
-pub struct Fft2<T: FftNum> {
+pub struct Fft2<T: FftFloat> {
     planner: FftPlanner<T>,
     scratch: Vec<Complex<T>>,
     transposed: Vec<Complex<T>>,
 }
 
-impl<T: FftNum> Default for Fft2<T> {
+impl<T: FftFloat> Default for Fft2<T> {
     fn default() -> Self {
         Self::new()
     }
 }
 
-impl<T: FftNum> std::fmt::Debug for Fft2<T> {
+impl<T: FftFloat> std::fmt::Debug for Fft2<T> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Fft2")
             .field("scratch_len", &self.scratch.len())
@@ -47,7 +99,7 @@ impl<T: FftNum> std::fmt::Debug for Fft2<T> {
     }
 }
 
-impl<T: FftNum> Fft2<T> {
+impl<T: FftFloat> Fft2<T> {
     /// A new engine with an empty plan cache.
     #[must_use]
     pub fn new() -> Self {
@@ -92,6 +144,17 @@ impl<T: FftNum> Fft2<T> {
     /// # Panics
     /// If `data.len() != height * width`: that is a caller bug, not an input error.
     pub fn process_slice(
+        &mut self,
+        data: &mut [Complex<T>],
+        height: usize,
+        width: usize,
+        direction: FftDirection,
+    ) {
+        T::process_slice(self, data, height, width, direction);
+    }
+
+    /// The body of [`Fft2::process_slice`], instantiated only by [`FftFloat`]'s impls.
+    fn process_slice_generic(
         &mut self,
         data: &mut [Complex<T>],
         height: usize,
@@ -208,7 +271,7 @@ mod tests {
         s
     }
 
-    fn check<T: FftNum + Into<f64>>(tolerance: f64, to_t: impl Fn(f64) -> T) {
+    fn check<T: FftFloat + Into<f64>>(tolerance: f64, to_t: impl Fn(f64) -> T) {
         let mut fft = Fft2::<T>::new();
         for (seed, (h, w)) in sizes().into_iter().enumerate() {
             let x = random_image(h, w, seed as u32);

@@ -31,7 +31,7 @@ pub mod rpn;
 pub mod welch;
 
 pub use error::SpectrumError;
-pub use fft::{Fft2, centered, signed_frequency};
+pub use fft::{Fft2, FftFloat, centered, signed_frequency};
 pub use periodic::{PeriodicSmooth, interior_laplacian, periodic_laplacian, periodic_smooth};
 pub use rpn::{
     NoiseKind, Rpn, RpnOptions, extended_spot, random_phase_field, rpn, transition, validate_image,
