@@ -1,0 +1,212 @@
+//! Filtering of minified renders: what a pixel that covers more than one model pixel keeps of
+//! each spectral component, defined once (in f64, on the host) for every evaluator.
+//!
+//! A render whose pixels lie `s > 1` model pixels apart ([`Window::footprint`](crate::Window::footprint))
+//! can only represent frequencies below its Nyquist frequency `1/(2s)` per axis; what lies above
+//! aliases. LRP §6 ("Texture filtering") fades such components out (frequency clamping), and
+//! phasor noise §3.3 adjusts its harmonics' weights for the same purpose. Each component (an LRP
+//! cosine, a phasor harmonic, an fBm octave) is multiplied by the amplitude gain
+//! [`component_gain`] of its frequency.
+//!
+//! **Which gain.** The reference a minified render is judged against is the field box-filtered
+//! over the pixel's `s × s` footprint: it attenuates a cosine of frequency `f` by
+//! `sinc(f_x·s)·sinc(f_y·s)` (`sinc(u) = sin(πu)/(πu)`), in band and out of it. The exact box
+//! attenuation alone keeps 41% of the amplitude of a component at the Nyquist frequency and
+//! lets side lobes through above it (they alias); a clamp alone (1 in band, 0 above) removes
+//! the aliases but keeps in-band components at full amplitude where the box attenuates them
+//! (to 0.64 at the Nyquist frequency), so the variance exceeds the reference's. The gain used
+//! is their product, per axis `H(u) = sinc(u)·T(u)` with `u = |f|·s` and `T` a clamp that is 1
+//! up to [`FADE_START`] and falls smoothly (`cos²`) to 0 at [`FADE_END`], across the Nyquist
+//! frequency `u = ½`: in band it is the box's own attenuation (the variance follows the
+//! reference's), nothing beyond `u = 0.55` survives, and the fade keeps the gain continuous in
+//! `s` (no popping as a camera moves). The variance lost against the reference is the box's own
+//! aliased energy (its side lobes above Nyquist) and the fade's share below Nyquist.
+//!
+//! **Where the fade sits** trades the two aliasing targets of issue 16 against each other (energy
+//! above Nyquist ≤ 10% of an unfiltered render's, variance within 5% of the box-filtered
+//! reference's). Predicted from `lrp-gravel`'s cosines and the Gaussian spread below, at a
+//! footprint of 4 (energy ratio, variance error): fade over `[0.3, 0.5]`: 0.043, −10.7% (measured
+//! by the CPU test: 0.042, −11.0%); `[0.4, 0.5]`: 0.061, −5.9%; `[0.45, 0.55]`: 0.073, −3.6%;
+//! `[0.5, 0.7]`: 0.088, −1.4%. A fade that ends at Nyquist loses too much variance; one that
+//! starts at it lets too much alias; `[0.45, 0.55]`, centred on Nyquist, leaves a margin on
+//! both.
+//!
+//! **Components with a spread.** An LRP cosine is windowed (Kaiser–Bessel, width `Δ`): its
+//! energy spreads around `f` with a per-axis standard deviation `σ = c/Δ`
+//! ([`crate::window::window_bandwidth`]). Its energy gain is then the expectation of `H²` over
+//! that spread, modelled as a Gaussian: `E[H(s·(f + σZ))²]` per axis, `Z` standard normal,
+//! computed by Simpson's rule ([`axis_energy_gain`]). A narrow window (`Δ` of a few pixels at a
+//! footprint of 4) spreads most of its energy past the Nyquist frequency and fades out whole.
+//!
+//! The mean is untouched: every faded component has zero mean (random phase); kinds whose
+//! components do not (turbulence's `|noise|`) replace what they fade by its expected value.
+
+/// Where the clamp `T` starts to fall, in cycles per output pixel (`u = |f|·s`). Below it the
+/// gain is exactly the box filter's `sinc(u)`.
+pub const FADE_START: f64 = 0.45;
+
+/// Where the clamp `T` reaches 0, in cycles per output pixel: nothing beyond survives.
+pub const FADE_END: f64 = 0.55;
+
+/// The Nyquist frequency in cycles per output pixel.
+pub const NYQUIST: f64 = 0.5;
+
+/// `sin(πu)/(πu)`, 1 at 0.
+#[must_use]
+pub fn sinc(u: f64) -> f64 {
+    if u.abs() < 1e-9 {
+        1.0
+    } else {
+        let x = std::f64::consts::PI * u;
+        x.sin() / x
+    }
+}
+
+/// The clamp `T(u)`: 1 for `|u| ≤ FADE_START`, `cos²` down to 0 at `|u| = FADE_END`, 0 beyond.
+#[must_use]
+pub fn clamp_taper(u: f64) -> f64 {
+    let u = u.abs();
+    if u <= FADE_START {
+        1.0
+    } else if u >= FADE_END {
+        0.0
+    } else {
+        let t = (u - FADE_START) / (FADE_END - FADE_START);
+        let c = (std::f64::consts::FRAC_PI_2 * t).cos();
+        c * c
+    }
+}
+
+/// The per-axis amplitude response `H(u) = sinc(u)·T(u)` at `u` cycles per output pixel.
+#[must_use]
+pub fn axis_response(u: f64) -> f64 {
+    sinc(u) * clamp_taper(u)
+}
+
+/// Simpson intervals of [`axis_energy_gain`] (even).
+const SIMPSON_INTERVALS: usize = 128;
+
+/// `E[H(s·(f + σZ))²]` for `Z` standard normal: the share of a component's energy along one
+/// axis that a footprint of `s` model pixels keeps, for a component centred on `f` (cycles per
+/// model pixel) whose energy spreads with standard deviation `sigma` (0: a pure cosine).
+///
+/// Computed over `u ∈ [−FADE_END, FADE_END] ∩ [u₀ − 6σ_u, u₀ + 6σ_u]` (`u₀ = f·s`, `σ_u = σ·s`; `H` is 0
+/// outside the first, the Gaussian below 1e-8 outside the second) by Simpson's rule on
+/// [`SIMPSON_INTERVALS`] intervals, whose step is then at most `σ_u/10` and `1/116`: the
+/// quadrature error (the clamp's second derivative jumps at [`FADE_START`]) is below 1e-5.
+#[must_use]
+pub fn axis_energy_gain(f: f64, sigma: f64, s: f64) -> f64 {
+    let (u0, su) = (f * s, sigma * s);
+    if su < 1e-6 {
+        return axis_response(u0).powi(2);
+    }
+    let lo = (-FADE_END).max(u0 - 6.0 * su);
+    let hi = FADE_END.min(u0 + 6.0 * su);
+    if lo >= hi {
+        return 0.0;
+    }
+    let h = (hi - lo) / SIMPSON_INTERVALS as f64;
+    let norm = 1.0 / (su * (2.0 * std::f64::consts::PI).sqrt());
+    let g = |u: f64| {
+        let z = (u - u0) / su;
+        axis_response(u).powi(2) * norm * (-0.5 * z * z).exp()
+    };
+    let mut sum = g(lo) + g(hi);
+    for i in 1..SIMPSON_INTERVALS {
+        let w = if i % 2 == 1 { 4.0 } else { 2.0 };
+        sum += w * g(lo + i as f64 * h);
+    }
+    (sum * h / 3.0).clamp(0.0, 1.0)
+}
+
+/// The amplitude gain of a component of frequency `f = (f_x, f_y)` (cycles per model pixel)
+/// with per-axis spread `sigma` at a footprint of `s` model pixels: the square root of the
+/// product of the two axes' energy gains ([`axis_energy_gain`]). 1 for `s ≤ 1` is not implied:
+/// callers filter only when [`Window::footprint`](crate::Window::footprint) is `Some`.
+#[must_use]
+pub fn component_gain(f: [f64; 2], sigma: f64, s: f64) -> f64 {
+    (axis_energy_gain(f[0], sigma, s) * axis_energy_gain(f[1], sigma, s)).sqrt()
+}
+
+/// The gain of every frequency-table entry of an LRP noise at footprint `side`, per stratum, in
+/// the order of the stratum's concatenated sub-strata tables: [`component_gain`] of the entry's
+/// frequency with the spread of the stratum's window ([`window_bandwidth`](crate::window::window_bandwidth)
+/// over `Δ_S`), rounded to f32. The CPU and GPU evaluators both take their gains from here.
+#[must_use]
+pub fn lrp_gains(model: &crate::LrpNoise, side: f64) -> Vec<Vec<f32>> {
+    let bandwidth = crate::window::window_bandwidth();
+    model
+        .strata
+        .iter()
+        .map(|stratum| {
+            let spread = bandwidth / f64::from(stratum.window_width);
+            stratum
+                .sub_strata
+                .iter()
+                .flatten()
+                .map(|f| component_gain([f64::from(f[0]), f64::from(f[1])], spread, side) as f32)
+                .collect()
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// In band, below the fade, the gain is the box filter's attenuation `sinc(f_x s)·sinc(f_y s)`.
+    #[test]
+    fn pure_cosines_in_band_get_the_box_attenuation() {
+        // Every |f|·s here is at most FADE_START.
+        for (f, s) in [([0.05, 0.0], 4.0), ([0.02, 0.07], 4.0), ([0.1, 0.1], 2.5)] {
+            let want = sinc(f[0] * s) * sinc(f[1] * s);
+            let got = component_gain(f, 0.0, s);
+            assert!((got - want).abs() < 1e-12, "{f:?} at {s}: {got} vs {want}");
+        }
+        // At f = 0.05, s = 4: sin(0.2π)/(0.2π) = 0.935489… (a value of sin, not of this code).
+        assert!((sinc(0.2) - 0.935_489_283_788_639_7).abs() < 1e-12);
+    }
+
+    #[test]
+    fn nothing_survives_past_the_fade() {
+        // FADE_END / 4 = 0.1375 cycles per model pixel at a footprint of 4.
+        for f in [0.1375, 0.14, 0.2, 0.5] {
+            assert_eq!(component_gain([f, 0.0], 0.0, 4.0), 0.0, "f = {f}");
+            assert_eq!(component_gain([0.0, -f], 0.0, 4.0), 0.0, "f = {f}");
+        }
+    }
+
+    /// The gain falls continuously with the footprint (no popping as a camera zooms out).
+    #[test]
+    fn the_gain_is_continuous_and_falls_with_the_footprint() {
+        let mut prev = 1.0;
+        for i in 0..=600 {
+            let s = 1.0 + f64::from(i) * 0.01;
+            let g = component_gain([0.11, 0.04], 0.01, s);
+            assert!(g <= prev + 1e-12, "s = {s}: {g} > {prev}");
+            assert!(prev - g < 0.03, "jump at s = {s}: {prev} → {g}");
+            prev = g;
+        }
+        assert!(prev < 5e-3, "still {prev} at s = 7");
+    }
+
+    /// A spread component's energy gain is the Gaussian average of `H²`: checked against a
+    /// plain Riemann sum over a wide range on a fine grid.
+    #[test]
+    fn spread_gain_matches_a_direct_average() {
+        for (f, sigma, s) in [(0.05, 0.02, 4.0), (0.1, 0.3, 4.0), (0.0, 0.05, 2.0), (0.3, 0.1, 1.5)] {
+            let n = 200_000;
+            let (lo, hi) = (f - 8.0 * sigma, f + 8.0 * sigma);
+            let dx = (hi - lo) / f64::from(n);
+            let mut want = 0.0;
+            for i in 0..n {
+                let v = lo + (f64::from(i) + 0.5) * dx;
+                let z = (v - f) / sigma;
+                want += axis_response(v * s).powi(2) * (-0.5 * z * z).exp() * dx
+                    / (sigma * (2.0 * std::f64::consts::PI).sqrt());
+            }
+            let got = axis_energy_gain(f, sigma, s);
+            assert!((got - want).abs() < 1e-5, "f {f} σ {sigma} s {s}: {got} vs {want}");
+        }
+    }
+}
