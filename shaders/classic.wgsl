@@ -46,7 +46,9 @@ struct ClassicParams {
     fixed_count: u32,
     /// Worley: n − 1 for the largest n with C_n ≠ 0.
     needed: u32,
-    _pad0: u32,
+    /// 1: a minified fBm, octave o weighted by `faded[o]` (0: not evaluated) instead of its
+    /// own weight (spectex_model::filter::classic_weights, computed by the host as the CPU does).
+    filtered: u32,
     _pad1: u32,
     amplitude: f32,
     mean: f32,
@@ -98,7 +100,9 @@ struct ClassicAxis {
 @group(0) @binding(1) var<storage, read> octaves: array<ClassicOctave>;
 @group(0) @binding(2) var<storage, read> columns: array<ClassicAxis>;
 @group(0) @binding(3) var<storage, read> rows: array<ClassicAxis>;
-@group(0) @binding(4) var<storage, read_write> output: array<f32>;
+/// Per octave: its weight in a minified fBm; read only when params.filtered == 1.
+@group(0) @binding(4) var<storage, read> faded: array<f32>;
+@group(0) @binding(5) var<storage, read_write> output: array<f32>;
 
 /// The most rings of cells the Worley search visits (spectex_model::classic::WORLEY_MAX_RING).
 const WORLEY_MAX_RING: i32 = 6;
@@ -454,8 +458,14 @@ fn classic_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     for (var o = 0u; o < params.octaves; o++) {
         let octave = octaves[o];
+        var w = octave.weight;
+        if (params.filtered == 1u) {
+            w = faded[o];
+            if (w == 0.0f) {
+                continue;
+            }
+        }
         let n = basis(columns[o * params.width + gid.x], rows[o * params.height + gid.y], octave, o, d);
-        let w = octave.weight;
         switch params.fractal {
             case 1u: {
                 acc += w * abs(n);

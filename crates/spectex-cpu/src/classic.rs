@@ -11,6 +11,10 @@
 //! of the row give the same bits, and any tiling of a window gives the same bits (a pixel never
 //! depends on its neighbours).
 //!
+//! A minified render of fBm (a window with a [`footprint`](Window::footprint)) weights each
+//! octave by [`spectex_model::filter::classic_weights`] and skips the octaves faded to 0;
+//! turbulence and ridged noise are not filtered (see there).
+//!
 //! Worley noise evaluates the 3×3 (3×3×3) cells around the point in the lanes and keeps the
 //! four smallest distances with a min/max insertion network; a lane whose needed `F_n` exceeds
 //! the distance to the unsearched cells is redone by [`worley_exact`], which searches ring after
@@ -142,6 +146,8 @@ struct WorleyParams {
 /// A classic noise ready to evaluate.
 #[derive(Debug, Clone)]
 pub struct ClassicEvaluator {
+    /// The model, for the octave weights of a footprint.
+    model: ClassicNoise,
     three_d: bool,
     basis: Basis,
     worley: Option<WorleyParams>,
@@ -198,6 +204,7 @@ impl ClassicEvaluator {
             _ => None,
         };
         Self {
+            model: model.clone(),
             three_d: model.dimensions == 3,
             basis: model.basis.clone(),
             worley,
@@ -251,27 +258,42 @@ impl ClassicEvaluator {
         if window.width == 0 {
             return;
         }
+        let weights = self.weights(window);
         for (r, line) in out.chunks_exact_mut(window.width).enumerate() {
-            self.eval_row(window, first + r, line);
+            self.eval_row_weighted(window, first + r, line, weights.as_deref());
         }
+    }
+
+    /// The octave weights of a minified render of fBm
+    /// ([`spectex_model::filter::classic_weights`]), or `None`: the model's own.
+    fn weights(&self, window: &Window) -> Option<Vec<f32>> {
+        window
+            .footprint()
+            .and_then(|side| spectex_model::filter::classic_weights(&self.model, side))
     }
 
     /// Evaluates row `row` of `window` into `out` (`window.width` values).
     pub fn eval_row(&self, window: &Window, row: usize, out: &mut [f32]) {
+        self.eval_row_weighted(window, row, out, self.weights(window).as_deref());
+    }
+
+    /// [`eval_row`](Self::eval_row) with the octave weights of a minified render (`None`:
+    /// unfiltered, the model's weights; an octave of weight 0 is then skipped).
+    fn eval_row_weighted(&self, window: &Window, row: usize, out: &mut [f32], w: Option<&[f32]>) {
         let y = window.y(row);
         let rows: Vec<RowOctave> = self.octaves.iter().map(|o| self.row_octave(o, y)).collect();
         #[cfg(target_arch = "x86_64")]
         match self.simd {
             #[allow(unsafe_code)]
             // SAFETY: `Simd::Avx512` is chosen only when the CPU reports AVX-512F at run time.
-            Simd::Avx512 => unsafe { self.row_avx512(window, &rows, out) },
+            Simd::Avx512 => unsafe { self.row_avx512(window, &rows, out, w) },
             #[allow(unsafe_code)]
             // SAFETY: `Simd::Avx2` is chosen only when the CPU reports AVX2 at run time.
-            Simd::Avx2 => unsafe { self.row_avx2(window, &rows, out) },
-            Simd::Portable => self.row::<LANES>(window, &rows, out),
+            Simd::Avx2 => unsafe { self.row_avx2(window, &rows, out, w) },
+            Simd::Portable => self.row::<LANES>(window, &rows, out, w),
         }
         #[cfg(not(target_arch = "x86_64"))]
-        self.row::<LANES>(window, &rows, out);
+        self.row::<LANES>(window, &rows, out, w);
     }
 
     /// The noise at one position (the same bits as any render).
@@ -298,19 +320,33 @@ impl ClassicEvaluator {
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    fn row_avx2(&self, window: &Window, rows: &[RowOctave], out: &mut [f32]) {
-        self.row::<LANES>(window, rows, out);
+    fn row_avx2(&self, window: &Window, rows: &[RowOctave], out: &mut [f32], w: Option<&[f32]>) {
+        self.row::<LANES>(window, rows, out, w);
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx512f")]
-    fn row_avx512(&self, window: &Window, rows: &[RowOctave], out: &mut [f32]) {
-        self.row::<WIDE_LANES>(window, rows, out);
+    fn row_avx512(
+        &self,
+        window: &Window,
+        rows: &[RowOctave],
+        out: &mut [f32],
+        w: Option<&[f32]>,
+    ) {
+        self.row::<WIDE_LANES>(window, rows, out, w);
     }
 
     /// One row, `L` pixels at a time; `inline(always)` so each SIMD wrapper gets its own copy.
+    /// `weights`: the octave weights of a minified fBm (an octave of weight 0 is skipped), else
+    /// the model's.
     #[inline(always)]
-    fn row<const L: usize>(&self, window: &Window, rows: &[RowOctave], out: &mut [f32]) {
+    fn row<const L: usize>(
+        &self,
+        window: &Window,
+        rows: &[RowOctave],
+        out: &mut [f32],
+        weights: Option<&[f32]>,
+    ) {
         let width = out.len();
         let mut lane_index = [0.0f64; L];
         for (l, v) in lane_index.iter_mut().enumerate() {
@@ -327,8 +363,12 @@ impl ClassicEvaluator {
             let mut acc = [0.0f32; L];
             let mut previous = [0.0f32; L];
             for (o, (oct, ro)) in self.octaves.iter().zip(rows).enumerate() {
+                let w = match weights {
+                    Some(faded) if faded[o] == 0.0 => continue,
+                    Some(faded) => faded[o],
+                    None => oct.weight,
+                };
                 let n = self.basis_lanes::<L>(oct, ro, &x);
-                let w = oct.weight;
                 match self.kind {
                     None | Some(FractalKind::Fbm) => {
                         for l in 0..L {

@@ -33,8 +33,9 @@ wgsl_struct! {
         fixed_count: u32,
         /// Worley: `n − 1` for the largest `n` with `C_n ≠ 0`.
         needed: u32,
+        /// 1: a minified fBm, weighted by the per-tile table of faded octave weights.
+        filtered: u32,
         // Padding: `amplitude` starts the next 16-byte row in the WGSL struct.
-        _pad0: u32,
         _pad1: u32,
         amplitude: f32,
         mean: f32,
@@ -92,6 +93,8 @@ wgsl_struct! {
 /// per tile.
 #[derive(Debug, Clone)]
 pub(crate) struct ClassicKernel {
+    /// The model, for the octave weights of a footprint.
+    model: ClassicNoise,
     params: ClassicParams,
     /// Cell side of each octave, pixels (f64, as the CPU divides by it).
     sides: Vec<f64>,
@@ -191,6 +194,7 @@ fn pack(model: &ClassicNoise, z: f64) -> (ClassicKernel, Vec<ClassicOctave>) {
     }
     (
         ClassicKernel {
+            model: model.clone(),
             params,
             sides,
             skew,
@@ -245,9 +249,15 @@ impl ShaderKernel for ClassicKernel {
         _displacement: Option<&[f32]>,
         _limit: u64,
     ) -> Result<TileTables, GpuError> {
+        // The CPU's weights, from the same function; an unused 0 when unfiltered (a binding
+        // holds at least one element).
+        let faded = tile
+            .footprint()
+            .and_then(|side| spectex_model::filter::classic_weights(&self.model, side));
         let params = ClassicParams {
             width: tile.width as u32,
             height: tile.height as u32,
+            filtered: u32::from(faded.is_some()),
             ..self.params
         };
         Ok(TileTables::new(
@@ -255,6 +265,7 @@ impl ShaderKernel for ClassicKernel {
             vec![
                 Table::new("classic columns", &self.axis(tile.width, columns(tile))),
                 Table::new("classic rows", &self.axis(tile.height, rows(tile))),
+                Table::new("classic faded weights", &faded.unwrap_or_else(|| vec![0.0])),
             ],
         ))
     }

@@ -4,9 +4,12 @@
 //! A render whose pixels lie `s > 1` model pixels apart ([`Window::footprint`](crate::Window::footprint))
 //! can only represent frequencies below its Nyquist frequency `1/(2s)` per axis; what lies above
 //! aliases. LRP §6 ("Texture filtering") fades such components out (frequency clamping), and
-//! phasor noise §3.3 adjusts its harmonics' weights for the same purpose. Each component (an LRP
-//! cosine, a phasor harmonic, an fBm octave) is multiplied by the amplitude gain
-//! [`component_gain`] of its frequency.
+//! phasor noise §3.3 suggests adjusting its harmonics' weights for the same purpose. Each LRP
+//! cosine (the texture's random-phase strata included) is multiplied by the amplitude gain
+//! [`component_gain`] of its frequency ([`lrp_gains`]); each fBm octave by the response at its
+//! RMS frequency ([`classic_weights`]). Not filtered yet: phasor harmonics, turbulence, ridged
+//! and Worley octaves (which need their expected values), the texture's fixed-phase structure
+//! blocks (which need the mipmap of block means of §6), and the other kinds.
 //!
 //! **Which gain.** The reference a minified render is judged against is the field box-filtered
 //! over the pixel's `s × s` footprint: it attenuates a cosine of frequency `f` by
@@ -148,6 +151,75 @@ pub fn lrp_gains(model: &crate::LrpNoise, side: f64) -> Vec<Vec<f32>> {
                 .collect()
         })
         .collect()
+}
+
+/// The per-axis RMS frequency of one octave of `basis`, in cycles per cell (divide by the cell
+/// side for cycles per pixel), from which an octave's fade is found ([`classic_weights`]). Estimated from renders of each basis by
+/// Parseval (`σ² = E[(∂_x n)²]/(4π² Var n)`); the CPU test `octave_spreads_match_the_bases`
+/// checks these against a fresh estimate. A Worley basis with `F₂` or beyond has creases (its
+/// spectrum falls slowly) and takes the `F₂ − F₁` value.
+#[must_use]
+pub fn octave_spread(basis: &crate::classic::Basis) -> f64 {
+    use crate::classic::Basis;
+    match basis {
+        Basis::Gradient => GRADIENT_SPREAD,
+        Basis::Simplex => SIMPLEX_SPREAD,
+        Basis::Value => VALUE_SPREAD,
+        Basis::Worley(w) if w.coefficients[1..].iter().all(|&c| c == 0.0) => WORLEY_F1_SPREAD,
+        Basis::Worley(_) => WORLEY_CREASE_SPREAD,
+    }
+}
+
+/// [`octave_spread`] of gradient noise (measured 0.4164, cell 64, seed 5, 1025×256 pixels).
+pub const GRADIENT_SPREAD: f64 = 0.416;
+/// [`octave_spread`] of simplex noise.
+pub const SIMPLEX_SPREAD: f64 = 0.743;
+/// [`octave_spread`] of value noise.
+pub const VALUE_SPREAD: f64 = 0.270;
+/// [`octave_spread`] of Worley `F₁`.
+pub const WORLEY_F1_SPREAD: f64 = 0.587;
+/// [`octave_spread`] of Worley combinations with `F₂` and beyond.
+pub const WORLEY_CREASE_SPREAD: f64 = 0.860;
+
+/// The octave weights of a minified classic noise at footprint `side`: `gain^o` times the
+/// response `H` ([`axis_response`]) at the octave's RMS radial frequency `√2·σ/c`
+/// ([`octave_spread`] `σ`, cell `c`), rounded to f32; an octave whose weight is 0 is not
+/// evaluated.
+///
+/// `None` (unfiltered) where fading an octave's weight would move the mean: turbulence and
+/// ridged noise, nonlinear in each octave (`|n|`, and ridged's cascade of weights), and Worley
+/// noise, whose distances have a positive mean. Fading those means fading each octave toward
+/// its expected value (`E|n|`, `E[F_n]`, which depend on the basis and are not derived here):
+/// not done yet. Gradient, simplex and value noise have zero mean, so the mean stays right.
+///
+/// Why a single frequency rather than a spread as for LRP cosines: an octave's spectrum is a
+/// band around its RMS frequency, not a Gaussian around 0, and with the Gaussian model a
+/// gradient fBm kept 32% of its unfiltered energy above Nyquist (measured by the CPU test).
+/// Measured on one gradient octave at a footprint of 4 (8× supersampled, box-filtered variance
+/// over point-sampled variance, against `H²` here): cell 8: 0.72 vs 0.76, cell 16: 0.92 vs 0.93,
+/// cell 32: 0.98 vs 0.98; its energy above Nyquist: cell 4: 57%, cell 8: 1.6%, cell 16: 0.01% —
+/// cell 4 (`√2·σ·s/c = 0.59`) is dropped, cell 8 kept.
+#[must_use]
+pub fn classic_weights(model: &crate::ClassicNoise, side: f64) -> Option<Vec<f32>> {
+    use crate::classic::{Basis, FractalKind};
+    if let Some(f) = &model.fractal
+        && !matches!(f.kind, FractalKind::Fbm)
+    {
+        return None;
+    }
+    if matches!(model.basis, Basis::Worley(_)) {
+        return None;
+    }
+    let radial = std::f64::consts::SQRT_2 * octave_spread(&model.basis);
+    Some(
+        (0..model.octaves())
+            .map(|o| {
+                let cell = model.octave_cell(o);
+                let gain = axis_response(radial * side / cell);
+                (f64::from(model.octave_weight(o)) * gain) as f32
+            })
+            .collect(),
+    )
 }
 
 #[cfg(test)]
