@@ -108,7 +108,11 @@ pub(crate) fn render_to_file(
 
 /// The window filter of `--no-filter`.
 pub(crate) fn filter_flag(no_filter: bool) -> Filter {
-    if no_filter { Filter::Off } else { Filter::Pixel }
+    if no_filter {
+        Filter::Off
+    } else {
+        Filter::Pixel
+    }
 }
 
 /// A progress bar on stderr when it is a terminal; hidden (and free) when piped.

@@ -326,13 +326,7 @@ impl ClassicEvaluator {
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx512f")]
-    fn row_avx512(
-        &self,
-        window: &Window,
-        rows: &[RowOctave],
-        out: &mut [f32],
-        w: Option<&[f32]>,
-    ) {
+    fn row_avx512(&self, window: &Window, rows: &[RowOctave], out: &mut [f32], w: Option<&[f32]>) {
         self.row::<WIDE_LANES>(window, rows, out, w);
     }
 

@@ -215,7 +215,10 @@ impl LrpEvaluator {
 
     /// The gains of every table entry at footprint `side` (computed once per footprint).
     fn gains_at(&self, side: f64) -> Arc<StratumGains> {
-        let mut cache = self.gains.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        let mut cache = self
+            .gains
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
         if let Some((bits, gains)) = cache.as_ref()
             && *bits == side.to_bits()
         {

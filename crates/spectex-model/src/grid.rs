@@ -270,7 +270,10 @@ mod tests {
         assert_eq!(w.at([0.0, 0.0], 1.0).footprint(), None);
         assert_eq!(w.at([0.0, 0.0], 0.3).footprint(), None);
         assert_eq!(w.at([0.0, 0.0], 4.0).footprint(), Some(4.0));
-        assert_eq!(w.at([0.0, 0.0], 4.0).filtered(Filter::Off).footprint(), None);
+        assert_eq!(
+            w.at([0.0, 0.0], 4.0).filtered(Filter::Off).footprint(),
+            None
+        );
         let dense = w.at([0.0, 0.0], 0.5).filtered(Filter::Footprint(4.0));
         assert_eq!(dense.footprint(), Some(4.0));
         assert_eq!(dense.tile(1, 1, 2, 2).footprint(), Some(4.0));

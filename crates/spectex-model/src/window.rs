@@ -164,7 +164,10 @@ mod tests {
         let n = 600;
         let h = 2.0 * WINDOW_SUPPORT / n as f64;
         let at = |i: usize, j: usize| {
-            let (x, y) = (-WINDOW_SUPPORT + i as f64 * h, -WINDOW_SUPPORT + j as f64 * h);
+            let (x, y) = (
+                -WINDOW_SUPPORT + i as f64 * h,
+                -WINDOW_SUPPORT + j as f64 * h,
+            );
             kaiser_bessel(x.hypot(y))
         };
         let (mut slope, mut energy) = (0.0, 0.0);
