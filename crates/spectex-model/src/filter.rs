@@ -288,6 +288,56 @@ pub fn classic_weights(model: &crate::ClassicNoise, side: f64) -> Option<Vec<f32
     )
 }
 
+/// Most harmonics of a filtered square profile ([`filtered_square`]): the series is cut there
+/// when a footprint barely above 1 would let more through (`F·s < FADE_END / 64`).
+pub const MAX_SQUARE_HARMONICS: u32 = 64;
+
+/// [`axis_response`] in f32, from the shared `sin_turns`/`cos_turns` (the GPU's twin is
+/// `filter_response` in `shaders/phasor.wgsl`).
+#[must_use]
+pub fn response_f32(v: f32) -> f32 {
+    use crate::math::{cos_turns, sin_turns};
+    let sinc = if v < 1e-6 {
+        1.0
+    } else {
+        sin_turns(0.5 * v) / (std::f32::consts::PI * v)
+    };
+    let taper = if v <= FADE_START as f32 {
+        1.0
+    } else if v >= FADE_END as f32 {
+        0.0
+    } else {
+        let c = cos_turns(0.25 * (v - FADE_START as f32) / (FADE_END - FADE_START) as f32);
+        c * c
+    };
+    sinc * taper
+}
+
+/// A square (PWM) profile of duty `duty` at phase `t` (turns) filtered at `u = F·s` cycles per
+/// output pixel (the local frequency `F` times the footprint `s`): its Fourier series
+/// `d + Σ_k (2/(πk))·sin(πkd)·cos(2πk(t − d/2))` with harmonic `k` (frequency `k·F`) weighted by
+/// [`response_f32`]`(k·u)` — phasor §3.3's harmonics "dynamically adjusted for filtering". The
+/// constant term `d` is the profile's mean, which the fade keeps. A harmonic is taken along one
+/// axis (`H(k·u)`, not `H(k·u·cos θ)·H(k·u·sin θ)`: the direction varies from pixel to pixel),
+/// which fades diagonal stripes slightly early. f32 with the shared `sin_turns`/`cos_turns`;
+/// `square_filtered` in `shaders/phasor.wgsl` is its twin.
+#[must_use]
+pub fn filtered_square(t: f32, duty: f32, u: f32) -> f32 {
+    use crate::math::{cos_turns, sin_turns};
+    let shift = t - 0.5 * duty;
+    let mut sum = duty;
+    for k in 1..=MAX_SQUARE_HARMONICS {
+        let kf = k as f32;
+        let v = kf * u;
+        if !(v < FADE_END as f32) {
+            break;
+        }
+        let c = 2.0 / (std::f32::consts::PI * kf) * sin_turns(0.5 * kf * duty);
+        sum += response_f32(v) * c * cos_turns(kf * shift);
+    }
+    sum
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -346,6 +396,43 @@ mod tests {
             }
             assert!(worst < 1e-4, "σ {sigma} s {s}: {worst}");
         }
+    }
+
+    /// The filtered square against its definition: at `u → 0` with 64 harmonics, the series of
+    /// a 25% duty square (Fejér-free, so within Gibbs' 9% near the edges, exact far from them);
+    /// at `u ≥ 0.55` only the mean; its mean over a period is the duty (the fade keeps it).
+    #[test]
+    fn filtered_square_keeps_the_mean_and_converges() {
+        let d = 0.25f32;
+        // Far from the edges (0 and d) the 64-term series of a square is within 1/(π·64·dist).
+        for (t, want) in [(0.125f32, 1.0f32), (0.6, 0.0), (0.9, 0.0)] {
+            let got = filtered_square(t, d, 1e-4);
+            assert!((got - want).abs() < 0.03, "t {t}: {got} vs {want}");
+        }
+        assert_eq!(filtered_square(0.1, d, 0.6), d);
+        for u in [0.05f32, 0.2, 0.4] {
+            let n = 4000;
+            let mean = (0..n)
+                .map(|i| f64::from(filtered_square((i as f32 + 0.5) / n as f32, d, u)))
+                .sum::<f64>()
+                / f64::from(n);
+            assert!((mean - 0.25).abs() < 1e-5, "u {u}: mean {mean}");
+        }
+        // One harmonic at u = 0.2: d + sinc(0.2)·(2/π)·sin(π/4)·cos(2π(t − d/2)).
+        let t = 0.3f32;
+        let want = 0.25
+            + sinc(0.2)
+                * (2.0 / std::f64::consts::PI)
+                * (std::f64::consts::PI / 4.0).sin()
+                * (std::f64::consts::TAU * (0.3 - 0.125)).cos();
+        // Two harmonics at u = 0.2 (k·u = 0.2, 0.4 < FADE_START); add the second.
+        let want2 = want
+            + sinc(0.4)
+                * (2.0 / (2.0 * std::f64::consts::PI))
+                * (std::f64::consts::PI / 2.0).sin()
+                * (2.0 * std::f64::consts::TAU * (0.3 - 0.125)).cos();
+        let got = f64::from(filtered_square(t, d, 0.2));
+        assert!((got - want2).abs() < 1e-5, "{got} vs {want2}");
     }
 
     /// A spread component's energy gain is the Gaussian average of `H²`: checked against a

@@ -226,3 +226,11 @@ fn fbm_at_scale_4_does_not_alias() {
         .into();
     check("fbm", &model);
 }
+
+/// Phasor noise with a square (PWM) profile: `testdata/models/phasor-pwm-coherent.json`
+/// (F = 0.06 cycles per pixel, duty 0.4 graded): at scale 4 its harmonics from the third on lie
+/// past the output's Nyquist frequency.
+#[test]
+fn phasor_square_at_scale_4_does_not_alias() {
+    check("phasor-pwm", &testdata("phasor-pwm-coherent.json"));
+}
