@@ -209,7 +209,7 @@ impl AxisGainTable {
         if self.spread * self.side < 1e-6 {
             return axis_energy_gain(f, self.spread, self.side);
         }
-        if !(f.abs() < self.reach) {
+        if f.is_nan() || f.abs() >= self.reach {
             return 0.0;
         }
         let x = (f + self.reach) / (2.0 * self.reach) * (TABLE_SAMPLES - 1) as f64;
@@ -329,7 +329,7 @@ pub fn filtered_square(t: f32, duty: f32, u: f32) -> f32 {
     for k in 1..=MAX_SQUARE_HARMONICS {
         let kf = k as f32;
         let v = kf * u;
-        if !(v < FADE_END as f32) {
+        if v.is_nan() || v >= FADE_END as f32 {
             break;
         }
         let c = 2.0 / (std::f32::consts::PI * kf) * sin_turns(0.5 * kf * duty);
