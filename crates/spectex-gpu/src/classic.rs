@@ -33,7 +33,7 @@ wgsl_struct! {
         fixed_count: u32,
         /// Worley: `n − 1` for the largest `n` with `C_n ≠ 0`.
         needed: u32,
-        /// 1: a minified fBm, weighted by the per-tile table of faded octave weights.
+        /// 1: a minified render, each octave taken as the per-tile fade table says.
         filtered: u32,
         // Padding: `amplitude` starts the next 16-byte row in the WGSL struct.
         _pad1: u32,
@@ -249,11 +249,18 @@ impl ShaderKernel for ClassicKernel {
         _displacement: Option<&[f32]>,
         _limit: u64,
     ) -> Result<TileTables, GpuError> {
-        // The CPU's weights, from the same function; an unused 0 when unfiltered (a binding
-        // holds at least one element).
-        let faded = tile
+        // The CPU's (scale, constant) per octave, from the same function; an unused pair when
+        // unfiltered (a binding holds at least one element).
+        let faded: Option<Vec<[f32; 2]>> = tile
             .footprint()
-            .and_then(|side| spectex_model::filter::classic_weights(&self.model, side));
+            .and_then(|side| spectex_model::filter::classic_fade(&self.model, side))
+            .map(|f| {
+                f.scale
+                    .into_iter()
+                    .zip(f.constant)
+                    .map(|(a, c)| [a, c])
+                    .collect()
+            });
         let params = ClassicParams {
             width: tile.width as u32,
             height: tile.height as u32,
@@ -265,7 +272,10 @@ impl ShaderKernel for ClassicKernel {
             vec![
                 Table::new("classic columns", &self.axis(tile.width, columns(tile))),
                 Table::new("classic rows", &self.axis(tile.height, rows(tile))),
-                Table::new("classic faded weights", &faded.unwrap_or_else(|| vec![0.0])),
+                Table::new(
+                    "classic octave fade",
+                    &faded.unwrap_or_else(|| vec![[0.0; 2]]),
+                ),
             ],
         ))
     }

@@ -6,10 +6,12 @@
 //! aliases. LRP §6 ("Texture filtering") fades such components out (frequency clamping), and
 //! phasor noise §3.3 suggests adjusting its harmonics' weights for the same purpose. Each LRP
 //! cosine (the texture's random-phase strata included) is multiplied by the amplitude gain
-//! [`component_gain`] of its frequency ([`lrp_gains`]); each fBm octave by the response at its
-//! RMS frequency ([`classic_weights`]). Not filtered yet: phasor harmonics, turbulence, ridged
-//! and Worley octaves (which need their expected values), the texture's fixed-phase structure
-//! blocks (which need the mipmap of block means of §6), and the other kinds.
+//! [`component_gain`] of its frequency ([`lrp_gains`]); each octave of fBm, turbulence and
+//! ridged noise by the response at its RMS frequency, the nonlinear ones faded toward their
+//! expected value ([`classic_fade`]); a square phasor profile's harmonics likewise
+//! ([`filtered_square`]). Not filtered yet: Worley octaves (which need `E[F_n]`), the other
+//! phasor profiles, the texture's fixed-phase structure blocks (which need the mipmap of block
+//! means of §6), Gabor, wavelet and texton noise.
 //!
 //! **Which gain.** The reference a minified render is judged against is the field box-filtered
 //! over the pixel's `s × s` footprint: it attenuates a cosine of frequency `f` by
@@ -220,7 +222,8 @@ impl AxisGainTable {
 }
 
 /// The per-axis RMS frequency of one octave of `basis`, in cycles per cell (divide by the cell
-/// side for cycles per pixel), from which an octave's fade is found ([`classic_weights`]). Estimated from renders of each basis by
+/// side for cycles per pixel), from which an octave's fade is found ([`classic_fade`]).
+/// Estimated from renders of each basis by
 /// Parseval (`σ² = E[(∂_x n)²]/(4π² Var n)`); the CPU test `octave_spreads_match_the_bases`
 /// checks these against a fresh estimate. A Worley basis with `F₂` or beyond has creases (its
 /// spectrum falls slowly) and takes the `F₂ − F₁` value.
@@ -247,16 +250,52 @@ pub const WORLEY_F1_SPREAD: f64 = 0.587;
 /// [`octave_spread`] of Worley combinations with `F₂` and beyond.
 pub const WORLEY_CREASE_SPREAD: f64 = 0.860;
 
-/// The octave weights of a minified classic noise at footprint `side`: `gain^o` times the
-/// response `H` ([`axis_response`]) at the octave's RMS radial frequency `√2·σ/c`
-/// ([`octave_spread`] `σ`, cell `c`), rounded to f32; an octave whose weight is 0 is not
-/// evaluated.
+/// `[E|n|, E[n²]]` of one octave of a zero-mean basis (gradient, simplex, value; `None` for
+/// Worley): what turbulence and ridged noise fade an octave toward ([`classic_fade`]).
+/// Estimated from renders over 4096 cells; the CPU test `octave_moments_match_the_bases` checks
+/// them against a fresh estimate.
+#[must_use]
+pub fn octave_moments(basis: &crate::classic::Basis) -> Option<[f64; 2]> {
+    use crate::classic::Basis;
+    match basis {
+        Basis::Gradient => Some(GRADIENT_MOMENTS),
+        Basis::Simplex => Some(SIMPLEX_MOMENTS),
+        Basis::Value => Some(VALUE_MOMENTS),
+        Basis::Worley(_) => None,
+    }
+}
+
+/// [`octave_moments`] of gradient noise (measured at cell 8, seed 9, 1024×256 pixels).
+pub const GRADIENT_MOMENTS: [f64; 2] = [0.2027, 0.0627];
+/// [`octave_moments`] of simplex noise.
+pub const SIMPLEX_MOMENTS: [f64; 2] = [0.3820, 0.1985];
+/// [`octave_moments`] of value noise.
+pub const VALUE_MOMENTS: [f64; 2] = [0.3782, 0.2042];
+
+/// How a minified classic noise takes each octave, from [`classic_fade`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct OctaveFade {
+    /// Per octave, what multiplies its term: `gain^o·g` (fBm, turbulence) or `g` (ridged).
+    pub scale: Vec<f32>,
+    /// Per octave, the constant added in its place: `gain^o·(1 − g)·E|n|` (turbulence) or
+    /// `(1 − g)·E[(offset − |n|)²]` (ridged, before the cascade's weight); 0 for fBm.
+    pub constant: Vec<f32>,
+}
+
+/// How a minified classic noise takes each octave at footprint `side`, or `None` (unfiltered)
+/// for Worley noise, whose distances have a positive mean that fading would move (fading them
+/// toward `E[F_n]` is not done). Octave `o` has the gain `g = H(√2·σ·s/c)` ([`axis_response`]
+/// at the octave's RMS radial frequency: [`octave_spread`] `σ`, cell `c`):
 ///
-/// `None` (unfiltered) where fading an octave's weight would move the mean: turbulence and
-/// ridged noise, nonlinear in each octave (`|n|`, and ridged's cascade of weights), and Worley
-/// noise, whose distances have a positive mean. Fading those means fading each octave toward
-/// its expected value (`E|n|`, `E[F_n]`, which depend on the basis and are not derived here):
-/// not done yet. Gradient, simplex and value noise have zero mean, so the mean stays right.
+/// - fBm: weight `gain^o·g`. Zero-mean bases, so the mean stays right.
+/// - Turbulence `Σ gain^o |n_o|` is nonlinear: `|n_o|` has mean `E|n|` ([`octave_moments`]),
+///   which a faded octave must keep, so its term becomes `gain^o·(g·|n_o| + (1 − g)·E|n|)` —
+///   faded toward its expected value.
+/// - Ridged: an octave's signal `(offset − |n_o|)²` becomes `g·(offset − |n_o|)² + (1 − g)·m`,
+///   `m = E[(offset − |n|)²] = offset² − 2·offset·E|n| + E[n²]`, before the cascade's weight
+///   (which then follows the faded signals).
+///
+/// An octave with `scale` 0 is not evaluated (its term is its constant alone).
 ///
 /// Why a single frequency rather than a spread as for LRP cosines: an octave's spectrum is a
 /// band around its RMS frequency, not a Gaussian around 0, and with the Gaussian model a
@@ -266,26 +305,28 @@ pub const WORLEY_CREASE_SPREAD: f64 = 0.860;
 /// cell 32: 0.98 vs 0.98; its energy above Nyquist: cell 4: 57%, cell 8: 1.6%, cell 16: 0.01% —
 /// cell 4 (`√2·σ·s/c = 0.59`) is dropped, cell 8 kept.
 #[must_use]
-pub fn classic_weights(model: &crate::ClassicNoise, side: f64) -> Option<Vec<f32>> {
-    use crate::classic::{Basis, FractalKind};
-    if let Some(f) = &model.fractal
-        && !matches!(f.kind, FractalKind::Fbm)
-    {
-        return None;
-    }
-    if matches!(model.basis, Basis::Worley(_)) {
-        return None;
-    }
+pub fn classic_fade(model: &crate::ClassicNoise, side: f64) -> Option<OctaveFade> {
+    use crate::classic::FractalKind;
+    let [mean_abs, mean_square] = octave_moments(&model.basis)?;
     let radial = std::f64::consts::SQRT_2 * octave_spread(&model.basis);
-    Some(
-        (0..model.octaves())
-            .map(|o| {
-                let cell = model.octave_cell(o);
-                let gain = axis_response(radial * side / cell);
-                (f64::from(model.octave_weight(o)) * gain) as f32
-            })
-            .collect(),
-    )
+    let kind = model.fractal.as_ref().map_or(FractalKind::Fbm, |f| f.kind);
+    let (mut scale, mut constant) = (Vec::new(), Vec::new());
+    for o in 0..model.octaves() {
+        let g = axis_response(radial * side / model.octave_cell(o));
+        let w = f64::from(model.octave_weight(o));
+        let (a, c) = match kind {
+            FractalKind::Fbm => (w * g, 0.0),
+            FractalKind::Turbulence => (w * g, w * (1.0 - g) * mean_abs),
+            FractalKind::Ridged { offset, .. } => {
+                let offset = f64::from(offset);
+                let m = offset * offset - 2.0 * offset * mean_abs + mean_square;
+                (g, (1.0 - g) * m)
+            }
+        };
+        scale.push(a as f32);
+        constant.push(c as f32);
+    }
+    Some(OctaveFade { scale, constant })
 }
 
 /// Most harmonics of a filtered square profile ([`filtered_square`]): the series is cut there
