@@ -9,9 +9,10 @@
 //! [`component_gain`] of its frequency ([`lrp_gains`]); each octave of fBm, turbulence and
 //! ridged noise by the response at its RMS frequency, the nonlinear ones faded toward their
 //! expected value ([`classic_fade`]); a square phasor profile's harmonics likewise
-//! ([`filtered_square`]). Not filtered yet: Worley octaves (which need `E[F_n]`), the other
-//! phasor profiles, the texture's fixed-phase structure blocks (which need the mipmap of block
-//! means of §6), Gabor, wavelet and texton noise.
+//! ([`filtered_square`]); a texture's fixed-phase structure blocks by
+//! [`crate::texture::Structure::eval_filtered`] (their cosines faded, their zero frequencies
+//! read from the mipmap of block means, §6). Not filtered yet: Worley octaves (which need
+//! `E[F_n]`), the other phasor profiles, Gabor, wavelet and texton noise.
 //!
 //! **Which gain.** The reference a minified render is judged against is the field box-filtered
 //! over the pixel's `s × s` footprint: it attenuates a cosine of frequency `f` by
