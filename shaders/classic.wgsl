@@ -46,7 +46,9 @@ struct ClassicParams {
     fixed_count: u32,
     /// Worley: n − 1 for the largest n with C_n ≠ 0.
     needed: u32,
-    _pad0: u32,
+    /// 1: a minified render, octave o taken as `faded[o]` = (scale, constant) says
+    /// (spectex_model::filter::classic_fade, computed by the host as the CPU does).
+    filtered: u32,
     _pad1: u32,
     amplitude: f32,
     mean: f32,
@@ -98,7 +100,9 @@ struct ClassicAxis {
 @group(0) @binding(1) var<storage, read> octaves: array<ClassicOctave>;
 @group(0) @binding(2) var<storage, read> columns: array<ClassicAxis>;
 @group(0) @binding(3) var<storage, read> rows: array<ClassicAxis>;
-@group(0) @binding(4) var<storage, read_write> output: array<f32>;
+/// Per octave: (scale, constant) of a minified render; read only when params.filtered == 1.
+@group(0) @binding(4) var<storage, read> faded: array<vec2<f32>>;
+@group(0) @binding(5) var<storage, read_write> output: array<f32>;
 
 /// The most rings of cells the Worley search visits (spectex_model::classic::WORLEY_MAX_RING).
 const WORLEY_MAX_RING: i32 = 6;
@@ -454,15 +458,44 @@ fn classic_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     for (var o = 0u; o < params.octaves; o++) {
         let octave = octaves[o];
-        let n = basis(columns[o * params.width + gid.x], rows[o * params.height + gid.y], octave, o, d);
         let w = octave.weight;
+        var fade = vec2<f32>(0.0f);
+        if (params.filtered == 1u) {
+            fade = faded[o];
+            if (fade.x == 0.0f) {
+                // Faded out: the basis is not evaluated, its expected term stays.
+                switch params.fractal {
+                    case 1u: {
+                        acc += fade.y;
+                    }
+                    case 2u: {
+                        var s = fade.y;
+                        if (o > 0u) {
+                            s *= min(max(previous * params.weight_gain, 0.0f), 1.0f);
+                        }
+                        previous = s;
+                        acc += w * s;
+                    }
+                    default: {}
+                }
+                continue;
+            }
+        }
+        let n = basis(columns[o * params.width + gid.x], rows[o * params.height + gid.y], octave, o, d);
         switch params.fractal {
             case 1u: {
-                acc += w * abs(n);
+                if (params.filtered == 1u) {
+                    acc += fade.x * abs(n) + fade.y;
+                } else {
+                    acc += w * abs(n);
+                }
             }
             case 2u: {
                 let r = params.ridge_offset - abs(n);
                 var s = r * r;
+                if (params.filtered == 1u) {
+                    s = fade.x * s + fade.y;
+                }
                 if (o > 0u) {
                     s *= min(max(previous * params.weight_gain, 0.0f), 1.0f);
                 }
@@ -470,7 +503,11 @@ fn classic_main(@builtin(global_invocation_id) gid: vec3<u32>) {
                 acc += w * s;
             }
             default: {
-                acc += w * n;
+                if (params.filtered == 1u) {
+                    acc += fade.x * n;
+                } else {
+                    acc += w * n;
+                }
             }
         }
     }

@@ -29,7 +29,8 @@ struct LrpParams {
     seed: u32,
     /// Constant added to the noise.
     mean: f32,
-    _pad0: u32,
+    /// 1: a minified render, each cosine multiplied by its entry's gain in `gains`.
+    filtered: u32,
     _pad1: u32,
     _pad2: u32,
 }
@@ -65,7 +66,11 @@ struct LatticeAxis {
 @group(0) @binding(4) var<storage, read> columns: array<LatticeAxis>;
 /// strata × height entries: index s·height + j.
 @group(0) @binding(5) var<storage, read> rows: array<LatticeAxis>;
-@group(0) @binding(6) var<storage, read_write> output: array<f32>;
+/// Per entry of `frequencies`: its gain in a minified render (LRP §6 frequency clamping; the
+/// host computes it in f64 with spectex_model::filter::lrp_gains, as the CPU does). Read only
+/// when params.filtered == 1.
+@group(0) @binding(6) var<storage, read> gains: array<f32>;
+@group(0) @binding(7) var<storage, read_write> output: array<f32>;
 
 /// An axis entry moved by `d` pixels (domain warping, common.wgsl): offset k = 1 is the pixel's
 /// offset in its lattice cell, so it moves to u = offset + d, the cell by ⌊u/Δ⌋, and the four
@@ -123,10 +128,15 @@ fn lrp_main(@builtin(global_invocation_id) gid: vec3<u32>) {
                 var cosines = 0.0f;
                 for (var j = 0u; j < stratum.cosines; j++) {
                     let table = tables[stratum.table_first + j];
-                    let f = frequencies[table.x + prng_next_u32(&prng) % table.y];
+                    let index = table.x + prng_next_u32(&prng) % table.y;
+                    let f = frequencies[index];
                     let phase = prng_next_f32(&prng);
                     let c = f.y * dy + phase;
-                    cosines += cos_turns(f.x * dx + c);
+                    if (params.filtered == 1u) {
+                        cosines += gains[index] * cos_turns(f.x * dx + c);
+                    } else {
+                        cosines += cos_turns(f.x * dx + c);
+                    }
                 }
                 stratum_sum += w * cosines;
             }

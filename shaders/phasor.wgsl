@@ -51,7 +51,8 @@ struct PhasorParams {
     /// 1 / side of the kernel cells, for warping (the host's box then covers the displaced
     /// pixels' cells).
     inv_side: f32,
-    _pad1: u32,
+    /// 1: a minified render, whose square profiles are filtered at `harmonic_scale[pixel]`.
+    filtered: u32,
 }
 
 /// One column (or row): its cell, the offset in the cell and whether it is in range.
@@ -76,9 +77,51 @@ struct PhasorImpulse {
 @group(0) @binding(3) var<storage, read> impulses: array<PhasorImpulse>;
 /// Per pixel (when `per_pixel` = 1): duty of A, duty of B, blend weight.
 @group(0) @binding(4) var<storage, read> pixel_params: array<f32>;
-@group(0) @binding(5) var<storage, read> columns: array<PhasorAxis>;
-@group(0) @binding(6) var<storage, read> rows: array<PhasorAxis>;
-@group(0) @binding(7) var<storage, read_write> output: array<f32>;
+/// Per pixel (when `filtered` = 1): u = F(p)·s, the local frequency times the footprint.
+@group(0) @binding(5) var<storage, read> harmonic_scale: array<f32>;
+@group(0) @binding(6) var<storage, read> columns: array<PhasorAxis>;
+@group(0) @binding(7) var<storage, read> rows: array<PhasorAxis>;
+@group(0) @binding(8) var<storage, read_write> output: array<f32>;
+
+/// spectex_model::filter's FADE_START, FADE_END and MAX_SQUARE_HARMONICS.
+const FILTER_FADE_START: f32 = 0.45f;
+const FILTER_FADE_END: f32 = 0.55f;
+const MAX_SQUARE_HARMONICS: u32 = 64u;
+const FILTER_PI: f32 = 3.1415927f;
+
+/// spectex_model::filter::response_f32: sinc(v) times the clamp faded over
+/// [FILTER_FADE_START, FILTER_FADE_END].
+fn filter_response(v: f32) -> f32 {
+    var sinc = 1.0f;
+    if (v >= 1e-6f) {
+        sinc = sin_turns(0.5f * v) / (FILTER_PI * v);
+    }
+    var taper = 1.0f;
+    if (v >= FILTER_FADE_END) {
+        taper = 0.0f;
+    } else if (v > FILTER_FADE_START) {
+        let c = cos_turns(0.25f * (v - FILTER_FADE_START) / (FILTER_FADE_END - FILTER_FADE_START));
+        taper = c * c;
+    }
+    return sinc * taper;
+}
+
+/// spectex_model::filter::filtered_square: the square profile's Fourier series, harmonic k
+/// weighted by filter_response(k·u).
+fn square_filtered(t: f32, duty: f32, u: f32) -> f32 {
+    let shift = t - 0.5f * duty;
+    var sum = duty;
+    for (var k = 1u; k <= MAX_SQUARE_HARMONICS; k++) {
+        let kf = f32(k);
+        let v = kf * u;
+        if (!(v < FILTER_FADE_END)) {
+            break;
+        }
+        let c = 2.0f / (FILTER_PI * kf) * sin_turns(0.5f * kf * duty);
+        sum += filter_response(v) * c * cos_turns(kf * shift);
+    }
+    return sum;
+}
 
 /// −ln 20: the Gaussian exponent per squared cell unit (NEG_LN_20).
 const PHASOR_NEG_LN_20: f32 = -2.9957323f;
@@ -94,13 +137,16 @@ fn phase01(re: f32, im: f32) -> f32 {
 }
 
 /// A profile leaf of the phase of (re, im).
-fn leaf(kind: u32, start: u32, len: u32, duty: f32, re: f32, im: f32) -> f32 {
+fn leaf(kind: u32, start: u32, len: u32, duty: f32, re: f32, im: f32, u: f32) -> f32 {
     switch kind {
         case 0u: {
             let i = sqrt(re * re + im * im);
             return select(0.0f, im / i, i > 0.0f);
         }
         case 1u: {
+            if (params.filtered == 1u) {
+                return square_filtered(phase01(re, im), duty, u);
+            }
             return select(0.0f, 1.0f, phase01(re, im) < duty);
         }
         case 2u: {
@@ -205,9 +251,13 @@ fn phasor_main(@builtin(global_invocation_id) gid: vec3<u32>) {
                 duty_b = pixel_params[3u * index + 1u];
                 s = pixel_params[3u * index + 2u];
             }
-            v = leaf(params.a_kind, params.a_start, params.a_len, duty_a, re, im);
+            var u = 0.0f;
+            if (params.filtered == 1u) {
+                u = harmonic_scale[index];
+            }
+            v = leaf(params.a_kind, params.a_start, params.a_len, duty_a, re, im, u);
             if (params.blend == 1u) {
-                let b = leaf(params.b_kind, params.b_start, params.b_len, duty_b, re, im);
+                let b = leaf(params.b_kind, params.b_start, params.b_len, duty_b, re, im, u);
                 v = (1.0f - s) * v + s * b;
             }
         }

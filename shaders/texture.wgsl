@@ -40,6 +40,12 @@ struct TextureParams {
     colour: u32,
     /// spectex_model::texture::PLACEMENT_LAYER (one definition, passed by the host).
     placement_layer: u32,
+    /// 1: a minified render, the structure filtered over `footprint` pixels
+    /// (`Structure::eval_filtered`).
+    filtered: u32,
+    footprint: f32,
+    _pad0: u32,
+    _pad1: u32,
     /// The colour basis' mean (xyz).
     colour_mean: vec4<f32>,
     /// Row i maps the channels to component i (xyz).
@@ -54,7 +60,8 @@ struct ChannelStructure {
     first_block: u32,
     /// 0 when the channel has no structure (n_R = 0).
     present: u32,
-    _pad0: u32,
+    /// Index in `block_means` of this channel's mipmap level 0.
+    first_mean: u32,
     /// Δ_R = T/b, 1/Δ_R and 1/N as the CPU rounds them (1/(2T) when b = 1).
     delta: f32,
     inv_delta: f32,
@@ -78,10 +85,131 @@ const PLACEMENT_BLEND: f32 = 0.125f;
 /// (k_x, k_y, A, φ) of every fixed cosine; k as f32 (exact, |k| ≤ 4096).
 @group(0) @binding(3) var<storage, read> cosines: array<vec4<f32>>;
 /// (channels + 2) planes of width·height values: strata per channel, then displacement x, y.
-@group(0) @binding(4) var<storage, read> values: array<f32>;
-@group(0) @binding(5) var<storage, read> columns: array<PlacementAxis>;
-@group(0) @binding(6) var<storage, read> rows: array<PlacementAxis>;
-@group(0) @binding(7) var<storage, read_write> output: array<f32>;
+/// Every channel's mipmap of block means (`Structure::mean_mipmap`): levels b², (b/2)², …, 1.
+@group(0) @binding(4) var<storage, read> block_means: array<f32>;
+@group(0) @binding(5) var<storage, read> values: array<f32>;
+@group(0) @binding(6) var<storage, read> columns: array<PlacementAxis>;
+@group(0) @binding(7) var<storage, read> rows: array<PlacementAxis>;
+@group(0) @binding(8) var<storage, read_write> output: array<f32>;
+
+/// spectex_model::filter's FADE_START and FADE_END.
+const FILTER_FADE_START: f32 = 0.45f;
+const FILTER_FADE_END: f32 = 0.55f;
+const FILTER_PI: f32 = 3.1415927f;
+
+/// spectex_model::filter::response_f32 (the twin of phasor.wgsl's).
+fn filter_response(v: f32) -> f32 {
+    var sinc = 1.0f;
+    if (v >= 1e-6f) {
+        sinc = sin_turns(0.5f * v) / (FILTER_PI * v);
+    }
+    var taper = 1.0f;
+    if (v >= FILTER_FADE_END) {
+        taper = 0.0f;
+    } else if (v > FILTER_FADE_START) {
+        let c = cos_turns(0.25f * (v - FILTER_FADE_START) / (FILTER_FADE_END - FILTER_FADE_START));
+        taper = c * c;
+    }
+    return sinc * taper;
+}
+
+/// `block_value_filtered`: one block's non-zero cosines, each weighted for footprint `s`.
+fn block_value_filtered(span: vec2<u32>, inv_n: f32, ux: f32, uy: f32, s: f32) -> f32 {
+    var sum = 0.0f;
+    for (var k = span.x; k < span.x + span.y; k++) {
+        let c = cosines[k];
+        if (c.x == 0.0f && c.y == 0.0f) {
+            continue;
+        }
+        let gain = filter_response(abs(c.x) * inv_n * s) * filter_response(abs(c.y) * inv_n * s);
+        if (gain == 0.0f) {
+            continue;
+        }
+        let t = (c.x * ux + c.y * uy) * inv_n + c.w;
+        sum += gain * c.z * cos_turns(t);
+    }
+    return sum;
+}
+
+/// Level `level` of a channel's mipmap of block means at q, cross-faded on its grid
+/// (`eval_filtered`'s `level`).
+fn mean_level(st: ChannelStructure, level: u32, q: vec2<f32>) -> f32 {
+    let b = st.blocks;
+    let side = b >> level;
+    var start = st.first_mean;
+    for (var l = 0u; l < level; l++) {
+        start += (b >> l) * (b >> l);
+    }
+    if (side == 1u) {
+        return block_means[start];
+    }
+    let delta = st.delta * f32(1u << level);
+    let inv_delta = 1.0f / delta;
+    let gx = q.x * inv_delta;
+    let gy = q.y * inv_delta;
+    let fx = floor(gx);
+    let fy = floor(gy);
+    let tx = gx - fx;
+    let ty = gy - fy;
+    let i0 = i32(fx);
+    let j0 = i32(fy);
+    let hx = 0.5f + 0.5f * cos_turns(0.5f * tx);
+    let hy = 0.5f + 0.5f * cos_turns(0.5f * ty);
+    let mask = side - 1u;
+    var sum = 0.0f;
+    for (var dj = 0; dj < 2; dj++) {
+        let wy = select(1.0f - hy, hy, dj == 0);
+        let row = bitcast<u32>(j0 + dj) & mask;
+        for (var di = 0; di < 2; di++) {
+            let wx = select(1.0f - hx, hx, di == 0);
+            let col = bitcast<u32>(i0 + di) & mask;
+            sum += wx * wy * block_means[start + row * side + col];
+        }
+    }
+    return sum;
+}
+
+/// n_R of one channel at q in a minified render of footprint s (`Structure::eval_filtered`).
+fn structure_eval_filtered(st: ChannelStructure, q: vec2<f32>, s: f32) -> f32 {
+    let b = st.blocks;
+    if (b == 1u) {
+        return block_value_filtered(blocks[st.first_block], st.inv_n, q.x, q.y, s)
+            + block_means[st.first_mean];
+    }
+    let gx = q.x * st.inv_delta;
+    let gy = q.y * st.inv_delta;
+    let fx = floor(gx);
+    let fy = floor(gy);
+    let tx = gx - fx;
+    let ty = gy - fy;
+    let i0 = i32(fx);
+    let j0 = i32(fy);
+    let hx = 0.5f + 0.5f * cos_turns(0.5f * tx);
+    let hy = 0.5f + 0.5f * cos_turns(0.5f * ty);
+    let mask = b - 1u;
+    var sum = 0.0f;
+    for (var dj = 0; dj < 2; dj++) {
+        let wy = select(1.0f - hy, hy, dj == 0);
+        let uy = (ty - f32(dj)) * st.delta;
+        let row = bitcast<u32>(j0 + dj) & mask;
+        for (var di = 0; di < 2; di++) {
+            let wx = select(1.0f - hx, hx, di == 0);
+            let ux = (tx - f32(di)) * st.delta;
+            let col = bitcast<u32>(i0 + di) & mask;
+            let span = blocks[st.first_block + row * b + col];
+            sum += wx * wy * block_value_filtered(span, st.inv_n, ux, uy, s);
+        }
+    }
+    let top = countTrailingZeros(b);
+    let lambda = clamp(log2(s * st.inv_delta), 0.0f, f32(top));
+    let low = min(u32(lambda), top);
+    let f = lambda - f32(low);
+    sum += mean_level(st, low, q) * (1.0f - f);
+    if (f > 0.0f) {
+        sum += mean_level(st, low + 1u, q) * f;
+    }
+    return sum;
+}
 
 /// Σ_k A_k cos 2π(k·u·inv_n + φ_k) over one block's cosines, in order (`block_value`).
 fn block_value(span: vec2<u32>, inv_n: f32, ux: f32, uy: f32) -> f32 {
@@ -227,7 +355,11 @@ fn texture_main(@builtin(global_invocation_id) gid: vec3<u32>) {
         var structure = 0.0f;
         if (s.present != 0u) {
             for (var k = 0u; k < count; k++) {
-                structure += weights[k] * structure_eval(s, qs[k]);
+                if (params.filtered == 1u) {
+                    structure += weights[k] * structure_eval_filtered(s, qs[k], params.footprint);
+                } else {
+                    structure += weights[k] * structure_eval(s, qs[k]);
+                }
             }
         }
         v[c] = values[c * n + pixel] + structure;

@@ -270,6 +270,9 @@ pub struct SlicesCommand {
     /// Model pixels per output pixel.
     #[arg(long, default_value_t = 1.0)]
     scale: f64,
+    /// Point-sample minified layers (--scale > 1) instead of filtering them.
+    #[arg(long)]
+    no_filter: bool,
 }
 
 fn parse_range(s: &str) -> Result<[f64; 2], String> {
@@ -298,7 +301,9 @@ pub fn slices(cmd: &SlicesCommand) -> Result<()> {
     }
     let model = read_model(&cmd.model)?;
     let (width, height) = cmd.size;
-    let window = Window::new(width, height).at(cmd.offset.unwrap_or([0.0, 0.0]), cmd.scale);
+    let window = Window::new(width, height)
+        .at(cmd.offset.unwrap_or([0.0, 0.0]), cmd.scale)
+        .filtered(crate::render::filter_flag(cmd.no_filter));
     window
         .validate()
         .map_err(|e| anyhow!("{e}; check --size, --offset and --scale"))?;

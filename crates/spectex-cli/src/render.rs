@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use anyhow::{Result, anyhow};
 use clap::Args;
 use ndarray::Array3;
-use spectex_cpu::{Evaluator, Window};
+use spectex_cpu::{Evaluator, Filter, Window};
 use spectex_model::Model;
 
 use crate::device::{self, Device};
@@ -29,6 +29,10 @@ pub struct RenderArgs {
     /// Model pixels per output pixel (0 < S ≤ 1e6).
     #[arg(long, default_value_t = 1.0)]
     pub(crate) scale: f64,
+    /// Point-sample a minified render (--scale > 1) instead of fading out what its pixels cannot
+    /// resolve (the default: LRP cosines, fBm octaves … above the output's Nyquist frequency).
+    #[arg(long)]
+    pub(crate) no_filter: bool,
     /// Bits per channel of a PNG output.
     #[arg(long, value_enum, default_value = "8")]
     pub(crate) bit_depth: BitDepth,
@@ -74,7 +78,9 @@ pub(crate) fn render_to_file(
 ) -> Result<()> {
     let format = io::check_output(&args.output, args.bit_depth)?;
     let (width, height) = args.size.unwrap_or(default_size);
-    let window = Window::new(width, height).at(args.offset.unwrap_or([0.0, 0.0]), args.scale);
+    let window = Window::new(width, height)
+        .at(args.offset.unwrap_or([0.0, 0.0]), args.scale)
+        .filtered(filter_flag(args.no_filter));
     window
         .validate()
         .map_err(|e| anyhow!("{e}; check --size, --offset and --scale"))?;
@@ -98,6 +104,15 @@ pub(crate) fn render_to_file(
     }
     crate::note_clipping(report);
     Ok(())
+}
+
+/// The window filter of `--no-filter`.
+pub(crate) fn filter_flag(no_filter: bool) -> Filter {
+    if no_filter {
+        Filter::Off
+    } else {
+        Filter::Pixel
+    }
 }
 
 /// A progress bar on stderr when it is a terminal; hidden (and free) when piped.

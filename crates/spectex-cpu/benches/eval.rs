@@ -3,10 +3,14 @@
 //!
 //! Phasor noise in 2D and on a 3D slice (`phasor_eval`).
 //!
+//! Minified LRP (`lrp_minified`): J = 50 at scale 4, filtered (the default, faded cosines
+//! multiplied by their gains, strata faded whole skipped) against point-sampled
+//! (`Filter::Off`), 1 thread: the filtering's cost as a ratio within one run.
+//!
 //! `cargo bench -p spectex-cpu --bench eval`.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use spectex_cpu::{Evaluator, Window};
+use spectex_cpu::{Evaluator, Filter, Window};
 use spectex_model::Model;
 use spectex_model::fixtures::lrp_four_strata;
 use std::hint::black_box;
@@ -72,5 +76,26 @@ fn bench_phasor(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench, bench_phasor);
+/// LRP J = 50 over 4 strata at scale 4, filtered and point-sampled, 1 thread.
+fn bench_minified(c: &mut Criterion) {
+    let side = 256;
+    let window = Window::new(side, side).at([1000.0, 2000.0], 4.0);
+    let mut group = c.benchmark_group("lrp_minified");
+    group.throughput(Throughput::Elements((side * side) as u64));
+    group.sample_size(10);
+    let eval = Evaluator::new(&Model::Lrp(lrp_four_strata(50))).expect("valid model");
+    let single = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("pool");
+    for (name, filter) in [("filtered", Filter::Pixel), ("point_sampled", Filter::Off)] {
+        let w = window.filtered(filter);
+        group.bench_function(format!("J50_scale4_{name}_1_thread"), |b| {
+            b.iter(|| single.install(|| eval.render(black_box(&w))))
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench, bench_phasor, bench_minified);
 criterion_main!(benches);

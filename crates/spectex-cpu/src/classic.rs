@@ -11,6 +11,10 @@
 //! of the row give the same bits, and any tiling of a window gives the same bits (a pixel never
 //! depends on its neighbours).
 //!
+//! A minified render (a window with a [`footprint`](Window::footprint)) fades each octave as
+//! [`spectex_model::filter::classic_fade`] says (turbulence and ridged toward their expected
+//! values) and skips the basis of the octaves faded to 0; Worley noise is not filtered.
+//!
 //! Worley noise evaluates the 3×3 (3×3×3) cells around the point in the lanes and keeps the
 //! four smallest distances with a min/max insertion network; a lane whose needed `F_n` exceeds
 //! the distance to the unsearched cells is redone by [`worley_exact`], which searches ring after
@@ -43,6 +47,7 @@ use spectex_model::classic::{
     SIMPLEX_G3, SIMPLEX2_R2, SIMPLEX2_SCALE, SIMPLEX3_R2, SIMPLEX3_SCALE, WORLEY_MAX_POINTS,
     WORLEY_MAX_RING, fade, gradient_dot, lattice_value,
 };
+use spectex_model::filter::OctaveFade;
 use spectex_model::random::{
     cell_hash, cell_hash_in_row, layer_key, lcg_step, permute, row_key, unit_f32,
 };
@@ -142,6 +147,8 @@ struct WorleyParams {
 /// A classic noise ready to evaluate.
 #[derive(Debug, Clone)]
 pub struct ClassicEvaluator {
+    /// The model, for the octave weights of a footprint.
+    model: ClassicNoise,
     three_d: bool,
     basis: Basis,
     worley: Option<WorleyParams>,
@@ -198,6 +205,7 @@ impl ClassicEvaluator {
             _ => None,
         };
         Self {
+            model: model.clone(),
             three_d: model.dimensions == 3,
             basis: model.basis.clone(),
             worley,
@@ -251,27 +259,42 @@ impl ClassicEvaluator {
         if window.width == 0 {
             return;
         }
+        let fade = self.fade(window);
         for (r, line) in out.chunks_exact_mut(window.width).enumerate() {
-            self.eval_row(window, first + r, line);
+            self.eval_row_faded(window, first + r, line, fade.as_ref());
         }
+    }
+
+    /// How a minified render takes each octave ([`spectex_model::filter::classic_fade`]), or
+    /// `None`: unfiltered.
+    fn fade(&self, window: &Window) -> Option<OctaveFade> {
+        window
+            .footprint()
+            .and_then(|side| spectex_model::filter::classic_fade(&self.model, side))
     }
 
     /// Evaluates row `row` of `window` into `out` (`window.width` values).
     pub fn eval_row(&self, window: &Window, row: usize, out: &mut [f32]) {
+        self.eval_row_faded(window, row, out, self.fade(window).as_ref());
+    }
+
+    /// [`eval_row`](Self::eval_row) with the octave fade of a minified render (`None`:
+    /// unfiltered).
+    fn eval_row_faded(&self, window: &Window, row: usize, out: &mut [f32], w: Option<&OctaveFade>) {
         let y = window.y(row);
         let rows: Vec<RowOctave> = self.octaves.iter().map(|o| self.row_octave(o, y)).collect();
         #[cfg(target_arch = "x86_64")]
         match self.simd {
             #[allow(unsafe_code)]
             // SAFETY: `Simd::Avx512` is chosen only when the CPU reports AVX-512F at run time.
-            Simd::Avx512 => unsafe { self.row_avx512(window, &rows, out) },
+            Simd::Avx512 => unsafe { self.row_avx512(window, &rows, out, w) },
             #[allow(unsafe_code)]
             // SAFETY: `Simd::Avx2` is chosen only when the CPU reports AVX2 at run time.
-            Simd::Avx2 => unsafe { self.row_avx2(window, &rows, out) },
-            Simd::Portable => self.row::<LANES>(window, &rows, out),
+            Simd::Avx2 => unsafe { self.row_avx2(window, &rows, out, w) },
+            Simd::Portable => self.row::<LANES>(window, &rows, out, w),
         }
         #[cfg(not(target_arch = "x86_64"))]
-        self.row::<LANES>(window, &rows, out);
+        self.row::<LANES>(window, &rows, out, w);
     }
 
     /// The noise at one position (the same bits as any render).
@@ -298,19 +321,38 @@ impl ClassicEvaluator {
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    fn row_avx2(&self, window: &Window, rows: &[RowOctave], out: &mut [f32]) {
-        self.row::<LANES>(window, rows, out);
+    fn row_avx2(
+        &self,
+        window: &Window,
+        rows: &[RowOctave],
+        out: &mut [f32],
+        w: Option<&OctaveFade>,
+    ) {
+        self.row::<LANES>(window, rows, out, w);
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx512f")]
-    fn row_avx512(&self, window: &Window, rows: &[RowOctave], out: &mut [f32]) {
-        self.row::<WIDE_LANES>(window, rows, out);
+    fn row_avx512(
+        &self,
+        window: &Window,
+        rows: &[RowOctave],
+        out: &mut [f32],
+        w: Option<&OctaveFade>,
+    ) {
+        self.row::<WIDE_LANES>(window, rows, out, w);
     }
 
     /// One row, `L` pixels at a time; `inline(always)` so each SIMD wrapper gets its own copy.
+    /// `fade`: how a minified render takes each octave (`classic_fade`), else `None`.
     #[inline(always)]
-    fn row<const L: usize>(&self, window: &Window, rows: &[RowOctave], out: &mut [f32]) {
+    fn row<const L: usize>(
+        &self,
+        window: &Window,
+        rows: &[RowOctave],
+        out: &mut [f32],
+        fade: Option<&OctaveFade>,
+    ) {
         let width = out.len();
         let mut lane_index = [0.0f64; L];
         for (l, v) in lane_index.iter_mut().enumerate() {
@@ -327,26 +369,68 @@ impl ClassicEvaluator {
             let mut acc = [0.0f32; L];
             let mut previous = [0.0f32; L];
             for (o, (oct, ro)) in self.octaves.iter().zip(rows).enumerate() {
-                let n = self.basis_lanes::<L>(oct, ro, &x);
                 let w = oct.weight;
-                match self.kind {
-                    None | Some(FractalKind::Fbm) => {
+                // A minified render's (scale, constant) of this octave.
+                let faded = fade.map(|f| (f.scale[o], f.constant[o]));
+                if let Some((scale, constant)) = faded
+                    && scale == 0.0
+                {
+                    // Faded out: the basis is not evaluated, its expected term stays.
+                    match self.kind {
+                        None | Some(FractalKind::Fbm) => {}
+                        Some(FractalKind::Turbulence) => {
+                            for l in 0..L {
+                                acc[l] += constant;
+                            }
+                        }
+                        Some(FractalKind::Ridged { weight_gain, .. }) => {
+                            for l in 0..L {
+                                let mut s = constant;
+                                if o > 0 {
+                                    s *= min(max(previous[l] * weight_gain, 0.0), 1.0);
+                                }
+                                previous[l] = s;
+                                acc[l] += w * s;
+                            }
+                        }
+                    }
+                    continue;
+                }
+                let n = self.basis_lanes::<L>(oct, ro, &x);
+                match (self.kind, faded) {
+                    (None | Some(FractalKind::Fbm), None) => {
                         for l in 0..L {
                             acc[l] += w * n[l];
                         }
                     }
-                    Some(FractalKind::Turbulence) => {
+                    (None | Some(FractalKind::Fbm), Some((scale, _))) => {
+                        for l in 0..L {
+                            acc[l] += scale * n[l];
+                        }
+                    }
+                    (Some(FractalKind::Turbulence), None) => {
                         for l in 0..L {
                             acc[l] += w * n[l].abs();
                         }
                     }
-                    Some(FractalKind::Ridged {
-                        offset,
-                        weight_gain,
-                    }) => {
+                    (Some(FractalKind::Turbulence), Some((scale, constant))) => {
+                        for l in 0..L {
+                            acc[l] += scale * n[l].abs() + constant;
+                        }
+                    }
+                    (
+                        Some(FractalKind::Ridged {
+                            offset,
+                            weight_gain,
+                        }),
+                        faded,
+                    ) => {
                         for l in 0..L {
                             let s = offset - n[l].abs();
                             let mut s = s * s;
+                            if let Some((scale, constant)) = faded {
+                                s = scale * s + constant;
+                            }
                             if o > 0 {
                                 s *= min(max(previous[l] * weight_gain, 0.0), 1.0);
                             }

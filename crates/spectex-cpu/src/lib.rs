@@ -44,7 +44,7 @@ pub use gabor::GaborEvaluator;
 pub use lrp::LrpEvaluator;
 pub use phasor::PhasorEvaluator;
 /// The window type is `spectex-model`'s, shared with the GPU evaluator.
-pub use spectex_model::{MAX_POSITION, MAX_WINDOW_PIXELS, MAX_WINDOW_SIDE, Window};
+pub use spectex_model::{Filter, MAX_POSITION, MAX_WINDOW_PIXELS, MAX_WINDOW_SIDE, Window};
 pub use texture::TextureEvaluator;
 pub use warp::WarpEvaluator;
 pub use wavelet::WaveletEvaluator;

@@ -22,12 +22,22 @@
 //! a window gives the same bits. The draws of a lattice row are made once per band of output
 //! rows ([`LrpEvaluator::eval_rows`]) and the row-constant part of each cosine's argument,
 //! `f_y·dy + φ`, once per output row.
+//!
+//! **Minified renders** (a window with a [`footprint`](Window::footprint)): each table entry's
+//! cosine is multiplied by its gain ([`spectex_model::filter::component_gain`], LRP §6's
+//! frequency clamping with the box filter's attenuation in band), its spread being the window's
+//! bandwidth over `Δ_S`. A stratum whose every gain is 0 is skipped whole (its draws are never
+//! made: nothing of it reaches a pixel). The gains are computed once per footprint and kept. An
+//! unfiltered render runs the loop without the multiplication, so it keeps its bits.
 
 use spectex_model::LrpNoise;
 use spectex_model::random::{Prng, cell_hash};
 
+use std::sync::{Arc, Mutex};
+
 use crate::math::{cos_turns, kaiser_bessel_r2};
 use spectex_model::Window;
+use spectex_model::filter::lrp_gains;
 
 /// Pixels evaluated together.
 const LANES: usize = 8;
@@ -47,12 +57,20 @@ struct PreparedStratum {
     tables: Vec<(u32, u32)>,
 }
 
+/// The gain of every table entry, per stratum, at one footprint (`None` for a stratum whose
+/// gains are all 0: it is skipped).
+type StratumGains = Vec<Option<Vec<f32>>>;
+
 /// A validated LRP model, prepared for evaluation.
 pub struct LrpEvaluator {
+    /// The model, for the gains of a footprint.
+    model: LrpNoise,
     seed: u32,
     mean: f32,
     strata: Vec<PreparedStratum>,
     simd: Simd,
+    /// The gains of the last footprint rendered (its bits), shared by the bands of a render.
+    gains: Mutex<Option<(u64, Arc<StratumGains>)>>,
 }
 
 /// The instruction set a row is evaluated with. Every level runs the same per-lane arithmetic
@@ -87,10 +105,12 @@ impl Simd {
 /// The random draws of one lattice row of one stratum, for the lattice columns a window needs.
 struct LatticeRow {
     cy: i64,
-    /// Per lattice point, per cosine: frequency x, frequency y, phase (turns).
+    /// Per lattice point, per cosine: frequency x, frequency y, phase (turns), and the gain of
+    /// a minified render (empty when unfiltered).
     fx: Vec<f32>,
     fy: Vec<f32>,
     phase: Vec<f32>,
+    gain: Vec<f32>,
 }
 
 /// The lattice rows of one stratum that the current output row needs, kept from row to row while
@@ -119,7 +139,7 @@ impl StratumLattice {
     }
 
     /// Holds exactly the lattice rows whose support may reach row `y`, drawing the missing ones.
-    fn update(&mut self, s: &PreparedStratum, seed: u32, y: f64) {
+    fn update(&mut self, s: &PreparedStratum, seed: u32, y: f64, gains: Option<&[f32]>) {
         let cy0 = ((y * s.inv_delta) - 1.5).floor() as i64;
         let cy1 = ((y * s.inv_delta) + 1.5).ceil() as i64;
         self.rows.retain(|r| (cy0..=cy1).contains(&r.cy));
@@ -133,6 +153,7 @@ impl StratumLattice {
                 fx: Vec::with_capacity(n),
                 fy: Vec::with_capacity(n),
                 phase: Vec::with_capacity(n),
+                gain: Vec::with_capacity(if gains.is_some() { n } else { 0 }),
             };
             for cx in self.cx0..self.cx0 + self.cols as i64 {
                 let mut prng = Prng::new(cell_hash(cx as i32, cy as i32, s.layer, seed));
@@ -141,6 +162,9 @@ impl StratumLattice {
                     row.fx.push(s.table_x[k]);
                     row.fy.push(s.table_y[k]);
                     row.phase.push(prng.next_f32());
+                    if let Some(g) = gains {
+                        row.gain.push(g[k]);
+                    }
                 }
             }
             self.rows.push(row);
@@ -180,11 +204,33 @@ impl LrpEvaluator {
             })
             .collect();
         Self {
+            model: model.clone(),
             seed: model.seed,
             mean: model.mean,
             strata,
             simd: Simd::detect(),
+            gains: Mutex::new(None),
         }
+    }
+
+    /// The gains of every table entry at footprint `side` (computed once per footprint).
+    fn gains_at(&self, side: f64) -> Arc<StratumGains> {
+        let mut cache = self
+            .gains
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        if let Some((bits, gains)) = cache.as_ref()
+            && *bits == side.to_bits()
+        {
+            return Arc::clone(gains);
+        }
+        let gains: StratumGains = lrp_gains(&self.model, side)
+            .into_iter()
+            .map(|g| g.iter().any(|&v| v > 0.0).then_some(g))
+            .collect();
+        let gains = Arc::new(gains);
+        *cache = Some((side.to_bits(), Arc::clone(&gains)));
+        gains
     }
 
     /// Cosine evaluations per pixel, counted as the paper does: `9·Σ_S J_S`.
@@ -224,23 +270,47 @@ impl LrpEvaluator {
     /// rows of `window.width` values). The lattice draws are shared between the rows; the values
     /// are the same bits as row by row.
     pub fn eval_rows(&self, window: &Window, first: usize, out: &mut [f32]) {
+        let gains = window.footprint().map(|side| self.gains_at(side));
+        self.eval_rows_with(window, first, out, gains.as_deref().map(Vec::as_slice));
+    }
+
+    /// [`eval_rows`](Self::eval_rows) with the gains of the window's footprint (`None`:
+    /// unfiltered).
+    fn eval_rows_with(
+        &self,
+        window: &Window,
+        first: usize,
+        out: &mut [f32],
+        gains: Option<&[Option<Vec<f32>>]>,
+    ) {
         let width = window.width;
         if width == 0 {
             return;
         }
+        // The strata evaluated: all, or those a minified render keeps, with their gains.
+        let active: Vec<(&PreparedStratum, Option<&[f32]>)> = match gains {
+            None => self.strata.iter().map(|s| (s, None)).collect(),
+            Some(g) => self
+                .strata
+                .iter()
+                .zip(g)
+                .filter_map(|(s, g)| g.as_deref().map(|g| (s, Some(g))))
+                .collect(),
+        };
         let (x_first, x_last) = (window.x(0), window.x(width - 1));
         let (x_min, x_max) = (x_first.min(x_last), x_first.max(x_last));
-        let mut lattices: Vec<StratumLattice> = self
-            .strata
+        let mut lattices: Vec<StratumLattice> = active
             .iter()
-            .map(|s| StratumLattice::new(s, x_min, x_max))
+            .map(|(s, _)| StratumLattice::new(s, x_min, x_max))
             .collect();
         // A minified row: each pixel alone (`crate::is_minified`).
         if lattices
             .iter()
             .any(|l| crate::is_minified(l.cols as u64, 0, width))
         {
-            crate::eval_pixel_by_pixel(window, first, out, |w, f, o| self.eval_rows(w, f, o));
+            crate::eval_pixel_by_pixel(window, first, out, |w, f, o| {
+                self.eval_rows_with(w, f, o, gains);
+            });
             return;
         }
         // One stratum's row, padded so that a full group of lanes may be written past its end.
@@ -249,27 +319,45 @@ impl LrpEvaluator {
         for (r, line) in out.chunks_exact_mut(width).enumerate() {
             let y = window.y(first + r);
             line.fill(0.0);
-            for (s, lattice) in self.strata.iter().zip(&mut lattices) {
-                lattice.update(s, self.seed, y);
+            for (&(s, g), lattice) in active.iter().zip(&mut lattices) {
+                lattice.update(s, self.seed, y, g);
                 sum.fill(0.0);
+                let filtered = g.is_some();
                 #[cfg(target_arch = "x86_64")]
-                match self.simd {
+                match (self.simd, filtered) {
                     #[allow(unsafe_code)]
                     // SAFETY: `Simd::Avx512` is chosen only when the CPU reports AVX-512F.
-                    Simd::Avx512 => unsafe {
-                        stratum_row_avx512(s, lattice, window, y, &mut sum, &mut offsets)
+                    (Simd::Avx512, false) => unsafe {
+                        stratum_row_avx512::<false>(s, lattice, window, y, &mut sum, &mut offsets)
+                    },
+                    #[allow(unsafe_code)]
+                    // SAFETY: as above.
+                    (Simd::Avx512, true) => unsafe {
+                        stratum_row_avx512::<true>(s, lattice, window, y, &mut sum, &mut offsets)
                     },
                     #[allow(unsafe_code)]
                     // SAFETY: `Simd::Avx2` is chosen only when the CPU reports AVX2 at run time.
-                    Simd::Avx2 => unsafe {
-                        stratum_row_avx2(s, lattice, window, y, &mut sum, &mut offsets)
+                    (Simd::Avx2, false) => unsafe {
+                        stratum_row_avx2::<false>(s, lattice, window, y, &mut sum, &mut offsets)
                     },
-                    Simd::Portable => {
-                        stratum_row::<LANES>(s, lattice, window, y, &mut sum, &mut offsets)
+                    #[allow(unsafe_code)]
+                    // SAFETY: as above.
+                    (Simd::Avx2, true) => unsafe {
+                        stratum_row_avx2::<true>(s, lattice, window, y, &mut sum, &mut offsets)
+                    },
+                    (Simd::Portable, false) => {
+                        stratum_row::<LANES, false>(s, lattice, window, y, &mut sum, &mut offsets);
+                    }
+                    (Simd::Portable, true) => {
+                        stratum_row::<LANES, true>(s, lattice, window, y, &mut sum, &mut offsets);
                     }
                 }
                 #[cfg(not(target_arch = "x86_64"))]
-                stratum_row::<LANES>(s, lattice, window, y, &mut sum, &mut offsets);
+                if filtered {
+                    stratum_row::<LANES, true>(s, lattice, window, y, &mut sum, &mut offsets);
+                } else {
+                    stratum_row::<LANES, false>(s, lattice, window, y, &mut sum, &mut offsets);
+                }
                 for (o, a) in line.iter_mut().zip(&sum) {
                     *o += s.amplitude * a;
                 }
@@ -292,7 +380,7 @@ impl LrpEvaluator {
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-fn stratum_row_avx2(
+fn stratum_row_avx2<const FILTERED: bool>(
     s: &PreparedStratum,
     lattice: &StratumLattice,
     window: &Window,
@@ -300,12 +388,12 @@ fn stratum_row_avx2(
     sum: &mut [f32],
     offsets: &mut Vec<f32>,
 ) {
-    stratum_row::<LANES>(s, lattice, window, y, sum, offsets);
+    stratum_row::<LANES, FILTERED>(s, lattice, window, y, sum, offsets);
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f")]
-fn stratum_row_avx512(
+fn stratum_row_avx512<const FILTERED: bool>(
     s: &PreparedStratum,
     lattice: &StratumLattice,
     window: &Window,
@@ -313,7 +401,7 @@ fn stratum_row_avx512(
     sum: &mut [f32],
     offsets: &mut Vec<f32>,
 ) {
-    stratum_row::<WIDE_LANES>(s, lattice, window, y, sum, offsets);
+    stratum_row::<WIDE_LANES, FILTERED>(s, lattice, window, y, sum, offsets);
 }
 
 /// Adds one stratum's windowed cosine sums along row `y` to `sum` (the window's width plus at
@@ -324,9 +412,10 @@ fn stratum_row_avx512(
 /// that share a group get an exact `+0` (the window is exactly 0 there), so every pixel sums the
 /// same non-zero terms in the same order whatever group it falls in: any tiling of a window, and
 /// any lane count, gives the same bits. `inline(always)` so that each SIMD wrapper compiles its
-/// own copy; the arithmetic is the same in all.
+/// own copy; the arithmetic is the same in all. `FILTERED`: each cosine is multiplied by its
+/// gain (a minified render); without it the loop is exactly the unfiltered one.
 #[inline(always)]
-fn stratum_row<const L: usize>(
+fn stratum_row<const L: usize, const FILTERED: bool>(
     s: &PreparedStratum,
     lattice: &StratumLattice,
     window: &Window,
@@ -372,9 +461,18 @@ fn stratum_row<const L: usize>(
                     w[lane] = kaiser_bessel_r2(r2[lane]);
                 }
                 let mut acc = [0.0f32; L];
-                for (&fx, &c) in fxs.iter().zip(cs) {
-                    for lane in 0..L {
-                        acc[lane] += cos_turns(fx * dx[lane] + c);
+                if FILTERED {
+                    let gs = &row.gain[base..base + j];
+                    for ((&fx, &c), &g) in fxs.iter().zip(cs).zip(gs) {
+                        for lane in 0..L {
+                            acc[lane] += g * cos_turns(fx * dx[lane] + c);
+                        }
+                    }
+                } else {
+                    for (&fx, &c) in fxs.iter().zip(cs) {
+                        for lane in 0..L {
+                            acc[lane] += cos_turns(fx * dx[lane] + c);
+                        }
                     }
                 }
                 let out = &mut sum[start..start + L];

@@ -144,6 +144,7 @@ impl PhasorEvaluator {
         } else {
             Some((0, 0.0))
         };
+        let footprint = window.footprint();
         let mut rows = Vec::new();
         for (r, line) in out.chunks_exact_mut(width).enumerate() {
             let y = window.y(first + r);
@@ -161,7 +162,7 @@ impl PhasorEvaluator {
                     continue;
                 };
                 let (re, im) = sum_at(&rows, ci, cj, ck, [ux, uy, uz]);
-                *v = self.output(re, im, [x, y, self.z]);
+                *v = self.output(re, im, [x, y, self.z], footprint);
             }
         }
     }
@@ -175,12 +176,17 @@ impl PhasorEvaluator {
         out[0]
     }
 
-    fn output(&self, re: f32, im: f32, p: [f64; 3]) -> f32 {
+    /// The written value at `p`; `footprint`: a minified render's, which filters the square
+    /// profile's harmonics at `u = F(p)·s` ([`spectex_model::filter::filtered_square`]).
+    fn output(&self, re: f32, im: f32, p: [f64; 3], footprint: Option<f64>) -> f32 {
         let v = match self.model.output {
             PhasorOutput::Intensity => (re * re + im * im).sqrt(),
             PhasorOutput::Gabor => im,
             PhasorOutput::Phase => atan2_turns(im, re),
-            PhasorOutput::Profiled => profile(&self.model.profile, re, im, p),
+            PhasorOutput::Profiled => {
+                let u = footprint.map(|s| (self.model.frequency.at(p[0], p[1], p[2]) * s) as f32);
+                profile(&self.model.profile, re, im, p, u)
+            }
         };
         self.model.mean + self.model.amplitude * v
     }
@@ -225,8 +231,9 @@ fn phase01(re: f32, im: f32) -> f32 {
 }
 
 /// The profile of the phase at position `p`. The phase is only computed by the profiles that
-/// read it (the sine is `im / I` directly).
-fn profile(shape: &Profile, re: f32, im: f32, p: [f64; 3]) -> f32 {
+/// read it (the sine is `im / I` directly). `u`: the local frequency times the footprint of a
+/// minified render, which filters a square profile; the other profiles are not filtered yet.
+fn profile(shape: &Profile, re: f32, im: f32, p: [f64; 3], u: Option<f32>) -> f32 {
     match shape {
         Profile::Sine => {
             let i = (re * re + im * im).sqrt();
@@ -234,7 +241,11 @@ fn profile(shape: &Profile, re: f32, im: f32, p: [f64; 3]) -> f32 {
         }
         Profile::Square { duty } => {
             let d = duty.at(p[0], p[1], p[2]).clamp(0.0, 1.0) as f32;
-            if phase01(re, im) < d { 1.0 } else { 0.0 }
+            match u {
+                Some(u) => spectex_model::filter::filtered_square(phase01(re, im), d, u),
+                None if phase01(re, im) < d => 1.0,
+                None => 0.0,
+            }
         }
         Profile::Triangle => {
             let mut s = phase01(re, im) + 0.25;
@@ -263,7 +274,7 @@ fn profile(shape: &Profile, re: f32, im: f32, p: [f64; 3]) -> f32 {
         }
         Profile::Blend { a, b, weight } => {
             let s = weight.at(p[0], p[1], p[2]).clamp(0.0, 1.0) as f32;
-            (1.0 - s) * profile(a, re, im, p) + s * profile(b, re, im, p)
+            (1.0 - s) * profile(a, re, im, p, u) + s * profile(b, re, im, p, u)
         }
     }
 }

@@ -3,6 +3,11 @@
 //! can be taken), then per pixel the placement taps and the structure of
 //! [`spectex_model::texture`], and the colour basis. Output is interleaved: `channels` values per
 //! pixel.
+//!
+//! A minified render (a window with a [`footprint`](Window::footprint)) filters the strata and
+//! the turbulence through the LRP evaluator and the structure by
+//! [`spectex_model::texture::Structure::eval_filtered`] (its cosines faded, its zero
+//! frequencies from the mipmap of block means, LRP §6).
 
 use spectex_model::grid::locate_cell;
 use spectex_model::{LrpNoise, TextureModel, Window};
@@ -16,6 +21,8 @@ pub struct TextureEvaluator {
     strata: Vec<Option<LrpEvaluator>>,
     /// Turbulence strata per axis.
     turbulence: [Vec<LrpEvaluator>; 2],
+    /// Each channel's mipmap of block means (empty without a structure).
+    mipmaps: Vec<Vec<f32>>,
 }
 
 impl TextureEvaluator {
@@ -50,10 +57,20 @@ impl TextureEvaluator {
                     .collect()
             })
         });
+        let mipmaps = model
+            .channels
+            .iter()
+            .map(|ch| {
+                ch.structure
+                    .as_ref()
+                    .map_or_else(Vec::new, spectex_model::texture::Structure::mean_mipmap)
+            })
+            .collect();
         Self {
             model: model.clone(),
             strata,
             turbulence,
+            mipmaps,
         }
     }
 
@@ -110,6 +127,7 @@ impl TextureEvaluator {
         let xs: Vec<(i32, f32)> = (0..w)
             .map(|i| locate_cell(window.x(i), p).unwrap_or((0, 0.0)))
             .collect();
+        let footprint = window.footprint().map(|s| s as f32);
         let mut v = [0.0f32; 3];
         for r in 0..rows {
             let (cy, sy) = locate_cell(window.y(first + r), p).unwrap_or((0, 0.0));
@@ -119,7 +137,13 @@ impl TextureEvaluator {
                     .model
                     .placement(cx, sx, cy, sy, [disp[0][k], disp[1][k]]);
                 for c in 0..nc {
-                    v[c] = strata[c][k] + self.model.structure_at(c, &taps);
+                    let structure = match footprint {
+                        Some(s) => self
+                            .model
+                            .structure_at_filtered(c, &taps, s, &self.mipmaps[c]),
+                        None => self.model.structure_at(c, &taps),
+                    };
+                    v[c] = strata[c][k] + structure;
                 }
                 for c in 0..nc {
                     out[k * nc + c] = self.model.colour_component(c, &v[..nc]);

@@ -2,6 +2,9 @@
 //! the window's rows like any model, then the base is evaluated pixel by pixel at the displaced
 //! position `window position (f64) + displacement (f32)`, summed in f64.
 //!
+//! A minified render filters the displacement fields (rendered on the window) but not the base,
+//! which is point-sampled at the displaced positions.
+//!
 //! The base is evaluated at each displaced position through a one-pixel window
 //! ([`Evaluator::eval_point`]): every evaluator gives a pixel the same bits whatever window holds
 //! it (tiles are invisible), so this works for every model kind — nested warps included — and a

@@ -81,7 +81,7 @@ pub fn check_model_at_z(
         for (cpu, gpu) in &pairs {
             renders.push((cpu.render(&window)?, gpu.render(&window)?));
         }
-        let own_verdict = kind.own_verdict(&renders);
+        let own_verdict = kind.own_verdict(&renders, window.footprint());
         let (a, b) = &renders[0];
         for (c, &tolerance) in tolerances.iter().enumerate() {
             let (comparison, name) = if channels == 1 {

@@ -50,9 +50,10 @@ impl std::fmt::Display for CaseWindow {
     }
 }
 
-/// The three windows of every case: at the origin, at `(10⁷, 10⁷)` (invariant 2 of
-/// `docs/ARCHITECTURE.md`), and at a fractional scale and offset; 128² each, which keeps
-/// lavapipe fast and leaves Welch 9 blocks of 64².
+/// The four windows of every case: at the origin, at `(10⁷, 10⁷)` (invariant 2 of
+/// `docs/ARCHITECTURE.md`), at a fractional scale and offset, and minified at scale 4, where
+/// both evaluators filter (`spectex_model::filter`: the kinds that fade components do it on
+/// both); 128² each, which keeps lavapipe fast and leaves Welch 9 blocks of 64².
 #[must_use]
 pub fn standard_windows() -> Vec<CaseWindow> {
     vec![
@@ -76,6 +77,13 @@ pub fn standard_windows() -> Vec<CaseWindow> {
             height: 128,
             offset: [-37.25, 11.5],
             scale: 0.37,
+        },
+        CaseWindow {
+            name: "minified",
+            width: 128,
+            height: 128,
+            offset: [5.5, -13.25],
+            scale: 4.0,
         },
     ]
 }

@@ -33,8 +33,9 @@ wgsl_struct! {
         fixed_count: u32,
         /// Worley: `n − 1` for the largest `n` with `C_n ≠ 0`.
         needed: u32,
+        /// 1: a minified render, each octave taken as the per-tile fade table says.
+        filtered: u32,
         // Padding: `amplitude` starts the next 16-byte row in the WGSL struct.
-        _pad0: u32,
         _pad1: u32,
         amplitude: f32,
         mean: f32,
@@ -92,6 +93,8 @@ wgsl_struct! {
 /// per tile.
 #[derive(Debug, Clone)]
 pub(crate) struct ClassicKernel {
+    /// The model, for the octave weights of a footprint.
+    model: ClassicNoise,
     params: ClassicParams,
     /// Cell side of each octave, pixels (f64, as the CPU divides by it).
     sides: Vec<f64>,
@@ -191,6 +194,7 @@ fn pack(model: &ClassicNoise, z: f64) -> (ClassicKernel, Vec<ClassicOctave>) {
     }
     (
         ClassicKernel {
+            model: model.clone(),
             params,
             sides,
             skew,
@@ -245,9 +249,22 @@ impl ShaderKernel for ClassicKernel {
         _displacement: Option<&[f32]>,
         _limit: u64,
     ) -> Result<TileTables, GpuError> {
+        // The CPU's (scale, constant) per octave, from the same function; an unused pair when
+        // unfiltered (a binding holds at least one element).
+        let faded: Option<Vec<[f32; 2]>> = tile
+            .footprint()
+            .and_then(|side| spectex_model::filter::classic_fade(&self.model, side))
+            .map(|f| {
+                f.scale
+                    .into_iter()
+                    .zip(f.constant)
+                    .map(|(a, c)| [a, c])
+                    .collect()
+            });
         let params = ClassicParams {
             width: tile.width as u32,
             height: tile.height as u32,
+            filtered: u32::from(faded.is_some()),
             ..self.params
         };
         Ok(TileTables::new(
@@ -255,6 +272,10 @@ impl ShaderKernel for ClassicKernel {
             vec![
                 Table::new("classic columns", &self.axis(tile.width, columns(tile))),
                 Table::new("classic rows", &self.axis(tile.height, rows(tile))),
+                Table::new(
+                    "classic octave fade",
+                    &faded.unwrap_or_else(|| vec![[0.0; 2]]),
+                ),
             ],
         ))
     }

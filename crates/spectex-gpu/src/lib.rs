@@ -94,6 +94,8 @@ pub use evaluator::{DEFAULT_MAX_TILE, GpuEvaluator};
 pub use shaders::{SHADERS, wgsl_source};
 /// The window type is `spectex-model`'s, shared with the CPU evaluator (so both map pixels to
 /// positions by one expression); `GpuWindow` is its name here.
-pub use spectex_model::{MAX_POSITION, MAX_WINDOW_PIXELS, MAX_WINDOW_SIDE, Window as GpuWindow};
+pub use spectex_model::{
+    Filter, MAX_POSITION, MAX_WINDOW_PIXELS, MAX_WINDOW_SIDE, Window as GpuWindow,
+};
 /// The wgpu version this crate is built on, for callers using [`GpuContext::device`].
 pub use wgpu;

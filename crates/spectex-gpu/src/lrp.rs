@@ -19,8 +19,9 @@ wgsl_struct! {
         strata: u32,
         seed: u32,
         mean: f32,
+        /// 1: a minified render, each cosine multiplied by its entry's gain.
+        filtered: u32,
         // Padding to a whole 16-byte uniform row, as the WGSL struct has it.
-        _pad0: u32,
         _pad1: u32,
         _pad2: u32,
     }
@@ -53,6 +54,8 @@ wgsl_struct! {
 /// What an LRP noise needs per tile once its tables are on the device.
 #[derive(Debug, Clone)]
 pub(crate) struct LrpKernel {
+    /// The model, for the gains of a footprint.
+    model: LrpNoise,
     seed: u32,
     mean: f32,
     /// `Δ_s` in f64 (from the model's f32), per stratum.
@@ -128,6 +131,7 @@ impl GpuKind for LrpNoise {
             });
         }
         let kernel = LrpKernel {
+            model: self.clone(),
             seed: self.seed,
             mean: self.mean,
             deltas: self
@@ -168,7 +172,17 @@ impl ShaderKernel for LrpKernel {
             strata: self.deltas.len() as u32,
             seed: self.seed,
             mean: self.mean,
+            filtered: u32::from(tile.footprint().is_some()),
             ..bytemuck::Zeroable::zeroed()
+        };
+        // Every table entry's gain, in the order of the frequencies (the CPU's, from the same
+        // function); an unused 1 when unfiltered (a binding holds at least one element).
+        let gains: Vec<f32> = match tile.footprint() {
+            Some(side) => spectex_model::filter::lrp_gains(&self.model, side)
+                .into_iter()
+                .flatten()
+                .collect(),
+            None => vec![1.0],
         };
         Ok(TileTables::new(
             &params,
@@ -181,6 +195,7 @@ impl ShaderKernel for LrpKernel {
                     "lrp rows",
                     &lattice_axis(&self.deltas, tile.height, rows(tile)),
                 ),
+                Table::new("lrp gains", &gains),
             ],
         ))
     }

@@ -50,8 +50,9 @@ wgsl_struct! {
         weight: f32,
         /// `1/side` of the kernel cells, for warping.
         inv_side: f32,
-        // Padding, as the WGSL struct has it (the struct is 26 words; naga lays it out so).
-        _pad1: u32,
+        /// 1: a minified render, whose square profiles are filtered at the per-pixel `u` of
+        /// the harmonic-scale table.
+        filtered: u32,
     }
 }
 
@@ -85,6 +86,8 @@ pub(crate) struct PhasorKernel {
     duty_b: Option<Field>,
     weight: Option<Field>,
     per_pixel: bool,
+    /// `F`, for the harmonic scale `u = F(p)·s` of a minified render.
+    frequency: Field,
     /// Mean impulses per cell, for sizing tiles.
     lambda: f64,
 }
@@ -180,6 +183,7 @@ fn pack(model: &PhasorNoise, z: f64) -> Result<(PhasorKernel, Vec<f32>), GpuErro
         duty_b,
         weight,
         per_pixel,
+        frequency: model.frequency.clone(),
         lambda: model.impulses_per_cell(),
     };
     Ok((kernel, data))
@@ -307,6 +311,7 @@ impl ShaderKernel for PhasorKernel {
             z_cell,
             z_offset,
             z_valid,
+            filtered: u32::from(tile.footprint().is_some()),
             ..self.params
         };
         let mut cells: Vec<[u32; 2]> = Vec::new();
@@ -372,12 +377,25 @@ impl ShaderKernel for PhasorKernel {
                 }
             }
         }
+        // A minified render's harmonic scale per pixel, `u = F(p)·s` rounded to f32 as the CPU
+        // rounds it; an unused 0 when unfiltered.
+        let harmonic_scale: Vec<f32> = match tile.footprint() {
+            Some(s) => (0..height)
+                .flat_map(|j| (0..width).map(move |i| (i, j)))
+                .map(|(i, j)| {
+                    let [x, y] = displaced(i, j);
+                    (self.frequency.at(x, y, self.z) * s) as f32
+                })
+                .collect(),
+            None => vec![0.0],
+        };
         Ok(TileTables::new(
             &params,
             vec![
                 Table::new("phasor cells", &cells),
                 Table::new("phasor impulses", &impulses),
                 Table::new("phasor pixel params", &pixel_params),
+                Table::new("phasor harmonic scale", &harmonic_scale),
                 Table::new("phasor columns", &columns),
                 Table::new("phasor rows", &rows),
             ],

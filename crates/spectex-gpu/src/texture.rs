@@ -29,6 +29,13 @@ wgsl_struct! {
         colour: u32,
         /// [`PLACEMENT_LAYER`] (one definition, passed by the host).
         placement_layer: u32,
+        /// 1: a minified render, the structure filtered over a footprint of `footprint` pixels
+        /// (`Structure::eval_filtered`).
+        filtered: u32,
+        footprint: f32,
+        // Padding: `colour_mean` starts the next 16-byte row in the WGSL struct.
+        _pad0: u32,
+        _pad1: u32,
         /// The colour basis' mean (a `vec4<f32>`, `w` unused).
         colour_mean: [f32; 4],
         /// Row `i` maps the channels to component `i` (`vec4<f32>` rows, `w` unused).
@@ -45,8 +52,8 @@ wgsl_struct! {
         first_block: u32,
         /// 0 when the channel has no structure (`n_R = 0`).
         present: u32,
-        // Padding: the WGSL struct keeps its floats in a second 16-byte row.
-        _pad0: u32,
+        /// Index in the block-means table of this channel's mipmap level 0.
+        first_mean: u32,
         /// `Δ_R = T/b`, `1/Δ_R` and `1/N` as the CPU rounds them (`1/(2T)` when `b = 1`).
         delta: f32,
         inv_delta: f32,
@@ -76,6 +83,8 @@ pub(crate) struct TextureKernel {
 /// The structure tables of a texture: a [`ChannelStructure`] per channel, the `(start, count)`
 /// of every block of every structure, and `(k_x, k_y, A, φ)` of every fixed cosine.
 struct Structures {
+    /// Every channel's `Structure::mean_mipmap`, concatenated.
+    means: Vec<f32>,
     channels: Vec<ChannelStructure>,
     blocks: Vec<[u32; 2]>,
     cosines: Vec<[f32; 4]>,
@@ -86,6 +95,7 @@ fn pack_structures(model: &TextureModel) -> Structures {
     let mut channels = Vec::with_capacity(model.channels.len());
     let mut blocks: Vec<[u32; 2]> = Vec::new();
     let mut cosines: Vec<[f32; 4]> = Vec::new();
+    let mut means: Vec<f32> = Vec::new();
     for ch in &model.channels {
         let first_block = blocks.len() as u32;
         let Some(s) = &ch.structure else {
@@ -104,11 +114,13 @@ fn pack_structures(model: &TextureModel) -> Structures {
             let inv_delta = 1.0 / delta;
             (delta, inv_delta, 0.5 * inv_delta)
         };
+        let first_mean = means.len() as u32;
+        means.extend(s.mean_mipmap());
         channels.push(ChannelStructure {
             blocks: s.blocks,
             first_block,
             present: 1,
-            _pad0: 0,
+            first_mean,
             delta,
             inv_delta,
             inv_n,
@@ -129,6 +141,7 @@ fn pack_structures(model: &TextureModel) -> Structures {
     // A texture without any structure still binds the block and cosine tables: `Table` gives
     // each one unused record.
     Structures {
+        means,
         channels,
         blocks,
         cosines,
@@ -188,6 +201,7 @@ impl GpuKind for TextureModel {
                 Table::new("texture structures", &structures.channels),
                 Table::new("texture blocks", &structures.blocks),
                 Table::new("texture cosines", &structures.cosines),
+                Table::new("texture block means", &structures.means),
             ],
         )
     }
@@ -297,6 +311,8 @@ impl ShaderKernel for TextureKernel {
             random_placement: u32::from(self.model.random_placement),
             colour: u32::from(self.model.colour.is_some()),
             placement_layer: PLACEMENT_LAYER,
+            filtered: u32::from(tile.footprint().is_some()),
+            footprint: tile.footprint().map_or(0.0, |f| f as f32),
             ..bytemuck::Zeroable::zeroed()
         };
         if let Some(c) = &self.model.colour {

@@ -67,6 +67,9 @@ impl GpuKernel for WarpKernel {
                 None => total.extend(d),
             }
         }
-        self.base.render_tile_displaced(tile, Some(&total))
+        // The base is point-sampled at the displaced positions, as the CPU's `eval_point` does:
+        // a warp filters only its displacement fields (they are rendered on the window).
+        let base_tile = tile.filtered(spectex_model::Filter::Off);
+        self.base.render_tile_displaced(&base_tile, Some(&total))
     }
 }

@@ -23,6 +23,24 @@ pub const MAX_WINDOW_PIXELS: usize = 1 << 30;
 /// the smallest lattice period is half a pixel, so 2³⁰ keeps every cell index representable.
 pub const MAX_POSITION: f64 = 1_073_741_824.0;
 
+/// How a render treats what its pixels cannot resolve ([`Window::footprint`]; the gains are
+/// [`crate::filter`]'s).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum Filter {
+    /// Each pixel stands for a box of `scale × scale` model pixels: a minified render
+    /// (`scale > 1`) fades out the components above its Nyquist frequency (LRP §6, "Texture
+    /// filtering"). Renders at `scale ≤ 1` are point samples, exactly as with [`Filter::Off`].
+    /// The default.
+    #[default]
+    Pixel,
+    /// Point samples at every scale: every component at full amplitude (`--no-filter`).
+    Off,
+    /// A box of this side in model pixels whatever the spacing of the pixels: to sample the
+    /// filtered field more densely than its footprint (measurements), or a caller's own
+    /// footprint. Must be finite and in `(0, 1e6]`; at most 1 means no filtering.
+    Footprint(f64),
+}
+
 /// A rectangle of the pixel grid `position(i, j) = offset + (x0 + i, y0 + j)·scale`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Window {
@@ -38,6 +56,9 @@ pub struct Window {
     pub width: usize,
     /// Height in pixels.
     pub height: usize,
+    /// What a pixel covers when it spans more than one model pixel ([`Filter::Pixel`] from
+    /// [`Window::new`]).
+    pub filter: Filter,
 }
 
 impl Window {
@@ -51,7 +72,27 @@ impl Window {
             y0: 0,
             width,
             height,
+            filter: Filter::Pixel,
         }
+    }
+
+    /// The same window with filter `filter` (tiles inherit it).
+    #[must_use]
+    pub fn filtered(self, filter: Filter) -> Self {
+        Self { filter, ..self }
+    }
+
+    /// The side in model pixels of the box each pixel is filtered over, when filtering applies:
+    /// `scale` ([`Filter::Pixel`]) or the given side ([`Filter::Footprint`]) when above 1, else
+    /// `None` (point samples, the values of an unfiltered render bit for bit).
+    #[must_use]
+    pub fn footprint(&self) -> Option<f64> {
+        let side = match self.filter {
+            Filter::Pixel => self.scale,
+            Filter::Off => return None,
+            Filter::Footprint(side) => side,
+        };
+        (side > 1.0).then_some(side)
     }
 
     /// The same window moved to `offset` and scaled by `scale`.
@@ -125,6 +166,11 @@ impl Window {
                 "(0, 1e6] model pixels per output pixel",
             );
         }
+        if let Filter::Footprint(side) = self.filter
+            && !(side.is_finite() && side > 0.0 && side <= 1e6)
+        {
+            return bad("filter footprint", side, "(0, 1e6] model pixels");
+        }
         for (name, v) in [("offset x", self.offset[0]), ("offset y", self.offset[1])] {
             if !v.is_finite() {
                 return bad(name, v, "finite numbers");
@@ -183,6 +229,14 @@ mod tests {
             (Window::new(5, 70_000), "height"),
             (Window::new(5, 5).at([0.0, 0.0], 0.0), "scale"),
             (Window::new(5, 5).at([f64::NAN, 0.0], 1.0), "offset x"),
+            (
+                Window::new(5, 5).filtered(Filter::Footprint(f64::INFINITY)),
+                "filter footprint",
+            ),
+            (
+                Window::new(5, 5).filtered(Filter::Footprint(-2.0)),
+                "filter footprint",
+            ),
             (Window::new(5, 5).at([0.0, 2e9], 1.0), "window position"),
             // Corners past i64: refused, not an overflow (found by the kit's fuzzing).
             (
@@ -208,6 +262,21 @@ mod tests {
             }
         }
         assert!(Window::new(65_536, 1).validate().is_ok());
+    }
+
+    #[test]
+    fn footprint_is_the_pixel_box_only_when_minified() {
+        let w = Window::new(4, 4);
+        assert_eq!(w.at([0.0, 0.0], 1.0).footprint(), None);
+        assert_eq!(w.at([0.0, 0.0], 0.3).footprint(), None);
+        assert_eq!(w.at([0.0, 0.0], 4.0).footprint(), Some(4.0));
+        assert_eq!(
+            w.at([0.0, 0.0], 4.0).filtered(Filter::Off).footprint(),
+            None
+        );
+        let dense = w.at([0.0, 0.0], 0.5).filtered(Filter::Footprint(4.0));
+        assert_eq!(dense.footprint(), Some(4.0));
+        assert_eq!(dense.tile(1, 1, 2, 2).footprint(), Some(4.0));
     }
 
     #[test]

@@ -200,6 +200,137 @@ impl Structure {
     }
 }
 
+impl Structure {
+    /// The mipmap of block means (LRP §6: the zero frequencies of the fixed-phase blocks
+    /// cannot be faded out, so a minified render averages them): level 0 holds each block's
+    /// zero-frequency cosines, `Σ A·cos 2πφ` over `k = (0, 0)` (row-major, `b × b`), level
+    /// `ℓ + 1` the means of level `ℓ`'s aligned 2×2 groups, down to one value; all levels
+    /// concatenated. f32 sums in a fixed order, shared by both evaluators.
+    #[must_use]
+    pub fn mean_mipmap(&self) -> Vec<f32> {
+        let b = self.blocks as usize;
+        let mut all: Vec<f32> = self
+            .cosines
+            .iter()
+            .map(|block| {
+                block
+                    .iter()
+                    .filter(|c| c.frequency == [0, 0])
+                    .map(|c| c.amplitude * cos_turns(c.phase))
+                    .sum()
+            })
+            .collect();
+        let (mut start, mut side) = (0, b);
+        while side > 1 {
+            let half = side / 2;
+            for j in 0..half {
+                for i in 0..half {
+                    let at = |di: usize, dj: usize| all[start + (2 * j + dj) * side + 2 * i + di];
+                    let m = 0.25 * (at(0, 0) + at(1, 0) + at(0, 1) + at(1, 1));
+                    all.push(m);
+                }
+            }
+            start += side * side;
+            side = half;
+        }
+        all
+    }
+
+    /// `n_R` at `q` in a minified render of footprint `s` pixels: every block's non-zero
+    /// cosines weighted by [`crate::filter::response_f32`] of `|k_x|·s/N` times that of
+    /// `|k_y|·s/N` (LRP §6 frequency clamping), and its zero frequencies read from the mipmap
+    /// `mip` ([`Self::mean_mipmap`]) at level `λ = log₂(s/Δ_R)` (clamped to `[0, log₂ b]`),
+    /// linearly between the two levels around it, each level cross-faded on its own grid of
+    /// side `2^ℓ·Δ_R` as [`Self::eval`] cross-fades blocks. At `s ≤ Δ_R` the zero frequencies
+    /// are [`Self::eval`]'s.
+    #[must_use]
+    pub fn eval_filtered(&self, period: u32, q: [f32; 2], s: f32, mip: &[f32]) -> f32 {
+        let b = self.blocks;
+        if b == 1 {
+            let inv_n = 1.0 / (2 * period) as f32;
+            return block_value_filtered(&self.cosines[0], inv_n, q[0], q[1], s) + mip[0];
+        }
+        let delta = (period / b) as f32;
+        let inv_delta = 1.0 / delta;
+        let inv_n = 0.5 * inv_delta;
+        let mut sum = cross_fade(b, delta, q, |row, col, ux, uy| {
+            block_value_filtered(&self.cosines[(row * b + col) as usize], inv_n, ux, uy, s)
+        });
+        let top = b.trailing_zeros();
+        let lambda = (s * inv_delta).log2().clamp(0.0, top as f32);
+        let low = (lambda as u32).min(top);
+        let f = lambda - low as f32;
+        let level = |l: u32| {
+            let side = b >> l;
+            // Levels before `l`: b², (b/2)², …
+            let start: usize = (0..l).map(|k| ((b >> k) * (b >> k)) as usize).sum();
+            if side == 1 {
+                return mip[start];
+            }
+            let d = delta * (1u32 << l) as f32;
+            cross_fade(side, d, q, |row, col, _, _| {
+                mip[start + (row * side + col) as usize]
+            })
+        };
+        sum += level(low) * (1.0 - f);
+        if f > 0.0 {
+            sum += level(low + 1) * f;
+        }
+        sum
+    }
+}
+
+/// The 2×2 cross-fade of [`Structure::eval`] on a grid of `b × b` cells of side `delta` (the
+/// period): `value(row, col, u_x, u_y)` of each cell around `q`, `u` relative to the cell,
+/// weighted by `cos²`-shaped weights, summed in [`Structure::eval`]'s order.
+fn cross_fade(b: u32, delta: f32, q: [f32; 2], value: impl Fn(u32, u32, f32, f32) -> f32) -> f32 {
+    let inv_delta = 1.0 / delta;
+    let gx = q[0] * inv_delta;
+    let gy = q[1] * inv_delta;
+    let fx = gx.floor();
+    let fy = gy.floor();
+    let tx = gx - fx;
+    let ty = gy - fy;
+    let i0 = fx as i32;
+    let j0 = fy as i32;
+    let hx = 0.5 + 0.5 * cos_turns(0.5 * tx);
+    let hy = 0.5 + 0.5 * cos_turns(0.5 * ty);
+    let mut sum = 0.0f32;
+    for dj in 0..2 {
+        let wy = if dj == 0 { hy } else { 1.0 - hy };
+        let uy = (ty - dj as f32) * delta;
+        let row = (j0 + dj).rem_euclid(b as i32) as u32;
+        for di in 0..2 {
+            let wx = if di == 0 { hx } else { 1.0 - hx };
+            let ux = (tx - di as f32) * delta;
+            let col = (i0 + di).rem_euclid(b as i32) as u32;
+            sum += wx * wy * value(row, col, ux, uy);
+        }
+    }
+    sum
+}
+
+/// [`block_value`] without the zero frequency, each cosine weighted for a footprint of `s`
+/// pixels (see [`Structure::eval_filtered`]).
+#[must_use]
+pub fn block_value_filtered(cosines: &[FixedCosine], inv_n: f32, ux: f32, uy: f32, s: f32) -> f32 {
+    use crate::filter::response_f32;
+    let mut sum = 0.0f32;
+    for c in cosines {
+        if c.frequency == [0, 0] {
+            continue;
+        }
+        let (kx, ky) = (c.frequency[0] as f32, c.frequency[1] as f32);
+        let gain = response_f32(kx.abs() * inv_n * s) * response_f32(ky.abs() * inv_n * s);
+        if gain == 0.0 {
+            continue;
+        }
+        let t = (kx * ux + ky * uy) * inv_n + c.phase;
+        sum += gain * c.amplitude * cos_turns(t);
+    }
+    sum
+}
+
 /// `Σ_k A_k cos 2π(k·u·inv_n + φ_k)`, in the order of the list.
 #[inline]
 #[must_use]
@@ -303,6 +434,20 @@ impl TextureModel {
             }
         }
         out
+    }
+
+    /// The structure of channel `c` at a pixel with these taps in a minified render of footprint
+    /// `s` pixels, `mip` the channel's [`Structure::mean_mipmap`].
+    #[must_use]
+    pub fn structure_at_filtered(&self, c: usize, taps: &Placement, s: f32, mip: &[f32]) -> f32 {
+        let Some(structure) = &self.channels[c].structure else {
+            return 0.0;
+        };
+        let mut sum = 0.0f32;
+        for &(w, q) in &taps.taps[..taps.count] {
+            sum += w * structure.eval_filtered(self.period, q, s, mip);
+        }
+        sum
     }
 
     /// The structure of channel `c` at a pixel with these taps.
@@ -533,6 +678,67 @@ impl From<TextureModel> for crate::Model {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A structure of `b × b` blocks whose zero frequency (block mean) is `0.1·(index + 1)`,
+    /// with one non-zero cosine each.
+    fn blocks_with_means(b: u32) -> Structure {
+        Structure {
+            blocks: b,
+            cosines: (0..b * b)
+                .map(|k| {
+                    vec![
+                        FixedCosine {
+                            frequency: [0, 0],
+                            amplitude: 0.1 * (k + 1) as f32,
+                            phase: 0.0,
+                        },
+                        FixedCosine {
+                            frequency: [3, -1],
+                            amplitude: 0.2,
+                            phase: 0.3,
+                        },
+                    ]
+                })
+                .collect(),
+        }
+    }
+
+    /// Level 1 holds the means of aligned 2×2 groups, the last level the mean of all blocks
+    /// (sums of the values `0.1·(k + 1)` by hand).
+    #[test]
+    fn mean_mipmap_averages_aligned_groups() {
+        let mip = blocks_with_means(4).mean_mipmap();
+        assert_eq!(mip.len(), 16 + 4 + 1);
+        // Group (0, 0): blocks 0, 1, 4, 5 → 0.1·(1 + 2 + 5 + 6)/4 = 0.35.
+        assert!((mip[16] - 0.35).abs() < 1e-6, "{}", mip[16]);
+        // All: 0.1·(1 + … + 16)/16 = 0.85.
+        assert!((mip[20] - 0.85).abs() < 1e-6, "{}", mip[20]);
+    }
+
+    /// A footprint past the whole period leaves only the global mean (every cosine faded, the
+    /// top mipmap level); a moderate one keeps the mean of the field over the period.
+    #[test]
+    fn filtered_structure_fades_to_the_mean() {
+        let st = blocks_with_means(4);
+        let mip = st.mean_mipmap();
+        for q in [[0.0f32, 0.0], [3.7, 25.1], [31.9, 8.0]] {
+            let v = st.eval_filtered(32, q, 1000.0, &mip);
+            assert!((v - 0.85).abs() < 1e-6, "{q:?}: {v}");
+        }
+        let n = 256;
+        let mut mean = 0.0f64;
+        for j in 0..n {
+            for i in 0..n {
+                let q = [
+                    (i as f32 + 0.5) * 32.0 / n as f32,
+                    (j as f32 + 0.5) * 32.0 / n as f32,
+                ];
+                mean += f64::from(st.eval_filtered(32, q, 12.0, &mip));
+            }
+        }
+        mean /= f64::from(n * n);
+        assert!((mean - 0.85).abs() < 1e-3, "mean {mean}");
+    }
 
     fn structure_model(blocks: u32, period: u32, placement: bool) -> TextureModel {
         let n = (2 * period / blocks) as i32;

@@ -56,6 +56,7 @@ pub fn window() -> BoxedStrategy<Window> {
             y0,
             width,
             height,
+            filter: spectex_model::grid::Filter::Pixel,
         })
         .boxed();
     let invalid = (valid.clone(), 0usize..8).prop_map(|(w, which)| match which {

@@ -5,7 +5,7 @@
 //! - **tiles** (invariant 3): a window rendered whole equals, bit for bit, every tiling of it in
 //!   [`Plan::tilings`] — grids of odd tile sizes, single rows and columns, 1×1 tiles over a
 //!   patch, and loose rectangles — at `(10⁷ + 0.3, −10⁷ − 0.6)` and a fractional scale, plus a
-//!   window wider than the CPU's 512-column chunks;
+//!   window wider than the CPU's 512-column chunks and a minified (filtered) one at scale 4;
 //! - **threads** (invariant 4): the same window on rayon pools of 1, 2, 3 and 8 threads gives
 //!   the same bits as on the default pool (backends without threads report `n/a`);
 //! - **far** (invariant 2): windows at `(±10⁷, ±10⁷)` behave like windows near the origin.
@@ -184,6 +184,13 @@ pub fn tile_window() -> Window {
     Window::new(70, 37).at([1.0e7 + 0.3, -1.0e7 - 0.6], 0.83)
 }
 
+/// A minified window (scale 4, far): the filtered renders (`spectex_model::filter`) must be as
+/// invisible to tiling as the point-sampled ones.
+#[must_use]
+pub fn minified_window() -> Window {
+    Window::new(40, 24).at([1.0e7 + 0.3, -1.0e7 - 0.6], 4.0)
+}
+
 /// A window wider than the CPU's 512-column chunks (wavelet noise shares column tables per
 /// chunk), far and at a fractional scale.
 #[must_use]
@@ -220,6 +227,13 @@ impl Plan {
                         (0, 0, 600, 1),
                         (511, 2, 89, 4),
                     ])],
+                ),
+                (
+                    minified_window(),
+                    vec![
+                        Tiling::Grid(7, 5),
+                        Tiling::Rects(vec![(0, 0, 13, 5), (13, 5, 27, 19), (39, 0, 1, 1)]),
+                    ],
                 ),
             ],
             threads: vec![1, 2, 3, 8],

@@ -1113,3 +1113,24 @@ fn warp_bad_inputs_fail_cleanly() {
         assert_fails(&spectex(&a), &dir, &needles);
     }
 }
+
+/// `--no-filter`: at `--scale 4` the default render fades what its pixels cannot resolve and
+/// differs from the point-sampled one; at `--scale 1` both are the same bytes.
+#[test]
+fn no_filter_point_samples_minified_renders() {
+    let dir = scratch("no-filter");
+    let model = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../testdata/models/lrp-gravel.json");
+    let render = |name: &str, extra: &[&str]| {
+        let out = dir.join(name);
+        let mut args = vec!["render", s(&model), "-o", s(&out), "--size", "32x24"];
+        args.extend_from_slice(extra);
+        spectex_ok(&args);
+        std::fs::read(&out).unwrap()
+    };
+    let filtered = render("f4.png", &["--scale", "4"]);
+    let point = render("p4.png", &["--scale", "4", "--no-filter"]);
+    assert_ne!(filtered, point, "a minified render is filtered by default");
+    let near = render("f1.png", &["--scale", "1"]);
+    let near_point = render("p1.png", &["--scale", "1", "--no-filter"]);
+    assert_eq!(near, near_point, "at scale 1 filtering changes nothing");
+}

@@ -57,7 +57,12 @@ fn render(model: &Model, side: usize) -> (Array2<f64>, f64) {
 fn sparse_mean_var(model: &Model) -> (f64, f64) {
     let eval = Evaluator::new(model).unwrap();
     let v = eval
-        .render(&Window::new(512, 512).at([-5.0e3, 9.0e3], 37.3))
+        // Point samples (`Filter::Off`): the model's own moments, not a minified render's.
+        .render(
+            &Window::new(512, 512)
+                .at([-5.0e3, 9.0e3], 37.3)
+                .filtered(spectex_cpu::Filter::Off),
+        )
         .unwrap();
     let a = Array2::from_shape_vec((512, 512), v.into_iter().map(f64::from).collect()).unwrap();
     mean_var(&a)

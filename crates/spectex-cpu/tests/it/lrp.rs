@@ -107,7 +107,10 @@ fn support_edges_are_exact_at_any_zoom() {
     for scale in [1.0e-6, 1.0e-3, 0.37, 1.0, 41.0] {
         let width = 97;
         let edge = 14.25 - 48.5 * scale;
-        let window = Window::new(width, 1).at([edge, 0.0], scale);
+        // Point samples: the support's edges, not a minified render's gains (scale 41).
+        let window = Window::new(width, 1)
+            .at([edge, 0.0], scale)
+            .filtered(spectex_cpu::Filter::Off);
         let mut row = vec![0.0; width];
         eval.eval_row(&window, 0, &mut row);
         for (i, v) in row.iter().enumerate() {
@@ -157,7 +160,12 @@ fn mean_and_variance_follow_from_the_model() {
     let m = model(8);
     let eval = Evaluator::new(&Model::Lrp(m.clone())).unwrap();
     let values = eval
-        .render(&Window::new(1024, 1024).at([0.0, 0.0], 1.7))
+        // Point samples at 1.7 pixels apart: the model's own moments, unfiltered.
+        .render(
+            &Window::new(1024, 1024)
+                .at([0.0, 0.0], 1.7)
+                .filtered(spectex_cpu::Filter::Off),
+        )
         .unwrap();
     let n = values.len() as f64;
     let mean = values.iter().map(|&v| f64::from(v)).sum::<f64>() / n;

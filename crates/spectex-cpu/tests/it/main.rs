@@ -4,6 +4,7 @@
 //! the dependencies.
 
 mod classic;
+mod filter;
 mod gabor;
 mod lrp;
 mod phasor;

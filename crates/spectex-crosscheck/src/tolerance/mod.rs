@@ -129,10 +129,15 @@ pub trait CheckKind {
     /// The kind's own criterion, for outputs that the generic one (each component's max, mean
     /// and spectral error within its tolerance) cannot judge: the reasons one window fails
     /// (empty when it passes), from the `(cpu, gpu)` renders of the model and then of each of
-    /// its [`companions`](Self::companions). `None`, the default, selects the generic
-    /// criterion.
-    fn own_verdict(&self, renders: &[(Vec<f32>, Vec<f32>)]) -> Option<Vec<String>> {
-        let _ = renders;
+    /// its [`companions`](Self::companions), rendered with the footprint `footprint` of a
+    /// minified window (`spectex_model::Window::footprint`). `None`, the default, selects the
+    /// generic criterion.
+    fn own_verdict(
+        &self,
+        renders: &[(Vec<f32>, Vec<f32>)],
+        footprint: Option<f64>,
+    ) -> Option<Vec<String>> {
+        let _ = (renders, footprint);
         None
     }
 }

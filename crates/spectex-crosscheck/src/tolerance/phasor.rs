@@ -52,8 +52,13 @@ pub fn complex_bound(m: &PhasorNoise) -> f64 {
 /// A profile's Lipschitz constant per turn away from its jumps, and its jumps (turns in
 /// `[0, 1)`, at `duty` for a square profile; `None` stands for "any" where a per-pixel duty
 /// makes the position vary).
-fn shape(profile: &Profile) -> (f64, Vec<Option<f64>>) {
+///
+/// `harmonics` > 0: a minified render, where a square profile is the sum of at most that many
+/// harmonics of its Fourier series (`spectex_model::filter::filtered_square`), continuous, with
+/// slope at most `Σ_k 2πk·(2/(πk)) = 4·harmonics` per turn of phase.
+fn shape(profile: &Profile, harmonics: u32) -> (f64, Vec<Option<f64>>) {
     match profile {
+        Profile::Square { .. } if harmonics > 0 => (4.0 * f64::from(harmonics), vec![]),
         Profile::Sine => (std::f64::consts::TAU, vec![]),
         Profile::Triangle => (4.0, vec![]),
         Profile::Sawtooth => (2.0, vec![Some(0.0)]),
@@ -79,12 +84,22 @@ fn shape(profile: &Profile) -> (f64, Vec<Option<f64>>) {
             vec![],
         ),
         Profile::Blend { a, b, .. } => {
-            let (la, mut ja) = shape(a);
-            let (lb, jb) = shape(b);
+            let (la, mut ja) = shape(a, harmonics);
+            let (lb, jb) = shape(b, harmonics);
             ja.extend(jb);
             (la.max(lb), ja)
         }
     }
+}
+
+/// Harmonics of a square profile filtered at `u = F·s` at most (the terms of
+/// `spectex_model::filter::filtered_square` with `k·u < FADE_END`, at most
+/// `MAX_SQUARE_HARMONICS`), for the smallest `u` of a window.
+fn square_harmonics(u_min: f64) -> u32 {
+    use spectex_model::filter::{FADE_END, MAX_SQUARE_HARMONICS};
+    (1..=MAX_SQUARE_HARMONICS)
+        .take_while(|&k| f64::from(k) * u_min < FADE_END)
+        .count() as u32
 }
 
 /// Circular distance of two phases in turns.
@@ -95,8 +110,15 @@ fn circular(a: f64, b: f64) -> f64 {
 
 /// The reasons a window fails (empty when it passes), from the renders `(cpu, gpu)` of the
 /// model's own output, then its Gabor, intensity and phase variants, for the complex bound `e`.
-fn judge_pixels(m: &PhasorNoise, e: f64, renders: &[(Vec<f32>, Vec<f32>)]) -> Vec<String> {
-    let (lipschitz, jumps) = shape(&m.profile);
+fn judge_pixels(
+    m: &PhasorNoise,
+    e: f64,
+    renders: &[(Vec<f32>, Vec<f32>)],
+    footprint: Option<f64>,
+) -> Vec<String> {
+    // A minified render filters square profiles to `harmonics` terms of their Fourier series.
+    let harmonics = footprint.map_or(0, |s| square_harmonics(m.frequency.range().0 * s));
+    let (lipschitz, jumps) = shape(&m.profile, harmonics);
     let amplitude = f64::from(m.amplitude).abs();
     let (gabor, intensity, phase) = (&renders[1], &renders[2], &renders[3]);
     let mut why = Vec::new();
@@ -133,7 +155,11 @@ fn judge_pixels(m: &PhasorNoise, e: f64, renders: &[(Vec<f32>, Vec<f32>)]) -> Ve
         .count();
     count("phase", bad_phase);
     let own = &renders[0];
-    let value_bound = |d: f64| amplitude * (lipschitz * d + 1e-6) + 4.0 * F32_UNIT_ROUNDOFF;
+    // A filtered square's series adds each harmonic's rounding (a few f32 ulps of 1, the device
+    // dividing within 2.5 ulps): 1e-6 per harmonic.
+    let value_bound = |d: f64| {
+        amplitude * (lipschitz * d + 1e-6 * (1.0 + harmonics as f64)) + 4.0 * F32_UNIT_ROUNDOFF
+    };
     let bad_own = match m.output {
         PhasorOutput::Gabor => over(own, amplitude * e + 1e-6),
         PhasorOutput::Intensity => over(own, amplitude * std::f64::consts::SQRT_2 * e + 1e-6),
@@ -227,8 +253,12 @@ impl CheckKind for PhasorNoise {
             .collect()
     }
 
-    fn own_verdict(&self, renders: &[(Vec<f32>, Vec<f32>)]) -> Option<Vec<String>> {
-        Some(judge_pixels(self, complex_bound(self), renders))
+    fn own_verdict(
+        &self,
+        renders: &[(Vec<f32>, Vec<f32>)],
+        footprint: Option<f64>,
+    ) -> Option<Vec<String>> {
+        Some(judge_pixels(self, complex_bound(self), renders, footprint))
     }
 }
 
@@ -255,6 +285,24 @@ mod tests {
     }
 
     /// One pixel: (own output, Gabor, intensity, phase), each (cpu, gpu).
+    /// A minified render's square profile is a continuous series: no pixel is excused as near
+    /// a jump, and a difference within its slope bound times the phase tolerance passes.
+    #[test]
+    fn filtered_squares_are_judged_by_their_slope() {
+        let m = pwm(PhasorOutput::Profiled);
+        // F = 0.06 at a footprint of 4: u = 0.24, harmonics 1 and 2 (2·0.24 < 0.55 ≤ 3·0.24).
+        assert_eq!(square_harmonics(0.24), 2);
+        let (lipschitz, jumps) = shape(&m.profile, 2);
+        assert_eq!((lipschitz, jumps.len()), (8.0, 0));
+        // Phase 0.0 (at the unfiltered profile's jump), a phase error well inside the bound.
+        let ok = renders([0.5, 0.5 + 1e-6], [0.0; 2], [1.0; 2], [0.0, 0.0]);
+        assert!(judge_pixels(&m, E, &ok, Some(4.0)).is_empty());
+        let off = renders([0.5, 0.6], [0.0; 2], [1.0; 2], [0.0, 0.0]);
+        assert_eq!(judge_pixels(&m, E, &off, Some(4.0)).len(), 1);
+        // Unfiltered, the same pixel sits on a jump and is excused.
+        assert!(judge_pixels(&m, E, &off, None).is_empty());
+    }
+
     fn renders(
         own: [f32; 2],
         gabor: [f32; 2],
@@ -274,10 +322,10 @@ mod tests {
         let m = pwm(PhasorOutput::Profiled);
         // Phase tolerance at I = 1: asin(√2·1e-4)/2π + 1e-7 ≈ 2.26e-5 turns.
         let near = renders([1.0, 0.0], [0.3, 0.3], [1.0, 1.0], [0.249_99, 0.250_01]);
-        assert!(judge_pixels(&m, E, &near).is_empty());
+        assert!(judge_pixels(&m, E, &near, None).is_empty());
         let far = renders([1.0, 0.0], [0.3, 0.3], [1.0, 1.0], [0.249, 0.249]);
         assert_eq!(
-            judge_pixels(&m, E, &far).len(),
+            judge_pixels(&m, E, &far, None).len(),
             1,
             "a flip 1e-3 turns from the jump"
         );
@@ -293,27 +341,27 @@ mod tests {
             [0.499_99, -0.499_99],
         );
         assert!(
-            judge_pixels(&m, E, &wrap).is_empty(),
+            judge_pixels(&m, E, &wrap, None).is_empty(),
             "±½ turn is one angle"
         );
         let off = renders([0.2, 0.3], [0.3, 0.3], [1.0, 1.0], [0.2, 0.3]);
         assert_eq!(
-            judge_pixels(&m, E, &off).len(),
+            judge_pixels(&m, E, &off, None).len(),
             2,
             "phase and output both off"
         );
         // Near a singularity (I < 2√2·E) the phase is not determined: not judged.
         let singular = renders([0.2, 0.3], [0.0, 0.0], [1e-4, 1e-4], [0.2, 0.3]);
-        assert!(judge_pixels(&m, E, &singular).is_empty());
+        assert!(judge_pixels(&m, E, &singular, None).is_empty());
     }
 
     #[test]
     fn the_complex_sum_is_held_to_its_bound() {
         let m = pwm(PhasorOutput::Profiled);
         let gabor = renders([1.0, 1.0], [0.3, 0.3 + 2e-4], [1.0, 1.0], [0.1, 0.1]);
-        assert_eq!(judge_pixels(&m, E, &gabor).len(), 1);
+        assert_eq!(judge_pixels(&m, E, &gabor, None).len(), 1);
         let intensity = renders([1.0, 1.0], [0.3, 0.3], [1.0, 1.0 + 2e-4], [0.1, 0.1]);
-        assert_eq!(judge_pixels(&m, E, &intensity).len(), 1);
+        assert_eq!(judge_pixels(&m, E, &intensity, None).len(), 1);
         assert!(
             complex_bound(&m) > 0.0 && complex_bound(&m) < 1e-2,
             "{}",

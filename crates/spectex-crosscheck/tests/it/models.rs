@@ -115,3 +115,42 @@ fn every_shipped_model_agrees_on_cpu_and_gpu() {
         failed.join("\n")
     );
 }
+
+/// The texture's structure at footprints past its block side (Δ_R = 8 in
+/// `texture-synthetic-grey`): mipmap levels 0.6 (between levels 0 and 1), 2 (the top, one mean)
+/// and a blend of 1 and 2, on both evaluators — the standard minified window (scale 4) reads
+/// level 0 only.
+#[test]
+fn minified_texture_structures_agree_across_mipmap_levels() {
+    use spectex_crosscheck::{CaseWindow, Verdict};
+    let context = match GpuContext::new() {
+        Ok(c) => c,
+        Err(e) if std::env::var(REQUIRE_GPU_ENV).is_ok_and(|v| v == "1") => {
+            panic!("{REQUIRE_GPU_ENV}=1 but no GPU: {e}")
+        }
+        Err(e) => {
+            println!("SKIPPED cross-check: {e}");
+            return;
+        }
+    };
+    let file = PathBuf::from(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../testdata/models/texture-synthetic-grey.json"
+    ));
+    let model = spectex_model::from_json(&std::fs::read_to_string(file).unwrap()).unwrap();
+    let windows: Vec<CaseWindow> = [("mip-0.6", 12.0), ("mip-1.6", 24.5), ("mip-2", 40.0)]
+        .into_iter()
+        .map(|(name, scale)| CaseWindow {
+            name,
+            width: 48,
+            height: 40,
+            offset: [-3.25, 17.5],
+            scale,
+        })
+        .collect();
+    let outcomes = check_model(&context, "texture-synthetic-grey", &model, &windows).unwrap();
+    for (w, o) in &outcomes {
+        println!("{w}: max {:.2e}", o.comparison.max_abs);
+        assert!(matches!(o.verdict, Verdict::Pass), "{w}: {:?}", o.verdict);
+    }
+}

@@ -260,8 +260,11 @@ fn lattice_points_give_the_exact_identities() {
     let cell = 16.0f32;
     let side = 12;
     for (offset, z_cells) in [([0.0, 0.0], 0i64), ([1.0e7, -3.0e6], -3)] {
-        // One output pixel per lattice point: scale = the cell side.
-        let window = GpuWindow::new(side, side).at(offset, f64::from(cell));
+        // One output pixel per lattice point: scale = the cell side, point-sampled (a minified
+        // render would fade the octave).
+        let window = GpuWindow::new(side, side)
+            .at(offset, f64::from(cell))
+            .filtered(spectex_gpu::Filter::Off);
         let z = z_cells as f64 * f64::from(cell);
         let (i0, j0) = (
             (offset[0] / f64::from(cell)) as i64,

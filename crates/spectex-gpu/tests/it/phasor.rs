@@ -43,17 +43,30 @@ fn tiles_are_invisible() {
     };
     let m = model(2, Profile::Square { duty }, PhasorOutput::Profiled);
     let mut gpu = GpuEvaluator::new(&context, &Model::Phasor(m)).unwrap();
-    let window = GpuWindow::new(53, 29).at([1.0e7 + 0.3, -2.0e5], 1.3);
-    let whole = gpu.render(&window).unwrap();
-    assert!(whole.iter().all(|&v| v == 0.0 || v == 1.0), "PWM is binary");
-    for (tw, th) in [(1, 1), (8, 8), (53, 3), (7, 29)] {
-        gpu.set_max_tile(tw, th);
-        let tiled = gpu.render(&window).unwrap();
-        let first = first_bit_difference(&whole, &tiled);
-        assert_eq!(
-            first, None,
-            "tiles {tw}×{th}: first differing index {first:?}"
-        );
+    // Point-sampled (binary), then minified at scale 1.3 (the square's filtered series).
+    for filter in [spectex_gpu::Filter::Off, spectex_gpu::Filter::Pixel] {
+        let window = GpuWindow::new(53, 29)
+            .at([1.0e7 + 0.3, -2.0e5], 1.3)
+            .filtered(filter);
+        gpu.set_max_tile(2048, 2048);
+        let whole = gpu.render(&window).unwrap();
+        if filter == spectex_gpu::Filter::Off {
+            assert!(whole.iter().all(|&v| v == 0.0 || v == 1.0), "PWM is binary");
+        } else {
+            assert!(
+                whole.iter().any(|&v| v != 0.0 && v != 1.0),
+                "filtered PWM is smooth"
+            );
+        }
+        for (tw, th) in [(1, 1), (8, 8), (53, 3), (7, 29)] {
+            gpu.set_max_tile(tw, th);
+            let tiled = gpu.render(&window).unwrap();
+            let first = first_bit_difference(&whole, &tiled);
+            assert_eq!(
+                first, None,
+                "{filter:?}, tiles {tw}×{th}: first differing index {first:?}"
+            );
+        }
     }
 }
 
