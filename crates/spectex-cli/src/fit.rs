@@ -6,11 +6,11 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result, anyhow};
 use clap::Args;
 use ndarray::Axis;
-use spectex_model::{LrpNoise, Model, TextureModel};
-use spectex_sampling::{FitOptions, TextureOptions};
+use spectex_model::{Fit, LrpNoise, Model, TextureModel};
+use spectex_sampling::{FitMethod, FitOptions, TextureOptions};
 
 use crate::io;
-use crate::model_file::write_model;
+use crate::model_file::write_fitted_model;
 use crate::render::{RenderArgs, render_to_file};
 
 /// Options shared by every command that fits an LRP model.
@@ -22,6 +22,11 @@ pub struct FitArgs {
     /// Number of strata L (1 to 64, at most J; the paper uses 4).
     #[arg(long, default_value_t = 4)]
     strata: u32,
+    /// How the strata become cosines: `spectrum` (equal-energy sub-strata drawn in proportion to
+    /// the power, matching the exemplar's spectrum) or `paper` (Gilet et al. 2014 §4.3 as
+    /// printed, to reproduce its figures).
+    #[arg(long, value_enum, default_value_t = FitArg::Spectrum)]
+    fit: FitArg,
     /// Seed of the fit (k-means seeding) and of the model's random phases.
     #[arg(long, default_value_t = 0)]
     seed: u32,
@@ -41,13 +46,36 @@ pub struct FitArgs {
     raw_structure: bool,
 }
 
+/// `--fit`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum FitArg {
+    Spectrum,
+    Paper,
+}
+
 impl FitArgs {
     fn options(&self) -> FitOptions {
         FitOptions {
             budget: self.budget,
             strata: self.strata,
             seed: self.seed,
+            method: self.method(),
             ..FitOptions::default()
+        }
+    }
+
+    fn method(&self) -> FitMethod {
+        match self.fit {
+            FitArg::Spectrum => FitMethod::Spectrum,
+            FitArg::Paper => FitMethod::Paper,
+        }
+    }
+
+    /// The fit recorded in the model file.
+    fn recorded(&self) -> Fit {
+        match self.fit {
+            FitArg::Spectrum => Fit::Spectrum,
+            FitArg::Paper => Fit::Paper,
         }
     }
 
@@ -145,7 +173,7 @@ fn fit_example(input: Option<&Path>, fit: &FitArgs) -> Result<(Fitted, (usize, u
 /// `spectex fit`.
 pub fn fit(cmd: &FitCommand) -> Result<()> {
     let (fitted, _) = fit_example(cmd.input.as_deref(), &cmd.fit)?;
-    write_model(&cmd.output, &fitted.to_model())?;
+    write_fitted_model(&cmd.output, &fitted.to_model(), Some(cmd.fit.recorded()))?;
     #[allow(clippy::print_stdout)] // reason: the command's result summary
     match &fitted {
         Fitted::Noise(m) => {

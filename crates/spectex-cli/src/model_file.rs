@@ -3,13 +3,18 @@
 use std::path::Path;
 
 use anyhow::{Context, Result, anyhow, bail};
-use spectex_model::Model;
+use spectex_model::{Fit, Model};
 
 use crate::io;
 
 /// Writes `model` to `path` (which must end in `.json`), through a temporary file renamed into
 /// place.
 pub(crate) fn write_model(path: &Path, model: &Model) -> Result<()> {
+    write_fitted_model(path, model, None)
+}
+
+/// [`write_model`], recording the fit that made the model in the file.
+pub(crate) fn write_fitted_model(path: &Path, model: &Model, fit: Option<Fit>) -> Result<()> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -17,7 +22,8 @@ pub(crate) fn write_model(path: &Path, model: &Model) -> Result<()> {
     if ext.as_deref() != Some("json") {
         bail!("model file '{}' must end in .json", path.display());
     }
-    let text = spectex_model::to_json(model).context("internal: the fitted model is invalid")?;
+    let text = spectex_model::to_json_with_fit(model, fit)
+        .context("internal: the fitted model is invalid")?;
     io::write_text_atomically(path, &text)
 }
 

@@ -10,10 +10,23 @@ pub const SCHEMA_VERSION: u32 = 1;
 /// Every `schema_version` this build reads.
 pub const SUPPORTED_SCHEMA_VERSIONS: &[u32] = &[1];
 
+/// Which fit made a model, recorded in its file by `spectex fit` and `spectex synth` (absent
+/// from files written otherwise, and from files written before it existed).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Fit {
+    /// The spectrum-matching fit (`spectex_sampling::FitMethod::Spectrum`, the default).
+    Spectrum,
+    /// Gilet et al. 2014, §4.3 as printed (`--fit paper`).
+    Paper,
+}
+
 #[derive(Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct ModelFile {
     schema_version: u32,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    fit: Option<Fit>,
     model: Model,
 }
 
@@ -25,6 +38,15 @@ struct ModelFile {
 /// Malformed JSON, an unsupported `schema_version`, an unknown or missing field, or a value
 /// out of range.
 pub fn from_json(text: &str) -> Result<Model, ModelError> {
+    from_json_with_fit(text).map(|(model, _)| model)
+}
+
+/// [`from_json`], also returning the fit the file records (`"fit": "spectrum"` or `"paper"`;
+/// `None` when absent). Any other value is an error naming the valid ones.
+///
+/// # Errors
+/// As [`from_json`].
+pub fn from_json_with_fit(text: &str) -> Result<(Model, Option<Fit>), ModelError> {
     let value: serde_json::Value = serde_json::from_str(text)?;
     let supported = SUPPORTED_SCHEMA_VERSIONS
         .iter()
@@ -50,7 +72,7 @@ pub fn from_json(text: &str) -> Result<Model, ModelError> {
     }
     let file: ModelFile = serde_json::from_value(value)?;
     file.model.validate()?;
-    Ok(file.model)
+    Ok((file.model, file.fit))
 }
 
 /// Writes a model as pretty JSON with the current `schema_version`, after validating it.
@@ -58,10 +80,42 @@ pub fn from_json(text: &str) -> Result<Model, ModelError> {
 /// # Errors
 /// A value out of range (a model that could not be read back).
 pub fn to_json(model: &Model) -> Result<String, ModelError> {
+    to_json_with_fit(model, None)
+}
+
+/// [`to_json`] recording the fit that made the model (no `fit` field for `None`).
+///
+/// # Errors
+/// As [`to_json`].
+pub fn to_json_with_fit(model: &Model, fit: Option<Fit>) -> Result<String, ModelError> {
     model.validate()?;
     let file = ModelFile {
         schema_version: SCHEMA_VERSION,
+        fit,
         model: model.clone(),
     };
     Ok(serde_json::to_string_pretty(&file)?)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_file_records_the_fit_that_made_it() {
+        let model = Model::Gabor(crate::fixtures::gabor_isotropic());
+        let text = to_json_with_fit(&model, Some(Fit::Paper)).unwrap();
+        assert!(text.contains("\"fit\": \"paper\""), "{text}");
+        assert_eq!(
+            from_json_with_fit(&text).unwrap(),
+            (model.clone(), Some(Fit::Paper))
+        );
+        // Without a fit, no field: files written before it existed read the same.
+        let plain = to_json(&model).unwrap();
+        assert!(!plain.contains("\"fit\""));
+        assert_eq!(from_json_with_fit(&plain).unwrap(), (model, None));
+        let unknown = text.replace("\"paper\"", "\"magic\"");
+        let err = from_json(&unknown).unwrap_err().to_string();
+        assert!(err.contains("spectrum") && err.contains("paper"), "{err}");
+    }
 }

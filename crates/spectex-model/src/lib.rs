@@ -63,7 +63,10 @@ pub mod window;
 pub use classic::{ClassicNoise, ClassicNoiseBuilder, FractalNoiseBuilder};
 pub use defaults::{DEFAULT_MEAN, DEFAULT_SEED, DEFAULT_STD_DEV, Levels};
 pub use error::ModelError;
-pub use file::{SCHEMA_VERSION, SUPPORTED_SCHEMA_VERSIONS, from_json, to_json};
+pub use file::{
+    Fit, SCHEMA_VERSION, SUPPORTED_SCHEMA_VERSIONS, from_json, from_json_with_fit, to_json,
+    to_json_with_fit,
+};
 pub use gabor::{GABOR_TRUNCATION, GaborNoise, GaborNoiseBuilder, NEG_LN_20, Orientation};
 pub use grid::{Filter, MAX_POSITION, MAX_WINDOW_PIXELS, MAX_WINDOW_SIDE, Window, WindowError};
 pub use kind::{KIND_NAMES, Model, ModelKind};

@@ -92,6 +92,14 @@ pub enum SamplingError {
     /// above 1e9, from a spectrum of enormous energy).
     #[error("the fitted model is out of range: {0}; rescale the input")]
     Model(#[source] ModelError),
+    /// A fit method name that is not one of `spectrum`, `paper`.
+    #[error(
+        "fit method `{name}` is unknown; valid: spectrum (the default), paper (Gilet et al. 2014 as printed)"
+    )]
+    UnknownFitMethod {
+        /// The name given.
+        name: String,
+    },
     /// The power spectrum of an image could not be computed.
     #[error(transparent)]
     Spectrum(#[from] SpectrumError),

@@ -13,9 +13,12 @@ use crate::erosion::erode;
 use crate::grid::{Bin, in_half_plane, mirror};
 use crate::kmeans::sub_strata;
 use crate::shrink::{MAX_COVERAGE, MIN_COVERAGE, shrink_unit};
+use crate::spectrum_fit::{
+    MIN_WINDOW_WIDTH as SPECTRUM_MIN_WINDOW_WIDTH, resolving_width, sharpen_welch, spectrum_tables,
+};
 use crate::stratify::{
-    MAX_PSD_SIDE, Partition, distribute_budget, equal_energy_strata, log_power_strata,
-    validate_psd, window_width,
+    MAX_PSD_SIDE, MAX_WINDOW_WIDTH_PER_SIDE, Partition, distribute_budget, equal_energy_strata,
+    log_power_strata, validate_psd, window_width,
 };
 
 /// Options of a fit. Build one with struct update syntax over [`FitOptions::default`]; every
@@ -37,6 +40,45 @@ pub struct FitOptions {
     /// How the power range is cut into the `L` strata. Default [`Partition::EqualEnergy`]
     /// (§4.2); [`Partition::LogPower`] for targets spanning decades of power.
     pub partition: Partition,
+    /// How each stratum becomes cosine tables. Default [`FitMethod::Spectrum`];
+    /// [`FitMethod::Paper`] reproduces the paper's models exactly.
+    pub method: FitMethod,
+}
+
+/// How a stratum's cosines are fitted to its part of the spectrum.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum FitMethod {
+    /// Equal-energy sub-strata whose tables draw frequencies in proportion to the power, the
+    /// whole stratum kept, `Δ_S ≥ 8` px ([`crate::spectrum_fit`]): the expected spectrum is the
+    /// exemplar's, blurred by the window.
+    #[default]
+    Spectrum,
+    /// Gilet et al. 2014, §4.3 as printed: the stratum shrunk by the window's 75% radius, k-means
+    /// sub-strata whose bins are drawn uniformly, one amplitude per stratum.
+    Paper,
+}
+
+impl FitMethod {
+    /// The name used on the command line and in model files: `spectrum` or `paper`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Spectrum => "spectrum",
+            Self::Paper => "paper",
+        }
+    }
+
+    /// The method called `name` ([`FitMethod::name`]).
+    ///
+    /// # Errors
+    /// [`SamplingError::UnknownFitMethod`] for any other name.
+    pub fn from_name(name: &str) -> Result<Self, SamplingError> {
+        match name {
+            "spectrum" => Ok(Self::Spectrum),
+            "paper" => Ok(Self::Paper),
+            _ => Err(SamplingError::UnknownFitMethod { name: name.into() }),
+        }
+    }
 }
 
 impl Default for FitOptions {
@@ -47,6 +89,7 @@ impl Default for FitOptions {
             seed: 0,
             coverage: 0.75,
             partition: Partition::EqualEnergy,
+            method: FitMethod::Spectrum,
         }
     }
 }
@@ -263,6 +306,9 @@ pub fn fit_psd(
             range: "[-1e9, 1e9]",
         });
     }
+    if options.method == FitMethod::Spectrum {
+        return fit_psd_spectrum(psd, mean, options);
+    }
     let plan = stratify(psd, options)?;
     let size = plan.size;
     let strata = plan
@@ -273,6 +319,47 @@ pub fn fit_psd(
             amplitude: s.amplitude as f32,
             sub_strata: sub_strata(&s.points, size, s.cosines, s.level, options.seed),
         })
+        .collect();
+    let model = LrpNoise {
+        seed: options.seed,
+        mean: mean as f32,
+        strata,
+    };
+    model.validate().map_err(SamplingError::Model)?;
+    Ok(model)
+}
+
+/// [`fit_psd`] with [`FitMethod::Spectrum`]: the strata of the chosen partition, their budgets
+/// and amplitudes as in the paper, and tables from [`spectrum_tables`] with `Δ_S` at least
+/// [`SPECTRUM_MIN_WINDOW_WIDTH`].
+fn fit_psd_spectrum(
+    psd: ArrayView2<'_, f64>,
+    mean: f64,
+    options: &FitOptions,
+) -> Result<LrpNoise, SamplingError> {
+    options.validate()?;
+    let partition = match options.partition {
+        Partition::EqualEnergy => equal_energy_strata(psd, options.strata as usize)?,
+        Partition::LogPower => log_power_strata(psd, options.strata as usize)?,
+    };
+    let size = psd.nrows();
+    let energies: Vec<f64> = partition.iter().map(|s| s.energy).collect();
+    let budgets = distribute_budget(&energies, options.budget as usize);
+    let strata = partition
+        .par_iter()
+        .zip(budgets.par_iter())
+        .filter(|(s, cosines)| !s.bins.is_empty() && **cosines > 0)
+        .map(|(s, &cosines)| {
+            let width = SPECTRUM_MIN_WINDOW_WIDTH
+                .max(resolving_width(&s.bins, &|b| psd[b], size))
+                .min(MAX_WINDOW_WIDTH_PER_SIDE * size as f64);
+            Stratum {
+                window_width: width as f32,
+                amplitude: amplitude(s.energy, cosines) as f32,
+                sub_strata: spectrum_tables(&s.bins, &|b| psd[b], size, cosines),
+            }
+        })
+        .filter(|s| !s.sub_strata.is_empty())
         .collect();
     let model = LrpNoise {
         seed: options.seed,
@@ -346,7 +433,10 @@ pub fn fit_image(
     options: &FitOptions,
 ) -> Result<LrpNoise, SamplingError> {
     options.validate()?;
-    let (psd, mean) = exemplar_psd(channel)?;
+    let (mut psd, mean) = exemplar_psd(channel)?;
+    if options.method == FitMethod::Spectrum {
+        psd = sharpen_welch(&psd);
+    }
     match fit_psd(psd.view(), mean, options) {
         Err(SamplingError::NoEnergy { .. }) => Err(SamplingError::NoEnergy { parameter: "image" }),
         other => other,

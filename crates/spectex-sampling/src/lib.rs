@@ -51,12 +51,13 @@ mod from_target;
 pub mod grid;
 pub mod kmeans;
 pub mod shrink;
+pub mod spectrum_fit;
 pub mod stratify;
 pub mod texture;
 
 pub use error::SamplingError;
 pub use fit::{
-    DEFAULT_TARGET_GRID, FitOptions, MAX_IMAGE_SIDE, MAX_TARGET_GRID, MIN_TARGET_GRID,
+    DEFAULT_TARGET_GRID, FitMethod, FitOptions, MAX_IMAGE_SIDE, MAX_TARGET_GRID, MIN_TARGET_GRID,
     Stratification, StratumPlan, exemplar_psd, fit_image, fit_psd, fit_target, stratify,
 };
 pub use from_target::LrpFromTarget;

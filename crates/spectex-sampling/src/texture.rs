@@ -45,7 +45,8 @@ use spectex_model::texture::{
 use spectex_spectrum::{Fft2, periodic_smooth, welch_block_size};
 
 use crate::SamplingError;
-use crate::fit::{FitOptions, exemplar_psd, fit_psd, stratify};
+use crate::fit::{FitMethod, FitOptions, exemplar_psd, fit_psd, stratify};
+use crate::spectrum_fit::sharpen_welch;
 
 /// The colour precision of §5.3: the structure blocks are subdivided until the mean absolute
 /// deviation from the structure image is at most this.
@@ -234,6 +235,10 @@ fn fit_channel(
     options: &TextureOptions,
 ) -> Result<(TextureChannel, ChannelReport), SamplingError> {
     let (mut psd, mean) = exemplar_psd(channel)?;
+    // As `fit_image` does: the spectrum fit targets the spectrum whose Welch estimate this is.
+    if options.fit.method == FitMethod::Spectrum {
+        psd = sharpen_welch(&psd);
+    }
     let budget = options.fit.budget as usize;
     let r = options.structure;
     let mut report = ChannelReport::default();
