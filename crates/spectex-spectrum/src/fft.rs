@@ -14,6 +14,10 @@ use rustfft::{FftDirection, FftNum, FftPlanner};
 /// compilation each on a 2-core machine. Each type's transform is instead one non-generic
 /// function compiled here once, that callers link to.
 pub trait FftFloat: FftNum + sealed::Sealed {
+    /// A new planner ([`Fft2::new`]): rustfft's constructor, generic too, is compiled here.
+    #[doc(hidden)]
+    fn planner() -> FftPlanner<Self>;
+
     /// Transforms a row-major `height × width` buffer in place ([`Fft2::process_slice`]).
     #[doc(hidden)]
     fn process_slice(
@@ -33,6 +37,10 @@ mod sealed {
 }
 
 impl FftFloat for f64 {
+    fn planner() -> FftPlanner<Self> {
+        FftPlanner::new()
+    }
+
     fn process_slice(
         engine: &mut Fft2<Self>,
         data: &mut [Complex<Self>],
@@ -46,6 +54,10 @@ impl FftFloat for f64 {
 
 #[cfg(test)]
 impl FftFloat for f32 {
+    fn planner() -> FftPlanner<Self> {
+        FftPlanner::new()
+    }
+
     fn process_slice(
         engine: &mut Fft2<Self>,
         data: &mut [Complex<Self>],
@@ -104,7 +116,7 @@ impl<T: FftFloat> Fft2<T> {
     #[must_use]
     pub fn new() -> Self {
         Self {
-            planner: FftPlanner::new(),
+            planner: T::planner(),
             scratch: Vec::new(),
             transposed: Vec::new(),
         }
