@@ -1,8 +1,8 @@
 //! Criterion bench of LRP noise by example: the whole fit of a 256² exemplar with J = 50 and
 //! L = 4 by the spectrum fit (the default) and by the paper's (Welch spectrum, stratification,
 //! erosion, k-means, amplitudes), as in the paper's "under 1 s" claim (§6), and the
-//! stratification alone; then the two fitted models' evaluation in Mpix/s (256² windows, one
-//! thread), in the same run, so their ratio is the spectrum fit's evaluation cost.
+//! stratification alone. The fitted models' evaluation speed is `spectex-cli`'s `fitted_eval`
+//! bench (this crate may not depend on the evaluator).
 //!
 //! `cargo bench -p spectex-sampling --bench fit`. The exemplar is the top-left 256² crop of the
 //! shared gravel photograph when `../shared/testdata/textures/` is present, else (with a printed
@@ -63,24 +63,6 @@ fn bench(c: &mut Criterion) {
     group.bench_function("stratify_psd128_j50_l4", |b| {
         b.iter(|| stratify(black_box(psd.view()), &options));
     });
-    group.finish();
-
-    let side = 256;
-    let window = Window::new(side, side).at([1000.0, 2000.0], 1.0);
-    let single = rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
-        .build()
-        .expect("a one-thread pool");
-    let mut group = c.benchmark_group("fitted_eval");
-    group.throughput(Throughput::Elements((side * side) as u64));
-    group.sample_size(10);
-    for (name, fit) in [("spectrum", options), ("paper", paper)] {
-        let model = Model::Lrp(fit_image(image.view(), &fit).expect("the exemplar fits"));
-        let eval = Evaluator::new(&model).expect("a fitted model is valid");
-        group.bench_function(format!("j50_{name}_1_thread"), |b| {
-            b.iter(|| single.install(|| eval.render(black_box(&window))));
-        });
-    }
     group.finish();
 }
 
