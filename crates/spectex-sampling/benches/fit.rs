@@ -8,11 +8,8 @@
 //! shared gravel photograph when `../shared/testdata/textures/` is present, else (with a printed
 //! note) a synthetic 256² image of oriented waves and noise.
 
-use criterion::Throughput;
 use criterion::{Criterion, criterion_group, criterion_main};
 use ndarray::Array2;
-use spectex_cpu::{Evaluator, Window};
-use spectex_model::Model;
 use spectex_model::random::{Prng, cell_hash};
 use spectex_sampling::{FitMethod, FitOptions, fit_image, stratify};
 use spectex_spectrum::{Fft2, welch_psd};
