@@ -285,3 +285,26 @@ fn warp_relocate(cell: i32, offset: f32, d: f32) -> Located {
     let shift = floor(u);
     return Located(bitcast<i32>(bitcast<u32>(cell) + bitcast<u32>(i32(shift))), u - shift);
 }
+
+/// spectex_model::filter's FADE_START and FADE_END: the clamp of a minified render's filter
+/// fades from the first to the second (cycles per output pixel).
+const FILTER_FADE_START: f32 = 0.45f;
+const FILTER_FADE_END: f32 = 0.55f;
+const FILTER_PI: f32 = 3.1415927f;
+
+/// spectex_model::filter::response_f32: sinc(v) times the clamp faded over
+/// [FILTER_FADE_START, FILTER_FADE_END], v in cycles per output pixel.
+fn filter_response(v: f32) -> f32 {
+    var sinc = 1.0f;
+    if (v >= 1e-6f) {
+        sinc = sin_turns(0.5f * v) / (FILTER_PI * v);
+    }
+    var taper = 1.0f;
+    if (v >= FILTER_FADE_END) {
+        taper = 0.0f;
+    } else if (v > FILTER_FADE_START) {
+        let c = cos_turns(0.25f * (v - FILTER_FADE_START) / (FILTER_FADE_END - FILTER_FADE_START));
+        taper = c * c;
+    }
+    return sinc * taper;
+}

@@ -83,28 +83,8 @@ struct PhasorImpulse {
 @group(0) @binding(7) var<storage, read> rows: array<PhasorAxis>;
 @group(0) @binding(8) var<storage, read_write> output: array<f32>;
 
-/// spectex_model::filter's FADE_START, FADE_END and MAX_SQUARE_HARMONICS.
-const FILTER_FADE_START: f32 = 0.45f;
-const FILTER_FADE_END: f32 = 0.55f;
+/// spectex_model::filter's MAX_SQUARE_HARMONICS (`filter_response` is common.wgsl's).
 const MAX_SQUARE_HARMONICS: u32 = 64u;
-const FILTER_PI: f32 = 3.1415927f;
-
-/// spectex_model::filter::response_f32: sinc(v) times the clamp faded over
-/// [FILTER_FADE_START, FILTER_FADE_END].
-fn filter_response(v: f32) -> f32 {
-    var sinc = 1.0f;
-    if (v >= 1e-6f) {
-        sinc = sin_turns(0.5f * v) / (FILTER_PI * v);
-    }
-    var taper = 1.0f;
-    if (v >= FILTER_FADE_END) {
-        taper = 0.0f;
-    } else if (v > FILTER_FADE_START) {
-        let c = cos_turns(0.25f * (v - FILTER_FADE_START) / (FILTER_FADE_END - FILTER_FADE_START));
-        taper = c * c;
-    }
-    return sinc * taper;
-}
 
 /// spectex_model::filter::filtered_square: the square profile's Fourier series, harmonic k
 /// weighted by filter_response(k·u).

@@ -92,27 +92,6 @@ const PLACEMENT_BLEND: f32 = 0.125f;
 @group(0) @binding(7) var<storage, read> rows: array<PlacementAxis>;
 @group(0) @binding(8) var<storage, read_write> output: array<f32>;
 
-/// spectex_model::filter's FADE_START and FADE_END.
-const FILTER_FADE_START: f32 = 0.45f;
-const FILTER_FADE_END: f32 = 0.55f;
-const FILTER_PI: f32 = 3.1415927f;
-
-/// spectex_model::filter::response_f32 (the twin of phasor.wgsl's).
-fn filter_response(v: f32) -> f32 {
-    var sinc = 1.0f;
-    if (v >= 1e-6f) {
-        sinc = sin_turns(0.5f * v) / (FILTER_PI * v);
-    }
-    var taper = 1.0f;
-    if (v >= FILTER_FADE_END) {
-        taper = 0.0f;
-    } else if (v > FILTER_FADE_START) {
-        let c = cos_turns(0.25f * (v - FILTER_FADE_START) / (FILTER_FADE_END - FILTER_FADE_START));
-        taper = c * c;
-    }
-    return sinc * taper;
-}
-
 /// `block_value_filtered`: one block's non-zero cosines, each weighted for footprint `s`.
 fn block_value_filtered(span: vec2<u32>, inv_n: f32, ux: f32, uy: f32, s: f32) -> f32 {
     var sum = 0.0f;
@@ -131,6 +110,38 @@ fn block_value_filtered(span: vec2<u32>, inv_n: f32, ux: f32, uy: f32, s: f32) -
     return sum;
 }
 
+/// The 2×2 cross-fade of `Structure::eval` (spectex_model's `cross_fade`) around q on a grid of
+/// cells of side 1/inv_delta: q's place t ∈ [0, 1)² in its cell, the cell, and the weights h.
+struct CrossFade {
+    t: vec2<f32>,
+    cell: vec2<i32>,
+    h: vec2<f32>,
+}
+
+fn cross_fade(q: vec2<f32>, inv_delta: f32) -> CrossFade {
+    let gx = q.x * inv_delta;
+    let gy = q.y * inv_delta;
+    let fx = floor(gx);
+    let fy = floor(gy);
+    let t = vec2<f32>(gx - fx, gy - fy);
+    let h = vec2<f32>(0.5f + 0.5f * cos_turns(0.5f * t.x), 0.5f + 0.5f * cos_turns(0.5f * t.y));
+    return CrossFade(t, vec2<i32>(i32(fx), i32(fy)), h);
+}
+
+/// The weight `wx·wy` of tap (di, dj) ∈ {0, 1}².
+fn cross_fade_weight(cf: CrossFade, di: i32, dj: i32) -> f32 {
+    let wy = select(1.0f - cf.h.y, cf.h.y, dj == 0);
+    let wx = select(1.0f - cf.h.x, cf.h.x, di == 0);
+    return wx * wy;
+}
+
+/// The (column, row) of tap (di, dj) on a grid of `side` cells, a power of two: rem_euclid by
+/// a power of two is the two's-complement low bits.
+fn cross_fade_cell(cf: CrossFade, di: i32, dj: i32, side: u32) -> vec2<u32> {
+    let mask = side - 1u;
+    return vec2<u32>(bitcast<u32>(cf.cell.x + di) & mask, bitcast<u32>(cf.cell.y + dj) & mask);
+}
+
 /// Level `level` of a channel's mipmap of block means at q, cross-faded on its grid
 /// (`eval_filtered`'s `level`).
 fn mean_level(st: ChannelStructure, level: u32, q: vec2<f32>) -> f32 {
@@ -145,25 +156,12 @@ fn mean_level(st: ChannelStructure, level: u32, q: vec2<f32>) -> f32 {
     }
     let delta = st.delta * f32(1u << level);
     let inv_delta = 1.0f / delta;
-    let gx = q.x * inv_delta;
-    let gy = q.y * inv_delta;
-    let fx = floor(gx);
-    let fy = floor(gy);
-    let tx = gx - fx;
-    let ty = gy - fy;
-    let i0 = i32(fx);
-    let j0 = i32(fy);
-    let hx = 0.5f + 0.5f * cos_turns(0.5f * tx);
-    let hy = 0.5f + 0.5f * cos_turns(0.5f * ty);
-    let mask = side - 1u;
+    let cf = cross_fade(q, inv_delta);
     var sum = 0.0f;
     for (var dj = 0; dj < 2; dj++) {
-        let wy = select(1.0f - hy, hy, dj == 0);
-        let row = bitcast<u32>(j0 + dj) & mask;
         for (var di = 0; di < 2; di++) {
-            let wx = select(1.0f - hx, hx, di == 0);
-            let col = bitcast<u32>(i0 + di) & mask;
-            sum += wx * wy * block_means[start + row * side + col];
+            let cell = cross_fade_cell(cf, di, dj, side);
+            sum += cross_fade_weight(cf, di, dj) * block_means[start + cell.y * side + cell.x];
         }
     }
     return sum;
@@ -176,28 +174,15 @@ fn structure_eval_filtered(st: ChannelStructure, q: vec2<f32>, s: f32) -> f32 {
         return block_value_filtered(blocks[st.first_block], st.inv_n, q.x, q.y, s)
             + block_means[st.first_mean];
     }
-    let gx = q.x * st.inv_delta;
-    let gy = q.y * st.inv_delta;
-    let fx = floor(gx);
-    let fy = floor(gy);
-    let tx = gx - fx;
-    let ty = gy - fy;
-    let i0 = i32(fx);
-    let j0 = i32(fy);
-    let hx = 0.5f + 0.5f * cos_turns(0.5f * tx);
-    let hy = 0.5f + 0.5f * cos_turns(0.5f * ty);
-    let mask = b - 1u;
+    let cf = cross_fade(q, st.inv_delta);
     var sum = 0.0f;
     for (var dj = 0; dj < 2; dj++) {
-        let wy = select(1.0f - hy, hy, dj == 0);
-        let uy = (ty - f32(dj)) * st.delta;
-        let row = bitcast<u32>(j0 + dj) & mask;
+        let uy = (cf.t.y - f32(dj)) * st.delta;
         for (var di = 0; di < 2; di++) {
-            let wx = select(1.0f - hx, hx, di == 0);
-            let ux = (tx - f32(di)) * st.delta;
-            let col = bitcast<u32>(i0 + di) & mask;
-            let span = blocks[st.first_block + row * b + col];
-            sum += wx * wy * block_value_filtered(span, st.inv_n, ux, uy, s);
+            let ux = (cf.t.x - f32(di)) * st.delta;
+            let cell = cross_fade_cell(cf, di, dj, b);
+            let span = blocks[st.first_block + cell.y * b + cell.x];
+            sum += cross_fade_weight(cf, di, dj) * block_value_filtered(span, st.inv_n, ux, uy, s);
         }
     }
     let top = countTrailingZeros(b);
@@ -228,29 +213,15 @@ fn structure_eval(s: ChannelStructure, q: vec2<f32>) -> f32 {
     if (b == 1u) {
         return block_value(blocks[s.first_block], s.inv_n, q.x, q.y);
     }
-    let gx = q.x * s.inv_delta;
-    let gy = q.y * s.inv_delta;
-    let fx = floor(gx);
-    let fy = floor(gy);
-    let tx = gx - fx;
-    let ty = gy - fy;
-    let i0 = i32(fx);
-    let j0 = i32(fy);
-    let hx = 0.5f + 0.5f * cos_turns(0.5f * tx);
-    let hy = 0.5f + 0.5f * cos_turns(0.5f * ty);
-    // rem_euclid by a power of two is the two's-complement low bits.
-    let mask = b - 1u;
+    let cf = cross_fade(q, s.inv_delta);
     var sum = 0.0f;
     for (var dj = 0; dj < 2; dj++) {
-        let wy = select(1.0f - hy, hy, dj == 0);
-        let uy = (ty - f32(dj)) * s.delta;
-        let row = bitcast<u32>(j0 + dj) & mask;
+        let uy = (cf.t.y - f32(dj)) * s.delta;
         for (var di = 0; di < 2; di++) {
-            let wx = select(1.0f - hx, hx, di == 0);
-            let ux = (tx - f32(di)) * s.delta;
-            let col = bitcast<u32>(i0 + di) & mask;
-            let span = blocks[s.first_block + row * b + col];
-            sum += wx * wy * block_value(span, s.inv_n, ux, uy);
+            let ux = (cf.t.x - f32(di)) * s.delta;
+            let cell = cross_fade_cell(cf, di, dj, b);
+            let span = blocks[s.first_block + cell.y * b + cell.x];
+            sum += cross_fade_weight(cf, di, dj) * block_value(span, s.inv_n, ux, uy);
         }
     }
     return sum;

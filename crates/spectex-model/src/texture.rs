@@ -171,32 +171,11 @@ impl Structure {
             return block_value(&self.cosines[0], 1.0 / (2 * period) as f32, q[0], q[1]);
         }
         let delta = (period / b) as f32;
-        let inv_delta = 1.0 / delta;
-        let inv_n = 0.5 * inv_delta;
-        let gx = q[0] * inv_delta;
-        let gy = q[1] * inv_delta;
-        let fx = gx.floor();
-        let fy = gy.floor();
-        let tx = gx - fx;
-        let ty = gy - fy;
-        let i0 = fx as i32;
-        let j0 = fy as i32;
-        let hx = 0.5 + 0.5 * cos_turns(0.5 * tx);
-        let hy = 0.5 + 0.5 * cos_turns(0.5 * ty);
-        let mut sum = 0.0f32;
-        for dj in 0..2 {
-            let wy = if dj == 0 { hy } else { 1.0 - hy };
-            let uy = (ty - dj as f32) * delta;
-            let row = (j0 + dj).rem_euclid(b as i32) as u32;
-            for di in 0..2 {
-                let wx = if di == 0 { hx } else { 1.0 - hx };
-                let ux = (tx - di as f32) * delta;
-                let col = (i0 + di).rem_euclid(b as i32) as u32;
-                let block = &self.cosines[(row * b + col) as usize];
-                sum += wx * wy * block_value(block, inv_n, ux, uy);
-            }
-        }
-        sum
+        // 0.5·(1/Δ), as the WGSL twin rounds it.
+        let inv_n = 0.5 * (1.0 / delta);
+        cross_fade(b, delta, q, |row, col, ux, uy| {
+            block_value(&self.cosines[(row * b + col) as usize], inv_n, ux, uy)
+        })
     }
 }
 

@@ -13,11 +13,9 @@ use crate::erosion::erode;
 use crate::grid::{Bin, in_half_plane, mirror};
 use crate::kmeans::sub_strata;
 use crate::shrink::{MAX_COVERAGE, MIN_COVERAGE, shrink_unit};
-use crate::spectrum_fit::{
-    MIN_WINDOW_WIDTH as SPECTRUM_MIN_WINDOW_WIDTH, resolving_width, sharpen_welch, spectrum_tables,
-};
+use crate::spectrum_fit::{self, sharpen_welch, spectrum_tables};
 use crate::stratify::{
-    MAX_PSD_SIDE, MAX_WINDOW_WIDTH_PER_SIDE, Partition, distribute_budget, equal_energy_strata,
+    EnergyStratum, MAX_PSD_SIDE, Partition, distribute_budget, equal_energy_strata,
     log_power_strata, validate_psd, window_width,
 };
 
@@ -211,14 +209,9 @@ pub fn stratify(
     psd: ArrayView2<'_, f64>,
     options: &FitOptions,
 ) -> Result<Stratification, SamplingError> {
-    options.validate()?;
-    let partition = match options.partition {
-        Partition::EqualEnergy => equal_energy_strata(psd, options.strata as usize)?,
-        Partition::LogPower => log_power_strata(psd, options.strata as usize)?,
-    };
+    let (partition, budgets) = partition(psd, options)?;
     let size = psd.nrows();
-    let energies: Vec<f64> = partition.iter().map(|s| s.energy).collect();
-    let budgets = distribute_budget(&energies, options.budget as usize);
+    let partition_energy: f64 = partition.iter().map(|s| s.energy).sum();
     let delta0 = shrink_unit(options.coverage);
     let strata = partition
         .into_par_iter()
@@ -275,10 +268,41 @@ pub fn stratify(
         .collect();
     Ok(Stratification {
         size,
-        energy: energies.iter().sum(),
+        energy: partition_energy,
         shrink_unit: delta0,
         strata,
     })
+}
+
+/// The strata of `options.partition` (after validating `options`) and their budgets `J_S`
+/// (§4.2–4.3), shared by both fits.
+fn partition(
+    psd: ArrayView2<'_, f64>,
+    options: &FitOptions,
+) -> Result<(Vec<EnergyStratum>, Vec<usize>), SamplingError> {
+    options.validate()?;
+    let partition = match options.partition {
+        Partition::EqualEnergy => equal_energy_strata(psd, options.strata as usize)?,
+        Partition::LogPower => log_power_strata(psd, options.strata as usize)?,
+    };
+    let energies: Vec<f64> = partition.iter().map(|s| s.energy).collect();
+    let budgets = distribute_budget(&energies, options.budget as usize);
+    Ok((partition, budgets))
+}
+
+/// The fitted model, validated against a model file's ranges.
+fn lrp_model(
+    options: &FitOptions,
+    mean: f64,
+    strata: Vec<Stratum>,
+) -> Result<LrpNoise, SamplingError> {
+    let model = LrpNoise {
+        seed: options.seed,
+        mean: mean as f32,
+        strata,
+    };
+    model.validate().map_err(SamplingError::Model)?;
+    Ok(model)
 }
 
 /// Fits an LRP noise to a discrete power spectrum (§4.4, "noise by example with discrete
@@ -320,54 +344,34 @@ pub fn fit_psd(
             sub_strata: sub_strata(&s.points, size, s.cosines, s.level, options.seed),
         })
         .collect();
-    let model = LrpNoise {
-        seed: options.seed,
-        mean: mean as f32,
-        strata,
-    };
-    model.validate().map_err(SamplingError::Model)?;
-    Ok(model)
+    lrp_model(options, mean, strata)
 }
 
 /// [`fit_psd`] with [`FitMethod::Spectrum`]: the strata of the chosen partition, their budgets
-/// and amplitudes as in the paper, and tables from [`spectrum_tables`] with `Δ_S` at least
-/// [`SPECTRUM_MIN_WINDOW_WIDTH`].
+/// and amplitudes as in the paper, tables from [`spectrum_tables`] and `Δ_S` from
+/// [`spectrum_fit::window_width`].
 fn fit_psd_spectrum(
     psd: ArrayView2<'_, f64>,
     mean: f64,
     options: &FitOptions,
 ) -> Result<LrpNoise, SamplingError> {
-    options.validate()?;
-    let partition = match options.partition {
-        Partition::EqualEnergy => equal_energy_strata(psd, options.strata as usize)?,
-        Partition::LogPower => log_power_strata(psd, options.strata as usize)?,
-    };
+    let (partition, budgets) = partition(psd, options)?;
     let size = psd.nrows();
-    let energies: Vec<f64> = partition.iter().map(|s| s.energy).collect();
-    let budgets = distribute_budget(&energies, options.budget as usize);
     let strata = partition
         .par_iter()
         .zip(budgets.par_iter())
         .filter(|(s, cosines)| !s.bins.is_empty() && **cosines > 0)
         .map(|(s, &cosines)| {
-            let width = SPECTRUM_MIN_WINDOW_WIDTH
-                .max(resolving_width(&s.bins, &|b| psd[b], size))
-                .min(MAX_WINDOW_WIDTH_PER_SIDE * size as f64);
+            let power = |b: Bin| psd[b];
             Stratum {
-                window_width: width as f32,
+                window_width: spectrum_fit::window_width(&s.bins, &power, size) as f32,
                 amplitude: amplitude(s.energy, cosines) as f32,
-                sub_strata: spectrum_tables(&s.bins, &|b| psd[b], size, cosines),
+                sub_strata: spectrum_tables(&s.bins, &power, size, cosines),
             }
         })
         .filter(|s| !s.sub_strata.is_empty())
         .collect();
-    let model = LrpNoise {
-        seed: options.seed,
-        mean: mean as f32,
-        strata,
-    };
-    model.validate().map_err(SamplingError::Model)?;
-    Ok(model)
+    lrp_model(options, mean, strata)
 }
 
 /// Largest smaller side of an image accepted by [`fit_image`]: its Welch spectrum then has side
@@ -423,7 +427,25 @@ pub fn exemplar_psd(channel: ArrayView2<'_, f64>) -> Result<(Array2<f64>, f64), 
     Ok((psd, mean))
 }
 
-/// Fits an LRP noise to one channel of an example image (§4.4): [`exemplar_psd`] (the Welch
+/// The spectrum and mean a fit by `method` targets for one channel of an example image:
+/// [`exemplar_psd`], and for [`FitMethod::Spectrum`] the spectrum whose Welch estimate that is
+/// ([`sharpen_welch`]: cosines fitted to the blurred estimate would be blurred again when a
+/// render is measured). Noise by example, texture strata and turbulence all fit this.
+///
+/// # Errors
+/// As [`exemplar_psd`].
+pub fn exemplar_target(
+    channel: ArrayView2<'_, f64>,
+    method: FitMethod,
+) -> Result<(Array2<f64>, f64), SamplingError> {
+    let (psd, mean) = exemplar_psd(channel)?;
+    Ok(match method {
+        FitMethod::Spectrum => (sharpen_welch(&psd), mean),
+        FitMethod::Paper => (psd, mean),
+    })
+}
+
+/// Fits an LRP noise to one channel of an example image (§4.4): [`exemplar_target`] (the Welch
 /// spectrum's shape, the image's variance and mean), through [`fit_psd`].
 ///
 /// # Errors
@@ -433,10 +455,7 @@ pub fn fit_image(
     options: &FitOptions,
 ) -> Result<LrpNoise, SamplingError> {
     options.validate()?;
-    let (mut psd, mean) = exemplar_psd(channel)?;
-    if options.method == FitMethod::Spectrum {
-        psd = sharpen_welch(&psd);
-    }
+    let (psd, mean) = exemplar_target(channel, options.method)?;
     match fit_psd(psd.view(), mean, options) {
         Err(SamplingError::NoEnergy { .. }) => Err(SamplingError::NoEnergy { parameter: "image" }),
         other => other,

@@ -58,7 +58,8 @@ pub mod texture;
 pub use error::SamplingError;
 pub use fit::{
     DEFAULT_TARGET_GRID, FitMethod, FitOptions, MAX_IMAGE_SIDE, MAX_TARGET_GRID, MIN_TARGET_GRID,
-    Stratification, StratumPlan, exemplar_psd, fit_image, fit_psd, fit_target, stratify,
+    Stratification, StratumPlan, exemplar_psd, exemplar_target, fit_image, fit_psd, fit_target,
+    stratify,
 };
 pub use from_target::LrpFromTarget;
 pub use stratify::Partition;

@@ -11,6 +11,9 @@
 //! Here the same LRP model and evaluation contract (one amplitude per stratum, each lattice
 //! point drawing one entry of each table uniformly) reproduce the spectrum itself:
 //!
+//! 0. An example image's Welch estimate is first sharpened ([`sharpen_welch`], through
+//!    [`crate::exemplar_target`]): cosines fitted to the Hann-blurred estimate are blurred again
+//!    when a render is measured the same way.
 //! 1. Each stratum's bins (its whole, uneroded region, folded onto the half plane: a cosine puts
 //!    power at `±f`) are cut into `J_S` sub-strata of **equal energy** by recursive bisection
 //!    along the wider axis, at the energy quantile; a bin straddling a cut is shared between
@@ -18,10 +21,11 @@
 //! 2. Each sub-stratum's table lists its bins **in proportion to their power** (largest
 //!    remainder rounding to [`TABLE_ENTRIES`] entries): a uniform draw from the table is then a
 //!    draw from the PSD, at no cost at evaluation.
-//! 3. `Δ_S` is at least [`MIN_WINDOW_WIDTH`] pixels: the window's own spectrum, which blurs every
+//! 3. `Δ_S` ([`window_width`]) resolves the stratum's low frequencies ([`resolving_width`]) and
+//!    is at least [`MIN_WINDOW_WIDTH`] pixels: the window's own spectrum, which blurs every
 //!    cosine by about `1/Δ_S`, then stays well inside the Nyquist band (the paper's formula gives
 //!    2.6 px for the outer stratum of the gravel photograph, whose blur put 7.5% of the energy
-//!    past Nyquist).
+//!    past Nyquist) and does not push a height map's first rings outward.
 //!
 //! The expected spectrum of the noise is then the PSD convolved with the window's spectrum, with
 //! the variance and mean of the exemplar; evaluation costs exactly what the paper's model of the
@@ -30,6 +34,7 @@
 use spectex_model::MAX_TABLE;
 
 use crate::grid::{Bin, frequency, in_half_plane, mirror};
+use crate::stratify::MAX_WINDOW_WIDTH_PER_SIDE;
 
 /// Entries of each sub-stratum's table. A bin of weight `w` (share of its sub-stratum's energy)
 /// gets `round(w·TABLE_ENTRIES)` entries (largest remainder), so the drawn spectrum is the PSD
@@ -217,6 +222,15 @@ pub fn resolving_width(bins: &[Bin], psd: &dyn Fn(Bin) -> f64, size: usize) -> f
         }
     }
     0.0
+}
+
+/// `Δ_S` of a stratum: [`resolving_width`] within `[`[`MIN_WINDOW_WIDTH`]`, 4T]` (the paper's
+/// upper clamp, [`MAX_WINDOW_WIDTH_PER_SIDE`]).
+#[must_use]
+pub fn window_width(bins: &[Bin], psd: &dyn Fn(Bin) -> f64, size: usize) -> f64 {
+    MIN_WINDOW_WIDTH
+        .max(resolving_width(bins, psd, size))
+        .min(MAX_WINDOW_WIDTH_PER_SIDE * size as f64)
 }
 
 /// Richardson–Lucy iterations of [`sharpen_welch`].

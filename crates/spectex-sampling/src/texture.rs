@@ -4,7 +4,7 @@
 //!
 //! ## Steps, per channel
 //! 1. `T` is the Welch block side of the exemplar; the Welch spectrum (scaled to the image's
-//!    variance, [`exemplar_psd`]) is the target of the random-phase part.
+//!    variance, [`exemplar_target`]) is the target of the random-phase part.
 //! 2. **Region `R`** (§5.1): the top-left `T × T` block of the exemplar (its periodic component
 //!    by default, so the structure tiles without the cross of border discontinuities; the raw
 //!    block with [`TextureOptions::periodic`] false) is transformed; its non-zero frequencies
@@ -45,8 +45,7 @@ use spectex_model::texture::{
 use spectex_spectrum::{Fft2, periodic_smooth, welch_block_size};
 
 use crate::SamplingError;
-use crate::fit::{FitMethod, FitOptions, exemplar_psd, fit_psd, stratify};
-use crate::spectrum_fit::sharpen_welch;
+use crate::fit::{FitOptions, exemplar_target, fit_psd, stratify};
 
 /// The colour precision of §5.3: the structure blocks are subdivided until the mean absolute
 /// deviation from the structure image is at most this.
@@ -234,11 +233,7 @@ fn fit_channel(
     seed: u32,
     options: &TextureOptions,
 ) -> Result<(TextureChannel, ChannelReport), SamplingError> {
-    let (mut psd, mean) = exemplar_psd(channel)?;
-    // As `fit_image` does: the spectrum fit targets the spectrum whose Welch estimate this is.
-    if options.fit.method == FitMethod::Spectrum {
-        psd = sharpen_welch(&psd);
-    }
+    let (mut psd, mean) = exemplar_target(channel, options.fit.method)?;
     let budget = options.fit.budget as usize;
     let r = options.structure;
     let mut report = ChannelReport::default();
@@ -472,7 +467,7 @@ fn fit_turbulence(
     channel: ArrayView2<'_, f64>,
     options: &TextureOptions,
 ) -> Result<Turbulence, SamplingError> {
-    let (mut psd, _) = exemplar_psd(channel)?;
+    let (mut psd, _) = exemplar_target(channel, options.fit.method)?;
     let size = psd.nrows();
     let variance = (psd.sum() - psd[[0, 0]]) / (size * size) as f64;
     psd.mapv_inplace(|p| p / variance);

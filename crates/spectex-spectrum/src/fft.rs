@@ -31,43 +31,34 @@ pub trait FftFloat: FftNum + sealed::Sealed {
 
 mod sealed {
     pub trait Sealed {}
-    impl Sealed for f64 {}
-    #[cfg(test)]
-    impl Sealed for f32 {}
 }
 
-impl FftFloat for f64 {
-    fn planner() -> FftPlanner<Self> {
-        FftPlanner::new()
-    }
+/// `FftFloat` for one sample type: the generic bodies instantiated here, once.
+macro_rules! fft_float {
+    ($t:ty) => {
+        impl sealed::Sealed for $t {}
 
-    fn process_slice(
-        engine: &mut Fft2<Self>,
-        data: &mut [Complex<Self>],
-        height: usize,
-        width: usize,
-        direction: FftDirection,
-    ) {
-        engine.process_slice_generic(data, height, width, direction);
-    }
+        impl FftFloat for $t {
+            fn planner() -> FftPlanner<Self> {
+                FftPlanner::new()
+            }
+
+            fn process_slice(
+                engine: &mut Fft2<Self>,
+                data: &mut [Complex<Self>],
+                height: usize,
+                width: usize,
+                direction: FftDirection,
+            ) {
+                engine.process_slice_generic(data, height, width, direction);
+            }
+        }
+    };
 }
 
+fft_float!(f64);
 #[cfg(test)]
-impl FftFloat for f32 {
-    fn planner() -> FftPlanner<Self> {
-        FftPlanner::new()
-    }
-
-    fn process_slice(
-        engine: &mut Fft2<Self>,
-        data: &mut [Complex<Self>],
-        height: usize,
-        width: usize,
-        direction: FftDirection,
-    ) {
-        engine.process_slice_generic(data, height, width, direction);
-    }
-}
+fft_float!(f32);
 
 /// A reusable 2D FFT engine.
 ///

@@ -219,17 +219,22 @@ fn octave_spreads_match_the_bases() {
     }
 }
 
-/// fBm of gradient noise from a 128-pixel cell down to 1 pixel (8 octaves, gain ½): at scale 4
-/// its three finest octaves lie past the output's Nyquist frequency.
-#[test]
-fn fbm_at_scale_4_does_not_alias() {
-    let model: Model = spectex_model::ClassicNoise::fbm()
+/// `fractal` of gradient noise from a 128-pixel cell down to 1 pixel (8 octaves, gain ½, seed 3).
+fn eight_octaves(fractal: spectex_model::classic::FractalNoiseBuilder) -> Model {
+    fractal
         .cell_size(128.0)
         .octaves(8)
         .seed(3)
         .build()
         .expect("valid")
-        .into();
+        .into()
+}
+
+/// fBm of gradient noise from a 128-pixel cell down to 1 pixel (8 octaves, gain ½): at scale 4
+/// its three finest octaves lie past the output's Nyquist frequency.
+#[test]
+fn fbm_at_scale_4_does_not_alias() {
+    let model = eight_octaves(spectex_model::ClassicNoise::fbm());
     check("fbm", &model);
 }
 
@@ -286,21 +291,9 @@ fn octave_moments_match_the_bases() {
 /// phasor and fBm).
 #[test]
 fn turbulence_and_ridged_keep_their_mean_at_scale_4() {
-    let turbulence: Model = spectex_model::ClassicNoise::turbulence()
-        .cell_size(128.0)
-        .octaves(8)
-        .seed(3)
-        .build()
-        .expect("valid")
-        .into();
+    let turbulence = eight_octaves(spectex_model::ClassicNoise::turbulence());
     check_moments("turbulence", &turbulence);
-    let ridged: Model = spectex_model::ClassicNoise::ridged()
-        .cell_size(128.0)
-        .octaves(8)
-        .seed(3)
-        .build()
-        .expect("valid")
-        .into();
+    let ridged = eight_octaves(spectex_model::ClassicNoise::ridged());
     check_moments("ridged", &ridged);
 }
 

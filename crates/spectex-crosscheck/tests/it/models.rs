@@ -26,6 +26,21 @@ use spectex_gpu::GpuContext;
 /// Environment variable that turns a missing adapter from a skip into a failure.
 const REQUIRE_GPU_ENV: &str = "SPECTEX_REQUIRE_GPU";
 
+/// The device, or `None` after printing why when there is no adapter, unless
+/// `SPECTEX_REQUIRE_GPU=1`, which makes a missing adapter a failure.
+fn gpu_or_skip() -> Option<GpuContext> {
+    match GpuContext::new() {
+        Ok(c) => Some(c),
+        Err(e) if std::env::var(REQUIRE_GPU_ENV).is_ok_and(|v| v == "1") => {
+            panic!("{REQUIRE_GPU_ENV}=1 but no GPU: {e}")
+        }
+        Err(e) => {
+            println!("SKIPPED cross-check: {e}");
+            None
+        }
+    }
+}
+
 /// Environment variable naming a file to which the suite also writes its `crosscheck:` lines, for
 /// `cargo xtask ci` and `verify` to print after the test run (libtest shows a passing test's
 /// output only with `--nocapture`).
@@ -53,15 +68,8 @@ fn every_shipped_model_agrees_on_cpu_and_gpu() {
         "testdata/models should hold the LRP (2 fitted, ring), Gabor (2), phasor (5), texture and \
          classic cases"
     );
-    let context = match GpuContext::new() {
-        Ok(c) => c,
-        Err(e) if std::env::var(REQUIRE_GPU_ENV).is_ok_and(|v| v == "1") => {
-            panic!("{REQUIRE_GPU_ENV}=1 but no GPU: {e}")
-        }
-        Err(e) => {
-            println!("SKIPPED cross-check: {e}");
-            return;
-        }
+    let Some(context) = gpu_or_skip() else {
+        return;
     };
     let adapter = context.adapter_name();
     let mut failed = Vec::new();
@@ -123,15 +131,8 @@ fn every_shipped_model_agrees_on_cpu_and_gpu() {
 #[test]
 fn minified_texture_structures_agree_across_mipmap_levels() {
     use spectex_crosscheck::{CaseWindow, Verdict};
-    let context = match GpuContext::new() {
-        Ok(c) => c,
-        Err(e) if std::env::var(REQUIRE_GPU_ENV).is_ok_and(|v| v == "1") => {
-            panic!("{REQUIRE_GPU_ENV}=1 but no GPU: {e}")
-        }
-        Err(e) => {
-            println!("SKIPPED cross-check: {e}");
-            return;
-        }
+    let Some(context) = gpu_or_skip() else {
+        return;
     };
     let file = PathBuf::from(concat!(
         env!("CARGO_MANIFEST_DIR"),
