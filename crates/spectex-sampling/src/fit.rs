@@ -364,7 +364,7 @@ fn fit_psd_spectrum(
         .map(|(s, &cosines)| {
             let power = |b: Bin| psd[b];
             Stratum {
-                window_width: spectrum_fit::window_width(&s.bins, &power, size) as f32,
+                window_width: spectrum_fit::window_width(&s.bins, &power, size, cosines) as f32,
                 amplitude: amplitude(s.energy, cosines) as f32,
                 sub_strata: spectrum_tables(&s.bins, &power, size, cosines),
             }

@@ -15,7 +15,7 @@
     reason = "the measured tables are the point of these tests"
 )]
 
-use ndarray::Array2;
+use ndarray::{Array2, Axis};
 use spectex_cpu::{Evaluator, Window};
 use spectex_model::{GaborNoise, Model, Orientation, SpectralTarget};
 use spectex_sampling::{FitMethod, FitOptions, fit_image, fit_target};
@@ -50,8 +50,10 @@ fn render(model: &Model, side: usize) -> (Array2<f64>, f64) {
     )
 }
 
-/// Mean and variance of the model from 512² samples 37.3 pixels apart (a 19 100-pixel square):
-/// nearly independent samples, so the estimate's relative error is about √(2/512²) ≈ 0.3%,
+/// Mean and variance of the model from 512² samples 1031.3 pixels apart (a 528 000-pixel
+/// square), farther apart than the widest window (`4T` = 1024 pixels at most): independent
+/// samples, so the estimate's relative error is about √(2/512²) ≈ 0.3% (samples 37.3 pixels
+/// apart were correlated through a height map's 512-pixel windows: ±2% measured),
 /// where a 1024² render of a height map dominated by periods of 100+ pixels has only a few
 /// hundred independent patches (≈ 7% error on the variance, measured up to 23%).
 fn sparse_mean_var(model: &Model) -> (f64, f64) {
@@ -60,7 +62,7 @@ fn sparse_mean_var(model: &Model) -> (f64, f64) {
         // Point samples (`Filter::Off`): the model's own moments, not a minified render's.
         .render(
             &Window::new(512, 512)
-                .at([-5.0e3, 9.0e3], 37.3)
+                .at([-5.0e3, 9.0e3], 1031.3)
                 .filtered(spectex_cpu::Filter::Off),
         )
         .unwrap();
@@ -102,14 +104,23 @@ fn shape_distance(a: &Array2<f64>, b: &Array2<f64>) -> f64 {
     a.iter().zip(b.iter()).map(|(x, y)| (x - y).abs()).sum()
 }
 
+/// Seeds each fit is rendered with: one render's spectrum at the lowest frequencies is a few
+/// independent patches (a height map's power lies at periods of 100+ pixels), so single-seed
+/// distances spread by ±0.02–0.06 (standard deviations measured over these 8 seeds); the means
+/// over 8 seeds are what is compared.
+const SEEDS: u32 = 8;
+
 /// Noise by example on the four stochastic shared textures: the spectrum fit (the default) at
-/// J = 10, 50, 100 and the paper's fit at J = 50, each rendered at 1024² and measured by an
-/// independent Welch estimate (T = 256) against the exemplar's.
+/// J = 10, 50, 100 and the paper's fit at J = 50, each rendered at 1024² with [`SEEDS`] seeds
+/// and measured by an independent Welch estimate (T = 256) against the exemplar's, next to RPN
+/// (1024² by the spot extension) measured the same way. Asserted (issue 16): the mean distance
+/// at J = 50 at most 0.15, mean and variance within 2% for every fit and seed, the paper's fit
+/// further from the spectrum than the spectrum fit. Printed: the J = 10 → 50 → 100 trend.
 #[test]
 fn noise_by_example_matches_the_exemplar_spectrum() {
     let mut fft = Fft2::new();
     let mut failures = Vec::new();
-    println!("texture   fit       J    L1(shape)  Δmean/σ   var ratio  Mpix/s");
+    println!("texture   fit       J    L1 mean (sd, max)        Δmean/σ   var ratio  Mpix/s");
     for name in [
         "skimage_gravel.png",
         "astex_ambientcg_sand_height_512.png",
@@ -117,34 +128,76 @@ fn noise_by_example_matches_the_exemplar_spectrum() {
         "astex_ambientcg_dirt_height_512.png",
     ] {
         let Some(ex) = shared_grey(name) else { return };
+        let short = &name[..name.len().min(9)];
         let t = 256;
         let psd = welch_psd_with_block(ex.view(), t, &mut fft).unwrap();
         let (mean, var) = mean_var(&ex);
+        let rpn: Vec<f64> = (1..=SEEDS)
+            .map(|seed| {
+                let options = spectex_spectrum::RpnOptions {
+                    size: Some((1024, 1024)),
+                    seed,
+                    ..Default::default()
+                };
+                let out = spectex_spectrum::rpn(ex.clone().insert_axis(Axis(0)).view(), &options)
+                    .unwrap();
+                let psd_r = welch_psd_with_block(out.index_axis(Axis(0), 0), t, &mut fft).unwrap();
+                shape_distance(&psd_r, &psd)
+            })
+            .collect();
+        println!("{short:<9} rpn        -  {}", summary(&rpn));
         let mut spectrum_at_50 = f64::NAN;
-        for (method, budget) in [
-            (FitMethod::Spectrum, 10u32),
-            (FitMethod::Spectrum, 50),
-            (FitMethod::Spectrum, 100),
-            (FitMethod::Paper, 50),
+        for (method, budget, seeds) in [
+            (FitMethod::Spectrum, 10u32, SEEDS),
+            (FitMethod::Spectrum, 50, SEEDS),
+            (FitMethod::Spectrum, 100, SEEDS),
+            (FitMethod::Paper, 50, 1),
         ] {
-            let options = FitOptions {
-                budget,
-                seed: 1,
-                method,
-                ..FitOptions::default()
-            };
-            let model = Model::Lrp(fit_image(ex.view(), &options).unwrap());
-            let (img, seconds) = render(&model, 1024);
-            let psd_r = welch_psd_with_block(img.view(), t, &mut fft).unwrap();
-            let d = shape_distance(&psd_r, &psd);
-            let (m_r, v_r) = sparse_mean_var(&model);
+            let mut distances = Vec::new();
+            let mut worst_moments = (0.0f64, 1.0f64);
+            let mut pixels_per_second = 0.0;
+            for seed in 1..=seeds {
+                let options = FitOptions {
+                    budget,
+                    seed,
+                    method,
+                    ..FitOptions::default()
+                };
+                let model = Model::Lrp(fit_image(ex.view(), &options).unwrap());
+                let (img, seconds) = render(&model, 1024);
+                pixels_per_second += (1024.0 * 1024.0) / seconds / f64::from(seeds);
+                let psd_r = welch_psd_with_block(img.view(), t, &mut fft).unwrap();
+                distances.push(shape_distance(&psd_r, &psd));
+                let (m_r, v_r) = sparse_mean_var(&model);
+                let (dm, vr) = ((m_r - mean) / var.sqrt(), v_r / var);
+                if dm.abs() > worst_moments.0.abs() {
+                    worst_moments.0 = dm;
+                }
+                if (vr - 1.0).abs() > (worst_moments.1 - 1.0).abs() {
+                    worst_moments.1 = vr;
+                }
+                if method == FitMethod::Spectrum {
+                    // Mean within 2% of σ, variance within 2%.
+                    if dm.abs() >= 0.02 {
+                        failures.push(format!(
+                            "{name} J={budget} seed {seed}: mean {m_r} vs {mean}"
+                        ));
+                    }
+                    if (vr - 1.0).abs() >= 0.02 {
+                        failures.push(format!(
+                            "{name} J={budget} seed {seed}: variance {v_r} vs {var}"
+                        ));
+                    }
+                }
+            }
+            let d = distances.iter().sum::<f64>() / distances.len() as f64;
             println!(
-                "{:<9} {:<8} {budget:>3}  {d:9.4}  {:8.4}  {:9.3}  {:6.2}",
-                &name[..name.len().min(9)],
+                "{short:<9} {:<8} {budget:>3}  {}  {:8.4}  {:9.3}  {:6.2}",
                 method.name(),
-                (m_r - mean) / var.sqrt(),
-                v_r / var,
-                (1024.0 * 1024.0) / seconds / 1e6,
+                summary(&distances),
+                worst_moments.0,
+                worst_moments.1,
+                pixels_per_second / 1e6,
             );
             if method == FitMethod::Paper {
                 // The paper's procedure stays what it was: far from the spectrum (0.34–0.58
@@ -154,24 +207,28 @@ fn noise_by_example_matches_the_exemplar_spectrum() {
                         "{name}: paper fit {d:.4} not above the spectrum fit {spectrum_at_50:.4}"
                     ));
                 }
-                continue;
-            }
-            // Mean within 2% of σ, variance within 2%.
-            if ((m_r - mean) / var.sqrt()).abs() >= 0.02 {
-                failures.push(format!("{name} J={budget}: mean {m_r} vs {mean}"));
-            }
-            if (v_r / var - 1.0).abs() >= 0.02 {
-                failures.push(format!("{name} J={budget}: variance {v_r} vs {var}"));
-            }
-            if budget == 50 {
+            } else if budget == 50 {
                 spectrum_at_50 = d;
                 if d > 0.15 {
-                    failures.push(format!("{name} J=50: L1 {d:.4} above 0.15"));
+                    failures.push(format!("{name} J=50: mean L1 {d:.4} above 0.15"));
                 }
             }
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// `mean (sd, max)` of the distances.
+fn summary(d: &[f64]) -> String {
+    let n = d.len() as f64;
+    let mean = d.iter().sum::<f64>() / n;
+    let sd = if d.len() > 1 {
+        (d.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt()
+    } else {
+        0.0
+    };
+    let max = d.iter().copied().fold(f64::MIN, f64::max);
+    format!("{mean:7.4} ({sd:.4}, {max:.4})")
 }
 
 /// `E[(v − μ)⁴]/σ⁴ − 3`: 0 for a Gaussian noise; sparse convolution with few impulses is
