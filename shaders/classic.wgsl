@@ -465,9 +465,6 @@ fn classic_main(@builtin(global_invocation_id) gid: vec3<u32>) {
             if (fade.x == 0.0f) {
                 // Faded out: the basis is not evaluated, its expected term stays.
                 switch params.fractal {
-                    case 1u: {
-                        acc += fade.y;
-                    }
                     case 2u: {
                         var s = fade.y;
                         if (o > 0u) {
@@ -476,7 +473,9 @@ fn classic_main(@builtin(global_invocation_id) gid: vec3<u32>) {
                         previous = s;
                         acc += w * s;
                     }
-                    default: {}
+                    default: {
+                        acc += fade.y;
+                    }
                 }
                 continue;
             }
@@ -504,7 +503,7 @@ fn classic_main(@builtin(global_invocation_id) gid: vec3<u32>) {
             }
             default: {
                 if (params.filtered == 1u) {
-                    acc += fade.x * n;
+                    acc += fade.x * n + fade.y;
                 } else {
                     acc += w * n;
                 }

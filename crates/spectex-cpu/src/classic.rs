@@ -13,7 +13,8 @@
 //!
 //! A minified render (a window with a [`footprint`](Window::footprint)) fades each octave as
 //! [`spectex_model::filter::classic_fade`] says (turbulence and ridged toward their expected
-//! values) and skips the basis of the octaves faded to 0; Worley noise is not filtered.
+//! values, fBm of Worley distances toward their mean) and skips the basis of the octaves faded
+//! to 0.
 //!
 //! Worley noise evaluates the 3×3 (3×3×3) cells around the point in the lanes and keeps the
 //! four smallest distances with a min/max insertion network; a lane whose needed `F_n` exceeds
@@ -47,7 +48,7 @@ use spectex_model::classic::{
     SIMPLEX_G3, SIMPLEX2_R2, SIMPLEX2_SCALE, SIMPLEX3_R2, SIMPLEX3_SCALE, WORLEY_MAX_POINTS,
     WORLEY_MAX_RING, fade, gradient_dot, lattice_value,
 };
-use spectex_model::filter::OctaveFade;
+use spectex_model::filter::{BasisStatistics, OctaveFade};
 use spectex_model::random::{
     cell_hash, cell_hash_in_row, layer_key, lcg_step, permute, row_key, unit_f32,
 };
@@ -157,6 +158,9 @@ pub struct ClassicEvaluator {
     amplitude: f32,
     mean: f32,
     simd: Simd,
+    /// The basis's statistics for a minified render's fade, measured on first use (a Worley
+    /// basis's take milliseconds).
+    statistics: std::sync::OnceLock<BasisStatistics>,
 }
 
 impl ClassicEvaluator {
@@ -213,6 +217,7 @@ impl ClassicEvaluator {
             octaves,
             amplitude: model.amplitude,
             mean: model.mean,
+            statistics: std::sync::OnceLock::new(),
             simd: Simd::detect(),
         }
     }
@@ -268,9 +273,15 @@ impl ClassicEvaluator {
     /// How a minified render takes each octave ([`spectex_model::filter::classic_fade`]), or
     /// `None`: unfiltered.
     fn fade(&self, window: &Window) -> Option<OctaveFade> {
-        window
-            .footprint()
-            .and_then(|side| spectex_model::filter::classic_fade(&self.model, side))
+        let side = window.footprint()?;
+        let statistics = self.statistics.get_or_init(|| {
+            spectex_model::filter::basis_statistics(&self.model.basis, self.model.dimensions)
+        });
+        Some(spectex_model::filter::classic_fade(
+            &self.model,
+            side,
+            statistics,
+        ))
     }
 
     /// Evaluates row `row` of `window` into `out` (`window.width` values).
@@ -377,8 +388,7 @@ impl ClassicEvaluator {
                 {
                     // Faded out: the basis is not evaluated, its expected term stays.
                     match self.kind {
-                        None | Some(FractalKind::Fbm) => {}
-                        Some(FractalKind::Turbulence) => {
+                        None | Some(FractalKind::Fbm) | Some(FractalKind::Turbulence) => {
                             for l in 0..L {
                                 acc[l] += constant;
                             }
@@ -403,9 +413,9 @@ impl ClassicEvaluator {
                             acc[l] += w * n[l];
                         }
                     }
-                    (None | Some(FractalKind::Fbm), Some((scale, _))) => {
+                    (None | Some(FractalKind::Fbm), Some((scale, constant))) => {
                         for l in 0..L {
-                            acc[l] += scale * n[l];
+                            acc[l] += scale * n[l] + constant;
                         }
                     }
                     (Some(FractalKind::Turbulence), None) => {

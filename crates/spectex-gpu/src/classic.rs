@@ -100,6 +100,9 @@ pub(crate) struct ClassicKernel {
     sides: Vec<f64>,
     /// The simplex skew factor `F` of the model's dimension.
     skew: f64,
+    /// The basis's statistics for a minified render's fade, measured on first use, as the CPU
+    /// measures them.
+    statistics: std::sync::OnceLock<spectex_model::filter::BasisStatistics>,
 }
 
 /// `(⌊p⌋ as i32, f32(p − ⌊p⌋))`, the CPU's split (`spectex_cpu::classic`'s `locate`): exact in
@@ -198,6 +201,7 @@ fn pack(model: &ClassicNoise, z: f64) -> (ClassicKernel, Vec<ClassicOctave>) {
             params,
             sides,
             skew,
+            statistics: std::sync::OnceLock::new(),
         },
         octaves,
     )
@@ -253,7 +257,15 @@ impl ShaderKernel for ClassicKernel {
         // unfiltered (a binding holds at least one element).
         let faded: Option<Vec<[f32; 2]>> = tile
             .footprint()
-            .and_then(|side| spectex_model::filter::classic_fade(&self.model, side))
+            .map(|side| {
+                let statistics = self.statistics.get_or_init(|| {
+                    spectex_model::filter::basis_statistics(
+                        &self.model.basis,
+                        self.model.dimensions,
+                    )
+                });
+                spectex_model::filter::classic_fade(&self.model, side, statistics)
+            })
             .map(|f| {
                 f.scale
                     .into_iter()

@@ -11,8 +11,9 @@
 //! expected value ([`classic_fade`]); a square phasor profile's harmonics likewise
 //! ([`filtered_square`]); a texture's fixed-phase structure blocks by
 //! [`crate::texture::Structure::eval_filtered`] (their cosines faded, their zero frequencies
-//! read from the mipmap of block means, §6). Not filtered yet: Worley octaves (which need
-//! `E[F_n]`), the other phasor profiles, Gabor, wavelet and texton noise.
+//! read from the mipmap of block means, §6). Worley octaves fade toward their measured
+//! moments ([`worley_statistics`]). Not filtered yet: the phasor profiles other than the
+//! square, Gabor, wavelet and texton noise.
 //!
 //! **Which gain.** The reference a minified render is judged against is the field box-filtered
 //! over the pixel's `s × s` footprint: it attenuates a cosine of frequency `f` by
@@ -222,56 +223,176 @@ impl AxisGainTable {
     }
 }
 
-/// The per-axis RMS frequency of one octave of `basis`, in cycles per cell (divide by the cell
-/// side for cycles per pixel), from which an octave's fade is found ([`classic_fade`]).
-/// Estimated from renders of each basis by
-/// Parseval (`σ² = E[(∂_x n)²]/(4π² Var n)`); the CPU test `octave_spreads_match_the_bases`
-/// checks these against a fresh estimate. A Worley basis with `F₂` or beyond has creases (its
-/// spectrum falls slowly) and takes the `F₂ − F₁` value.
+/// What the filter needs of one octave of a classic basis ([`basis_statistics`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BasisStatistics {
+    /// The per-axis RMS frequency, in cycles per cell (divide by the cell side for cycles per
+    /// pixel), from which an octave's fade is found ([`classic_fade`]).
+    pub spread: f64,
+    /// `[E n, E|n|, E[n²]]`: what an octave is faded toward (its expected value for fBm, its
+    /// expected magnitude for turbulence, the ridged signal's expectation from both moments).
+    pub moments: [f64; 3],
+}
+
+/// The [`BasisStatistics`] of `basis` in `dimensions` (2 or 3). Lattice bases (gradient,
+/// simplex, value: zero mean) take the constants below, estimated from renders and checked by
+/// the CPU tests `octave_spreads_match_the_bases` and `octave_moments_match_the_bases`. Worley
+/// bases, whose statistics depend on the metric, the feature points and the coefficients, are
+/// measured here ([`worley_statistics`]).
 #[must_use]
-pub fn octave_spread(basis: &crate::classic::Basis) -> f64 {
+pub fn basis_statistics(basis: &crate::classic::Basis, dimensions: u32) -> BasisStatistics {
     use crate::classic::Basis;
+    let lattice = |spread, [mean_abs, mean_square]: [f64; 2]| BasisStatistics {
+        spread,
+        moments: [0.0, mean_abs, mean_square],
+    };
     match basis {
-        Basis::Gradient => GRADIENT_SPREAD,
-        Basis::Simplex => SIMPLEX_SPREAD,
-        Basis::Value => VALUE_SPREAD,
-        Basis::Worley(w) if w.coefficients[1..].iter().all(|&c| c == 0.0) => WORLEY_F1_SPREAD,
-        Basis::Worley(_) => WORLEY_CREASE_SPREAD,
+        Basis::Gradient => lattice(GRADIENT_SPREAD, GRADIENT_MOMENTS),
+        Basis::Simplex => lattice(SIMPLEX_SPREAD, SIMPLEX_MOMENTS),
+        Basis::Value => lattice(VALUE_SPREAD, VALUE_MOMENTS),
+        Basis::Worley(w) => worley_statistics(w, dimensions == 3),
     }
 }
 
-/// [`octave_spread`] of gradient noise (measured 0.4164, cell 64, seed 5, 1025×256 pixels).
+/// Per-axis RMS frequency of gradient noise (measured 0.4164, cell 64, seed 5, 1025×256
+/// pixels).
 pub const GRADIENT_SPREAD: f64 = 0.416;
-/// [`octave_spread`] of simplex noise.
+/// Per-axis RMS frequency of simplex noise.
 pub const SIMPLEX_SPREAD: f64 = 0.743;
-/// [`octave_spread`] of value noise.
+/// Per-axis RMS frequency of value noise.
 pub const VALUE_SPREAD: f64 = 0.270;
-/// [`octave_spread`] of Worley `F₁`.
-pub const WORLEY_F1_SPREAD: f64 = 0.587;
-/// [`octave_spread`] of Worley combinations with `F₂` and beyond.
-pub const WORLEY_CREASE_SPREAD: f64 = 0.860;
 
-/// `[E|n|, E[n²]]` of one octave of a zero-mean basis (gradient, simplex, value; `None` for
-/// Worley): what turbulence and ridged noise fade an octave toward ([`classic_fade`]).
-/// Estimated from renders over 4096 cells; the CPU test `octave_moments_match_the_bases` checks
-/// them against a fresh estimate.
+/// `[E|n|, E[n²]]` of gradient noise (measured at cell 8, seed 9, 1024×256 pixels).
+pub const GRADIENT_MOMENTS: [f64; 2] = [0.2027, 0.0627];
+/// `[E|n|, E[n²]]` of simplex noise.
+pub const SIMPLEX_MOMENTS: [f64; 2] = [0.3820, 0.1985];
+/// `[E|n|, E[n²]]` of value noise.
+pub const VALUE_MOMENTS: [f64; 2] = [0.3782, 0.2042];
+
+/// Cells per side of the square (2D) or the plane `z = ½` (3D) [`worley_statistics`] samples
+/// one point in each of: 4096 nearly independent samples, so an estimated mean is within about
+/// `σ/64` (1.6% of the standard deviation) of the true one.
+const WORLEY_SAMPLE_SIDE: i32 = 64;
+
+/// Step of the central differences of [`worley_statistics`], in cells.
+const WORLEY_DIFFERENCE: f64 = 1.0 / 64.0;
+
+/// The [`BasisStatistics`] of a Worley basis, measured on its own point process: one sample
+/// per cell over a [`WORLEY_SAMPLE_SIDE`]² block, each `n = Σ C_i F_i` found by an exhaustive
+/// f64 search (every point of the rings of cells around the sample, ring by ring until the
+/// needed `F_n` is no farther than the unsearched cells, capped as the evaluators cap it), the
+/// spread by Parseval from central differences (`σ² = E[(∂_x n)²]/(4π² Var n)`). The point
+/// process is the randomness contract's (`cell_hash` of a fixed seed, [`crate::random::Prng`]
+/// draws, the capped Poisson count): a statistic of the process, not of one model's seed. A
+/// few milliseconds; evaluators compute it once.
 #[must_use]
-pub fn octave_moments(basis: &crate::classic::Basis) -> Option<[f64; 2]> {
-    use crate::classic::Basis;
-    match basis {
-        Basis::Gradient => Some(GRADIENT_MOMENTS),
-        Basis::Simplex => Some(SIMPLEX_MOMENTS),
-        Basis::Value => Some(VALUE_MOMENTS),
-        Basis::Worley(_) => None,
+pub fn worley_statistics(worley: &crate::classic::Worley, three_d: bool) -> BasisStatistics {
+    let (mut sum, mut sum_abs, mut sum_sq, mut sum_dx) = (0.0, 0.0, 0.0, 0.0);
+    let mut count = 0.0;
+    let mut jitter = crate::random::Prng::new(crate::random::cell_hash(3, 1, 4, 1_596));
+    for j in 0..WORLEY_SAMPLE_SIDE {
+        for i in 0..WORLEY_SAMPLE_SIDE {
+            let p = [
+                f64::from(i) + jitter.next_f64(),
+                f64::from(j) + jitter.next_f64(),
+                0.5,
+            ];
+            let n = worley_value(worley, p, three_d);
+            let dx = (worley_value(worley, [p[0] + WORLEY_DIFFERENCE, p[1], p[2]], three_d)
+                - worley_value(worley, [p[0] - WORLEY_DIFFERENCE, p[1], p[2]], three_d))
+                / (2.0 * WORLEY_DIFFERENCE);
+            sum += n;
+            sum_abs += n.abs();
+            sum_sq += n * n;
+            sum_dx += dx * dx;
+            count += 1.0;
+        }
+    }
+    let (mean, mean_abs, mean_square) = (sum / count, sum_abs / count, sum_sq / count);
+    let variance = (mean_square - mean * mean).max(0.0);
+    let spread = if variance > 0.0 {
+        (sum_dx / count / variance).sqrt() / (2.0 * std::f64::consts::PI)
+    } else {
+        0.0
+    };
+    BasisStatistics {
+        spread,
+        moments: [mean, mean_abs, mean_square],
     }
 }
 
-/// [`octave_moments`] of gradient noise (measured at cell 8, seed 9, 1024×256 pixels).
-pub const GRADIENT_MOMENTS: [f64; 2] = [0.2027, 0.0627];
-/// [`octave_moments`] of simplex noise.
-pub const SIMPLEX_MOMENTS: [f64; 2] = [0.3820, 0.1985];
-/// [`octave_moments`] of value noise.
-pub const VALUE_MOMENTS: [f64; 2] = [0.3782, 0.2042];
+/// `Σ C_i F_i` at `p` (cell units) for the point process of [`worley_statistics`].
+fn worley_value(worley: &crate::classic::Worley, p: [f64; 3], three_d: bool) -> f64 {
+    use crate::classic::{FeaturePoints, Metric, WORLEY_MAX_POINTS, WORLEY_MAX_RING};
+    let cell = p.map(|v| v.floor() as i32);
+    let needed = worley
+        .coefficients
+        .iter()
+        .rposition(|&c| c != 0.0)
+        .unwrap_or(0);
+    let cdf = match worley.points {
+        FeaturePoints::Poisson(mean) => {
+            Some(crate::random::poisson_cdf::<{ WORLEY_MAX_POINTS as usize }>(f64::from(mean)))
+        }
+        FeaturePoints::Fixed(_) => None,
+    };
+    let cap = f64::from(WORLEY_MAX_RING + 1);
+    let mut nearest = [cap; 4];
+    for ring in 0..=WORLEY_MAX_RING {
+        let zr = if three_d { ring } else { 0 };
+        for dz in -zr..=zr {
+            for dy in -ring..=ring {
+                for dx in -ring..=ring {
+                    if dx.abs().max(dy.abs()).max(dz.abs()) != ring {
+                        continue;
+                    }
+                    let c = [cell[0] + dx, cell[1] + dy, cell[2] + dz];
+                    let h = crate::random::cell_hash(c[0], c[1], c[2].cast_unsigned(), 1_596);
+                    let mut prng = crate::random::Prng::new(h);
+                    let points = match (worley.points, &cdf) {
+                        (FeaturePoints::Fixed(k), _) => k,
+                        (_, Some(cdf)) => {
+                            let u = prng.next_f32();
+                            cdf.iter().map(|&q| u32::from(u >= q)).sum()
+                        }
+                        (FeaturePoints::Poisson(_), None) => 0,
+                    };
+                    for _ in 0..points {
+                        let q = [
+                            f64::from(c[0]) + prng.next_f64(),
+                            f64::from(c[1]) + prng.next_f64(),
+                            if three_d {
+                                f64::from(c[2]) + prng.next_f64()
+                            } else {
+                                p[2]
+                            },
+                        ];
+                        let d = [p[0] - q[0], p[1] - q[1], p[2] - q[2]];
+                        let distance = match worley.metric {
+                            Metric::Euclidean => (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt(),
+                            Metric::Manhattan => d[0].abs() + d[1].abs() + d[2].abs(),
+                            Metric::Chebyshev => d[0].abs().max(d[1].abs()).max(d[2].abs()),
+                        };
+                        if let Some(slot) = nearest.iter().position(|&f| distance < f) {
+                            nearest.copy_within(slot..3, slot + 1);
+                            nearest[slot] = distance.min(cap);
+                        }
+                    }
+                }
+            }
+        }
+        // Every unsearched cell is at least `ring` cells away along one axis.
+        if nearest[needed] <= f64::from(ring) {
+            break;
+        }
+    }
+    worley
+        .coefficients
+        .iter()
+        .zip(nearest)
+        .map(|(&c, f)| f64::from(c) * f)
+        .sum()
+}
 
 /// How a minified classic noise takes each octave, from [`classic_fade`].
 #[derive(Debug, Clone, PartialEq)]
@@ -283,15 +404,16 @@ pub struct OctaveFade {
     pub constant: Vec<f32>,
 }
 
-/// How a minified classic noise takes each octave at footprint `side`, or `None` (unfiltered)
-/// for Worley noise, whose distances have a positive mean that fading would move (fading them
-/// toward `E[F_n]` is not done). Octave `o` has the gain `g = H(√2·σ·s/c)` ([`axis_response`]
-/// at the octave's RMS radial frequency: [`octave_spread`] `σ`, cell `c`):
+/// How a minified classic noise takes each octave at footprint `side`, its basis's
+/// [`BasisStatistics`] given ([`basis_statistics`], which evaluators compute once). Octave `o`
+/// has the gain `g = H(√2·σ·s/c)` ([`axis_response`] at the octave's RMS radial frequency:
+/// spread `σ`, cell `c`):
 ///
-/// - fBm: weight `gain^o·g`. Zero-mean bases, so the mean stays right.
-/// - Turbulence `Σ gain^o |n_o|` is nonlinear: `|n_o|` has mean `E|n|` ([`octave_moments`]),
-///   which a faded octave must keep, so its term becomes `gain^o·(g·|n_o| + (1 − g)·E|n|)` —
-///   faded toward its expected value.
+/// - fBm: weight `gain^o·g`, and `gain^o·(1 − g)·E n` in place of what is faded (0 for the
+///   zero-mean lattice bases; Worley distances have a positive mean, which the fade keeps).
+/// - Turbulence `Σ gain^o |n_o|` is nonlinear: `|n_o|` has mean `E|n|`, which a faded octave
+///   must keep, so its term becomes `gain^o·(g·|n_o| + (1 − g)·E|n|)` — faded toward its
+///   expected value.
 /// - Ridged: an octave's signal `(offset − |n_o|)²` becomes `g·(offset − |n_o|)² + (1 − g)·m`,
 ///   `m = E[(offset − |n|)²] = offset² − 2·offset·E|n| + E[n²]`, before the cascade's weight
 ///   (which then follows the faded signals).
@@ -306,17 +428,21 @@ pub struct OctaveFade {
 /// cell 32: 0.98 vs 0.98; its energy above Nyquist: cell 4: 57%, cell 8: 1.6%, cell 16: 0.01% —
 /// cell 4 (`√2·σ·s/c = 0.59`) is dropped, cell 8 kept.
 #[must_use]
-pub fn classic_fade(model: &crate::ClassicNoise, side: f64) -> Option<OctaveFade> {
+pub fn classic_fade(
+    model: &crate::ClassicNoise,
+    side: f64,
+    statistics: &BasisStatistics,
+) -> OctaveFade {
     use crate::classic::FractalKind;
-    let [mean_abs, mean_square] = octave_moments(&model.basis)?;
-    let radial = std::f64::consts::SQRT_2 * octave_spread(&model.basis);
+    let [mean, mean_abs, mean_square] = statistics.moments;
+    let radial = std::f64::consts::SQRT_2 * statistics.spread;
     let kind = model.fractal.as_ref().map_or(FractalKind::Fbm, |f| f.kind);
     let (mut scale, mut constant) = (Vec::new(), Vec::new());
     for o in 0..model.octaves() {
         let g = axis_response(radial * side / model.octave_cell(o));
         let w = f64::from(model.octave_weight(o));
         let (a, c) = match kind {
-            FractalKind::Fbm => (w * g, 0.0),
+            FractalKind::Fbm => (w * g, w * (1.0 - g) * mean),
             FractalKind::Turbulence => (w * g, w * (1.0 - g) * mean_abs),
             FractalKind::Ridged { offset, .. } => {
                 let offset = f64::from(offset);
@@ -327,7 +453,7 @@ pub fn classic_fade(model: &crate::ClassicNoise, side: f64) -> Option<OctaveFade
         scale.push(a as f32);
         constant.push(c as f32);
     }
-    Some(OctaveFade { scale, constant })
+    OctaveFade { scale, constant }
 }
 
 /// Most harmonics of a filtered square profile ([`filtered_square`]): the series is cut there

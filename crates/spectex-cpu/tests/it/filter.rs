@@ -186,35 +186,67 @@ fn lrp_gravel_at_scale_4_does_not_alias() {
     check("lrp-gravel", &testdata("lrp-gravel.json"));
 }
 
-/// The per-axis RMS frequency of one octave of each basis, in cycles per cell, estimated from
-/// renders (Parseval: `σ² = E[(∂_x n)²] / (4π² Var n)`, the derivative by central differences
-/// at 1/64 cell), against the constants the filter uses (`spectex_model::filter::octave_spread`).
-#[test]
-fn octave_spreads_match_the_bases() {
+/// The bases whose statistics the filter uses: the three lattice bases (constants) and Worley
+/// bases over metrics, point processes and coefficient sets (measured by
+/// `spectex_model::filter::worley_statistics` on its own f64 search).
+fn bases() -> Vec<spectex_model::classic::Basis> {
     use spectex_model::classic::{Basis, FeaturePoints, Metric, Worley};
-    let worley = |coefficients| {
+    let worley = |metric, points, coefficients| {
         Basis::Worley(Worley {
-            metric: Metric::Euclidean,
+            metric,
             coefficients,
-            points: FeaturePoints::Fixed(1),
+            points,
         })
     };
-    let mut results = Vec::new();
-    for basis in [
+    vec![
         Basis::Gradient,
         Basis::Simplex,
         Basis::Value,
-        worley([1.0, 0.0, 0.0, 0.0]),
-        worley([-1.0, 1.0, 0.0, 0.0]),
-    ] {
-        let model: Model = spectex_model::ClassicNoise::perlin()
-            .basis(basis.clone())
-            .cell_size(64.0)
-            .seed(5)
-            .build()
-            .expect("valid")
-            .into();
-        let eval = Evaluator::new(&model).expect("valid");
+        worley(
+            Metric::Euclidean,
+            FeaturePoints::Fixed(1),
+            [1.0, 0.0, 0.0, 0.0],
+        ),
+        worley(
+            Metric::Euclidean,
+            FeaturePoints::Fixed(1),
+            [-1.0, 1.0, 0.0, 0.0],
+        ),
+        worley(
+            Metric::Manhattan,
+            FeaturePoints::Fixed(3),
+            [0.0, 1.0, 0.0, 0.0],
+        ),
+        worley(
+            Metric::Chebyshev,
+            FeaturePoints::Poisson(2.5),
+            [1.0, 0.0, 0.0, 0.5],
+        ),
+    ]
+}
+
+/// One octave of `basis` at `cell` pixels, mean 0 and amplitude 1 (the basis's own values).
+fn one_octave(basis: &spectex_model::classic::Basis, cell: f32, seed: u32) -> Model {
+    spectex_model::ClassicNoise::perlin()
+        .basis(basis.clone())
+        .cell_size(cell)
+        .seed(seed)
+        .mean(0.0)
+        .amplitude(1.0)
+        .build()
+        .expect("valid")
+        .into()
+}
+
+/// The per-axis RMS frequency of one octave of each basis, in cycles per cell, estimated from
+/// CPU renders (Parseval: `σ² = E[(∂_x n)²] / (4π² Var n)`, the derivative by central
+/// differences at 1/64 cell), against what the filter uses
+/// (`spectex_model::filter::basis_statistics`).
+#[test]
+fn octave_spreads_match_the_bases() {
+    let mut results = Vec::new();
+    for basis in bases() {
+        let eval = Evaluator::new(&one_octave(&basis, 64.0, 5)).expect("valid");
         let (w, h) = (1025, 256);
         let v = eval
             .render(&Window::new(w, h).at([0.3, 0.7], 1.0))
@@ -229,7 +261,7 @@ fn octave_spreads_match_the_bases() {
         }
         slope /= (h * (w - 2)) as f64;
         let measured = (slope / (4.0 * std::f64::consts::PI.powi(2) * var)).sqrt() * 64.0;
-        let used = spectex_model::filter::octave_spread(&basis);
+        let used = spectex_model::filter::basis_statistics(&basis, 2).spread;
         eprintln!("{basis:?}: measured {measured:.4} cycles per cell, used {used:.4}");
         results.push((basis, used, measured));
     }
@@ -268,41 +300,65 @@ fn phasor_square_at_scale_4_does_not_alias() {
     check("phasor-pwm", &testdata("phasor-pwm-coherent.json"));
 }
 
-/// `E|n|` and `E[n²]` of one octave of gradient, simplex and value noise, estimated from a
-/// render over 4096 cells, against the constants turbulence and ridged noise fade their octaves
-/// toward (`spectex_model::filter::octave_moments`).
+/// `E n`, `E|n|` and `E[n²]` of one octave of each basis, estimated from a CPU render over
+/// 4096 cells, against what fBm, turbulence and ridged noise fade their octaves toward
+/// (`spectex_model::filter::basis_statistics`): within 5% of the measured standard deviation
+/// for `E n` (0 for the lattice bases), 5% relative for the others.
 #[test]
 fn octave_moments_match_the_bases() {
-    use spectex_model::classic::Basis;
     let mut results = Vec::new();
-    for basis in [Basis::Gradient, Basis::Simplex, Basis::Value] {
-        let model: Model = spectex_model::ClassicNoise::perlin()
-            .basis(basis.clone())
-            .cell_size(8.0)
-            .seed(9)
-            .mean(0.0)
-            .amplitude(1.0)
-            .build()
-            .expect("valid")
-            .into();
-        let v = Evaluator::new(&model)
+    for basis in bases() {
+        let v = Evaluator::new(&one_octave(&basis, 8.0, 9))
             .expect("valid")
             .render(&Window::new(1024, 256).at([0.3, 0.7], 1.0))
             .expect("render");
         let n = v.len() as f64;
+        let mean = v.iter().map(|&x| f64::from(x)).sum::<f64>() / n;
         let abs = v.iter().map(|&x| f64::from(x).abs()).sum::<f64>() / n;
         let square = v.iter().map(|&x| f64::from(x).powi(2)).sum::<f64>() / n;
-        let used = spectex_model::filter::octave_moments(&basis).expect("a zero-mean basis");
-        eprintln!("{basis:?}: measured E|n| {abs:.4}, E[n²] {square:.4}; used {used:?}");
-        results.push((basis, used, [abs, square]));
+        let used = spectex_model::filter::basis_statistics(&basis, 2).moments;
+        eprintln!(
+            "{basis:?}: measured E n {mean:.4}, E|n| {abs:.4}, E[n²] {square:.4}; used {used:?}"
+        );
+        results.push((basis, used, [mean, abs, square]));
     }
     for (basis, used, measured) in results {
-        for k in 0..2 {
+        let sd = (measured[2] - measured[0] * measured[0]).sqrt();
+        assert!(
+            (used[0] - measured[0]).abs() < 0.05 * sd,
+            "{basis:?}: E n {} vs measured {} (σ {sd})",
+            used[0],
+            measured[0]
+        );
+        for k in 1..3 {
             assert!(
                 (used[k] / measured[k] - 1.0).abs() < 0.05,
                 "{basis:?}: {used:?} vs measured {measured:?}"
             );
         }
+    }
+}
+
+/// fBm and turbulence of Worley `F₁` and `F₂ − F₁` (8 octaves from a 128-pixel cell): distances
+/// with a positive mean, faded toward their measured moments, so the mean and variance stay
+/// the reference's. Energy above Nyquist is printed (creases spread an octave's spectrum far
+/// above its RMS frequency; issue 16's aliasing targets name LRP, phasor and fBm).
+#[test]
+fn worley_fractals_keep_their_mean_at_scale_4() {
+    use spectex_model::classic::{Basis, FeaturePoints, Metric, Worley};
+    for (name, coefficients) in [
+        ("F1", [1.0, 0.0, 0.0, 0.0]),
+        ("F2-F1", [-1.0, 1.0, 0.0, 0.0]),
+    ] {
+        let basis = Basis::Worley(Worley {
+            metric: Metric::Euclidean,
+            coefficients,
+            points: FeaturePoints::Fixed(1),
+        });
+        let fbm = eight_octaves(spectex_model::ClassicNoise::fbm().basis(basis.clone()));
+        check_moments(&format!("worley {name} fbm"), &fbm);
+        let turbulence = eight_octaves(spectex_model::ClassicNoise::turbulence().basis(basis));
+        check_moments(&format!("worley {name} turbulence"), &turbulence);
     }
 }
 
