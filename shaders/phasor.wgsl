@@ -77,7 +77,8 @@ struct PhasorImpulse {
 @group(0) @binding(3) var<storage, read> impulses: array<PhasorImpulse>;
 /// Per pixel (when `per_pixel` = 1): duty of A, duty of B, blend weight.
 @group(0) @binding(4) var<storage, read> pixel_params: array<f32>;
-/// Per pixel (when `filtered` = 1): u = F(p)·s, the local frequency times the footprint.
+/// Per pixel (when `filtered` = 1): u = F(p)·s, the local frequency times the footprint, at
+/// which every profile's harmonics are weighted.
 @group(0) @binding(5) var<storage, read> harmonic_scale: array<f32>;
 @group(0) @binding(6) var<storage, read> columns: array<PhasorAxis>;
 @group(0) @binding(7) var<storage, read> rows: array<PhasorAxis>;
@@ -103,6 +104,53 @@ fn square_filtered(t: f32, duty: f32, u: f32) -> f32 {
     return sum;
 }
 
+/// spectex_model::filter::filtered_triangle: harmonic n (odd) weighted by filter_response(n·u).
+fn triangle_filtered(t: f32, u: f32) -> f32 {
+    var sum = 0.0f;
+    for (var k = 1u; k <= MAX_SQUARE_HARMONICS; k += 2u) {
+        let kf = f32(k);
+        let v = kf * u;
+        if (!(v < FILTER_FADE_END)) {
+            break;
+        }
+        let sign = select(-1.0f, 1.0f, k % 4u == 1u);
+        let c = sign * 8.0f / (FILTER_PI * FILTER_PI * kf * kf);
+        sum += filter_response(v) * c * sin_turns(kf * t);
+    }
+    return sum;
+}
+
+/// spectex_model::filter::filtered_sawtooth: harmonic k weighted by filter_response(k·u).
+fn sawtooth_filtered(t: f32, u: f32) -> f32 {
+    var sum = 0.0f;
+    for (var k = 1u; k <= MAX_SQUARE_HARMONICS; k++) {
+        let kf = f32(k);
+        let v = kf * u;
+        if (!(v < FILTER_FADE_END)) {
+            break;
+        }
+        sum += filter_response(v) * (-2.0f / (FILTER_PI * kf)) * sin_turns(kf * t);
+    }
+    return sum;
+}
+
+/// spectex_model::filter::filtered_samples: the series [c0, a1, b1, …] stored at `start`,
+/// harmonic k weighted by filter_response(k·u).
+fn samples_filtered(start: u32, t: f32, u: f32) -> f32 {
+    var sum = profile_data[start];
+    for (var k = 1u; k <= MAX_SQUARE_HARMONICS; k++) {
+        let kf = f32(k);
+        let v = kf * u;
+        if (!(v < FILTER_FADE_END)) {
+            break;
+        }
+        let base = start + 2u * k - 1u;
+        sum += filter_response(v)
+            * (profile_data[base] * cos_turns(kf * t) + profile_data[base + 1u] * sin_turns(kf * t));
+    }
+    return sum;
+}
+
 /// −ln 20: the Gaussian exponent per squared cell unit (NEG_LN_20).
 const PHASOR_NEG_LN_20: f32 = -2.9957323f;
 
@@ -118,18 +166,26 @@ fn phase01(re: f32, im: f32) -> f32 {
 
 /// A profile leaf of the phase of (re, im).
 fn leaf(kind: u32, start: u32, len: u32, duty: f32, re: f32, im: f32, u: f32) -> f32 {
+    let filtered = params.filtered == 1u;
     switch kind {
         case 0u: {
             let i = sqrt(re * re + im * im);
-            return select(0.0f, im / i, i > 0.0f);
+            let sine = select(0.0f, im / i, i > 0.0f);
+            if (filtered) {
+                return filter_response(u) * sine;
+            }
+            return sine;
         }
         case 1u: {
-            if (params.filtered == 1u) {
+            if (filtered) {
                 return square_filtered(phase01(re, im), duty, u);
             }
             return select(0.0f, 1.0f, phase01(re, im) < duty);
         }
         case 2u: {
+            if (filtered) {
+                return triangle_filtered(phase01(re, im), u);
+            }
             var s = phase01(re, im) + 0.25f;
             if (s >= 1.0f) {
                 s -= 1.0f;
@@ -137,9 +193,15 @@ fn leaf(kind: u32, start: u32, len: u32, duty: f32, re: f32, im: f32, u: f32) ->
             return 1.0f - 4.0f * abs(s - 0.5f);
         }
         case 3u: {
+            if (filtered) {
+                return sawtooth_filtered(phase01(re, im), u);
+            }
             return 2.0f * phase01(re, im) - 1.0f;
         }
         case 4u: {
+            if (filtered) {
+                return samples_filtered(start + len, phase01(re, im), u);
+            }
             let pos = phase01(re, im) * f32(len);
             let i = min(u32(pos), len - 1u);
             let frac = pos - f32(i);
@@ -151,7 +213,12 @@ fn leaf(kind: u32, start: u32, len: u32, duty: f32, re: f32, im: f32, u: f32) ->
             var sum = 0.0f;
             for (var h = 0u; h < len; h++) {
                 let base = start + 3u * h;
-                sum += profile_data[base + 1u] * sin_turns(profile_data[base] * t + profile_data[base + 2u]);
+                let term = profile_data[base + 1u] * sin_turns(profile_data[base] * t + profile_data[base + 2u]);
+                if (filtered) {
+                    sum += filter_response(profile_data[base] * u) * term;
+                } else {
+                    sum += term;
+                }
             }
             return sum;
         }

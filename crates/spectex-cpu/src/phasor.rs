@@ -47,6 +47,9 @@ pub struct PhasorEvaluator {
     model: PhasorNoise,
     kernels: PhasorKernels,
     z: f64,
+    /// The Fourier series of the profile's `Samples` leaves, depth first, for minified renders
+    /// ([`spectex_model::filter::samples_series`]).
+    series: Vec<Vec<f32>>,
 }
 
 /// The impulses of one row of cells `(j, k)`, per column from `i0`.
@@ -63,10 +66,13 @@ impl PhasorEvaluator {
     #[must_use]
     pub fn new(model: &PhasorNoise, z: f64) -> Self {
         let kernels = PhasorKernels::new(model);
+        let mut series = Vec::new();
+        samples_series(&model.profile, &mut series);
         Self {
             model: model.clone(),
             z: if kernels.three_d() { z } else { 0.0 },
             kernels,
+            series,
         }
     }
 
@@ -176,8 +182,8 @@ impl PhasorEvaluator {
         out[0]
     }
 
-    /// The written value at `p`; `footprint`: a minified render's, which filters the square
-    /// profile's harmonics at `u = F(p)·s` ([`spectex_model::filter::filtered_square`]).
+    /// The written value at `p`; `footprint`: a minified render's, which filters the profile's
+    /// harmonics at `u = F(p)·s` ([`spectex_model::filter`]'s `filtered_*`).
     fn output(&self, re: f32, im: f32, p: [f64; 3], footprint: Option<f64>) -> f32 {
         let v = match self.model.output {
             PhasorOutput::Intensity => (re * re + im * im).sqrt(),
@@ -185,7 +191,7 @@ impl PhasorEvaluator {
             PhasorOutput::Phase => atan2_turns(im, re),
             PhasorOutput::Profiled => {
                 let u = footprint.map(|s| (self.model.frequency.at(p[0], p[1], p[2]) * s) as f32);
-                profile(&self.model.profile, re, im, p, u)
+                profile(&self.model.profile, re, im, p, u, &mut self.series.iter())
             }
         };
         self.model.mean + self.model.amplitude * v
@@ -230,37 +236,76 @@ fn phase01(re: f32, im: f32) -> f32 {
     if t >= 1.0 { 0.0 } else { t }
 }
 
+/// Appends the Fourier series of `shape`'s `Samples` leaves to `out`, depth first (the order
+/// [`profile`] reads them in).
+fn samples_series(shape: &Profile, out: &mut Vec<Vec<f32>>) {
+    match shape {
+        Profile::Samples { values } => out.push(spectex_model::filter::samples_series(values)),
+        Profile::Blend { a, b, .. } => {
+            samples_series(a, out);
+            samples_series(b, out);
+        }
+        Profile::Sine
+        | Profile::Square { .. }
+        | Profile::Triangle
+        | Profile::Sawtooth
+        | Profile::Harmonics { .. } => {}
+    }
+}
+
 /// The profile of the phase at position `p`. The phase is only computed by the profiles that
 /// read it (the sine is `im / I` directly). `u`: the local frequency times the footprint of a
-/// minified render, which filters a square profile; the other profiles are not filtered yet.
-fn profile(shape: &Profile, re: f32, im: f32, p: [f64; 3], u: Option<f32>) -> f32 {
+/// minified render, which filters every profile's harmonics (`spectex_model::filter`);
+/// `series`: the `Samples` leaves' Fourier series, depth first ([`samples_series`]).
+fn profile(
+    shape: &Profile,
+    re: f32,
+    im: f32,
+    p: [f64; 3],
+    u: Option<f32>,
+    series: &mut std::slice::Iter<'_, Vec<f32>>,
+) -> f32 {
+    use spectex_model::filter;
     match shape {
         Profile::Sine => {
             let i = (re * re + im * im).sqrt();
-            if i > 0.0 { im / i } else { 0.0 }
+            let sine = if i > 0.0 { im / i } else { 0.0 };
+            u.map_or(sine, |u| filter::filtered_sine(sine, u))
         }
         Profile::Square { duty } => {
             let d = duty.at(p[0], p[1], p[2]).clamp(0.0, 1.0) as f32;
             match u {
-                Some(u) => spectex_model::filter::filtered_square(phase01(re, im), d, u),
+                Some(u) => filter::filtered_square(phase01(re, im), d, u),
                 None if phase01(re, im) < d => 1.0,
                 None => 0.0,
             }
         }
-        Profile::Triangle => {
-            let mut s = phase01(re, im) + 0.25;
-            if s >= 1.0 {
-                s -= 1.0;
+        Profile::Triangle => match u {
+            Some(u) => filter::filtered_triangle(phase01(re, im), u),
+            None => {
+                let mut s = phase01(re, im) + 0.25;
+                if s >= 1.0 {
+                    s -= 1.0;
+                }
+                1.0 - 4.0 * (s - 0.5).abs()
             }
-            1.0 - 4.0 * (s - 0.5).abs()
-        }
-        Profile::Sawtooth => 2.0 * phase01(re, im) - 1.0,
+        },
+        Profile::Sawtooth => match u {
+            Some(u) => filter::filtered_sawtooth(phase01(re, im), u),
+            None => 2.0 * phase01(re, im) - 1.0,
+        },
         Profile::Samples { values } => {
-            let n = values.len();
-            let pos = phase01(re, im) * n as f32;
-            let i = (pos as usize).min(n - 1);
-            let frac = pos - i as f32;
-            values[i] * (1.0 - frac) + values[(i + 1) % n] * frac
+            let coefficients = series.next();
+            match (u, coefficients) {
+                (Some(u), Some(c)) => filter::filtered_samples(c, phase01(re, im), u),
+                _ => {
+                    let n = values.len();
+                    let pos = phase01(re, im) * n as f32;
+                    let i = (pos as usize).min(n - 1);
+                    let frac = pos - i as f32;
+                    values[i] * (1.0 - frac) + values[(i + 1) % n] * frac
+                }
+            }
         }
         Profile::Harmonics { terms } => {
             let t = phase01(re, im);
@@ -268,13 +313,19 @@ fn profile(shape: &Profile, re: f32, im: f32, p: [f64; 3], u: Option<f32>) -> f3
                 .iter()
                 .map(|h| {
                     let shift = (f64::from(h.phase) / std::f64::consts::TAU) as f32;
-                    h.weight * sin_turns(h.k as f32 * t + shift)
+                    let term = h.weight * sin_turns(h.k as f32 * t + shift);
+                    match u {
+                        Some(u) => filter::response_f32(h.k as f32 * u) * term,
+                        None => term,
+                    }
                 })
                 .sum()
         }
         Profile::Blend { a, b, weight } => {
             let s = weight.at(p[0], p[1], p[2]).clamp(0.0, 1.0) as f32;
-            (1.0 - s) * profile(a, re, im, p, u) + s * profile(b, re, im, p, u)
+            let va = profile(a, re, im, p, u, series);
+            let vb = profile(b, re, im, p, u, series);
+            (1.0 - s) * va + s * vb
         }
     }
 }

@@ -100,7 +100,9 @@ fn leaf(profile: &Profile, data: &mut Vec<f32>) -> Result<Leaf, GpuError> {
         Profile::Triangle => (2, 0, None),
         Profile::Sawtooth => (3, 0, None),
         Profile::Samples { values } => {
+            // The values, then the Fourier series a minified render reads (the CPU's).
             data.extend(values);
+            data.extend(spectex_model::filter::samples_series(values));
             (4, values.len() as u32, None)
         }
         Profile::Harmonics { terms } => {

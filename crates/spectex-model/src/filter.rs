@@ -12,8 +12,9 @@
 //! ([`filtered_square`]); a texture's fixed-phase structure blocks by
 //! [`crate::texture::Structure::eval_filtered`] (their cosines faded, their zero frequencies
 //! read from the mipmap of block means, §6). Worley octaves fade toward their measured
-//! moments ([`worley_statistics`]). Not filtered yet: the phasor profiles other than the
-//! square, Gabor, wavelet and texton noise.
+//! moments ([`worley_statistics`]); every phasor profile through its Fourier series
+//! ([`filtered_sine`], [`filtered_triangle`], [`filtered_sawtooth`], [`filtered_samples`], the
+//! explicit harmonics weighted alike). Not filtered yet: Gabor, wavelet and texton noise.
 //!
 //! **Which gain.** The reference a minified render is judged against is the field box-filtered
 //! over the pixel's `s × s` footprint: it attenuates a cosine of frequency `f` by
@@ -506,6 +507,99 @@ pub fn filtered_square(t: f32, duty: f32, u: f32) -> f32 {
     sum
 }
 
+/// A sine profile (`im/I`, the phasor sine wave) filtered at `u`: its one harmonic weighted by
+/// [`response_f32`]`(u)`.
+#[must_use]
+pub fn filtered_sine(sine: f32, u: f32) -> f32 {
+    response_f32(u) * sine
+}
+
+/// The triangle profile (`1 − 4|s − ½|`, `s = frac(t + ¼)`, in phase with the sine) at phase
+/// `t` filtered at `u`: its Fourier series `(8/π²) Σ_{n odd} (−1)^{(n−1)/2} sin(2πnt)/n²` with
+/// harmonic `n` weighted by [`response_f32`]`(n·u)`, cut at [`MAX_SQUARE_HARMONICS`] as the
+/// square's. `triangle_filtered` in `shaders/phasor.wgsl` is its twin.
+#[must_use]
+pub fn filtered_triangle(t: f32, u: f32) -> f32 {
+    use crate::math::sin_turns;
+    let mut sum = 0.0f32;
+    let mut k = 1u32;
+    while k <= MAX_SQUARE_HARMONICS {
+        let kf = k as f32;
+        let v = kf * u;
+        if v.is_nan() || v >= FADE_END as f32 {
+            break;
+        }
+        let sign = if k % 4 == 1 { 1.0f32 } else { -1.0f32 };
+        let c = sign * 8.0 / (std::f32::consts::PI * std::f32::consts::PI * kf * kf);
+        sum += response_f32(v) * c * sin_turns(kf * t);
+        k += 2;
+    }
+    sum
+}
+
+/// The sawtooth profile (`2t − 1`) at phase `t` filtered at `u`: its Fourier series
+/// `−(2/π) Σ_k sin(2πkt)/k` with harmonic `k` weighted by [`response_f32`]`(k·u)`, cut at
+/// [`MAX_SQUARE_HARMONICS`]. `sawtooth_filtered` in `shaders/phasor.wgsl` is its twin.
+#[must_use]
+pub fn filtered_sawtooth(t: f32, u: f32) -> f32 {
+    use crate::math::sin_turns;
+    let mut sum = 0.0f32;
+    for k in 1..=MAX_SQUARE_HARMONICS {
+        let kf = k as f32;
+        let v = kf * u;
+        if v.is_nan() || v >= FADE_END as f32 {
+            break;
+        }
+        sum += response_f32(v) * (-2.0 / (std::f32::consts::PI * kf)) * sin_turns(kf * t);
+    }
+    sum
+}
+
+/// The Fourier series of a [`Profile::Samples`](crate::phasor::Profile) profile (`values` at
+/// `t = j/n`, linearly interpolated, periodic): `[c₀, a₁, b₁, a₂, b₂, …]` up to
+/// [`MAX_SQUARE_HARMONICS`], the profile being `c₀ + Σ_k a_k cos(2πkt) + b_k sin(2πkt)`.
+/// Linear interpolation is the samples convolved with a hat of half-width `1/n`, so
+/// `c_k = sinc²(k/n)·(1/n)·Σ_j v_j e^{−2πikj/n}` (`a_k = 2 Re c_k`, `b_k = −2 Im c_k`), in f64
+/// with `kj` reduced modulo `n` before the trigonometric call, rounded to f32 once.
+#[must_use]
+pub fn samples_series(values: &[f32]) -> Vec<f32> {
+    let n = values.len();
+    if n == 0 {
+        return vec![0.0];
+    }
+    let mean = values.iter().map(|&v| f64::from(v)).sum::<f64>() / n as f64;
+    let mut series = vec![mean as f32];
+    for k in 1..=MAX_SQUARE_HARMONICS as usize {
+        let (mut re, mut im) = (0.0f64, 0.0f64);
+        for (j, &v) in values.iter().enumerate() {
+            let angle = -std::f64::consts::TAU * ((k * j) % n) as f64 / n as f64;
+            re += f64::from(v) * angle.cos();
+            im += f64::from(v) * angle.sin();
+        }
+        let hat = sinc(k as f64 / n as f64).powi(2) / n as f64;
+        series.extend([(2.0 * re * hat) as f32, (-2.0 * im * hat) as f32]);
+    }
+    series
+}
+
+/// A [`samples_series`] profile at phase `t` filtered at `u`: harmonic `k` weighted by
+/// [`response_f32`]`(k·u)`, the mean `c₀` kept. `samples_filtered` in `shaders/phasor.wgsl`
+/// is its twin.
+#[must_use]
+pub fn filtered_samples(series: &[f32], t: f32, u: f32) -> f32 {
+    use crate::math::{cos_turns, sin_turns};
+    let mut sum = series.first().copied().unwrap_or(0.0);
+    for (i, ab) in series.get(1..).unwrap_or(&[]).chunks_exact(2).enumerate() {
+        let kf = (i + 1) as f32;
+        let v = kf * u;
+        if v.is_nan() || v >= FADE_END as f32 {
+            break;
+        }
+        sum += response_f32(v) * (ab[0] * cos_turns(kf * t) + ab[1] * sin_turns(kf * t));
+    }
+    sum
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -629,5 +723,39 @@ mod tests {
                 "f {f} σ {sigma} s {s}: {got} vs {want}"
             );
         }
+    }
+
+    /// The filtered series of the triangle, sawtooth and a samples profile against their
+    /// definitions: at `u → 0` (every harmonic kept) the series is the profile to within its
+    /// truncation after 64 harmonics (away from the sawtooth's jump), and past the fade only
+    /// the mean is left.
+    #[test]
+    fn profile_series_converge_to_their_profiles() {
+        let u = 1e-5f32;
+        let values = [0.0f32, 1.0, 0.25, 0.75, -0.5];
+        let series = samples_series(&values);
+        for i in 0..200 {
+            let t = (i as f32 + 0.5) / 200.0;
+            let s = (t + 0.25).fract();
+            let triangle = 1.0 - 4.0 * (s - 0.5).abs();
+            assert!((filtered_triangle(t, u) - triangle).abs() < 0.01, "t {t}");
+            if (0.1..0.9).contains(&t) {
+                let saw = 2.0 * t - 1.0;
+                assert!((filtered_sawtooth(t, u) - saw).abs() < 0.05, "t {t}");
+            }
+            let pos = t * values.len() as f32;
+            let j = pos as usize;
+            let f = pos - j as f32;
+            let linear = values[j] * (1.0 - f) + values[(j + 1) % values.len()] * f;
+            assert!(
+                (filtered_samples(&series, t, u) - linear).abs() < 0.01,
+                "t {t}"
+            );
+            assert_eq!(filtered_triangle(t, 0.6), 0.0);
+            assert_eq!(filtered_sawtooth(t, 0.6), 0.0);
+            assert_eq!(filtered_samples(&series, t, 0.6), series[0]);
+        }
+        // c₀ is the mean of a piecewise-linear periodic profile: the mean of its samples.
+        assert!((series[0] - 0.3).abs() < 1e-6);
     }
 }

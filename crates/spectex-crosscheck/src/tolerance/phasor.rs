@@ -53,12 +53,38 @@ pub fn complex_bound(m: &PhasorNoise) -> f64 {
 /// `[0, 1)`, at `duty` for a square profile; `None` stands for "any" where a per-pixel duty
 /// makes the position vary).
 ///
-/// `harmonics` > 0: a minified render, where a square profile is the sum of at most that many
-/// harmonics of its Fourier series (`spectex_model::filter::filtered_square`), continuous, with
-/// slope at most `Σ_k 2πk·(2/(πk)) = 4·harmonics` per turn of phase.
+/// `harmonics` > 0: a minified render, where every profile is the sum of at most that many
+/// harmonics of its Fourier series (`spectex_model::filter`'s `filtered_*`), each weighted by
+/// a response in `[0, 1]`: continuous, with slope at most `Σ_k 2πk·|c_k|` per turn of phase —
+/// `Σ_k 2πk·(2/(πk)) = 4·harmonics` for the square and the sawtooth,
+/// `Σ_{n odd} 2πn·8/(π²n²) = (16/π)·Σ_{n odd} 1/n` for the triangle, from the series itself for
+/// sampled profiles; the sine and explicit harmonics keep their unfiltered bounds.
 fn shape(profile: &Profile, harmonics: u32) -> (f64, Vec<Option<f64>>) {
+    let h = f64::from(harmonics);
     match profile {
-        Profile::Square { .. } if harmonics > 0 => (4.0 * f64::from(harmonics), vec![]),
+        Profile::Square { .. } | Profile::Sawtooth if harmonics > 0 => (4.0 * h, vec![]),
+        Profile::Triangle if harmonics > 0 => (
+            16.0 / std::f64::consts::PI
+                * (1..=harmonics)
+                    .step_by(2)
+                    .map(|n| 1.0 / f64::from(n))
+                    .sum::<f64>(),
+            vec![],
+        ),
+        Profile::Samples { values } if harmonics > 0 => {
+            let series = spectex_model::filter::samples_series(values);
+            let slope = series[1..]
+                .chunks_exact(2)
+                .take(harmonics as usize)
+                .enumerate()
+                .map(|(i, ab)| {
+                    std::f64::consts::TAU
+                        * (i + 1) as f64
+                        * f64::from(ab[0]).hypot(f64::from(ab[1]))
+                })
+                .sum();
+            (slope, vec![])
+        }
         Profile::Sine => (std::f64::consts::TAU, vec![]),
         Profile::Triangle => (4.0, vec![]),
         Profile::Sawtooth => (2.0, vec![Some(0.0)]),
@@ -92,8 +118,8 @@ fn shape(profile: &Profile, harmonics: u32) -> (f64, Vec<Option<f64>>) {
     }
 }
 
-/// Harmonics of a square profile filtered at `u = F·s` at most (the terms of
-/// `spectex_model::filter::filtered_square` with `k·u < FADE_END`, at most
+/// Harmonics of a profile filtered at `u = F·s` at most (the terms of
+/// `spectex_model::filter`'s `filtered_*` with `k·u < FADE_END`, at most
 /// `MAX_SQUARE_HARMONICS`), for the smallest `u` of a window.
 fn square_harmonics(u_min: f64) -> u32 {
     use spectex_model::filter::{FADE_END, MAX_SQUARE_HARMONICS};
@@ -116,7 +142,7 @@ fn judge_pixels(
     renders: &[(Vec<f32>, Vec<f32>)],
     footprint: Option<f64>,
 ) -> Vec<String> {
-    // A minified render filters square profiles to `harmonics` terms of their Fourier series.
+    // A minified render filters profiles to `harmonics` terms of their Fourier series.
     let harmonics = footprint.map_or(0, |s| square_harmonics(m.frequency.range().0 * s));
     let (lipschitz, jumps) = shape(&m.profile, harmonics);
     let amplitude = f64::from(m.amplitude).abs();

@@ -155,3 +155,67 @@ fn minified_texture_structures_agree_across_mipmap_levels() {
         assert!(matches!(o.verdict, Verdict::Pass), "{w}: {:?}", o.verdict);
     }
 }
+
+/// Every phasor profile filtered through its Fourier series (sine, triangle, sawtooth, samples,
+/// explicit harmonics; the square is in `testdata/models/`) on `phasor-pwm-coherent`'s field,
+/// minified at scale 4 (u = 0.24: harmonics up to the second) and at scale 1.5 (up to the
+/// sixth), on both evaluators.
+#[test]
+fn minified_phasor_profiles_agree() {
+    use spectex_crosscheck::{CaseWindow, Verdict};
+    use spectex_model::{Harmonic, Model, Profile};
+    let Some(context) = gpu_or_skip() else {
+        return;
+    };
+    let file = PathBuf::from(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../testdata/models/phasor-pwm-coherent.json"
+    ));
+    let base = spectex_model::from_json(&std::fs::read_to_string(file).unwrap()).unwrap();
+    let windows: Vec<CaseWindow> = [("scale-4", 4.0), ("scale-1.5", 1.5)]
+        .into_iter()
+        .map(|(name, scale)| CaseWindow {
+            name,
+            width: 48,
+            height: 40,
+            offset: [-3.25, 17.5],
+            scale,
+        })
+        .collect();
+    let harmonic = |k, weight, phase| Harmonic { k, weight, phase };
+    for (name, profile) in [
+        ("sine", Profile::Sine),
+        ("triangle", Profile::Triangle),
+        ("sawtooth", Profile::Sawtooth),
+        (
+            "samples",
+            Profile::Samples {
+                values: vec![0.0, 0.5, 1.0, 0.8, 0.3, 0.0, -0.2, -0.1],
+            },
+        ),
+        (
+            "harmonics",
+            Profile::Harmonics {
+                terms: vec![
+                    harmonic(1, 1.0, 0.0),
+                    harmonic(3, 0.5, 1.0),
+                    harmonic(7, 0.3, 0.5),
+                ],
+            },
+        ),
+    ] {
+        let mut model = base.clone();
+        if let Model::Phasor(p) = &mut model {
+            p.profile = profile;
+        }
+        let outcomes = check_model(&context, name, &model, &windows).unwrap();
+        for (w, o) in &outcomes {
+            println!("{name} {w}: max {:.2e}", o.comparison.max_abs);
+            assert!(
+                matches!(o.verdict, Verdict::Pass),
+                "{name} {w}: {:?}",
+                o.verdict
+            );
+        }
+    }
+}
