@@ -8,6 +8,11 @@
 //! multiplied by their gains, strata faded whole skipped) against point-sampled
 //! (`Filter::Off`), 1 thread: the filtering's cost as a ratio within one run.
 //!
+//! Every kind (`kinds`): one model of each, 256², 1 thread and all threads, and the phasor and
+//! warp reference paths beside them; `cargo xtask bench` turns it into a table and a chart. With
+//! `SPECTEX_BENCH_DIR` set, the group writes each kind's evaluations per pixel and pixels per
+//! render to `kinds.tsv` there.
+//!
 //! `cargo bench -p spectex-cpu --bench eval`.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
@@ -168,6 +173,100 @@ fn bench_warp(c: &mut Criterion) {
     group.finish();
 }
 
+/// A model of `testdata/models/`.
+fn testdata(text: &str) -> Model {
+    spectex_model::from_json(text).expect("a valid testdata model")
+}
+
+/// One model of every kind, as `cargo xtask bench` summarises them, and the reference paths of
+/// the kinds that have a faster one (`*_reference`): `(name, model, reference path)`.
+fn kinds() -> Vec<(&'static str, Model, bool)> {
+    use spectex_model::classic::ClassicNoise;
+    let phasor = default_phasor(2, spectex_model::Profile::Sine);
+    let warp = Model::Warp(spectex_model::Warp::builder().build().expect("valid model"));
+    vec![
+        ("lrp", Model::Lrp(lrp_four_strata(50)), false),
+        (
+            "gabor",
+            Model::Gabor(spectex_model::fixtures::gabor_isotropic()),
+            false,
+        ),
+        ("phasor", phasor.clone(), false),
+        ("phasor_reference", phasor, true),
+        (
+            "texture",
+            testdata(include_str!(
+                "../../../testdata/models/texture-synthetic-colour.json"
+            )),
+            false,
+        ),
+        (
+            "classic",
+            Model::Classic(ClassicNoise::fbm().build().expect("valid model")),
+            false,
+        ),
+        ("warp", warp.clone(), false),
+        ("warp_reference", warp, true),
+        (
+            "wavelet",
+            testdata(include_str!("../../../testdata/models/wavelet-2d.json")),
+            false,
+        ),
+        (
+            "texton",
+            testdata(include_str!(
+                "../../../testdata/models/texton-ellipsoids.json"
+            )),
+            false,
+        ),
+    ]
+}
+
+/// Every kind at 256², 1 thread and all threads (`{name}_1_thread`, `{name}_all_threads`),
+/// briefly: a summary, not a precise measurement.
+fn bench_kinds(c: &mut Criterion) {
+    let side = 256;
+    let window = Window::new(side, side).at([1000.0, 2000.0], 1.0);
+    let mut group = c.benchmark_group("kinds");
+    group.throughput(Throughput::Elements((side * side) as u64));
+    group.sample_size(10);
+    group.warm_up_time(std::time::Duration::from_millis(300));
+    group.measurement_time(std::time::Duration::from_secs(1));
+    let single = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("pool");
+    let mut costs = String::from("kind\tevaluations_per_pixel\tpixels\n");
+    for (name, model, reference) in kinds() {
+        let eval = Evaluator::new(&model).expect("valid model");
+        costs.push_str(&format!(
+            "{name}\t{}\t{}\n",
+            eval.cost_per_pixel(),
+            side * side
+        ));
+        let render = |w: &Window| {
+            if reference {
+                eval.render_reference(w)
+            } else {
+                eval.render(w)
+            }
+        };
+        group.bench_function(format!("{name}_1_thread"), |b| {
+            b.iter(|| single.install(|| render(black_box(&window))))
+        });
+        group.bench_function(format!("{name}_all_threads"), |b| {
+            b.iter(|| render(black_box(&window)))
+        });
+    }
+    group.finish();
+    if let Some(dir) = std::env::var_os("SPECTEX_BENCH_DIR") {
+        let dir = std::path::PathBuf::from(dir);
+        std::fs::create_dir_all(&dir)
+            .and_then(|()| std::fs::write(dir.join("kinds.tsv"), costs))
+            .expect("writing kinds.tsv");
+    }
+}
+
 /// LRP J = 50 over 4 strata at scale 4, filtered and point-sampled, 1 thread.
 fn bench_minified(c: &mut Criterion) {
     let side = 256;
@@ -189,5 +288,12 @@ fn bench_minified(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench, bench_phasor, bench_warp, bench_minified);
+criterion_group!(
+    benches,
+    bench,
+    bench_phasor,
+    bench_warp,
+    bench_minified,
+    bench_kinds
+);
 criterion_main!(benches);
