@@ -169,7 +169,7 @@ struct PointRows<const L: usize> {
     py: [f64; L],
     iy: [i32; L],
     uy: [f32; L],
-    /// `keys[dz + 1][dy + 1][l]` (2D: only `[1]` is filled, the only one read).
+    /// `keys[dz + 1][dy + 1][l]`, those the basis reads ([`ClassicEvaluator::point_rows`]).
     keys: [[[u32; L]; 3]; 3],
 }
 
@@ -477,10 +477,18 @@ impl ClassicEvaluator {
             r.py[l] = y[l] / o.side;
             (r.iy[l], r.uy[l]) = locate(r.py[l]);
         }
-        let planes = if self.three_d { 0..3 } else { 1..2 };
+        // Only the keys the basis reads: gradient and value noise the rows `iy` and `iy + 1`
+        // (and planes `kz`, `kz + 1`), Worley every neighbour, simplex none (it hashes its own).
+        let (planes, rows) = match (&self.basis, self.three_d) {
+            (Basis::Simplex, _) => (0..0, 0..0),
+            (Basis::Gradient | Basis::Value, false) => (1..2, 1..3),
+            (Basis::Gradient | Basis::Value, true) => (1..3, 1..3),
+            (Basis::Worley(_), false) => (1..2, 0..3),
+            (Basis::Worley(_), true) => (0..3, 0..3),
+        };
         for dz in planes {
             let layer = if self.three_d { o.zkeys[dz] } else { o.key2 };
-            for dy in 0..3 {
+            for dy in rows.clone() {
                 for l in 0..L {
                     r.keys[dz][dy][l] = row_key(r.iy[l].wrapping_add(dy as i32 - 1), layer);
                 }
