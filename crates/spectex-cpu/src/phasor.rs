@@ -417,7 +417,7 @@ impl Lanes<'_> {
         let lo = (index(centre - reach).floor() - 1.0).max(0.0);
         let hi = (index(centre + reach).ceil() + 1.0).min(last);
         // NaN (never for a valid window) falls through the comparison to `None`.
-        (lo <= hi).then(|| (lo as usize, hi as usize))
+        (lo <= hi).then_some((lo as usize, hi as usize))
     }
 }
 
@@ -497,15 +497,15 @@ fn sum_row_lanes<const L: usize, const THREE_D: bool>(
                         let d0 = (offsets[l] - sx as f32) - imp.o[0];
                         let mut d2 = d0 * d0 + a;
                         if THREE_D {
-                            d2 = d2 + b;
+                            d2 += b;
                         }
-                        d2 = d2 * imp.sharp;
+                        d2 *= imp.sharp;
                         let g = exp_poly(NEG_LN_20 * d2);
                         let mut t = imp.f[0] * d0 + ty;
                         if THREE_D {
-                            t = t + tz;
+                            t += tz;
                         }
-                        t = t + imp.psi;
+                        t += imp.psi;
                         let on = neighbour && d2 < 1.0;
                         add_re[l] = if on { g * cos_turns(t) } else { 0.0 };
                         add_im[l] = if on { g * sin_turns(t) } else { 0.0 };

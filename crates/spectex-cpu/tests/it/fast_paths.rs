@@ -28,6 +28,9 @@ fn windows() -> Vec<(&'static str, Window)> {
     ]
 }
 
+/// A SIMD level by name and how to select it on an evaluator (`false`: the CPU lacks it).
+type SimdLevel<E> = (&'static str, fn(&mut E) -> bool);
+
 /// The first index where `a` and `b` differ in bits, with both values.
 fn first_difference(a: &[f32], b: &[f32]) -> Option<(usize, f32, f32)> {
     assert_eq!(a.len(), b.len());
@@ -70,16 +73,16 @@ fn phasor_rows_match_the_per_pixel_sum_at_every_simd_level() {
             continue;
         };
         let mut eval = PhasorEvaluator::new(m, case.z);
-        let levels: [(&str, &dyn Fn(&mut PhasorEvaluator) -> bool); 3] = [
-            ("portable", &|e| {
+        let levels: [SimdLevel<PhasorEvaluator>; 3] = [
+            ("portable", |e| {
                 e.set_avx2(false);
                 true
             }),
-            ("avx2", &|e| {
+            ("avx2", |e| {
                 e.set_avx2(true);
                 true
             }),
-            ("avx512", &|e| e.set_avx512(true)),
+            ("avx512", |e| e.set_avx512(true)),
         ];
         for (level, set) in levels {
             if !set(&mut eval) {
@@ -157,13 +160,13 @@ fn classic_points_match_at_every_simd_level() {
         let mut eval = ClassicEvaluator::new(m, case.z);
         let alone: Vec<f32> = points.iter().map(|p| eval.eval(p[0], p[1])).collect();
         let widest = eval.set_simd(true);
-        let levels: [(&str, &dyn Fn(&mut ClassicEvaluator) -> bool); 3] = [
-            ("portable", &|e| {
+        let levels: [SimdLevel<ClassicEvaluator>; 3] = [
+            ("portable", |e| {
                 e.set_simd(false);
                 true
             }),
-            ("avx2", &|e| e.set_avx2()),
-            ("widest", &|e| {
+            ("avx2", |e| e.set_avx2()),
+            ("widest", |e| {
                 e.set_simd(true);
                 true
             }),
