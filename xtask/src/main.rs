@@ -843,8 +843,8 @@ struct KindSpeed {
     all: f64,
 }
 
-/// Every kind's speed (`spectex-cpu`'s `kinds` bench group), summarised as
-/// `target/bench/summary.md` (a table) and `target/bench/summary.svg` (a bar chart).
+/// Every kind's speed (`spectex-cpu`'s `kinds` bench group), summarised in `target/bench/` as
+/// a Markdown table and an SVG bar chart (`summary` with either extension).
 fn bench_kinds(ws: &Workspace, extra: &[OsString]) -> Result<()> {
     let out = target_dir(ws).join("bench");
     let mut command = ws.cargo(&[
