@@ -27,7 +27,8 @@ const COMMANDS: &[(&str, &str)] = &[
     ),
     (
         "bench",
-        "criterion benches of RPN vs one FFT, then a table of medians; \
+        "criterion benches of RPN vs one FFT, then a table of medians; every model kind's \
+         Mpix/s on 1 thread and all threads (target/bench/summary.md and summary.svg); \
          extra args go to criterion (`cargo xtask bench -- --quick`); then the \
          texture-by-example Table 1 (CPU and GPU)",
     ),
@@ -818,6 +819,7 @@ fn bench(ws: &Workspace, mut extra: Vec<OsString>) -> Result<()> {
         }],
     )?;
     print_bench_table(&criterion_dir(ws).join("rpn"), started)?;
+    bench_kinds(ws, &extra)?;
     // The paper's Table 1 for texture by example (prints its own markdown table).
     run_steps(
         "bench",
@@ -826,6 +828,194 @@ fn bench(ws: &Workspace, mut extra: Vec<OsString>) -> Result<()> {
             command: ws.cargo(&["bench", "-p", "spectex-cli", "--bench", "table1"]),
         }],
     )
+}
+
+/// One model kind in the summary of `cargo xtask bench`.
+#[derive(Debug, Clone, PartialEq)]
+struct KindSpeed {
+    /// The kind (or a kind's reference path, `*_reference`).
+    kind: String,
+    /// Kernel, cosine or lattice evaluations per pixel (the evaluator's `cost_per_pixel`).
+    evaluations_per_pixel: f64,
+    /// Mpix/s on 1 thread.
+    single: f64,
+    /// Mpix/s on all threads.
+    all: f64,
+}
+
+/// Every kind's speed (`spectex-cpu`'s `kinds` bench group), summarised in `target/bench/` as
+/// a Markdown table and an SVG bar chart (`summary` with either extension).
+fn bench_kinds(ws: &Workspace, extra: &[OsString]) -> Result<()> {
+    let out = target_dir(ws).join("bench");
+    let mut command = ws.cargo(&[
+        "bench",
+        "-p",
+        "spectex-cpu",
+        "--bench",
+        "eval",
+        "--",
+        "kinds/",
+    ]);
+    command.args(extra).env("SPECTEX_BENCH_DIR", &out);
+    let started = SystemTime::now();
+    run_steps(
+        "bench",
+        vec![Step {
+            title: "cargo bench -p spectex-cpu --bench eval -- kinds/".into(),
+            command,
+        }],
+    )?;
+    let costs = out.join("kinds.tsv");
+    let tsv = fs::read_to_string(&costs)
+        .with_context(|| format!("reading {} (the kinds bench writes it)", costs.display()))?;
+    let group = criterion_dir(ws).join("kinds");
+    let median_ns = |id: &str| -> Result<f64> {
+        let estimates = group.join(id).join("new").join("estimates.json");
+        let stale = fs::metadata(&estimates)
+            .and_then(|m| m.modified())
+            .map_or(true, |modified| modified < started);
+        if stale {
+            bail!("{} was not written by this run", estimates.display());
+        }
+        let json = fs::read_to_string(&estimates)
+            .with_context(|| format!("reading {}", estimates.display()))?;
+        parse_median_ns(&json)
+            .with_context(|| format!("no median point_estimate in {}", estimates.display()))
+    };
+    let mut kinds = Vec::new();
+    for line in tsv.lines().skip(1).filter(|l| !l.trim().is_empty()) {
+        let (kind, evaluations_per_pixel, pixels) = parse_kind_line(line)
+            .with_context(|| format!("{}: bad line {line:?}", costs.display()))?;
+        let mpix = |ns: f64| pixels / ns * 1e3;
+        kinds.push(KindSpeed {
+            single: mpix(median_ns(&format!("{kind}_1_thread"))?),
+            all: mpix(median_ns(&format!("{kind}_all_threads"))?),
+            kind,
+            evaluations_per_pixel,
+        });
+    }
+    let threads = std::thread::available_parallelism().map_or(1, usize::from);
+    let markdown = summary_markdown(&kinds, threads);
+    let md = out.join("summary.md");
+    fs::write(&md, &markdown).with_context(|| format!("writing {}", md.display()))?;
+    let svg = out.join("summary.svg");
+    summary_chart(&svg, &kinds, threads).with_context(|| format!("drawing {}", svg.display()))?;
+    println!("{markdown}");
+    println!("written: {} and {}", md.display(), svg.display());
+    Ok(())
+}
+
+/// `kind<TAB>evaluations per pixel<TAB>pixels` of the kinds bench's `kinds.tsv`.
+fn parse_kind_line(line: &str) -> Option<(String, f64, f64)> {
+    let mut fields = line.split('\t');
+    let kind = fields.next()?.trim().to_string();
+    let evaluations: f64 = fields.next()?.trim().parse().ok()?;
+    let pixels: f64 = fields.next()?.trim().parse().ok()?;
+    (!kind.is_empty() && fields.next().is_none()).then_some((kind, evaluations, pixels))
+}
+
+/// The summary table, then each fast path's ratio to the reference path measured beside it.
+fn summary_markdown(kinds: &[KindSpeed], threads: usize) -> String {
+    let mut md = format!(
+        "| kind | evaluations per pixel | 1 thread (Mpix/s) | {threads} threads (Mpix/s) |\n\
+         | --- | ---: | ---: | ---: |\n"
+    );
+    for k in kinds {
+        md.push_str(&format!(
+            "| {} | {:.1} | {:.2} | {:.2} |\n",
+            k.kind, k.evaluations_per_pixel, k.single, k.all
+        ));
+    }
+    for k in kinds {
+        let Some(base) = k.kind.strip_suffix("_reference") else {
+            continue;
+        };
+        if let Some(fast) = kinds.iter().find(|f| f.kind == base) {
+            md.push_str(&format!(
+                "\n{base}: {:.2}× the reference path on 1 thread, {:.2}× on {threads} threads.",
+                fast.single / k.single,
+                fast.all / k.all
+            ));
+        }
+    }
+    md.push('\n');
+    md
+}
+
+/// A horizontal bar chart of the summary (log scale: the kinds span three decades).
+fn summary_chart(path: &Path, kinds: &[KindSpeed], threads: usize) -> Result<()> {
+    use plotters::prelude::*;
+    use plotters::style::text_anchor::{HPos, Pos, VPos};
+
+    let n = kinds.len();
+    let height = 110 + 44 * u32::try_from(n).context("too many kinds")?;
+    let root = SVGBackend::new(path, (900, height)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let speeds = kinds.iter().flat_map(|k| [k.single, k.all]);
+    let max = speeds.clone().fold(1.0f64, f64::max) * 3.0;
+    let min = speeds.fold(f64::INFINITY, f64::min).min(1.0) / 2.0;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(
+            "spectex CPU evaluation, 256² (Mpix/s, log scale)",
+            ("sans-serif", 20),
+        )
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(150)
+        .build_cartesian_2d((min..max).log_scale(), 0f64..n as f64)?;
+    chart
+        .configure_mesh()
+        .disable_y_mesh()
+        .y_label_formatter(&|_| String::new())
+        .x_desc("Mpix/s")
+        .draw()?;
+    let single_colour = RGBColor(230, 126, 34);
+    let all_colour = RGBColor(41, 128, 185);
+    let value_style =
+        TextStyle::from(("sans-serif", 12).into_font()).pos(Pos::new(HPos::Left, VPos::Center));
+    for (bar, colour, label) in [
+        (0, single_colour, "1 thread".to_string()),
+        (1, all_colour, format!("{threads} threads")),
+    ] {
+        let bars = kinds.iter().enumerate().map(|(i, k)| {
+            let top = (n - 1 - i) as f64;
+            let speed = if bar == 0 { k.single } else { k.all };
+            let (y0, y1) = if bar == 0 {
+                (top + 0.52, top + 0.9)
+            } else {
+                (top + 0.1, top + 0.48)
+            };
+            Rectangle::new([(min, y0), (speed, y1)], colour.filled())
+        });
+        chart
+            .draw_series(bars)?
+            .label(label)
+            .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 14, y + 5)], colour.filled()));
+        chart.draw_series(kinds.iter().enumerate().map(|(i, k)| {
+            let top = (n - 1 - i) as f64;
+            let (speed, y) = if bar == 0 {
+                (k.single, top + 0.71)
+            } else {
+                (k.all, top + 0.29)
+            };
+            Text::new(format!(" {speed:.1}"), (speed, y), value_style.clone())
+        }))?;
+    }
+    let name_style =
+        TextStyle::from(("sans-serif", 14).into_font()).pos(Pos::new(HPos::Right, VPos::Center));
+    for (i, k) in kinds.iter().enumerate() {
+        let (x, y) = chart.backend_coord(&(min, (n - 1 - i) as f64 + 0.5));
+        let name = format!("{} ({:.0}/px)", k.kind, k.evaluations_per_pixel);
+        root.draw(&Text::new(name, (x - 8, y), name_style.clone()))?;
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::LowerRight)
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()?;
+    root.present()?;
+    Ok(())
 }
 
 /// Where criterion writes its results, following its own order of preference.
@@ -911,7 +1101,39 @@ fn example_names(ws: &Workspace) -> Result<Vec<String>> {
 
 #[cfg(test)]
 mod tests {
-    use super::{campaign_counts, json_string_field, parse_median_ns};
+    use super::{
+        KindSpeed, campaign_counts, json_string_field, parse_kind_line, parse_median_ns,
+        summary_markdown,
+    };
+
+    #[test]
+    fn kind_lines_and_the_summary_table() {
+        assert_eq!(
+            parse_kind_line("phasor\t91.5\t65536"),
+            Some(("phasor".to_string(), 91.5, 65536.0))
+        );
+        assert_eq!(parse_kind_line("phasor\t91.5"), None);
+        assert_eq!(parse_kind_line("phasor\tx\t1"), None);
+        let kind = |kind: &str, single, all| KindSpeed {
+            kind: kind.into(),
+            evaluations_per_pixel: 92.0,
+            single,
+            all,
+        };
+        let md = summary_markdown(
+            &[
+                kind("phasor", 10.0, 18.0),
+                kind("phasor_reference", 2.0, 3.0),
+            ],
+            2,
+        );
+        assert!(md.contains("| phasor | 92.0 | 10.00 | 18.00 |"), "{md}");
+        assert!(md.contains("2 threads (Mpix/s)"), "{md}");
+        assert!(
+            md.contains("phasor: 5.00× the reference path on 1 thread, 6.00× on 2 threads."),
+            "{md}"
+        );
+    }
 
     #[test]
     fn string_fields_are_read_from_cargo_messages() {

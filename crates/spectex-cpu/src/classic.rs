@@ -131,6 +131,68 @@ struct RowOctave {
     keys: [[u32; 3]; 3],
 }
 
+/// Where the lanes read what their octave needs along y: one row shared by every lane
+/// ([`RowOctave`], a row of pixels) or one per lane ([`PointRows`], a batch of arbitrary
+/// points). The lane code is generic over it, so both give each lane the same arithmetic.
+trait RowLanes {
+    /// `y / side` of lane `l`.
+    fn py(&self, l: usize) -> f64;
+    /// The cell row of lane `l`.
+    fn iy(&self, l: usize) -> i32;
+    /// The offset in it.
+    fn uy(&self, l: usize) -> f32;
+    /// Row key `[dz + 1][dy + 1]` of lane `l` (see [`RowOctave::keys`]).
+    fn key(&self, dz: usize, dy: usize, l: usize) -> u32;
+}
+
+impl RowLanes for RowOctave {
+    #[inline(always)]
+    fn py(&self, _: usize) -> f64 {
+        self.py
+    }
+    #[inline(always)]
+    fn iy(&self, _: usize) -> i32 {
+        self.iy
+    }
+    #[inline(always)]
+    fn uy(&self, _: usize) -> f32 {
+        self.uy
+    }
+    #[inline(always)]
+    fn key(&self, dz: usize, dy: usize, _: usize) -> u32 {
+        self.keys[dz][dy]
+    }
+}
+
+/// [`RowOctave`] per lane: what one octave needs at each point of a group of `L` points.
+#[derive(Debug, Clone, Copy)]
+struct PointRows<const L: usize> {
+    py: [f64; L],
+    iy: [i32; L],
+    uy: [f32; L],
+    /// `keys[dz + 1][dy + 1][l]`, those the basis reads ([`ClassicEvaluator::point_rows`]).
+    keys: [[[u32; L]; 3]; 3],
+}
+
+impl<const L: usize> RowLanes for PointRows<L> {
+    #[inline(always)]
+    fn py(&self, l: usize) -> f64 {
+        self.py[l]
+    }
+    #[inline(always)]
+    fn iy(&self, l: usize) -> i32 {
+        self.iy[l]
+    }
+    #[inline(always)]
+    fn uy(&self, l: usize) -> f32 {
+        self.uy[l]
+    }
+    #[inline(always)]
+    fn key(&self, dz: usize, dy: usize, l: usize) -> u32 {
+        self.keys[dz][dy][l]
+    }
+}
+
 /// The Worley parameters in the form the lanes use.
 #[derive(Debug, Clone)]
 struct WorleyParams {
@@ -377,79 +439,7 @@ impl ClassicEvaluator {
             for l in 0..L {
                 x[l] = window.offset[0] + (base + lane_index[l]) * window.scale;
             }
-            let mut acc = [0.0f32; L];
-            let mut previous = [0.0f32; L];
-            for (o, (oct, ro)) in self.octaves.iter().zip(rows).enumerate() {
-                let w = oct.weight;
-                // A minified render's (scale, constant) of this octave.
-                let faded = fade.map(|f| (f.scale[o], f.constant[o]));
-                if let Some((scale, constant)) = faded
-                    && scale == 0.0
-                {
-                    // Faded out: the basis is not evaluated, its expected term stays.
-                    match self.kind {
-                        None | Some(FractalKind::Fbm) | Some(FractalKind::Turbulence) => {
-                            for l in 0..L {
-                                acc[l] += constant;
-                            }
-                        }
-                        Some(FractalKind::Ridged { weight_gain, .. }) => {
-                            for l in 0..L {
-                                let mut s = constant;
-                                if o > 0 {
-                                    s *= min(max(previous[l] * weight_gain, 0.0), 1.0);
-                                }
-                                previous[l] = s;
-                                acc[l] += w * s;
-                            }
-                        }
-                    }
-                    continue;
-                }
-                let n = self.basis_lanes::<L>(oct, ro, &x);
-                match (self.kind, faded) {
-                    (None | Some(FractalKind::Fbm), None) => {
-                        for l in 0..L {
-                            acc[l] += w * n[l];
-                        }
-                    }
-                    (None | Some(FractalKind::Fbm), Some((scale, constant))) => {
-                        for l in 0..L {
-                            acc[l] += scale * n[l] + constant;
-                        }
-                    }
-                    (Some(FractalKind::Turbulence), None) => {
-                        for l in 0..L {
-                            acc[l] += w * n[l].abs();
-                        }
-                    }
-                    (Some(FractalKind::Turbulence), Some((scale, constant))) => {
-                        for l in 0..L {
-                            acc[l] += scale * n[l].abs() + constant;
-                        }
-                    }
-                    (
-                        Some(FractalKind::Ridged {
-                            offset,
-                            weight_gain,
-                        }),
-                        faded,
-                    ) => {
-                        for l in 0..L {
-                            let s = offset - n[l].abs();
-                            let mut s = s * s;
-                            if let Some((scale, constant)) = faded {
-                                s = scale * s + constant;
-                            }
-                            if o > 0 {
-                                s *= min(max(previous[l] * weight_gain, 0.0), 1.0);
-                            }
-                            previous[l] = s;
-                            acc[l] += w * s;
-                        }
-                    }
-                }
-            }
+            let acc = self.octave_sum::<L, _>(&x, rows, fade);
             let end = (start + L).min(width);
             for (l, v) in out[start..end].iter_mut().enumerate() {
                 *v = self.mean + self.amplitude * acc[l];
@@ -458,8 +448,187 @@ impl ClassicEvaluator {
         }
     }
 
+    /// The points of `points` (pixels), `L` at a time, into `out`: each lane at its own
+    /// position, as lane 0 of a one-pixel window there ([`crate::point_window`]) computes it.
     #[inline(always)]
-    fn basis_lanes<const L: usize>(&self, o: &Octave, r: &RowOctave, x: &[f64; L]) -> [f32; L] {
+    fn points<const L: usize>(&self, points: &[[f64; 2]], out: &mut [f32]) {
+        let mut rows = vec![
+            PointRows::<L> {
+                py: [0.0; L],
+                iy: [0; L],
+                uy: [0.0; L],
+                keys: [[[0; L]; 3]; 3],
+            };
+            self.octaves.len()
+        ];
+        for (group, values) in points.chunks(L).zip(out.chunks_mut(L)) {
+            // A short last group repeats its last point (lanes are independent).
+            let lane = |l: usize| group[l.min(group.len() - 1)];
+            let mut x = [0.0f64; L];
+            let mut y = [0.0f64; L];
+            for l in 0..L {
+                // The one-pixel window's `x(0)` and `y(0)`: `p + 0·1`.
+                let window = crate::point_window(lane(l));
+                (x[l], y[l]) = (window.x(0), window.y(0));
+            }
+            for (r, o) in rows.iter_mut().zip(&self.octaves) {
+                self.point_rows(o, &y, r);
+            }
+            let acc = self.octave_sum::<L, _>(&x, &rows, None);
+            for (l, v) in values.iter_mut().enumerate() {
+                *v = self.mean + self.amplitude * acc[l];
+            }
+        }
+    }
+
+    /// [`row_octave`](Self::row_octave) for each lane's `y`.
+    #[inline(always)]
+    fn point_rows<const L: usize>(&self, o: &Octave, y: &[f64; L], r: &mut PointRows<L>) {
+        for l in 0..L {
+            r.py[l] = y[l] / o.side;
+            (r.iy[l], r.uy[l]) = locate(r.py[l]);
+        }
+        // Only the keys the basis reads: gradient and value noise the rows `iy` and `iy + 1`
+        // (and planes `kz`, `kz + 1`), Worley every neighbour, simplex none (it hashes its own).
+        let (planes, rows) = match (&self.basis, self.three_d) {
+            (Basis::Simplex, _) => (0..0, 0..0),
+            (Basis::Gradient | Basis::Value, false) => (1..2, 1..3),
+            (Basis::Gradient | Basis::Value, true) => (1..3, 1..3),
+            (Basis::Worley(_), false) => (1..2, 0..3),
+            (Basis::Worley(_), true) => (0..3, 0..3),
+        };
+        for dz in planes {
+            let layer = if self.three_d { o.zkeys[dz] } else { o.key2 };
+            for dy in rows.clone() {
+                for l in 0..L {
+                    r.keys[dz][dy][l] = row_key(r.iy[l].wrapping_add(dy as i32 - 1), layer);
+                }
+            }
+        }
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn points_avx2(&self, points: &[[f64; 2]], out: &mut [f32]) {
+        self.points::<LANES>(points, out);
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f")]
+    fn points_avx512(&self, points: &[[f64; 2]], out: &mut [f32]) {
+        self.points::<WIDE_LANES>(points, out);
+    }
+
+    /// Evaluates the noise at each of `points` (pixels) into `out` (one value per point), in
+    /// the lanes: the same bits as a one-pixel window at each point.
+    pub fn eval_points(&self, points: &[[f64; 2]], out: &mut [f32]) {
+        let out = &mut out[..points.len()];
+        #[cfg(target_arch = "x86_64")]
+        match self.simd {
+            #[allow(unsafe_code)]
+            // SAFETY: `Simd::Avx512` is chosen only when the CPU reports AVX-512F at run time.
+            Simd::Avx512 => unsafe { self.points_avx512(points, out) },
+            #[allow(unsafe_code)]
+            // SAFETY: `Simd::Avx2` is chosen only when the CPU reports AVX2 at run time.
+            Simd::Avx2 => unsafe { self.points_avx2(points, out) },
+            Simd::Portable => self.points::<LANES>(points, out),
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        self.points::<LANES>(points, out);
+    }
+
+    /// The octaves' fractal sum at the lanes' positions `x` along x, their rows (one per
+    /// octave) along y; `fade`: how a minified render takes each octave, else `None`.
+    #[inline(always)]
+    fn octave_sum<const L: usize, R: RowLanes>(
+        &self,
+        x: &[f64; L],
+        rows: &[R],
+        fade: Option<&OctaveFade>,
+    ) -> [f32; L] {
+        let mut acc = [0.0f32; L];
+        let mut previous = [0.0f32; L];
+        for (o, (oct, ro)) in self.octaves.iter().zip(rows).enumerate() {
+            let w = oct.weight;
+            // A minified render's (scale, constant) of this octave.
+            let faded = fade.map(|f| (f.scale[o], f.constant[o]));
+            if let Some((scale, constant)) = faded
+                && scale == 0.0
+            {
+                // Faded out: the basis is not evaluated, its expected term stays.
+                match self.kind {
+                    None | Some(FractalKind::Fbm) | Some(FractalKind::Turbulence) => {
+                        for l in 0..L {
+                            acc[l] += constant;
+                        }
+                    }
+                    Some(FractalKind::Ridged { weight_gain, .. }) => {
+                        for l in 0..L {
+                            let mut s = constant;
+                            if o > 0 {
+                                s *= min(max(previous[l] * weight_gain, 0.0), 1.0);
+                            }
+                            previous[l] = s;
+                            acc[l] += w * s;
+                        }
+                    }
+                }
+                continue;
+            }
+            let n = self.basis_lanes::<L, R>(oct, ro, x);
+            match (self.kind, faded) {
+                (None | Some(FractalKind::Fbm), None) => {
+                    for l in 0..L {
+                        acc[l] += w * n[l];
+                    }
+                }
+                (None | Some(FractalKind::Fbm), Some((scale, constant))) => {
+                    for l in 0..L {
+                        acc[l] += scale * n[l] + constant;
+                    }
+                }
+                (Some(FractalKind::Turbulence), None) => {
+                    for l in 0..L {
+                        acc[l] += w * n[l].abs();
+                    }
+                }
+                (Some(FractalKind::Turbulence), Some((scale, constant))) => {
+                    for l in 0..L {
+                        acc[l] += scale * n[l].abs() + constant;
+                    }
+                }
+                (
+                    Some(FractalKind::Ridged {
+                        offset,
+                        weight_gain,
+                    }),
+                    faded,
+                ) => {
+                    for l in 0..L {
+                        let s = offset - n[l].abs();
+                        let mut s = s * s;
+                        if let Some((scale, constant)) = faded {
+                            s = scale * s + constant;
+                        }
+                        if o > 0 {
+                            s *= min(max(previous[l] * weight_gain, 0.0), 1.0);
+                        }
+                        previous[l] = s;
+                        acc[l] += w * s;
+                    }
+                }
+            }
+        }
+        acc
+    }
+
+    #[inline(always)]
+    fn basis_lanes<const L: usize, R: RowLanes>(
+        &self,
+        o: &Octave,
+        r: &R,
+        x: &[f64; L],
+    ) -> [f32; L] {
         let mut n = [0.0f32; L];
         match (&self.basis, self.three_d) {
             (Basis::Gradient, false) => gradient2(o, r, x, &mut n, true),
@@ -474,22 +643,22 @@ impl ClassicEvaluator {
                     // vectorisable body.
                     match (w.metric, three_d) {
                         (Metric::Euclidean, false) => {
-                            self.worley_lanes::<L, false, 0>(w, o, r, x, &mut n)
+                            self.worley_lanes::<L, false, 0, R>(w, o, r, x, &mut n)
                         }
                         (Metric::Manhattan, false) => {
-                            self.worley_lanes::<L, false, 1>(w, o, r, x, &mut n)
+                            self.worley_lanes::<L, false, 1, R>(w, o, r, x, &mut n)
                         }
                         (Metric::Chebyshev, false) => {
-                            self.worley_lanes::<L, false, 2>(w, o, r, x, &mut n)
+                            self.worley_lanes::<L, false, 2, R>(w, o, r, x, &mut n)
                         }
                         (Metric::Euclidean, true) => {
-                            self.worley_lanes::<L, true, 0>(w, o, r, x, &mut n)
+                            self.worley_lanes::<L, true, 0, R>(w, o, r, x, &mut n)
                         }
                         (Metric::Manhattan, true) => {
-                            self.worley_lanes::<L, true, 1>(w, o, r, x, &mut n)
+                            self.worley_lanes::<L, true, 1, R>(w, o, r, x, &mut n)
                         }
                         (Metric::Chebyshev, true) => {
-                            self.worley_lanes::<L, true, 2>(w, o, r, x, &mut n)
+                            self.worley_lanes::<L, true, 2, R>(w, o, r, x, &mut n)
                         }
                     }
                 }
@@ -500,11 +669,11 @@ impl ClassicEvaluator {
 
     /// Worley in the lanes: the 3×3 (×3) cells, then the exact search where it is not enough.
     #[inline(always)]
-    fn worley_lanes<const L: usize, const THREE_D: bool, const METRIC: u8>(
+    fn worley_lanes<const L: usize, const THREE_D: bool, const METRIC: u8, R: RowLanes>(
         &self,
         w: &WorleyParams,
         o: &Octave,
-        r: &RowOctave,
+        r: &R,
         x: &[f64; L],
         n: &mut [f32; L],
     ) {
@@ -523,12 +692,12 @@ impl ClassicEvaluator {
         let dzs: &[i32] = if three_d { &[-1, 0, 1] } else { &[0] };
         for &dz in dzs {
             for dy in -1..=1i32 {
-                let key = r.keys[(dz + 1) as usize][(dy + 1) as usize];
-                let (ry, rz) = (r.uy - dy as f32, o.uz - dz as f32);
+                let rz = o.uz - dz as f32;
                 for dx in -1..=1i32 {
                     let mut state = [0u32; L];
                     let mut count = [0u32; L];
                     for l in 0..L {
+                        let key = r.key((dz + 1) as usize, (dy + 1) as usize, l);
                         state[l] = cell_hash_in_row(ix[l].wrapping_add(dx), key);
                     }
                     let most = match w.fixed {
@@ -561,7 +730,7 @@ impl ClassicEvaluator {
                             state[l] = lcg_step(state[l]);
                             let oy = unit_f32(permute(state[l]));
                             let ddx = ux[l] - (rx + ox);
-                            let ddy = ry - oy;
+                            let ddy = (r.uy(l) - dy as f32) - oy;
                             let mut d = if three_d {
                                 state[l] = lcg_step(state[l]);
                                 let oz = unit_f32(permute(state[l]));
@@ -579,7 +748,7 @@ impl ClassicEvaluator {
             }
         }
         for l in 0..L {
-            let gap = gap(ux[l], r.uy, o.uz, three_d, 1);
+            let gap = gap(ux[l], r.uy(l), o.uz, three_d, 1);
             let gap = if w.metric == Metric::Euclidean {
                 gap * gap
             } else {
@@ -591,7 +760,7 @@ impl ClassicEvaluator {
                     w,
                     fl,
                     (ix[l], ux[l]),
-                    (r.iy, r.uy),
+                    (r.iy(l), r.uy(l)),
                     (o.kz, o.uz),
                     three_d,
                     o,
@@ -733,17 +902,17 @@ fn worley_search(
 
 /// 2D gradient (`gradient = true`) or value noise in the lanes.
 #[inline(always)]
-fn gradient2<const L: usize>(
+fn gradient2<const L: usize, R: RowLanes>(
     o: &Octave,
-    r: &RowOctave,
+    r: &R,
     x: &[f64; L],
     n: &mut [f32; L],
     gradient: bool,
 ) {
-    let (k0, k1) = (r.keys[1][1], r.keys[1][2]);
-    let uy = r.uy;
-    let sy = fade(uy);
     for l in 0..L {
+        let (k0, k1) = (r.key(1, 1, l), r.key(1, 2, l));
+        let uy = r.uy(l);
+        let sy = fade(uy);
         let (ix, ux) = locate(x[l] / o.side);
         let h00 = cell_hash_in_row(ix, k0);
         let h10 = cell_hash_in_row(ix.wrapping_add(1), k0);
@@ -773,18 +942,21 @@ fn gradient2<const L: usize>(
 
 /// 3D gradient or value noise on the plane of the octave's `z`, in the lanes.
 #[inline(always)]
-fn gradient3<const L: usize>(
+fn gradient3<const L: usize, R: RowLanes>(
     o: &Octave,
-    r: &RowOctave,
+    r: &R,
     x: &[f64; L],
     n: &mut [f32; L],
     gradient: bool,
 ) {
-    let (uy, uz) = (r.uy, o.uz);
-    let (sy, sz) = (fade(uy), fade(uz));
-    // keys[z][y]: z cells kz, kz + 1 are indices 1, 2; so are y cells iy, iy + 1.
-    let k = [[r.keys[1][1], r.keys[1][2]], [r.keys[2][1], r.keys[2][2]]];
     for l in 0..L {
+        let (uy, uz) = (r.uy(l), o.uz);
+        let (sy, sz) = (fade(uy), fade(uz));
+        // keys[z][y]: z cells kz, kz + 1 are indices 1, 2; so are y cells iy, iy + 1.
+        let k = [
+            [r.key(1, 1, l), r.key(1, 2, l)],
+            [r.key(2, 1, l), r.key(2, 2, l)],
+        ];
         let (ix, ux) = locate(x[l] / o.side);
         let mut c = [[[0.0f32; 2]; 2]; 2];
         for dz in 0..2 {
@@ -825,10 +997,10 @@ fn simplex_term(h: u32, r2: f32, dx: f32, dy: f32, dz: f32) -> f32 {
 
 /// 2D simplex noise in the lanes.
 #[inline(always)]
-fn simplex2<const L: usize>(o: &Octave, r: &RowOctave, x: &[f64; L], n: &mut [f32; L]) {
+fn simplex2<const L: usize, R: RowLanes>(o: &Octave, r: &R, x: &[f64; L], n: &mut [f32; L]) {
     let g2 = SIMPLEX_G2 as f32;
-    let py = r.py;
     for l in 0..L {
+        let py = r.py(l);
         let px = x[l] / o.side;
         let s = (px + py) * SIMPLEX_F2;
         let (i, fi) = split(px + s);
@@ -854,10 +1026,10 @@ fn simplex2<const L: usize>(o: &Octave, r: &RowOctave, x: &[f64; L], n: &mut [f3
 
 /// 3D simplex noise on the plane of the octave's `z`, in the lanes.
 #[inline(always)]
-fn simplex3<const L: usize>(o: &Octave, r: &RowOctave, x: &[f64; L], n: &mut [f32; L]) {
+fn simplex3<const L: usize, R: RowLanes>(o: &Octave, r: &R, x: &[f64; L], n: &mut [f32; L]) {
     let g3 = SIMPLEX_G3 as f32;
-    let (py, pz) = (r.py, o.pz);
     for l in 0..L {
+        let (py, pz) = (r.py(l), o.pz);
         let px = x[l] / o.side;
         let s = ((px + py) + pz) * SIMPLEX_F3;
         let (i, fi) = split(px + s);
@@ -912,5 +1084,9 @@ impl crate::RowKernel for ClassicEvaluator {
 
     fn eval_rows(&self, window: &Window, first: usize, out: &mut [f32]) {
         ClassicEvaluator::eval_rows(self, window, first, out);
+    }
+
+    fn eval_points(&self, points: &[[f64; 2]], out: &mut [f32]) {
+        ClassicEvaluator::eval_points(self, points, out);
     }
 }

@@ -119,6 +119,14 @@ pub(crate) fn eval_pixel_by_pixel(
     }
 }
 
+/// The one-pixel window at `p`, through which a point is evaluated ([`Evaluator::eval_point`]):
+/// its pixel lies at `p[0] + 0.0·1.0`, `p[1] + 0.0·1.0` (which is `p` but for the sign of a
+/// zero), the positions a batch of points must reproduce bit for bit.
+#[must_use]
+pub fn point_window(p: [f64; 2]) -> Window {
+    Window::new(1, 1).at(p, 1.0)
+}
+
 /// A model kind's CPU kernel: what [`Evaluator`] runs for it. Each kind implements it in its
 /// own module; the per-kind evaluators ([`LrpEvaluator`], …) are these kernels.
 ///
@@ -136,6 +144,26 @@ pub trait RowKernel: Send + Sync {
     /// Evaluates consecutive rows of `window` from row `first` into `out` (whole rows of
     /// `window.width · output_channels()` values).
     fn eval_rows(&self, window: &Window, first: usize, out: &mut [f32]);
+
+    /// [`eval_rows`](Self::eval_rows) by the kind's slow, obviously correct path where it has
+    /// a faster one (the same bits): what tests compare the fast path with and benches measure
+    /// it against. Kinds with one path need not implement it.
+    #[doc(hidden)]
+    fn eval_rows_reference(&self, window: &Window, first: usize, out: &mut [f32]) {
+        self.eval_rows(window, first, out);
+    }
+
+    /// Evaluates the model at arbitrary positions `points` (pixels) into `out`
+    /// (`output_channels()` values per point): the same bits as a one-pixel window at each
+    /// point ([`Evaluator::eval_point`]). A warp evaluates its base at its displaced positions
+    /// through this. The default goes point by point; a kind whose pixels are independent
+    /// evaluates them in its lanes.
+    fn eval_points(&self, points: &[[f64; 2]], out: &mut [f32]) {
+        let channels = self.output_channels();
+        for (p, v) in points.iter().zip(out.chunks_exact_mut(channels)) {
+            self.eval_rows(&point_window(*p), 0, v);
+        }
+    }
 
     /// Checks what [`Window::validate`] cannot know: a kind whose positions reach beyond the
     /// window (a warp) checks that they stay in range.
@@ -237,7 +265,41 @@ impl Evaluator {
     /// ([`output_channels`](Self::output_channels) values): a one-pixel window at `p`, so the
     /// same bits as any render whose pixel lies at `p`.
     pub fn eval_point(&self, p: [f64; 2], out: &mut [f32]) {
-        self.eval_rows(&Window::new(1, 1).at(p, 1.0), 0, out);
+        self.eval_rows(&point_window(p), 0, out);
+    }
+
+    /// Evaluates the model at each position of `points` (pixels) into `out`
+    /// ([`output_channels`](Self::output_channels) values per point): the same bits as
+    /// [`eval_point`](Self::eval_point) point by point, in the kind's lanes where it has them.
+    pub fn eval_points(&self, points: &[[f64; 2]], out: &mut [f32]) {
+        if self.output_channels() == 0 {
+            return;
+        }
+        self.kernel.eval_points(points, out);
+    }
+
+    /// [`eval_rows`](Self::eval_rows) by the kind's reference path
+    /// ([`RowKernel::eval_rows_reference`]).
+    #[doc(hidden)]
+    pub fn eval_rows_reference(&self, window: &Window, first: usize, out: &mut [f32]) {
+        if window.width * self.output_channels() == 0 {
+            return;
+        }
+        self.kernel.eval_rows_reference(window, first, out);
+    }
+
+    /// [`render`](Self::render) by the kind's reference path
+    /// ([`RowKernel::eval_rows_reference`]), in parallel the same way: the speed and bits the
+    /// fast paths are compared with.
+    ///
+    /// # Errors
+    /// [`CpuError::Window`] for a window out of range.
+    #[doc(hidden)]
+    pub fn render_reference(&self, window: &Window) -> Result<Vec<f32>, CpuError> {
+        window.validate()?;
+        let mut out = vec![0.0f32; window.width * window.height * self.output_channels()];
+        self.render_bands(window, &mut out, &|_| {}, true)?;
+        Ok(out)
     }
 
     /// Renders `window` row-major into a new buffer
@@ -263,6 +325,17 @@ impl Evaluator {
         out: &mut [f32],
         progress: &(dyn Fn(usize) + Sync),
     ) -> Result<(), CpuError> {
+        self.render_bands(window, out, progress, false)
+    }
+
+    /// [`render_into`](Self::render_into), by the reference path when `reference`.
+    fn render_bands(
+        &self,
+        window: &Window,
+        out: &mut [f32],
+        progress: &(dyn Fn(usize) + Sync),
+        reference: bool,
+    ) -> Result<(), CpuError> {
         window.validate()?;
         self.kernel.check_window(window)?;
         let channels = self.output_channels();
@@ -280,7 +353,11 @@ impl Evaluator {
         out.par_chunks_mut(window.width * channels * BAND_ROWS)
             .enumerate()
             .for_each(|(band, lines)| {
-                self.eval_rows(window, band * BAND_ROWS, lines);
+                if reference {
+                    self.eval_rows_reference(window, band * BAND_ROWS, lines);
+                } else {
+                    self.eval_rows(window, band * BAND_ROWS, lines);
+                }
                 let rows = lines.len() / (window.width * channels);
                 let n = done.fetch_add(rows, std::sync::atomic::Ordering::Relaxed) + rows;
                 progress(n);

@@ -31,6 +31,22 @@
 //! Which impulses each cell holds, and their frequency vectors and phase offsets, are
 //! [`spectex_model::phasor_kernels`] (the randomness contract, shared with the GPU evaluator).
 //!
+//! # Evaluation order
+//!
+//! A row of pixels is evaluated kernel by kernel ([`PhasorEvaluator::eval_rows`]): every impulse
+//! of the cell rows the output row needs, in the contract's order (cell layers, rows, columns
+//! ascending, impulses in draw order), adds its term to the pixels of its chord of the row,
+//! 8 (16 with AVX-512) consecutive pixels at a time, with the AVX2 and AVX-512 copies of the
+//! lane code chosen at run time. Each lane computes its own pixel's `d` from its own cell and
+//! offset exactly as the per-pixel sum does, and its term is added only where that pixel's sum
+//! adds it (its cell a neighbour of the impulse's, `s·|d|² < 1`); elsewhere the lane adds an
+//! exact `+0`, which leaves a sum unchanged (a sum that starts at `+0` is never `−0`). So every
+//! pixel adds the same terms in the same order as [`PhasorEvaluator::eval_rows_reference`], the
+//! pixel-by-pixel sum kept as the reference, whatever the SIMD level, tiling or chord: the
+//! chord only skips lanes whose terms are masked anyway. An impulse whose row offset alone puts
+//! it out of reach of the row (`s·(d_y² + d_z²) ≥ 1`, which bounds `s·|d|²` from below after
+//! rounding too) is skipped whole.
+//!
 //! # Determinism
 //!
 //! Every pixel is a pure function of (model, position): any tiling and any thread count give the
@@ -39,7 +55,18 @@
 use spectex_model::phasor_kernels::{Impulse, PhasorKernels};
 use spectex_model::{NEG_LN_20, PhasorNoise, PhasorOrientation, PhasorOutput, Profile, Window};
 
+use crate::lrp::Simd;
 use crate::math::{atan2_turns, cos_turns, exp_poly, sin_turns};
+
+/// Pixels evaluated together by the portable and AVX2 paths.
+const LANES: usize = 8;
+/// Pixels evaluated together by the AVX-512 path (one 512-bit register of f32).
+const WIDE_LANES: usize = 16;
+
+/// Cell units added to an impulse's chord before it is turned into pixels: far more than the
+/// f32 rounding of a lane's `d` (below 10⁻⁶ cell units), so the chord holds every pixel the
+/// impulse reaches; lanes outside it are masked exactly anyway.
+const CHORD_MARGIN: f64 = 0.01;
 
 /// A phasor noise model prepared for evaluation at a fixed `z` (ignored by 2D models).
 #[derive(Debug, Clone)]
@@ -50,6 +77,7 @@ pub struct PhasorEvaluator {
     /// The Fourier series of the profile's `Samples` leaves, depth first, for minified renders
     /// ([`spectex_model::filter::samples_series`]).
     series: Vec<Vec<f32>>,
+    simd: Simd,
 }
 
 /// The impulses of one row of cells `(j, k)`, per column from `i0`.
@@ -73,7 +101,30 @@ impl PhasorEvaluator {
             z: if kernels.three_d() { z } else { 0.0 },
             kernels,
             series,
+            simd: Simd::detect(),
         }
+    }
+
+    /// Forces the portable path (`false`) or AVX2 when the CPU has it (`true`); for tests
+    /// comparing the code paths.
+    #[doc(hidden)]
+    pub fn set_avx2(&mut self, enabled: bool) {
+        self.simd = if enabled && Simd::detect() != Simd::Portable {
+            Simd::Avx2
+        } else {
+            Simd::Portable
+        };
+    }
+
+    /// Uses AVX-512 when the CPU has it (`true`, the default), else the level below; for tests
+    /// comparing the code paths. Returns whether AVX-512 is in use.
+    #[doc(hidden)]
+    pub fn set_avx512(&mut self, enabled: bool) -> bool {
+        self.simd = Simd::detect();
+        if !enabled && self.simd == Simd::Avx512 {
+            self.simd = Simd::Avx2;
+        }
+        self.simd == Simd::Avx512
     }
 
     /// Kernel evaluations per pixel (every impulse of the neighbouring cells is visited), for
@@ -127,7 +178,9 @@ impl PhasorEvaluator {
         rows.sort_unstable_by_key(|r| (r.k, r.j));
     }
 
-    /// Evaluates consecutive rows of `window` from row `first` into `out` (whole rows).
+    /// Evaluates consecutive rows of `window` from row `first` into `out` (whole rows): kernel
+    /// by kernel along each row (see the module doc), the same bits as
+    /// [`eval_rows_reference`](Self::eval_rows_reference).
     pub fn eval_rows(&self, window: &Window, first: usize, out: &mut [f32]) {
         let width = window.width;
         if width == 0 {
@@ -143,6 +196,113 @@ impl PhasorEvaluator {
         });
         if crate::is_minified(span, 0, width) {
             crate::eval_pixel_by_pixel(window, first, out, |w, f, o| self.eval_rows(w, f, o));
+            return;
+        }
+        let z = if g.three_d() {
+            g.locate(self.z)
+        } else {
+            Some((0, 0.0))
+        };
+        let footprint = window.footprint();
+        // Each pixel's cell and offset along x (the same on every row); lanes may run up to a
+        // group past the last pixel, into scratch.
+        let mut cells = vec![0i32; width + WIDE_LANES];
+        let mut offsets = vec![0.0f32; width + WIDE_LANES];
+        let mut located = vec![false; width];
+        for i in 0..width {
+            if let Some((c, u)) = g.locate(window.x(i)) {
+                (cells[i], offsets[i], located[i]) = (c, u, true);
+            }
+        }
+        let lanes = Lanes {
+            window,
+            side: g.side(),
+            cells: &cells,
+            offsets: &offsets,
+        };
+        let mut re = vec![0.0f32; width + WIDE_LANES];
+        let mut im = vec![0.0f32; width + WIDE_LANES];
+        let mut rows = Vec::new();
+        for (r, line) in out.chunks_exact_mut(width).enumerate() {
+            let y = window.y(first + r);
+            let (Some(((c0, _), (c1, _))), Some((cj, uy)), Some((ck, uz))) =
+                (columns, g.locate(y), z)
+            else {
+                line.fill(0.0);
+                continue;
+            };
+            self.update_rows(&mut rows, cj, ck, c0 - 1, c1 + 1);
+            re.fill(0.0);
+            im.fill(0.0);
+            let at = RowAt { cj, ck, uy, uz };
+            self.sum_row(&rows, &at, &lanes, &mut re, &mut im);
+            for (i, v) in line.iter_mut().enumerate() {
+                *v = if located[i] {
+                    self.output(re[i], im[i], [window.x(i), y, self.z], footprint)
+                } else {
+                    0.0
+                };
+            }
+        }
+    }
+
+    /// Adds every impulse of `rows` to the pixels of one output row, at this evaluator's SIMD
+    /// level ([`sum_row_lanes`]).
+    fn sum_row(
+        &self,
+        rows: &[CellRow],
+        at: &RowAt,
+        lanes: &Lanes<'_>,
+        re: &mut [f32],
+        im: &mut [f32],
+    ) {
+        let three_d = self.kernels.three_d();
+        #[cfg(target_arch = "x86_64")]
+        match (self.simd, three_d) {
+            #[allow(unsafe_code)]
+            // SAFETY: `Simd::Avx512` is chosen only when the CPU reports AVX-512F at run time.
+            (Simd::Avx512, false) => unsafe { sum_row_avx512::<false>(rows, at, lanes, re, im) },
+            #[allow(unsafe_code)]
+            // SAFETY: as above.
+            (Simd::Avx512, true) => unsafe { sum_row_avx512::<true>(rows, at, lanes, re, im) },
+            #[allow(unsafe_code)]
+            // SAFETY: `Simd::Avx2` is chosen only when the CPU reports AVX2 at run time.
+            (Simd::Avx2, false) => unsafe { sum_row_avx2::<false>(rows, at, lanes, re, im) },
+            #[allow(unsafe_code)]
+            // SAFETY: as above.
+            (Simd::Avx2, true) => unsafe { sum_row_avx2::<true>(rows, at, lanes, re, im) },
+            (Simd::Portable, false) => sum_row_lanes::<LANES, false>(rows, at, lanes, re, im),
+            (Simd::Portable, true) => sum_row_lanes::<LANES, true>(rows, at, lanes, re, im),
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        if three_d {
+            sum_row_lanes::<LANES, true>(rows, at, lanes, re, im);
+        } else {
+            sum_row_lanes::<LANES, false>(rows, at, lanes, re, im);
+        }
+    }
+
+    /// [`eval_rows`](Self::eval_rows) pixel by pixel: each pixel sums its neighbouring cells'
+    /// impulses alone ([`sum_at`]). The definition the row kernel is tested against, bit for
+    /// bit, and the speed it is measured against.
+    #[doc(hidden)]
+    pub fn eval_rows_reference(&self, window: &Window, first: usize, out: &mut [f32]) {
+        let width = window.width;
+        if width == 0 {
+            return;
+        }
+        let g = &self.kernels;
+        let (x_first, x_last) = (window.x(0), window.x(width - 1));
+        let columns = g.locate(x_first).zip(g.locate(x_last));
+        // A minified row: each pixel alone (`crate::is_minified`; a row across the whole
+        // position range would also count columns past i32).
+        let span = columns.map_or(0, |((c0, _), (c1, _))| {
+            (i64::from(c1) - i64::from(c0)).unsigned_abs()
+        });
+        if crate::is_minified(span, 0, width) {
+            crate::eval_pixel_by_pixel(window, first, out, |w, f, o| {
+                self.eval_rows_reference(w, f, o);
+            });
             return;
         }
         let z = if g.three_d() {
@@ -227,6 +387,146 @@ fn sum_at(rows: &[CellRow], ci: i32, cj: i32, ck: i32, u: [f32; 3]) -> (f32, f32
         }
     }
     (re, im)
+}
+
+/// The output row's cell and offsets along y and z.
+struct RowAt {
+    cj: i32,
+    ck: i32,
+    uy: f32,
+    uz: f32,
+}
+
+/// The pixels of a row as the lanes see them: each one's cell and offset along x (padded by a
+/// group of lanes of scratch), and the window that places them.
+struct Lanes<'a> {
+    window: &'a Window,
+    /// Cell side, pixels.
+    side: f64,
+    cells: &'a [i32],
+    offsets: &'a [f32],
+}
+
+impl Lanes<'_> {
+    /// The pixels `lo..=hi` of the row that may lie within `half` cell units of `centre` (cell
+    /// units): a superset (by [`CHORD_MARGIN`] and a pixel on each side) of those an impulse
+    /// there reaches, or `None`. Every pixel when the window's scale gives no order.
+    fn chord(&self, centre: f64, half: f64) -> Option<(usize, usize)> {
+        let w = self.window;
+        let last = (self.cells.len() - WIDE_LANES - 1) as f64;
+        if !(w.scale > 0.0 && w.scale.is_finite()) {
+            return Some((0, last as usize));
+        }
+        let reach = (half + CHORD_MARGIN) * self.side;
+        let centre = centre * self.side;
+        let index = |x: f64| (x - w.offset[0]) / w.scale - w.x0 as f64;
+        let lo = (index(centre - reach).floor() - 1.0).max(0.0);
+        let hi = (index(centre + reach).ceil() + 1.0).min(last);
+        // NaN (never for a valid window) falls through the comparison to `None`.
+        (lo <= hi).then_some((lo as usize, hi as usize))
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn sum_row_avx2<const THREE_D: bool>(
+    rows: &[CellRow],
+    at: &RowAt,
+    lanes: &Lanes<'_>,
+    re: &mut [f32],
+    im: &mut [f32],
+) {
+    sum_row_lanes::<LANES, THREE_D>(rows, at, lanes, re, im);
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+fn sum_row_avx512<const THREE_D: bool>(
+    rows: &[CellRow],
+    at: &RowAt,
+    lanes: &Lanes<'_>,
+    re: &mut [f32],
+    im: &mut [f32],
+) {
+    sum_row_lanes::<WIDE_LANES, THREE_D>(rows, at, lanes, re, im);
+}
+
+/// Adds every impulse of `rows` (in the contract's order) to `re` and `im` of the pixels of its
+/// chord, `L` pixels at a time; each lane computes exactly what [`sum_at`] computes for its
+/// pixel. `inline(always)` so that each SIMD wrapper compiles its own copy of the same
+/// arithmetic (plain `*`, `+`, selects and integer steps). `THREE_D`: a 2D model's `d_z` and
+/// `f_z` are exactly 0, so the terms they add (an exact `+0`) are left out.
+#[inline(always)]
+fn sum_row_lanes<const L: usize, const THREE_D: bool>(
+    rows: &[CellRow],
+    at: &RowAt,
+    lanes: &Lanes<'_>,
+    re: &mut [f32],
+    im: &mut [f32],
+) {
+    for row in rows {
+        let sy = row.j - at.cj;
+        let sz = row.k - at.ck;
+        let dy = at.uy - sy as f32;
+        let dz = at.uz - sz as f32;
+        for (col, column) in row.columns.iter().enumerate() {
+            let c = row.i0 + col as i32;
+            for imp in column {
+                let d1 = dy - imp.o[1];
+                let d3 = dz - imp.o[2];
+                let (a, b) = (d1 * d1, d3 * d3);
+                // `s·|d|²` is at least this on the whole row (rounding is monotonic).
+                let across = if THREE_D { a + b } else { a };
+                if across * imp.sharp >= 1.0 {
+                    continue;
+                }
+                let half = (1.0 / f64::from(imp.sharp) - f64::from(across))
+                    .max(0.0)
+                    .sqrt();
+                let Some((lo, hi)) = lanes.chord(f64::from(c) + f64::from(imp.o[0]), half) else {
+                    continue;
+                };
+                let (ty, tz) = (imp.f[1] * d1, imp.f[2] * d3);
+                let mut start = lo;
+                while start <= hi {
+                    let cells: &[i32; L] = lanes.cells[start..start + L]
+                        .try_into()
+                        .unwrap_or_else(|_| unreachable!("the lane slices are L long"));
+                    let offsets: &[f32; L] = lanes.offsets[start..start + L]
+                        .try_into()
+                        .unwrap_or_else(|_| unreachable!("the lane slices are L long"));
+                    let mut add_re = [0.0f32; L];
+                    let mut add_im = [0.0f32; L];
+                    for l in 0..L {
+                        let sx = c.wrapping_sub(cells[l]);
+                        let neighbour = (-1..=1).contains(&sx);
+                        let d0 = (offsets[l] - sx as f32) - imp.o[0];
+                        let mut d2 = d0 * d0 + a;
+                        if THREE_D {
+                            d2 += b;
+                        }
+                        d2 *= imp.sharp;
+                        let g = exp_poly(NEG_LN_20 * d2);
+                        let mut t = imp.f[0] * d0 + ty;
+                        if THREE_D {
+                            t += tz;
+                        }
+                        t += imp.psi;
+                        let on = neighbour && d2 < 1.0;
+                        add_re[l] = if on { g * cos_turns(t) } else { 0.0 };
+                        add_im[l] = if on { g * sin_turns(t) } else { 0.0 };
+                    }
+                    for (r, a) in re[start..start + L].iter_mut().zip(add_re) {
+                        *r += a;
+                    }
+                    for (i, a) in im[start..start + L].iter_mut().zip(add_im) {
+                        *i += a;
+                    }
+                    start += L;
+                }
+            }
+        }
+    }
 }
 
 /// The phase `atan2(im, re)` in turns, in `[0, 1)`.
@@ -343,5 +643,9 @@ impl crate::RowKernel for PhasorEvaluator {
 
     fn eval_rows(&self, window: &Window, first: usize, out: &mut [f32]) {
         PhasorEvaluator::eval_rows(self, window, first, out);
+    }
+
+    fn eval_rows_reference(&self, window: &Window, first: usize, out: &mut [f32]) {
+        PhasorEvaluator::eval_rows_reference(self, window, first, out);
     }
 }

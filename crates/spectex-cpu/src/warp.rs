@@ -5,12 +5,15 @@
 //! A minified render filters the displacement fields (rendered on the window) but not the base,
 //! which is point-sampled at the displaced positions.
 //!
-//! The base is evaluated at each displaced position through a one-pixel window
+//! The base is evaluated at the displaced positions of a whole band of rows at once
+//! ([`Evaluator::eval_points`]), with the same bits as a one-pixel window at each
 //! ([`Evaluator::eval_point`]): every evaluator gives a pixel the same bits whatever window holds
 //! it (tiles are invisible), so this works for every model kind — nested warps included — and a
 //! pixel's value depends only on its own position: any tiling and thread count give the same
-//! bits. It draws the base's random cells once per pixel instead of once per row, which is the
-//! price of arbitrary positions.
+//! bits. Kinds whose pixels are independent (classic noises, warps) evaluate the points in
+//! their lanes; the others go point by point, drawing their random cells once per pixel, which
+//! is the price of arbitrary positions. [`WarpEvaluator::eval_rows_reference`] keeps the point
+//! by point definition.
 
 use spectex_model::{Model, Warp, Window};
 
@@ -59,20 +62,48 @@ impl WarpEvaluator {
         )?)
     }
 
-    /// The pixel displacement `(D(x(p)), D(y(p)))` of every pixel of rows `first..first + rows`.
-    fn displacements(&self, window: &Window, first: usize, rows: usize) -> [Vec<f32>; 2] {
+    /// The pixel displacement `(D(x(p)), D(y(p)))` of every pixel of rows `first..first + rows`,
+    /// through the displacement models' fast paths or (`reference`) their reference paths.
+    fn displacements(
+        &self,
+        window: &Window,
+        first: usize,
+        rows: usize,
+        reference: bool,
+    ) -> [Vec<f32>; 2] {
         let n = rows * window.width;
         let mut dx = vec![0.0f32; n];
         let mut dy = vec![0.0f32; n];
-        self.x.eval_rows(window, first, &mut dx);
-        self.y.eval_rows(window, first, &mut dy);
+        if reference {
+            self.x.eval_rows_reference(window, first, &mut dx);
+            self.y.eval_rows_reference(window, first, &mut dy);
+        } else {
+            self.x.eval_rows(window, first, &mut dx);
+            self.y.eval_rows(window, first, &mut dy);
+        }
         for d in dx.iter_mut().chain(dy.iter_mut()) {
             *d = self.model.displacement(*d);
         }
         [dx, dy]
     }
 
-    /// Evaluates rows `first..` of `window` into `out` (whole rows of `width · channels` values).
+    /// The displaced positions of rows `first..` of `window` (`rows · width` of them).
+    fn displaced(&self, window: &Window, first: usize, rows: usize) -> Vec<[f64; 2]> {
+        let width = window.width;
+        let [dx, dy] = self.displacements(window, first, rows, false);
+        let mut points = Vec::with_capacity(rows * width);
+        for r in 0..rows {
+            let y = window.y(first + r);
+            for i in 0..width {
+                let k = r * width + i;
+                points.push([window.x(i) + f64::from(dx[k]), y + f64::from(dy[k])]);
+            }
+        }
+        points
+    }
+
+    /// Evaluates rows `first..` of `window` into `out` (whole rows of `width · channels` values):
+    /// the base at every displaced position of the band at once.
     pub fn eval_rows(&self, window: &Window, first: usize, out: &mut [f32]) {
         let width = window.width;
         let nc = self.output_channels();
@@ -80,15 +111,56 @@ impl WarpEvaluator {
             return;
         }
         let rows = out.len() / (width * nc);
-        let [dx, dy] = self.displacements(window, first, rows);
+        let points = self.displaced(window, first, rows);
+        self.base.eval_points(&points, out);
+    }
+
+    /// [`eval_rows`](Self::eval_rows) by the definition: the base at each displaced position
+    /// through its own one-pixel window, every sub-model by its reference path.
+    #[doc(hidden)]
+    pub fn eval_rows_reference(&self, window: &Window, first: usize, out: &mut [f32]) {
+        let width = window.width;
+        let nc = self.output_channels();
+        if width == 0 {
+            return;
+        }
+        let rows = out.len() / (width * nc);
+        let [dx, dy] = self.displacements(window, first, rows, true);
         for r in 0..rows {
             let y = window.y(first + r);
             for i in 0..width {
                 let k = r * width + i;
                 let p = [window.x(i) + f64::from(dx[k]), y + f64::from(dy[k])];
-                self.base.eval_point(p, &mut out[k * nc..(k + 1) * nc]);
+                self.base.eval_rows_reference(
+                    &crate::point_window(p),
+                    0,
+                    &mut out[k * nc..(k + 1) * nc],
+                );
             }
         }
+    }
+
+    /// The warp at each of `points`: the displacement models at the points, then the base at
+    /// the displaced positions, all in batches; the same bits as one-pixel windows.
+    fn eval_points(&self, points: &[[f64; 2]], out: &mut [f32]) {
+        let n = points.len();
+        let mut dx = vec![0.0f32; n];
+        let mut dy = vec![0.0f32; n];
+        self.x.eval_points(points, &mut dx);
+        self.y.eval_points(points, &mut dy);
+        let displaced: Vec<[f64; 2]> = points
+            .iter()
+            .zip(dx.iter().zip(&dy))
+            .map(|(p, (&dx, &dy))| {
+                // The one-pixel window's pixel position (`crate::point_window`), displaced.
+                let w = crate::point_window(*p);
+                [
+                    w.x(0) + f64::from(self.model.displacement(dx)),
+                    w.y(0) + f64::from(self.model.displacement(dy)),
+                ]
+            })
+            .collect();
+        self.base.eval_points(&displaced, out);
     }
 }
 
@@ -109,6 +181,14 @@ impl crate::RowKernel for WarpEvaluator {
 
     fn eval_rows(&self, window: &Window, first: usize, out: &mut [f32]) {
         WarpEvaluator::eval_rows(self, window, first, out);
+    }
+
+    fn eval_rows_reference(&self, window: &Window, first: usize, out: &mut [f32]) {
+        WarpEvaluator::eval_rows_reference(self, window, first, out);
+    }
+
+    fn eval_points(&self, points: &[[f64; 2]], out: &mut [f32]) {
+        WarpEvaluator::eval_points(self, points, out);
     }
 
     fn check_window(&self, window: &Window) -> Result<(), CpuError> {

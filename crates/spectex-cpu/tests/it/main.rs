@@ -4,6 +4,7 @@
 //! the dependencies.
 
 mod classic;
+mod fast_paths;
 mod filter;
 mod gabor;
 mod lrp;

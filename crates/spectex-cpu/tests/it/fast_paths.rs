@@ -1,0 +1,229 @@
+//! The fast paths against the slow, obviously correct paths they replaced, bit for bit, over
+//! every `testdata/models/*.json`: the phasor row kernel against the per-pixel sum at every
+//! SIMD level, warps (their base at a band's displaced positions in its lanes) against point
+//! by point, `eval_points` against one-pixel windows, and uneven bands of rows and thread
+//! counts against a whole render. The kit's invariance harness checks tilings and thread
+//! counts of every model as well; these tests compare with the reference path, not with
+//! hashes the code under test produced.
+
+#![allow(
+    clippy::unwrap_used,
+    reason = "a test fails loudly on the first unexpected None or Err"
+)]
+
+use spectex_cpu::classic::ClassicEvaluator;
+use spectex_cpu::{Evaluator, PhasorEvaluator, Window};
+use spectex_model::Model;
+use spectex_testkit::invariance::{Case, minified_window, testdata_cases, tile_window};
+
+/// Windows near and far, zoomed in and out (one minified, which the phasor and LRP kernels
+/// evaluate pixel by pixel), at fractional scales.
+fn windows() -> Vec<(&'static str, Window)> {
+    vec![
+        ("near", Window::new(128, 96).at([-3141.5, 2718.25], 1.0)),
+        ("far", tile_window()),
+        ("zoomed in", Window::new(80, 24).at([123.4, -56.7], 0.05)),
+        ("coarse", Window::new(72, 20).at([-2.0e6 + 0.7, 4.0e5], 7.3)),
+        ("minified", minified_window()),
+    ]
+}
+
+/// A SIMD level by name and how to select it on an evaluator (`false`: the CPU lacks it).
+type SimdLevel<E> = (&'static str, fn(&mut E) -> bool);
+
+/// The first index where `a` and `b` differ in bits, with both values.
+fn first_difference(a: &[f32], b: &[f32]) -> Option<(usize, f32, f32)> {
+    assert_eq!(a.len(), b.len());
+    a.iter()
+        .zip(b)
+        .position(|(x, y)| x.to_bits() != y.to_bits())
+        .map(|i| (i, a[i], b[i]))
+}
+
+fn evaluator(case: &Case) -> Evaluator {
+    Evaluator::new_at_z(&case.model, case.z).unwrap()
+}
+
+#[test]
+fn every_model_renders_the_reference_bits() {
+    let mut failures = Vec::new();
+    for case in testdata_cases() {
+        let eval = evaluator(&case);
+        for (name, window) in windows() {
+            let fast = eval.render(&window).unwrap();
+            let reference = eval.render_reference(&window).unwrap();
+            if let Some((i, a, b)) = first_difference(&fast, &reference) {
+                failures.push(format!(
+                    "{} {name}: value {i} is {a:e}, the reference's {b:e}",
+                    case.name
+                ));
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// The phasor row kernel on the portable, AVX2 and AVX-512 paths (those the CPU has), each
+/// against the per-pixel sum.
+#[test]
+fn phasor_rows_match_the_per_pixel_sum_at_every_simd_level() {
+    let mut compared = 0;
+    for case in testdata_cases() {
+        let Model::Phasor(m) = &case.model else {
+            continue;
+        };
+        let mut eval = PhasorEvaluator::new(m, case.z);
+        let levels: [SimdLevel<PhasorEvaluator>; 3] = [
+            ("portable", |e| {
+                e.set_avx2(false);
+                true
+            }),
+            ("avx2", |e| {
+                e.set_avx2(true);
+                true
+            }),
+            ("avx512", |e| e.set_avx512(true)),
+        ];
+        for (level, set) in levels {
+            if !set(&mut eval) {
+                continue;
+            }
+            for (name, window) in windows() {
+                let mut fast = vec![0.0f32; window.width * window.height];
+                let mut reference = fast.clone();
+                eval.eval_rows(&window, 0, &mut fast);
+                eval.eval_rows_reference(&window, 0, &mut reference);
+                if let Some((i, a, b)) = first_difference(&fast, &reference) {
+                    panic!(
+                        "{} on {level}, {name}: value {i} is {a:e}, the reference's {b:e}",
+                        case.name
+                    );
+                }
+                compared += 1;
+            }
+        }
+    }
+    assert!(
+        compared >= 5 * 2 * windows().len(),
+        "{compared} renders compared"
+    );
+}
+
+/// Positions a warp may hand its base: fractional, negative, far, and a negative zero (which
+/// a one-pixel window turns into a positive one).
+fn points() -> Vec<[f64; 2]> {
+    let mut points = vec![[-0.0, -0.0], [0.0, -0.0], [1.0e7 + 0.25, -1.0e7 - 0.5]];
+    let mut state = 12_345u64;
+    let mut next = || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for k in 0..37 {
+        let spread = if k % 3 == 0 { 3.0e6 } else { 500.0 };
+        points.push([(next() - 0.5) * spread, (next() - 0.5) * spread]);
+    }
+    points
+}
+
+#[test]
+fn points_match_one_pixel_windows() {
+    let points = points();
+    for case in testdata_cases() {
+        let eval = evaluator(&case);
+        let nc = eval.output_channels();
+        let mut batch = vec![0.0f32; points.len() * nc];
+        eval.eval_points(&points, &mut batch);
+        for (k, p) in points.iter().enumerate() {
+            let mut one = vec![0.0f32; nc];
+            eval.eval_point(*p, &mut one);
+            if let Some((c, a, b)) = first_difference(&batch[k * nc..(k + 1) * nc], &one) {
+                panic!(
+                    "{}: point {k} {p:?} channel {c} is {a:e} in a batch, {b:e} alone",
+                    case.name
+                );
+            }
+        }
+    }
+}
+
+/// Classic noises evaluate a batch of points in their lanes: every SIMD level and every batch
+/// length (a short last group) gives the one-pixel window's bits.
+#[test]
+fn classic_points_match_at_every_simd_level() {
+    let points = points();
+    for case in testdata_cases() {
+        let Model::Classic(m) = &case.model else {
+            continue;
+        };
+        let mut eval = ClassicEvaluator::new(m, case.z);
+        let alone: Vec<f32> = points.iter().map(|p| eval.eval(p[0], p[1])).collect();
+        let widest = eval.set_simd(true);
+        let levels: [SimdLevel<ClassicEvaluator>; 3] = [
+            ("portable", |e| {
+                e.set_simd(false);
+                true
+            }),
+            ("avx2", |e| e.set_avx2()),
+            ("widest", |e| {
+                e.set_simd(true);
+                true
+            }),
+        ];
+        for (level, set) in levels {
+            if !set(&mut eval) {
+                continue;
+            }
+            for len in [1, 5, widest + 3, points.len()] {
+                let mut batch = vec![0.0f32; len];
+                eval.eval_points(&points[..len], &mut batch);
+                if let Some((i, a, b)) = first_difference(&batch, &alone[..len]) {
+                    panic!(
+                        "{} on {level}, {len} points: point {i} is {a:e}, alone {b:e}",
+                        case.name
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// The phasor and warp kernels over uneven bands of rows and on pools of 1 and 3 threads give
+/// the bits of a whole render.
+#[test]
+fn bands_and_threads_do_not_change_bits() {
+    let window = tile_window();
+    for case in testdata_cases() {
+        if !matches!(case.model, Model::Phasor(_) | Model::Warp(_)) {
+            continue;
+        }
+        let eval = evaluator(&case);
+        let whole = eval.render(&window).unwrap();
+        let row = window.width * eval.output_channels();
+        let mut banded = vec![0.0f32; whole.len()];
+        let mut first = 0;
+        for rows in [3, 1, 17, 5, 100] {
+            let last = (first + rows).min(window.height);
+            eval.eval_rows(&window, first, &mut banded[first * row..last * row]);
+            first = last;
+        }
+        assert_eq!(first, window.height);
+        if let Some((i, a, b)) = first_difference(&banded, &whole) {
+            panic!("{} in bands: value {i} is {a:e}, whole {b:e}", case.name);
+        }
+        for threads in [1, 3] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let on_pool = pool.install(|| eval.render(&window)).unwrap();
+            if let Some((i, a, b)) = first_difference(&on_pool, &whole) {
+                panic!(
+                    "{} on {threads} threads: value {i} is {a:e}, default pool {b:e}",
+                    case.name
+                );
+            }
+        }
+    }
+}
