@@ -28,9 +28,9 @@ const COMMANDS: &[(&str, &str)] = &[
     (
         "bench",
         "criterion benches of RPN vs one FFT, then a table of medians; every model kind's \
-         Mpix/s on 1 thread and all threads (target/bench/summary.md and summary.svg); \
-         extra args go to criterion (`cargo xtask bench -- --quick`); then the \
-         texture-by-example Table 1 (CPU and GPU)",
+         Mpix/s on 1 thread and all threads (target/bench/summary.md and summary.svg; \
+         `cargo xtask bench kinds` for that summary alone); extra args go to criterion \
+         (`cargo xtask bench -- --quick`); then the texture-by-example Table 1 (CPU and GPU)",
     ),
     (
         "fuzz",
@@ -802,9 +802,17 @@ fn campaign_counts(line: &str) -> Option<(u64, u64)> {
 }
 
 fn bench(ws: &Workspace, mut extra: Vec<OsString>) -> Result<()> {
+    // `cargo xtask bench kinds`: the kinds summary alone.
+    let kinds_only = extra.first().is_some_and(|a| a == "kinds");
+    if kinds_only {
+        extra.remove(0);
+    }
     // `cargo xtask bench -- --quick` delivers the `--` too; accept it with or without.
     if extra.first().is_some_and(|a| a == "--") {
         extra.remove(0);
+    }
+    if kinds_only {
+        return bench_kinds(ws, &extra);
     }
     let mut command = ws.cargo(&["bench", "-p", "spectex-spectrum", "--bench", "rpn"]);
     if !extra.is_empty() {
