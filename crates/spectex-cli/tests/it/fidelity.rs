@@ -19,7 +19,7 @@ use ndarray::Array2;
 use spectex_cpu::{Evaluator, Window};
 use spectex_model::{GaborNoise, Model, Orientation, SpectralTarget};
 use spectex_sampling::{FitMethod, FitOptions, fit_image, fit_target};
-use spectex_spectrum::{Fft2, signed_frequency, welch_psd_with_block};
+use spectex_spectrum::{Fft2, mean_variance, signed_frequency, welch_psd_with_block};
 
 fn shared_grey(name: &str) -> Option<Array2<f64>> {
     let dir = concat!(
@@ -69,37 +69,11 @@ fn sparse_mean_var(model: &Model) -> (f64, f64) {
 }
 
 fn mean_var(a: &Array2<f64>) -> (f64, f64) {
-    let m = a.mean().unwrap();
-    (
-        m,
-        a.iter().map(|v| (v - m).powi(2)).sum::<f64>() / a.len() as f64,
-    )
+    mean_variance(a.view())
 }
 
-/// Normalise to unit sum (zero frequency excluded) and smooth with a periodic 5×5 box: the
-/// periodogram average still fluctuates bin to bin; smoothing compares shapes.
-fn normalised_smoothed(p: &Array2<f64>) -> Array2<f64> {
-    let n = p.nrows();
-    let mut q = p.clone();
-    q[[0, 0]] = 0.0;
-    let s = Array2::from_shape_fn((n, n), |(y, x)| {
-        let mut acc = 0.0;
-        for dy in 0..5 {
-            for dx in 0..5 {
-                acc += q[[(y + n + dy - 2) % n, (x + n + dx - 2) % n]];
-            }
-        }
-        acc
-    });
-    let total = s.sum();
-    s.mapv(|v| v / total)
-}
-
-/// The spectral distance: relative L1 of the two spectra's shapes, `Σ|a − b|` of the
-/// normalised, 5×5-smoothed spectra with the zero frequency removed, in [0, 2].
 fn shape_distance(a: &Array2<f64>, b: &Array2<f64>) -> f64 {
-    let (a, b) = (normalised_smoothed(a), normalised_smoothed(b));
-    a.iter().zip(b.iter()).map(|(x, y)| (x - y).abs()).sum()
+    spectex_spectrum::shape_distance(a.view(), b.view())
 }
 
 /// Noise by example on the four stochastic shared textures: the spectrum fit (the default) at
@@ -174,11 +148,8 @@ fn noise_by_example_matches_the_exemplar_spectrum() {
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
-/// `E[(v − μ)⁴]/σ⁴ − 3`: 0 for a Gaussian noise; sparse convolution with few impulses is
-/// heavy-tailed (the "quality" the paper's Fig. 10 shows), a sum of random-phase cosines is not.
 fn excess_kurtosis(a: &Array2<f64>) -> f64 {
-    let (m, v) = mean_var(a);
-    a.iter().map(|x| (x - m).powi(4)).sum::<f64>() / a.len() as f64 / (v * v) - 3.0
+    spectex_spectrum::excess_kurtosis(a.view())
 }
 
 /// The target ring's PSD on the `t`-grid, scaled to unit sum (zero frequency excluded).
