@@ -41,6 +41,16 @@ const ALLOWED_PROJECT_DEPENDENCIES: &[(&str, &[&str])] = &[
         ],
     ),
     (
+        "spectex-reproduce",
+        &[
+            "spectex-model",
+            "spectex-spectrum",
+            "spectex-sampling",
+            "spectex-cpu",
+            "spectex-gpu",
+        ],
+    ),
+    (
         "spectex-testkit",
         &[
             "spectex-model",

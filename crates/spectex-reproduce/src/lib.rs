@@ -198,7 +198,8 @@ impl Config {
     /// it is there and the GPU timed when an adapter exists.
     #[must_use]
     pub fn new(papers: Vec<Paper>, effort: Effort, out_dir: PathBuf) -> Self {
-        let shared = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/testdata/textures");
+        let shared =
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/testdata/textures");
         Self {
             papers,
             effort,

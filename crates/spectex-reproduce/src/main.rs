@@ -80,7 +80,8 @@ fn main_inner() -> Result<ExitCode> {
     let report = run(&config, &mut |step| bar.set_message(step.to_owned()))?;
     bar.finish_and_clear();
     write_report(&report, &config.out_dir)?;
-    let count = |f: &dyn Fn(&Verdict) -> bool| report.claims.iter().filter(|c| f(&c.verdict())).count();
+    let count =
+        |f: &dyn Fn(&Verdict) -> bool| report.claims.iter().filter(|c| f(&c.verdict())).count();
     eprintln!(
         "reproduce: {} claims: {} reproduced, {} differ (documented), {} regressions; {:.1} s; \
          report in {}",

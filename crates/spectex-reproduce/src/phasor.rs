@@ -60,8 +60,10 @@ fn render_at(m: &PhasorNoise, side: usize, z: f64) -> Result<Array2<f64>> {
     let v = eval
         .render(&Window::new(side, side).at([-2.0e4, 5.0e3], 1.0))
         .ctx("phasor render")?;
-    Ok(Array2::from_shape_vec((side, side), v.into_iter().map(f64::from).collect())
-        .ctx("phasor render shape")?)
+    Ok(
+        Array2::from_shape_vec((side, side), v.into_iter().map(f64::from).collect())
+            .ctx("phasor render shape")?,
+    )
 }
 
 fn render(m: &PhasorNoise, side: usize) -> Result<Array2<f64>> {
@@ -93,13 +95,23 @@ fn pwm(s: &mut Session<'_>, side: usize) -> Result<()> {
     let mut panels = Vec::new();
     let (mut worst, mut gabor_worst) = (0.0f64, 0.0f64);
     for (name, orientation) in settings() {
-        let pwm = render(&model(orientation.clone(), square(0.25), PhasorOutput::Profiled), side)?;
+        let pwm = render(
+            &model(orientation.clone(), square(0.25), PhasorOutput::Profiled),
+            side,
+        )?;
         let white = pwm.mean().unwrap_or(0.0);
-        let gabor = render(&model(orientation, Profile::Sine, PhasorOutput::Gabor), side)?;
+        let gabor = render(
+            &model(orientation, Profile::Sine, PhasorOutput::Gabor),
+            side,
+        )?;
         let g_white = fraction_above_gaussian_quantile(gabor.view(), 0.75);
         worst = worst.max((white - 0.25).abs());
         gabor_worst = gabor_worst.max((g_white - 0.25).abs());
-        rows.push(format!("{name}: phasor {:.3}%, Gabor {:.3}%", 100.0 * white, 100.0 * g_white));
+        rows.push(format!(
+            "{name}: phasor {:.3}%, Gabor {:.3}%",
+            100.0 * white,
+            100.0 * g_white
+        ));
         let slug: String = name.chars().filter(char::is_ascii_alphanumeric).collect();
         let crop = 256.min(side);
         let (path, file) = s.file(&format!("fig16-{slug}-pwm.png"));
@@ -136,7 +148,11 @@ fn pwm(s: &mut Session<'_>, side: usize) -> Result<()> {
          threshold found by hand): thresholding cannot set the proportion exactly; ours at the \
          Gaussian 75% quantile, further from 25% than the PWM phasor",
         "25.902%",
-        format!("worst |white − 25%|: Gabor {:.3}%, phasor {:.3}%", 100.0 * gabor_worst, 100.0 * worst),
+        format!(
+            "worst |white − 25%|: Gabor {:.3}%, phasor {:.3}%",
+            100.0 * gabor_worst,
+            100.0 * worst
+        ),
         None,
         gabor_worst > worst,
         Expect::Holds,
@@ -155,8 +171,14 @@ fn variance(s: &mut Session<'_>, side: usize) -> Result<()> {
     let mut panels = Vec::new();
     let mut ratios = Vec::new();
     for (name, orientation) in settings() {
-        let phasor = render(&model(orientation.clone(), Profile::Sine, PhasorOutput::Profiled), side)?;
-        let gabor = render(&model(orientation, Profile::Sine, PhasorOutput::Gabor), side)?;
+        let phasor = render(
+            &model(orientation.clone(), Profile::Sine, PhasorOutput::Profiled),
+            side,
+        )?;
+        let gabor = render(
+            &model(orientation, Profile::Sine, PhasorOutput::Gabor),
+            side,
+        )?;
         let cutoff = f64::from(F) / 2.0;
         let (p, g) = (
             variance_low_fraction(phasor.view(), cutoff, &mut fft),
@@ -171,8 +193,16 @@ fn variance(s: &mut Session<'_>, side: usize) -> Result<()> {
                 file,
                 label: format!("{name}: {label} sine wave"),
             });
-            let (path, file) = s.file(&format!("variance-{slug}-{}-spectrum.png", label.to_lowercase()));
-            psd_png(&path, variance_spectrum(img.view(), &mut fft).ctx("spectrum of variance")?.view())?;
+            let (path, file) = s.file(&format!(
+                "variance-{slug}-{}-spectrum.png",
+                label.to_lowercase()
+            ));
+            psd_png(
+                &path,
+                variance_spectrum(img.view(), &mut fft)
+                    .ctx("spectrum of variance")?
+                    .view(),
+            )?;
             panels.push(Panel {
                 file,
                 label: format!("{name}: {label} spectrum of variance"),
@@ -181,7 +211,10 @@ fn variance(s: &mut Session<'_>, side: usize) -> Result<()> {
     }
     let text = |i: usize| {
         let r = &ratios[i];
-        format!("{}: phasor {:.4}, Gabor {:.4}, ratio {:.3}", r.0, r.1, r.2, r.3)
+        format!(
+            "{}: phasor {:.4}, Gabor {:.4}, ratio {:.3}",
+            r.0, r.1, r.2, r.3
+        )
     };
     s.claim(
         "phasor-variance-no-central-lobe",
@@ -245,19 +278,28 @@ fn profiles(s: &mut Session<'_>, side: usize) -> Result<()> {
     let aligned = || PhasorOrientation::Aligned {
         angle: Field::constant(0.4),
     };
-    let saw = render(&model(aligned(), Profile::Sawtooth, PhasorOutput::Profiled), side)?;
+    let saw = render(
+        &model(aligned(), Profile::Sawtooth, PhasorOutput::Profiled),
+        side,
+    )?;
     let mut panels = Vec::new();
     let mut measured = Vec::new();
     let mut analytic = Vec::new();
     for k in [1u32, 2, 4, 8, 16] {
-        let img = render(&model(aligned(), sawtooth_harmonics(k), PhasorOutput::Profiled), side)?;
+        let img = render(
+            &model(aligned(), sawtooth_harmonics(k), PhasorOutput::Profiled),
+            side,
+        )?;
         let rms = (&img - &saw).mapv(|v| v * v).mean().unwrap_or(0.0).sqrt();
         // Parseval: the partial sum's RMS error over a uniform phase is
         // √(½ Σ_{k>K} (2/(πk))²) = √((2/π²)(π²/6 − Σ_{k≤K} 1/k²)).
         let tail: f64 = std::f64::consts::PI.powi(2) / 6.0
             - (1..=k).map(|j| 1.0 / f64::from(j * j)).sum::<f64>();
         measured.push((f64::from(k), rms));
-        analytic.push((f64::from(k), (2.0 / std::f64::consts::PI.powi(2) * tail).sqrt()));
+        analytic.push((
+            f64::from(k),
+            (2.0 / std::f64::consts::PI.powi(2) * tail).sqrt(),
+        ));
         if [1, 4, 16].contains(&k) {
             let (path, file) = s.file(&format!("fig13-harmonics-{k}.png"));
             grey_png(&path, img.slice(s![..128, ..128]), -1.0, 1.0)?;
@@ -413,7 +455,10 @@ fn slices(s: &mut Session<'_>, side: usize) -> Result<()> {
         // The peak of the ring-summed power of a lobe as wide as the bandwidth (0.02) moves by
         // a bin or two with the realisation: a quarter of the bandwidth is the tolerance.
         ok &= (white - 0.25).abs() < 0.005 && (peak - f64::from(F)).abs() <= 0.02 / 4.0;
-        rows.push(format!("z = {z}: white {:.2}%, peak {peak:.4}", 100.0 * white));
+        rows.push(format!(
+            "z = {z}: white {:.2}%, peak {peak:.4}",
+            100.0 * white
+        ));
         let (path, file) = s.file(&format!("slice-z{z}.png"));
         grey_png(&path, a.slice(s![..128, ..128]), 0.0, 1.0)?;
         panels.push(Panel {
@@ -435,7 +480,8 @@ fn slices(s: &mut Session<'_>, side: usize) -> Result<()> {
     );
     s.figure(
         "3D slices",
-        "Slices z = const of a 3D phasor noise (kernels in 3D, orientation in the xy plane).".into(),
+        "Slices z = const of a 3D phasor noise (kernels in 3D, orientation in the xy plane)."
+            .into(),
         panels,
         None,
     );

@@ -30,7 +30,9 @@ pub fn grey_png(path: &Path, a: ArrayView2<'_, f64>, lo: f64, hi: f64) -> Result
     let (h, w) = a.dim();
     let scale = if hi > lo { 255.0 / (hi - lo) } else { 0.0 };
     let img = image::GrayImage::from_fn(w as u32, h as u32, |x, y| {
-        image::Luma([((a[[y as usize, x as usize]] - lo) * scale).round().clamp(0.0, 255.0) as u8])
+        image::Luma([((a[[y as usize, x as usize]] - lo) * scale)
+            .round()
+            .clamp(0.0, 255.0) as u8])
     });
     img.save(path).ctx(&format!("writing {}", path.display()))
 }
@@ -55,7 +57,11 @@ pub fn planes_png(path: &Path, a: &Array3<f64>) -> Result<()> {
         return grey_png(path, a.index_axis(ndarray::Axis(0), 0), 0.0, 1.0);
     }
     let img = image::RgbImage::from_fn(w as u32, h as u32, |x, y| {
-        let at = |k: usize| (a[[k, y as usize, x as usize]] * 255.0).round().clamp(0.0, 255.0) as u8;
+        let at = |k: usize| {
+            (a[[k, y as usize, x as usize]] * 255.0)
+                .round()
+                .clamp(0.0, 255.0) as u8
+        };
         image::Rgb([at(0), at(1), at(2)])
     });
     img.save(path).ctx(&format!("writing {}", path.display()))
@@ -104,8 +110,16 @@ pub fn line_plot(
     series: &[Series],
 ) -> Result<()> {
     let what = format!("plotting {}", path.display());
-    let all = series.iter().flat_map(|s| s.points.iter()).filter(|p| p.0.is_finite() && p.1.is_finite());
-    let (mut x0, mut x1, mut y0, mut y1) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
+    let all = series
+        .iter()
+        .flat_map(|s| s.points.iter())
+        .filter(|p| p.0.is_finite() && p.1.is_finite());
+    let (mut x0, mut x1, mut y0, mut y1) = (
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+    );
     for &(x, y) in all {
         x0 = x0.min(x);
         x1 = x1.max(x);
@@ -137,17 +151,25 @@ pub fn line_plot(
         .ctx(&what)?;
     for (i, s) in series.iter().enumerate() {
         let colour = SERIES_COLOURS[i % SERIES_COLOURS.len()];
-        let points: Vec<(f64, f64)> =
-            s.points.iter().copied().filter(|p| p.0.is_finite() && p.1.is_finite()).collect();
+        let points: Vec<(f64, f64)> = s
+            .points
+            .iter()
+            .copied()
+            .filter(|p| p.0.is_finite() && p.1.is_finite())
+            .collect();
         let drawn = if s.dots {
-            chart.draw_series(points.into_iter().map(|p| Circle::new(p, 2, colour.filled())))
+            chart.draw_series(
+                points
+                    .into_iter()
+                    .map(|p| Circle::new(p, 2, colour.filled())),
+            )
         } else {
             chart.draw_series(LineSeries::new(points, colour.stroke_width(2)))
         }
         .ctx(&what)?;
-        drawn
-            .label(s.name.clone())
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], colour.stroke_width(2)));
+        drawn.label(s.name.clone()).legend(move |(x, y)| {
+            PathElement::new(vec![(x, y), (x + 16, y)], colour.stroke_width(2))
+        });
     }
     chart
         .configure_series_labels()
@@ -167,7 +189,8 @@ pub fn bar_plot(path: &Path, title: &str, y_label: &str, bars: &[(String, f64)])
     let what = format!("plotting {}", path.display());
     let top = bars.iter().map(|b| b.1).fold(0.0f64, f64::max).max(1e-12) * 1.15;
     let n = bars.len().max(1);
-    let root = SVGBackend::new(path, (PLOT_SIZE.0.max(90 * n as u32), PLOT_SIZE.1)).into_drawing_area();
+    let root =
+        SVGBackend::new(path, (PLOT_SIZE.0.max(90 * n as u32), PLOT_SIZE.1)).into_drawing_area();
     root.fill(&WHITE).ctx(&what)?;
     let mut chart = ChartBuilder::on(&root)
         .caption(title, ("sans-serif", 16))
@@ -186,17 +209,28 @@ pub fn bar_plot(path: &Path, title: &str, y_label: &str, bars: &[(String, f64)])
     chart
         .draw_series(bars.iter().enumerate().map(|(i, b)| {
             let colour = SERIES_COLOURS[i % SERIES_COLOURS.len()];
-            Rectangle::new([(i as f64 + 0.15, 0.0), (i as f64 + 0.85, b.1)], colour.filled())
+            Rectangle::new(
+                [(i as f64 + 0.15, 0.0), (i as f64 + 0.85, b.1)],
+                colour.filled(),
+            )
         }))
         .ctx(&what)?;
     chart
         .draw_series(bars.iter().enumerate().map(|(i, b)| {
-            Text::new(format!("{:.3}", b.1), (i as f64 + 0.2, b.1 + top * 0.02), ("sans-serif", 13))
+            Text::new(
+                format!("{:.3}", b.1),
+                (i as f64 + 0.2, b.1 + top * 0.02),
+                ("sans-serif", 13),
+            )
         }))
         .ctx(&what)?;
     chart
         .draw_series(bars.iter().enumerate().map(|(i, b)| {
-            Text::new(b.0.clone(), (i as f64 + 0.2, b.1 + top * 0.07), ("sans-serif", 12))
+            Text::new(
+                b.0.clone(),
+                (i as f64 + 0.2, b.1 + top * 0.07),
+                ("sans-serif", 12),
+            )
         }))
         .ctx(&what)?;
     root.present().ctx(&what)

@@ -152,6 +152,8 @@ fn html(report: &Report) -> String {
          table{border-collapse:collapse;font-size:13px;margin:.5em 0}\
          td,th{border:1px solid #bbb;padding:3px 6px;vertical-align:top;text-align:left}\
          th{background:#eee}.reproduced{background:#dfd}.differs{background:#ffd}\
+         table.claims td:nth-child(4),table.claims td:nth-child(6),table.claims td:nth-child(7)\
+         {min-width:280px}table.claims td:nth-child(8){font-size:11px;max-width:220px}\
          .REGRESSION{background:#f99;font-weight:bold}\
          figure{display:inline-block;margin:4px;vertical-align:top;text-align:center}\
          figure img{max-width:560px;image-rendering:pixelated;border:1px solid #ccc}\
@@ -162,7 +164,7 @@ fn html(report: &Report) -> String {
     let _ = write!(
         h,
         "<p>{} run: {} claims, {} reproduced, {} differ from the paper for a documented reason, \
-         {} regressions.</p>\n<h2>Claims</h2>\n<table><tr><th>paper</th><th>claim</th>\
+         {} regressions.</p>\n<h2>Claims</h2>\n<table class=\"claims\"><tr><th>paper</th><th>claim</th>\
          <th>section</th><th>the paper says</th><th>paper</th><th>ours</th><th>verdict</th>\
          <th>measured by</th></tr>\n",
         report.effort.name(),

@@ -55,8 +55,12 @@ fn same_size(s: &mut Session<'_>, exemplars: &[(String, Array3<f64>)]) -> Result
         )
         .ctx("RPN")?;
         let c = ex.dim().0;
-        let want: Vec<_> = (0..c).map(|k| periodic_dft(ex.index_axis(Axis(0), k), &mut fft)).collect();
-        let got: Vec<_> = (0..c).map(|k| dft(out.index_axis(Axis(0), k), &mut fft)).collect();
+        let want: Vec<_> = (0..c)
+            .map(|k| periodic_dft(ex.index_axis(Axis(0), k), &mut fft))
+            .collect();
+        let got: Vec<_> = (0..c)
+            .map(|k| dft(out.index_axis(Axis(0), k), &mut fft))
+            .collect();
         for k in 0..c {
             let scale = want[k].iter().map(|z| z.norm()).fold(0.0, f64::max);
             for (a, b) in want[k].iter().zip(got[k].iter()) {
@@ -155,7 +159,11 @@ fn extension(s: &mut Session<'_>, exemplars: &[(String, Array3<f64>)]) -> Result
         planes_png(&path, &out.mapv(|v| v.clamp(0.0, 1.0)))?;
         panels.push(Panel {
             file,
-            label: format!("{name}: RPN {}×{} through the spot extension", factor * w, factor * h),
+            label: format!(
+                "{name}: RPN {}×{} through the spot extension",
+                factor * w,
+                factor * h
+            ),
         });
     }
     s.claim(
@@ -248,7 +256,11 @@ fn periodic(s: &mut Session<'_>, ex: &Array3<f64>) -> Result<()> {
         Expect::Holds,
     );
     let mut panels = Vec::new();
-    for (label, a) in [("h", &h), ("periodic p", &d.periodic), ("smooth s", &d.smooth)] {
+    for (label, a) in [
+        ("h", &h),
+        ("periodic p", &d.periodic),
+        ("smooth s", &d.smooth),
+    ] {
         let slug = label.replace(' ', "-");
         let (path, file) = s.file(&format!("periodic-{slug}.png"));
         grey_png_auto(&path, a.view())?;

@@ -33,17 +33,86 @@ fn gallery(s: &mut Session<'_>) -> Result<()> {
             .build()
     };
     let models: Vec<(&str, Model)> = vec![
-        ("Perlin", ClassicNoise::perlin().cell_size(32.0).build().ctx("Perlin")?.into()),
-        ("simplex", ClassicNoise::simplex().cell_size(32.0).build().ctx("simplex")?.into()),
-        ("value", ClassicNoise::value().cell_size(32.0).build().ctx("value")?.into()),
-        ("Worley F1", worley(Metric::Euclidean, [1.0, 0.0, 0.0, 0.0]).ctx("Worley")?.into()),
-        ("Worley F2", worley(Metric::Euclidean, [0.0, 1.0, 0.0, 0.0]).ctx("Worley")?.into()),
-        ("Worley F2 − F1", worley(Metric::Euclidean, [-1.0, 1.0, 0.0, 0.0]).ctx("Worley")?.into()),
-        ("Worley F2 − F1, Manhattan", worley(Metric::Manhattan, [-1.0, 1.0, 0.0, 0.0]).ctx("Worley")?.into()),
-        ("fBm", ClassicNoise::fbm().cell_size(64.0).build().ctx("fBm")?.into()),
-        ("turbulence", ClassicNoise::turbulence().cell_size(64.0).build().ctx("turbulence")?.into()),
-        ("ridged", ClassicNoise::ridged().cell_size(64.0).build().ctx("ridged")?.into()),
-        ("wavelet", WaveletNoise::builder().cell_size(8.0).build().ctx("wavelet")?.into()),
+        (
+            "Perlin",
+            ClassicNoise::perlin()
+                .cell_size(32.0)
+                .build()
+                .ctx("Perlin")?
+                .into(),
+        ),
+        (
+            "simplex",
+            ClassicNoise::simplex()
+                .cell_size(32.0)
+                .build()
+                .ctx("simplex")?
+                .into(),
+        ),
+        (
+            "value",
+            ClassicNoise::value()
+                .cell_size(32.0)
+                .build()
+                .ctx("value")?
+                .into(),
+        ),
+        (
+            "Worley F1",
+            worley(Metric::Euclidean, [1.0, 0.0, 0.0, 0.0])
+                .ctx("Worley")?
+                .into(),
+        ),
+        (
+            "Worley F2",
+            worley(Metric::Euclidean, [0.0, 1.0, 0.0, 0.0])
+                .ctx("Worley")?
+                .into(),
+        ),
+        (
+            "Worley F2 − F1",
+            worley(Metric::Euclidean, [-1.0, 1.0, 0.0, 0.0])
+                .ctx("Worley")?
+                .into(),
+        ),
+        (
+            "Worley F2 − F1, Manhattan",
+            worley(Metric::Manhattan, [-1.0, 1.0, 0.0, 0.0])
+                .ctx("Worley")?
+                .into(),
+        ),
+        (
+            "fBm",
+            ClassicNoise::fbm()
+                .cell_size(64.0)
+                .build()
+                .ctx("fBm")?
+                .into(),
+        ),
+        (
+            "turbulence",
+            ClassicNoise::turbulence()
+                .cell_size(64.0)
+                .build()
+                .ctx("turbulence")?
+                .into(),
+        ),
+        (
+            "ridged",
+            ClassicNoise::ridged()
+                .cell_size(64.0)
+                .build()
+                .ctx("ridged")?
+                .into(),
+        ),
+        (
+            "wavelet",
+            WaveletNoise::builder()
+                .cell_size(8.0)
+                .build()
+                .ctx("wavelet")?
+                .into(),
+        ),
     ];
     let mut panels = Vec::new();
     for (name, model) in &models {
@@ -120,7 +189,12 @@ fn slopes(s: &mut Session<'_>) -> Result<()> {
             name: format!("fit, slope {slope:.2}"),
             points: [0.03f64, 0.3]
                 .iter()
-                .map(|&f| (f.log10(), (intercept + slope * f.ln()) / std::f64::consts::LN_10))
+                .map(|&f| {
+                    (
+                        f.log10(),
+                        (intercept + slope * f.ln()) / std::f64::consts::LN_10,
+                    )
+                })
                 .collect(),
             dots: false,
         });
@@ -175,7 +249,9 @@ fn slopes(s: &mut Session<'_>) -> Result<()> {
         let want = -2.0 + 2.0 * f64::from(gain).ln() / f64::from(lacunarity).ln();
         let (slope, _, _) = slope_of(&model, side, 1.0 / 32.0, 1.0 / 8.0)?;
         fbm_worst = fbm_worst.max((slope - want).abs());
-        fbm_rows.push(format!("g = {gain:.3}, λ = {lacunarity}: {slope:.3} (want {want:.3})"));
+        fbm_rows.push(format!(
+            "g = {gain:.3}, λ = {lacunarity}: {slope:.3} (want {want:.3})"
+        ));
     }
     s.claim(
         "survey-fbm-slope",

@@ -16,6 +16,31 @@ use spectex_sampling::{FitOptions, TextureOptions, fit_texture};
 use crate::plot::bar_plot;
 use crate::{Context, Effort, Expect, Panel, Result, Session};
 
+/// The shared exemplars the bench measures (`../shared/testdata/textures/`).
+pub const EXEMPLARS: &[&str] = &[
+    "skimage_gravel.png",
+    "skimage_brick.png",
+    "astex_ambientcg_paving_height_512.png",
+    "astex_ambientcg_sand_height_512.png",
+    "embark_ts_water_1.jpg",
+];
+
+/// The built-in exemplar (`testdata/default_exemplar.png`) as `(channel, row, column)`.
+///
+/// # Errors
+/// The file cannot be read.
+pub fn builtin_exemplar() -> Result<Array3<f64>> {
+    crate::builtin_exemplar()
+}
+
+/// An exemplar image as `(channel, row, column)` in `[0, 1]`.
+///
+/// # Errors
+/// The file cannot be read.
+pub fn load_exemplar(path: &std::path::Path) -> Result<Array3<f64>> {
+    crate::load_planes(path)
+}
+
 /// The three settings of Table 1: name, r, random placement.
 pub const SETTINGS: [(&str, f64, bool); 3] = [
     ("random phases", 0.0, false),
@@ -211,7 +236,10 @@ pub(crate) fn reproduce(s: &mut Session<'_>) -> Result<()> {
     )];
     for name in names {
         if let Some(img) = s.shared_texture(name)? {
-            tables.push(((*name).to_owned(), measure(&img, budget, reps, gpu.as_ref())?));
+            tables.push((
+                (*name).to_owned(),
+                measure(&img, budget, reps, gpu.as_ref())?,
+            ));
         }
     }
     // Ratios of fixed phases and of random placement to random phases, per exemplar.
@@ -225,8 +253,14 @@ pub(crate) fn reproduce(s: &mut Session<'_>) -> Result<()> {
             Some(rows[i].cpu_ms / rows[0].cpu_ms)
         }
     };
-    let fixed: Vec<f64> = tables.iter().filter_map(|t| ratio(&t.1, 1, false)).collect();
-    let placed: Vec<f64> = tables.iter().filter_map(|t| ratio(&t.1, 2, false)).collect();
+    let fixed: Vec<f64> = tables
+        .iter()
+        .filter_map(|t| ratio(&t.1, 1, false))
+        .collect();
+    let placed: Vec<f64> = tables
+        .iter()
+        .filter_map(|t| ratio(&t.1, 2, false))
+        .collect();
     let span = |v: &[f64]| {
         let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
         let hi = v.iter().copied().fold(0.0f64, f64::max);
@@ -259,7 +293,11 @@ pub(crate) fn reproduce(s: &mut Session<'_>) -> Result<()> {
          because blocks have to be blended\" (Table 1's rows: +16% to +25%; ours within +0% to \
          +30%, the table's span and 5% for timing noise)",
         "+10–20% (Table 1: +16–25% in ms)",
-        format!("CPU: +{:.0}% to +{:.0}%", 100.0 * (plo - 1.0), 100.0 * (phi - 1.0)),
+        format!(
+            "CPU: +{:.0}% to +{:.0}%",
+            100.0 * (plo - 1.0),
+            100.0 * (phi - 1.0)
+        ),
         None,
         plo >= 1.0 && phi <= 1.3,
         Expect::Differs(

@@ -168,7 +168,10 @@ mod tests {
     #[test]
     fn shape_distance_is_zero_for_one_shape_and_two_for_disjoint_ones() {
         let a = Array2::from_shape_fn((16, 16), |(y, x)| if (y, x) == (3, 3) { 1.0 } else { 0.0 });
-        let b = Array2::from_shape_fn((16, 16), |(y, x)| if (y, x) == (10, 10) { 5.0 } else { 0.0 });
+        let b = Array2::from_shape_fn(
+            (16, 16),
+            |(y, x)| if (y, x) == (10, 10) { 5.0 } else { 0.0 },
+        );
         assert!(shape_distance(a.view(), (a.clone() * 7.0).view()) < 1e-12);
         assert!((shape_distance(a.view(), b.view()) - 2.0).abs() < 1e-12);
     }
@@ -204,9 +207,12 @@ mod tests {
     fn a_constant_contrast_cosine_has_no_low_variance_energy() {
         let n = 64;
         let mut fft = Fft2::new();
-        let cosine = Array2::from_shape_fn((n, n), |(_, x)| (std::f64::consts::TAU * x as f64 / 8.0).cos());
+        let cosine = Array2::from_shape_fn((n, n), |(_, x)| {
+            (std::f64::consts::TAU * x as f64 / 8.0).cos()
+        });
         let beat = Array2::from_shape_fn((n, n), |(_, x)| {
-            (std::f64::consts::TAU * x as f64 / 8.0).cos() * (std::f64::consts::TAU * x as f64 / 64.0).cos()
+            (std::f64::consts::TAU * x as f64 / 8.0).cos()
+                * (std::f64::consts::TAU * x as f64 / 64.0).cos()
         });
         assert!(variance_low_fraction(cosine.view(), 1.0 / 16.0, &mut fft) < 1e-12);
         assert!(variance_low_fraction(beat.view(), 1.0 / 16.0, &mut fft) > 0.3);

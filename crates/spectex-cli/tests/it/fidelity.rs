@@ -1,6 +1,7 @@
-//! Fidelity of LRP noise by example and on continuous spectra, measured on renders (Gilet et al.
-//! 2014, §4 and §6.1). Prints the tables reported in closing notes; asserts what the paper
-//! claims in a form that cannot pass by accident. Uses `../shared/testdata/textures/` and skips
+//! Fidelity of LRP noise by example, measured on renders (Gilet et al. 2014, §4); Fig. 10 (LRP
+//! against Gabor noise on a ring) is measured by `spectex-reproduce`'s `lrp::ring_comparison`.
+//! Prints the tables reported in closing notes; asserts what the paper claims in a form that
+//! cannot pass by accident. Uses `../shared/testdata/textures/` and skips
 //! with a printed reason when it is absent.
 //!
 //! `cargo test --release -p spectex-cli --test it fidelity:: -- --nocapture --skip _fidelity::`
@@ -17,9 +18,9 @@
 
 use ndarray::Array2;
 use spectex_cpu::{Evaluator, Window};
-use spectex_model::{GaborNoise, Model, Orientation, SpectralTarget};
-use spectex_sampling::{FitMethod, FitOptions, fit_image, fit_target};
-use spectex_spectrum::{Fft2, mean_variance, signed_frequency, welch_psd_with_block};
+use spectex_model::Model;
+use spectex_sampling::{FitMethod, FitOptions, fit_image};
+use spectex_spectrum::{Fft2, mean_variance, welch_psd_with_block};
 
 fn shared_grey(name: &str) -> Option<Array2<f64>> {
     let dir = concat!(
@@ -146,90 +147,6 @@ fn noise_by_example_matches_the_exemplar_spectrum() {
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
-}
-
-fn excess_kurtosis(a: &Array2<f64>) -> f64 {
-    spectex_spectrum::excess_kurtosis(a.view())
-}
-
-/// The target ring's PSD on the `t`-grid, scaled to unit sum (zero frequency excluded).
-fn target_psd(target: &SpectralTarget, t: usize) -> Array2<f64> {
-    Array2::from_shape_fn((t, t), |(k, l)| {
-        if (k, l) == (0, 0) {
-            0.0
-        } else {
-            target.power(signed_frequency(l, t), signed_frequency(k, t))
-        }
-    })
-}
-
-/// Fig. 10: ring spectra, LRP with J = 1, 3, 5 (one stratum) against Gabor noise with 9J
-/// impulses per evaluation (J impulses per cell of the 3×3 neighbourhood), at equal cost.
-#[test]
-fn ring_spectrum_lrp_against_gabor() {
-    let mut fft = Fft2::new();
-    let (radius, width) = (0.0625f32, 0.006f32);
-    let target = SpectralTarget::Ring { radius, width };
-    let t = 128;
-    let want = target_psd(&target, t);
-    println!("model        J   calls/pixel  L1(shape)  ns/pixel  excess kurtosis");
-    let mut lrp = Vec::new();
-    let mut gabor = Vec::new();
-    for j in [1u32, 3, 5] {
-        let options = FitOptions {
-            budget: j,
-            strata: 1,
-            seed: 7,
-            ..FitOptions::default()
-        };
-        let m = Model::Lrp(fit_target(&target, 0.01, 256, &options).unwrap());
-        let (img, s) = render(&m, 512);
-        let d = shape_distance(
-            &welch_psd_with_block(img.view(), t, &mut fft).unwrap(),
-            &want,
-        );
-        println!(
-            "LRP        {j:>3}   {:>11}  {d:9.4}  {:8.1}  {:15.3}",
-            9 * j,
-            s * 1e9 / (512.0 * 512.0),
-            excess_kurtosis(&img)
-        );
-        lrp.push(d);
-        // Gabor: kernel spectrum e^{−2π d²/a²} in power is a Gaussian ring of σ = a/(2√π).
-        let g = Model::Gabor(GaborNoise {
-            seed: 7,
-            mean: 0.0,
-            amplitude: 1.0,
-            bandwidth: 2.0 * std::f32::consts::PI.sqrt() * width,
-            frequency: radius,
-            orientation: Orientation::Isotropic {
-                min: 0.0,
-                max: std::f32::consts::TAU,
-            },
-            impulses_per_kernel: std::f32::consts::PI * j as f32,
-        });
-        let (img, s) = render(&g, 512);
-        let d = shape_distance(
-            &welch_psd_with_block(img.view(), t, &mut fft).unwrap(),
-            &want,
-        );
-        println!(
-            "Gabor      {j:>3}   {:>11}  {d:9.4}  {:8.1}  {:15.3}",
-            9 * j,
-            s * 1e9 / (512.0 * 512.0),
-            excess_kurtosis(&img)
-        );
-        gabor.push(d);
-    }
-    println!(
-        "paper: LRP J=3 is of equivalent or close quality to Gabor J=5; measured L1 {:.4} vs {:.4}",
-        lrp[1], gabor[2]
-    );
-    // Convergence with J for both models.
-    assert!(
-        lrp[2] < lrp[0] && gabor[2] < gabor[0],
-        "LRP {lrp:?}, Gabor {gabor:?}"
-    );
 }
 
 /// `--fit paper` is the paper's procedure as it was: fitted again from the same photographs,

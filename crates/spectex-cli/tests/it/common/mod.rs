@@ -2,10 +2,6 @@
 //! and images as channel planes.
 
 #![allow(
-    dead_code,
-    reason = "the table1 bench includes this file by #[path] and uses a subset"
-)]
-#![allow(
     clippy::unwrap_used,
     reason = "a test fails loudly on the first unexpected None or Err"
 )]
