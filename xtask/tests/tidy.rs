@@ -38,6 +38,7 @@ const ALLOWED_PROJECT_DEPENDENCIES: &[(&str, &[&str])] = &[
             "spectex-cpu",
             "spectex-gpu",
             "spectex-crosscheck",
+            "spectex-reproduce",
         ],
     ),
     (

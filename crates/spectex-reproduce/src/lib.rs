@@ -25,11 +25,11 @@ use spectex_cpu::{Evaluator, Filter, Window};
 use spectex_model::Model;
 
 pub mod lrp;
-mod phasor;
+pub mod phasor;
 pub mod plot;
 mod report;
 mod rpn;
-mod survey;
+pub mod survey;
 pub mod table1;
 
 pub use report::write_report;
@@ -305,6 +305,18 @@ pub struct Report {
 }
 
 impl Report {
+    /// How many claims are reproduced, differ (documented), and regressed.
+    #[must_use]
+    pub fn counts(&self) -> (usize, usize, usize) {
+        let count =
+            |f: &dyn Fn(&Verdict) -> bool| self.claims.iter().filter(|c| f(&c.verdict())).count();
+        (
+            count(&|v| *v == Verdict::Reproduced),
+            count(&|v| matches!(v, Verdict::Differs(_))),
+            count(&|v| *v == Verdict::Regression),
+        )
+    }
+
     /// The claims that should hold and do not.
     #[must_use]
     pub fn regressions(&self) -> Vec<&Claim> {
@@ -410,10 +422,18 @@ pub(crate) fn builtin_exemplar() -> Result<Array3<f64>> {
     load_planes(&Path::new(env!("CARGO_MANIFEST_DIR")).join("../../testdata/default_exemplar.png"))
 }
 
-/// An image as `(channels, height, width)` in `[0, 1]`: 3 planes for colour, 1 for grey.
+/// An image file as planes (see [`planes`]).
 pub(crate) fn load_planes(path: &Path) -> Result<Array3<f64>> {
-    let img = image::open(path).ctx(&format!("reading {}", path.display()))?;
-    Ok(if img.color().has_color() {
+    Ok(planes(
+        &image::open(path).ctx(&format!("reading {}", path.display()))?,
+    ))
+}
+
+/// An image as `(channels, height, width)` values in `[0, 1]`: 3 planes for a colour image, 1 for
+/// a grey one (as `spectex` reads exemplars).
+#[must_use]
+pub fn planes(img: &image::DynamicImage) -> Array3<f64> {
+    if img.color().has_color() {
         let img = img.to_rgb32f();
         let (w, h) = img.dimensions();
         Array3::from_shape_fn((3, h as usize, w as usize), |(c, y, x)| {
@@ -425,7 +445,7 @@ pub(crate) fn load_planes(path: &Path) -> Result<Array3<f64>> {
         Array3::from_shape_fn((1, h as usize, w as usize), |(_, y, x)| {
             f64::from(img.get_pixel(x as u32, y as u32).0[0])
         })
-    })
+    }
 }
 
 /// The mean of the planes of an image (its grey level).

@@ -9,7 +9,7 @@ use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, bail};
 use indicatif::{ProgressBar, ProgressStyle};
-use spectex_reproduce::{Config, Effort, Paper, Verdict, run, write_report};
+use spectex_reproduce::{Config, Effort, Paper, run, write_report};
 
 const USAGE: &str = "usage: spectex-reproduce [PAPER…] [--quick | --tiny] [--out DIR] [--no-gpu]\n\
                      papers: lrp, rpn, phasor, survey (all when none is named)";
@@ -80,15 +80,11 @@ fn main_inner() -> Result<ExitCode> {
     let report = run(&config, &mut |step| bar.set_message(step.to_owned()))?;
     bar.finish_and_clear();
     write_report(&report, &config.out_dir)?;
-    let count =
-        |f: &dyn Fn(&Verdict) -> bool| report.claims.iter().filter(|c| f(&c.verdict())).count();
+    let (reproduced, differ, regressions) = report.counts();
     eprintln!(
-        "reproduce: {} claims: {} reproduced, {} differ (documented), {} regressions; {:.1} s; \
-         report in {}",
+        "reproduce: {} claims: {reproduced} reproduced, {differ} differ (documented), \
+         {regressions} regressions; {:.1} s; report in {}",
         report.claims.len(),
-        count(&|v| *v == Verdict::Reproduced),
-        count(&|v| matches!(v, Verdict::Differs(_))),
-        count(&|v| *v == Verdict::Regression),
         start.elapsed().as_secs_f64(),
         config.out_dir.join("index.html").display()
     );

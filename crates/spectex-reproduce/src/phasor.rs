@@ -19,9 +19,16 @@ use crate::plot::{Series, grey_png, grey_png_auto, line_plot, psd_png};
 use crate::{Context, Expect, Panel, Result, Session};
 
 /// Kernel frequency: 1/16 cycle per pixel, on a bin of every render side used.
-const F: f32 = 0.0625;
+pub const F: f32 = 0.0625;
 
-fn model(orientation: PhasorOrientation, profile: Profile, output: PhasorOutput) -> PhasorNoise {
+/// The phasor noise of the measurements (shared with the CLI's phasor fidelity tests): seed 3,
+/// 2D, bandwidth 0.02, frequency [`F`], 32 impulses per kernel, unit amplitude.
+#[must_use]
+pub fn model(
+    orientation: PhasorOrientation,
+    profile: Profile,
+    output: PhasorOutput,
+) -> PhasorNoise {
     PhasorNoise {
         seed: 3,
         dimensions: 2,
@@ -36,7 +43,10 @@ fn model(orientation: PhasorOrientation, profile: Profile, output: PhasorOutput)
     }
 }
 
-fn settings() -> [(&'static str, PhasorOrientation); 3] {
+/// The three orientation settings of §3: a bi-lobe at 30°, independent isotropic directions and
+/// the coherent isotropic field (§3.2.2).
+#[must_use]
+pub fn settings() -> [(&'static str, PhasorOrientation); 3] {
     [
         (
             "bi-lobe 30°",

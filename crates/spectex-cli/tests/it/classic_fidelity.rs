@@ -12,9 +12,9 @@
 
 use ndarray::Array2;
 use spectex_cpu::{Evaluator, Window};
+use spectex_model::Model;
 use spectex_model::classic::{Basis, ClassicNoise, Fractal, FractalKind};
-use spectex_model::{Model, SpectralTarget};
-use spectex_sampling::{FitOptions, Partition, fit_target};
+use spectex_reproduce::survey::fractal_model;
 use spectex_spectrum::{Fft2, log_log_fit, welch_psd_with_block};
 
 /// Least-squares slope of log power against log frequency over the radial bins in `[lo, hi]`.
@@ -43,21 +43,7 @@ fn log_log_slope(model: &Model, side: usize, block: usize, lo: f64, hi: f64) -> 
 #[test]
 fn spectral_fractal_power_falls_as_f_to_minus_two_beta() {
     for beta in [0.5f32, 1.0, 1.5, 2.0] {
-        let target = SpectralTarget::Fractal {
-            beta,
-            angle: 0.5,
-            spread: None,
-            min_frequency: 1.0 / 128.0,
-        };
-        let options = FitOptions {
-            budget: 48,
-            strata: 12,
-            seed: 3,
-            partition: Partition::LogPower,
-            ..FitOptions::default()
-        };
-        let lrp = fit_target(&target, 1.0, 256, &options).unwrap();
-        let slope = log_log_slope(&Model::Lrp(lrp), 1024, 256, 0.03, 0.3);
+        let slope = log_log_slope(&fractal_model(beta).unwrap(), 1024, 256, 0.03, 0.3);
         println!(
             "fractal β = {beta}: radial PSD slope {slope:.3} (expected {})",
             -2.0 * beta

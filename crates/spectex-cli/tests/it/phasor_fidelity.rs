@@ -14,51 +14,14 @@
 
 use ndarray::Array2;
 use spectex_cpu::{Evaluator, Window};
-use spectex_model::{
-    COHERENT_BANDWIDTH_RATIO, COHERENT_SPREAD, Field, Model, PhasorNoise, PhasorOrientation,
-    PhasorOutput, Profile,
-};
+use spectex_model::{Field, Model, PhasorNoise, PhasorOrientation, PhasorOutput, Profile};
+use spectex_reproduce::phasor::{F, model, settings};
 use spectex_spectrum::{
     Fft2, fraction_above_gaussian_quantile, ring_power_peak, variance_low_fraction,
 };
 
+/// Renders are 1024²: the kernel frequency `F` (1/16) then falls on a bin.
 const SIDE: usize = 1024;
-/// Kernel frequency: 64 cycles over the 1024² render, so the peak falls on a bin.
-const F: f32 = 0.0625;
-
-fn model(orientation: PhasorOrientation, profile: Profile, output: PhasorOutput) -> PhasorNoise {
-    PhasorNoise {
-        seed: 3,
-        dimensions: 2,
-        bandwidth: Field::constant(0.02),
-        frequency: Field::constant(F),
-        orientation,
-        impulses_per_kernel: 32.0,
-        profile,
-        output,
-        mean: 0.0,
-        amplitude: 1.0,
-    }
-}
-
-fn settings() -> [(&'static str, PhasorOrientation); 3] {
-    [
-        (
-            "bi-lobe (30°)",
-            PhasorOrientation::Aligned {
-                angle: Field::constant(30f32.to_radians()),
-            },
-        ),
-        ("isotropic", PhasorOrientation::Isotropic),
-        (
-            "coherent isotropic",
-            PhasorOrientation::Coherent {
-                spread: COHERENT_SPREAD,
-                bandwidth_ratio: COHERENT_BANDWIDTH_RATIO,
-            },
-        ),
-    ]
-}
 
 fn render(m: &PhasorNoise) -> Array2<f64> {
     let v = Evaluator::new(&Model::Phasor(m.clone()))
