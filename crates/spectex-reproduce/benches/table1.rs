@@ -47,7 +47,7 @@ fn run() -> spectex_reproduce::Result<()> {
     };
     let mut tables = Vec::new();
     for (name, img) in inputs {
-        tables.push((name, table1::measure(&img, 50, 20, gpu.as_ref())?));
+        tables.push((name, table1::measure(&img, 50, 20, gpu.as_ref(), true)?));
     }
     println!(
         "\nTable 1 style, J = 50, 4 strata, r = 0.2 for fixed phases; CPU {} threads, GPU {}.\n",

@@ -236,7 +236,7 @@ fn tradeoff(s: &mut Session<'_>) -> Result<()> {
         let (path, file) = s.file(&format!("fig3-d{delta}-j{j}-psd.png"));
         psd_png(
             &path,
-            welch_psd_with_block(img.view(), 64, &mut fft)
+            welch_psd_with_block(img.view(), 128, &mut fft)
                 .ctx("Welch PSD")?
                 .view(),
         )?;

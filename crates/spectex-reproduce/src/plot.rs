@@ -126,10 +126,14 @@ pub fn line_plot(
         y0 = y0.min(y);
         y1 = y1.max(y);
     }
+    if !x0.is_finite() || !y0.is_finite() {
+        // No finite point: an empty unit square.
+        (x0, x1, y0, y1) = (0.0, 1.0, 0.0, 1.0);
+    }
     if x0 >= x1 {
         (x0, x1) = (x0 - 1.0, x0 + 1.0);
     }
-    if !(y0 < y1) {
+    if y0 >= y1 {
         (y0, y1) = (y0 - 1.0, y0 + 1.0);
     }
     let pad = 0.05 * (y1 - y0);

@@ -150,7 +150,8 @@ fn html(report: &Report) -> String {
          {min-width:280px}table.claims td:nth-child(8){font-size:11px;max-width:220px}\
          .REGRESSION{background:#f99;font-weight:bold}\
          figure{display:inline-block;margin:4px;vertical-align:top;text-align:center}\
-         figure img{max-width:560px;image-rendering:pixelated;border:1px solid #ccc}\
+         figure img{max-width:360px;min-width:160px;image-rendering:pixelated;border:1px solid #ccc}\
+         figure img[src$=\".svg\"]{max-width:560px}\
          figcaption{font-size:12px;max-width:300px;margin:auto}\
          .fig{border-top:1px solid #ccc;margin-top:1em;padding-top:.5em}\
          </style></head><body>\n<h1>spectex: reproduction of the papers</h1>\n",
