@@ -830,6 +830,18 @@ fn reproduce(ws: &Workspace, args: &[OsString]) -> Result<()> {
     let out = target_dir(ws).join("reproduce");
     let mut command = ws.cargo(&["run", "--release", "-p", "spectex-reproduce", "--"]);
     command.arg("--out").arg(&out).args(args);
+    // Mesa's Vulkan loader prints "error: XDG_RUNTIME_DIR is invalid or not set" once per
+    // adapter query when the variable is unset (as in CI and containers); the GPU works either
+    // way. A private runtime directory under the target dir keeps the output to real errors.
+    #[cfg(unix)]
+    if env::var_os("XDG_RUNTIME_DIR").is_none() {
+        use std::os::unix::fs::PermissionsExt;
+        let runtime = target_dir(ws).join("reproduce-runtime");
+        fs::create_dir_all(&runtime)
+            .and_then(|()| fs::set_permissions(&runtime, fs::Permissions::from_mode(0o700)))
+            .with_context(|| format!("creating {}", runtime.display()))?;
+        command.env("XDG_RUNTIME_DIR", &runtime);
+    }
     run_steps(
         "reproduce",
         vec![Step {

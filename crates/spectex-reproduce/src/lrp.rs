@@ -478,7 +478,7 @@ fn fig10(s: &mut Session<'_>) -> Result<()> {
         if !name.ends_with("J = 1") && !name.ends_with("J = 3") && !name.ends_with("J = 5") {
             continue;
         }
-        let slug = name.replace(' ', "").replace('=', "").to_lowercase();
+        let slug = name.replace([' ', '='], "").to_lowercase();
         let (path, file) = s.file(&format!("fig10-{slug}.png"));
         grey_png_auto(&path, img.slice(s![..256.min(side), ..256.min(side)]))?;
         panels.push(Panel {
@@ -736,7 +736,7 @@ fn texture_options(r: f64, turbulence: f64, placement: bool) -> TextureOptions {
 }
 
 fn structure(s: &mut Session<'_>) -> Result<()> {
-    let mut exemplars = exemplars(
+    let exemplars = exemplars(
         s,
         match s.effort() {
             Effort::Tiny => &[],
@@ -772,7 +772,7 @@ fn structure(s: &mut Session<'_>) -> Result<()> {
     let mut panels = Vec::new();
     let mut r1_errors = Vec::new();
     let mut r0_fixed = 0usize;
-    for (name, ex) in &mut exemplars {
+    for (name, ex) in &exemplars {
         let (c, h, w) = ex.dim();
         let slug: String = name.chars().take_while(|c| *c != '.').collect();
         let (path, file) = s.file(&format!("rsweep-{slug}-exemplar.png"));

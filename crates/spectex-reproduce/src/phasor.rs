@@ -70,10 +70,8 @@ fn render_at(m: &PhasorNoise, side: usize, z: f64) -> Result<Array2<f64>> {
     let v = eval
         .render(&Window::new(side, side).at([-2.0e4, 5.0e3], 1.0))
         .ctx("phasor render")?;
-    Ok(
-        Array2::from_shape_vec((side, side), v.into_iter().map(f64::from).collect())
-            .ctx("phasor render shape")?,
-    )
+    Array2::from_shape_vec((side, side), v.into_iter().map(f64::from).collect())
+        .ctx("phasor render shape")
 }
 
 fn render(m: &PhasorNoise, side: usize) -> Result<Array2<f64>> {

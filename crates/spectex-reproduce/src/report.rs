@@ -196,9 +196,9 @@ fn html(report: &Report) -> String {
         }
         let _ = writeln!(h, "<h2>{}</h2>", escape(paper.title()));
         for f in figures {
-            let _ = write!(
+            let _ = writeln!(
                 h,
-                "<div class=\"fig\"><h3>{}</h3><p>{}</p>\n",
+                "<div class=\"fig\"><h3>{}</h3><p>{}</p>",
                 escape(f.reference),
                 escape(&f.caption)
             );

@@ -15,10 +15,10 @@ use crate::{Context, Effort, Expect, Panel, Result, Session, grey};
 
 pub(crate) fn reproduce(s: &mut Session<'_>) -> Result<()> {
     let mut exemplars = vec![("built-in".to_owned(), crate::builtin_exemplar()?)];
-    if s.effort() != Effort::Tiny {
-        if let Some(img) = s.shared_texture("embark_ts_water_1.jpg")? {
-            exemplars.push(("embark_ts_water_1.jpg".to_owned(), img));
-        }
+    if s.effort() != Effort::Tiny
+        && let Some(img) = s.shared_texture("embark_ts_water_1.jpg")?
+    {
+        exemplars.push(("embark_ts_water_1.jpg".to_owned(), img));
     }
     s.step("modulus and phase differences");
     same_size(s, &exemplars)?;

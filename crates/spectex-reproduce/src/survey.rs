@@ -164,8 +164,12 @@ pub fn fractal_model(beta: f32) -> Result<Model> {
     ))
 }
 
+/// A log–log fit: slope, intercept (natural logarithms) and the radial profile as
+/// `(log10 f, log10 P)` points.
+type SlopeFit = (f64, f64, Vec<(f64, f64)>);
+
 /// The radial PSD of `model` at `side`, with its log–log fit over `[lo, hi]`.
-fn slope_of(model: &Model, side: usize, lo: f64, hi: f64) -> Result<(f64, f64, Vec<(f64, f64)>)> {
+fn slope_of(model: &Model, side: usize, lo: f64, hi: f64) -> Result<SlopeFit> {
     let (img, _) = render_grey(model, side)?;
     let mut fft = Fft2::new();
     let psd = welch_psd_with_block(img.view(), side / 4, &mut fft).ctx("Welch PSD")?;
