@@ -3,7 +3,7 @@
 //! independently and judged against the number the paper prints.
 //!
 //! [`run`] measures the [`Paper`]s a [`Config`] names and returns a [`Report`]; [`write_report`]
-//! writes it as `index.html`, `report.md` and `claims.json` beside the figures. A claim is
+//! writes it as `index.html`, the Markdown report and `claims.json` beside the figures. A claim is
 //! *reproduced* when our measurement meets the paper's statement; one that does not is
 //! *differs* with the documented reason when we know why (a typo in the paper, another machine),
 //! and a **regression** otherwise: [`Report::regressions`] lists them and the command exits 1.

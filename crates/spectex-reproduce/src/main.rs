@@ -1,5 +1,5 @@
 //! `spectex-reproduce [PAPER…] [--quick] [--out DIR] [--no-gpu]`: regenerates the papers'
-//! figures and claims into `DIR` (`index.html`, `report.md`, `claims.json`); exits 1 when a
+//! figures and claims into `DIR` (`index.html`, the Markdown report, `claims.json`); exits 1 when a
 //! claim recorded as reproduced no longer holds. Run through `cargo xtask reproduce`.
 
 use std::io::IsTerminal;

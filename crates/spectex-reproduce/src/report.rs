@@ -1,5 +1,5 @@
 //! The report's three forms: `index.html` (figures beside their captions, the claims table),
-//! `report.md` (the claims table and figure list) and `claims.json` (one object per claim).
+//! `target/reproduce/report.md` (the claims table and figure list) and `claims.json` (one object per claim).
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -257,7 +257,7 @@ fn json(report: &Report) -> String {
     format!("{doc:#}\n")
 }
 
-/// Writes `index.html`, `report.md` and `claims.json` into `dir` (the figures are there
+/// Writes `index.html`, the Markdown report and `claims.json` into `dir` (the figures are there
 /// already).
 ///
 /// # Errors

@@ -300,7 +300,14 @@ pub(crate) fn reproduce(s: &mut Session<'_>) -> Result<()> {
         ),
         None,
         fhi < 1.15,
-        Expect::Holds,
+        Expect::Differs(
+            "on the CPU the fixed-phase structure costs more time per call than the \
+             random-phase strata it replaces, though it needs fewer calls: each pixel sums four \
+             blocks' cosines through the 2×2 cross-fade of the §5.3 block reduction, read from \
+             per-block tables (hundreds of KB for stochastic exemplars such as the gravel); the \
+             paper timed a GPU (compare the GPU column of the table)"
+                .into(),
+        ),
     );
     let (plo, phi) = span(&placed);
     s.claim(
