@@ -118,11 +118,13 @@ fn window(s: &mut Session<'_>) -> Result<()> {
                 name: "I₃ series (used)".into(),
                 points: r.iter().map(|&x| (x, kaiser_bessel(x))).collect(),
                 dots: false,
+                colour: None,
             },
             Series {
                 name: "printed series, 5 terms".into(),
                 points: r.iter().map(|&x| (x, printed_window(5)(x))).collect(),
                 dots: false,
+                colour: None,
             },
         ],
     )?;
@@ -500,6 +502,7 @@ fn fig10(s: &mut Session<'_>) -> Result<()> {
                 name: n.clone(),
                 points: p.clone(),
                 dots: false,
+                colour: None,
             })
             .collect::<Vec<_>>(),
     )?;
@@ -517,11 +520,13 @@ fn fig10(s: &mut Session<'_>) -> Result<()> {
                 name: "LRP".into(),
                 points: c.lrp.iter().map(|r| (r.1, r.0)).collect(),
                 dots: false,
+                colour: None,
             },
             Series {
                 name: "Gabor (9J impulses)".into(),
                 points: c.gabor.iter().map(|r| (r.1, r.0)).collect(),
                 dots: false,
+                colour: None,
             },
         ],
     )?;
@@ -659,11 +664,13 @@ fn noise_by_example(s: &mut Session<'_>) -> Result<()> {
                     name: "exemplar".into(),
                     points: log_profile(&want),
                     dots: false,
+                    colour: None,
                 },
                 Series {
                     name: "LRP J = 50".into(),
                     points: log_profile(&got),
                     dots: false,
+                    colour: None,
                 },
             ],
         )?;

@@ -341,11 +341,13 @@ fn profiles(s: &mut Session<'_>, side: usize) -> Result<()> {
                 name: "measured on the render".into(),
                 points: measured.clone(),
                 dots: false,
+                colour: None,
             },
             Series {
                 name: "Parseval, uniform phase".into(),
                 points: analytic.clone(),
                 dots: true,
+                colour: None,
             },
         ],
     )?;

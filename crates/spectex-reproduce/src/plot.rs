@@ -97,6 +97,9 @@ pub struct Series {
     pub points: Vec<(f64, f64)>,
     /// Dots instead of a line.
     pub dots: bool,
+    /// Index into the palette; the series' own position when `None` (a fit drawn in its
+    /// data's colour).
+    pub colour: Option<usize>,
 }
 
 /// Writes an SVG line plot of `series`.
@@ -154,7 +157,7 @@ pub fn line_plot(
         .draw()
         .ctx(&what)?;
     for (i, s) in series.iter().enumerate() {
-        let colour = SERIES_COLOURS[i % SERIES_COLOURS.len()];
+        let colour = SERIES_COLOURS[s.colour.unwrap_or(i) % SERIES_COLOURS.len()];
         let points: Vec<(f64, f64)> = s
             .points
             .iter()

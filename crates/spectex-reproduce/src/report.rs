@@ -147,7 +147,8 @@ fn html(report: &Report) -> String {
          td,th{border:1px solid #bbb;padding:3px 6px;vertical-align:top;text-align:left}\
          th{background:#eee}.reproduced{background:#dfd}.differs{background:#ffd}\
          table.claims td:nth-child(4),table.claims td:nth-child(6),table.claims td:nth-child(7)\
-         {min-width:280px}table.claims td:nth-child(8){font-size:11px;max-width:220px}\
+         {min-width:200px}table.claims td:nth-child(8){font-size:11px;max-width:180px;\
+         overflow-wrap:anywhere}\
          .REGRESSION{background:#f99;font-weight:bold}\
          figure{display:inline-block;margin:4px;vertical-align:top;text-align:center}\
          figure img{max-width:360px;min-width:160px;image-rendering:pixelated;border:1px solid #ccc}\

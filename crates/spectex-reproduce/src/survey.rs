@@ -192,18 +192,24 @@ fn slopes(s: &mut Session<'_>) -> Result<()> {
     let mut rows = Vec::new();
     let mut worst = 0.0f64;
     let mut panels = Vec::new();
-    for beta in [0.5f32, 1.0, 1.5, 2.0] {
+    for (i, beta) in [0.5f32, 1.0, 1.5, 2.0].into_iter().enumerate() {
         let model = fractal_model(beta)?;
         let (slope, intercept, profile) = slope_of(&model, side, 0.03, 0.3)?;
         worst = worst.max((slope + 2.0 * f64::from(beta)).abs());
         rows.push(format!("β = {beta}: {slope:.3} (want {})", -2.0 * beta));
         series.push(Series {
             name: format!("β = {beta}"),
-            points: profile,
+            // The decade around the fitted range: the fits' cut-off beyond it would squeeze it.
+            points: profile
+                .into_iter()
+                .filter(|p| (-2.2..=-0.4).contains(&p.0))
+                .collect(),
             dots: true,
+            colour: Some(i),
         });
         series.push(Series {
             name: format!("fit, slope {slope:.2}"),
+            colour: Some(i),
             points: [0.03f64, 0.3]
                 .iter()
                 .map(|&f| {
