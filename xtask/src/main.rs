@@ -38,6 +38,13 @@ const COMMANDS: &[(&str, &str)] = &[
          through the CPU (and the GPU on lavapipe when installed), images through the CLI; \
          `--cases N` per campaign (default 20000), `--seed S`; prints cases and findings",
     ),
+    (
+        "reproduce",
+        "the papers' figures and claims regenerated and judged into target/reproduce/ \
+         (index.html, report.md, claims.json): `cargo xtask reproduce [PAPER…] [--quick] \
+         [--no-gpu]`, papers lrp, rpn, phasor, survey (all by default); exits 1 when a claim \
+         recorded as reproduced no longer holds",
+    ),
     ("help", "print this list"),
 ];
 
@@ -80,6 +87,7 @@ fn run() -> Result<()> {
         }
         Some("bench") => bench(&Workspace::locate()?, rest),
         Some("fuzz") => fuzz(&Workspace::locate()?, &rest),
+        Some("reproduce") => reproduce(&Workspace::locate()?, &rest),
         Some(other) => bail!(
             "unknown command `{other}`; valid commands: {}",
             COMMANDS
@@ -94,7 +102,7 @@ fn run() -> Result<()> {
 fn print_help() {
     println!("usage: cargo xtask <command>\n\ncommands:");
     for (name, about) in COMMANDS {
-        println!("  {name:<7} {about}");
+        println!("  {name:<9} {about}");
     }
 }
 
@@ -801,6 +809,55 @@ fn campaign_counts(line: &str) -> Option<(u64, u64)> {
     Some((cases, findings))
 }
 
+/// The papers `cargo xtask reproduce` knows (spectex-reproduce's `Paper::ALL`).
+const PAPERS: &[&str] = &["lrp", "rpn", "phasor", "survey"];
+
+/// `cargo xtask reproduce [PAPER…] [--quick] [--no-gpu]`: builds spectex-reproduce in release
+/// and runs it into `target/reproduce/`. The arguments are checked here first, so a typo costs
+/// no build.
+fn reproduce(ws: &Workspace, args: &[OsString]) -> Result<()> {
+    for arg in args {
+        let arg = arg.to_string_lossy();
+        if arg.starts_with('-') {
+            if !["--quick", "--no-gpu"].contains(&arg.as_ref()) {
+                bail!(
+                    "unknown option `{arg}` of `cargo xtask reproduce`; options: --quick, --no-gpu"
+                );
+            }
+        } else if !PAPERS.contains(&arg.to_ascii_lowercase().as_str()) {
+            bail!("unknown paper `{arg}`; valid papers: {}", PAPERS.join(", "));
+        }
+    }
+    let out = target_dir(ws).join("reproduce");
+    let mut command = ws.cargo(&["run", "--release", "-p", "spectex-reproduce", "--"]);
+    command.arg("--out").arg(&out).args(args);
+    // Mesa's Vulkan loader prints "error: XDG_RUNTIME_DIR is invalid or not set" once per
+    // adapter query when the variable is unset (as in CI and containers); the GPU works either
+    // way. A private runtime directory under the target dir keeps the output to real errors.
+    #[cfg(unix)]
+    if env::var_os("XDG_RUNTIME_DIR").is_none() {
+        use std::os::unix::fs::PermissionsExt;
+        let runtime = target_dir(ws).join("reproduce-runtime");
+        fs::create_dir_all(&runtime)
+            .and_then(|()| fs::set_permissions(&runtime, fs::Permissions::from_mode(0o700)))
+            .with_context(|| format!("creating {}", runtime.display()))?;
+        command.env("XDG_RUNTIME_DIR", &runtime);
+    }
+    run_steps(
+        "reproduce",
+        vec![Step {
+            title: format!(
+                "spectex-reproduce{} into {}",
+                args.iter()
+                    .map(|a| format!(" {}", a.to_string_lossy()))
+                    .collect::<String>(),
+                out.display()
+            ),
+            command,
+        }],
+    )
+}
+
 fn bench(ws: &Workspace, mut extra: Vec<OsString>) -> Result<()> {
     // `cargo xtask bench kinds`: the kinds summary alone.
     let kinds_only = extra.first().is_some_and(|a| a == "kinds");
@@ -832,8 +889,8 @@ fn bench(ws: &Workspace, mut extra: Vec<OsString>) -> Result<()> {
     run_steps(
         "bench",
         vec![Step {
-            title: "cargo bench -p spectex-cli --bench table1".into(),
-            command: ws.cargo(&["bench", "-p", "spectex-cli", "--bench", "table1"]),
+            title: "cargo bench -p spectex-reproduce --bench table1".into(),
+            command: ws.cargo(&["bench", "-p", "spectex-reproduce", "--bench", "table1"]),
         }],
     )
 }

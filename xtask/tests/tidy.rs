@@ -38,6 +38,17 @@ const ALLOWED_PROJECT_DEPENDENCIES: &[(&str, &[&str])] = &[
             "spectex-cpu",
             "spectex-gpu",
             "spectex-crosscheck",
+            "spectex-reproduce",
+        ],
+    ),
+    (
+        "spectex-reproduce",
+        &[
+            "spectex-model",
+            "spectex-spectrum",
+            "spectex-sampling",
+            "spectex-cpu",
+            "spectex-gpu",
         ],
     ),
     (

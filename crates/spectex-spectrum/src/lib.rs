@@ -4,6 +4,8 @@
 //! - [`periodic_smooth`]: Moisan's periodic + smooth decomposition.
 //! - [`welch_psd`], [`log_magnitude_spectrum`], [`radial_profile`], [`variance_spectrum`]:
 //!   power-spectrum estimates with documented conventions (see the [`welch`] module).
+//! - [`metrics`]: the spectral shape distance, moments and log–log slopes the fidelity tests
+//!   and the reproduction report share.
 //! - [`Rpn`]: Random Phase Noise and ADSN, at the sample's size or any larger one (spot
 //!   extension), after Galerne, Gousseau & Morel (IPOL).
 //!
@@ -25,6 +27,7 @@
 
 mod error;
 pub mod fft;
+pub mod metrics;
 pub mod periodic;
 pub mod relief;
 pub mod rpn;
@@ -32,6 +35,11 @@ pub mod welch;
 
 pub use error::SpectrumError;
 pub use fft::{Fft2, FftFloat, centered, signed_frequency};
+pub use metrics::{
+    excess_kurtosis, fraction_above_gaussian_quantile, log_log_fit, mean_variance,
+    normalised_smoothed, ring_power_peak, shape_distance, standard_normal_quantile,
+    variance_low_fraction,
+};
 pub use periodic::{PeriodicSmooth, interior_laplacian, periodic_laplacian, periodic_smooth};
 pub use rpn::{
     NoiseKind, Rpn, RpnOptions, extended_spot, random_phase_field, rpn, transition, validate_image,

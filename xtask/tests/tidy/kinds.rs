@@ -17,6 +17,8 @@ const CITED_EXTENSIONS: &[&str] = &["md", "rs", "wgsl", "toml", "py"];
 /// Data outside the repository that docs may name (never `docs/ARCHITECTURE.md`): the shared
 /// papers and test images, which tests skip without.
 const SHARED_PREFIX: &str = "../shared/";
+/// What commands write (`target/reproduce/report.md`): named by docs, never in the repository.
+const OUTPUT_PREFIX: &str = "target/";
 
 #[test]
 fn no_wildcard_arm_over_model_outside_the_model_crate() {
@@ -447,6 +449,8 @@ pub(crate) fn missing_citations(root: &Path) -> Vec<String> {
             for cited in cited_files(line) {
                 let ok = if let Some(rest) = cited.strip_prefix(SHARED_PREFIX) {
                     !in_architecture && !rest.is_empty()
+                } else if let Some(rest) = cited.strip_prefix(OUTPUT_PREFIX) {
+                    !rest.is_empty()
                 } else {
                     resolves(&cited, file, root, &known)
                 };

@@ -12,10 +12,10 @@
 
 use ndarray::Array2;
 use spectex_cpu::{Evaluator, Window};
+use spectex_model::Model;
 use spectex_model::classic::{Basis, ClassicNoise, Fractal, FractalKind};
-use spectex_model::{Model, SpectralTarget};
-use spectex_sampling::{FitOptions, Partition, fit_target};
-use spectex_spectrum::{Fft2, radial_profile, welch_psd_with_block};
+use spectex_reproduce::survey::fractal_model;
+use spectex_spectrum::{Fft2, log_log_fit, welch_psd_with_block};
 
 /// Least-squares slope of log power against log frequency over the radial bins in `[lo, hi]`.
 fn log_log_slope(model: &Model, side: usize, block: usize, lo: f64, hi: f64) -> f64 {
@@ -26,19 +26,7 @@ fn log_log_slope(model: &Model, side: usize, block: usize, lo: f64, hi: f64) -> 
     let img = Array2::from_shape_vec((side, side), v.into_iter().map(f64::from).collect()).unwrap();
     let mut fft = Fft2::new();
     let psd = welch_psd_with_block(img.view(), block, &mut fft).unwrap();
-    let points: Vec<(f64, f64)> = radial_profile(psd.view())
-        .into_iter()
-        .filter(|b| b.radius >= lo && b.radius <= hi && b.power > 0.0)
-        .map(|b| (b.radius.ln(), b.power.ln()))
-        .collect();
-    let n = points.len() as f64;
-    let (mx, my) = (
-        points.iter().map(|p| p.0).sum::<f64>() / n,
-        points.iter().map(|p| p.1).sum::<f64>() / n,
-    );
-    let sxy: f64 = points.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
-    let sxx: f64 = points.iter().map(|p| (p.0 - mx).powi(2)).sum();
-    sxy / sxx
+    log_log_fit(psd.view(), lo, hi).0
 }
 
 /// With the survey's convention (magnitude ∝ 1/f^β) the power falls as f^(−2β), within 0.1
@@ -55,21 +43,7 @@ fn log_log_slope(model: &Model, side: usize, block: usize, lo: f64, hi: f64) -> 
 #[test]
 fn spectral_fractal_power_falls_as_f_to_minus_two_beta() {
     for beta in [0.5f32, 1.0, 1.5, 2.0] {
-        let target = SpectralTarget::Fractal {
-            beta,
-            angle: 0.5,
-            spread: None,
-            min_frequency: 1.0 / 128.0,
-        };
-        let options = FitOptions {
-            budget: 48,
-            strata: 12,
-            seed: 3,
-            partition: Partition::LogPower,
-            ..FitOptions::default()
-        };
-        let lrp = fit_target(&target, 1.0, 256, &options).unwrap();
-        let slope = log_log_slope(&Model::Lrp(lrp), 1024, 256, 0.03, 0.3);
+        let slope = log_log_slope(&fractal_model(beta).unwrap(), 1024, 256, 0.03, 0.3);
         println!(
             "fractal β = {beta}: radial PSD slope {slope:.3} (expected {})",
             -2.0 * beta

@@ -1,6 +1,7 @@
-//! Fidelity of LRP noise by example and on continuous spectra, measured on renders (Gilet et al.
-//! 2014, §4 and §6.1). Prints the tables reported in closing notes; asserts what the paper
-//! claims in a form that cannot pass by accident. Uses `../shared/testdata/textures/` and skips
+//! Fidelity of LRP noise by example, measured on renders (Gilet et al. 2014, §4); Fig. 10 (LRP
+//! against Gabor noise on a ring) is measured by `spectex-reproduce`'s `lrp::ring_comparison`.
+//! Prints the tables reported in closing notes; asserts what the paper claims in a form that
+//! cannot pass by accident. Uses `../shared/testdata/textures/` and skips
 //! with a printed reason when it is absent.
 //!
 //! `cargo test --release -p spectex-cli --test it fidelity:: -- --nocapture --skip _fidelity::`
@@ -17,9 +18,9 @@
 
 use ndarray::{Array2, Axis};
 use spectex_cpu::{Evaluator, Window};
-use spectex_model::{GaborNoise, Model, Orientation, SpectralTarget};
-use spectex_sampling::{FitMethod, FitOptions, fit_image, fit_target};
-use spectex_spectrum::{Fft2, signed_frequency, welch_psd_with_block};
+use spectex_model::Model;
+use spectex_sampling::{FitMethod, FitOptions, fit_image};
+use spectex_spectrum::{Fft2, mean_variance, welch_psd_with_block};
 
 fn shared_grey(name: &str) -> Option<Array2<f64>> {
     let dir = concat!(
@@ -71,37 +72,11 @@ fn sparse_mean_var(model: &Model) -> (f64, f64) {
 }
 
 fn mean_var(a: &Array2<f64>) -> (f64, f64) {
-    let m = a.mean().unwrap();
-    (
-        m,
-        a.iter().map(|v| (v - m).powi(2)).sum::<f64>() / a.len() as f64,
-    )
+    mean_variance(a.view())
 }
 
-/// Normalise to unit sum (zero frequency excluded) and smooth with a periodic 5×5 box: the
-/// periodogram average still fluctuates bin to bin; smoothing compares shapes.
-fn normalised_smoothed(p: &Array2<f64>) -> Array2<f64> {
-    let n = p.nrows();
-    let mut q = p.clone();
-    q[[0, 0]] = 0.0;
-    let s = Array2::from_shape_fn((n, n), |(y, x)| {
-        let mut acc = 0.0;
-        for dy in 0..5 {
-            for dx in 0..5 {
-                acc += q[[(y + n + dy - 2) % n, (x + n + dx - 2) % n]];
-            }
-        }
-        acc
-    });
-    let total = s.sum();
-    s.mapv(|v| v / total)
-}
-
-/// The spectral distance: relative L1 of the two spectra's shapes, `Σ|a − b|` of the
-/// normalised, 5×5-smoothed spectra with the zero frequency removed, in [0, 2].
 fn shape_distance(a: &Array2<f64>, b: &Array2<f64>) -> f64 {
-    let (a, b) = (normalised_smoothed(a), normalised_smoothed(b));
-    a.iter().zip(b.iter()).map(|(x, y)| (x - y).abs()).sum()
+    spectex_spectrum::shape_distance(a.view(), b.view())
 }
 
 /// Seeds each fit is rendered with: one render's spectrum at the lowest frequencies is a few
@@ -229,93 +204,6 @@ fn summary(d: &[f64]) -> String {
     };
     let max = d.iter().copied().fold(f64::MIN, f64::max);
     format!("{mean:7.4} ({sd:.4}, {max:.4})")
-}
-
-/// `E[(v − μ)⁴]/σ⁴ − 3`: 0 for a Gaussian noise; sparse convolution with few impulses is
-/// heavy-tailed (the "quality" the paper's Fig. 10 shows), a sum of random-phase cosines is not.
-fn excess_kurtosis(a: &Array2<f64>) -> f64 {
-    let (m, v) = mean_var(a);
-    a.iter().map(|x| (x - m).powi(4)).sum::<f64>() / a.len() as f64 / (v * v) - 3.0
-}
-
-/// The target ring's PSD on the `t`-grid, scaled to unit sum (zero frequency excluded).
-fn target_psd(target: &SpectralTarget, t: usize) -> Array2<f64> {
-    Array2::from_shape_fn((t, t), |(k, l)| {
-        if (k, l) == (0, 0) {
-            0.0
-        } else {
-            target.power(signed_frequency(l, t), signed_frequency(k, t))
-        }
-    })
-}
-
-/// Fig. 10: ring spectra, LRP with J = 1, 3, 5 (one stratum) against Gabor noise with 9J
-/// impulses per evaluation (J impulses per cell of the 3×3 neighbourhood), at equal cost.
-#[test]
-fn ring_spectrum_lrp_against_gabor() {
-    let mut fft = Fft2::new();
-    let (radius, width) = (0.0625f32, 0.006f32);
-    let target = SpectralTarget::Ring { radius, width };
-    let t = 128;
-    let want = target_psd(&target, t);
-    println!("model        J   calls/pixel  L1(shape)  ns/pixel  excess kurtosis");
-    let mut lrp = Vec::new();
-    let mut gabor = Vec::new();
-    for j in [1u32, 3, 5] {
-        let options = FitOptions {
-            budget: j,
-            strata: 1,
-            seed: 7,
-            ..FitOptions::default()
-        };
-        let m = Model::Lrp(fit_target(&target, 0.01, 256, &options).unwrap());
-        let (img, s) = render(&m, 512);
-        let d = shape_distance(
-            &welch_psd_with_block(img.view(), t, &mut fft).unwrap(),
-            &want,
-        );
-        println!(
-            "LRP        {j:>3}   {:>11}  {d:9.4}  {:8.1}  {:15.3}",
-            9 * j,
-            s * 1e9 / (512.0 * 512.0),
-            excess_kurtosis(&img)
-        );
-        lrp.push(d);
-        // Gabor: kernel spectrum e^{−2π d²/a²} in power is a Gaussian ring of σ = a/(2√π).
-        let g = Model::Gabor(GaborNoise {
-            seed: 7,
-            mean: 0.0,
-            amplitude: 1.0,
-            bandwidth: 2.0 * std::f32::consts::PI.sqrt() * width,
-            frequency: radius,
-            orientation: Orientation::Isotropic {
-                min: 0.0,
-                max: std::f32::consts::TAU,
-            },
-            impulses_per_kernel: std::f32::consts::PI * j as f32,
-        });
-        let (img, s) = render(&g, 512);
-        let d = shape_distance(
-            &welch_psd_with_block(img.view(), t, &mut fft).unwrap(),
-            &want,
-        );
-        println!(
-            "Gabor      {j:>3}   {:>11}  {d:9.4}  {:8.1}  {:15.3}",
-            9 * j,
-            s * 1e9 / (512.0 * 512.0),
-            excess_kurtosis(&img)
-        );
-        gabor.push(d);
-    }
-    println!(
-        "paper: LRP J=3 is of equivalent or close quality to Gabor J=5; measured L1 {:.4} vs {:.4}",
-        lrp[1], gabor[2]
-    );
-    // Convergence with J for both models.
-    assert!(
-        lrp[2] < lrp[0] && gabor[2] < gabor[0],
-        "LRP {lrp:?}, Gabor {gabor:?}"
-    );
 }
 
 /// `--fit paper` is the paper's procedure as it was: fitted again from the same photographs,

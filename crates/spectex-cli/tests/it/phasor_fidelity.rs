@@ -13,51 +13,15 @@
 #![allow(clippy::print_stdout, reason = "the tests report what they measured")]
 
 use ndarray::Array2;
-use num_complex::Complex;
 use spectex_cpu::{Evaluator, Window};
-use spectex_model::{
-    COHERENT_BANDWIDTH_RATIO, COHERENT_SPREAD, Field, Model, PhasorNoise, PhasorOrientation,
-    PhasorOutput, Profile,
+use spectex_model::{Field, Model, PhasorNoise, PhasorOrientation, PhasorOutput, Profile};
+use spectex_reproduce::phasor::{F, model, settings};
+use spectex_spectrum::{
+    Fft2, fraction_above_gaussian_quantile, ring_power_peak, variance_low_fraction,
 };
-use spectex_spectrum::{Fft2, signed_frequency};
 
+/// Renders are 1024²: the kernel frequency `F` (1/16) then falls on a bin.
 const SIDE: usize = 1024;
-/// Kernel frequency: 64 cycles over the 1024² render, so the peak falls on a bin.
-const F: f32 = 0.0625;
-
-fn model(orientation: PhasorOrientation, profile: Profile, output: PhasorOutput) -> PhasorNoise {
-    PhasorNoise {
-        seed: 3,
-        dimensions: 2,
-        bandwidth: Field::constant(0.02),
-        frequency: Field::constant(F),
-        orientation,
-        impulses_per_kernel: 32.0,
-        profile,
-        output,
-        mean: 0.0,
-        amplitude: 1.0,
-    }
-}
-
-fn settings() -> [(&'static str, PhasorOrientation); 3] {
-    [
-        (
-            "bi-lobe (30°)",
-            PhasorOrientation::Aligned {
-                angle: Field::constant(30f32.to_radians()),
-            },
-        ),
-        ("isotropic", PhasorOrientation::Isotropic),
-        (
-            "coherent isotropic",
-            PhasorOrientation::Coherent {
-                spread: COHERENT_SPREAD,
-                bandwidth_ratio: COHERENT_BANDWIDTH_RATIO,
-            },
-        ),
-    ]
-}
 
 fn render(m: &PhasorNoise) -> Array2<f64> {
     let v = Evaluator::new(&Model::Phasor(m.clone()))
@@ -69,30 +33,6 @@ fn render(m: &PhasorNoise) -> Array2<f64> {
 
 fn mean(a: &Array2<f64>) -> f64 {
     a.sum() / a.len() as f64
-}
-
-/// The standard normal quantile by bisection on `erfc`-free numerics: Φ(z) from its series.
-fn normal_quantile(p: f64) -> f64 {
-    let cdf = |z: f64| {
-        // Φ(z) = ½ + φ(z)·Σ z^{2k+1}/(1·3·…·(2k+1)) (converges for all z; |z| < 4 here).
-        let mut term = z;
-        let mut sum = z;
-        for k in 1..200 {
-            term *= z * z / (2 * k + 1) as f64;
-            sum += term;
-        }
-        0.5 + (-z * z / 2.0).exp() / (2.0 * std::f64::consts::PI).sqrt() * sum
-    };
-    let (mut lo, mut hi) = (-8.0, 8.0);
-    for _ in 0..100 {
-        let mid = 0.5 * (lo + hi);
-        if cdf(mid) < p {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    0.5 * (lo + hi)
 }
 
 /// Paper Fig. 16: "phasor noise through a PWM profile having 25% white (global average
@@ -119,11 +59,7 @@ fn pwm_mean_is_the_duty_cycle() {
         );
         let white = mean(&pwm);
         let gabor = render(&model(orientation, Profile::Sine, PhasorOutput::Gabor));
-        let g_mean = mean(&gabor);
-        let sd =
-            (gabor.iter().map(|v| (v - g_mean).powi(2)).sum::<f64>() / gabor.len() as f64).sqrt();
-        let t = g_mean + sd * normal_quantile(0.75);
-        let g_white = gabor.iter().filter(|&&v| v > t).count() as f64 / gabor.len() as f64;
+        let g_white = fraction_above_gaussian_quantile(gabor.view(), 0.75);
         println!(
             "| {name} | {:.3}% | {:.3}% |",
             100.0 * white,
@@ -136,40 +72,13 @@ fn pwm_mean_is_the_duty_cycle() {
     }
 }
 
-/// Power spectrum `|DFT|²` of a render (mean removed).
-fn power(a: &Array2<f64>) -> Array2<f64> {
-    let m = mean(a);
-    let mut c = a.mapv(|v| Complex::new(v - m, 0.0));
-    Fft2::new().forward(&mut c);
-    c.mapv(|z| z.norm_sqr())
-}
-
-/// Radius of each bin in cycles per pixel.
-fn radius(y: usize, x: usize) -> f64 {
-    signed_frequency(x, SIDE).hypot(signed_frequency(y, SIDE))
-}
-
 /// The phasor sine wave keeps the kernels' frequency: its radially summed power spectrum peaks
 /// at `F` within one bin (`1/1024` cycles per pixel).
 #[test]
 fn sine_wave_spectrum_peaks_at_the_kernel_frequency() {
     for (name, orientation) in settings() {
-        let p = power(&render(&model(
-            orientation,
-            Profile::Sine,
-            PhasorOutput::Profiled,
-        )));
-        let mut rings = vec![0.0; SIDE / 2];
-        for ((y, x), v) in p.indexed_iter() {
-            let k = (radius(y, x) * SIDE as f64).round() as usize;
-            if k < rings.len() {
-                rings[k] += v;
-            }
-        }
-        let peak = (1..rings.len())
-            .max_by(|&a, &b| rings[a].total_cmp(&rings[b]))
-            .unwrap();
-        let peak_f = peak as f64 / SIDE as f64;
+        let img = render(&model(orientation, Profile::Sine, PhasorOutput::Profiled));
+        let peak_f = ring_power_peak(img.view(), &mut Fft2::new());
         println!("{name}: power peaks at {peak_f:.5} cycles/px (F = {F})");
         assert!(
             (peak_f - f64::from(F)).abs() <= 1.0 / SIDE as f64,
@@ -185,23 +94,9 @@ fn sine_wave_spectrum_peaks_at_the_kernel_frequency() {
 /// variations bring back. Reported for the bi-lobe, isotropic and coherent isotropic settings.
 #[test]
 fn spectrum_of_variance_loses_its_central_lobe() {
-    let low_fraction = |a: &Array2<f64>| {
-        let m = mean(a);
-        let sd = (a.iter().map(|v| (v - m).powi(2)).sum::<f64>() / a.len() as f64).sqrt();
-        let squared = a.mapv(|v| ((v - m) / sd).powi(2));
-        let p = power(&squared);
-        let (mut low, mut total) = (0.0, 0.0);
-        for ((y, x), v) in p.indexed_iter() {
-            if y == 0 && x == 0 {
-                continue;
-            }
-            total += v;
-            if radius(y, x) < f64::from(F) / 2.0 {
-                low += v;
-            }
-        }
-        low / total
-    };
+    let mut fft = Fft2::new();
+    let mut low_fraction =
+        |a: &Array2<f64>| variance_low_fraction(a.view(), f64::from(F) / 2.0, &mut fft);
     // Limits: the bi-lobe phasor keeps no central lobe (Fig. 4; measured ratio 0.001); the
     // coherent isotropic field keeps "close to perfect" (Fig. 12; measured 0.008); independent
     // isotropic directions mix bi-lobes more than π/2 apart and keep part of it (Fig. 11;

@@ -2,18 +2,12 @@
 //! and images as channel planes.
 
 #![allow(
-    dead_code,
-    reason = "the table1 bench includes this file by #[path] and uses a subset"
-)]
-#![allow(
     clippy::unwrap_used,
     reason = "a test fails loudly on the first unexpected None or Err"
 )]
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
-
-use ndarray::Array3;
 
 /// Runs the `spectex` binary with `args`.
 pub fn spectex(args: &[&str]) -> Output {
@@ -56,20 +50,5 @@ pub fn z_of<'a>(args: &[&'a str]) -> &'a str {
         .map_or("0", |i| args[i + 1])
 }
 
-/// An image as `(channels, height, width)` values in `[0, 1]`: 3 planes for a colour image,
-/// 1 for a grey one (as `spectex` reads exemplars).
-pub fn planes(img: &image::DynamicImage) -> Array3<f64> {
-    if img.color().has_color() {
-        let img = img.to_rgb32f();
-        let (w, h) = img.dimensions();
-        Array3::from_shape_fn((3, h as usize, w as usize), |(c, y, x)| {
-            f64::from(img.get_pixel(x as u32, y as u32).0[c])
-        })
-    } else {
-        let img = img.to_luma32f();
-        let (w, h) = img.dimensions();
-        Array3::from_shape_fn((1, h as usize, w as usize), |(_, y, x)| {
-            f64::from(img.get_pixel(x as u32, y as u32).0[0])
-        })
-    }
-}
+/// An image as `(channels, height, width)` values in `[0, 1]` (as `spectex` reads exemplars).
+pub use spectex_reproduce::planes;

@@ -1,0 +1,221 @@
+//! Measurements on images and spectra that the fidelity tests and `spectex-reproduce` share:
+//! the spectral shape distance, moments, radial log–log slopes and the low-frequency share of
+//! the spectrum of variance. One definition each, so a claim measured in a test and in the
+//! reproduction report is the same number.
+
+use ndarray::{Array2, ArrayView2};
+use num_complex::Complex64;
+
+use crate::{Fft2, RadialBin, radial_profile, signed_frequency};
+
+/// Mean and (population) variance of an image.
+#[must_use]
+pub fn mean_variance(a: ArrayView2<'_, f64>) -> (f64, f64) {
+    let n = a.len().max(1) as f64;
+    let m = a.sum() / n;
+    (m, a.iter().map(|v| (v - m).powi(2)).sum::<f64>() / n)
+}
+
+/// `E[(v − μ)⁴]/σ⁴ − 3`: 0 for a Gaussian noise; sparse convolution with few impulses is
+/// heavy-tailed, a sum of many random-phase cosines is not.
+#[must_use]
+pub fn excess_kurtosis(a: ArrayView2<'_, f64>) -> f64 {
+    let (m, v) = mean_variance(a);
+    a.iter().map(|x| (x - m).powi(4)).sum::<f64>() / a.len().max(1) as f64 / (v * v) - 3.0
+}
+
+/// An uncentred power spectrum scaled to unit sum with the zero frequency removed and smoothed
+/// with a periodic 5×5 box: a periodogram average still fluctuates bin to bin; smoothing
+/// compares shapes.
+#[must_use]
+pub fn normalised_smoothed(p: ArrayView2<'_, f64>) -> Array2<f64> {
+    let (h, w) = p.dim();
+    let mut q = p.to_owned();
+    q[[0, 0]] = 0.0;
+    let s = Array2::from_shape_fn((h, w), |(y, x)| {
+        let mut acc = 0.0;
+        for dy in 0..5 {
+            for dx in 0..5 {
+                acc += q[[(y + h + dy - 2) % h, (x + w + dx - 2) % w]];
+            }
+        }
+        acc
+    });
+    let total = s.sum();
+    s.mapv(|v| v / total)
+}
+
+/// The spectral shape distance: `Σ|a − b|` of the two spectra after [`normalised_smoothed`], in
+/// `[0, 2]` (0: same shape; 2: disjoint supports). Both spectra on the same frequency grid.
+#[must_use]
+pub fn shape_distance(a: ArrayView2<'_, f64>, b: ArrayView2<'_, f64>) -> f64 {
+    let (a, b) = (normalised_smoothed(a), normalised_smoothed(b));
+    a.iter().zip(b.iter()).map(|(x, y)| (x - y).abs()).sum()
+}
+
+/// The least-squares line through `(ln radius, ln power)` of the radial profile bins whose
+/// radius lies in `[lo, hi]` cycles per pixel (bins of zero power left out): `(slope,
+/// intercept, bins used)`. A spectrum `P ∝ f^(−2β)` has slope `−2β`.
+#[must_use]
+pub fn log_log_fit(psd: ArrayView2<'_, f64>, lo: f64, hi: f64) -> (f64, f64, Vec<RadialBin>) {
+    let bins: Vec<RadialBin> = radial_profile(psd)
+        .into_iter()
+        .filter(|b| b.radius >= lo && b.radius <= hi && b.power > 0.0)
+        .collect();
+    let n = bins.len() as f64;
+    let (mx, my) = (
+        bins.iter().map(|b| b.radius.ln()).sum::<f64>() / n,
+        bins.iter().map(|b| b.power.ln()).sum::<f64>() / n,
+    );
+    let sxy: f64 = bins
+        .iter()
+        .map(|b| (b.radius.ln() - mx) * (b.power.ln() - my))
+        .sum();
+    let sxx: f64 = bins.iter().map(|b| (b.radius.ln() - mx).powi(2)).sum();
+    let slope = sxy / sxx;
+    (slope, my - slope * mx, bins)
+}
+
+/// Spectrum of variance, low-frequency share (Tricard et al. 2019, §3.1.3): the image is
+/// centred and scaled to unit variance, squared, and the fraction of the squared signal's
+/// `|DFT|²` (zero frequency excluded) that lies strictly inside the disc `|f| < cutoff` cycles
+/// per pixel. A noise whose local contrast fluctuates (Gabor noise) has a central lobe there.
+#[must_use]
+pub fn variance_low_fraction(a: ArrayView2<'_, f64>, cutoff: f64, fft: &mut Fft2<f64>) -> f64 {
+    let (h, w) = a.dim();
+    let (m, v) = mean_variance(a);
+    let sd = v.sqrt();
+    let mut c = a.mapv(|x| Complex64::new(((x - m) / sd).powi(2), 0.0));
+    let mean_sq = c.iter().map(|z| z.re).sum::<f64>() / c.len() as f64;
+    c.mapv_inplace(|z| Complex64::new(z.re - mean_sq, 0.0));
+    fft.forward(&mut c);
+    let (mut low, mut total) = (0.0, 0.0);
+    for ((y, x), z) in c.indexed_iter() {
+        if y == 0 && x == 0 {
+            continue;
+        }
+        let p = z.norm_sqr();
+        total += p;
+        if signed_frequency(x, w).hypot(signed_frequency(y, h)) < cutoff {
+            low += p;
+        }
+    }
+    low / total
+}
+
+/// The peak of the ring-summed power spectrum `|DFT|²` of a square image (mean removed), in
+/// cycles per pixel: the radius (a multiple of `1/side`) whose ring holds the most power.
+#[must_use]
+pub fn ring_power_peak(a: ArrayView2<'_, f64>, fft: &mut Fft2<f64>) -> f64 {
+    let (h, w) = a.dim();
+    let side = h.max(w);
+    let (m, _) = mean_variance(a);
+    let mut c = a.mapv(|x| Complex64::new(x - m, 0.0));
+    fft.forward(&mut c);
+    let mut rings = vec![0.0; side / 2];
+    for ((y, x), z) in c.indexed_iter() {
+        let r = signed_frequency(x, w).hypot(signed_frequency(y, h));
+        let k = (r * side as f64).round() as usize;
+        if k < rings.len() {
+            rings[k] += z.norm_sqr();
+        }
+    }
+    let peak = (1..rings.len())
+        .max_by(|&a, &b| rings[a].total_cmp(&rings[b]))
+        .unwrap_or(0);
+    peak as f64 / side as f64
+}
+
+/// The standard normal quantile `Φ⁻¹(p)` by bisection on `Φ(z) = ½ + φ(z)·Σ z^{2k+1}/(1·3·…·(2k+1))`
+/// (the series converges for every `z`; bisection stays in `[−8, 8]`).
+#[must_use]
+pub fn standard_normal_quantile(p: f64) -> f64 {
+    let cdf = |z: f64| {
+        let mut term = z;
+        let mut sum = z;
+        for k in 1..200 {
+            term *= z * z / (2 * k + 1) as f64;
+            sum += term;
+        }
+        0.5 + (-z * z / 2.0).exp() / (2.0 * std::f64::consts::PI).sqrt() * sum
+    };
+    let (mut lo, mut hi) = (-8.0, 8.0);
+    for _ in 0..100 {
+        let mid = 0.5 * (lo + hi);
+        if cdf(mid) < p {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+/// The fraction of pixels above the threshold a user would set to keep `1 − p` of a Gaussian
+/// noise white: `mean + σ·Φ⁻¹(p)`, with the image's own mean and standard deviation (so only
+/// its departure from a Gaussian shape moves the fraction away from `1 − p`).
+#[must_use]
+pub fn fraction_above_gaussian_quantile(a: ArrayView2<'_, f64>, p: f64) -> f64 {
+    let (m, v) = mean_variance(a);
+    let t = m + v.sqrt() * standard_normal_quantile(p);
+    a.iter().filter(|&&x| x > t).count() as f64 / a.len().max(1) as f64
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shape_distance_is_zero_for_one_shape_and_two_for_disjoint_ones() {
+        let a = Array2::from_shape_fn((16, 16), |(y, x)| if (y, x) == (3, 3) { 1.0 } else { 0.0 });
+        let b = Array2::from_shape_fn(
+            (16, 16),
+            |(y, x)| if (y, x) == (10, 10) { 5.0 } else { 0.0 },
+        );
+        assert!(shape_distance(a.view(), (a.clone() * 7.0).view()) < 1e-12);
+        assert!((shape_distance(a.view(), b.view()) - 2.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn log_log_fit_recovers_a_power_law() {
+        let n = 64;
+        let psd = Array2::from_shape_fn((n, n), |(y, x)| {
+            let f = signed_frequency(x, n).hypot(signed_frequency(y, n));
+            if f == 0.0 { 0.0 } else { 3.0 * f.powf(-1.5) }
+        });
+        let (slope, _, bins) = log_log_fit(psd.view(), 0.05, 0.4);
+        assert!(bins.len() > 10);
+        // Ring means of f^(−1.5) over rings of finite width: close to, not exactly, −1.5.
+        assert!((slope + 1.5).abs() < 0.02, "slope {slope}");
+    }
+
+    #[test]
+    fn normal_quantiles() {
+        assert!(standard_normal_quantile(0.5).abs() < 1e-12);
+        assert!((standard_normal_quantile(0.75) - 0.674_489_750).abs() < 1e-8);
+        assert!((standard_normal_quantile(0.975) - 1.959_963_985).abs() < 1e-8);
+    }
+
+    #[test]
+    fn moments_of_a_two_level_signal() {
+        let a = Array2::from_shape_fn((4, 4), |(y, _)| if y < 2 { -1.0 } else { 1.0 });
+        assert_eq!(mean_variance(a.view()), (0.0, 1.0));
+        assert!((excess_kurtosis(a.view()) + 2.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_constant_contrast_cosine_has_no_low_variance_energy() {
+        let n = 64;
+        let mut fft = Fft2::new();
+        let cosine = Array2::from_shape_fn((n, n), |(_, x)| {
+            (std::f64::consts::TAU * x as f64 / 8.0).cos()
+        });
+        let beat = Array2::from_shape_fn((n, n), |(_, x)| {
+            (std::f64::consts::TAU * x as f64 / 8.0).cos()
+                * (std::f64::consts::TAU * x as f64 / 64.0).cos()
+        });
+        assert!(variance_low_fraction(cosine.view(), 1.0 / 16.0, &mut fft) < 1e-12);
+        assert!(variance_low_fraction(beat.view(), 1.0 / 16.0, &mut fft) > 0.3);
+        assert!((ring_power_peak(cosine.view(), &mut fft) - 0.125).abs() < 1e-12);
+    }
+}
