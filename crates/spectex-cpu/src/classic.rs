@@ -103,6 +103,9 @@ fn hash3(i: i32, j: i32, k: i32, o: u32, key0: u32) -> u32 {
 struct Octave {
     /// Cell side, pixels.
     side: f64,
+    /// `1 / side` when that is exact (a power of two): `x · (1/side)` is then `x / side` bit
+    /// for bit, without the division.
+    inv_side: Option<f64>,
     /// `gain^o`.
     weight: f32,
     /// The octave's layer (its index).
@@ -207,6 +210,193 @@ struct WorleyParams {
     cap: f32,
 }
 
+/// What the lattice corners of one octave contribute along one row, for the lattice columns
+/// the row's lanes visit. Entry `p·len + c` belongs to column `lo + c` in row key `p` (the rows
+/// `iy`, `iy + 1` times, in 3D, the planes `kz`, `kz + 1`, as `p = 2·dz + dy`), whose corner
+/// hash is `h = cell_hash_in_row(lo + c, key_p)`. A row of cells 32 pixels wide hashes each
+/// corner once instead of once per pixel, and the lanes fetch the entries by column ([`Fetch`]).
+///
+/// Value noise stores `lattice_value(h)`. Gradient noise stores `gradient_dot(h, X, Y, Z)` with
+/// the row's constants `Y = uy − dy`, `Z = uz − dz` folded in, as the bits of
+/// `((X & mask) ^ sign) + constant`: `gradient_dot` is `u' + v'`, two coordinates with their
+/// sign bits flipped by `h`; when one of them is `X`, `mask` keeps it, `sign` flips it and
+/// `constant` is the other (IEEE addition commutes, so the order of `u' + v'` does not
+/// matter); when neither is, `mask` is 0 and `constant` the whole sum, with `sign` giving the
+/// `±0` that leaves it unchanged (`−0 + −0 = −0`). Every value is bit for bit the one the lanes
+/// compute from the hash.
+#[derive(Debug, Clone)]
+struct Columns {
+    /// The first column.
+    lo: i32,
+    /// Entries per row key: the columns `lo..=hi + 1`, then `L` of padding so that any window
+    /// of `L` entries a group of lanes reads is in the table.
+    len: usize,
+    /// Gradient noise: all ones where the corner's sum takes `X`, else 0 (empty for value
+    /// noise).
+    mask: Vec<u32>,
+    /// Gradient noise: the sign bit flipping `X` (or the zero's sign, see above).
+    sign: Vec<u32>,
+    /// The f32 bits of the constant term (value noise: the lattice value).
+    constant: Vec<u32>,
+}
+
+/// The lattice corner of row key `p` at column `ix + dx` of each lane (`ix` is the column
+/// `lo + at + idx[l] − dx`) from the [`Columns`] `t`; `ux`: the lanes' offsets in their cells.
+#[inline(always)]
+fn corner<const L: usize, F: Fetch<L>>(
+    t: &Columns,
+    p: usize,
+    at: usize,
+    idx: &[u32; L],
+    ux: &[f32; L],
+    dx: usize,
+    gradient: bool,
+) -> [f32; L] {
+    let at = p * t.len + at;
+    let constant = F::fetch(&t.constant[at..at + L], idx);
+    let mut out = [0.0f32; L];
+    if gradient {
+        let mask = F::fetch(&t.mask[at..at + L], idx);
+        let sign = F::fetch(&t.sign[at..at + L], idx);
+        for l in 0..L {
+            let x = ux[l] - dx as f32;
+            out[l] =
+                f32::from_bits((x.to_bits() & mask[l]) ^ sign[l]) + f32::from_bits(constant[l]);
+        }
+    } else {
+        for l in 0..L {
+            out[l] = f32::from_bits(constant[l]);
+        }
+    }
+    out
+}
+
+/// `(mask, sign, constant bits)` of [`Columns`] for corner hash `h` and the row constants
+/// `y`, `z`: `f32::from_bits((x.to_bits() & mask) ^ sign) + f32::from_bits(constant)` is
+/// `gradient_dot(h, x, y, z)` for every `x`.
+#[inline(always)]
+fn gradient_terms(h: u32, y: f32, z: f32) -> (u32, u32, u32) {
+    // Selects only, so that a row's table is built in the lanes.
+    let g = h >> 28;
+    let flip = |v: f32, bit: u32| f32::from_bits(v.to_bits() ^ bit);
+    let (s1, s2) = ((g & 1) << 31, (g & 2) << 30);
+    let x_first = g < 8; // u = x, v = y (g < 4) or z
+    let x_second = g == 12 || g == 14; // u = y, v = x
+    let first = flip(if g < 4 { y } else { z }, s2).to_bits();
+    let second = flip(y, s1).to_bits();
+    // u = y, v = z: no x.
+    let k = (flip(y, s1) + flip(z, s2)).to_bits();
+    let mask = if x_first || x_second { u32::MAX } else { 0 };
+    let sign = if x_first {
+        s1
+    } else if x_second {
+        s2
+    } else {
+        k & (1 << 31)
+    };
+    let constant = if x_first {
+        first
+    } else if x_second {
+        second
+    } else {
+        k
+    };
+    (mask, sign, constant)
+}
+
+/// How a group of `L` lanes reads `window[idx[l]]` (`idx[l] < L`, `window.len() ≥ L`): by
+/// index in the portable build, by one register permute with AVX2 or AVX-512. All three give
+/// the same integers; only the instructions differ.
+trait Fetch<const L: usize> {
+    fn fetch(window: &[u32], idx: &[u32; L]) -> [u32; L];
+}
+
+/// [`Fetch`] by indexing.
+struct Indexed;
+
+impl<const L: usize> Fetch<L> for Indexed {
+    #[inline(always)]
+    fn fetch(window: &[u32], idx: &[u32; L]) -> [u32; L] {
+        std::array::from_fn(|l| window[idx[l] as usize % L])
+    }
+}
+
+/// [`Fetch`] by `vpermd` (AVX2, 8 lanes).
+#[cfg(target_arch = "x86_64")]
+struct Permute8;
+
+#[cfg(target_arch = "x86_64")]
+impl Fetch<LANES> for Permute8 {
+    #[inline(always)]
+    fn fetch(window: &[u32], idx: &[u32; LANES]) -> [u32; LANES] {
+        #[allow(unsafe_code)]
+        // SAFETY: `Permute8` is used only by `row_avx2`, which runs only when the CPU reports
+        // AVX2 at run time.
+        unsafe {
+            permute8(window, idx)
+        }
+    }
+}
+
+/// `window[idx[l] % 8]` by one `vpermd`.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn permute8(window: &[u32], idx: &[u32; LANES]) -> [u32; LANES] {
+    use std::arch::x86_64::{__m256i, _mm256_loadu_si256, _mm256_permutevar8x32_epi32};
+    let window = &window[..LANES];
+    #[allow(unsafe_code)]
+    // SAFETY: both loads read 8 `u32` (32 bytes) from slices of at least that length
+    // (unaligned loads), and `__m256i` and `[u32; 8]` have the same size, every bit pattern
+    // valid for both.
+    unsafe {
+        let t = _mm256_loadu_si256(window.as_ptr().cast::<__m256i>());
+        let i = _mm256_loadu_si256(idx.as_ptr().cast::<__m256i>());
+        std::mem::transmute::<__m256i, [u32; LANES]>(_mm256_permutevar8x32_epi32(t, i))
+    }
+}
+
+/// [`Fetch`] by `vpermd` (AVX-512 row, 16 lanes).
+#[cfg(target_arch = "x86_64")]
+struct Permute16;
+
+#[cfg(target_arch = "x86_64")]
+impl Fetch<WIDE_LANES> for Permute16 {
+    #[inline(always)]
+    fn fetch(window: &[u32], idx: &[u32; WIDE_LANES]) -> [u32; WIDE_LANES] {
+        #[allow(unsafe_code)]
+        // SAFETY: `Permute16` is used only by `row_avx512`, which runs only when the CPU
+        // reports AVX-512F at run time, and AVX-512F implies AVX2.
+        unsafe {
+            permute16(window, idx)
+        }
+    }
+}
+
+/// `window[idx[l] % 16]`: each half of the lanes permutes both halves of the window with
+/// `vpermd` (AVX2) and keeps the one its index points into. (The one-instruction AVX-512
+/// permute is stable only from Rust 1.89, above the workspace's MSRV.)
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn permute16(window: &[u32], idx: &[u32; WIDE_LANES]) -> [u32; WIDE_LANES] {
+    let window = &window[..WIDE_LANES];
+    let (low, high) = window.split_at(LANES);
+    let mut out = [0u32; WIDE_LANES];
+    for (half, lanes) in out.chunks_exact_mut(LANES).enumerate() {
+        let mut i = [0u32; LANES];
+        i.copy_from_slice(&idx[half * LANES..(half + 1) * LANES]);
+        let from_low = permute8(low, &i);
+        let from_high = permute8(high, &i);
+        for l in 0..LANES {
+            lanes[l] = if i[l] & 8 == 0 {
+                from_low[l]
+            } else {
+                from_high[l]
+            };
+        }
+    }
+    out
+}
+
 /// A classic noise ready to evaluate.
 #[derive(Debug, Clone)]
 pub struct ClassicEvaluator {
@@ -236,8 +426,15 @@ impl ClassicEvaluator {
                 let (kz, uz) = locate(pz);
                 let zkeys = [-1, 0, 1]
                     .map(|d| layer_key(o, cell_hash(kz.wrapping_add(d), 0, o, model.seed)));
+                let inv = 1.0 / side;
+                let mantissa = (1u64 << 52) - 1;
+                let exact = side.to_bits() & mantissa == 0
+                    && inv.to_bits() & mantissa == 0
+                    && side.is_normal()
+                    && inv.is_normal();
                 Octave {
                     side,
+                    inv_side: exact.then_some(inv),
                     weight: model.octave_weight(o),
                     layer: o,
                     key2: layer_key(o, model.seed),
@@ -323,12 +520,23 @@ impl ClassicEvaluator {
 
     /// Evaluates rows `first..` of `window` into `out` (a whole number of rows).
     pub fn eval_rows(&self, window: &Window, first: usize, out: &mut [f32]) {
+        self.eval_rows_with(window, first, out, true);
+    }
+
+    /// [`eval_rows`](Self::eval_rows) with every lattice hash computed in the lanes, pixel by
+    /// pixel: the path the row tables of [`Columns`] are tested and benched against.
+    pub fn eval_rows_reference(&self, window: &Window, first: usize, out: &mut [f32]) {
+        self.eval_rows_with(window, first, out, false);
+    }
+
+    /// `columns`: read lattice hashes from per-row [`Columns`] tables where the basis allows.
+    fn eval_rows_with(&self, window: &Window, first: usize, out: &mut [f32], columns: bool) {
         if window.width == 0 {
             return;
         }
         let fade = self.fade(window);
         for (r, line) in out.chunks_exact_mut(window.width).enumerate() {
-            self.eval_row_faded(window, first + r, line, fade.as_ref());
+            self.eval_row_faded(window, first + r, line, fade.as_ref(), columns);
         }
     }
 
@@ -348,26 +556,34 @@ impl ClassicEvaluator {
 
     /// Evaluates row `row` of `window` into `out` (`window.width` values).
     pub fn eval_row(&self, window: &Window, row: usize, out: &mut [f32]) {
-        self.eval_row_faded(window, row, out, self.fade(window).as_ref());
+        self.eval_row_faded(window, row, out, self.fade(window).as_ref(), true);
     }
 
     /// [`eval_row`](Self::eval_row) with the octave fade of a minified render (`None`:
     /// unfiltered).
-    fn eval_row_faded(&self, window: &Window, row: usize, out: &mut [f32], w: Option<&OctaveFade>) {
+    /// `columns`: read lattice hashes from per-row [`Columns`] tables where the basis allows.
+    fn eval_row_faded(
+        &self,
+        window: &Window,
+        row: usize,
+        out: &mut [f32],
+        w: Option<&OctaveFade>,
+        columns: bool,
+    ) {
         let y = window.y(row);
         let rows: Vec<RowOctave> = self.octaves.iter().map(|o| self.row_octave(o, y)).collect();
         #[cfg(target_arch = "x86_64")]
         match self.simd {
             #[allow(unsafe_code)]
             // SAFETY: `Simd::Avx512` is chosen only when the CPU reports AVX-512F at run time.
-            Simd::Avx512 => unsafe { self.row_avx512(window, &rows, out, w) },
+            Simd::Avx512 => unsafe { self.row_avx512(window, &rows, out, w, columns) },
             #[allow(unsafe_code)]
             // SAFETY: `Simd::Avx2` is chosen only when the CPU reports AVX2 at run time.
-            Simd::Avx2 => unsafe { self.row_avx2(window, &rows, out, w) },
-            Simd::Portable => self.row::<LANES>(window, &rows, out, w),
+            Simd::Avx2 => unsafe { self.row_avx2(window, &rows, out, w, columns) },
+            Simd::Portable => self.row::<LANES, Indexed>(window, &rows, out, w, columns),
         }
         #[cfg(not(target_arch = "x86_64"))]
-        self.row::<LANES>(window, &rows, out, w);
+        self.row::<LANES, Indexed>(window, &rows, out, w, columns);
     }
 
     /// The noise at one position (the same bits as any render).
@@ -400,8 +616,9 @@ impl ClassicEvaluator {
         rows: &[RowOctave],
         out: &mut [f32],
         w: Option<&OctaveFade>,
+        columns: bool,
     ) {
-        self.row::<LANES>(window, rows, out, w);
+        self.row::<LANES, Permute8>(window, rows, out, w, columns);
     }
 
     #[cfg(target_arch = "x86_64")]
@@ -412,25 +629,37 @@ impl ClassicEvaluator {
         rows: &[RowOctave],
         out: &mut [f32],
         w: Option<&OctaveFade>,
+        columns: bool,
     ) {
-        self.row::<WIDE_LANES>(window, rows, out, w);
+        self.row::<WIDE_LANES, Permute16>(window, rows, out, w, columns);
     }
 
     /// One row, `L` pixels at a time; `inline(always)` so each SIMD wrapper gets its own copy.
     /// `fade`: how a minified render takes each octave (`classic_fade`), else `None`.
+    /// `columns`: read lattice hashes from per-row [`Columns`] tables where the basis allows.
     #[inline(always)]
-    fn row<const L: usize>(
+    fn row<const L: usize, F: Fetch<L>>(
         &self,
         window: &Window,
         rows: &[RowOctave],
         out: &mut [f32],
         fade: Option<&OctaveFade>,
+        columns: bool,
     ) {
         let width = out.len();
         let mut lane_index = [0.0f64; L];
         for (l, v) in lane_index.iter_mut().enumerate() {
             *v = l as f64;
         }
+        let tables: Vec<Option<Columns>> = if columns {
+            self.octaves
+                .iter()
+                .zip(rows)
+                .map(|(o, r)| self.columns::<L>(o, r, window, width))
+                .collect()
+        } else {
+            Vec::new()
+        };
         let mut start = 0;
         while start < width {
             // `window.x(i)` lane by lane: the integer `x0 + i` is exact in f64 either way.
@@ -439,13 +668,169 @@ impl ClassicEvaluator {
             for l in 0..L {
                 x[l] = window.offset[0] + (base + lane_index[l]) * window.scale;
             }
-            let acc = self.octave_sum::<L, _>(&x, rows, fade);
+            let acc = self.octave_sum::<L, _, F>(&x, rows, fade, &tables);
             let end = (start + L).min(width);
-            for (l, v) in out[start..end].iter_mut().enumerate() {
-                *v = self.mean + self.amplitude * acc[l];
+            if let Some(full) = out[start..end].first_chunk_mut::<L>() {
+                for l in 0..L {
+                    full[l] = self.mean + self.amplitude * acc[l];
+                }
+            } else {
+                for (l, v) in out[start..end].iter_mut().enumerate() {
+                    *v = self.mean + self.amplitude * acc[l];
+                }
             }
             start += L;
         }
+    }
+
+    /// The [`Columns`] of octave `o` on the row `r` of `window` (`width` pixels, evaluated `L`
+    /// at a time), or `None` where the basis hashes in the lanes (simplex, Worley) or the row
+    /// visits more lattice columns than it has pixels (a minified render of small cells).
+    #[inline(always)]
+    fn columns<const L: usize>(
+        &self,
+        o: &Octave,
+        r: &RowOctave,
+        window: &Window,
+        width: usize,
+    ) -> Option<Columns> {
+        if !matches!(self.basis, Basis::Gradient | Basis::Value) || width == 0 {
+            return None;
+        }
+        // Cells under 2 pixels: hashing in the lanes is as fast as building the table.
+        if o.side < 2.0 * window.scale {
+            return None;
+        }
+        // The first and last lanes' positions, as `row` computes them (positions grow along
+        // the row, and so do their cells).
+        let last_start = (width - 1) / L * L;
+        let first = window.offset[0] + (window.x0 as f64) * window.scale;
+        let last = window.offset[0]
+            + ((window.x0 + last_start as i64) as f64 + (L - 1) as f64) * window.scale;
+        let (lo, _) = locate(first / o.side);
+        let (hi, _) = locate(last / o.side);
+        let count = i64::from(hi) - i64::from(lo) + 2;
+        if count > (last_start + L) as i64 + 2 {
+            return None;
+        }
+        let count = count as usize;
+        let len = count + L;
+        let keys: &[u32] = if self.three_d {
+            &[r.keys[1][1], r.keys[1][2], r.keys[2][1], r.keys[2][2]]
+        } else {
+            &[r.keys[1][1], r.keys[1][2]]
+        };
+        let gradient = self.basis == Basis::Gradient;
+        let size = keys.len() * len;
+        let mut t = Columns {
+            lo,
+            len,
+            mask: vec![0; if gradient { size } else { 0 }],
+            sign: vec![0; if gradient { size } else { 0 }],
+            constant: vec![0; size],
+        };
+        let mut hashes = vec![0u32; count];
+        for (p, &key) in keys.iter().enumerate() {
+            for (c, h) in hashes.iter_mut().enumerate() {
+                *h = cell_hash_in_row(lo.wrapping_add(c as i32), key);
+            }
+            let at = p * len;
+            if gradient {
+                // As the lanes compute them: `uy − dy`, `uz − dz` (2D: `uy`, `uy − 1`, 0).
+                let (dz, dy) = (p / 2, p % 2);
+                let y = r.uy - dy as f32;
+                let z = if self.three_d { o.uz - dz as f32 } else { 0.0 };
+                for (c, &h) in hashes.iter().enumerate() {
+                    (t.mask[at + c], t.sign[at + c], t.constant[at + c]) = gradient_terms(h, y, z);
+                }
+            } else {
+                for (c, &h) in hashes.iter().enumerate() {
+                    t.constant[at + c] = lattice_value(h).to_bits();
+                }
+            }
+        }
+        Some(t)
+    }
+
+    /// Gradient or value noise with the corner hashes read from the row's [`Columns`] `t`, the
+    /// arithmetic of [`gradient2`] and [`gradient3`] otherwise; `false` (nothing written) when
+    /// the lanes span `L` or more lattice columns, which one fetch cannot reach.
+    #[inline(always)]
+    fn lattice_columns<const L: usize, F: Fetch<L>, R: RowLanes>(
+        &self,
+        o: &Octave,
+        r: &R,
+        x: &[f64; L],
+        t: &Columns,
+        n: &mut [f32; L],
+    ) -> bool {
+        let mut ix = [0i32; L];
+        let mut ux = [0.0f32; L];
+        match o.inv_side {
+            Some(inv) => {
+                for l in 0..L {
+                    (ix[l], ux[l]) = locate(x[l] * inv);
+                }
+            }
+            None => {
+                for l in 0..L {
+                    (ix[l], ux[l]) = locate(x[l] / o.side);
+                }
+            }
+        }
+        let span = i64::from(ix[L - 1]) - i64::from(ix[0]);
+        let base = i64::from(ix[0]) - i64::from(t.lo);
+        if !(0..L as i64).contains(&span) || base < 0 || base as usize + 1 + L > t.len {
+            return false;
+        }
+        let base = base as usize;
+        let mut idx = [0u32; L];
+        for l in 0..L {
+            idx[l] = ix[l].wrapping_sub(ix[0]) as u32;
+        }
+        let gradient = self.basis == Basis::Gradient;
+        let lerp = |a: f32, b: f32, t: f32| a + t * (b - a);
+        if self.three_d {
+            let mut c = [[[[0.0f32; L]; 2]; 2]; 2];
+            for (dz, cz) in c.iter_mut().enumerate() {
+                for (dy, cy) in cz.iter_mut().enumerate() {
+                    for (dx, cx) in cy.iter_mut().enumerate() {
+                        *cx = corner::<L, F>(t, 2 * dz + dy, base + dx, &idx, &ux, dx, gradient);
+                    }
+                }
+            }
+            let sz = fade(o.uz);
+            for l in 0..L {
+                let sy = fade(r.uy(l));
+                let sx = fade(ux[l]);
+                let y0 = lerp(
+                    lerp(c[0][0][0][l], c[0][0][1][l], sx),
+                    lerp(c[0][1][0][l], c[0][1][1][l], sx),
+                    sy,
+                );
+                let y1 = lerp(
+                    lerp(c[1][0][0][l], c[1][0][1][l], sx),
+                    lerp(c[1][1][0][l], c[1][1][1][l], sx),
+                    sy,
+                );
+                n[l] = lerp(y0, y1, sz);
+            }
+        } else {
+            let mut c = [[[0.0f32; L]; 2]; 2];
+            for (dy, cy) in c.iter_mut().enumerate() {
+                for (dx, cx) in cy.iter_mut().enumerate() {
+                    *cx = corner::<L, F>(t, dy, base + dx, &idx, &ux, dx, gradient);
+                }
+            }
+            for l in 0..L {
+                let sy = fade(r.uy(l));
+                let sx = fade(ux[l]);
+                let a = c[0][0][l] + sx * (c[0][1][l] - c[0][0][l]);
+                let b = c[1][0][l] + sx * (c[1][1][l] - c[1][0][l]);
+                n[l] = a + sy * (b - a);
+            }
+        }
+        true
     }
 
     /// The points of `points` (pixels), `L` at a time, into `out`: each lane at its own
@@ -474,7 +859,7 @@ impl ClassicEvaluator {
             for (r, o) in rows.iter_mut().zip(&self.octaves) {
                 self.point_rows(o, &y, r);
             }
-            let acc = self.octave_sum::<L, _>(&x, &rows, None);
+            let acc = self.octave_sum::<L, _, Indexed>(&x, &rows, None, &[]);
             for (l, v) in values.iter_mut().enumerate() {
                 *v = self.mean + self.amplitude * acc[l];
             }
@@ -538,13 +923,15 @@ impl ClassicEvaluator {
     }
 
     /// The octaves' fractal sum at the lanes' positions `x` along x, their rows (one per
-    /// octave) along y; `fade`: how a minified render takes each octave, else `None`.
+    /// octave) along y; `fade`: how a minified render takes each octave, else `None`;
+    /// `tables`: each octave's [`Columns`] of the row, where it has one (else empty).
     #[inline(always)]
-    fn octave_sum<const L: usize, R: RowLanes>(
+    fn octave_sum<const L: usize, R: RowLanes, F: Fetch<L>>(
         &self,
         x: &[f64; L],
         rows: &[R],
         fade: Option<&OctaveFade>,
+        tables: &[Option<Columns>],
     ) -> [f32; L] {
         let mut acc = [0.0f32; L];
         let mut previous = [0.0f32; L];
@@ -575,7 +962,14 @@ impl ClassicEvaluator {
                 }
                 continue;
             }
-            let n = self.basis_lanes::<L, R>(oct, ro, x);
+            let mut n = [0.0f32; L];
+            let from_table = match tables.get(o).and_then(Option::as_ref) {
+                Some(t) => self.lattice_columns::<L, F, R>(oct, ro, x, t, &mut n),
+                None => false,
+            };
+            if !from_table {
+                n = self.basis_lanes::<L, R>(oct, ro, x);
+            }
             match (self.kind, faded) {
                 (None | Some(FractalKind::Fbm), None) => {
                     for l in 0..L {
@@ -1086,7 +1480,42 @@ impl crate::RowKernel for ClassicEvaluator {
         ClassicEvaluator::eval_rows(self, window, first, out);
     }
 
+    fn eval_rows_reference(&self, window: &Window, first: usize, out: &mut [f32]) {
+        ClassicEvaluator::eval_rows_reference(self, window, first, out);
+    }
+
     fn eval_points(&self, points: &[[f64; 2]], out: &mut [f32]) {
         ClassicEvaluator::eval_points(self, points, out);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{gradient_dot, gradient_terms};
+
+    /// The folded corner `((x & mask) ^ sign) + constant` is `gradient_dot` bit for bit, for
+    /// every gradient index and signed zeros among the coordinates (the case `−0 + −0`).
+    #[test]
+    fn gradient_terms_fold_gradient_dot_exactly() {
+        let values = [0.0f32, -0.0, 0.375, -0.625, 1.0, -1.0, 0.999_999_9, 1.0e-30];
+        for g in 0..16u32 {
+            // Low bits too: only the top four choose the gradient.
+            let h = (g << 28) | 0x0123_4567;
+            for &y in &values {
+                for &z in &values {
+                    let (mask, sign, constant) = gradient_terms(h, y, z);
+                    for &x in &values {
+                        let folded =
+                            f32::from_bits((x.to_bits() & mask) ^ sign) + f32::from_bits(constant);
+                        let direct = gradient_dot(h, x, y, z);
+                        assert_eq!(
+                            folded.to_bits(),
+                            direct.to_bits(),
+                            "g {g}, (x, y, z) = ({x:e}, {y:e}, {z:e}): {folded:e} vs {direct:e}"
+                        );
+                    }
+                }
+            }
+        }
     }
 }
