@@ -59,6 +59,9 @@ use crate::lrp::Simd;
 const LANES: usize = 8;
 /// Pixels evaluated together by the AVX-512 path.
 const WIDE_LANES: usize = 16;
+/// Entries of a [`Columns`] table the lanes read at once (at least `WIDE_LANES + 1`), and the
+/// padding after its columns.
+const WINDOW: usize = 32;
 
 /// `1.5·2⁵²`: `(p + M) − M` rounds an f64 of magnitude below 2⁵¹ to the nearest integer, and
 /// the low 32 bits of `p + M` are that integer in two's complement.
@@ -79,6 +82,30 @@ fn split(p: f64) -> (i32, f64) {
 fn locate(p: f64) -> (i32, f32) {
     let (i, f) = split(p);
     (i, (p - f) as f32)
+}
+
+/// [`locate`] in the lanes, written as one simple loop per step so that it vectorises (the
+/// same operations, so the same bits).
+#[inline(always)]
+fn locate_lanes<const L: usize>(p: &[f64; L], ix: &mut [i32; L], ux: &mut [f32; L]) {
+    let mut m = [0.0f64; L];
+    for l in 0..L {
+        m[l] = p[l] + ROUND_MAGIC;
+    }
+    let mut f = [0.0f64; L];
+    let mut above = [0i32; L];
+    for l in 0..L {
+        let r = m[l] - ROUND_MAGIC;
+        let a = r > p[l];
+        above[l] = i32::from(a);
+        f[l] = if a { r - 1.0 } else { r };
+    }
+    for l in 0..L {
+        ix[l] = (m[l].to_bits() as u32 as i32).wrapping_sub(above[l]);
+    }
+    for l in 0..L {
+        ux[l] = (p[l] - f[l]) as f32;
+    }
 }
 
 #[inline(always)]
@@ -228,8 +255,8 @@ struct WorleyParams {
 struct Columns {
     /// The first column.
     lo: i32,
-    /// Entries per row key: the columns `lo..=hi + 1`, then `L` of padding so that any window
-    /// of `L` entries a group of lanes reads is in the table.
+    /// Entries per row key: the columns `lo..=hi + 1`, then [`WINDOW`] of padding so that the
+    /// window of entries a group of lanes reads is in the table.
     len: usize,
     /// Gradient noise: all ones where the corner's sum takes `X`, else 0 (empty for value
     /// noise).
@@ -240,35 +267,49 @@ struct Columns {
     constant: Vec<u32>,
 }
 
-/// The lattice corner of row key `p` at column `ix + dx` of each lane (`ix` is the column
-/// `lo + at + idx[l] − dx`) from the [`Columns`] `t`; `ux`: the lanes' offsets in their cells.
+/// The lattice corners of row key `p` at columns `ix` and `ix + 1` of each lane (`ix` is the
+/// column `lo + base + idx[l]`) from the [`Columns`] `t`; `ux`: the lanes' offsets in their
+/// cells. `GRADIENT`: gradient noise, else value noise; `narrow`: every `idx[l] < 8`.
 #[inline(always)]
-fn corner<const L: usize, F: Fetch<L>>(
+fn corners<const L: usize, F: Fetch<L>, const GRADIENT: bool>(
     t: &Columns,
     p: usize,
-    at: usize,
+    base: usize,
     idx: &[u32; L],
     ux: &[f32; L],
-    dx: usize,
-    gradient: bool,
-) -> [f32; L] {
-    let at = p * t.len + at;
-    let constant = F::fetch(&t.constant[at..at + L], idx);
-    let mut out = [0.0f32; L];
-    if gradient {
-        let mask = F::fetch(&t.mask[at..at + L], idx);
-        let sign = F::fetch(&t.sign[at..at + L], idx);
-        for l in 0..L {
-            let x = ux[l] - dx as f32;
-            out[l] =
-                f32::from_bits((x.to_bits() & mask[l]) ^ sign[l]) + f32::from_bits(constant[l]);
+    narrow: bool,
+) -> [[f32; L]; 2] {
+    let fetch = if narrow { F::fetch_narrow } else { F::fetch };
+    // The entries the two fetches read (`L + 1 ≤ WINDOW`), as arrays: one bounds check each.
+    let at = p * t.len + base;
+    let constant = window(&t.constant, at);
+    let mut out = [[0.0f32; L]; 2];
+    if GRADIENT {
+        let (mask, sign) = (window(&t.mask, at), window(&t.sign, at));
+        for (dx, corner) in out.iter_mut().enumerate() {
+            let c = fetch(&constant[dx..dx + L], idx);
+            let m = fetch(&mask[dx..dx + L], idx);
+            let s = fetch(&sign[dx..dx + L], idx);
+            for l in 0..L {
+                let x = ux[l] - dx as f32;
+                corner[l] = f32::from_bits((x.to_bits() & m[l]) ^ s[l]) + f32::from_bits(c[l]);
+            }
         }
     } else {
-        for l in 0..L {
-            out[l] = f32::from_bits(constant[l]);
+        for (dx, corner) in out.iter_mut().enumerate() {
+            let c = fetch(&constant[dx..dx + L], idx);
+            for l in 0..L {
+                corner[l] = f32::from_bits(c[l]);
+            }
         }
     }
     out
+}
+
+/// The [`WINDOW`] entries of `table` from `at`.
+#[inline(always)]
+fn window(table: &[u32], at: usize) -> &[u32; WINDOW] {
+    <&[u32; WINDOW]>::try_from(&table[at..at + WINDOW]).expect("a slice of WINDOW entries")
 }
 
 /// `(mask, sign, constant bits)` of [`Columns`] for corner hash `h` and the row constants
@@ -309,6 +350,12 @@ fn gradient_terms(h: u32, y: f32, z: f32) -> (u32, u32, u32) {
 /// the same integers; only the instructions differ.
 trait Fetch<const L: usize> {
     fn fetch(window: &[u32], idx: &[u32; L]) -> [u32; L];
+
+    /// [`fetch`](Self::fetch) when every `idx[l] < 8` (the lanes span at most 8 columns).
+    #[inline(always)]
+    fn fetch_narrow(window: &[u32], idx: &[u32; L]) -> [u32; L] {
+        Self::fetch(window, idx)
+    }
 }
 
 /// [`Fetch`] by indexing.
@@ -370,6 +417,29 @@ impl Fetch<WIDE_LANES> for Permute16 {
             permute16(window, idx)
         }
     }
+
+    #[inline(always)]
+    fn fetch_narrow(window: &[u32], idx: &[u32; WIDE_LANES]) -> [u32; WIDE_LANES] {
+        #[allow(unsafe_code)]
+        // SAFETY: as for `fetch`.
+        unsafe {
+            permute16_narrow(window, idx)
+        }
+    }
+}
+
+/// `window[idx[l] % 8]` for 16 lanes: one `vpermd` per half of the lanes.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn permute16_narrow(window: &[u32], idx: &[u32; WIDE_LANES]) -> [u32; WIDE_LANES] {
+    let low = &window[..LANES];
+    let mut out = [0u32; WIDE_LANES];
+    for (half, lanes) in out.chunks_exact_mut(LANES).enumerate() {
+        let mut i = [0u32; LANES];
+        i.copy_from_slice(&idx[half * LANES..(half + 1) * LANES]);
+        lanes.copy_from_slice(&permute8(low, &i));
+    }
+    out
 }
 
 /// `window[idx[l] % 16]`: each half of the lanes permutes both halves of the window with
@@ -714,7 +784,7 @@ impl ClassicEvaluator {
             return None;
         }
         let count = count as usize;
-        let len = count + L;
+        let len = count + WINDOW;
         let keys: &[u32] = if self.three_d {
             &[r.keys[1][1], r.keys[1][2], r.keys[2][1], r.keys[2][2]]
         } else {
@@ -756,7 +826,13 @@ impl ClassicEvaluator {
     /// arithmetic of [`gradient2`] and [`gradient3`] otherwise; `false` (nothing written) when
     /// the lanes span `L` or more lattice columns, which one fetch cannot reach.
     #[inline(always)]
-    fn lattice_columns<const L: usize, F: Fetch<L>, R: RowLanes>(
+    fn lattice_columns<
+        const L: usize,
+        F: Fetch<L>,
+        R: RowLanes,
+        const GRADIENT: bool,
+        const THREE_D: bool,
+    >(
         &self,
         o: &Octave,
         r: &R,
@@ -766,37 +842,37 @@ impl ClassicEvaluator {
     ) -> bool {
         let mut ix = [0i32; L];
         let mut ux = [0.0f32; L];
+        let mut p = [0.0f64; L];
         match o.inv_side {
             Some(inv) => {
                 for l in 0..L {
-                    (ix[l], ux[l]) = locate(x[l] * inv);
+                    p[l] = x[l] * inv;
                 }
             }
             None => {
                 for l in 0..L {
-                    (ix[l], ux[l]) = locate(x[l] / o.side);
+                    p[l] = x[l] / o.side;
                 }
             }
         }
+        locate_lanes(&p, &mut ix, &mut ux);
         let span = i64::from(ix[L - 1]) - i64::from(ix[0]);
         let base = i64::from(ix[0]) - i64::from(t.lo);
-        if !(0..L as i64).contains(&span) || base < 0 || base as usize + 1 + L > t.len {
+        if !(0..L as i64).contains(&span) || base < 0 || base as usize + WINDOW > t.len {
             return false;
         }
         let base = base as usize;
+        let narrow = span < 8;
         let mut idx = [0u32; L];
         for l in 0..L {
             idx[l] = ix[l].wrapping_sub(ix[0]) as u32;
         }
-        let gradient = self.basis == Basis::Gradient;
         let lerp = |a: f32, b: f32, t: f32| a + t * (b - a);
-        if self.three_d {
+        if THREE_D {
             let mut c = [[[[0.0f32; L]; 2]; 2]; 2];
             for (dz, cz) in c.iter_mut().enumerate() {
                 for (dy, cy) in cz.iter_mut().enumerate() {
-                    for (dx, cx) in cy.iter_mut().enumerate() {
-                        *cx = corner::<L, F>(t, 2 * dz + dy, base + dx, &idx, &ux, dx, gradient);
-                    }
+                    *cy = corners::<L, F, GRADIENT>(t, 2 * dz + dy, base, &idx, &ux, narrow);
                 }
             }
             let sz = fade(o.uz);
@@ -818,9 +894,7 @@ impl ClassicEvaluator {
         } else {
             let mut c = [[[0.0f32; L]; 2]; 2];
             for (dy, cy) in c.iter_mut().enumerate() {
-                for (dx, cx) in cy.iter_mut().enumerate() {
-                    *cx = corner::<L, F>(t, dy, base + dx, &idx, &ux, dx, gradient);
-                }
+                *cy = corners::<L, F, GRADIENT>(t, dy, base, &idx, &ux, narrow);
             }
             for l in 0..L {
                 let sy = fade(r.uy(l));
@@ -964,7 +1038,20 @@ impl ClassicEvaluator {
             }
             let mut n = [0.0f32; L];
             let from_table = match tables.get(o).and_then(Option::as_ref) {
-                Some(t) => self.lattice_columns::<L, F, R>(oct, ro, x, t, &mut n),
+                Some(t) => match (self.basis == Basis::Gradient, self.three_d) {
+                    (true, true) => {
+                        self.lattice_columns::<L, F, R, true, true>(oct, ro, x, t, &mut n)
+                    }
+                    (true, false) => {
+                        self.lattice_columns::<L, F, R, true, false>(oct, ro, x, t, &mut n)
+                    }
+                    (false, true) => {
+                        self.lattice_columns::<L, F, R, false, true>(oct, ro, x, t, &mut n)
+                    }
+                    (false, false) => {
+                        self.lattice_columns::<L, F, R, false, false>(oct, ro, x, t, &mut n)
+                    }
+                },
                 None => false,
             };
             if !from_table {
