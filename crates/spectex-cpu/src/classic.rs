@@ -312,6 +312,31 @@ fn window(table: &[u32], at: usize) -> &[u32; WINDOW] {
     <&[u32; WINDOW]>::try_from(&table[at..at + WINDOW]).expect("a slice of WINDOW entries")
 }
 
+/// The feature points of one Worley octave with a fixed count along one row, for the lattice
+/// columns `lo..` the row's 3×3 (×3) searches visit: entry `(q·keys + p)·len + c` of
+/// `offsets[axis]` holds the f32 bits of point `q`'s offset along `axis` in column `lo + c` of
+/// row key `p` (`p = 3·(dz + 1) + dy + 1`; 2D: `dy + 1`), drawn from the PRNG seeded with the
+/// cell's hash exactly as the lanes draw them, so the lanes read the same floats instead of
+/// hashing 9 (27) cells per pixel.
+#[derive(Debug, Clone)]
+struct WorleyColumns {
+    /// The first column (one left of the row's first cell).
+    lo: i32,
+    /// Entries per (point, row key): the columns, then [`WINDOW`] of padding.
+    len: usize,
+    /// Row keys per point: 3 (2D) or 9 (3D).
+    keys: usize,
+    /// Offsets along x, y, z (z empty in 2D).
+    offsets: [Vec<u32>; 3],
+}
+
+/// A row's table for one octave: lattice corners or Worley feature points.
+#[derive(Debug, Clone)]
+enum RowTable {
+    Lattice(Columns),
+    Worley(WorleyColumns),
+}
+
 /// `(mask, sign, constant bits)` of [`Columns`] for corner hash `h` and the row constants
 /// `y`, `z`: `f32::from_bits((x.to_bits() & mask) ^ sign) + f32::from_bits(constant)` is
 /// `gradient_dot(h, x, y, z)` for every `x`.
@@ -721,7 +746,7 @@ impl ClassicEvaluator {
         for (l, v) in lane_index.iter_mut().enumerate() {
             *v = l as f64;
         }
-        let tables: Vec<Option<Columns>> = if columns {
+        let tables: Vec<Option<RowTable>> = if columns {
             self.octaves
                 .iter()
                 .zip(rows)
@@ -763,7 +788,12 @@ impl ClassicEvaluator {
         r: &RowOctave,
         window: &Window,
         width: usize,
-    ) -> Option<Columns> {
+    ) -> Option<RowTable> {
+        if let Basis::Worley(_) = self.basis {
+            return self
+                .worley_columns::<L>(o, r, window, width)
+                .map(RowTable::Worley);
+        }
         if !matches!(self.basis, Basis::Gradient | Basis::Value) || width == 0 {
             return None;
         }
@@ -771,16 +801,9 @@ impl ClassicEvaluator {
         if o.side < 2.0 * window.scale {
             return None;
         }
-        // The first and last lanes' positions, as `row` computes them (positions grow along
-        // the row, and so do their cells).
-        let last_start = (width - 1) / L * L;
-        let first = window.offset[0] + (window.x0 as f64) * window.scale;
-        let last = window.offset[0]
-            + ((window.x0 + last_start as i64) as f64 + (L - 1) as f64) * window.scale;
-        let (lo, _) = locate(first / o.side);
-        let (hi, _) = locate(last / o.side);
+        let (lo, hi) = Self::column_range::<L>(o, window, width);
         let count = i64::from(hi) - i64::from(lo) + 2;
-        if count > (last_start + L) as i64 + 2 {
+        if count > (width + L) as i64 + 2 {
             return None;
         }
         let count = count as usize;
@@ -819,7 +842,81 @@ impl ClassicEvaluator {
                 }
             }
         }
-        Some(t)
+        Some(RowTable::Lattice(t))
+    }
+
+    /// The first and last lattice columns of the lanes of a row of `window` (`width` pixels,
+    /// `L` at a time) on octave `o`: positions grow along the row, and so do their cells.
+    #[inline(always)]
+    fn column_range<const L: usize>(o: &Octave, window: &Window, width: usize) -> (i32, i32) {
+        let last_start = (width - 1) / L * L;
+        let first = window.offset[0] + (window.x0 as f64) * window.scale;
+        let last = window.offset[0]
+            + ((window.x0 + last_start as i64) as f64 + (L - 1) as f64) * window.scale;
+        (locate(first / o.side).0, locate(last / o.side).0)
+    }
+
+    /// The [`WorleyColumns`] of octave `o` on the row `r`, or `None`: a Poisson count, cells
+    /// under 2 pixels, or more columns than pixels.
+    #[inline(always)]
+    fn worley_columns<const L: usize>(
+        &self,
+        o: &Octave,
+        r: &RowOctave,
+        window: &Window,
+        width: usize,
+    ) -> Option<WorleyColumns> {
+        let w = self.worley.as_ref()?;
+        let points = w.fixed? as usize;
+        if width == 0 || o.side < 2.0 * window.scale {
+            return None;
+        }
+        let (first, last) = Self::column_range::<L>(o, window, width);
+        // Columns `first − 1 ..= last + 1`.
+        let count = i64::from(last) - i64::from(first) + 3;
+        if count > (width + L) as i64 + 3 {
+            return None;
+        }
+        let count = count as usize;
+        let lo = first.wrapping_sub(1);
+        let len = count + WINDOW;
+        let mut keys = Vec::with_capacity(9);
+        for dz in if self.three_d { 0..3 } else { 1..2 } {
+            for dy in 0..3 {
+                keys.push(r.keys[dz][dy]);
+            }
+        }
+        let size = points * keys.len() * len;
+        let mut offsets = [vec![0u32; size], vec![0u32; size], Vec::new()];
+        if self.three_d {
+            offsets[2] = vec![0u32; size];
+        }
+        let mut state = vec![0u32; count];
+        for (p, &key) in keys.iter().enumerate() {
+            for (c, s) in state.iter_mut().enumerate() {
+                *s = cell_hash_in_row(lo.wrapping_add(c as i32), key);
+            }
+            for q in 0..points {
+                let at = (q * keys.len() + p) * len;
+                for (c, s) in state.iter_mut().enumerate() {
+                    // As `worley_lanes` draws them: x, y, then z.
+                    *s = lcg_step(*s);
+                    offsets[0][at + c] = unit_f32(permute(*s)).to_bits();
+                    *s = lcg_step(*s);
+                    offsets[1][at + c] = unit_f32(permute(*s)).to_bits();
+                    if self.three_d {
+                        *s = lcg_step(*s);
+                        offsets[2][at + c] = unit_f32(permute(*s)).to_bits();
+                    }
+                }
+            }
+        }
+        Some(WorleyColumns {
+            lo,
+            len,
+            keys: keys.len(),
+            offsets,
+        })
     }
 
     /// Gradient or value noise with the corner hashes read from the row's [`Columns`] `t`, the
@@ -1005,7 +1102,7 @@ impl ClassicEvaluator {
         x: &[f64; L],
         rows: &[R],
         fade: Option<&OctaveFade>,
-        tables: &[Option<Columns>],
+        tables: &[Option<RowTable>],
     ) -> [f32; L] {
         let mut acc = [0.0f32; L];
         let mut previous = [0.0f32; L];
@@ -1038,7 +1135,8 @@ impl ClassicEvaluator {
             }
             let mut n = [0.0f32; L];
             let from_table = match tables.get(o).and_then(Option::as_ref) {
-                Some(t) => match (self.basis == Basis::Gradient, self.three_d) {
+                Some(RowTable::Worley(t)) => self.worley_table::<L, F, R>(oct, ro, x, t, &mut n),
+                Some(RowTable::Lattice(t)) => match (self.basis == Basis::Gradient, self.three_d) {
                     (true, true) => {
                         self.lattice_columns::<L, F, R, true, true>(oct, ro, x, t, &mut n)
                     }
@@ -1228,27 +1326,186 @@ impl ClassicEvaluator {
                 }
             }
         }
-        for l in 0..L {
-            let gap = gap(ux[l], r.uy(l), o.uz, three_d, 1);
-            let gap = if w.metric == Metric::Euclidean {
-                gap * gap
-            } else {
-                gap
-            };
-            let mut fl = [f[0][l], f[1][l], f[2][l], f[3][l]];
-            if fl[w.needed] > gap {
-                fl = worley_search(
-                    w,
-                    fl,
-                    (ix[l], ux[l]),
-                    (r.iy(l), r.uy(l)),
-                    (o.kz, o.uz),
-                    three_d,
-                    o,
-                );
+        worley_finish(w, o, r, &ix, &ux, &f, three_d, n);
+    }
+
+    /// The metric of a Worley octave with a [`WorleyColumns`] table as a constant, for
+    /// [`worley_table_lanes`](Self::worley_table_lanes); `false` (nothing written) when the
+    /// lanes span too many columns for one fetch.
+    #[inline(always)]
+    fn worley_table<const L: usize, F: Fetch<L>, R: RowLanes>(
+        &self,
+        o: &Octave,
+        r: &R,
+        x: &[f64; L],
+        t: &WorleyColumns,
+        n: &mut [f32; L],
+    ) -> bool {
+        let Some(w) = &self.worley else {
+            return false;
+        };
+        match (w.metric, self.three_d) {
+            (Metric::Euclidean, false) => {
+                self.worley_table_lanes::<L, F, R, false, 0>(w, o, r, x, t, n)
             }
-            n[l] = combine(w, fl);
+            (Metric::Manhattan, false) => {
+                self.worley_table_lanes::<L, F, R, false, 1>(w, o, r, x, t, n)
+            }
+            (Metric::Chebyshev, false) => {
+                self.worley_table_lanes::<L, F, R, false, 2>(w, o, r, x, t, n)
+            }
+            (Metric::Euclidean, true) => {
+                self.worley_table_lanes::<L, F, R, true, 0>(w, o, r, x, t, n)
+            }
+            (Metric::Manhattan, true) => {
+                self.worley_table_lanes::<L, F, R, true, 1>(w, o, r, x, t, n)
+            }
+            (Metric::Chebyshev, true) => {
+                self.worley_table_lanes::<L, F, R, true, 2>(w, o, r, x, t, n)
+            }
         }
+    }
+
+    /// [`worley_lanes`](Self::worley_lanes) with the feature points read from the row's
+    /// [`WorleyColumns`] `t` (a fixed count): the same cells, points and arithmetic in the same
+    /// order.
+    #[inline(always)]
+    #[allow(
+        clippy::too_many_arguments,
+        reason = "the lanes' state, passed unpacked"
+    )]
+    fn worley_table_lanes<
+        const L: usize,
+        F: Fetch<L>,
+        R: RowLanes,
+        const THREE_D: bool,
+        const METRIC: u8,
+    >(
+        &self,
+        w: &WorleyParams,
+        o: &Octave,
+        r: &R,
+        x: &[f64; L],
+        t: &WorleyColumns,
+        n: &mut [f32; L],
+    ) -> bool {
+        let metric = match METRIC {
+            0 => Metric::Euclidean,
+            1 => Metric::Manhattan,
+            _ => Metric::Chebyshev,
+        };
+        let mut ix = [0i32; L];
+        let mut ux = [0.0f32; L];
+        let mut p = [0.0f64; L];
+        match o.inv_side {
+            Some(inv) => {
+                for l in 0..L {
+                    p[l] = x[l] * inv;
+                }
+            }
+            None => {
+                for l in 0..L {
+                    p[l] = x[l] / o.side;
+                }
+            }
+        }
+        locate_lanes(&p, &mut ix, &mut ux);
+        let span = i64::from(ix[L - 1]) - i64::from(ix[0]);
+        // Column `ix − 1` of lane 0 is entry `base`.
+        let base = i64::from(ix[0]) - 1 - i64::from(t.lo);
+        if !(0..L as i64).contains(&span) || base < 0 || base as usize + WINDOW > t.len {
+            return false;
+        }
+        let base = base as usize;
+        let narrow = span < 8;
+        let fetch = if narrow { F::fetch_narrow } else { F::fetch };
+        let mut idx = [0u32; L];
+        for l in 0..L {
+            idx[l] = ix[l].wrapping_sub(ix[0]) as u32;
+        }
+        let points = t.offsets[0].len() / (t.keys * t.len);
+        let mut f = [[w.cap; L]; 4];
+        let dzs: &[i32] = if THREE_D { &[-1, 0, 1] } else { &[0] };
+        for &dz in dzs {
+            for dy in -1..=1i32 {
+                let rz = o.uz - dz as f32;
+                let key = if THREE_D {
+                    3 * (dz + 1) + dy + 1
+                } else {
+                    dy + 1
+                } as usize;
+                let mut ry = [0.0f32; L];
+                for l in 0..L {
+                    ry[l] = r.uy(l) - dy as f32;
+                }
+                for dx in -1..=1i32 {
+                    let rx = dx as f32;
+                    let from = (dx + 1) as usize;
+                    for q in 0..points {
+                        let at = (q * t.keys + key) * t.len + base;
+                        let ox = fetch(&window(&t.offsets[0], at)[from..from + L], &idx);
+                        let oy = fetch(&window(&t.offsets[1], at)[from..from + L], &idx);
+                        let oz = if THREE_D {
+                            fetch(&window(&t.offsets[2], at)[from..from + L], &idx)
+                        } else {
+                            [0; L]
+                        };
+                        for l in 0..L {
+                            let ddx = ux[l] - (rx + f32::from_bits(ox[l]));
+                            let ddy = ry[l] - f32::from_bits(oy[l]);
+                            let d = if THREE_D {
+                                distance3(metric, ddx, ddy, rz - f32::from_bits(oz[l]))
+                            } else {
+                                distance2(metric, ddx, ddy)
+                            };
+                            insert(&mut f, l, d);
+                        }
+                    }
+                }
+            }
+        }
+        worley_finish(w, o, r, &ix, &ux, &f, THREE_D, n);
+        true
+    }
+}
+
+/// The end of a Worley octave in the lanes: where the 3×3 (×3) block's needed `F_n` is
+/// farther than the unsearched cells, [`worley_search`] goes on; then the combination.
+#[inline(always)]
+#[allow(
+    clippy::too_many_arguments,
+    reason = "the lanes' state, passed unpacked"
+)]
+fn worley_finish<const L: usize, R: RowLanes>(
+    w: &WorleyParams,
+    o: &Octave,
+    r: &R,
+    ix: &[i32; L],
+    ux: &[f32; L],
+    f: &[[f32; L]; 4],
+    three_d: bool,
+    n: &mut [f32; L],
+) {
+    for l in 0..L {
+        let gap = gap(ux[l], r.uy(l), o.uz, three_d, 1);
+        let gap = if w.metric == Metric::Euclidean {
+            gap * gap
+        } else {
+            gap
+        };
+        let mut fl = [f[0][l], f[1][l], f[2][l], f[3][l]];
+        if fl[w.needed] > gap {
+            fl = worley_search(
+                w,
+                fl,
+                (ix[l], ux[l]),
+                (r.iy(l), r.uy(l)),
+                (o.kz, o.uz),
+                three_d,
+                o,
+            );
+        }
+        n[l] = combine(w, fl);
     }
 }
 

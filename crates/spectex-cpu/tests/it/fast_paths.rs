@@ -14,7 +14,9 @@
 use spectex_cpu::classic::ClassicEvaluator;
 use spectex_cpu::{Evaluator, PhasorEvaluator, Window};
 use spectex_model::Model;
-use spectex_model::classic::{Basis, ClassicNoise, Fractal, FractalKind};
+use spectex_model::classic::{
+    Basis, ClassicNoise, FeaturePoints, Fractal, FractalKind, Metric, Worley,
+};
 use spectex_testkit::invariance::{Case, minified_window, testdata_cases, tile_window};
 
 /// Windows near and far, zoomed in and out (one minified, which the phasor and LRP kernels
@@ -110,11 +112,43 @@ fn phasor_rows_match_the_per_pixel_sum_at_every_simd_level() {
     );
 }
 
-/// Lattice noises whose rows read the per-row column tables: both bases and dimensions, cells
-/// that are and are not powers of two (the exact reciprocal and the division), octaves down to
-/// cells under 2 pixels (hashed in the lanes), ridged, at z near and far.
-fn lattice_models() -> Vec<(String, ClassicNoise, f64)> {
+/// Noises whose rows read per-row column tables: both lattice bases and dimensions, cells that
+/// are and are not powers of two (the exact reciprocal and the division), octaves down to cells
+/// under 2 pixels (hashed in the lanes), ridged, at z near and far; and Worley noise with fixed
+/// counts of 1 and 3 points, every metric, F1 and F2 − F1, 2D and 3D (the exact search beyond
+/// the 3×3 block included).
+fn table_models() -> Vec<(String, ClassicNoise, f64)> {
     let mut models = Vec::new();
+    for dimensions in [2, 3] {
+        for (metric, coefficients, points) in [
+            (Metric::Euclidean, [1.0, 0.0, 0.0, 0.0], 1),
+            (Metric::Manhattan, [-1.0, 1.0, 0.0, 0.0], 3),
+            (Metric::Chebyshev, [0.5, 0.0, 0.25, 1.0], 1),
+            (Metric::Euclidean, [0.0, 0.0, 0.0, 1.0], 3),
+        ] {
+            let model = ClassicNoise {
+                seed: 4,
+                dimensions,
+                cell_size: 24.5,
+                basis: Basis::Worley(Worley {
+                    metric,
+                    coefficients,
+                    points: FeaturePoints::Fixed(points),
+                }),
+                fractal: Some(Fractal {
+                    kind: FractalKind::Turbulence,
+                    octaves: 4,
+                    lacunarity: 2.0,
+                    gain: 0.5,
+                }),
+                amplitude: 1.0,
+                mean: 0.0,
+            };
+            model.validate().unwrap();
+            let name = format!("worley {dimensions}D {metric:?} {points} points");
+            models.push((name, model, -11.3));
+        }
+    }
     for (basis, name) in [(Basis::Gradient, "gradient"), (Basis::Value, "value")] {
         for dimensions in [2, 3] {
             for (cell, lacunarity, octaves, kind) in [
@@ -156,10 +190,10 @@ fn lattice_models() -> Vec<(String, ClassicNoise, f64)> {
 
 /// The classic row kernel (lattice hashes from per-row column tables, fetched by register
 /// permutes with AVX2 and AVX-512) on every SIMD level the CPU has, against the reference path
-/// that hashes every corner in the lanes, for the testdata models and [`lattice_models`].
+/// that hashes every corner in the lanes, for the testdata models and [`table_models`].
 #[test]
 fn classic_rows_match_the_reference_at_every_simd_level() {
-    let mut models: Vec<(String, ClassicNoise, f64)> = lattice_models();
+    let mut models: Vec<(String, ClassicNoise, f64)> = table_models();
     for case in testdata_cases() {
         if let Model::Classic(m) = &case.model {
             models.push((case.name.clone(), m.clone(), case.z));
@@ -203,7 +237,7 @@ fn classic_rows_match_the_reference_at_every_simd_level() {
             }
         }
     }
-    assert!(compared >= 48 * 8, "{compared} renders compared");
+    assert!(compared >= 56 * 8, "{compared} renders compared");
 }
 
 /// Positions a warp may hand its base: fractional, negative, far, and a negative zero (which
