@@ -330,11 +330,25 @@ struct WorleyColumns {
     offsets: [Vec<u32>; 3],
 }
 
-/// A row's table for one octave: lattice corners or Worley feature points.
+/// The keys of simplex noise's skewed lattice along one row, for the skewed rows `lo..` its
+/// lanes visit: 2D, `row_key(j, layer_key(o, seed))` of skewed row `j`; 3D, the layer key
+/// `layer_key(o, cell_hash(k, 0, o, seed))` of skewed plane `k`. The lanes fetch those of `j`
+/// (`k`) and `j + 1` (`k + 1`) instead of hashing them for every corner.
+#[derive(Debug, Clone)]
+struct SimplexColumns {
+    /// The first skewed row (plane).
+    lo: i32,
+    /// Entries: the rows, then [`WINDOW`] of padding.
+    len: usize,
+    keys: Vec<u32>,
+}
+
+/// A row's table for one octave: lattice corners, Worley feature points or simplex keys.
 #[derive(Debug, Clone)]
 enum RowTable {
     Lattice(Columns),
     Worley(WorleyColumns),
+    Simplex(SimplexColumns),
 }
 
 /// `(mask, sign, constant bits)` of [`Columns`] for corner hash `h` and the row constants
@@ -794,6 +808,11 @@ impl ClassicEvaluator {
                 .worley_columns::<L>(o, r, window, width)
                 .map(RowTable::Worley);
         }
+        if let Basis::Simplex = self.basis {
+            return self
+                .simplex_columns::<L>(o, r, window, width)
+                .map(RowTable::Simplex);
+        }
         if !matches!(self.basis, Basis::Gradient | Basis::Value) || width == 0 {
             return None;
         }
@@ -854,6 +873,60 @@ impl ClassicEvaluator {
         let last = window.offset[0]
             + ((window.x0 + last_start as i64) as f64 + (L - 1) as f64) * window.scale;
         (locate(first / o.side).0, locate(last / o.side).0)
+    }
+
+    /// The skewed row (2D) or plane (3D) of simplex noise at `x` on the row `r`, as
+    /// [`simplex2`] and [`simplex3`] compute it.
+    #[inline(always)]
+    fn simplex_cell(&self, o: &Octave, r: &RowOctave, x: f64) -> i32 {
+        let px = x / o.side;
+        if self.three_d {
+            let s = ((px + r.py) + o.pz) * SIMPLEX_F3;
+            split(o.pz + s).0
+        } else {
+            let s = (px + r.py) * SIMPLEX_F2;
+            split(r.py + s).0
+        }
+    }
+
+    /// The [`SimplexColumns`] of octave `o` on the row `r`, or `None`: cells under 2 pixels or
+    /// more skewed rows than pixels.
+    #[inline(always)]
+    fn simplex_columns<const L: usize>(
+        &self,
+        o: &Octave,
+        r: &RowOctave,
+        window: &Window,
+        width: usize,
+    ) -> Option<SimplexColumns> {
+        if width == 0 || o.side < 2.0 * window.scale {
+            return None;
+        }
+        // The skewed coordinate grows with x along a row (a sum of non-decreasing terms).
+        let last_start = (width - 1) / L * L;
+        let first = window.offset[0] + (window.x0 as f64) * window.scale;
+        let last = window.offset[0]
+            + ((window.x0 + last_start as i64) as f64 + (L - 1) as f64) * window.scale;
+        let (lo, hi) = (
+            self.simplex_cell(o, r, first),
+            self.simplex_cell(o, r, last),
+        );
+        let count = i64::from(hi) - i64::from(lo) + 2;
+        if count > (width + L) as i64 + 2 {
+            return None;
+        }
+        let count = count as usize;
+        let len = count + WINDOW;
+        let mut keys = vec![0u32; len];
+        for (c, key) in keys[..count].iter_mut().enumerate() {
+            let cell = lo.wrapping_add(c as i32);
+            *key = if self.three_d {
+                layer_key(o.layer, cell_hash_in_row(cell, o.key0))
+            } else {
+                row_key(cell, o.key2)
+            };
+        }
+        Some(SimplexColumns { lo, len, keys })
     }
 
     /// The [`WorleyColumns`] of octave `o` on the row `r`, or `None`: a Poisson count, cells
@@ -1136,6 +1209,13 @@ impl ClassicEvaluator {
             let mut n = [0.0f32; L];
             let from_table = match tables.get(o).and_then(Option::as_ref) {
                 Some(RowTable::Worley(t)) => self.worley_table::<L, F, R>(oct, ro, x, t, &mut n),
+                Some(RowTable::Simplex(t)) => {
+                    if self.three_d {
+                        simplex3_table::<L, F, R>(oct, ro, x, t, &mut n)
+                    } else {
+                        simplex2_table::<L, F, R>(oct, ro, x, t, &mut n)
+                    }
+                }
                 Some(RowTable::Lattice(t)) => match (self.basis == Basis::Gradient, self.three_d) {
                     (true, true) => {
                         self.lattice_columns::<L, F, R, true, true>(oct, ro, x, t, &mut n)
@@ -1760,6 +1840,172 @@ fn simplex2<const L: usize, R: RowLanes>(o: &Octave, r: &R, x: &[f64; L], n: &mu
         let c2 = simplex_term(h2, SIMPLEX2_R2, x2, y2, 0.0);
         n[l] = SIMPLEX2_SCALE * ((c0 + c1) + c2);
     }
+}
+
+/// `x / side` in the lanes (by the exact reciprocal where the octave has one).
+#[inline(always)]
+fn cell_units<const L: usize>(o: &Octave, x: &[f64; L]) -> [f64; L] {
+    let mut p = [0.0f64; L];
+    match o.inv_side {
+        Some(inv) => {
+            for l in 0..L {
+                p[l] = x[l] * inv;
+            }
+        }
+        None => {
+            for l in 0..L {
+                p[l] = x[l] / o.side;
+            }
+        }
+    }
+    p
+}
+
+/// Where lanes with skewed rows (planes) `cell` read the row's [`SimplexColumns`] `t`: the
+/// entry of lane 0 and each lane's distance from it, or `None` when one fetch cannot reach them.
+#[inline(always)]
+fn simplex_window<const L: usize>(
+    t: &SimplexColumns,
+    cell: &[i32; L],
+) -> Option<(usize, [u32; L])> {
+    let span = i64::from(cell[L - 1]) - i64::from(cell[0]);
+    let base = i64::from(cell[0]) - i64::from(t.lo);
+    if !(0..L as i64).contains(&span) || base < 0 || base as usize + WINDOW > t.len {
+        return None;
+    }
+    let mut idx = [0u32; L];
+    for l in 0..L {
+        idx[l] = cell[l].wrapping_sub(cell[0]) as u32;
+    }
+    Some((base as usize, idx))
+}
+
+/// [`simplex2`] with the row keys of the skewed rows `j`, `j + 1` read from the row's
+/// [`SimplexColumns`]; `false` (nothing written) when one fetch cannot reach them.
+#[inline(always)]
+fn simplex2_table<const L: usize, F: Fetch<L>, R: RowLanes>(
+    o: &Octave,
+    r: &R,
+    x: &[f64; L],
+    t: &SimplexColumns,
+    n: &mut [f32; L],
+) -> bool {
+    let g2 = SIMPLEX_G2 as f32;
+    let px = cell_units(o, x);
+    let mut i = [0i32; L];
+    let mut j = [0i32; L];
+    let mut fi = [0.0f64; L];
+    let mut fj = [0.0f64; L];
+    for l in 0..L {
+        let py = r.py(l);
+        let s = (px[l] + py) * SIMPLEX_F2;
+        (i[l], fi[l]) = split(px[l] + s);
+        (j[l], fj[l]) = split(py + s);
+    }
+    let Some((base, idx)) = simplex_window(t, &j) else {
+        return false;
+    };
+    let keys = window(&t.keys, base);
+    let (k0, k1) = (F::fetch(&keys[..L], &idx), F::fetch(&keys[1..=L], &idx));
+    for l in 0..L {
+        let py = r.py(l);
+        let t = (fi[l] + fj[l]) * SIMPLEX_G2;
+        let x0 = (px[l] - (fi[l] - t)) as f32;
+        let y0 = (py - (fj[l] - t)) as f32;
+        let step_x = x0 > y0;
+        let (i1, j1) = if step_x { (1, 0) } else { (0, 1) };
+        let x1 = (x0 - i1 as f32) + g2;
+        let y1 = (y0 - j1 as f32) + g2;
+        let x2 = (x0 - 1.0) + 2.0 * g2;
+        let y2 = (y0 - 1.0) + 2.0 * g2;
+        let h0 = cell_hash_in_row(i[l], k0[l]);
+        let h1 = cell_hash_in_row(i[l].wrapping_add(i1), if step_x { k0[l] } else { k1[l] });
+        let h2 = cell_hash_in_row(i[l].wrapping_add(1), k1[l]);
+        let c0 = simplex_term(h0, SIMPLEX2_R2, x0, y0, 0.0);
+        let c1 = simplex_term(h1, SIMPLEX2_R2, x1, y1, 0.0);
+        let c2 = simplex_term(h2, SIMPLEX2_R2, x2, y2, 0.0);
+        n[l] = SIMPLEX2_SCALE * ((c0 + c1) + c2);
+    }
+    true
+}
+
+/// `hash3` of corner `(i + di, j + dj, k + dk)` from the layer keys of planes `k` (`l0`) and
+/// `k + 1` (`l1`).
+#[inline(always)]
+fn simplex3_hash(i: i32, j: i32, (di, dj, dk): (i32, i32, i32), l0: u32, l1: u32) -> u32 {
+    let layer = if dk == 0 { l0 } else { l1 };
+    cell_hash_in_row(i.wrapping_add(di), row_key(j.wrapping_add(dj), layer))
+}
+
+/// [`simplex3`] with the layer keys of the skewed planes `k`, `k + 1` read from the row's
+/// [`SimplexColumns`]; `false` (nothing written) when one fetch cannot reach them.
+#[inline(always)]
+fn simplex3_table<const L: usize, F: Fetch<L>, R: RowLanes>(
+    o: &Octave,
+    r: &R,
+    x: &[f64; L],
+    t: &SimplexColumns,
+    n: &mut [f32; L],
+) -> bool {
+    let g3 = SIMPLEX_G3 as f32;
+    let px = cell_units(o, x);
+    let pz = o.pz;
+    let mut i = [0i32; L];
+    let mut j = [0i32; L];
+    let mut k = [0i32; L];
+    let mut fi = [0.0f64; L];
+    let mut fj = [0.0f64; L];
+    let mut fk = [0.0f64; L];
+    for l in 0..L {
+        let py = r.py(l);
+        let s = ((px[l] + py) + pz) * SIMPLEX_F3;
+        (i[l], fi[l]) = split(px[l] + s);
+        (j[l], fj[l]) = split(py + s);
+        (k[l], fk[l]) = split(pz + s);
+    }
+    let Some((base, idx)) = simplex_window(t, &k) else {
+        return false;
+    };
+    let keys = window(&t.keys, base);
+    let (lk0, lk1) = (F::fetch(&keys[..L], &idx), F::fetch(&keys[1..=L], &idx));
+    for l in 0..L {
+        let py = r.py(l);
+        let t = ((fi[l] + fj[l]) + fk[l]) * SIMPLEX_G3;
+        let x0 = (px[l] - (fi[l] - t)) as f32;
+        let y0 = (py - (fj[l] - t)) as f32;
+        let z0 = (pz - (fk[l] - t)) as f32;
+        let (a, b, c) = (x0 >= y0, y0 >= z0, x0 >= z0);
+        let i1 = i32::from(a && (b || c));
+        let j1 = i32::from(!a && b);
+        let k1 = i32::from(!b && (!a || !c));
+        let i2 = i32::from(a || (b && c));
+        let j2 = i32::from(b || !a);
+        let k2 = i32::from(!b || (!a && !c));
+        let (l0, l1) = (lk0[l], lk1[l]);
+        let mut sum = 0.0f32;
+        for (corner, (di, dj, dk, off)) in [
+            (0, 0, 0, 0.0),
+            (i1, j1, k1, g3),
+            (i2, j2, k2, 2.0 * g3),
+            (1, 1, 1, 3.0 * g3),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            let h = simplex3_hash(i[l], j[l], (di, dj, dk), l0, l1);
+            let term = simplex_term(
+                h,
+                SIMPLEX3_R2,
+                (x0 - di as f32) + off,
+                (y0 - dj as f32) + off,
+                (z0 - dk as f32) + off,
+            );
+            // `((c0 + c1) + c2) + c3`, as `simplex3` sums them.
+            sum = if corner == 0 { term } else { sum + term };
+        }
+        n[l] = SIMPLEX3_SCALE * sum;
+    }
+    true
 }
 
 /// 3D simplex noise on the plane of the octave's `z`, in the lanes.
