@@ -1084,8 +1084,8 @@ fn bench_classic(ws: &Workspace, extra: &[OsString]) -> Result<()> {
 }
 
 /// A Python with `pyfastnoisesimd`: the virtual environment `out/fastnoisesimd-venv`, created
-/// and filled on first use (FACTS.md's recipe: the package's C++ builds against numpy's
-/// headers, without build isolation).
+/// and filled on first use (the package's C++ builds against numpy's headers, without build
+/// isolation).
 fn fastnoisesimd_python(ws: &Workspace, out: &Path) -> Result<PathBuf> {
     let venv = out.join("fastnoisesimd-venv");
     let python = venv.join("bin").join("python3");
