@@ -11,6 +11,15 @@
 //! of the row give the same bits, and any tiling of a window gives the same bits (a pixel never
 //! depends on its neighbours).
 //!
+//! What depends only on a lattice column of a row is computed once per row and octave, in
+//! tables the lanes read by column (a register permute with AVX2 and AVX-512): gradient and value
+//! noise's corners (the gradient's dot product folded into a mask, a sign and a constant), simplex
+//! noise's keys of its skewed rows (planes), Worley noise's feature points for a fixed count. A
+//! row of cells 32 pixels wide then hashes each cell once instead of once per pixel; the tables
+//! hold the very integers and floats the lanes would compute, so the bits do not change, and
+//! [`ClassicEvaluator::eval_rows_reference`] keeps the per-pixel path they are tested against.
+//! Octaves with cells under 2 pixels, Poisson counts and batches of points hash in the lanes.
+//!
 //! A minified render (a window with a [`footprint`](Window::footprint)) fades each octave as
 //! [`spectex_model::filter::classic_fade`] says (turbulence and ridged toward their expected
 //! values, fBm of Worley distances toward their mean) and skips the basis of the octaves faded
@@ -18,7 +27,7 @@
 //!
 //! Worley noise evaluates the 3×3 (3×3×3) cells around the point in the lanes and keeps the
 //! four smallest distances with a min/max insertion network; a lane whose needed `F_n` exceeds
-//! the distance to the unsearched cells is redone by [`worley_exact`], which searches ring after
+//! the distance to the unsearched cells is redone by `worley_search`, which searches ring after
 //! ring with the same arithmetic (the four smallest of a set do not depend on the visiting order,
 //! so both paths agree bit for bit wherever the 3×3 search suffices).
 //!
@@ -633,7 +642,7 @@ impl ClassicEvaluator {
     }
 
     /// [`eval_rows`](Self::eval_rows) with every lattice hash computed in the lanes, pixel by
-    /// pixel: the path the row tables of [`Columns`] are tested and benched against.
+    /// pixel: the path the per-row tables of the fast path are tested and benched against.
     pub fn eval_rows_reference(&self, window: &Window, first: usize, out: &mut [f32]) {
         self.eval_rows_with(window, first, out, false);
     }
