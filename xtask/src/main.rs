@@ -30,7 +30,10 @@ const COMMANDS: &[(&str, &str)] = &[
         "criterion benches of RPN vs one FFT, then a table of medians; every model kind's \
          Mpix/s on 1 thread and all threads (target/bench/summary.md and summary.svg; \
          `cargo xtask bench kinds` for that summary alone); extra args go to criterion \
-         (`cargo xtask bench -- --quick`); then the texture-by-example Table 1 (CPU and GPU)",
+         (`cargo xtask bench -- --quick`); then the texture-by-example Table 1 (CPU and GPU). \
+         `cargo xtask bench classic`: the classic noises on one thread against FastNoiseSIMD \
+         (pyfastnoisesimd, installed in target/bench/fastnoisesimd-venv; skipped with a \
+         message where it cannot be) on the same grid, ratios in target/bench/classic.md",
     ),
     (
         "fuzz",
@@ -859,6 +862,14 @@ fn reproduce(ws: &Workspace, args: &[OsString]) -> Result<()> {
 }
 
 fn bench(ws: &Workspace, mut extra: Vec<OsString>) -> Result<()> {
+    // `cargo xtask bench classic`: the classic noises against FastNoiseSIMD.
+    if extra.first().is_some_and(|a| a == "classic") {
+        extra.remove(0);
+        if extra.first().is_some_and(|a| a == "--") {
+            extra.remove(0);
+        }
+        return bench_classic(ws, &extra);
+    }
     // `cargo xtask bench kinds`: the kinds summary alone.
     let kinds_only = extra.first().is_some_and(|a| a == "kinds");
     if kinds_only {
@@ -968,6 +979,237 @@ fn bench_kinds(ws: &Workspace, extra: &[OsString]) -> Result<()> {
     println!("{markdown}");
     println!("written: {} and {}", md.display(), svg.display());
     Ok(())
+}
+
+/// The cases of `spectex-cpu`'s `grid` bench group and of `benches/fastnoisesimd.py`, in
+/// table order, with whether spectex has a `*_reference` path for them.
+const CLASSIC_CASES: &[(&str, bool)] = &[
+    ("perlin", true),
+    ("value", true),
+    ("simplex", false),
+    ("cellular", false),
+    ("fbm6", true),
+];
+
+/// `cargo xtask bench classic`: the `grid` group of `spectex-cpu`'s classic bench, then
+/// FastNoiseSIMD on the same grid in the same invocation (installed in a virtual environment
+/// under `target/bench` when missing; skipped with a message where that fails), then the ratio
+/// table, printed and written to `target/bench/classic.md`.
+fn bench_classic(ws: &Workspace, extra: &[OsString]) -> Result<()> {
+    let out = target_dir(ws).join("bench");
+    fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
+    let mut command = ws.cargo(&[
+        "bench",
+        "-p",
+        "spectex-cpu",
+        "--bench",
+        "classic",
+        "--",
+        "grid/",
+    ]);
+    command.args(extra);
+    let started = SystemTime::now();
+    run_steps(
+        "bench",
+        vec![Step {
+            title: "cargo bench -p spectex-cpu --bench classic -- grid/".into(),
+            command,
+        }],
+    )?;
+    let fastnoise = match fastnoisesimd_python(ws, &out) {
+        Ok(python) => {
+            let tsv = out.join("fastnoisesimd.tsv");
+            let script = ws.root.join("crates/spectex-cpu/benches/fastnoisesimd.py");
+            let mut command = Command::new(&python);
+            command.arg(&script).arg("--out").arg(&tsv);
+            run_steps(
+                "bench",
+                vec![Step {
+                    title: "FastNoiseSIMD on the same grid (benches/fastnoisesimd.py)".into(),
+                    command,
+                }],
+            )?;
+            let text = fs::read_to_string(&tsv)
+                .with_context(|| format!("reading {} (the script writes it)", tsv.display()))?;
+            Some(parse_fastnoise_tsv(&text).with_context(|| format!("parsing {}", tsv.display()))?)
+        }
+        Err(why) => {
+            println!("skipping FastNoiseSIMD: {why:#}");
+            None
+        }
+    };
+    let group = criterion_dir(ws).join("grid");
+    let pixels = 2048.0 * 2048.0;
+    let mpix = |id: &str| -> Result<f64> {
+        let estimates = group.join(id).join("new").join("estimates.json");
+        let stale = fs::metadata(&estimates)
+            .and_then(|m| m.modified())
+            .map_or(true, |modified| modified < started);
+        if stale {
+            bail!("{} was not written by this run", estimates.display());
+        }
+        let json = fs::read_to_string(&estimates)
+            .with_context(|| format!("reading {}", estimates.display()))?;
+        let ns = parse_median_ns(&json)
+            .with_context(|| format!("no median point_estimate in {}", estimates.display()))?;
+        Ok(pixels / ns * 1e3)
+    };
+    let mut rows = Vec::new();
+    for &(case, has_reference) in CLASSIC_CASES {
+        let reference = |d: &str| -> Result<Option<f64>> {
+            if has_reference {
+                mpix(&format!("{case}_{d}_reference")).map(Some)
+            } else {
+                Ok(None)
+            }
+        };
+        rows.push(ClassicRow {
+            case: case.to_string(),
+            three_d: mpix(&format!("{case}_3d"))?,
+            three_d_reference: reference("3d")?,
+            two_d: mpix(&format!("{case}_2d"))?,
+            two_d_reference: reference("2d")?,
+            fastnoise: fastnoise
+                .as_ref()
+                .and_then(|f| f.iter().find(|(c, _, _)| c == case))
+                .map(|(_, m, level)| (*m, level.clone())),
+        });
+    }
+    let markdown = classic_markdown(&rows);
+    let md = out.join("classic.md");
+    fs::write(&md, &markdown).with_context(|| format!("writing {}", md.display()))?;
+    println!("{markdown}");
+    println!("written: {}", md.display());
+    Ok(())
+}
+
+/// A Python with `pyfastnoisesimd`: the virtual environment `out/fastnoisesimd-venv`, created
+/// and filled on first use (the package's C++ builds against numpy's headers, without build
+/// isolation).
+fn fastnoisesimd_python(ws: &Workspace, out: &Path) -> Result<PathBuf> {
+    let venv = out.join("fastnoisesimd-venv");
+    let python = venv.join("bin").join("python3");
+    let has_package = |python: &Path| {
+        Command::new(python)
+            .args([
+                "-c",
+                "import numpy; numpy.product = numpy.prod; import pyfastnoisesimd",
+            ])
+            .current_dir(&ws.root)
+            .output()
+            .is_ok_and(|o| o.status.success())
+    };
+    if python.exists() && has_package(&python) {
+        return Ok(python);
+    }
+    let quiet = |mut c: Command, what: &str| -> Result<()> {
+        eprintln!("xtask: {what}");
+        let output = c
+            .output()
+            .with_context(|| format!("{what}: could not start"))?;
+        if !output.status.success() {
+            let stderr = String::from_utf8_lossy(&output.stderr);
+            let tail: Vec<&str> = stderr.lines().rev().take(5).collect();
+            bail!(
+                "{what} failed: {}",
+                tail.into_iter().rev().collect::<Vec<_>>().join(" / ")
+            );
+        }
+        Ok(())
+    };
+    let mut create = Command::new("python3");
+    create.args(["-m", "venv"]).arg(&venv);
+    quiet(create, "python3 -m venv target/bench/fastnoisesimd-venv")?;
+    let mut base = Command::new(&python);
+    base.args(["-m", "pip", "install", "-q", "wheel", "setuptools", "numpy"]);
+    quiet(base, "pip install wheel setuptools numpy")?;
+    let include = Command::new(&python)
+        .args(["-c", "import numpy; print(numpy.get_include())"])
+        .output()
+        .context("asking numpy for its include directory")?;
+    let include = String::from_utf8_lossy(&include.stdout).trim().to_string();
+    let mut package = Command::new(&python);
+    package
+        .args([
+            "-m",
+            "pip",
+            "install",
+            "-q",
+            "--no-build-isolation",
+            "pyfastnoisesimd",
+        ])
+        .env("CFLAGS", format!("-I{include}"));
+    quiet(
+        package,
+        "pip install pyfastnoisesimd (builds FastNoiseSIMD's C++, a minute or two)",
+    )?;
+    if !has_package(&python) {
+        bail!("pyfastnoisesimd installed but does not import");
+    }
+    Ok(python)
+}
+
+/// `case<TAB>Mpix/s<TAB>SIMD level` lines of `fastnoisesimd.py`, after its header.
+fn parse_fastnoise_tsv(text: &str) -> Result<Vec<(String, f64, String)>> {
+    let mut rows = Vec::new();
+    for line in text.lines().skip(1).filter(|l| !l.trim().is_empty()) {
+        let fields: Vec<&str> = line.split('\t').map(str::trim).collect();
+        let [case, mpix, level] = fields[..] else {
+            bail!("bad line {line:?}");
+        };
+        let mpix: f64 = mpix
+            .parse()
+            .with_context(|| format!("bad Mpix/s in {line:?}"))?;
+        rows.push((case.to_string(), mpix, level.to_string()));
+    }
+    Ok(rows)
+}
+
+/// One case of `cargo xtask bench classic`, Mpix/s on one thread.
+#[derive(Debug, Clone, PartialEq)]
+struct ClassicRow {
+    case: String,
+    three_d: f64,
+    three_d_reference: Option<f64>,
+    two_d: f64,
+    two_d_reference: Option<f64>,
+    /// FastNoiseSIMD's (3D slice) and its SIMD level, when it ran.
+    fastnoise: Option<(f64, String)>,
+}
+
+/// The classic table: spectex 3D and 2D (and their reference paths), FastNoiseSIMD, and the
+/// ratios spectex / FastNoiseSIMD (above 1: spectex is faster).
+fn classic_markdown(rows: &[ClassicRow]) -> String {
+    let level = rows
+        .iter()
+        .find_map(|r| r.fastnoise.as_ref().map(|(_, l)| l.clone()))
+        .unwrap_or_else(|| "not run".to_string());
+    let mut md = format!(
+        "Classic noises, one thread, 2048² window, cell 32 px (3D: the slice z = 7 px), \
+         Mpix/s (criterion medians; FastNoiseSIMD: median of 15 grids, SIMD level {level}).\n\n\
+         | noise | spectex 3D | 3D reference path | FastNoiseSIMD 3D | spectex 3D / FNS | \
+         spectex 2D | 2D reference path | spectex 2D / FNS |\n\
+         | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n"
+    );
+    let number = |v: Option<f64>| v.map_or("–".to_string(), |v| format!("{v:.1}"));
+    let ratio = |ours: f64, theirs: Option<f64>| {
+        theirs.map_or("–".to_string(), |t| format!("{:.2}", ours / t))
+    };
+    for r in rows {
+        let theirs = r.fastnoise.as_ref().map(|(m, _)| *m);
+        md.push_str(&format!(
+            "| {} | {:.1} | {} | {} | {} | {:.1} | {} | {} |\n",
+            r.case,
+            r.three_d,
+            number(r.three_d_reference),
+            number(theirs),
+            ratio(r.three_d, theirs),
+            r.two_d,
+            number(r.two_d_reference),
+            ratio(r.two_d, theirs),
+        ));
+    }
+    md
 }
 
 /// `kind<TAB>evaluations per pixel<TAB>pixels` of the kinds bench's `kinds.tsv`.
@@ -1167,9 +1409,48 @@ fn example_names(ws: &Workspace) -> Result<Vec<String>> {
 #[cfg(test)]
 mod tests {
     use super::{
-        KindSpeed, campaign_counts, json_string_field, parse_kind_line, parse_median_ns,
-        summary_markdown,
+        ClassicRow, KindSpeed, campaign_counts, classic_markdown, json_string_field,
+        parse_fastnoise_tsv, parse_kind_line, parse_median_ns, summary_markdown,
     };
+
+    #[test]
+    fn fastnoise_lines_and_the_classic_table() {
+        let rows = parse_fastnoise_tsv("case\tmpix_per_s\tsimd_level\nperlin\t300.5\tAVX2\n\n")
+            .expect("parses");
+        assert_eq!(
+            rows,
+            vec![("perlin".to_string(), 300.5, "AVX2".to_string())]
+        );
+        assert!(parse_fastnoise_tsv("h\nperlin\tfast\tAVX2").is_err());
+        assert!(parse_fastnoise_tsv("h\nperlin\t1").is_err());
+        let md = classic_markdown(&[
+            ClassicRow {
+                case: "perlin".into(),
+                three_d: 150.0,
+                three_d_reference: Some(100.0),
+                two_d: 450.0,
+                two_d_reference: None,
+                fastnoise: Some((300.0, "AVX2".into())),
+            },
+            ClassicRow {
+                case: "simplex".into(),
+                three_d: 50.0,
+                three_d_reference: None,
+                two_d: 60.0,
+                two_d_reference: None,
+                fastnoise: None,
+            },
+        ]);
+        assert!(md.contains("SIMD level AVX2"), "{md}");
+        assert!(
+            md.contains("| perlin | 150.0 | 100.0 | 300.0 | 0.50 | 450.0 | – | 1.50 |"),
+            "{md}"
+        );
+        assert!(
+            md.contains("| simplex | 50.0 | – | – | – | 60.0 | – | – |"),
+            "{md}"
+        );
+    }
 
     #[test]
     fn kind_lines_and_the_summary_table() {

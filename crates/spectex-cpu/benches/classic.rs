@@ -6,6 +6,13 @@
 //! fastnoise-lite `OpenSimplex2`), fBm of Perlin with 6 octaves (lacunarity 2, gain ½), and
 //! cellular F1 (Euclidean, one jittered point per cell).
 //!
+//! The `grid` group is the grid FastNoiseSIMD is measured on (`benches/fastnoisesimd.py`): a
+//! 2048² slice of 3D noise at z = 7 pixels and the same 2048² window of 2D noise, cell 32, one
+//! thread; Perlin, value, simplex, cellular F1 and fBm of Perlin (6 octaves), each lattice
+//! noise's reference path beside it (`*_reference`, every hash in the lanes).
+//! `cargo xtask bench classic` runs it and FastNoiseSIMD in one invocation and writes the
+//! ratio table.
+//!
 //! `cargo bench -p spectex-cpu --bench classic`.
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
@@ -26,9 +33,14 @@ const SIDE: usize = 1024;
 const CELL: f64 = 32.0;
 
 fn ours(basis: Basis, octaves: Option<u32>) -> Evaluator {
-    let model = ClassicNoise {
+    Evaluator::new(&Model::Classic(classic(basis, octaves, 2))).expect("valid model")
+}
+
+/// The noise of a case: `basis`, fBm of `octaves` (lacunarity 2, gain ½) or none, cell 32.
+fn classic(basis: Basis, octaves: Option<u32>, dimensions: u32) -> ClassicNoise {
+    ClassicNoise {
         seed: 1,
-        dimensions: 2,
+        dimensions,
         cell_size: CELL as f32,
         basis,
         fractal: octaves.map(|octaves| Fractal {
@@ -39,8 +51,57 @@ fn ours(basis: Basis, octaves: Option<u32>) -> Evaluator {
         }),
         amplitude: 1.0,
         mean: 0.0,
-    };
-    Evaluator::new(&Model::Classic(model)).expect("valid model")
+    }
+}
+
+/// Side of the `grid` group's window.
+const GRID: usize = 2048;
+/// The plane of the 3D slices, pixels.
+const GRID_Z: f64 = 7.0;
+
+/// FastNoiseSIMD's grid (see the module doc): `grid/{case}_{3d,2d}[_reference]`, 1 thread.
+fn bench_grid(c: &mut Criterion) {
+    let window = Window::new(GRID, GRID);
+    let mut group = c.benchmark_group("grid");
+    group.throughput(Throughput::Elements((GRID * GRID) as u64));
+    group.sample_size(10);
+    group.warm_up_time(std::time::Duration::from_millis(500));
+    group.measurement_time(std::time::Duration::from_secs(2));
+    let single = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("pool");
+    let cellular = Basis::Worley(spectex_model::classic::Worley {
+        metric: Metric::Euclidean,
+        coefficients: [1.0, 0.0, 0.0, 0.0],
+        points: FeaturePoints::Fixed(1),
+    });
+    let cases = [
+        ("perlin", Basis::Gradient, None, true),
+        ("value", Basis::Value, None, true),
+        ("simplex", Basis::Simplex, None, false),
+        ("cellular", cellular, None, false),
+        ("fbm6", Basis::Gradient, Some(6), true),
+    ];
+    let mut out = vec![0.0f32; GRID * GRID];
+    for dimensions in [3, 2] {
+        for (case, basis, octaves, reference) in &cases {
+            let model = Model::Classic(classic(basis.clone(), *octaves, dimensions));
+            let eval = Evaluator::new_at_z(&model, GRID_Z).expect("valid model");
+            let id = format!("{case}_{dimensions}d");
+            group.bench_function(id.as_str(), |b| {
+                b.iter(|| {
+                    single.install(|| eval.render_into(black_box(&window), &mut out, &|_| {}))
+                })
+            });
+            if *reference {
+                group.bench_function(format!("{id}_reference"), |b| {
+                    b.iter(|| single.install(|| eval.render_reference(black_box(&window))))
+                });
+            }
+        }
+    }
+    group.finish();
 }
 
 /// Fills a 1024² image row by row with `f(x, y)` in pixels, on the current rayon pool.
@@ -168,5 +229,5 @@ fn bench(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench);
+criterion_group!(benches, bench, bench_grid);
 criterion_main!(benches);

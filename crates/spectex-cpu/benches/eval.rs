@@ -205,6 +205,11 @@ fn kinds() -> Vec<(&'static str, Model, bool)> {
             Model::Classic(ClassicNoise::fbm().build().expect("valid model")),
             false,
         ),
+        (
+            "classic_reference",
+            Model::Classic(ClassicNoise::fbm().build().expect("valid model")),
+            true,
+        ),
         ("warp", warp.clone(), false),
         ("warp_reference", warp, true),
         (

@@ -11,6 +11,15 @@
 //! of the row give the same bits, and any tiling of a window gives the same bits (a pixel never
 //! depends on its neighbours).
 //!
+//! What depends only on a lattice column of a row is computed once per row and octave, in
+//! tables the lanes read by column (a register permute with AVX2 and AVX-512): gradient and value
+//! noise's corners (the gradient's dot product folded into a mask, a sign and a constant), simplex
+//! noise's keys of its skewed rows (planes), Worley noise's feature points for a fixed count. A
+//! row of cells 32 pixels wide then hashes each cell once instead of once per pixel; the tables
+//! hold the very integers and floats the lanes would compute, so the bits do not change, and
+//! [`ClassicEvaluator::eval_rows_reference`] keeps the per-pixel path they are tested against.
+//! Octaves with cells under 2 pixels, Poisson counts and batches of points hash in the lanes.
+//!
 //! A minified render (a window with a [`footprint`](Window::footprint)) fades each octave as
 //! [`spectex_model::filter::classic_fade`] says (turbulence and ridged toward their expected
 //! values, fBm of Worley distances toward their mean) and skips the basis of the octaves faded
@@ -18,7 +27,7 @@
 //!
 //! Worley noise evaluates the 3×3 (3×3×3) cells around the point in the lanes and keeps the
 //! four smallest distances with a min/max insertion network; a lane whose needed `F_n` exceeds
-//! the distance to the unsearched cells is redone by [`worley_exact`], which searches ring after
+//! the distance to the unsearched cells is redone by `worley_search`, which searches ring after
 //! ring with the same arithmetic (the four smallest of a set do not depend on the visiting order,
 //! so both paths agree bit for bit wherever the 3×3 search suffices).
 //!
@@ -59,6 +68,9 @@ use crate::lrp::Simd;
 const LANES: usize = 8;
 /// Pixels evaluated together by the AVX-512 path.
 const WIDE_LANES: usize = 16;
+/// Entries of a [`Columns`] table the lanes read at once (at least `WIDE_LANES + 1`), and the
+/// padding after its columns.
+const WINDOW: usize = 32;
 
 /// `1.5·2⁵²`: `(p + M) − M` rounds an f64 of magnitude below 2⁵¹ to the nearest integer, and
 /// the low 32 bits of `p + M` are that integer in two's complement.
@@ -79,6 +91,30 @@ fn split(p: f64) -> (i32, f64) {
 fn locate(p: f64) -> (i32, f32) {
     let (i, f) = split(p);
     (i, (p - f) as f32)
+}
+
+/// [`locate`] in the lanes, written as one simple loop per step so that it vectorises (the
+/// same operations, so the same bits).
+#[inline(always)]
+fn locate_lanes<const L: usize>(p: &[f64; L], ix: &mut [i32; L], ux: &mut [f32; L]) {
+    let mut m = [0.0f64; L];
+    for l in 0..L {
+        m[l] = p[l] + ROUND_MAGIC;
+    }
+    let mut f = [0.0f64; L];
+    let mut above = [0i32; L];
+    for l in 0..L {
+        let r = m[l] - ROUND_MAGIC;
+        let a = r > p[l];
+        above[l] = i32::from(a);
+        f[l] = if a { r - 1.0 } else { r };
+    }
+    for l in 0..L {
+        ix[l] = (m[l].to_bits() as u32 as i32).wrapping_sub(above[l]);
+    }
+    for l in 0..L {
+        ux[l] = (p[l] - f[l]) as f32;
+    }
 }
 
 #[inline(always)]
@@ -103,6 +139,9 @@ fn hash3(i: i32, j: i32, k: i32, o: u32, key0: u32) -> u32 {
 struct Octave {
     /// Cell side, pixels.
     side: f64,
+    /// `1 / side` when that is exact (a power of two): `x · (1/side)` is then `x / side` bit
+    /// for bit, without the division.
+    inv_side: Option<f64>,
     /// `gain^o`.
     weight: f32,
     /// The octave's layer (its index).
@@ -207,6 +246,275 @@ struct WorleyParams {
     cap: f32,
 }
 
+/// What the lattice corners of one octave contribute along one row, for the lattice columns
+/// the row's lanes visit. Entry `p·len + c` belongs to column `lo + c` in row key `p` (the rows
+/// `iy`, `iy + 1` times, in 3D, the planes `kz`, `kz + 1`, as `p = 2·dz + dy`), whose corner
+/// hash is `h = cell_hash_in_row(lo + c, key_p)`. A row of cells 32 pixels wide hashes each
+/// corner once instead of once per pixel, and the lanes fetch the entries by column ([`Fetch`]).
+///
+/// Value noise stores `lattice_value(h)`. Gradient noise stores `gradient_dot(h, X, Y, Z)` with
+/// the row's constants `Y = uy − dy`, `Z = uz − dz` folded in, as the bits of
+/// `((X & mask) ^ sign) + constant`: `gradient_dot` is `u' + v'`, two coordinates with their
+/// sign bits flipped by `h`; when one of them is `X`, `mask` keeps it, `sign` flips it and
+/// `constant` is the other (IEEE addition commutes, so the order of `u' + v'` does not
+/// matter); when neither is, `mask` is 0 and `constant` the whole sum, with `sign` giving the
+/// `±0` that leaves it unchanged (`−0 + −0 = −0`). Every value is bit for bit the one the lanes
+/// compute from the hash.
+#[derive(Debug, Clone)]
+struct Columns {
+    /// The first column.
+    lo: i32,
+    /// Entries per row key: the columns `lo..=hi + 1`, then [`WINDOW`] of padding so that the
+    /// window of entries a group of lanes reads is in the table.
+    len: usize,
+    /// Gradient noise: all ones where the corner's sum takes `X`, else 0 (empty for value
+    /// noise).
+    mask: Vec<u32>,
+    /// Gradient noise: the sign bit flipping `X` (or the zero's sign, see above).
+    sign: Vec<u32>,
+    /// The f32 bits of the constant term (value noise: the lattice value).
+    constant: Vec<u32>,
+}
+
+/// The lattice corners of row key `p` at columns `ix` and `ix + 1` of each lane (`ix` is the
+/// column `lo + base + idx[l]`) from the [`Columns`] `t`; `ux`: the lanes' offsets in their
+/// cells. `GRADIENT`: gradient noise, else value noise; `narrow`: every `idx[l] < 8`.
+#[inline(always)]
+fn corners<const L: usize, F: Fetch<L>, const GRADIENT: bool>(
+    t: &Columns,
+    p: usize,
+    base: usize,
+    idx: &[u32; L],
+    ux: &[f32; L],
+    narrow: bool,
+) -> [[f32; L]; 2] {
+    let fetch = if narrow { F::fetch_narrow } else { F::fetch };
+    // The entries the two fetches read (`L + 1 ≤ WINDOW`), as arrays: one bounds check each.
+    let at = p * t.len + base;
+    let constant = window(&t.constant, at);
+    let mut out = [[0.0f32; L]; 2];
+    if GRADIENT {
+        let (mask, sign) = (window(&t.mask, at), window(&t.sign, at));
+        for (dx, corner) in out.iter_mut().enumerate() {
+            let c = fetch(&constant[dx..dx + L], idx);
+            let m = fetch(&mask[dx..dx + L], idx);
+            let s = fetch(&sign[dx..dx + L], idx);
+            for l in 0..L {
+                let x = ux[l] - dx as f32;
+                corner[l] = f32::from_bits((x.to_bits() & m[l]) ^ s[l]) + f32::from_bits(c[l]);
+            }
+        }
+    } else {
+        for (dx, corner) in out.iter_mut().enumerate() {
+            let c = fetch(&constant[dx..dx + L], idx);
+            for l in 0..L {
+                corner[l] = f32::from_bits(c[l]);
+            }
+        }
+    }
+    out
+}
+
+/// The [`WINDOW`] entries of `table` from `at`.
+#[inline(always)]
+fn window(table: &[u32], at: usize) -> &[u32; WINDOW] {
+    <&[u32; WINDOW]>::try_from(&table[at..at + WINDOW]).expect("a slice of WINDOW entries")
+}
+
+/// The feature points of one Worley octave with a fixed count along one row, for the lattice
+/// columns `lo..` the row's 3×3 (×3) searches visit: entry `(q·keys + p)·len + c` of
+/// `offsets[axis]` holds the f32 bits of point `q`'s offset along `axis` in column `lo + c` of
+/// row key `p` (`p = 3·(dz + 1) + dy + 1`; 2D: `dy + 1`), drawn from the PRNG seeded with the
+/// cell's hash exactly as the lanes draw them, so the lanes read the same floats instead of
+/// hashing 9 (27) cells per pixel.
+#[derive(Debug, Clone)]
+struct WorleyColumns {
+    /// The first column (one left of the row's first cell).
+    lo: i32,
+    /// Entries per (point, row key): the columns, then [`WINDOW`] of padding.
+    len: usize,
+    /// Row keys per point: 3 (2D) or 9 (3D).
+    keys: usize,
+    /// Offsets along x, y, z (z empty in 2D).
+    offsets: [Vec<u32>; 3],
+}
+
+/// The keys of simplex noise's skewed lattice along one row, for the skewed rows `lo..` its
+/// lanes visit: 2D, `row_key(j, layer_key(o, seed))` of skewed row `j`; 3D, the layer key
+/// `layer_key(o, cell_hash(k, 0, o, seed))` of skewed plane `k`. The lanes fetch those of `j`
+/// (`k`) and `j + 1` (`k + 1`) instead of hashing them for every corner.
+#[derive(Debug, Clone)]
+struct SimplexColumns {
+    /// The first skewed row (plane).
+    lo: i32,
+    /// Entries: the rows, then [`WINDOW`] of padding.
+    len: usize,
+    keys: Vec<u32>,
+}
+
+/// A row's table for one octave: lattice corners, Worley feature points or simplex keys.
+#[derive(Debug, Clone)]
+enum RowTable {
+    Lattice(Columns),
+    Worley(WorleyColumns),
+    Simplex(SimplexColumns),
+}
+
+/// `(mask, sign, constant bits)` of [`Columns`] for corner hash `h` and the row constants
+/// `y`, `z`: `f32::from_bits((x.to_bits() & mask) ^ sign) + f32::from_bits(constant)` is
+/// `gradient_dot(h, x, y, z)` for every `x`.
+#[inline(always)]
+fn gradient_terms(h: u32, y: f32, z: f32) -> (u32, u32, u32) {
+    // Selects only, so that a row's table is built in the lanes.
+    let g = h >> 28;
+    let flip = |v: f32, bit: u32| f32::from_bits(v.to_bits() ^ bit);
+    let (s1, s2) = ((g & 1) << 31, (g & 2) << 30);
+    let x_first = g < 8; // u = x, v = y (g < 4) or z
+    let x_second = g == 12 || g == 14; // u = y, v = x
+    let first = flip(if g < 4 { y } else { z }, s2).to_bits();
+    let second = flip(y, s1).to_bits();
+    // u = y, v = z: no x.
+    let k = (flip(y, s1) + flip(z, s2)).to_bits();
+    let mask = if x_first || x_second { u32::MAX } else { 0 };
+    let sign = if x_first {
+        s1
+    } else if x_second {
+        s2
+    } else {
+        k & (1 << 31)
+    };
+    let constant = if x_first {
+        first
+    } else if x_second {
+        second
+    } else {
+        k
+    };
+    (mask, sign, constant)
+}
+
+/// How a group of `L` lanes reads `window[idx[l]]` (`idx[l] < L`, `window.len() ≥ L`): by
+/// index in the portable build, by one register permute with AVX2 or AVX-512. All three give
+/// the same integers; only the instructions differ.
+trait Fetch<const L: usize> {
+    fn fetch(window: &[u32], idx: &[u32; L]) -> [u32; L];
+
+    /// [`fetch`](Self::fetch) when every `idx[l] < 8` (the lanes span at most 8 columns).
+    #[inline(always)]
+    fn fetch_narrow(window: &[u32], idx: &[u32; L]) -> [u32; L] {
+        Self::fetch(window, idx)
+    }
+}
+
+/// [`Fetch`] by indexing.
+struct Indexed;
+
+impl<const L: usize> Fetch<L> for Indexed {
+    #[inline(always)]
+    fn fetch(window: &[u32], idx: &[u32; L]) -> [u32; L] {
+        std::array::from_fn(|l| window[idx[l] as usize % L])
+    }
+}
+
+/// [`Fetch`] by `vpermd` (AVX2, 8 lanes).
+#[cfg(target_arch = "x86_64")]
+struct Permute8;
+
+#[cfg(target_arch = "x86_64")]
+impl Fetch<LANES> for Permute8 {
+    #[inline(always)]
+    fn fetch(window: &[u32], idx: &[u32; LANES]) -> [u32; LANES] {
+        #[allow(unsafe_code)]
+        // SAFETY: `Permute8` is used only by `row_avx2`, which runs only when the CPU reports
+        // AVX2 at run time.
+        unsafe {
+            permute8(window, idx)
+        }
+    }
+}
+
+/// `window[idx[l] % 8]` by one `vpermd`.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn permute8(window: &[u32], idx: &[u32; LANES]) -> [u32; LANES] {
+    use std::arch::x86_64::{__m256i, _mm256_loadu_si256, _mm256_permutevar8x32_epi32};
+    let window = &window[..LANES];
+    #[allow(unsafe_code)]
+    // SAFETY: both loads read 8 `u32` (32 bytes) from slices of at least that length
+    // (unaligned loads), and `__m256i` and `[u32; 8]` have the same size, every bit pattern
+    // valid for both.
+    unsafe {
+        let t = _mm256_loadu_si256(window.as_ptr().cast::<__m256i>());
+        let i = _mm256_loadu_si256(idx.as_ptr().cast::<__m256i>());
+        std::mem::transmute::<__m256i, [u32; LANES]>(_mm256_permutevar8x32_epi32(t, i))
+    }
+}
+
+/// [`Fetch`] by `vpermd` (AVX-512 row, 16 lanes).
+#[cfg(target_arch = "x86_64")]
+struct Permute16;
+
+#[cfg(target_arch = "x86_64")]
+impl Fetch<WIDE_LANES> for Permute16 {
+    #[inline(always)]
+    fn fetch(window: &[u32], idx: &[u32; WIDE_LANES]) -> [u32; WIDE_LANES] {
+        #[allow(unsafe_code)]
+        // SAFETY: `Permute16` is used only by `row_avx512`, which runs only when the CPU
+        // reports AVX-512F at run time, and AVX-512F implies AVX2.
+        unsafe {
+            permute16(window, idx)
+        }
+    }
+
+    #[inline(always)]
+    fn fetch_narrow(window: &[u32], idx: &[u32; WIDE_LANES]) -> [u32; WIDE_LANES] {
+        #[allow(unsafe_code)]
+        // SAFETY: as for `fetch`.
+        unsafe {
+            permute16_narrow(window, idx)
+        }
+    }
+}
+
+/// `window[idx[l] % 8]` for 16 lanes: one `vpermd` per half of the lanes.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn permute16_narrow(window: &[u32], idx: &[u32; WIDE_LANES]) -> [u32; WIDE_LANES] {
+    let low = &window[..LANES];
+    let mut out = [0u32; WIDE_LANES];
+    for (half, lanes) in out.chunks_exact_mut(LANES).enumerate() {
+        let mut i = [0u32; LANES];
+        i.copy_from_slice(&idx[half * LANES..(half + 1) * LANES]);
+        lanes.copy_from_slice(&permute8(low, &i));
+    }
+    out
+}
+
+/// `window[idx[l] % 16]`: each half of the lanes permutes both halves of the window with
+/// `vpermd` (AVX2) and keeps the one its index points into. (The one-instruction AVX-512
+/// permute is stable only from Rust 1.89, above the workspace's MSRV.)
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn permute16(window: &[u32], idx: &[u32; WIDE_LANES]) -> [u32; WIDE_LANES] {
+    let window = &window[..WIDE_LANES];
+    let (low, high) = window.split_at(LANES);
+    let mut out = [0u32; WIDE_LANES];
+    for (half, lanes) in out.chunks_exact_mut(LANES).enumerate() {
+        let mut i = [0u32; LANES];
+        i.copy_from_slice(&idx[half * LANES..(half + 1) * LANES]);
+        let from_low = permute8(low, &i);
+        let from_high = permute8(high, &i);
+        for l in 0..LANES {
+            lanes[l] = if i[l] & 8 == 0 {
+                from_low[l]
+            } else {
+                from_high[l]
+            };
+        }
+    }
+    out
+}
+
 /// A classic noise ready to evaluate.
 #[derive(Debug, Clone)]
 pub struct ClassicEvaluator {
@@ -236,8 +544,15 @@ impl ClassicEvaluator {
                 let (kz, uz) = locate(pz);
                 let zkeys = [-1, 0, 1]
                     .map(|d| layer_key(o, cell_hash(kz.wrapping_add(d), 0, o, model.seed)));
+                let inv = 1.0 / side;
+                let mantissa = (1u64 << 52) - 1;
+                let exact = side.to_bits() & mantissa == 0
+                    && inv.to_bits() & mantissa == 0
+                    && side.is_normal()
+                    && inv.is_normal();
                 Octave {
                     side,
+                    inv_side: exact.then_some(inv),
                     weight: model.octave_weight(o),
                     layer: o,
                     key2: layer_key(o, model.seed),
@@ -323,12 +638,23 @@ impl ClassicEvaluator {
 
     /// Evaluates rows `first..` of `window` into `out` (a whole number of rows).
     pub fn eval_rows(&self, window: &Window, first: usize, out: &mut [f32]) {
+        self.eval_rows_with(window, first, out, true);
+    }
+
+    /// [`eval_rows`](Self::eval_rows) with every lattice hash computed in the lanes, pixel by
+    /// pixel: the path the per-row tables of the fast path are tested and benched against.
+    pub fn eval_rows_reference(&self, window: &Window, first: usize, out: &mut [f32]) {
+        self.eval_rows_with(window, first, out, false);
+    }
+
+    /// `columns`: read lattice hashes from per-row [`Columns`] tables where the basis allows.
+    fn eval_rows_with(&self, window: &Window, first: usize, out: &mut [f32], columns: bool) {
         if window.width == 0 {
             return;
         }
         let fade = self.fade(window);
         for (r, line) in out.chunks_exact_mut(window.width).enumerate() {
-            self.eval_row_faded(window, first + r, line, fade.as_ref());
+            self.eval_row_faded(window, first + r, line, fade.as_ref(), columns);
         }
     }
 
@@ -348,26 +674,34 @@ impl ClassicEvaluator {
 
     /// Evaluates row `row` of `window` into `out` (`window.width` values).
     pub fn eval_row(&self, window: &Window, row: usize, out: &mut [f32]) {
-        self.eval_row_faded(window, row, out, self.fade(window).as_ref());
+        self.eval_row_faded(window, row, out, self.fade(window).as_ref(), true);
     }
 
     /// [`eval_row`](Self::eval_row) with the octave fade of a minified render (`None`:
     /// unfiltered).
-    fn eval_row_faded(&self, window: &Window, row: usize, out: &mut [f32], w: Option<&OctaveFade>) {
+    /// `columns`: read lattice hashes from per-row [`Columns`] tables where the basis allows.
+    fn eval_row_faded(
+        &self,
+        window: &Window,
+        row: usize,
+        out: &mut [f32],
+        w: Option<&OctaveFade>,
+        columns: bool,
+    ) {
         let y = window.y(row);
         let rows: Vec<RowOctave> = self.octaves.iter().map(|o| self.row_octave(o, y)).collect();
         #[cfg(target_arch = "x86_64")]
         match self.simd {
             #[allow(unsafe_code)]
             // SAFETY: `Simd::Avx512` is chosen only when the CPU reports AVX-512F at run time.
-            Simd::Avx512 => unsafe { self.row_avx512(window, &rows, out, w) },
+            Simd::Avx512 => unsafe { self.row_avx512(window, &rows, out, w, columns) },
             #[allow(unsafe_code)]
             // SAFETY: `Simd::Avx2` is chosen only when the CPU reports AVX2 at run time.
-            Simd::Avx2 => unsafe { self.row_avx2(window, &rows, out, w) },
-            Simd::Portable => self.row::<LANES>(window, &rows, out, w),
+            Simd::Avx2 => unsafe { self.row_avx2(window, &rows, out, w, columns) },
+            Simd::Portable => self.row::<LANES, Indexed>(window, &rows, out, w, columns),
         }
         #[cfg(not(target_arch = "x86_64"))]
-        self.row::<LANES>(window, &rows, out, w);
+        self.row::<LANES, Indexed>(window, &rows, out, w, columns);
     }
 
     /// The noise at one position (the same bits as any render).
@@ -400,8 +734,9 @@ impl ClassicEvaluator {
         rows: &[RowOctave],
         out: &mut [f32],
         w: Option<&OctaveFade>,
+        columns: bool,
     ) {
-        self.row::<LANES>(window, rows, out, w);
+        self.row::<LANES, Permute8>(window, rows, out, w, columns);
     }
 
     #[cfg(target_arch = "x86_64")]
@@ -412,25 +747,37 @@ impl ClassicEvaluator {
         rows: &[RowOctave],
         out: &mut [f32],
         w: Option<&OctaveFade>,
+        columns: bool,
     ) {
-        self.row::<WIDE_LANES>(window, rows, out, w);
+        self.row::<WIDE_LANES, Permute16>(window, rows, out, w, columns);
     }
 
     /// One row, `L` pixels at a time; `inline(always)` so each SIMD wrapper gets its own copy.
     /// `fade`: how a minified render takes each octave (`classic_fade`), else `None`.
+    /// `columns`: read lattice hashes from per-row [`Columns`] tables where the basis allows.
     #[inline(always)]
-    fn row<const L: usize>(
+    fn row<const L: usize, F: Fetch<L>>(
         &self,
         window: &Window,
         rows: &[RowOctave],
         out: &mut [f32],
         fade: Option<&OctaveFade>,
+        columns: bool,
     ) {
         let width = out.len();
         let mut lane_index = [0.0f64; L];
         for (l, v) in lane_index.iter_mut().enumerate() {
             *v = l as f64;
         }
+        let tables: Vec<Option<RowTable>> = if columns {
+            self.octaves
+                .iter()
+                .zip(rows)
+                .map(|(o, r)| self.columns::<L>(o, r, window, width))
+                .collect()
+        } else {
+            Vec::new()
+        };
         let mut start = 0;
         while start < width {
             // `window.x(i)` lane by lane: the integer `x0 + i` is exact in f64 either way.
@@ -439,13 +786,304 @@ impl ClassicEvaluator {
             for l in 0..L {
                 x[l] = window.offset[0] + (base + lane_index[l]) * window.scale;
             }
-            let acc = self.octave_sum::<L, _>(&x, rows, fade);
+            let acc = self.octave_sum::<L, _, F>(&x, rows, fade, &tables);
             let end = (start + L).min(width);
-            for (l, v) in out[start..end].iter_mut().enumerate() {
-                *v = self.mean + self.amplitude * acc[l];
+            if let Some(full) = out[start..end].first_chunk_mut::<L>() {
+                for l in 0..L {
+                    full[l] = self.mean + self.amplitude * acc[l];
+                }
+            } else {
+                for (l, v) in out[start..end].iter_mut().enumerate() {
+                    *v = self.mean + self.amplitude * acc[l];
+                }
             }
             start += L;
         }
+    }
+
+    /// The [`Columns`] of octave `o` on the row `r` of `window` (`width` pixels, evaluated `L`
+    /// at a time), or `None` where the basis hashes in the lanes (simplex, Worley) or the row
+    /// visits more lattice columns than it has pixels (a minified render of small cells).
+    #[inline(always)]
+    fn columns<const L: usize>(
+        &self,
+        o: &Octave,
+        r: &RowOctave,
+        window: &Window,
+        width: usize,
+    ) -> Option<RowTable> {
+        if let Basis::Worley(_) = self.basis {
+            return self
+                .worley_columns::<L>(o, r, window, width)
+                .map(RowTable::Worley);
+        }
+        if let Basis::Simplex = self.basis {
+            return self
+                .simplex_columns::<L>(o, r, window, width)
+                .map(RowTable::Simplex);
+        }
+        if !matches!(self.basis, Basis::Gradient | Basis::Value) || width == 0 {
+            return None;
+        }
+        // Cells under 2 pixels: hashing in the lanes is as fast as building the table.
+        if o.side < 2.0 * window.scale {
+            return None;
+        }
+        let (lo, hi) = Self::column_range::<L>(o, window, width);
+        let count = i64::from(hi) - i64::from(lo) + 2;
+        if count > (width + L) as i64 + 2 {
+            return None;
+        }
+        let count = count as usize;
+        let len = count + WINDOW;
+        let keys: &[u32] = if self.three_d {
+            &[r.keys[1][1], r.keys[1][2], r.keys[2][1], r.keys[2][2]]
+        } else {
+            &[r.keys[1][1], r.keys[1][2]]
+        };
+        let gradient = self.basis == Basis::Gradient;
+        let size = keys.len() * len;
+        let mut t = Columns {
+            lo,
+            len,
+            mask: vec![0; if gradient { size } else { 0 }],
+            sign: vec![0; if gradient { size } else { 0 }],
+            constant: vec![0; size],
+        };
+        let mut hashes = vec![0u32; count];
+        for (p, &key) in keys.iter().enumerate() {
+            for (c, h) in hashes.iter_mut().enumerate() {
+                *h = cell_hash_in_row(lo.wrapping_add(c as i32), key);
+            }
+            let at = p * len;
+            if gradient {
+                // As the lanes compute them: `uy − dy`, `uz − dz` (2D: `uy`, `uy − 1`, 0).
+                let (dz, dy) = (p / 2, p % 2);
+                let y = r.uy - dy as f32;
+                let z = if self.three_d { o.uz - dz as f32 } else { 0.0 };
+                for (c, &h) in hashes.iter().enumerate() {
+                    (t.mask[at + c], t.sign[at + c], t.constant[at + c]) = gradient_terms(h, y, z);
+                }
+            } else {
+                for (c, &h) in hashes.iter().enumerate() {
+                    t.constant[at + c] = lattice_value(h).to_bits();
+                }
+            }
+        }
+        Some(RowTable::Lattice(t))
+    }
+
+    /// The first and last lattice columns of the lanes of a row of `window` (`width` pixels,
+    /// `L` at a time) on octave `o`: positions grow along the row, and so do their cells.
+    #[inline(always)]
+    fn column_range<const L: usize>(o: &Octave, window: &Window, width: usize) -> (i32, i32) {
+        let last_start = (width - 1) / L * L;
+        let first = window.offset[0] + (window.x0 as f64) * window.scale;
+        let last = window.offset[0]
+            + ((window.x0 + last_start as i64) as f64 + (L - 1) as f64) * window.scale;
+        (locate(first / o.side).0, locate(last / o.side).0)
+    }
+
+    /// The skewed row (2D) or plane (3D) of simplex noise at `x` on the row `r`, as
+    /// [`simplex2`] and [`simplex3`] compute it.
+    #[inline(always)]
+    fn simplex_cell(&self, o: &Octave, r: &RowOctave, x: f64) -> i32 {
+        let px = x / o.side;
+        if self.three_d {
+            let s = ((px + r.py) + o.pz) * SIMPLEX_F3;
+            split(o.pz + s).0
+        } else {
+            let s = (px + r.py) * SIMPLEX_F2;
+            split(r.py + s).0
+        }
+    }
+
+    /// The [`SimplexColumns`] of octave `o` on the row `r`, or `None`: cells under 2 pixels or
+    /// more skewed rows than pixels.
+    #[inline(always)]
+    fn simplex_columns<const L: usize>(
+        &self,
+        o: &Octave,
+        r: &RowOctave,
+        window: &Window,
+        width: usize,
+    ) -> Option<SimplexColumns> {
+        if width == 0 || o.side < 2.0 * window.scale {
+            return None;
+        }
+        // The skewed coordinate grows with x along a row (a sum of non-decreasing terms).
+        let last_start = (width - 1) / L * L;
+        let first = window.offset[0] + (window.x0 as f64) * window.scale;
+        let last = window.offset[0]
+            + ((window.x0 + last_start as i64) as f64 + (L - 1) as f64) * window.scale;
+        let (lo, hi) = (
+            self.simplex_cell(o, r, first),
+            self.simplex_cell(o, r, last),
+        );
+        let count = i64::from(hi) - i64::from(lo) + 2;
+        if count > (width + L) as i64 + 2 {
+            return None;
+        }
+        let count = count as usize;
+        let len = count + WINDOW;
+        let mut keys = vec![0u32; len];
+        for (c, key) in keys[..count].iter_mut().enumerate() {
+            let cell = lo.wrapping_add(c as i32);
+            *key = if self.three_d {
+                layer_key(o.layer, cell_hash_in_row(cell, o.key0))
+            } else {
+                row_key(cell, o.key2)
+            };
+        }
+        Some(SimplexColumns { lo, len, keys })
+    }
+
+    /// The [`WorleyColumns`] of octave `o` on the row `r`, or `None`: a Poisson count, cells
+    /// under 2 pixels, or more columns than pixels.
+    #[inline(always)]
+    fn worley_columns<const L: usize>(
+        &self,
+        o: &Octave,
+        r: &RowOctave,
+        window: &Window,
+        width: usize,
+    ) -> Option<WorleyColumns> {
+        let w = self.worley.as_ref()?;
+        let points = w.fixed? as usize;
+        if width == 0 || o.side < 2.0 * window.scale {
+            return None;
+        }
+        let (first, last) = Self::column_range::<L>(o, window, width);
+        // Columns `first − 1 ..= last + 1`.
+        let count = i64::from(last) - i64::from(first) + 3;
+        if count > (width + L) as i64 + 3 {
+            return None;
+        }
+        let count = count as usize;
+        let lo = first.wrapping_sub(1);
+        let len = count + WINDOW;
+        let mut keys = Vec::with_capacity(9);
+        for dz in if self.three_d { 0..3 } else { 1..2 } {
+            for dy in 0..3 {
+                keys.push(r.keys[dz][dy]);
+            }
+        }
+        let size = points * keys.len() * len;
+        let mut offsets = [vec![0u32; size], vec![0u32; size], Vec::new()];
+        if self.three_d {
+            offsets[2] = vec![0u32; size];
+        }
+        let mut state = vec![0u32; count];
+        for (p, &key) in keys.iter().enumerate() {
+            for (c, s) in state.iter_mut().enumerate() {
+                *s = cell_hash_in_row(lo.wrapping_add(c as i32), key);
+            }
+            for q in 0..points {
+                let at = (q * keys.len() + p) * len;
+                for (c, s) in state.iter_mut().enumerate() {
+                    // As `worley_lanes` draws them: x, y, then z.
+                    *s = lcg_step(*s);
+                    offsets[0][at + c] = unit_f32(permute(*s)).to_bits();
+                    *s = lcg_step(*s);
+                    offsets[1][at + c] = unit_f32(permute(*s)).to_bits();
+                    if self.three_d {
+                        *s = lcg_step(*s);
+                        offsets[2][at + c] = unit_f32(permute(*s)).to_bits();
+                    }
+                }
+            }
+        }
+        Some(WorleyColumns {
+            lo,
+            len,
+            keys: keys.len(),
+            offsets,
+        })
+    }
+
+    /// Gradient or value noise with the corner hashes read from the row's [`Columns`] `t`, the
+    /// arithmetic of [`gradient2`] and [`gradient3`] otherwise; `false` (nothing written) when
+    /// the lanes span `L` or more lattice columns, which one fetch cannot reach.
+    #[inline(always)]
+    fn lattice_columns<
+        const L: usize,
+        F: Fetch<L>,
+        R: RowLanes,
+        const GRADIENT: bool,
+        const THREE_D: bool,
+    >(
+        &self,
+        o: &Octave,
+        r: &R,
+        x: &[f64; L],
+        t: &Columns,
+        n: &mut [f32; L],
+    ) -> bool {
+        let mut ix = [0i32; L];
+        let mut ux = [0.0f32; L];
+        let mut p = [0.0f64; L];
+        match o.inv_side {
+            Some(inv) => {
+                for l in 0..L {
+                    p[l] = x[l] * inv;
+                }
+            }
+            None => {
+                for l in 0..L {
+                    p[l] = x[l] / o.side;
+                }
+            }
+        }
+        locate_lanes(&p, &mut ix, &mut ux);
+        let span = i64::from(ix[L - 1]) - i64::from(ix[0]);
+        let base = i64::from(ix[0]) - i64::from(t.lo);
+        if !(0..L as i64).contains(&span) || base < 0 || base as usize + WINDOW > t.len {
+            return false;
+        }
+        let base = base as usize;
+        let narrow = span < 8;
+        let mut idx = [0u32; L];
+        for l in 0..L {
+            idx[l] = ix[l].wrapping_sub(ix[0]) as u32;
+        }
+        let lerp = |a: f32, b: f32, t: f32| a + t * (b - a);
+        if THREE_D {
+            let mut c = [[[[0.0f32; L]; 2]; 2]; 2];
+            for (dz, cz) in c.iter_mut().enumerate() {
+                for (dy, cy) in cz.iter_mut().enumerate() {
+                    *cy = corners::<L, F, GRADIENT>(t, 2 * dz + dy, base, &idx, &ux, narrow);
+                }
+            }
+            let sz = fade(o.uz);
+            for l in 0..L {
+                let sy = fade(r.uy(l));
+                let sx = fade(ux[l]);
+                let y0 = lerp(
+                    lerp(c[0][0][0][l], c[0][0][1][l], sx),
+                    lerp(c[0][1][0][l], c[0][1][1][l], sx),
+                    sy,
+                );
+                let y1 = lerp(
+                    lerp(c[1][0][0][l], c[1][0][1][l], sx),
+                    lerp(c[1][1][0][l], c[1][1][1][l], sx),
+                    sy,
+                );
+                n[l] = lerp(y0, y1, sz);
+            }
+        } else {
+            let mut c = [[[0.0f32; L]; 2]; 2];
+            for (dy, cy) in c.iter_mut().enumerate() {
+                *cy = corners::<L, F, GRADIENT>(t, dy, base, &idx, &ux, narrow);
+            }
+            for l in 0..L {
+                let sy = fade(r.uy(l));
+                let sx = fade(ux[l]);
+                let a = c[0][0][l] + sx * (c[0][1][l] - c[0][0][l]);
+                let b = c[1][0][l] + sx * (c[1][1][l] - c[1][0][l]);
+                n[l] = a + sy * (b - a);
+            }
+        }
+        true
     }
 
     /// The points of `points` (pixels), `L` at a time, into `out`: each lane at its own
@@ -474,7 +1112,7 @@ impl ClassicEvaluator {
             for (r, o) in rows.iter_mut().zip(&self.octaves) {
                 self.point_rows(o, &y, r);
             }
-            let acc = self.octave_sum::<L, _>(&x, &rows, None);
+            let acc = self.octave_sum::<L, _, Indexed>(&x, &rows, None, &[]);
             for (l, v) in values.iter_mut().enumerate() {
                 *v = self.mean + self.amplitude * acc[l];
             }
@@ -538,13 +1176,15 @@ impl ClassicEvaluator {
     }
 
     /// The octaves' fractal sum at the lanes' positions `x` along x, their rows (one per
-    /// octave) along y; `fade`: how a minified render takes each octave, else `None`.
+    /// octave) along y; `fade`: how a minified render takes each octave, else `None`;
+    /// `tables`: each octave's [`Columns`] of the row, where it has one (else empty).
     #[inline(always)]
-    fn octave_sum<const L: usize, R: RowLanes>(
+    fn octave_sum<const L: usize, R: RowLanes, F: Fetch<L>>(
         &self,
         x: &[f64; L],
         rows: &[R],
         fade: Option<&OctaveFade>,
+        tables: &[Option<RowTable>],
     ) -> [f32; L] {
         let mut acc = [0.0f32; L];
         let mut previous = [0.0f32; L];
@@ -575,7 +1215,35 @@ impl ClassicEvaluator {
                 }
                 continue;
             }
-            let n = self.basis_lanes::<L, R>(oct, ro, x);
+            let mut n = [0.0f32; L];
+            let from_table = match tables.get(o).and_then(Option::as_ref) {
+                Some(RowTable::Worley(t)) => self.worley_table::<L, F, R>(oct, ro, x, t, &mut n),
+                Some(RowTable::Simplex(t)) => {
+                    if self.three_d {
+                        simplex3_table::<L, F, R>(oct, ro, x, t, &mut n)
+                    } else {
+                        simplex2_table::<L, F, R>(oct, ro, x, t, &mut n)
+                    }
+                }
+                Some(RowTable::Lattice(t)) => match (self.basis == Basis::Gradient, self.three_d) {
+                    (true, true) => {
+                        self.lattice_columns::<L, F, R, true, true>(oct, ro, x, t, &mut n)
+                    }
+                    (true, false) => {
+                        self.lattice_columns::<L, F, R, true, false>(oct, ro, x, t, &mut n)
+                    }
+                    (false, true) => {
+                        self.lattice_columns::<L, F, R, false, true>(oct, ro, x, t, &mut n)
+                    }
+                    (false, false) => {
+                        self.lattice_columns::<L, F, R, false, false>(oct, ro, x, t, &mut n)
+                    }
+                },
+                None => false,
+            };
+            if !from_table {
+                n = self.basis_lanes::<L, R>(oct, ro, x);
+            }
             match (self.kind, faded) {
                 (None | Some(FractalKind::Fbm), None) => {
                     for l in 0..L {
@@ -747,27 +1415,186 @@ impl ClassicEvaluator {
                 }
             }
         }
-        for l in 0..L {
-            let gap = gap(ux[l], r.uy(l), o.uz, three_d, 1);
-            let gap = if w.metric == Metric::Euclidean {
-                gap * gap
-            } else {
-                gap
-            };
-            let mut fl = [f[0][l], f[1][l], f[2][l], f[3][l]];
-            if fl[w.needed] > gap {
-                fl = worley_search(
-                    w,
-                    fl,
-                    (ix[l], ux[l]),
-                    (r.iy(l), r.uy(l)),
-                    (o.kz, o.uz),
-                    three_d,
-                    o,
-                );
+        worley_finish(w, o, r, &ix, &ux, &f, three_d, n);
+    }
+
+    /// The metric of a Worley octave with a [`WorleyColumns`] table as a constant, for
+    /// [`worley_table_lanes`](Self::worley_table_lanes); `false` (nothing written) when the
+    /// lanes span too many columns for one fetch.
+    #[inline(always)]
+    fn worley_table<const L: usize, F: Fetch<L>, R: RowLanes>(
+        &self,
+        o: &Octave,
+        r: &R,
+        x: &[f64; L],
+        t: &WorleyColumns,
+        n: &mut [f32; L],
+    ) -> bool {
+        let Some(w) = &self.worley else {
+            return false;
+        };
+        match (w.metric, self.three_d) {
+            (Metric::Euclidean, false) => {
+                self.worley_table_lanes::<L, F, R, false, 0>(w, o, r, x, t, n)
             }
-            n[l] = combine(w, fl);
+            (Metric::Manhattan, false) => {
+                self.worley_table_lanes::<L, F, R, false, 1>(w, o, r, x, t, n)
+            }
+            (Metric::Chebyshev, false) => {
+                self.worley_table_lanes::<L, F, R, false, 2>(w, o, r, x, t, n)
+            }
+            (Metric::Euclidean, true) => {
+                self.worley_table_lanes::<L, F, R, true, 0>(w, o, r, x, t, n)
+            }
+            (Metric::Manhattan, true) => {
+                self.worley_table_lanes::<L, F, R, true, 1>(w, o, r, x, t, n)
+            }
+            (Metric::Chebyshev, true) => {
+                self.worley_table_lanes::<L, F, R, true, 2>(w, o, r, x, t, n)
+            }
         }
+    }
+
+    /// [`worley_lanes`](Self::worley_lanes) with the feature points read from the row's
+    /// [`WorleyColumns`] `t` (a fixed count): the same cells, points and arithmetic in the same
+    /// order.
+    #[inline(always)]
+    #[allow(
+        clippy::too_many_arguments,
+        reason = "the lanes' state, passed unpacked"
+    )]
+    fn worley_table_lanes<
+        const L: usize,
+        F: Fetch<L>,
+        R: RowLanes,
+        const THREE_D: bool,
+        const METRIC: u8,
+    >(
+        &self,
+        w: &WorleyParams,
+        o: &Octave,
+        r: &R,
+        x: &[f64; L],
+        t: &WorleyColumns,
+        n: &mut [f32; L],
+    ) -> bool {
+        let metric = match METRIC {
+            0 => Metric::Euclidean,
+            1 => Metric::Manhattan,
+            _ => Metric::Chebyshev,
+        };
+        let mut ix = [0i32; L];
+        let mut ux = [0.0f32; L];
+        let mut p = [0.0f64; L];
+        match o.inv_side {
+            Some(inv) => {
+                for l in 0..L {
+                    p[l] = x[l] * inv;
+                }
+            }
+            None => {
+                for l in 0..L {
+                    p[l] = x[l] / o.side;
+                }
+            }
+        }
+        locate_lanes(&p, &mut ix, &mut ux);
+        let span = i64::from(ix[L - 1]) - i64::from(ix[0]);
+        // Column `ix − 1` of lane 0 is entry `base`.
+        let base = i64::from(ix[0]) - 1 - i64::from(t.lo);
+        if !(0..L as i64).contains(&span) || base < 0 || base as usize + WINDOW > t.len {
+            return false;
+        }
+        let base = base as usize;
+        let narrow = span < 8;
+        let fetch = if narrow { F::fetch_narrow } else { F::fetch };
+        let mut idx = [0u32; L];
+        for l in 0..L {
+            idx[l] = ix[l].wrapping_sub(ix[0]) as u32;
+        }
+        let points = t.offsets[0].len() / (t.keys * t.len);
+        let mut f = [[w.cap; L]; 4];
+        let dzs: &[i32] = if THREE_D { &[-1, 0, 1] } else { &[0] };
+        for &dz in dzs {
+            for dy in -1..=1i32 {
+                let rz = o.uz - dz as f32;
+                let key = if THREE_D {
+                    3 * (dz + 1) + dy + 1
+                } else {
+                    dy + 1
+                } as usize;
+                let mut ry = [0.0f32; L];
+                for l in 0..L {
+                    ry[l] = r.uy(l) - dy as f32;
+                }
+                for dx in -1..=1i32 {
+                    let rx = dx as f32;
+                    let from = (dx + 1) as usize;
+                    for q in 0..points {
+                        let at = (q * t.keys + key) * t.len + base;
+                        let ox = fetch(&window(&t.offsets[0], at)[from..from + L], &idx);
+                        let oy = fetch(&window(&t.offsets[1], at)[from..from + L], &idx);
+                        let oz = if THREE_D {
+                            fetch(&window(&t.offsets[2], at)[from..from + L], &idx)
+                        } else {
+                            [0; L]
+                        };
+                        for l in 0..L {
+                            let ddx = ux[l] - (rx + f32::from_bits(ox[l]));
+                            let ddy = ry[l] - f32::from_bits(oy[l]);
+                            let d = if THREE_D {
+                                distance3(metric, ddx, ddy, rz - f32::from_bits(oz[l]))
+                            } else {
+                                distance2(metric, ddx, ddy)
+                            };
+                            insert(&mut f, l, d);
+                        }
+                    }
+                }
+            }
+        }
+        worley_finish(w, o, r, &ix, &ux, &f, THREE_D, n);
+        true
+    }
+}
+
+/// The end of a Worley octave in the lanes: where the 3×3 (×3) block's needed `F_n` is
+/// farther than the unsearched cells, [`worley_search`] goes on; then the combination.
+#[inline(always)]
+#[allow(
+    clippy::too_many_arguments,
+    reason = "the lanes' state, passed unpacked"
+)]
+fn worley_finish<const L: usize, R: RowLanes>(
+    w: &WorleyParams,
+    o: &Octave,
+    r: &R,
+    ix: &[i32; L],
+    ux: &[f32; L],
+    f: &[[f32; L]; 4],
+    three_d: bool,
+    n: &mut [f32; L],
+) {
+    for l in 0..L {
+        let gap = gap(ux[l], r.uy(l), o.uz, three_d, 1);
+        let gap = if w.metric == Metric::Euclidean {
+            gap * gap
+        } else {
+            gap
+        };
+        let mut fl = [f[0][l], f[1][l], f[2][l], f[3][l]];
+        if fl[w.needed] > gap {
+            fl = worley_search(
+                w,
+                fl,
+                (ix[l], ux[l]),
+                (r.iy(l), r.uy(l)),
+                (o.kz, o.uz),
+                three_d,
+                o,
+            );
+        }
+        n[l] = combine(w, fl);
     }
 }
 
@@ -1024,6 +1851,172 @@ fn simplex2<const L: usize, R: RowLanes>(o: &Octave, r: &R, x: &[f64; L], n: &mu
     }
 }
 
+/// `x / side` in the lanes (by the exact reciprocal where the octave has one).
+#[inline(always)]
+fn cell_units<const L: usize>(o: &Octave, x: &[f64; L]) -> [f64; L] {
+    let mut p = [0.0f64; L];
+    match o.inv_side {
+        Some(inv) => {
+            for l in 0..L {
+                p[l] = x[l] * inv;
+            }
+        }
+        None => {
+            for l in 0..L {
+                p[l] = x[l] / o.side;
+            }
+        }
+    }
+    p
+}
+
+/// Where lanes with skewed rows (planes) `cell` read the row's [`SimplexColumns`] `t`: the
+/// entry of lane 0 and each lane's distance from it, or `None` when one fetch cannot reach them.
+#[inline(always)]
+fn simplex_window<const L: usize>(
+    t: &SimplexColumns,
+    cell: &[i32; L],
+) -> Option<(usize, [u32; L])> {
+    let span = i64::from(cell[L - 1]) - i64::from(cell[0]);
+    let base = i64::from(cell[0]) - i64::from(t.lo);
+    if !(0..L as i64).contains(&span) || base < 0 || base as usize + WINDOW > t.len {
+        return None;
+    }
+    let mut idx = [0u32; L];
+    for l in 0..L {
+        idx[l] = cell[l].wrapping_sub(cell[0]) as u32;
+    }
+    Some((base as usize, idx))
+}
+
+/// [`simplex2`] with the row keys of the skewed rows `j`, `j + 1` read from the row's
+/// [`SimplexColumns`]; `false` (nothing written) when one fetch cannot reach them.
+#[inline(always)]
+fn simplex2_table<const L: usize, F: Fetch<L>, R: RowLanes>(
+    o: &Octave,
+    r: &R,
+    x: &[f64; L],
+    t: &SimplexColumns,
+    n: &mut [f32; L],
+) -> bool {
+    let g2 = SIMPLEX_G2 as f32;
+    let px = cell_units(o, x);
+    let mut i = [0i32; L];
+    let mut j = [0i32; L];
+    let mut fi = [0.0f64; L];
+    let mut fj = [0.0f64; L];
+    for l in 0..L {
+        let py = r.py(l);
+        let s = (px[l] + py) * SIMPLEX_F2;
+        (i[l], fi[l]) = split(px[l] + s);
+        (j[l], fj[l]) = split(py + s);
+    }
+    let Some((base, idx)) = simplex_window(t, &j) else {
+        return false;
+    };
+    let keys = window(&t.keys, base);
+    let (k0, k1) = (F::fetch(&keys[..L], &idx), F::fetch(&keys[1..=L], &idx));
+    for l in 0..L {
+        let py = r.py(l);
+        let t = (fi[l] + fj[l]) * SIMPLEX_G2;
+        let x0 = (px[l] - (fi[l] - t)) as f32;
+        let y0 = (py - (fj[l] - t)) as f32;
+        let step_x = x0 > y0;
+        let (i1, j1) = if step_x { (1, 0) } else { (0, 1) };
+        let x1 = (x0 - i1 as f32) + g2;
+        let y1 = (y0 - j1 as f32) + g2;
+        let x2 = (x0 - 1.0) + 2.0 * g2;
+        let y2 = (y0 - 1.0) + 2.0 * g2;
+        let h0 = cell_hash_in_row(i[l], k0[l]);
+        let h1 = cell_hash_in_row(i[l].wrapping_add(i1), if step_x { k0[l] } else { k1[l] });
+        let h2 = cell_hash_in_row(i[l].wrapping_add(1), k1[l]);
+        let c0 = simplex_term(h0, SIMPLEX2_R2, x0, y0, 0.0);
+        let c1 = simplex_term(h1, SIMPLEX2_R2, x1, y1, 0.0);
+        let c2 = simplex_term(h2, SIMPLEX2_R2, x2, y2, 0.0);
+        n[l] = SIMPLEX2_SCALE * ((c0 + c1) + c2);
+    }
+    true
+}
+
+/// `hash3` of corner `(i + di, j + dj, k + dk)` from the layer keys of planes `k` (`l0`) and
+/// `k + 1` (`l1`).
+#[inline(always)]
+fn simplex3_hash(i: i32, j: i32, (di, dj, dk): (i32, i32, i32), l0: u32, l1: u32) -> u32 {
+    let layer = if dk == 0 { l0 } else { l1 };
+    cell_hash_in_row(i.wrapping_add(di), row_key(j.wrapping_add(dj), layer))
+}
+
+/// [`simplex3`] with the layer keys of the skewed planes `k`, `k + 1` read from the row's
+/// [`SimplexColumns`]; `false` (nothing written) when one fetch cannot reach them.
+#[inline(always)]
+fn simplex3_table<const L: usize, F: Fetch<L>, R: RowLanes>(
+    o: &Octave,
+    r: &R,
+    x: &[f64; L],
+    t: &SimplexColumns,
+    n: &mut [f32; L],
+) -> bool {
+    let g3 = SIMPLEX_G3 as f32;
+    let px = cell_units(o, x);
+    let pz = o.pz;
+    let mut i = [0i32; L];
+    let mut j = [0i32; L];
+    let mut k = [0i32; L];
+    let mut fi = [0.0f64; L];
+    let mut fj = [0.0f64; L];
+    let mut fk = [0.0f64; L];
+    for l in 0..L {
+        let py = r.py(l);
+        let s = ((px[l] + py) + pz) * SIMPLEX_F3;
+        (i[l], fi[l]) = split(px[l] + s);
+        (j[l], fj[l]) = split(py + s);
+        (k[l], fk[l]) = split(pz + s);
+    }
+    let Some((base, idx)) = simplex_window(t, &k) else {
+        return false;
+    };
+    let keys = window(&t.keys, base);
+    let (lk0, lk1) = (F::fetch(&keys[..L], &idx), F::fetch(&keys[1..=L], &idx));
+    for l in 0..L {
+        let py = r.py(l);
+        let t = ((fi[l] + fj[l]) + fk[l]) * SIMPLEX_G3;
+        let x0 = (px[l] - (fi[l] - t)) as f32;
+        let y0 = (py - (fj[l] - t)) as f32;
+        let z0 = (pz - (fk[l] - t)) as f32;
+        let (a, b, c) = (x0 >= y0, y0 >= z0, x0 >= z0);
+        let i1 = i32::from(a && (b || c));
+        let j1 = i32::from(!a && b);
+        let k1 = i32::from(!b && (!a || !c));
+        let i2 = i32::from(a || (b && c));
+        let j2 = i32::from(b || !a);
+        let k2 = i32::from(!b || (!a && !c));
+        let (l0, l1) = (lk0[l], lk1[l]);
+        let mut sum = 0.0f32;
+        for (corner, (di, dj, dk, off)) in [
+            (0, 0, 0, 0.0),
+            (i1, j1, k1, g3),
+            (i2, j2, k2, 2.0 * g3),
+            (1, 1, 1, 3.0 * g3),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            let h = simplex3_hash(i[l], j[l], (di, dj, dk), l0, l1);
+            let term = simplex_term(
+                h,
+                SIMPLEX3_R2,
+                (x0 - di as f32) + off,
+                (y0 - dj as f32) + off,
+                (z0 - dk as f32) + off,
+            );
+            // `((c0 + c1) + c2) + c3`, as `simplex3` sums them.
+            sum = if corner == 0 { term } else { sum + term };
+        }
+        n[l] = SIMPLEX3_SCALE * sum;
+    }
+    true
+}
+
 /// 3D simplex noise on the plane of the octave's `z`, in the lanes.
 #[inline(always)]
 fn simplex3<const L: usize, R: RowLanes>(o: &Octave, r: &R, x: &[f64; L], n: &mut [f32; L]) {
@@ -1086,7 +2079,42 @@ impl crate::RowKernel for ClassicEvaluator {
         ClassicEvaluator::eval_rows(self, window, first, out);
     }
 
+    fn eval_rows_reference(&self, window: &Window, first: usize, out: &mut [f32]) {
+        ClassicEvaluator::eval_rows_reference(self, window, first, out);
+    }
+
     fn eval_points(&self, points: &[[f64; 2]], out: &mut [f32]) {
         ClassicEvaluator::eval_points(self, points, out);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{gradient_dot, gradient_terms};
+
+    /// The folded corner `((x & mask) ^ sign) + constant` is `gradient_dot` bit for bit, for
+    /// every gradient index and signed zeros among the coordinates (the case `−0 + −0`).
+    #[test]
+    fn gradient_terms_fold_gradient_dot_exactly() {
+        let values = [0.0f32, -0.0, 0.375, -0.625, 1.0, -1.0, 0.999_999_9, 1.0e-30];
+        for g in 0..16u32 {
+            // Low bits too: only the top four choose the gradient.
+            let h = (g << 28) | 0x0123_4567;
+            for &y in &values {
+                for &z in &values {
+                    let (mask, sign, constant) = gradient_terms(h, y, z);
+                    for &x in &values {
+                        let folded =
+                            f32::from_bits((x.to_bits() & mask) ^ sign) + f32::from_bits(constant);
+                        let direct = gradient_dot(h, x, y, z);
+                        assert_eq!(
+                            folded.to_bits(),
+                            direct.to_bits(),
+                            "g {g}, (x, y, z) = ({x:e}, {y:e}, {z:e}): {folded:e} vs {direct:e}"
+                        );
+                    }
+                }
+            }
+        }
     }
 }

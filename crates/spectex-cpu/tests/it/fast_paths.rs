@@ -14,6 +14,9 @@
 use spectex_cpu::classic::ClassicEvaluator;
 use spectex_cpu::{Evaluator, PhasorEvaluator, Window};
 use spectex_model::Model;
+use spectex_model::classic::{
+    Basis, ClassicNoise, FeaturePoints, Fractal, FractalKind, Metric, Worley,
+};
 use spectex_testkit::invariance::{Case, minified_window, testdata_cases, tile_window};
 
 /// Windows near and far, zoomed in and out (one minified, which the phasor and LRP kernels
@@ -107,6 +110,138 @@ fn phasor_rows_match_the_per_pixel_sum_at_every_simd_level() {
         compared >= 5 * 2 * windows().len(),
         "{compared} renders compared"
     );
+}
+
+/// Noises whose rows read per-row column tables: gradient, value and simplex noise in 2D and
+/// 3D, cells that are and are not powers of two (the exact reciprocal and the division), octaves
+/// down to cells under 2 pixels (hashed in the lanes), ridged, at z near and far; and Worley
+/// noise with fixed counts of 1 and 3 points, every metric, F1 and F2 − F1, 2D and 3D (the exact
+/// search beyond the 3×3 block included).
+fn table_models() -> Vec<(String, ClassicNoise, f64)> {
+    let mut models = Vec::new();
+    for dimensions in [2, 3] {
+        for (metric, coefficients, points) in [
+            (Metric::Euclidean, [1.0, 0.0, 0.0, 0.0], 1),
+            (Metric::Manhattan, [-1.0, 1.0, 0.0, 0.0], 3),
+            (Metric::Chebyshev, [0.5, 0.0, 0.25, 1.0], 1),
+            (Metric::Euclidean, [0.0, 0.0, 0.0, 1.0], 3),
+        ] {
+            let model = ClassicNoise {
+                seed: 4,
+                dimensions,
+                cell_size: 24.5,
+                basis: Basis::Worley(Worley {
+                    metric,
+                    coefficients,
+                    points: FeaturePoints::Fixed(points),
+                }),
+                fractal: Some(Fractal {
+                    kind: FractalKind::Turbulence,
+                    octaves: 4,
+                    lacunarity: 2.0,
+                    gain: 0.5,
+                }),
+                amplitude: 1.0,
+                mean: 0.0,
+            };
+            model.validate().unwrap();
+            let name = format!("worley {dimensions}D {metric:?} {points} points");
+            models.push((name, model, -11.3));
+        }
+    }
+    for (basis, name) in [
+        (Basis::Gradient, "gradient"),
+        (Basis::Value, "value"),
+        (Basis::Simplex, "simplex"),
+    ] {
+        for dimensions in [2, 3] {
+            for (cell, lacunarity, octaves, kind) in [
+                (32.0, 2.0, 6, FractalKind::Fbm),
+                (13.7, 1.9, 5, FractalKind::Fbm),
+                (
+                    64.0,
+                    2.0,
+                    7,
+                    FractalKind::Ridged {
+                        offset: 1.0,
+                        weight_gain: 2.0,
+                    },
+                ),
+            ] {
+                for z in [7.0, -3.0e6 - 0.4] {
+                    let model = ClassicNoise {
+                        seed: 9,
+                        dimensions,
+                        cell_size: cell,
+                        basis: basis.clone(),
+                        fractal: Some(Fractal {
+                            kind,
+                            octaves,
+                            lacunarity,
+                            gain: 0.5,
+                        }),
+                        amplitude: 1.0,
+                        mean: 0.25,
+                    };
+                    model.validate().unwrap();
+                    models.push((format!("{name} {dimensions}D cell {cell} z {z}"), model, z));
+                }
+            }
+        }
+    }
+    models
+}
+
+/// The classic row kernel (lattice hashes from per-row column tables, fetched by register
+/// permutes with AVX2 and AVX-512) on every SIMD level the CPU has, against the reference path
+/// that hashes every corner in the lanes, for the testdata models and [`table_models`].
+#[test]
+fn classic_rows_match_the_reference_at_every_simd_level() {
+    let mut models: Vec<(String, ClassicNoise, f64)> = table_models();
+    for case in testdata_cases() {
+        if let Model::Classic(m) = &case.model {
+            models.push((case.name.clone(), m.clone(), case.z));
+        }
+    }
+    let mut windows = windows();
+    // Rows of cells 32 pixels wide in 2048 columns, a window narrower than the lanes, and one
+    // at the origin with the lanes across cell borders at every offset.
+    windows.push(("wide", Window::new(2048, 3).at([-1.0e6 - 0.5, 77.0], 1.0)));
+    windows.push(("narrow", Window::new(5, 4).at([31.0, -1.0], 1.0)));
+    windows.push(("origin", Window::new(100, 8).at([-50.0, -4.0], 1.0)));
+    let mut compared = 0;
+    for (name, m, z) in &models {
+        let mut eval = ClassicEvaluator::new(m, *z);
+        let levels: [SimdLevel<ClassicEvaluator>; 3] = [
+            ("portable", |e| {
+                e.set_simd(false);
+                true
+            }),
+            ("avx2", |e| e.set_avx2()),
+            ("widest", |e| {
+                e.set_simd(true);
+                true
+            }),
+        ];
+        for (level, set) in levels {
+            if !set(&mut eval) {
+                continue;
+            }
+            for (window_name, window) in &windows {
+                let mut fast = vec![0.0f32; window.width * window.height];
+                let mut reference = fast.clone();
+                eval.eval_rows(window, 0, &mut fast);
+                eval.eval_rows_reference(window, 0, &mut reference);
+                if let Some((i, a, b)) = first_difference(&fast, &reference) {
+                    panic!(
+                        "{name} on {level}, {window_name}: value {i} is {a:e}, the reference's {b:e}"
+                    );
+                }
+                compared += 1;
+            }
+        }
+    }
+    assert!(compared >= 80 * 8, "{compared} renders compared");
 }
 
 /// Positions a warp may hand its base: fractional, negative, far, and a negative zero (which
