@@ -67,7 +67,10 @@ fn a_double_period_render_is_its_quarter_repeated_bit_for_bit() {
     for (name, model, p) in &cases {
         let eval = Evaluator::periodic(model, *p).unwrap();
         let [w, h] = p.sides();
-        for offset in [[0.0, 0.0], [3.5, -17.25], [1.0e7 * w, -1.0e7 * h + 5.0]] {
+        // Far: the largest multiple of the period (10⁷ periods, or fewer where 10⁷ would leave
+        // the 2³⁰ range) that keeps the window in range.
+        let far = |side: f64| ((spectex_cpu::MAX_POSITION / side).floor() - 2.0).min(1.0e7) * side;
+        for offset in [[0.0, 0.0], [3.5, -17.25], [far(w), -far(h) + 5.0]] {
             assert_quarters(name, &eval, *p, offset);
         }
     }
