@@ -46,7 +46,8 @@ pub struct RenderArgs {
     /// Make the texture exactly periodic with period WxH model pixels (seamless tiles: a
     /// 2W×2H render is the W×H one repeated 2×2, bit for bit); bare --periodic takes the
     /// output's extent (--size × --scale). Lattices are hashed modulo the period; LRP lattices
-    /// are fitted to it; every fBm octave's cell must divide it. CPU only.
+    /// are fitted to it; every fBm octave's cell must divide it. The GPU renders periodic LRP
+    /// and classic noises.
     #[arg(long, value_name = "WxH", num_args = 0..=1, default_missing_value = "")]
     pub(crate) periodic: Option<String>,
 }
@@ -63,7 +64,10 @@ impl RenderArgs {
         };
         let period = if text.is_empty() {
             let extent = [size.0 as f64 * self.scale, size.1 as f64 * self.scale];
-            if extent.iter().any(|e| e.fract() != 0.0 || *e > f64::from(u32::MAX)) {
+            if extent
+                .iter()
+                .any(|e| e.fract() != 0.0 || *e > f64::from(u32::MAX))
+            {
                 return Err(anyhow!(
                     "--periodic alone takes the output's extent --size × --scale = {}×{} model \
                      pixels, which is not whole; give the period as --periodic WxH",
@@ -136,17 +140,7 @@ pub(crate) fn render_to_file_with_period(
         Some(p) => Evaluator::periodic_at_z(model, args.z, p)
             .map_err(|e| anyhow!("--periodic: {e}; check --periodic and --z"))?,
     };
-    let device = match (period, args.device) {
-        (None, d) | (Some(_), d @ Device::Cpu) => d,
-        (Some(_), Device::Auto) => Device::Cpu,
-        (Some(_), Device::Gpu) => {
-            return Err(anyhow!(
-                "--periodic renders on the CPU only (the GPU evaluator has no periodic form \
-                 yet); use --device cpu"
-            ));
-        }
-    };
-    let rendered = device::render(model, args.z, &window, device, &eval)?;
+    let rendered = device::render(model, args.z, &window, args.device, &eval, period)?;
     let pixels = &rendered.pixels;
     let channels = pixels.len() / (width * height).max(1);
     let image = Array3::from_shape_fn((channels, height, width), |(c, y, x)| {

@@ -42,7 +42,6 @@
 //! # Ok::<(), spectex_model::ModelError>(())
 //! ```
 
-use spectex_model::{Period, Window};
 use spectex_model::classic::{
     Basis, ClassicNoise, FeaturePoints, FractalKind, Metric, SIMPLEX_F2, SIMPLEX_F3, SIMPLEX_G2,
     SIMPLEX_G3, SIMPLEX2_R2, SIMPLEX2_SCALE, SIMPLEX3_R2, SIMPLEX3_SCALE, WORLEY_MAX_POINTS,
@@ -52,6 +51,7 @@ use spectex_model::filter::{BasisStatistics, OctaveFade};
 use spectex_model::random::{
     cell_hash, cell_hash_in_row, layer_key, lcg_step, permute, row_key, unit_f32,
 };
+use spectex_model::{Period, Window};
 
 use crate::lrp::Simd;
 
@@ -721,7 +721,8 @@ impl ClassicEvaluator {
                     let mut count = [0u32; L];
                     for l in 0..L {
                         let key = r.key((dz + 1) as usize, (dy + 1) as usize, l);
-                        state[l] = cell_hash_in_row(lattice(ix[l].wrapping_add(dx), o.cells[0]), key);
+                        state[l] =
+                            cell_hash_in_row(lattice(ix[l].wrapping_add(dx), o.cells[0]), key);
                     }
                     let most = match w.fixed {
                         Some(c) => {

@@ -68,7 +68,9 @@ pub use file::{
     Fit, ModelFileContents, SCHEMA_VERSION, SUPPORTED_SCHEMA_VERSIONS, from_json, from_json_file,
     from_json_with_fit, to_json, to_json_file, to_json_with_fit,
 };
-pub use gabor::{GABOR_TRUNCATION, GaborNoise, GaborNoiseBuilder, NEG_LN_20, Orientation};
+pub use gabor::{
+    GABOR_PERIOD_TOLERANCE, GABOR_TRUNCATION, GaborNoise, GaborNoiseBuilder, NEG_LN_20, Orientation,
+};
 pub use grid::{Filter, MAX_POSITION, MAX_WINDOW_PIXELS, MAX_WINDOW_SIDE, Window, WindowError};
 pub use kind::{KIND_NAMES, Model, ModelKind, PERIODIC_KINDS};
 pub use lrp::{LrpNoise, LrpNoiseBuilder, MAX_COSINES, MAX_STRATA, MAX_TABLE, Stratum};

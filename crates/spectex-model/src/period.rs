@@ -88,6 +88,16 @@ impl Period {
         }
     }
 
+    /// The largest side dividing both `W` and `H`: the largest square cell that tiles the period.
+    #[must_use]
+    pub fn common_side(&self) -> u32 {
+        let (mut a, mut b) = (self.width, self.height);
+        while b != 0 {
+            (a, b) = (b, a % b);
+        }
+        a
+    }
+
     /// Parses `WxH` (or `W` alone for a square period), as the command line writes it.
     ///
     /// # Errors
@@ -196,6 +206,8 @@ mod tests {
         assert_eq!(cells_in(256.0, 37.3), 7);
         assert_eq!(cells_in(256.0, 1000.0), 1);
         assert_eq!(Period::new(96, 64).unwrap().cells(32.0), [3, 2]);
+        assert_eq!(Period::new(96, 64).unwrap().common_side(), 32);
+        assert_eq!(Period::new(7, 5).unwrap().common_side(), 1);
     }
 
     #[test]
