@@ -386,7 +386,7 @@ mod tests {
             coefficients: [-1.0, 1.0, 0.0, 0.0],
             points: FeaturePoints::Poisson(2.0),
         };
-        let (kernel, octaves) = pack(&model(Basis::Worley(w), 3), 40.0);
+        let (kernel, octaves) = pack(&model(Basis::Worley(w.clone()), 3), 40.0);
         let p = kernel.params;
         assert_eq!((p.octaves, p.basis, p.fractal, p.needed), (3, 3, 2, 1));
         assert_eq!(p.cap, 49.0);
@@ -406,6 +406,15 @@ mod tests {
         // The bytes the device receives: the CDF starts at word 24, the octave's cell at word 1.
         let words: &[u32] = bytemuck::cast_slice(std::slice::from_ref(&p));
         assert_eq!(words[24..40], cdf.map(f32::to_bits));
-        assert_eq!(bytemuck::cast_slice::<_, u32>(&octaves)[9 + 1], 5);
+        // Octaves are eleven words: octave 1's plane cell is word 11 + 1.
+        assert_eq!(bytemuck::cast_slice::<_, u32>(&octaves)[11 + 1], 5);
+        assert_eq!((o.cells_x, o.cells_y), (0, 0));
+        // Periodic with 64 × 32: octave 1's cells of 8 pixels, 8 × 4 per period.
+        let (_, periodic) = pack_periodic(
+            &model(Basis::Worley(w), 3),
+            40.0,
+            Some(Period::new(64, 32).unwrap()),
+        );
+        assert_eq!((periodic[1].cells_x, periodic[1].cells_y), (8, 4));
     }
 }
