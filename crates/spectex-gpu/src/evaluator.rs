@@ -50,8 +50,8 @@ impl GpuEvaluator {
 
     /// As [`new_at_z`](Self::new_at_z), for `model` made exactly periodic with `period`
     /// (`spectex_model::period`; the CPU's `Evaluator::periodic`): positions reduced modulo the
-    /// period on the host, cells hashed modulo it on the device. LRP and classic noises have a
-    /// periodic device path.
+    /// period on the host, cells hashed modulo it on the device. LRP, classic and wavelet noises
+    /// have a periodic device path.
     ///
     /// # Errors
     /// As [`new_at_z`](Self::new_at_z); [`GpuError::Model`] for a period the model cannot take,

@@ -43,7 +43,9 @@ pub(crate) trait GpuKind: ModelKind {
         self.check_period(period)?;
         Err(GpuError::Unsupported {
             kind: Self::NAME,
-            feature: format!("a period ({period}; periodic on the GPU: lrp and classic models)"),
+            feature: format!(
+                "a period ({period}; periodic on the GPU: lrp, classic and wavelet models)"
+            ),
         })
     }
 }

@@ -9,8 +9,8 @@ use spectex_model::{Model, PERIODIC_KINDS, Period};
 use spectex_testkit::invariance::testdata_cases;
 
 /// The periods tried, in order: a rectangular one (an axis mix-up shows), then one that every
-/// classic octave of the shipped models divides.
-const PERIODS: [(u32, u32); 2] = [(96, 64), (256, 128)];
+/// classic octave of the shipped models divides, then the shipped wavelet tiles' 768 pixels.
+const PERIODS: [(u32, u32); 3] = [(96, 64), (256, 128), (768, 768)];
 
 /// The cases whose model accepts one of [`PERIODS`], with the first it accepts.
 fn periodic_cases() -> Vec<(String, Model, Period)> {

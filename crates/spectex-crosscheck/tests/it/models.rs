@@ -220,8 +220,8 @@ fn minified_phasor_profiles_agree() {
     }
 }
 
-/// Periodic models (issue 17, seamless output): every shipped LRP and classic model that takes
-/// one of a 96×64 or 256×128 period (the kinds with a periodic device path) agrees on the CPU
+/// Periodic models (issue 17, seamless output): every shipped LRP, classic and wavelet model that
+/// takes a 96×64, 256×128 or 768×768 period (the kinds with a periodic device path) agrees on the CPU
 /// and the GPU within its kind's derived tolerances on the standard windows, and the GPU's own
 /// `2W × 2H` render is its `W × H` render repeated, bit for bit (the device evaluates the same
 /// reduced positions).
@@ -238,10 +238,10 @@ fn periodic_models_agree_on_cpu_and_gpu() {
     for file in &model_files() {
         let case = file.file_stem().unwrap().to_string_lossy().into_owned();
         let model = spectex_model::from_json(&std::fs::read_to_string(file).unwrap()).unwrap();
-        if !matches!(model.kind(), "lrp" | "classic") {
+        if !matches!(model.kind(), "lrp" | "classic" | "wavelet") {
             continue;
         }
-        let Some(period) = [(96, 64), (256, 128)]
+        let Some(period) = [(96, 64), (256, 128), (768, 768)]
             .map(|(w, h)| Period::new(w, h).unwrap())
             .into_iter()
             .find(|&p| model.check_period(p).is_ok())
@@ -286,9 +286,10 @@ fn periodic_models_agree_on_cpu_and_gpu() {
     }
     println!("periodic cross-check: {}", checked.join(", "));
     assert!(
-        checked.iter().any(|c| c.starts_with("lrp"))
-            && checked.iter().any(|c| c.starts_with("classic")),
-        "no periodic LRP or classic case: {checked:?}"
+        ["lrp", "classic", "wavelet"]
+            .iter()
+            .all(|k| checked.iter().any(|c| c.starts_with(k))),
+        "a periodic kind without a case: {checked:?}"
     );
     assert!(failed.is_empty(), "{}", failed.join("\n"));
 }
