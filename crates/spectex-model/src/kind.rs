@@ -52,7 +52,7 @@ pub trait ModelKind {
 }
 
 /// The kinds that have a periodic form ([`ModelKind::check_period`]), for messages.
-pub const PERIODIC_KINDS: &[&str] = &["lrp", "gabor", "classic", "warp", "wavelet"];
+pub const PERIODIC_KINDS: &[&str] = &["lrp", "gabor", "classic", "warp", "wavelet", "texton"];
 
 /// Any procedural model spectex evaluates: one variant per kind, each a [`crate::ModelKind`].
 ///
