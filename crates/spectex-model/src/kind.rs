@@ -52,7 +52,9 @@ pub trait ModelKind {
 }
 
 /// The kinds that have a periodic form ([`ModelKind::check_period`]), for messages.
-pub const PERIODIC_KINDS: &[&str] = &["lrp", "gabor", "classic", "warp", "wavelet", "texton"];
+pub const PERIODIC_KINDS: &[&str] = &[
+    "lrp", "gabor", "texture", "classic", "warp", "wavelet", "texton",
+];
 
 /// Any procedural model spectex evaluates: one variant per kind, each a [`crate::ModelKind`].
 ///
