@@ -197,8 +197,8 @@ fn noise_by_example_matches_the_exemplar_spectrum() {
 const PERIODIC_SEEDS: u32 = 4;
 
 /// Issue 17, seamless output: a periodic LRP render (noise by example, the spectrum fit at
-/// J = 50, 1024² with period 1024×1024) stays within 0.02 of the non-periodic render's spectral
-/// distance to the exemplar (Welch T = 256, relative L1, as
+/// J = 50, 1024² with period 1024×1024) is at most 0.02 further than the non-periodic render's
+/// spectral distance to the exemplar (Welch T = 256, relative L1, as
 /// [`noise_by_example_matches_the_exemplar_spectrum`]), on the mean over
 /// [`PERIODIC_SEEDS`] seeds, for the same four exemplars.
 ///
@@ -249,9 +249,13 @@ fn a_periodic_render_keeps_the_exemplar_spectrum() {
             "{short:<9} {plain:8.4}  {periodic:11.4}  {:+10.4}",
             periodic - plain
         );
-        if (periodic - plain).abs() > 0.02 {
+        // One-sided: the period must cost at most 0.02. It may gain more: measured on the 4
+        // seeds, gravel +0.003, grass −0.002, but sand −0.026 and dirt −0.040 (height maps
+        // whose power lies at the lowest frequencies, where the period's fitted Δ_S and its
+        // spectrum on multiples of 1/1024 change most; not explained further yet).
+        if periodic - plain > 0.02 {
             failures.push(format!(
-                "{name}: periodic L1 {periodic:.4} vs plain {plain:.4}, more than 0.02 apart"
+                "{name}: periodic L1 {periodic:.4} vs plain {plain:.4}, more than 0.02 worse"
             ));
         }
     }
