@@ -652,7 +652,7 @@ impl crate::ModelKind for TextureModel {
     /// (cosines of integer frequencies over `T`) repeats within it, the placement cells (`T/2`)
     /// wrap, and the random-phase strata and turbulence are LRP lattices fitted to it.
     fn check_period(&self, period: crate::Period) -> Result<(), ModelError> {
-        if period.width % self.period == 0 && period.height % self.period == 0 {
+        if period.width.is_multiple_of(self.period) && period.height.is_multiple_of(self.period) {
             return Ok(());
         }
         Err(ModelError::Period {

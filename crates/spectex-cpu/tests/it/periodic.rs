@@ -5,6 +5,11 @@
 //! rounding, where the plain model does not unless periodic by construction), and the other
 //! kinds are refused by name.
 
+#![allow(
+    clippy::unwrap_used,
+    reason = "a test fails loudly on the first unexpected None or Err"
+)]
+
 use spectex_cpu::{Evaluator, Window};
 use spectex_model::{Model, PERIODIC_KINDS, Period};
 use spectex_testkit::invariance::testdata_cases;
