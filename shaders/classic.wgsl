@@ -82,6 +82,10 @@ struct ClassicOctave {
     z_own_frac: f32,
     /// 1 / c_o, cells per pixel (f32 of the f64 value), for domain warping.
     inv_cell: f32,
+    /// Cells per period along x and y of a periodic model (0: not periodic): a corner's x and
+    /// y enter the hash wrapped modulo them (wrap_cell, common.wgsl), as on the CPU.
+    cells_x: i32,
+    cells_y: i32,
 }
 
 /// One column (or row) of the tile for one octave: p = x / c_o split as ⌊p⌋ and f32(p − ⌊p⌋);
@@ -138,10 +142,12 @@ fn hash3(i: i32, j: i32, k: i32, o: u32) -> u32 {
 }
 
 fn corner_hash(c: vec3<i32>, o: u32, key2: u32) -> u32 {
+    let i = wrap_cell(c.x, octaves[o].cells_x);
+    let j = wrap_cell(c.y, octaves[o].cells_y);
     if (params.three_d == 1u) {
-        return hash3(c.x, c.y, c.z, o);
+        return hash3(i, j, c.z, o);
     }
-    return hash2(c.x, c.y, key2);
+    return hash2(i, j, key2);
 }
 
 /// 6t⁵ − 15t⁴ + 10t³ by Horner's rule (spectex_model::classic::fade).

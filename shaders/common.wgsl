@@ -76,6 +76,17 @@ fn cell_hash_in_row(x: i32, key: u32) -> u32 {
     return hash(bitcast<u32>(x) + key);
 }
 
+/// Periodic models (spectex_model::period): lattice cell `c` as it enters the hash, wrapped into
+/// 0..n for a lattice with n cells per period (the CPU's rem_euclid); unchanged for n = 0 (not
+/// periodic). WGSL's % truncates toward zero, hence the correction of a negative remainder.
+fn wrap_cell(c: i32, n: i32) -> i32 {
+    if (n == 0) {
+        return c;
+    }
+    let r = c % n;
+    return select(r, r + n, r < 0);
+}
+
 /// hash(x + hash(y + hash(layer + hash(seed)))), wrapping addition.
 fn cell_hash(x: i32, y: i32, layer: u32, seed: u32) -> u32 {
     return cell_hash_in_row(x, row_key(y, layer_key(layer, seed)));

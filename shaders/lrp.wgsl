@@ -45,8 +45,17 @@ struct LrpStratum {
     table_first: u32,
     /// J_s, the cosines per lattice point.
     cosines: u32,
-    /// Δ_s, the lattice period in pixels (f32 of the model's value), for warping.
+    /// Δ_s, the lattice period in pixels (f32 of the model's value), for warping; along x
+    /// when the lattice is fitted to a period (spectex_model::Period::fit_lattice).
     delta: f32,
+    /// The lattice period along y: `delta` unless fitted to a period of another height.
+    delta_y: f32,
+    /// (Δ_x/Δ_y)², scaling dy² so that r² = (dx² + dy²·aspect2)/Δ_x² (1 for a square lattice).
+    aspect2: f32,
+    /// Lattice points per period along x and y of a periodic model (0: not periodic): point
+    /// (cx, cy) draws the randomness of (cx mod n_x, cy mod n_y), via wrap_cell.
+    cells_x: i32,
+    cells_y: i32,
 }
 
 /// One column (or row) of the tile for one stratum: its lattice cell and the offsets to the
@@ -105,18 +114,18 @@ fn lrp_main(@builtin(global_invocation_id) gid: vec3<u32>) {
         if (warp_params.enabled == 1u) {
             let d = warp_displacement[gid.y * params.width + gid.x];
             column = lrp_displaced(column, d.x, stratum.delta);
-            row = lrp_displaced(row, d.y, stratum.delta);
+            row = lrp_displaced(row, d.y, stratum.delta_y);
         }
         let key = layer_key(s, params.seed);
         var stratum_sum = 0.0f;
         for (var ky = 0u; ky < 4u; ky++) {
             let dy = row.offset[ky];
-            let dy2 = dy * dy;
+            let dy2 = dy * dy * stratum.aspect2;
             // A whole lattice row beyond the support contributes exactly 0: skip it.
             if (dy2 * stratum.inv_delta2 >= KB_SUPPORT2) {
                 continue;
             }
-            let rkey = row_key(lattice_index(row.cell, ky), key);
+            let rkey = row_key(wrap_cell(lattice_index(row.cell, ky), stratum.cells_y), key);
             for (var kx = 0u; kx < 4u; kx++) {
                 let dx = column.offset[kx];
                 let r2 = (dx * dx + dy2) * stratum.inv_delta2;
@@ -124,7 +133,8 @@ fn lrp_main(@builtin(global_invocation_id) gid: vec3<u32>) {
                     continue;
                 }
                 let w = kaiser_bessel_r2(r2);
-                var prng = Prng(cell_hash_in_row(lattice_index(column.cell, kx), rkey));
+                let cx = wrap_cell(lattice_index(column.cell, kx), stratum.cells_x);
+                var prng = Prng(cell_hash_in_row(cx, rkey));
                 var cosines = 0.0f;
                 for (var j = 0u; j < stratum.cosines; j++) {
                     let table = tables[stratum.table_first + j];

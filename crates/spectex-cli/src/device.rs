@@ -36,11 +36,15 @@ pub(crate) fn render(
     window: &Window,
     device: Device,
     cpu: &Evaluator,
+    period: Option<spectex_model::Period>,
 ) -> Result<Rendered> {
     match gpu_for(device)? {
         Some(context) => {
-            let gpu = spectex_gpu::GpuEvaluator::new_at_z(&context, model, z)
-                .map_err(|e| anyhow!("{e}; try --device cpu"))?;
+            let gpu = match period {
+                None => spectex_gpu::GpuEvaluator::new_at_z(&context, model, z),
+                Some(p) => spectex_gpu::GpuEvaluator::periodic_at_z(&context, model, z, p),
+            }
+            .map_err(|e| anyhow!("{e}; try --device cpu"))?;
             let start = std::time::Instant::now();
             let pixels = gpu
                 .render(window)

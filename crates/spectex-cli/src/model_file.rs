@@ -3,7 +3,7 @@
 use std::path::Path;
 
 use anyhow::{Context, Result, anyhow, bail};
-use spectex_model::{Fit, Model};
+use spectex_model::{Fit, Model, ModelFileContents};
 
 use crate::io;
 
@@ -29,13 +29,18 @@ pub(crate) fn write_fitted_model(path: &Path, model: &Model, fit: Option<Fit>) -
 
 /// Reads and validates the model file at `path`.
 pub(crate) fn read_model(path: &Path) -> Result<Model> {
+    read_model_file(path).map(|f| f.model)
+}
+
+/// Reads and validates the model file at `path`, with the fit and period it records.
+pub(crate) fn read_model_file(path: &Path) -> Result<ModelFileContents> {
     let text = std::fs::read_to_string(path).map_err(|e| {
         anyhow!(
             "cannot open model '{}': {e}; check the path",
             path.display()
         )
     })?;
-    spectex_model::from_json(&text).map_err(|e| {
+    spectex_model::from_json_file(&text).map_err(|e| {
         anyhow!(
             "model '{}' is not usable: {e}; write it with `spectex fit` or fix that field",
             path.display()

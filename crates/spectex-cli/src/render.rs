@@ -8,11 +8,11 @@ use anyhow::{Result, anyhow};
 use clap::Args;
 use ndarray::Array3;
 use spectex_cpu::{Evaluator, Filter, Window};
-use spectex_model::Model;
+use spectex_model::{Model, Period};
 
 use crate::device::{self, Device};
 use crate::io::{self, BitDepth};
-use crate::model_file::read_model;
+use crate::model_file::read_model_file;
 
 /// Where and how to render.
 #[derive(Debug, Args)]
@@ -43,6 +43,46 @@ pub struct RenderArgs {
     /// auto (the GPU when an adapter exists, else the CPU; says which it used).
     #[arg(long, value_enum, default_value = "cpu")]
     pub(crate) device: Device,
+    /// Make the texture exactly periodic with period WxH model pixels (seamless tiles: a
+    /// 2W×2H render is the W×H one repeated 2×2, bit for bit); bare --periodic takes the
+    /// output's extent (--size × --scale). Lattices are hashed modulo the period; LRP lattices
+    /// are fitted to it; every fBm octave's cell must divide it. The GPU renders periodic LRP,
+    /// classic and wavelet noises.
+    #[arg(long, value_name = "WxH", num_args = 0..=1, default_missing_value = "")]
+    pub(crate) periodic: Option<String>,
+}
+
+impl RenderArgs {
+    /// The period `--periodic` asks for, for an output of `size` pixels (`None` without it).
+    ///
+    /// # Errors
+    /// A period that is not `WxH` with whole positive sides, or a bare `--periodic` whose
+    /// output extent (`--size × --scale`) is not whole.
+    pub(crate) fn period(&self, size: (usize, usize)) -> Result<Option<Period>> {
+        let Some(text) = self.periodic.as_deref() else {
+            return Ok(None);
+        };
+        let period = if text.is_empty() {
+            let extent = [size.0 as f64 * self.scale, size.1 as f64 * self.scale];
+            if extent
+                .iter()
+                .any(|e| e.fract() != 0.0 || *e > f64::from(u32::MAX))
+            {
+                return Err(anyhow!(
+                    "--periodic alone takes the output's extent --size × --scale = {}×{} model \
+                     pixels, which is not whole; give the period as --periodic WxH",
+                    extent[0],
+                    extent[1]
+                ));
+            }
+            Period::new(extent[0] as u32, extent[1] as u32)
+        } else {
+            Period::parse(text)
+        };
+        period
+            .map(Some)
+            .map_err(|e| anyhow!("--periodic: {e}; for example --periodic 256x256"))
+    }
 }
 
 /// Parses `X,Y`.
@@ -63,10 +103,10 @@ pub struct RenderCommand {
     render: RenderArgs,
 }
 
-/// `spectex render`.
+/// `spectex render`: periodic with `--periodic`, else with the period the file records.
 pub fn render(cmd: &RenderCommand) -> Result<()> {
-    let model = read_model(&cmd.model)?;
-    render_to_file(&model, &cmd.render, (512, 512))
+    let file = read_model_file(&cmd.model)?;
+    render_to_file_with_period(&file.model, file.period, &cmd.render, (512, 512))
 }
 
 /// Renders `model` as `args` says (`default_size` unless `--size`), showing progress on a
@@ -76,16 +116,31 @@ pub(crate) fn render_to_file(
     args: &RenderArgs,
     default_size: (usize, usize),
 ) -> Result<()> {
+    render_to_file_with_period(model, None, args, default_size)
+}
+
+/// [`render_to_file`] of a model periodic with `--periodic`'s period or else `file_period`.
+pub(crate) fn render_to_file_with_period(
+    model: &Model,
+    file_period: Option<Period>,
+    args: &RenderArgs,
+    default_size: (usize, usize),
+) -> Result<()> {
     let format = io::check_output(&args.output, args.bit_depth)?;
     let (width, height) = args.size.unwrap_or(default_size);
+    let period = args.period((width, height))?.or(file_period);
     let window = Window::new(width, height)
         .at(args.offset.unwrap_or([0.0, 0.0]), args.scale)
         .filtered(filter_flag(args.no_filter));
     window
         .validate()
         .map_err(|e| anyhow!("{e}; check --size, --offset and --scale"))?;
-    let eval = Evaluator::new_at_z(model, args.z).map_err(|e| anyhow!("{e}; check --z"))?;
-    let rendered = device::render(model, args.z, &window, args.device, &eval)?;
+    let eval = match period {
+        None => Evaluator::new_at_z(model, args.z).map_err(|e| anyhow!("{e}; check --z"))?,
+        Some(p) => Evaluator::periodic_at_z(model, args.z, p)
+            .map_err(|e| anyhow!("--periodic: {e}; check --periodic and --z"))?,
+    };
+    let rendered = device::render(model, args.z, &window, args.device, &eval, period)?;
     let pixels = &rendered.pixels;
     let channels = pixels.len() / (width * height).max(1);
     let image = Array3::from_shape_fn((channels, height, width), |(c, y, x)| {

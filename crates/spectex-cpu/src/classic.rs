@@ -51,7 +51,6 @@
 //! # Ok::<(), spectex_model::ModelError>(())
 //! ```
 
-use spectex_model::Window;
 use spectex_model::classic::{
     Basis, ClassicNoise, FeaturePoints, FractalKind, Metric, SIMPLEX_F2, SIMPLEX_F3, SIMPLEX_G2,
     SIMPLEX_G3, SIMPLEX2_R2, SIMPLEX2_SCALE, SIMPLEX3_R2, SIMPLEX3_SCALE, WORLEY_MAX_POINTS,
@@ -61,6 +60,7 @@ use spectex_model::filter::{BasisStatistics, OctaveFade};
 use spectex_model::random::{
     cell_hash, cell_hash_in_row, layer_key, lcg_step, permute, row_key, unit_f32,
 };
+use spectex_model::{Period, Window};
 
 use crate::lrp::Simd;
 
@@ -134,6 +134,13 @@ fn hash3(i: i32, j: i32, k: i32, o: u32, key0: u32) -> u32 {
     cell_hash_in_row(i, row_key(j, layer_key(o, seed3)))
 }
 
+/// Lattice coordinate `v` as it enters the hash: wrapped into `0..n` for a periodic octave with
+/// `n` cells per period (`spectex_model::period::wrap`), unchanged for `n = 0` (not periodic).
+#[inline(always)]
+fn lattice(v: i32, n: i32) -> i32 {
+    if n == 0 { v } else { v.rem_euclid(n) }
+}
+
 /// What one octave needs, computed once per evaluator.
 #[derive(Debug, Clone)]
 struct Octave {
@@ -142,6 +149,8 @@ struct Octave {
     /// `1 / side` when that is exact (a power of two): `x · (1/side)` is then `x / side` bit
     /// for bit, without the division.
     inv_side: Option<f64>,
+    /// Cells per period along x and y of a periodic model, `[0, 0]` otherwise ([`lattice`]).
+    cells: [i32; 2],
     /// `gain^o`.
     weight: f32,
     /// The octave's layer (its index).
@@ -537,6 +546,18 @@ impl ClassicEvaluator {
     /// Prepares a validated `model` on the plane `z` (ignored in 2D).
     #[must_use]
     pub fn new(model: &ClassicNoise, z: f64) -> Self {
+        Self::prepare(model, z, None)
+    }
+
+    /// Prepares a validated `model` that accepts `period` ([`ClassicNoise::check_period`]:
+    /// every octave's cell divides it) made periodic: each octave's lattice coordinates are
+    /// wrapped modulo its cells per period where they enter the hash.
+    #[must_use]
+    pub fn new_periodic(model: &ClassicNoise, z: f64, period: Period) -> Self {
+        Self::prepare(model, z, Some(period))
+    }
+
+    fn prepare(model: &ClassicNoise, z: f64, period: Option<Period>) -> Self {
         let octaves = (0..model.octaves())
             .map(|o| {
                 let side = model.octave_cell(o);
@@ -553,6 +574,7 @@ impl ClassicEvaluator {
                 Octave {
                     side,
                     inv_side: exact.then_some(inv),
+                    cells: period.map_or([0, 0], |p| p.cells(side).map(|n| n as i32)),
                     weight: model.octave_weight(o),
                     layer: o,
                     key2: layer_key(o, model.seed),
@@ -720,7 +742,7 @@ impl ClassicEvaluator {
         for (dz, k) in keys.iter_mut().enumerate() {
             let layer = if self.three_d { o.zkeys[dz] } else { o.key2 };
             for (dy, key) in k.iter_mut().enumerate() {
-                *key = row_key(iy.wrapping_add(dy as i32 - 1), layer);
+                *key = row_key(lattice(iy.wrapping_add(dy as i32 - 1), o.cells[1]), layer);
             }
         }
         RowOctave { py, iy, uy, keys }
@@ -853,7 +875,7 @@ impl ClassicEvaluator {
         let mut hashes = vec![0u32; count];
         for (p, &key) in keys.iter().enumerate() {
             for (c, h) in hashes.iter_mut().enumerate() {
-                *h = cell_hash_in_row(lo.wrapping_add(c as i32), key);
+                *h = cell_hash_in_row(lattice(lo.wrapping_add(c as i32), o.cells[0]), key);
             }
             let at = p * len;
             if gradient {
@@ -976,7 +998,7 @@ impl ClassicEvaluator {
         let mut state = vec![0u32; count];
         for (p, &key) in keys.iter().enumerate() {
             for (c, s) in state.iter_mut().enumerate() {
-                *s = cell_hash_in_row(lo.wrapping_add(c as i32), key);
+                *s = cell_hash_in_row(lattice(lo.wrapping_add(c as i32), o.cells[0]), key);
             }
             for q in 0..points {
                 let at = (q * keys.len() + p) * len;
@@ -1139,7 +1161,8 @@ impl ClassicEvaluator {
             let layer = if self.three_d { o.zkeys[dz] } else { o.key2 };
             for dy in rows.clone() {
                 for l in 0..L {
-                    r.keys[dz][dy][l] = row_key(r.iy[l].wrapping_add(dy as i32 - 1), layer);
+                    let iy = lattice(r.iy[l].wrapping_add(dy as i32 - 1), o.cells[1]);
+                    r.keys[dz][dy][l] = row_key(iy, layer);
                 }
             }
         }
@@ -1366,7 +1389,8 @@ impl ClassicEvaluator {
                     let mut count = [0u32; L];
                     for l in 0..L {
                         let key = r.key((dz + 1) as usize, (dy + 1) as usize, l);
-                        state[l] = cell_hash_in_row(ix[l].wrapping_add(dx), key);
+                        state[l] =
+                            cell_hash_in_row(lattice(ix[l].wrapping_add(dx), o.cells[0]), key);
                     }
                     let most = match w.fixed {
                         Some(c) => {
@@ -1676,8 +1700,8 @@ fn worley_search(
                         continue;
                     }
                     let (cx, cy, cz) = (
-                        ix.wrapping_add(dx),
-                        iy.wrapping_add(dy),
+                        lattice(ix.wrapping_add(dx), o.cells[0]),
+                        lattice(iy.wrapping_add(dy), o.cells[1]),
                         kz.wrapping_add(dz),
                     );
                     let h = if three_d {
@@ -1741,10 +1765,14 @@ fn gradient2<const L: usize, R: RowLanes>(
         let uy = r.uy(l);
         let sy = fade(uy);
         let (ix, ux) = locate(x[l] / o.side);
-        let h00 = cell_hash_in_row(ix, k0);
-        let h10 = cell_hash_in_row(ix.wrapping_add(1), k0);
-        let h01 = cell_hash_in_row(ix, k1);
-        let h11 = cell_hash_in_row(ix.wrapping_add(1), k1);
+        let (ix0, ix1) = (
+            lattice(ix, o.cells[0]),
+            lattice(ix.wrapping_add(1), o.cells[0]),
+        );
+        let h00 = cell_hash_in_row(ix0, k0);
+        let h10 = cell_hash_in_row(ix1, k0);
+        let h01 = cell_hash_in_row(ix0, k1);
+        let h11 = cell_hash_in_row(ix1, k1);
         let (n00, n10, n01, n11) = if gradient {
             (
                 gradient_dot(h00, ux, uy, 0.0),
@@ -1789,7 +1817,8 @@ fn gradient3<const L: usize, R: RowLanes>(
         for dz in 0..2 {
             for dy in 0..2 {
                 for dx in 0..2 {
-                    let h = cell_hash_in_row(ix.wrapping_add(dx as i32), k[dz][dy]);
+                    let cx = lattice(ix.wrapping_add(dx as i32), o.cells[0]);
+                    let h = cell_hash_in_row(cx, k[dz][dy]);
                     c[dz][dy][dx] = if gradient {
                         gradient_dot(h, ux - dx as f32, uy - dy as f32, uz - dz as f32)
                     } else {
@@ -2067,6 +2096,14 @@ fn simplex3<const L: usize, R: RowLanes>(o: &Octave, r: &R, x: &[f64; L], n: &mu
 impl crate::CpuKind for ClassicNoise {
     fn cpu_kernel(&self, z: f64) -> Result<Box<dyn crate::RowKernel>, crate::CpuError> {
         Ok(Box::new(ClassicEvaluator::new(self, z)))
+    }
+
+    fn cpu_kernel_periodic(
+        &self,
+        z: f64,
+        period: Period,
+    ) -> Result<Box<dyn crate::RowKernel>, crate::CpuError> {
+        Ok(Box::new(ClassicEvaluator::new_periodic(self, z, period)))
     }
 }
 

@@ -83,7 +83,7 @@
 
 use spectex_model::grid::locate_cell as locate;
 use spectex_model::random::{Prng, cell_hash_in_row, layer_key, row_key};
-use spectex_model::{GaborNoise, NEG_LN_20, Orientation, Window};
+use spectex_model::{GaborNoise, NEG_LN_20, Orientation, Period, Window};
 
 use crate::math::{cos_turns, exp_poly};
 
@@ -125,6 +125,9 @@ pub struct GaborEvaluator {
     frequency_cells: f32,
     /// How each impulse gets its frequency vector.
     direction: Direction,
+    /// Cells per period along x and y of a periodic noise: cell `(i, j)` draws the impulses of
+    /// `(i mod n_x, j mod n_y)`.
+    cells: Option<[i64; 2]>,
 }
 
 /// The frequency vector of the impulses, in cycles per cell unit.
@@ -244,7 +247,21 @@ impl GaborEvaluator {
     /// endless loop.
     #[must_use]
     pub fn new(model: &GaborNoise) -> Self {
-        let radius = model.kernel_radius();
+        Self::prepare(model, model.kernel_radius(), None)
+    }
+
+    /// Prepares a validated `model` that accepts `period` made periodic: square cells of the
+    /// fitted radius [`GaborNoise::periodic_radius`] (the kernel scaled with them: in cell
+    /// units nothing changes; `F₀` stays in cycles per pixel), hashed modulo the period.
+    #[must_use]
+    pub fn new_periodic(model: &GaborNoise, period: Period) -> Self {
+        let radius = model
+            .periodic_radius(period)
+            .unwrap_or_else(|| model.kernel_radius());
+        Self::prepare(model, radius, Some(period.cells(radius)))
+    }
+
+    fn prepare(model: &GaborNoise, radius: f64, cells: Option<[i64; 2]>) -> Self {
         let lambda = model.impulses_per_cell();
         let chunks = (lambda / POISSON_CHUNK).floor();
         let rest = lambda - chunks * POISSON_CHUNK;
@@ -279,6 +296,7 @@ impl GaborEvaluator {
             max_impulses: (4.0 * lambda + 32.0).floor().clamp(1.0, 4096.0) as u32,
             frequency_cells: frequency_cells as f32,
             direction,
+            cells,
         }
     }
 
@@ -359,7 +377,7 @@ impl GaborEvaluator {
 
     fn row_context(&self, y: f64) -> Option<RowContext> {
         let (cj, uy) = locate(y, self.radius)?;
-        let key = |t: i32| row_key(cj.wrapping_add(t), self.layer_key);
+        let key = |t: i32| row_key(self.wrap(cj.wrapping_add(t), 1), self.layer_key);
         Some(RowContext {
             uy,
             keys: [key(-1), key(0), key(1)],
@@ -372,7 +390,7 @@ impl GaborEvaluator {
     fn column_impulses(&self, cell: i32, row: &RowContext, mut visit: impl FnMut(RowImpulse)) {
         for (t, &key) in (-1..=1).zip(row.keys.iter()) {
             let uyt = row.uy - t as f32;
-            let mut prng = Prng::new(cell_hash_in_row(cell, key));
+            let mut prng = Prng::new(cell_hash_in_row(self.wrap(cell, 0), key));
             let count = self.poisson_count(&mut prng);
             for _ in 0..count {
                 let ox = prng.next_f32();
@@ -398,6 +416,15 @@ impl GaborEvaluator {
                     });
                 }
             }
+        }
+    }
+
+    /// Cell coordinate `c` along `axis` as it enters the hash (wrapped when periodic).
+    #[inline(always)]
+    fn wrap(&self, c: i32, axis: usize) -> i32 {
+        match self.cells {
+            None => c,
+            Some(n) => spectex_model::period::wrap(i64::from(c), n[axis]) as i32,
         }
     }
 
@@ -437,6 +464,14 @@ fn libm_exp(z: f64) -> f64 {
 impl crate::CpuKind for GaborNoise {
     fn cpu_kernel(&self, _z: f64) -> Result<Box<dyn crate::RowKernel>, crate::CpuError> {
         Ok(Box::new(GaborEvaluator::new(self)))
+    }
+
+    fn cpu_kernel_periodic(
+        &self,
+        _z: f64,
+        period: Period,
+    ) -> Result<Box<dyn crate::RowKernel>, crate::CpuError> {
+        Ok(Box::new(GaborEvaluator::new_periodic(self, period)))
     }
 }
 

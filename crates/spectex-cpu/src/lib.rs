@@ -30,6 +30,7 @@ pub mod gabor;
 pub mod lrp;
 /// The f32 functions both evaluators share, defined once in `spectex-model`.
 pub use spectex_model::math;
+mod periodic;
 pub mod phasor;
 pub mod texton;
 pub mod texture;
@@ -37,7 +38,7 @@ pub mod warp;
 pub mod wavelet;
 
 use rayon::prelude::*;
-use spectex_model::{Model, ModelError, ModelKind};
+use spectex_model::{Model, ModelError, ModelKind, Period};
 
 pub use classic::ClassicEvaluator;
 pub use gabor::GaborEvaluator;
@@ -183,6 +184,23 @@ pub trait CpuKind: ModelKind {
     /// # Errors
     /// A nested model that cannot be prepared.
     fn cpu_kernel(&self, z: f64) -> Result<Box<dyn RowKernel>, CpuError>;
+
+    /// The kernel of a **validated** model made periodic with `period`, a period it accepts
+    /// ([`ModelKind::check_period`]): a periodic function of the position (cells hashed modulo
+    /// the period); [`Evaluator::periodic`] reduces positions before it. The default is for
+    /// kinds without a periodic form: the model layer's refusal.
+    ///
+    /// # Errors
+    /// [`CpuError::Model`] with [`ModelError::Period`].
+    fn cpu_kernel_periodic(&self, z: f64, period: Period) -> Result<Box<dyn RowKernel>, CpuError> {
+        let _ = z;
+        self.check_period(period)?;
+        Err(CpuError::Model(ModelError::Period {
+            period: period.to_string(),
+            kind: Self::NAME,
+            requirement: "the CPU evaluator has no periodic kernel for it".into(),
+        }))
+    }
 }
 
 /// A model prepared for evaluation. Building it validates the model; rendering can then fail
@@ -198,6 +216,22 @@ impl std::fmt::Debug for Evaluator {
             .field("kind", &self.kind)
             .finish_non_exhaustive()
     }
+}
+
+/// The kernel of a validated model: the one dispatch over model kinds in this crate (every kind
+/// implements [`CpuKind`]), with [`kind_kernel_periodic`].
+pub(crate) fn kind_kernel(model: &Model, z: f64) -> Result<Box<dyn RowKernel>, CpuError> {
+    spectex_model::for_each_kind!(model, m: K => <K as CpuKind>::cpu_kernel(m, z))
+}
+
+/// The periodic kernel of a validated model that accepts `period` (positions not reduced: a
+/// periodic function for [`Evaluator::periodic`] or a warp to evaluate).
+pub(crate) fn kind_kernel_periodic(
+    model: &Model,
+    z: f64,
+    period: Period,
+) -> Result<Box<dyn RowKernel>, CpuError> {
+    spectex_model::for_each_kind!(model, m: K => <K as CpuKind>::cpu_kernel_periodic(m, z, period))
 }
 
 impl Evaluator {
@@ -216,7 +250,57 @@ impl Evaluator {
     /// [`CpuError::Model`] naming the first invalid field, or [`CpuError::Window`] for a `z`
     /// that is not finite or beyond [`MAX_POSITION`].
     pub fn new_at_z(model: &Model, z: f64) -> Result<Self, CpuError> {
+        Self::prepare(model, z, None)
+    }
+
+    /// Validates and prepares `model` made exactly periodic with `period`
+    /// (`spectex_model::period`): `f(x + W, y) = f(x, y + H) = f(x, y)` bit for bit, so a
+    /// `2W × 2H` render is its `W × H` render repeated 2 × 2, and the tiles join seamlessly.
+    ///
+    /// # Errors
+    /// As [`new`](Self::new), or [`CpuError::Model`] with [`ModelError::Period`] for a period
+    /// the model cannot take (what it needs is in the message).
+    pub fn periodic(model: &Model, period: Period) -> Result<Self, CpuError> {
+        Self::prepare(model, 0.0, Some(period))
+    }
+
+    /// [`periodic`](Self::periodic) on the plane `z` (3D models: periodic in x and y).
+    ///
+    /// # Errors
+    /// As [`periodic`](Self::periodic) and [`new_at_z`](Self::new_at_z).
+    pub fn periodic_at_z(model: &Model, z: f64, period: Period) -> Result<Self, CpuError> {
+        Self::prepare(model, z, Some(period))
+    }
+
+    /// The kind's periodic kernel alone, without the reduction of positions modulo the period:
+    /// the periodic *function*, equal one period apart only up to rounding. For tests that
+    /// check the seams (the cells' hashing modulo the period) rather than the reduction.
+    ///
+    /// # Errors
+    /// As [`periodic`](Self::periodic).
+    #[doc(hidden)]
+    pub fn periodic_unreduced(model: &Model, period: Period) -> Result<Self, CpuError> {
         model.validate()?;
+        model.check_period(period)?;
+        Ok(Self {
+            kind: model.kind(),
+            kernel: kind_kernel_periodic(model, 0.0, period)?,
+        })
+    }
+
+    /// [`new_at_z`](Self::new_at_z), periodic when `period` is given.
+    ///
+    /// # Errors
+    /// As [`periodic_at_z`](Self::periodic_at_z).
+    pub fn with_period(model: &Model, z: f64, period: Option<Period>) -> Result<Self, CpuError> {
+        Self::prepare(model, z, period)
+    }
+
+    fn prepare(model: &Model, z: f64, period: Option<Period>) -> Result<Self, CpuError> {
+        model.validate()?;
+        if let Some(p) = period {
+            model.check_period(p)?;
+        }
         if !(z.is_finite() && z.abs() <= MAX_POSITION) {
             return Err(CpuError::Window {
                 parameter: "z",
@@ -224,9 +308,13 @@ impl Evaluator {
                 range: "finite, |z| ≤ 2³⁰ pixels",
             });
         }
-        // The one dispatch over model kinds in this crate: every kind implements `CpuKind`.
-        let kernel =
-            spectex_model::for_each_kind!(model, m: K => <K as CpuKind>::cpu_kernel(m, z)?);
+        let kernel = match period {
+            None => kind_kernel(model, z)?,
+            Some(period) => Box::new(periodic::PeriodicKernel {
+                inner: kind_kernel_periodic(model, z, period)?,
+                period,
+            }),
+        };
         Ok(Self {
             kind: model.kind(),
             kernel,

@@ -30,8 +30,9 @@
 //! made: nothing of it reaches a pixel). The gains are computed once per footprint and kept. An
 //! unfiltered render runs the loop without the multiplication, so it keeps its bits.
 
-use spectex_model::LrpNoise;
+use spectex_model::period::wrap;
 use spectex_model::random::{Prng, cell_hash};
+use spectex_model::{LrpNoise, Period};
 
 use std::sync::{Arc, Mutex};
 
@@ -45,9 +46,21 @@ const LANES: usize = 8;
 const WIDE_LANES: usize = 16;
 
 struct PreparedStratum {
+    /// Lattice period along x (`Δ_S`, or the side fitted to a period).
     delta: f64,
     inv_delta: f64,
+    /// `1/Δ_x²`.
     inv_delta2: f32,
+    /// Lattice period along y: `delta` unless fitted to a period of another height.
+    delta_y: f64,
+    inv_delta_y: f64,
+    /// `(Δ_x/Δ_y)²`, which scales `dy²` so that `r² = (dx² + dy²·aspect2)/Δ_x²` is the
+    /// window's elliptic radius: exactly 1 (and then without effect on any bit) for a square
+    /// lattice.
+    aspect2: f32,
+    /// Lattice points per period along x and y, for a periodic model: the point `(cx, cy)`
+    /// draws the randomness of `(cx mod n_x, cy mod n_y)`.
+    cells: Option<[i64; 2]>,
     amplitude: f32,
     layer: u32,
     /// Concatenated frequency tables.
@@ -140,8 +153,8 @@ impl StratumLattice {
 
     /// Holds exactly the lattice rows whose support may reach row `y`, drawing the missing ones.
     fn update(&mut self, s: &PreparedStratum, seed: u32, y: f64, gains: Option<&[f32]>) {
-        let cy0 = ((y * s.inv_delta) - 1.5).floor() as i64;
-        let cy1 = ((y * s.inv_delta) + 1.5).ceil() as i64;
+        let cy0 = ((y * s.inv_delta_y) - 1.5).floor() as i64;
+        let cy1 = ((y * s.inv_delta_y) + 1.5).ceil() as i64;
         self.rows.retain(|r| (cy0..=cy1).contains(&r.cy));
         for cy in cy0..=cy1 {
             if self.rows.iter().any(|r| r.cy == cy) {
@@ -156,7 +169,11 @@ impl StratumLattice {
                 gain: Vec::with_capacity(if gains.is_some() { n } else { 0 }),
             };
             for cx in self.cx0..self.cx0 + self.cols as i64 {
-                let mut prng = Prng::new(cell_hash(cx as i32, cy as i32, s.layer, seed));
+                let (hx, hy) = match s.cells {
+                    None => (cx, cy),
+                    Some([nx, ny]) => (wrap(cx, nx), wrap(cy, ny)),
+                };
+                let mut prng = Prng::new(cell_hash(hx as i32, hy as i32, s.layer, seed));
                 for &(start, len) in &s.tables {
                     let k = (start + prng.next_u32() % len) as usize;
                     row.fx.push(s.table_x[k]);
@@ -177,12 +194,39 @@ impl LrpEvaluator {
     /// Prepares a model (already validated by `spectex-model`).
     #[must_use]
     pub fn new(model: &LrpNoise) -> Self {
+        Self::prepare(model, None)
+    }
+
+    /// Prepares a model made exactly periodic with `period` (any period: each stratum's lattice
+    /// is fitted to it, [`Period::fit_lattice`], and its points hashed modulo the period).
+    ///
+    /// The cosines need no snapping of their frequencies to multiples of `1/period`: each is
+    /// evaluated relative to its own lattice point (`f·(x − x_i)`, see the module doc), so a
+    /// lattice point one period away, which draws the same frequency and phase, adds the same
+    /// term shifted by exactly one period — the field is periodic whatever the frequencies.
+    /// Nor does the spectrum ask for it: a periodic field's spectrum lives on multiples of
+    /// `1/period`, and each windowed cosine already spreads over a band `≈ 1/Δ_S` wide, many
+    /// such multiples, so snapping would move each cosine by at most `1/(2·period)` within a
+    /// blur of `1/Δ_S` and change nothing measurable (the fidelity test checks the spectrum).
+    #[must_use]
+    pub fn new_periodic(model: &LrpNoise, period: Period) -> Self {
+        Self::prepare(model, Some(period))
+    }
+
+    fn prepare(model: &LrpNoise, period: Option<Period>) -> Self {
         let strata = model
             .strata
             .iter()
             .enumerate()
             .map(|(s, st)| {
-                let delta = f64::from(st.window_width);
+                let nominal = f64::from(st.window_width);
+                let (delta, delta_y, cells) = match period {
+                    None => (nominal, nominal, None),
+                    Some(p) => {
+                        let fitted = p.fit_lattice(nominal);
+                        (fitted.side[0], fitted.side[1], Some(fitted.cells))
+                    }
+                };
                 let mut table_x = Vec::new();
                 let mut table_y = Vec::new();
                 let mut tables = Vec::new();
@@ -195,6 +239,10 @@ impl LrpEvaluator {
                     delta,
                     inv_delta: 1.0 / delta,
                     inv_delta2: (1.0 / (delta * delta)) as f32,
+                    delta_y,
+                    inv_delta_y: 1.0 / delta_y,
+                    aspect2: ((delta / delta_y) * (delta / delta_y)) as f32,
+                    cells,
                     amplitude: st.amplitude,
                     layer: s as u32,
                     table_x,
@@ -427,15 +475,16 @@ fn stratum_row<const L: usize, const FILTERED: bool>(
     let j = lattice.j;
     let support = 1.5 * s.delta;
     for row in &lattice.rows {
-        let dy64 = y - row.cy as f64 * s.delta;
+        let dy64 = y - row.cy as f64 * s.delta_y;
         let dy = dy64 as f32;
-        let dy2 = dy * dy;
+        let dy2 = dy * dy * s.aspect2;
         // Rows beyond the support contribute exactly 0 to every pixel: skip them.
         if dy2 * s.inv_delta2 >= 2.25 {
             continue;
         }
         // Half the chord of the support along this row.
-        let half = (support * support - dy64 * dy64).max(0.0).sqrt();
+        let dyx = dy64 * (s.delta / s.delta_y);
+        let half = (support * support - dyx * dyx).max(0.0).sqrt();
         // The part of each cosine's argument that is constant along the row: `f_y·dy + φ`.
         offsets.clear();
         offsets.extend(row.fy.iter().zip(&row.phase).map(|(&fy, &ph)| fy * dy + ph));
@@ -532,6 +581,14 @@ fn support_span(
 impl crate::CpuKind for LrpNoise {
     fn cpu_kernel(&self, _z: f64) -> Result<Box<dyn crate::RowKernel>, crate::CpuError> {
         Ok(Box::new(LrpEvaluator::new(self)))
+    }
+
+    fn cpu_kernel_periodic(
+        &self,
+        _z: f64,
+        period: Period,
+    ) -> Result<Box<dyn crate::RowKernel>, crate::CpuError> {
+        Ok(Box::new(LrpEvaluator::new_periodic(self, period)))
     }
 }
 

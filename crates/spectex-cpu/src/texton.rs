@@ -4,8 +4,9 @@
 //! rows outer, cell columns inner, textons in draw order — so a pixel's bits do not depend on
 //! the window, tiling or thread that evaluates it.
 
+use spectex_model::period::wrap;
 use spectex_model::texton::{Combine, MAX_TEXTONS_PER_CELL, Texton, TextonNoise};
-use spectex_model::{Window, grid::locate_cell};
+use spectex_model::{Period, Window, grid::locate_cell};
 
 use crate::{CpuError, CpuKind, RowKernel};
 
@@ -14,6 +15,9 @@ pub struct TextonEvaluator {
     model: TextonNoise,
     cdf: Option<[f32; MAX_TEXTONS_PER_CELL as usize]>,
     reach: i32,
+    /// Cells per period along x and y of a periodic model: cell `(i, j)` draws the textons of
+    /// `(i mod n_x, j mod n_y)`.
+    cells: Option<[i64; 2]>,
 }
 
 impl TextonEvaluator {
@@ -24,6 +28,16 @@ impl TextonEvaluator {
             model: model.clone(),
             cdf: model.poisson_cdf(),
             reach: model.reach(),
+            cells: None,
+        }
+    }
+
+    /// Prepares a validated model that accepts `period` (its cell divides it) made periodic.
+    #[must_use]
+    pub fn new_periodic(model: &TextonNoise, period: Period) -> Self {
+        Self {
+            cells: Some(period.cells(f64::from(model.cell_size))),
+            ..Self::new(model)
         }
     }
 
@@ -40,8 +54,14 @@ impl TextonEvaluator {
         (first_i..=last_i)
             .map(|i| {
                 let mut list = Vec::new();
+                let (hi, hj) = match self.cells {
+                    None => (i, j),
+                    Some([nx, ny]) => {
+                        (wrap(i64::from(i), nx) as i32, wrap(i64::from(j), ny) as i32)
+                    }
+                };
                 self.model
-                    .cell_textons(i, j, self.cdf.as_ref(), |t| list.push(t));
+                    .cell_textons(hi, hj, self.cdf.as_ref(), |t| list.push(t));
                 list
             })
             .collect()
@@ -51,6 +71,10 @@ impl TextonEvaluator {
 impl CpuKind for TextonNoise {
     fn cpu_kernel(&self, _z: f64) -> Result<Box<dyn RowKernel>, CpuError> {
         Ok(Box::new(TextonEvaluator::new(self)))
+    }
+
+    fn cpu_kernel_periodic(&self, _z: f64, period: Period) -> Result<Box<dyn RowKernel>, CpuError> {
+        Ok(Box::new(TextonEvaluator::new_periodic(self, period)))
     }
 }
 

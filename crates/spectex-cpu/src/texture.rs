@@ -10,7 +10,7 @@
 //! frequencies from the mipmap of block means, LRP §6).
 
 use spectex_model::grid::locate_cell;
-use spectex_model::{LrpNoise, TextureModel, Window};
+use spectex_model::{LrpNoise, Period, TextureModel, Window};
 
 use crate::lrp::LrpEvaluator;
 
@@ -23,18 +23,35 @@ pub struct TextureEvaluator {
     turbulence: [Vec<LrpEvaluator>; 2],
     /// Each channel's mipmap of block means (empty without a structure).
     mipmaps: Vec<Vec<f32>>,
+    /// Placement cells per period along x and y of a periodic model.
+    cells: Option<[i64; 2]>,
 }
 
 impl TextureEvaluator {
     /// Prepares a validated model.
     #[must_use]
     pub fn new(model: &TextureModel) -> Self {
+        Self::prepare(model, None)
+    }
+
+    /// Prepares a validated model that accepts `period` (a multiple of its `T`) made periodic:
+    /// its strata and turbulence as periodic LRP noises, its placement cells wrapped.
+    #[must_use]
+    pub fn new_periodic(model: &TextureModel, period: Period) -> Self {
+        Self::prepare(model, Some(period))
+    }
+
+    fn prepare(model: &TextureModel, period: Option<Period>) -> Self {
+        let lrp = |noise: &LrpNoise| match period {
+            None => LrpEvaluator::new(noise),
+            Some(p) => LrpEvaluator::new_periodic(noise, p),
+        };
         let strata = model
             .channels
             .iter()
             .map(|ch| {
                 (!ch.strata.is_empty()).then(|| {
-                    LrpEvaluator::new(&LrpNoise {
+                    lrp(&LrpNoise {
                         seed: ch.seed,
                         mean: ch.mean,
                         strata: ch.strata.clone(),
@@ -48,7 +65,7 @@ impl TextureEvaluator {
                     .iter()
                     .enumerate()
                     .map(|(s, st)| {
-                        LrpEvaluator::new(&LrpNoise {
+                        lrp(&LrpNoise {
                             seed: t.seed(axis, s),
                             mean: 0.0,
                             strata: vec![st.clone()],
@@ -71,6 +88,7 @@ impl TextureEvaluator {
             strata,
             turbulence,
             mipmaps,
+            cells: period.map(|p| p.cells(model.placement_cell())),
         }
     }
 
@@ -133,9 +151,9 @@ impl TextureEvaluator {
             let (cy, sy) = locate_cell(window.y(first + r), p).unwrap_or((0, 0.0));
             for (i, &(cx, sx)) in xs.iter().enumerate() {
                 let k = r * w + i;
-                let taps = self
-                    .model
-                    .placement(cx, sx, cy, sy, [disp[0][k], disp[1][k]]);
+                let taps =
+                    self.model
+                        .placement_in(cx, sx, cy, sy, [disp[0][k], disp[1][k]], self.cells);
                 for c in 0..nc {
                     let structure = match footprint {
                         Some(s) => self
@@ -156,6 +174,14 @@ impl TextureEvaluator {
 impl crate::CpuKind for TextureModel {
     fn cpu_kernel(&self, _z: f64) -> Result<Box<dyn crate::RowKernel>, crate::CpuError> {
         Ok(Box::new(TextureEvaluator::new(self)))
+    }
+
+    fn cpu_kernel_periodic(
+        &self,
+        _z: f64,
+        period: Period,
+    ) -> Result<Box<dyn crate::RowKernel>, crate::CpuError> {
+        Ok(Box::new(TextureEvaluator::new_periodic(self, period)))
     }
 }
 

@@ -15,7 +15,7 @@
 //! is the price of arbitrary positions. [`WarpEvaluator::eval_rows_reference`] keeps the point
 //! by point definition.
 
-use spectex_model::{Model, Warp, Window};
+use spectex_model::{Model, Period, Warp, Window};
 
 use crate::{CpuError, Evaluator};
 
@@ -30,14 +30,16 @@ pub struct WarpEvaluator {
 }
 
 impl WarpEvaluator {
-    /// Prepares the three sub-models of a validated warp on the plane `z`.
-    pub(crate) fn new(model: &Warp, z: f64) -> Result<Self, CpuError> {
+    /// Prepares the three sub-models of a validated warp on the plane `z`, each periodic with
+    /// `period` when given (then the warp `base(p + d(p))` is periodic: `d` is, and the base
+    /// evaluated at positions one period apart is too).
+    pub(crate) fn new(model: &Warp, z: f64, period: Option<Period>) -> Result<Self, CpuError> {
         Ok(Self {
             model: model.clone(),
             reach_model: Model::Warp(model.clone()),
-            base: Evaluator::new_at_z(&model.base, z)?,
-            x: Evaluator::new_at_z(&model.x, z)?,
-            y: Evaluator::new_at_z(&model.y, z)?,
+            base: Evaluator::with_period(&model.base, z, period)?,
+            x: Evaluator::with_period(&model.x, z, period)?,
+            y: Evaluator::with_period(&model.y, z, period)?,
         })
     }
 
@@ -166,7 +168,15 @@ impl WarpEvaluator {
 
 impl crate::CpuKind for Warp {
     fn cpu_kernel(&self, z: f64) -> Result<Box<dyn crate::RowKernel>, CpuError> {
-        Ok(Box::new(WarpEvaluator::new(self, z)?))
+        Ok(Box::new(WarpEvaluator::new(self, z, None)?))
+    }
+
+    fn cpu_kernel_periodic(
+        &self,
+        z: f64,
+        period: Period,
+    ) -> Result<Box<dyn crate::RowKernel>, CpuError> {
+        Ok(Box::new(WarpEvaluator::new(self, z, Some(period))?))
     }
 }
 

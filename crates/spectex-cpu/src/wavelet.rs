@@ -187,6 +187,16 @@ impl crate::CpuKind for WaveletNoise {
     fn cpu_kernel(&self, z: f64) -> Result<Box<dyn crate::RowKernel>, crate::CpuError> {
         Ok(Box::new(WaveletEvaluator::new(self, z)))
     }
+
+    /// The plain kernel: wavelet noise repeats with its tile, which divides every period the
+    /// model accepts ([`spectex_model::ModelKind::check_period`]).
+    fn cpu_kernel_periodic(
+        &self,
+        z: f64,
+        _period: spectex_model::Period,
+    ) -> Result<Box<dyn crate::RowKernel>, crate::CpuError> {
+        Ok(Box::new(WaveletEvaluator::new(self, z)))
+    }
 }
 
 impl crate::RowKernel for WaveletEvaluator {

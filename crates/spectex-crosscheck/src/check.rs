@@ -4,7 +4,7 @@
 
 use spectex_cpu::{Evaluator, Window};
 use spectex_gpu::{GpuContext, GpuEvaluator};
-use spectex_model::Model;
+use spectex_model::{Model, Period};
 
 use crate::compare::{
     CaseWindow, Outcome, Verdict, compare, expected_failure, judge, judge_by_reasons, plane,
@@ -50,12 +50,33 @@ pub fn check_model_at_z(
     windows: &[CaseWindow],
     z: f64,
 ) -> Result<Vec<(CaseWindow, Outcome)>, CrosscheckError> {
+    check_model_with_period(context, case, model, windows, z, None)
+}
+
+/// [`check_model_at_z`] of `model` made exactly periodic with `period` when given
+/// (`spectex_cpu::Evaluator::periodic` against `spectex_gpu::GpuEvaluator::periodic_at_z`),
+/// judged by the kind's own tolerances: a periodic model evaluates the plain one's formulas at
+/// positions reduced modulo the period, so the same derivations hold.
+///
+/// # Errors
+/// As [`check_model_at_z`], or a period the model or the device path refuses.
+pub fn check_model_with_period(
+    context: &GpuContext,
+    case: &str,
+    model: &Model,
+    windows: &[CaseWindow],
+    z: f64,
+    period: Option<Period>,
+) -> Result<Vec<(CaseWindow, Outcome)>, CrosscheckError> {
     let kind: &dyn CheckKind = check_kind(model);
     let tolerances = kind
         .tolerances()
         .ok_or(CrosscheckError::Unsupported { kind: model.kind() })?;
-    let cpu = Evaluator::new_at_z(model, z)?;
-    let gpu = GpuEvaluator::new_at_z(context, model, z)?;
+    let cpu = Evaluator::with_period(model, z, period)?;
+    let gpu = match period {
+        None => GpuEvaluator::new_at_z(context, model, z)?,
+        Some(p) => GpuEvaluator::periodic_at_z(context, model, z, p)?,
+    };
     let channels = cpu.output_channels();
     if gpu.output_channels() != channels || tolerances.len() != channels {
         return Err(CrosscheckError::Channels {

@@ -40,7 +40,7 @@ mod error;
 mod report;
 pub mod tolerance;
 
-pub use check::{check_model, check_model_at_z};
+pub use check::{check_model, check_model_at_z, check_model_with_period};
 pub use compare::{
     CaseWindow, Comparison, EXPECTED_FAILURES, Outcome, Verdict, compare, expected_failure, judge,
     judge_by_reasons, standard_windows,

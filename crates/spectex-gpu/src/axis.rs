@@ -3,6 +3,9 @@
 //! `shaders/lrp.wgsl`), and the (cell, offset, valid) table of the sparse-convolution grids that
 //! Gabor and phasor noise share.
 
+use spectex_model::Period;
+use spectex_model::period::reduce;
+
 use crate::GpuWindow;
 use crate::layout::wgsl_struct;
 
@@ -14,6 +17,29 @@ pub(crate) fn columns(window: &GpuWindow) -> impl Fn(usize) -> f64 + '_ {
 /// Row positions of a window.
 pub(crate) fn rows(window: &GpuWindow) -> impl Fn(usize) -> f64 + '_ {
     move |j| window.y(j)
+}
+
+/// Column positions of a window, reduced modulo the period's width for a periodic model
+/// ([`spectex_model::period::reduce`], exact: the CPU's reduced positions).
+pub(crate) fn periodic_columns(
+    window: &GpuWindow,
+    period: Option<Period>,
+) -> impl Fn(usize) -> f64 + '_ {
+    move |i| match period {
+        None => window.x(i),
+        Some(p) => reduce(window.x(i), f64::from(p.width)),
+    }
+}
+
+/// Row positions of a window, reduced modulo the period's height for a periodic model.
+pub(crate) fn periodic_rows(
+    window: &GpuWindow,
+    period: Option<Period>,
+) -> impl Fn(usize) -> f64 + '_ {
+    move |j| match period {
+        None => window.y(j),
+        Some(p) => reduce(window.y(j), f64::from(p.height)),
+    }
 }
 
 wgsl_struct! {

@@ -2,13 +2,14 @@
 //! and the octave table, and a tile's columns and rows into [`ClassicAxis`] records (the f64
 //! work: cells, f32 offsets, and the per-axis parts of simplex noise's skewed coordinates).
 
+use spectex_model::Period;
 use spectex_model::classic::{
     Basis, ClassicNoise, FeaturePoints, FractalKind, Metric, SIMPLEX_F2, SIMPLEX_F3,
     WORLEY_MAX_POINTS, WORLEY_MAX_RING,
 };
 use spectex_model::random::layer_key;
 
-use crate::axis::{columns, rows};
+use crate::axis::{periodic_columns, periodic_rows};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
@@ -72,6 +73,10 @@ wgsl_struct! {
         z_own_frac: f32,
         /// `1/c_o` (f32 of the f64 value), for warping.
         inv_cell: f32,
+        /// Cells per period along x and y of a periodic model (0: not periodic): the
+        /// lattice coordinates entering the hash wrap modulo them (`wrap_cell`).
+        cells_x: i32,
+        cells_y: i32,
     }
 }
 
@@ -103,6 +108,8 @@ pub(crate) struct ClassicKernel {
     /// The basis's statistics for a minified render's fade, measured on first use, as the CPU
     /// measures them.
     statistics: std::sync::OnceLock<spectex_model::filter::BasisStatistics>,
+    /// The period of a periodic model: positions reduced modulo it.
+    period: Option<Period>,
 }
 
 /// `(⌊p⌋ as i32, f32(p − ⌊p⌋))`, the CPU's split (`spectex_cpu::classic`'s `locate`): exact in
@@ -115,6 +122,15 @@ fn split(p: f64) -> (i32, f32) {
 
 /// Packs a validated model for the plane `z` (ignored in 2D): the kernel and the octave table.
 fn pack(model: &ClassicNoise, z: f64) -> (ClassicKernel, Vec<ClassicOctave>) {
+    pack_periodic(model, z, None)
+}
+
+/// [`pack`], periodic with `period` (every octave's cell divides it: `check_period`).
+fn pack_periodic(
+    model: &ClassicNoise,
+    z: f64,
+    period: Option<Period>,
+) -> (ClassicKernel, Vec<ClassicOctave>) {
     let three_d = model.dimensions == 3;
     let skew = if three_d { SIMPLEX_F3 } else { SIMPLEX_F2 };
     let mut octaves = Vec::with_capacity(model.octaves() as usize);
@@ -140,6 +156,8 @@ fn pack(model: &ClassicNoise, z: f64) -> (ClassicKernel, Vec<ClassicOctave>) {
             z_own_cell: z_own.0,
             z_own_frac: z_own.1,
             inv_cell: (1.0 / side) as f32,
+            cells_x: period.map_or(0, |p| p.cells(side)[0] as i32),
+            cells_y: period.map_or(0, |p| p.cells(side)[1] as i32),
         });
     }
     let kind = model.fractal.as_ref().map(|f| f.kind);
@@ -202,6 +220,7 @@ fn pack(model: &ClassicNoise, z: f64) -> (ClassicKernel, Vec<ClassicOctave>) {
             sides,
             skew,
             statistics: std::sync::OnceLock::new(),
+            period,
         },
         octaves,
     )
@@ -235,6 +254,16 @@ impl ClassicKernel {
 impl GpuKind for ClassicNoise {
     fn gpu_kernel(&self, context: &GpuContext, z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
         let (kernel, octaves) = pack(self, z);
+        Shaded::boxed(context, kernel, &[Table::new("classic octaves", &octaves)])
+    }
+
+    fn gpu_kernel_periodic(
+        &self,
+        context: &GpuContext,
+        z: f64,
+        period: Period,
+    ) -> Result<Box<dyn GpuKernel>, GpuError> {
+        let (kernel, octaves) = pack_periodic(self, z, Some(period));
         Shaded::boxed(context, kernel, &[Table::new("classic octaves", &octaves)])
     }
 }
@@ -282,8 +311,14 @@ impl ShaderKernel for ClassicKernel {
         Ok(TileTables::new(
             &params,
             vec![
-                Table::new("classic columns", &self.axis(tile.width, columns(tile))),
-                Table::new("classic rows", &self.axis(tile.height, rows(tile))),
+                Table::new(
+                    "classic columns",
+                    &self.axis(tile.width, periodic_columns(tile, self.period)),
+                ),
+                Table::new(
+                    "classic rows",
+                    &self.axis(tile.height, periodic_rows(tile, self.period)),
+                ),
                 Table::new(
                     "classic octave fade",
                     &faded.unwrap_or_else(|| vec![[0.0; 2]]),
@@ -351,7 +386,7 @@ mod tests {
             coefficients: [-1.0, 1.0, 0.0, 0.0],
             points: FeaturePoints::Poisson(2.0),
         };
-        let (kernel, octaves) = pack(&model(Basis::Worley(w), 3), 40.0);
+        let (kernel, octaves) = pack(&model(Basis::Worley(w.clone()), 3), 40.0);
         let p = kernel.params;
         assert_eq!((p.octaves, p.basis, p.fractal, p.needed), (3, 3, 2, 1));
         assert_eq!(p.cap, 49.0);
@@ -371,6 +406,15 @@ mod tests {
         // The bytes the device receives: the CDF starts at word 24, the octave's cell at word 1.
         let words: &[u32] = bytemuck::cast_slice(std::slice::from_ref(&p));
         assert_eq!(words[24..40], cdf.map(f32::to_bits));
-        assert_eq!(bytemuck::cast_slice::<_, u32>(&octaves)[9 + 1], 5);
+        // Octaves are eleven words: octave 1's plane cell is word 11 + 1.
+        assert_eq!(bytemuck::cast_slice::<_, u32>(&octaves)[11 + 1], 5);
+        assert_eq!((o.cells_x, o.cells_y), (0, 0));
+        // Periodic with 64 × 32: octave 1's cells of 8 pixels, 8 × 4 per period.
+        let (_, periodic) = pack_periodic(
+            &model(Basis::Worley(w), 3),
+            40.0,
+            Some(Period::new(64, 32).unwrap()),
+        );
+        assert_eq!((periodic[1].cells_x, periodic[1].cells_y), (8, 4));
     }
 }

@@ -1,7 +1,7 @@
 //! [`GpuEvaluator`]: a model prepared on the device once (its kind's [`GpuKernel`]), and tiled
 //! rendering of any window with read-back.
 
-use spectex_model::Model;
+use spectex_model::{Model, Period};
 
 use crate::kernel::{GpuKernel, GpuKind};
 use crate::{GpuContext, GpuError, GpuWindow};
@@ -46,6 +46,37 @@ impl GpuEvaluator {
             });
         }
         Self::prepared(context, model, z)
+    }
+
+    /// As [`new_at_z`](Self::new_at_z), for `model` made exactly periodic with `period`
+    /// (`spectex_model::period`; the CPU's `Evaluator::periodic`): positions reduced modulo the
+    /// period on the host, cells hashed modulo it on the device. LRP, classic and wavelet noises
+    /// have a periodic device path.
+    ///
+    /// # Errors
+    /// As [`new_at_z`](Self::new_at_z); [`GpuError::Model`] for a period the model cannot take,
+    /// [`GpuError::Unsupported`] for a kind whose device path has no periodic form.
+    pub fn periodic_at_z(
+        context: &GpuContext,
+        model: &Model,
+        z: f64,
+        period: Period,
+    ) -> Result<Self, GpuError> {
+        model.validate()?;
+        model.check_period(period)?;
+        if !(z.is_finite() && z.abs() <= crate::MAX_POSITION) {
+            return Err(GpuError::Window {
+                parameter: "z",
+                value: z,
+                range: "finite, |z| ≤ 2³⁰ pixels",
+            });
+        }
+        let kernel = spectex_model::for_each_kind!(model, m: K => <K as GpuKind>::gpu_kernel_periodic(m, context, z, period)?);
+        Ok(Self {
+            adapter_info: context.adapter_info(),
+            kernel,
+            max_tile: [DEFAULT_MAX_TILE, DEFAULT_MAX_TILE],
+        })
     }
 
     /// The evaluator of a validated model and plane: the one dispatch over model kinds in this

@@ -10,7 +10,7 @@
 
 use std::fmt;
 
-use spectex_model::ModelKind;
+use spectex_model::{ModelKind, Period};
 
 use crate::{GpuContext, GpuError, GpuWindow};
 
@@ -24,6 +24,30 @@ pub(crate) trait GpuKind: ModelKind {
     /// [`GpuError::Unsupported`] for a feature of the kind the device path lacks,
     /// [`GpuError::Validation`] if the device rejects the shader or the buffers.
     fn gpu_kernel(&self, context: &GpuContext, z: f64) -> Result<Box<dyn GpuKernel>, GpuError>;
+
+    /// The kernel of a **validated** model made exactly periodic with `period`, a period it
+    /// accepts ([`ModelKind::check_period`]): tile positions reduced modulo the period on the
+    /// host (`spectex_model::period::reduce`, per axis) and cells hashed modulo it in the shader,
+    /// as on the CPU. The default is for kinds whose device path has no periodic form.
+    ///
+    /// # Errors
+    /// As [`gpu_kernel`](Self::gpu_kernel), [`GpuError::Model`] for a period the model refuses,
+    /// [`GpuError::Unsupported`] where the device path has no periodic form.
+    fn gpu_kernel_periodic(
+        &self,
+        context: &GpuContext,
+        z: f64,
+        period: Period,
+    ) -> Result<Box<dyn GpuKernel>, GpuError> {
+        let _ = (context, z);
+        self.check_period(period)?;
+        Err(GpuError::Unsupported {
+            kind: Self::NAME,
+            feature: format!(
+                "a period ({period}; periodic on the GPU: lrp, classic and wavelet models)"
+            ),
+        })
+    }
 }
 
 /// A model prepared on the device, rendering one tile at a time.

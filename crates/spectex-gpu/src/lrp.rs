@@ -3,9 +3,9 @@
 //! offsets to the nearby lattice points (f64 on the host, so a window at `(10⁷, 10⁷)` is as
 //! precise as one at the origin).
 
-use spectex_model::LrpNoise;
+use spectex_model::{LrpNoise, Period};
 
-use crate::axis::{columns, rows};
+use crate::axis::{periodic_columns, periodic_rows};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::{Shaded, binding_limit};
@@ -37,8 +37,15 @@ wgsl_struct! {
         table_first: u32,
         /// `J_s`, the cosines per lattice point.
         cosines: u32,
-        /// `Δ_s` (the model's f32), for warping.
+        /// `Δ_s` (the model's f32; along x, fitted to a period), for warping.
         delta: f32,
+        /// The lattice period along y.
+        delta_y: f32,
+        /// `(Δ_x/Δ_y)²` (1 for a square lattice).
+        aspect2: f32,
+        /// Lattice points per period along x and y (0: not periodic).
+        cells_x: i32,
+        cells_y: i32,
     }
 }
 
@@ -58,8 +65,12 @@ pub(crate) struct LrpKernel {
     model: LrpNoise,
     seed: u32,
     mean: f32,
-    /// `Δ_s` in f64 (from the model's f32), per stratum.
+    /// `Δ_s` in f64 (from the model's f32, or fitted to the period along x), per stratum.
     deltas: Vec<f64>,
+    /// The lattice periods along y, per stratum (`deltas` unless periodic).
+    deltas_y: Vec<f64>,
+    /// The period of a periodic model: positions reduced modulo it.
+    period: Option<Period>,
 }
 
 /// An LRP model's tables: its strata, every sub-stratum's `(f_x, f_y)` concatenated, and the
@@ -71,21 +82,30 @@ struct LrpTables {
     tables: Vec<[u32; 2]>,
 }
 
-/// Packs a validated LRP model.
-fn pack(model: &LrpNoise) -> LrpTables {
+/// Packs a validated LRP model, its lattices fitted to `period` when periodic.
+fn pack(model: &LrpNoise, period: Option<Period>) -> LrpTables {
     let mut packed = LrpTables {
         strata: Vec::with_capacity(model.strata.len()),
         frequencies: Vec::new(),
         tables: Vec::new(),
     };
     for stratum in &model.strata {
-        let delta = f64::from(stratum.window_width);
+        let [delta, delta_y] = lattice_sides(stratum.window_width, period);
+        let cells = period.map_or([0, 0], |p| {
+            p.fit_lattice(f64::from(stratum.window_width))
+                .cells
+                .map(|n| n as i32)
+        });
         packed.strata.push(LrpStratum {
             inv_delta2: (1.0 / (delta * delta)) as f32,
             amplitude: stratum.amplitude,
             table_first: packed.tables.len() as u32,
             cosines: stratum.sub_strata.len() as u32,
-            delta: stratum.window_width,
+            delta: delta as f32,
+            delta_y: delta_y as f32,
+            aspect2: ((delta / delta_y) * (delta / delta_y)) as f32,
+            cells_x: cells[0],
+            cells_y: cells[1],
         });
         for table in &stratum.sub_strata {
             packed
@@ -95,6 +115,13 @@ fn pack(model: &LrpNoise) -> LrpTables {
         }
     }
     packed
+}
+
+/// The lattice periods `[Δ_x, Δ_y]` of a stratum of window width `width`: `Δ_S` twice, or
+/// the sides of the lattice fitted to `period` (the CPU's).
+fn lattice_sides(width: f32, period: Option<Period>) -> [f64; 2] {
+    let nominal = f64::from(width);
+    period.map_or([nominal, nominal], |p| p.fit_lattice(nominal).side)
 }
 
 /// [`LatticeAxis`] records for `count` positions `position(i)`, stratum-major.
@@ -120,36 +147,57 @@ pub(crate) fn lattice_axis(
 
 impl GpuKind for LrpNoise {
     fn gpu_kernel(&self, context: &GpuContext, _z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
-        let packed = pack(self);
-        let limit = binding_limit(&context.limits());
-        let needed = size_of_val(packed.frequencies.as_slice()) as u64;
-        if needed > limit {
-            return Err(GpuError::LimitsExceeded {
-                what: "frequency tables (bytes in one storage buffer)",
-                value: needed,
-                limit,
-            });
-        }
-        let kernel = LrpKernel {
-            model: self.clone(),
-            seed: self.seed,
-            mean: self.mean,
-            deltas: self
-                .strata
-                .iter()
-                .map(|s| f64::from(s.window_width))
-                .collect(),
-        };
-        Shaded::boxed(
-            context,
-            kernel,
-            &[
-                Table::new("lrp strata", &packed.strata),
-                Table::new("lrp frequencies", &packed.frequencies),
-                Table::new("lrp tables", &packed.tables),
-            ],
-        )
+        lrp_kernel(self, context, None)
     }
+
+    fn gpu_kernel_periodic(
+        &self,
+        context: &GpuContext,
+        _z: f64,
+        period: Period,
+    ) -> Result<Box<dyn GpuKernel>, GpuError> {
+        lrp_kernel(self, context, Some(period))
+    }
+}
+
+/// The kernel of a validated LRP model, periodic with `period` when given.
+fn lrp_kernel(
+    model: &LrpNoise,
+    context: &GpuContext,
+    period: Option<Period>,
+) -> Result<Box<dyn GpuKernel>, GpuError> {
+    let packed = pack(model, period);
+    let limit = binding_limit(&context.limits());
+    let needed = size_of_val(packed.frequencies.as_slice()) as u64;
+    if needed > limit {
+        return Err(GpuError::LimitsExceeded {
+            what: "frequency tables (bytes in one storage buffer)",
+            value: needed,
+            limit,
+        });
+    }
+    let sides: Vec<[f64; 2]> = model
+        .strata
+        .iter()
+        .map(|s| lattice_sides(s.window_width, period))
+        .collect();
+    let kernel = LrpKernel {
+        model: model.clone(),
+        seed: model.seed,
+        mean: model.mean,
+        deltas: sides.iter().map(|s| s[0]).collect(),
+        deltas_y: sides.iter().map(|s| s[1]).collect(),
+        period,
+    };
+    Shaded::boxed(
+        context,
+        kernel,
+        &[
+            Table::new("lrp strata", &packed.strata),
+            Table::new("lrp frequencies", &packed.frequencies),
+            Table::new("lrp tables", &packed.tables),
+        ],
+    )
 }
 
 impl ShaderKernel for LrpKernel {
@@ -189,11 +237,19 @@ impl ShaderKernel for LrpKernel {
             vec![
                 Table::new(
                     "lrp columns",
-                    &lattice_axis(&self.deltas, tile.width, columns(tile)),
+                    &lattice_axis(
+                        &self.deltas,
+                        tile.width,
+                        periodic_columns(tile, self.period),
+                    ),
                 ),
                 Table::new(
                     "lrp rows",
-                    &lattice_axis(&self.deltas, tile.height, rows(tile)),
+                    &lattice_axis(
+                        &self.deltas_y,
+                        tile.height,
+                        periodic_rows(tile, self.period),
+                    ),
                 ),
                 Table::new("lrp gains", &gains),
             ],
@@ -248,7 +304,7 @@ mod tests {
                 },
             ],
         };
-        let p = pack(&m);
+        let p = pack(&m, None);
         assert_eq!(p.tables, [[0, 1], [1, 2], [3, 1]]);
         assert_eq!(
             (
@@ -268,8 +324,27 @@ mod tests {
         );
         assert_eq!(p.strata[0].inv_delta2, 1.0 / 16.0);
         assert_eq!(p.frequencies[3], [0.25, 0.0]);
-        // The bytes the device receives: a stratum is five words, in the WGSL's order.
+        // The bytes the device receives: a stratum is nine words, in the WGSL's order.
         let words: &[u32] = bytemuck::cast_slice(&p.strata);
-        assert_eq!(words[7..10], [2, 1, 8.0f32.to_bits()]);
+        assert_eq!(
+            words[11..18],
+            [
+                2,
+                1,
+                8.0f32.to_bits(),
+                8.0f32.to_bits(),
+                1.0f32.to_bits(),
+                0,
+                0
+            ]
+        );
+        // Fitted to a 96×64 period: Δ = 4 divides both (24 × 16 cells), Δ = 8 too (12 × 8).
+        let periodic = pack(&m, Some(Period::new(96, 64).unwrap()));
+        let cells: Vec<[i32; 2]> = periodic
+            .strata
+            .iter()
+            .map(|s| [s.cells_x, s.cells_y])
+            .collect();
+        assert_eq!(cells, [[24, 16], [12, 8]]);
     }
 }

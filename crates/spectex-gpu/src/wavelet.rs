@@ -2,10 +2,10 @@
 //! the model's one function) and its bands uploaded once, and per tile and band each column's
 //! and row's tile index and fraction, located in f64 by [`locate_sample`] (the CPU's call).
 
-use spectex_model::WaveletNoise;
 use spectex_model::wavelet::{Band, locate_sample};
+use spectex_model::{Period, WaveletNoise};
 
-use crate::axis::{columns, rows};
+use crate::axis::{periodic_columns, periodic_rows};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
@@ -54,6 +54,9 @@ pub(crate) struct WaveletKernel {
     dimensions: u32,
     mean: f32,
     bands: Vec<Band>,
+    /// The period of a periodic model: positions reduced modulo it (the tile repeats within
+    /// it, so nothing else changes).
+    period: Option<Period>,
 }
 
 impl WaveletKernel {
@@ -92,23 +95,43 @@ fn band_records(model: &WaveletNoise, bands: &[Band], z: f64) -> Vec<WaveletBand
 
 impl GpuKind for WaveletNoise {
     fn gpu_kernel(&self, context: &GpuContext, z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
-        let bands = self.bands();
-        let band_records = band_records(self, &bands, z);
-        let kernel = WaveletKernel {
-            n: self.tile_size,
-            dimensions: self.dimensions,
-            mean: self.mean,
-            bands,
-        };
-        Shaded::boxed(
-            context,
-            kernel,
-            &[
-                Table::new("wavelet tile", &self.tile().values),
-                Table::new("wavelet bands", &band_records),
-            ],
-        )
+        wavelet_kernel(self, context, z, None)
     }
+
+    fn gpu_kernel_periodic(
+        &self,
+        context: &GpuContext,
+        z: f64,
+        period: Period,
+    ) -> Result<Box<dyn GpuKernel>, GpuError> {
+        wavelet_kernel(self, context, z, Some(period))
+    }
+}
+
+/// The kernel of a validated wavelet noise, periodic with `period` when given.
+fn wavelet_kernel(
+    model: &WaveletNoise,
+    context: &GpuContext,
+    z: f64,
+    period: Option<Period>,
+) -> Result<Box<dyn GpuKernel>, GpuError> {
+    let bands = model.bands();
+    let band_records = band_records(model, &bands, z);
+    let kernel = WaveletKernel {
+        n: model.tile_size,
+        dimensions: model.dimensions,
+        mean: model.mean,
+        bands,
+        period,
+    };
+    Shaded::boxed(
+        context,
+        kernel,
+        &[
+            Table::new("wavelet tile", &model.tile().values),
+            Table::new("wavelet bands", &band_records),
+        ],
+    )
 }
 
 impl ShaderKernel for WaveletKernel {
@@ -137,8 +160,14 @@ impl ShaderKernel for WaveletKernel {
         Ok(TileTables::new(
             &params,
             vec![
-                Table::new("wavelet columns", &self.axis(0, tile.width, columns(tile))),
-                Table::new("wavelet rows", &self.axis(1, tile.height, rows(tile))),
+                Table::new(
+                    "wavelet columns",
+                    &self.axis(0, tile.width, periodic_columns(tile, self.period)),
+                ),
+                Table::new(
+                    "wavelet rows",
+                    &self.axis(1, tile.height, periodic_rows(tile, self.period)),
+                ),
             ],
         ))
     }

@@ -372,6 +372,40 @@ pub fn lattice_value(h: u32) -> f32 {
 }
 
 impl crate::ModelKind for ClassicNoise {
+    /// Gradient, value and Worley noises whose every octave's cell divides the period (a whole
+    /// number of cells per period along x and y: the lattice wraps); simplex noise's skewed
+    /// lattice has no periodic form here.
+    fn check_period(&self, period: crate::Period) -> Result<(), ModelError> {
+        let refuse = |requirement: String| {
+            Err(ModelError::Period {
+                period: period.to_string(),
+                kind: "classic",
+                requirement,
+            })
+        };
+        if self.basis == Basis::Simplex {
+            return refuse(
+                "simplex noise has no periodic form (its lattice is skewed); use gradient, value \
+                 or Worley noise"
+                    .into(),
+            );
+        }
+        for o in 0..self.octaves() {
+            let side = self.octave_cell(o);
+            for (axis, p) in [("width", period.width), ("height", period.height)] {
+                if f64::from(p) % side != 0.0 {
+                    return refuse(format!(
+                        "octave {o}'s cell of {side} pixels does not divide the period's {axis} \
+                         {p}; the period must be a multiple of every octave's cell (cell_size / \
+                         lacunarity^o: take a whole lacunarity such as 2 and a period that is a \
+                         multiple of cell_size)"
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
     const NAME: &'static str = "classic";
 
     fn validate(&self) -> Result<(), ModelError> {

@@ -28,6 +28,16 @@ pub enum ModelError {
         /// The accepted range.
         range: &'static str,
     },
+    /// A period the model cannot be made periodic with (`--periodic`, a file's `period`).
+    #[error("period {period} cannot be used with this {kind} model: {requirement}")]
+    Period {
+        /// The period asked for, `WxH`.
+        period: String,
+        /// The model kind.
+        kind: &'static str,
+        /// What the kind needs of a period (or that it has no periodic form).
+        requirement: String,
+    },
     /// A list has a length outside its range.
     #[error("{field} has {len} entries; it must have {range}")]
     Length {

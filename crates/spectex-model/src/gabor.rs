@@ -8,6 +8,9 @@ use crate::error::{ModelError, check_level, check_range};
 mod builder;
 pub use builder::GaborNoiseBuilder;
 
+/// How far a periodic Gabor noise's kernel radius (so its bandwidth) may move to tile the
+/// period: 25%, a bandwidth still within a quarter of the model's.
+pub const GABOR_PERIOD_TOLERANCE: f64 = 0.25;
 /// Fraction of the kernel's peak at which the Gaussian is truncated (Lagae et al. use 0.05):
 /// the kernel radius is `r = √(−ln 0.05 / π) / a` and the grid cell size equals `r`.
 pub const GABOR_TRUNCATION: f64 = 0.05;
@@ -62,6 +65,18 @@ impl GaborNoise {
     #[must_use]
     pub fn kernel_radius(&self) -> f64 {
         (-GABOR_TRUNCATION.ln() / std::f64::consts::PI).sqrt() / f64::from(self.bandwidth)
+    }
+
+    /// The kernel radius (and cell side) of this noise made periodic with `period`: `g / m`
+    /// with `g` the largest side dividing both `W` and `H` ([`crate::Period::common_side`]) and
+    /// `m = max(1, round(g / r))`, so that square cells tile the period; `None` when that
+    /// moves `r` (and the bandwidth `a ∝ 1/r`) by more than [`GABOR_PERIOD_TOLERANCE`].
+    #[must_use]
+    pub fn periodic_radius(&self, period: crate::Period) -> Option<f64> {
+        let r = self.kernel_radius();
+        let g = f64::from(period.common_side());
+        let fitted = g / crate::period::cells_in(g, r) as f64;
+        ((fitted / r - 1.0).abs() <= GABOR_PERIOD_TOLERANCE).then_some(fitted)
     }
 
     /// Mean impulses per grid cell of side `r`: `impulses_per_kernel / π`.
@@ -166,6 +181,26 @@ impl GaborNoise {
 }
 
 impl crate::ModelKind for GaborNoise {
+    /// A period whose common side (the gcd of `W` and `H`) holds a whole number of cells of
+    /// about the kernel radius ([`GaborNoise::periodic_radius`]).
+    fn check_period(&self, period: crate::Period) -> Result<(), ModelError> {
+        if self.periodic_radius(period).is_some() {
+            return Ok(());
+        }
+        Err(ModelError::Period {
+            period: period.to_string(),
+            kind: "gabor",
+            requirement: format!(
+                "its kernel radius {:.2} pixels must become a divisor of gcd(W, H) = {} within \
+                 25%; take a period whose sides share a large common divisor (a square one, or \
+                 multiples of {})",
+                self.kernel_radius(),
+                period.common_side(),
+                self.kernel_radius().ceil()
+            ),
+        })
+    }
+
     const NAME: &'static str = "gabor";
 
     fn validate(&self) -> Result<(), ModelError> {

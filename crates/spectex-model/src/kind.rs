@@ -9,6 +9,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::ModelError;
+use crate::period::Period;
 use crate::{
     ClassicNoise, GaborNoise, LrpNoise, PhasorNoise, TextonNoise, TextureModel, Warp, WaveletNoise,
 };
@@ -31,7 +32,29 @@ pub trait ModelKind {
 
     /// Calls `visit` on every seed the model holds, nested models' included, in a fixed order.
     fn visit_seeds(&mut self, visit: &mut dyn FnMut(&mut u32));
+
+    /// Checks that the model can be made exactly periodic with `period` ([`crate::period`]).
+    /// The default refuses: a kind without a periodic form says so.
+    ///
+    /// # Errors
+    /// [`ModelError::Period`] saying what the kind needs of a period.
+    fn check_period(&self, period: Period) -> Result<(), ModelError> {
+        Err(ModelError::Period {
+            period: period.to_string(),
+            kind: Self::NAME,
+            requirement: format!(
+                "{} models have no periodic form yet (periodic kinds: {})",
+                Self::NAME,
+                PERIODIC_KINDS.join(", ")
+            ),
+        })
+    }
 }
+
+/// The kinds that have a periodic form ([`ModelKind::check_period`]), for messages.
+pub const PERIODIC_KINDS: &[&str] = &[
+    "lrp", "gabor", "texture", "classic", "warp", "wavelet", "texton",
+];
 
 /// Any procedural model spectex evaluates: one variant per kind, each a [`crate::ModelKind`].
 ///
@@ -140,6 +163,15 @@ impl Model {
     #[must_use]
     pub fn output_channels(&self) -> usize {
         for_each_kind!(self, m: K => <K as ModelKind>::output_channels(m))
+    }
+
+    /// Checks that the model can be made exactly periodic with `period`
+    /// ([`ModelKind::check_period`]).
+    ///
+    /// # Errors
+    /// [`ModelError::Period`] saying what the kind needs of a period.
+    pub fn check_period(&self, period: Period) -> Result<(), ModelError> {
+        for_each_kind!(self, m: K => <K as ModelKind>::check_period(m, period))
     }
 
     /// Calls `visit` on every seed of the model, nested models' included.

@@ -50,6 +50,7 @@ pub mod grid;
 pub mod kind;
 mod lrp;
 pub mod math;
+pub mod period;
 mod phasor;
 pub mod phasor_kernels;
 pub mod random;
@@ -64,13 +65,16 @@ pub use classic::{ClassicNoise, ClassicNoiseBuilder, FractalNoiseBuilder};
 pub use defaults::{DEFAULT_MEAN, DEFAULT_SEED, DEFAULT_STD_DEV, Levels};
 pub use error::ModelError;
 pub use file::{
-    Fit, SCHEMA_VERSION, SUPPORTED_SCHEMA_VERSIONS, from_json, from_json_with_fit, to_json,
-    to_json_with_fit,
+    Fit, ModelFileContents, SCHEMA_VERSION, SUPPORTED_SCHEMA_VERSIONS, from_json, from_json_file,
+    from_json_with_fit, to_json, to_json_file, to_json_with_fit,
 };
-pub use gabor::{GABOR_TRUNCATION, GaborNoise, GaborNoiseBuilder, NEG_LN_20, Orientation};
+pub use gabor::{
+    GABOR_PERIOD_TOLERANCE, GABOR_TRUNCATION, GaborNoise, GaborNoiseBuilder, NEG_LN_20, Orientation,
+};
 pub use grid::{Filter, MAX_POSITION, MAX_WINDOW_PIXELS, MAX_WINDOW_SIDE, Window, WindowError};
-pub use kind::{KIND_NAMES, Model, ModelKind};
+pub use kind::{KIND_NAMES, Model, ModelKind, PERIODIC_KINDS};
 pub use lrp::{LrpNoise, LrpNoiseBuilder, MAX_COSINES, MAX_STRATA, MAX_TABLE, Stratum};
+pub use period::Period;
 pub use phasor::{
     COHERENT_BANDWIDTH_RATIO, COHERENT_SPREAD, Field, Harmonic, MAX_FIELD_SIDE,
     MAX_PROFILE_SAMPLES, PHASOR_TRUNCATION, PhasorNoise, PhasorNoiseBuilder, PhasorOrientation,

@@ -125,6 +125,11 @@ pub(crate) fn validate_strata(prefix: &str, strata: &[Stratum]) -> Result<(), Mo
 impl crate::ModelKind for LrpNoise {
     const NAME: &'static str = "lrp";
 
+    /// Any period: each stratum's lattice is fitted to it ([`crate::Period::fit_lattice`]).
+    fn check_period(&self, _period: crate::Period) -> Result<(), ModelError> {
+        Ok(())
+    }
+
     fn validate(&self) -> Result<(), ModelError> {
         LrpNoise::validate(self)
     }

@@ -409,6 +409,21 @@ impl From<TextonNoise> for crate::Model {
 impl crate::ModelKind for TextonNoise {
     const NAME: &'static str = "texton";
 
+    /// A period that is a whole number of cells along x and y: the cells wrap.
+    fn check_period(&self, period: crate::Period) -> Result<(), ModelError> {
+        let side = f64::from(self.cell_size);
+        if period.sides().iter().all(|&p| p % side == 0.0) {
+            return Ok(());
+        }
+        Err(ModelError::Period {
+            period: period.to_string(),
+            kind: "texton",
+            requirement: format!(
+                "its cell of {side} pixels must divide the period's width and height"
+            ),
+        })
+    }
+
     fn validate(&self) -> Result<(), ModelError> {
         TextonNoise::validate(self)
     }

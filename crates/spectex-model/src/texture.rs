@@ -378,6 +378,22 @@ impl TextureModel {
     /// displacement is `d` pixels.
     #[must_use]
     pub fn placement(&self, cx: i32, sx: f32, cy: i32, sy: f32, d: [f32; 2]) -> Placement {
+        self.placement_in(cx, sx, cy, sy, d, None)
+    }
+
+    /// [`Self::placement`] of a model made periodic with `cells` placement cells per period
+    /// along x and y (an even number: the period is a multiple of `T`): a cell's shift is drawn
+    /// for its index modulo `cells`, so that cells one period apart move the structure alike.
+    #[must_use]
+    pub fn placement_in(
+        &self,
+        cx: i32,
+        sx: f32,
+        cy: i32,
+        sy: f32,
+        d: [f32; 2],
+        cells: Option<[i64; 2]>,
+    ) -> Placement {
         let t = self.period as f32;
         let p = 0.5 * t;
         let bx = ((cx & 1) as f32 + sx) * p;
@@ -396,7 +412,14 @@ impl TextureModel {
         let mut norm = 0.0f32;
         for &(ccy, wy) in &ys[..ny] {
             for &(ccx, wx) in &xs[..nx] {
-                let shift = placement_shift(self.seed, self.period, ccx, ccy);
+                let (hx, hy) = match cells {
+                    None => (ccx, ccy),
+                    Some([nx, ny]) => (
+                        crate::period::wrap(i64::from(ccx), nx) as i32,
+                        crate::period::wrap(i64::from(ccy), ny) as i32,
+                    ),
+                };
+                let shift = placement_shift(self.seed, self.period, hx, hy);
                 let w = wx * wy;
                 norm += w * w;
                 out.taps[out.count] = (
@@ -625,6 +648,24 @@ impl TextureModel {
 }
 
 impl crate::ModelKind for TextureModel {
+    /// A period that is a multiple of the structure's period `T` along x and y: the structure
+    /// (cosines of integer frequencies over `T`) repeats within it, the placement cells (`T/2`)
+    /// wrap, and the random-phase strata and turbulence are LRP lattices fitted to it.
+    fn check_period(&self, period: crate::Period) -> Result<(), ModelError> {
+        if period.width.is_multiple_of(self.period) && period.height.is_multiple_of(self.period) {
+            return Ok(());
+        }
+        Err(ModelError::Period {
+            period: period.to_string(),
+            kind: "texture",
+            requirement: format!(
+                "its structure repeats every T = {} pixels; the period's width and height must \
+                 be multiples of it",
+                self.period
+            ),
+        })
+    }
+
     const NAME: &'static str = "texture";
 
     fn validate(&self) -> Result<(), ModelError> {

@@ -184,6 +184,13 @@ pub fn check_window(model: &Model, window: &Window) -> Result<(), WindowError> {
 impl crate::ModelKind for Warp {
     const NAME: &'static str = "warp";
 
+    /// A warp `base(p + d(p))` is periodic when its base and both displacements are.
+    fn check_period(&self, period: crate::Period) -> Result<(), ModelError> {
+        self.base.check_period(period)?;
+        self.x.check_period(period)?;
+        self.y.check_period(period)
+    }
+
     fn validate(&self) -> Result<(), ModelError> {
         Warp::validate(self)
     }

@@ -401,6 +401,24 @@ pub fn spline_weights(f: f32) -> [f32; 3] {
 impl crate::ModelKind for WaveletNoise {
     const NAME: &'static str = "wavelet";
 
+    /// Wavelet noise is periodic already: band `b` repeats every `n · cell_size / 2^b` pixels
+    /// (its tile, sampled modulo `n`), so the sum repeats every `n · cell_size`. A period that
+    /// is a multiple of it along x and y needs nothing more than exact evaluation.
+    fn check_period(&self, period: crate::Period) -> Result<(), ModelError> {
+        let tile = f64::from(self.tile_size) * f64::from(self.cell_size);
+        if period.sides().iter().all(|&p| p % tile == 0.0) {
+            return Ok(());
+        }
+        Err(ModelError::Period {
+            period: period.to_string(),
+            kind: "wavelet",
+            requirement: format!(
+                "its tile repeats every tile_size · cell_size = {tile} pixels; the period's \
+                 width and height must be multiples of it"
+            ),
+        })
+    }
+
     fn validate(&self) -> Result<(), ModelError> {
         WaveletNoise::validate(self)
     }

@@ -1134,3 +1134,168 @@ fn no_filter_point_samples_minified_renders() {
     let near_point = render("p1.png", &["--scale", "1", "--no-filter"]);
     assert_eq!(near, near_point, "at scale 1 filtering changes nothing");
 }
+
+/// `--periodic`: a 2P × 2P render is its P × P quarter repeated (16-bit PNGs, compared sample
+/// by sample), through `render` with a file's period and the flag, `noise fbm` and `synth`;
+/// bad periods fail cleanly, naming the option and what is needed.
+#[test]
+fn periodic_renders_tile_seamlessly() {
+    let dir = scratch("periodic");
+    let quarters_equal = |path: &Path, p: u32| {
+        let img = image::open(path).unwrap().to_luma16();
+        assert_eq!(img.dimensions(), (2 * p, 2 * p), "{}", path.display());
+        for y in 0..2 * p {
+            for x in 0..2 * p {
+                assert_eq!(
+                    img.get_pixel(x, y),
+                    img.get_pixel(x % p, y % p),
+                    "{}: pixel ({x}, {y})",
+                    path.display()
+                );
+            }
+        }
+    };
+    let fbm = dir.join("fbm.png");
+    spectex_ok(&[
+        "noise",
+        "fbm",
+        "--cell",
+        "32",
+        "--octaves",
+        "4",
+        "-o",
+        s(&fbm),
+        "--size",
+        "128x128",
+        "--periodic",
+        "64x64",
+        "--offset",
+        "-1000,37",
+        "--bit-depth",
+        "16",
+    ]);
+    quarters_equal(&fbm, 64);
+    // Bare --periodic: the output's extent (--size × --scale), 64 × 64 model pixels here; the
+    // same model rendered 128² with --periodic 64x64 is that render repeated.
+    let ring = dir.join("ring.png");
+    let ring_model = dir.join("ring.json");
+    spectex_ok(&[
+        "noise",
+        "ring",
+        "--radius",
+        "0.0625",
+        "--budget",
+        "3",
+        "-o",
+        s(&ring),
+        "--size",
+        "64x64",
+        "--periodic",
+        "--bit-depth",
+        "16",
+        "--model",
+        s(&ring_model),
+    ]);
+    let big = dir.join("big.png");
+    spectex_ok(&[
+        "render",
+        s(&ring_model),
+        "-o",
+        s(&big),
+        "--size",
+        "128x128",
+        "--periodic",
+        "64x64",
+        "--bit-depth",
+        "16",
+    ]);
+    quarters_equal(&big, 64);
+    let (tile, whole) = (
+        image::open(&ring).unwrap().to_luma16(),
+        image::open(&big).unwrap().to_luma16(),
+    );
+    for (x, y, v) in tile.enumerate_pixels() {
+        assert_eq!(
+            v,
+            whole.get_pixel(x + 64, y + 64),
+            "bare --periodic: pixel ({x}, {y})"
+        );
+    }
+    // `render` at 10⁷ periods away (period 50 × 50).
+    let far = dir.join("far.png");
+    spectex_ok(&[
+        "render",
+        s(&ring_model),
+        "-o",
+        s(&far),
+        "--size",
+        "100x100",
+        "--periodic",
+        "50x50",
+        "--offset",
+        "5e8,-5e8",
+        "--bit-depth",
+        "16",
+    ]);
+    quarters_equal(&far, 50);
+    // A model file recording a period: `render` uses it.
+    let text = std::fs::read_to_string(&ring_model).unwrap();
+    let with_period = text.replacen("\"model\"", "\"period\": [40, 40],\n  \"model\"", 1);
+    let periodic_model = dir.join("ring-periodic.json");
+    std::fs::write(&periodic_model, with_period).unwrap();
+    let from_file = dir.join("from-file.png");
+    spectex_ok(&[
+        "render",
+        s(&periodic_model),
+        "-o",
+        s(&from_file),
+        "--size",
+        "80x80",
+        "--bit-depth",
+        "16",
+    ]);
+    quarters_equal(&from_file, 40);
+    for f in [
+        &fbm,
+        &ring,
+        &ring_model,
+        &big,
+        &far,
+        &periodic_model,
+        &from_file,
+    ] {
+        std::fs::remove_file(f).unwrap();
+    }
+    let bad: &[(&[&str], &[&str])] = &[
+        (
+            &["noise", "fbm", "--cell", "32", "--periodic", "100x64"],
+            &["--periodic", "100x64", "divide"],
+        ),
+        (
+            &["noise", "simplex", "--periodic"],
+            &["--periodic", "simplex"],
+        ),
+        (
+            &["noise", "ring", "--periodic", "0x4"],
+            &["--periodic", "period.width", "1 to"],
+        ),
+        (
+            &["noise", "ring", "--periodic", "axb"],
+            &["--periodic", "WxH"],
+        ),
+        (
+            &["noise", "ring", "--periodic", "--scale", "0.3"],
+            &["--periodic", "not whole"],
+        ),
+        (
+            &["phasor", "--periodic", "64x64"],
+            &["--periodic", "phasor", "periodic kinds"],
+        ),
+    ];
+    for (args, needles) in bad {
+        let out_file = dir.join("bad.png");
+        let mut all = args.to_vec();
+        all.extend(["-o", s(&out_file), "--size", "64x64"]);
+        assert_fails(&spectex(&all), &dir, needles);
+    }
+}

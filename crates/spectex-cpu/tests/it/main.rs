@@ -8,6 +8,7 @@ mod fast_paths;
 mod filter;
 mod gabor;
 mod lrp;
+mod periodic;
 mod phasor;
 mod warp;
 mod wavelet;

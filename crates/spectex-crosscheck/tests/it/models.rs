@@ -219,3 +219,77 @@ fn minified_phasor_profiles_agree() {
         }
     }
 }
+
+/// Periodic models (issue 17, seamless output): every shipped LRP, classic and wavelet model that
+/// takes a 96×64, 256×128 or 768×768 period (the kinds with a periodic device path) agrees on the CPU
+/// and the GPU within its kind's derived tolerances on the standard windows, and the GPU's own
+/// `2W × 2H` render is its `W × H` render repeated, bit for bit (the device evaluates the same
+/// reduced positions).
+#[test]
+fn periodic_models_agree_on_cpu_and_gpu() {
+    use spectex_crosscheck::check_model_with_period;
+    use spectex_gpu::{GpuEvaluator, GpuWindow};
+    use spectex_model::Period;
+    let Some(context) = gpu_or_skip() else {
+        return;
+    };
+    let mut failed = Vec::new();
+    let mut checked = Vec::new();
+    for file in &model_files() {
+        let case = file.file_stem().unwrap().to_string_lossy().into_owned();
+        let model = spectex_model::from_json(&std::fs::read_to_string(file).unwrap()).unwrap();
+        if !matches!(model.kind(), "lrp" | "classic" | "wavelet") {
+            continue;
+        }
+        let Some(period) = [(96, 64), (256, 128), (768, 768)]
+            .map(|(w, h)| Period::new(w, h).unwrap())
+            .into_iter()
+            .find(|&p| model.check_period(p).is_ok())
+        else {
+            continue;
+        };
+        let name = format!("{case}-periodic");
+        let outcomes = check_model_with_period(
+            &context,
+            &name,
+            &model,
+            &standard_windows(),
+            spectex_crosscheck::tolerance::check_kind(&model).check_plane(),
+            Some(period),
+        )
+        .unwrap_or_else(|e| panic!("{name}: {e}"));
+        for (window, outcome) in &outcomes {
+            println!("{name} {period} {window}: {}", outcome.summary());
+            if !outcome.passed() {
+                failed.push(format!("{name} {}: {}", window.name, outcome.summary()));
+            }
+        }
+        let gpu = GpuEvaluator::periodic_at_z(&context, &model, 0.0, period).unwrap();
+        let (w, h) = (period.width as usize, period.height as usize);
+        let big = gpu
+            .render(&GpuWindow::new(2 * w, 2 * h).at([-3.0, 5.0], 1.0))
+            .unwrap();
+        let tile = gpu
+            .render(&GpuWindow::new(w, h).at([-3.0, 5.0], 1.0))
+            .unwrap();
+        for j in 0..2 * h {
+            for i in 0..2 * w {
+                let (a, b) = (big[j * 2 * w + i], tile[(j % h) * w + i % w]);
+                assert_eq!(
+                    a.to_bits(),
+                    b.to_bits(),
+                    "{name} on the GPU: pixel ({i}, {j})"
+                );
+            }
+        }
+        checked.push(case);
+    }
+    println!("periodic cross-check: {}", checked.join(", "));
+    assert!(
+        ["lrp", "classic", "wavelet"]
+            .iter()
+            .all(|k| checked.iter().any(|c| c.starts_with(k))),
+        "a periodic kind without a case: {checked:?}"
+    );
+    assert!(failed.is_empty(), "{}", failed.join("\n"));
+}

@@ -1,0 +1,173 @@
+//! Periodic renders (`Evaluator::periodic`): for every `testdata/models/*.json` whose kind has a
+//! periodic form, a `2W × 2H` render equals its four `W × H` quarters bit for bit (at the origin,
+//! at a fractional offset and at `10⁷` periods), the two evaluation paths agree, the seams are
+//! seamless (the periodic function one period apart, positions not reduced, agrees up to
+//! rounding, where the plain model does not unless periodic by construction), and the other
+//! kinds are refused by name.
+
+#![allow(
+    clippy::unwrap_used,
+    reason = "a test fails loudly on the first unexpected None or Err"
+)]
+
+use spectex_cpu::{Evaluator, Window};
+use spectex_model::{Model, PERIODIC_KINDS, Period};
+use spectex_testkit::invariance::testdata_cases;
+
+/// The periods tried, in order: a rectangular one (an axis mix-up shows), then one that every
+/// classic octave of the shipped models divides, then the shipped wavelet tiles' 768 pixels.
+const PERIODS: [(u32, u32); 3] = [(96, 64), (256, 128), (768, 768)];
+
+/// The cases whose model accepts one of [`PERIODS`], with the first it accepts.
+fn periodic_cases() -> Vec<(String, Model, Period)> {
+    let mut out = Vec::new();
+    for case in testdata_cases() {
+        let accepted = PERIODS
+            .iter()
+            .map(|&(w, h)| Period::new(w, h).unwrap())
+            .find(|&p| case.model.check_period(p).is_ok());
+        if let Some(p) = accepted {
+            out.push((case.name, case.model, p));
+        }
+    }
+    out
+}
+
+fn render(eval: &Evaluator, window: &Window) -> Vec<f32> {
+    eval.render(window).unwrap()
+}
+
+/// Asserts that the `2W × 2H` window `big` (at `offset`) equals its `W × H` quarter render
+/// at the same offset, repeated, bit for bit.
+fn assert_quarters(name: &str, eval: &Evaluator, p: Period, offset: [f64; 2]) {
+    let (w, h) = (p.width as usize, p.height as usize);
+    let c = eval.output_channels();
+    let big = render(eval, &Window::new(2 * w, 2 * h).at(offset, 1.0));
+    let tile = render(eval, &Window::new(w, h).at(offset, 1.0));
+    for j in 0..2 * h {
+        for i in 0..2 * w {
+            for k in 0..c {
+                let a = big[(j * 2 * w + i) * c + k];
+                let b = tile[((j % h) * w + i % w) * c + k];
+                assert_eq!(
+                    a.to_bits(),
+                    b.to_bits(),
+                    "{name}, period {p}, offset {offset:?}: pixel ({i}, {j}) channel {k} is {a}, \
+                     its quarter's {b}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn a_double_period_render_is_its_quarter_repeated_bit_for_bit() {
+    let cases = periodic_cases();
+    // Every kind with a periodic form is among the shipped cases.
+    for kind in PERIODIC_KINDS {
+        assert!(
+            cases.iter().any(|(_, m, _)| m.kind() == *kind),
+            "no testdata model of periodic kind {kind} accepts a period of {PERIODS:?}"
+        );
+    }
+    for (name, model, p) in &cases {
+        let eval = Evaluator::periodic(model, *p).unwrap();
+        let [w, h] = p.sides();
+        // Far: the largest multiple of the period (10⁷ periods, or fewer where 10⁷ would leave
+        // the 2³⁰ range) that keeps the window in range.
+        let far = |side: f64| ((spectex_cpu::MAX_POSITION / side).floor() - 2.0).min(1.0e7) * side;
+        for offset in [[0.0, 0.0], [3.5, -17.25], [far(w), -far(h) + 5.0]] {
+            assert_quarters(name, &eval, *p, offset);
+        }
+    }
+}
+
+#[test]
+fn the_whole_window_and_point_paths_agree() {
+    for (name, model, p) in periodic_cases() {
+        let eval = Evaluator::periodic(&model, p).unwrap();
+        let c = eval.output_channels();
+        // An integer window (sub-windows moved by whole periods) against the same positions as
+        // points, and a fractional-scale window (points) against its pixels one by one.
+        for window in [
+            Window::new(150, 3).at([-40.0, 1.0e6], 1.0),
+            Window::new(40, 2).at([-7.3, 11.1], 0.77),
+        ] {
+            let rows = render(&eval, &window);
+            let points: Vec<[f64; 2]> = (0..window.height)
+                .flat_map(|j| (0..window.width).map(move |i| [window.x(i), window.y(j)]))
+                .collect();
+            let mut by_points = vec![0.0f32; points.len() * c];
+            eval.eval_points(&points, &mut by_points);
+            for (k, (a, b)) in rows.iter().zip(&by_points).enumerate() {
+                assert_eq!(a.to_bits(), b.to_bits(), "{name} {window:?}: value {k}");
+            }
+        }
+    }
+}
+
+#[test]
+fn seams_are_seamless_where_the_plain_model_is_not() {
+    for (name, model, p) in periodic_cases() {
+        let function = Evaluator::periodic_unreduced(&model, p).unwrap();
+        let plain = Evaluator::new(&model).unwrap();
+        let [w, h] = p.sides();
+        let window = Window::new(48, 24).at([-9.25, 4.5], 1.0);
+        let base = render(&function, &window);
+        let spread = {
+            let mean = base.iter().map(|&v| f64::from(v)).sum::<f64>() / base.len() as f64;
+            (base
+                .iter()
+                .map(|&v| (f64::from(v) - mean).powi(2))
+                .sum::<f64>()
+                / base.len() as f64)
+                .sqrt()
+        };
+        assert!(spread > 0.0, "{name}: a constant window");
+        for shift in [[w, 0.0], [0.0, -h], [3.0 * w, 2.0 * h]] {
+            let moved = window.at(
+                [window.offset[0] + shift[0], window.offset[1] + shift[1]],
+                1.0,
+            );
+            let max = |eval: &Evaluator| {
+                render(eval, &moved)
+                    .iter()
+                    .zip(&base)
+                    .map(|(a, b)| (f64::from(*a) - f64::from(*b)).abs())
+                    .fold(0.0f64, f64::max)
+            };
+            // Rounding only: lattice points placed at `n·(W/n)` rather than `W`, positions
+            // a few periods away rounded in f64 — far below 10⁻³ of the field's spread.
+            let periodic = max(&function);
+            assert!(
+                periodic <= 1e-3 * spread,
+                "{name}, period {p}, shift {shift:?}: differs by {periodic} (spread {spread})"
+            );
+            // The plain model one period away is another part of the noise, except where it
+            // is periodic by construction: a wavelet tile, a texture's structure alone.
+            let other = max(&plain);
+            let plain_periodic = matches!(model.kind(), "wavelet" | "texture");
+            assert!(
+                plain_periodic || other > 0.1 * spread,
+                "{name}, shift {shift:?}: the plain model is periodic too ({other}, {spread})"
+            );
+        }
+    }
+}
+
+#[test]
+fn kinds_without_a_periodic_form_are_refused_by_name() {
+    let p = Period::new(96, 64).unwrap();
+    for case in testdata_cases() {
+        let kind = case.model.kind();
+        if PERIODIC_KINDS.contains(&kind) {
+            continue;
+        }
+        let err = Evaluator::periodic(&case.model, p).unwrap_err().to_string();
+        assert!(
+            err.contains("period 96x64") && err.contains(kind),
+            "{}: {err}",
+            case.name
+        );
+    }
+}
