@@ -120,6 +120,25 @@ pub(crate) fn eval_pixel_by_pixel(
     }
 }
 
+/// The minified-row prologue the kernels that share cell columns along a row have in common:
+/// when a row whose cells span `columns` columns (plus `reach` read beyond each end) is
+/// minified ([`is_minified`]), evaluates rows `first..` of `window` pixel by pixel through
+/// `eval_rows` ([`eval_pixel_by_pixel`]) and returns `true`; otherwise leaves `out` alone and
+/// returns `false`, and the caller runs its row kernel.
+pub(crate) fn eval_if_minified(
+    window: &Window,
+    first: usize,
+    out: &mut [f32],
+    (columns, reach): (u64, u64),
+    eval_rows: impl Fn(&Window, usize, &mut [f32]),
+) -> bool {
+    let minified = is_minified(columns, reach, window.width);
+    if minified {
+        eval_pixel_by_pixel(window, first, out, eval_rows);
+    }
+    minified
+}
+
 /// The one-pixel window at `p`, through which a point is evaluated ([`Evaluator::eval_point`]):
 /// its pixel lies at `p[0] + 0.0·1.0`, `p[1] + 0.0·1.0` (which is `p` but for the sign of a
 /// zero), the positions a batch of points must reproduce bit for bit.

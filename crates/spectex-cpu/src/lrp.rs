@@ -351,14 +351,12 @@ impl LrpEvaluator {
             .iter()
             .map(|(s, _)| StratumLattice::new(s, x_min, x_max))
             .collect();
-        // A minified row: each pixel alone (`crate::is_minified`).
-        if lattices
-            .iter()
-            .any(|l| crate::is_minified(l.cols as u64, 0, width))
-        {
-            crate::eval_pixel_by_pixel(window, first, out, |w, f, o| {
-                self.eval_rows_with(w, f, o, gains);
-            });
+        // A minified row: each pixel alone (`crate::eval_if_minified`), judged by the stratum
+        // of most lattice columns.
+        let columns = lattices.iter().map(|l| l.cols as u64).max().unwrap_or(0);
+        if crate::eval_if_minified(window, first, out, (columns, 0), |w, f, o| {
+            self.eval_rows_with(w, f, o, gains);
+        }) {
             return;
         }
         // One stratum's row, padded so that a full group of lanes may be written past its end.

@@ -89,6 +89,10 @@ struct CellRow {
     columns: Vec<Vec<Impulse>>,
 }
 
+/// The kernel cells and offsets of a row's first and last pixels (`None` when either lies out
+/// of the position range).
+type RowColumns = Option<((i32, f32), (i32, f32))>;
+
 impl PhasorEvaluator {
     /// Prepares `model` (assumed validated) for evaluation on the plane `z` (pixels).
     #[must_use]
@@ -178,6 +182,28 @@ impl PhasorEvaluator {
         rows.sort_unstable_by_key(|r| (r.k, r.j));
     }
 
+    /// The prologue of [`eval_rows`](Self::eval_rows) and
+    /// [`eval_rows_reference`](Self::eval_rows_reference) (`window.width > 0`): the kernel
+    /// columns of the row's first and last pixels (`None` inside when either is out of range),
+    /// or `None` when the row is minified and was evaluated pixel by pixel through `eval`
+    /// (`crate::eval_if_minified`; a row across the whole position range would also count
+    /// columns past i32).
+    fn minified_or(
+        &self,
+        window: &Window,
+        first: usize,
+        out: &mut [f32],
+        eval: impl Fn(&Window, usize, &mut [f32]),
+    ) -> Option<RowColumns> {
+        let g = &self.kernels;
+        let (x_first, x_last) = (window.x(0), window.x(window.width - 1));
+        let columns = g.locate(x_first).zip(g.locate(x_last));
+        let span = columns.map_or(0, |((c0, _), (c1, _))| {
+            (i64::from(c1) - i64::from(c0)).unsigned_abs()
+        });
+        (!crate::eval_if_minified(window, first, out, (span, 0), eval)).then_some(columns)
+    }
+
     /// Evaluates consecutive rows of `window` from row `first` into `out` (whole rows): kernel
     /// by kernel along each row (see the module doc), the same bits as
     /// [`eval_rows_reference`](Self::eval_rows_reference).
@@ -186,18 +212,11 @@ impl PhasorEvaluator {
         if width == 0 {
             return;
         }
-        let g = &self.kernels;
-        let (x_first, x_last) = (window.x(0), window.x(width - 1));
-        let columns = g.locate(x_first).zip(g.locate(x_last));
-        // A minified row: each pixel alone (`crate::is_minified`; a row across the whole
-        // position range would also count columns past i32).
-        let span = columns.map_or(0, |((c0, _), (c1, _))| {
-            (i64::from(c1) - i64::from(c0)).unsigned_abs()
-        });
-        if crate::is_minified(span, 0, width) {
-            crate::eval_pixel_by_pixel(window, first, out, |w, f, o| self.eval_rows(w, f, o));
+        let Some(columns) = self.minified_or(window, first, out, |w, f, o| self.eval_rows(w, f, o))
+        else {
             return;
-        }
+        };
+        let g = &self.kernels;
         let z = if g.three_d() {
             g.locate(self.z)
         } else {
@@ -291,20 +310,12 @@ impl PhasorEvaluator {
         if width == 0 {
             return;
         }
-        let g = &self.kernels;
-        let (x_first, x_last) = (window.x(0), window.x(width - 1));
-        let columns = g.locate(x_first).zip(g.locate(x_last));
-        // A minified row: each pixel alone (`crate::is_minified`; a row across the whole
-        // position range would also count columns past i32).
-        let span = columns.map_or(0, |((c0, _), (c1, _))| {
-            (i64::from(c1) - i64::from(c0)).unsigned_abs()
-        });
-        if crate::is_minified(span, 0, width) {
-            crate::eval_pixel_by_pixel(window, first, out, |w, f, o| {
-                self.eval_rows_reference(w, f, o);
-            });
+        let Some(columns) = self.minified_or(window, first, out, |w, f, o| {
+            self.eval_rows_reference(w, f, o);
+        }) else {
             return;
-        }
+        };
+        let g = &self.kernels;
         let z = if g.three_d() {
             g.locate(self.z)
         } else {

@@ -96,10 +96,15 @@ impl RowKernel for TextonEvaluator {
         let lo = columns.iter().map(|c| c.0).min().unwrap_or(0) - self.reach;
         let hi = columns.iter().map(|c| c.0).max().unwrap_or(0) + self.reach;
         let reach = self.reach;
-        // A minified row: each pixel alone (`crate::is_minified`).
+        // A minified row: each pixel alone (`crate::eval_if_minified`).
         let span = (i64::from(hi) - i64::from(lo) + 1).unsigned_abs();
-        if crate::is_minified(span, reach.unsigned_abs().into(), width) {
-            crate::eval_pixel_by_pixel(window, first, out, |w, f, o| self.eval_rows(w, f, o));
+        if crate::eval_if_minified(
+            window,
+            first,
+            out,
+            (span, reach.unsigned_abs().into()),
+            |w, f, o| self.eval_rows(w, f, o),
+        ) {
             return;
         }
         // The textons of the cell rows around the current row's cell, redrawn when it changes.

@@ -22,7 +22,9 @@
 //!    sampling of the cumulative power into [`TABLE_ENTRIES`] entries, faint bins represented
 //!    together rather than dropped): a uniform draw from the table is then a draw from the PSD,
 //!    at no cost at evaluation.
-//! 3. `Δ_S` ([`window_width`]) resolves the stratum's low frequencies ([`resolving_width`]),
+//! 3. No stratum gets more cosines than it has distinct frequencies ([`capped_budgets`]): the
+//!    cosines a height map's few-frequency strata cannot use go to the others.
+//! 4. `Δ_S` ([`window_width`]) resolves the stratum's low frequencies ([`resolving_width`]),
 //!    more widely the more cosines a window holds, and
 //!    is at least [`MIN_WINDOW_WIDTH`] pixels: the window's own spectrum, which blurs every
 //!    cosine by about `1/Δ_S`, then stays well inside the Nyquist band (the paper's formula gives
@@ -30,7 +32,7 @@
 //!    past Nyquist) and does not push a height map's first rings outward.
 //!
 //! The expected spectrum of the noise is then the PSD convolved with the window's spectrum, with
-//! the variance and mean of the exemplar; evaluation costs exactly what the paper's model of the
+//! the variance and mean of the exemplar; evaluation costs at most what the paper's model of the
 //! same `J` costs.
 
 use spectex_model::MAX_TABLE;
@@ -200,6 +202,66 @@ pub fn spectrum_tables(
         .iter()
         .map(|g| weighted_table(g, TABLE_ENTRIES))
         .collect()
+}
+
+/// The distinct frequencies of a stratum ([`spectrum_tables`]'s arguments): its bins of
+/// non-zero power, a bin and its mirror counted once. A lattice point drawing more cosines than
+/// this from one stratum draws some frequency twice ([`capped_budgets`]).
+#[must_use]
+pub fn distinct_frequencies(bins: &[Bin], psd: &dyn Fn(Bin) -> f64, size: usize) -> usize {
+    half_plane_items(bins, psd, size).len()
+}
+
+/// The budgets `J_S` of [`distribute_budget`](crate::stratify::distribute_budget) with each
+/// stratum given no more cosines than it has distinct frequencies (`capacities`,
+/// [`distinct_frequencies`]), the cosines so freed shared equally among the other strata
+/// (water-filling: the strata below the common share keep their capacity, the rest get the
+/// share, one more for the highest-`energies` ones while cosines remain, as
+/// `distribute_budget` does). When every stratum is full the rest of the budget is left unused:
+/// `Σ J_S ≤ Σ budgets`. Without a binding capacity the budgets are returned unchanged.
+///
+/// Why: in a stratum of fewer frequencies than cosines, one lattice point draws some frequency
+/// several times with independent phases, and their sum is a single cosine of random (Rayleigh)
+/// amplitude. That is the same cost for more randomness: a render's power at the frequency then
+/// spreads as a Gaussian process's would (exponentially, not about one value). A height map
+/// puts a quarter of its variance on one or a few frequency pairs (the dirt height map's top
+/// stratum is one bin pair, given 13 of J = 50 cosines), so that randomness was most of the
+/// spread between renders, and it grew with `J` (sand: 0.075 at J = 50, 0.092 at J = 100).
+#[must_use]
+pub fn capped_budgets(budgets: &[usize], capacities: &[usize], energies: &[f64]) -> Vec<usize> {
+    let n = budgets.len();
+    let mut out = vec![0; n];
+    let mut remaining: usize = budgets.iter().sum();
+    let mut open: Vec<usize> = (0..n)
+        .filter(|&s| budgets[s] > 0 && capacities[s] > 0)
+        .collect();
+    loop {
+        if open.is_empty() {
+            return out;
+        }
+        let share = remaining / open.len();
+        let full: Vec<usize> = open
+            .iter()
+            .copied()
+            .filter(|&s| capacities[s] <= share)
+            .collect();
+        if full.is_empty() {
+            let mut order = open.clone();
+            order.sort_by(|&a, &b| energies[b].total_cmp(&energies[a]).then(b.cmp(&a)));
+            for &s in &open {
+                out[s] = share;
+            }
+            for &s in order.iter().take(remaining % open.len()) {
+                out[s] += 1;
+            }
+            return out;
+        }
+        for s in full {
+            out[s] = capacities[s];
+            remaining -= capacities[s];
+            open.retain(|&o| o != s);
+        }
+    }
 }
 
 /// Periods of a stratum's low frequencies a window spans ([`resolving_width`]).
@@ -404,6 +466,75 @@ mod tests {
                 "items {start}..{}: {count} entries for a quota of {quota:.2}",
                 start + len
             );
+        }
+    }
+
+    /// Worked by hand: the dirt height map's J = 50 over four equal-energy strata of 3712, 12, 3
+    /// and 1 frequencies. The three small strata keep one cosine per frequency; the 16 cosines
+    /// they hold leave 34 for the first.
+    #[test]
+    fn capped_budgets_give_freed_cosines_to_the_other_strata() {
+        let equal = [1.0; 4];
+        assert_eq!(
+            capped_budgets(&[12, 12, 13, 13], &[3712, 12, 3, 1], &equal),
+            vec![34, 12, 3, 1]
+        );
+        // No binding capacity: unchanged.
+        assert_eq!(
+            capped_budgets(&[12, 12, 13, 13], &[100, 100, 100, 100], &equal),
+            vec![12, 12, 13, 13]
+        );
+        // Every stratum full: the rest of the budget is unused.
+        assert_eq!(
+            capped_budgets(&[12, 12, 13, 13], &[1, 2, 3, 4], &equal),
+            vec![1, 2, 3, 4]
+        );
+        // 20 over capacities 2 and ∞, ∞: 2, then 18 shared 9 and 9.
+        assert_eq!(
+            capped_budgets(&[7, 7, 6], &[2, 50, 50], &[1.0, 2.0, 3.0]),
+            vec![2, 9, 9]
+        );
+        // An odd remainder goes to the higher energy, as `distribute_budget` gives it.
+        assert_eq!(
+            capped_budgets(&[7, 7, 7], &[2, 50, 50], &[1.0, 2.0, 3.0]),
+            vec![2, 9, 10]
+        );
+    }
+
+    /// The water-filling's defining properties on random inputs: no stratum above its
+    /// capacity, no cosine created, a cosine left unused only when every stratum is full, and
+    /// any stratum below its capacity within one cosine of the largest share.
+    #[test]
+    fn capped_budgets_fill_water_levels() {
+        let mut prng = Prng::new(11);
+        for case in 0..2000 {
+            let n = 1 + (prng.next_u32() % 8) as usize;
+            let budgets: Vec<usize> = (0..n).map(|_| (prng.next_u32() % 40) as usize).collect();
+            let capacities: Vec<usize> = (0..n).map(|_| (prng.next_u32() % 30) as usize).collect();
+            let energies: Vec<f64> = (0..n).map(|_| prng.next_f64()).collect();
+            let out = capped_budgets(&budgets, &capacities, &energies);
+            let open = |s: usize| budgets[s] > 0 && capacities[s] > 0;
+            let total: usize = budgets.iter().sum();
+            let used: usize = out.iter().sum();
+            assert!(used <= total, "case {case}: {out:?} from {budgets:?}");
+            let top = out.iter().copied().max().unwrap_or(0);
+            for s in 0..n {
+                assert!(out[s] <= capacities[s], "case {case}: stratum {s}");
+                if !open(s) {
+                    assert_eq!(out[s], 0, "case {case}: stratum {s}");
+                } else if out[s] < capacities[s] {
+                    assert!(
+                        out[s] + 1 >= top,
+                        "case {case}: {out:?}, caps {capacities:?}"
+                    );
+                }
+            }
+            if used < total {
+                assert!(
+                    (0..n).all(|s| !open(s) || out[s] == capacities[s]),
+                    "case {case}: {used} of {total} used in {out:?}, caps {capacities:?}"
+                );
+            }
         }
     }
 

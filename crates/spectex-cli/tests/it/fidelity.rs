@@ -79,6 +79,51 @@ fn shape_distance(a: &Array2<f64>, b: &Array2<f64>) -> f64 {
     spectex_spectrum::shape_distance(a.view(), b.view())
 }
 
+/// The distances a stationary Gaussian field with exactly the exemplar's spectrum measures at
+/// `side`² ([`SEEDS`] fields), by the same Welch estimate: an independent estimate of the floor
+/// any stationary random field of that spectrum sits on at this render size, made without the
+/// code under test. Each field is white noise filtered in the frequency domain on a `2·side`²
+/// periodic grid by the square root of the exemplar's sharpened spectrum
+/// ([`spectex_sampling::exemplar_target`], nearest bin), cropped to `side`² so that it is not
+/// periodic over the render. A height map's power at periods of 100+ pixels is a few
+/// independent patches of a 1024² render, so even this field's distance spreads widely.
+fn gaussian_reference(
+    ex: &Array2<f64>,
+    psd: &Array2<f64>,
+    side: usize,
+    fft: &mut Fft2<f64>,
+) -> Vec<f64> {
+    use num_complex::Complex64;
+    let (target, _) = spectex_sampling::exemplar_target(ex.view(), FitMethod::Spectrum).unwrap();
+    let t = target.nrows() as f64;
+    let n = 2 * side;
+    (1..=SEEDS)
+        .map(|seed| {
+            let mut prng = spectex_model::random::Prng::new(seed.wrapping_mul(7919));
+            let mut field = Array2::from_shape_fn((n, n), |_| {
+                // Box–Muller.
+                let (u1, u2) = (prng.next_f64().max(1e-300), prng.next_f64());
+                let g = (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos();
+                Complex64::new(g, 0.0)
+            });
+            fft.forward(&mut field);
+            let nearest = |k: usize| {
+                let f = spectex_spectrum::signed_frequency(k, n);
+                ((f * t).round() as i64).rem_euclid(t as i64) as usize
+            };
+            for ((y, x), v) in field.indexed_iter_mut() {
+                let bin = [nearest(y), nearest(x)];
+                let p = if bin == [0, 0] { 0.0 } else { target[bin] };
+                *v *= p.max(0.0).sqrt();
+            }
+            fft.inverse(&mut field);
+            let img = Array2::from_shape_fn((side, side), |(y, x)| field[[y, x]].re);
+            let psd_r = welch_psd_with_block(img.view(), 256, fft).unwrap();
+            shape_distance(&psd_r, psd)
+        })
+        .collect()
+}
+
 /// Seeds each fit is rendered with: one render's spectrum at the lowest frequencies is a few
 /// independent patches (a height map's power lies at periods of 100+ pixels), so single-seed
 /// distances spread by ±0.02–0.06 (standard deviations measured over these 8 seeds); the means
@@ -88,9 +133,12 @@ const SEEDS: u32 = 8;
 /// Noise by example on the four stochastic shared textures: the spectrum fit (the default) at
 /// J = 10, 50, 100 and the paper's fit at J = 50, each rendered at 1024² with [`SEEDS`] seeds
 /// and measured by an independent Welch estimate (T = 256) against the exemplar's, next to RPN
-/// (1024² by the spot extension) measured the same way. Asserted (issue 16): the mean distance
-/// at J = 50 at most 0.15, mean and variance within 2% for every fit and seed, the paper's fit
-/// further from the spectrum than the spectrum fit. Printed: the J = 10 → 50 → 100 trend.
+/// (1024² by the spot extension) and a stationary Gaussian field of the exemplar's spectrum
+/// ([`gaussian_reference`]) measured the same way. Asserted, the bounds of issue 16 on the means
+/// over the seeds: at J = 50 at most 0.15 on each exemplar; from J = 10 to 50 to 100 falling or
+/// flat within 0.01; mean and variance within 2% for every fit and seed; the paper's fit
+/// further from the spectrum than the spectrum fit. Single seeds are printed (max), not
+/// asserted: on the height maps even the Gaussian field's single seeds pass 0.15.
 #[test]
 fn noise_by_example_matches_the_exemplar_spectrum() {
     let mut fft = Fft2::new();
@@ -121,7 +169,10 @@ fn noise_by_example_matches_the_exemplar_spectrum() {
             })
             .collect();
         println!("{short:<9} rpn        -  {}", summary(&rpn));
+        let gaussian = gaussian_reference(&ex, &psd, 1024, &mut fft);
+        println!("{short:<9} gaussian   -  {}", summary(&gaussian));
         let mut spectrum_at_50 = f64::NAN;
+        let mut previous: Option<(u32, f64)> = None;
         for (method, budget, seeds) in [
             (FitMethod::Spectrum, 10u32, SEEDS),
             (FitMethod::Spectrum, 50, SEEDS),
@@ -182,11 +233,22 @@ fn noise_by_example_matches_the_exemplar_spectrum() {
                         "{name}: paper fit {d:.4} not above the spectrum fit {spectrum_at_50:.4}"
                     ));
                 }
-            } else if budget == 50 {
-                spectrum_at_50 = d;
-                if d > 0.15 {
-                    failures.push(format!("{name} J=50: mean L1 {d:.4} above 0.15"));
+            } else {
+                if budget == 50 {
+                    spectrum_at_50 = d;
+                    if d > 0.15 {
+                        failures.push(format!("{name} J=50: mean L1 {d:.4} above 0.15"));
+                    }
                 }
+                // Falling, or flat within 0.01, as J grows.
+                if let Some((j, before)) = previous
+                    && d > before + 0.01
+                {
+                    failures.push(format!(
+                        "{name}: mean L1 {d:.4} at J={budget} above {before:.4} at J={j} + 0.01"
+                    ));
+                }
+                previous = Some((budget, d));
             }
         }
     }
