@@ -43,6 +43,8 @@ pub struct RenderArgs {
     /// auto (the GPU when an adapter exists, else the CPU; says which it used).
     #[arg(long, value_enum, default_value = "cpu")]
     pub(crate) device: Device,
+    #[command(flatten)]
+    pub(crate) stream: crate::stream::StreamArgs,
 }
 
 /// Parses `X,Y`.
@@ -81,6 +83,9 @@ pub(crate) fn render_to_file(
     let window = Window::new(width, height)
         .at(args.offset.unwrap_or([0.0, 0.0]), args.scale)
         .filtered(filter_flag(args.no_filter));
+    if let Some(region) = crate::stream::plan(&args.stream, (width, height), format)? {
+        return crate::stream::render(model, args, &window, format, &region);
+    }
     window
         .validate()
         .map_err(|e| anyhow!("{e}; check --size, --offset and --scale"))?;
