@@ -3,7 +3,7 @@
 
 use std::fs::File;
 use std::io::{BufReader, BufWriter, Write};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, anyhow, bail};
 use clap::Args;
@@ -28,6 +28,10 @@ pub struct AssembleCommand {
     /// The whole image, a tiled OpenEXR (.exr).
     #[arg(short, long, value_name = "OUT")]
     output: PathBuf,
+    /// Rows per band, a multiple of 64 (fewer rows, less memory) [default: about 8 Mpix per
+    /// band].
+    #[arg(long, value_name = "N", value_parser = stream::parse_band_rows)]
+    band_rows: Option<usize>,
 }
 
 /// What a tile file says about itself.
@@ -43,7 +47,7 @@ struct Tile {
     render: Option<String>,
 }
 
-fn read_tile(path: &PathBuf) -> Result<Tile> {
+fn read_tile(path: &Path) -> Result<Tile> {
     let meta = MetaData::read_from_file(path, false).map_err(|e| {
         anyhow!(
             "cannot read tile '{}': {e}; give the .exr files that `spectex render --tiles` wrote",
@@ -85,7 +89,7 @@ fn read_tile(path: &PathBuf) -> Result<Tile> {
         _ => None,
     };
     Ok(Tile {
-        path: path.clone(),
+        path: path.to_path_buf(),
         data: header.data_window(),
         display: header.shared_attributes.display_window,
         channels: header
@@ -257,6 +261,7 @@ pub fn assemble(cmd: &AssembleCommand) -> Result<()> {
     let tiles = cmd
         .tiles
         .iter()
+        .map(PathBuf::as_path)
         .map(read_tile)
         .collect::<Result<Vec<_>>>()?;
     check_grid(&tiles)?;
@@ -271,7 +276,7 @@ pub fn assemble(cmd: &AssembleCommand) -> Result<()> {
         .collect::<Vec<_>>();
     let mut header = Header::new(Text::from("spectex"), (width, height), list.into())
         .with_encoding(
-            exr::compression::Compression::RLE,
+            stream::EXR_COMPRESSION,
             BlockDescription::Tiles(TileDescription {
                 tile_size: Vec2(EXR_TILE, EXR_TILE),
                 level_mode: LevelMode::Singular,
@@ -296,7 +301,7 @@ pub fn assemble(cmd: &AssembleCommand) -> Result<()> {
         .suffix(".tmp")
         .tempfile_in(&dir)
         .map_err(|e| anyhow!("cannot write into '{}': {e}", dir.display()))?;
-    let rows = stream::band_rows(width);
+    let rows = cmd.band_rows.unwrap_or_else(|| stream::band_rows(width));
     let bar = crate::render::progress_bar(height as u64, "assembling");
     let mut failure = None;
     let mut y = 0;

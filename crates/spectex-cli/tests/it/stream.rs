@@ -174,7 +174,7 @@ fn tiles_of_a_grid_assemble_into_the_whole_render() {
 }
 
 /// A streamed render is the whole render: EXR values bit for bit (grey and colour), PNG 8 and
-/// 16-bit pixels equal, over several bands of rows (2100 columns: 1024-row bands).
+/// 16-bit pixels equal, over several bands of rows (`--band-rows`, the last one shorter).
 #[test]
 fn streamed_renders_equal_whole_ones() {
     let dir = scratch("stream-whole");
@@ -183,22 +183,17 @@ fn streamed_renders_equal_whole_ones() {
     let whole = dir.join("whole.exr");
     let streamed = dir.join("streamed.exr");
     spectex_ok(&["render", s(&grey), "--size", size, "-o", s(&whole)]);
-    let out = spectex_ok(&[
-        "render",
-        s(&grey),
-        "--size",
-        size,
-        "--stream",
-        "-o",
-        s(&streamed),
-    ]);
-    assert!(String::from_utf8_lossy(&out.stdout).contains("bands of 1024 rows"));
+    let bands = ["--stream", "--band-rows", "320"];
+    let mut args = vec!["render", s(&grey), "--size", size, "-o", s(&streamed)];
+    args.extend(bands);
+    let out = spectex_ok(&args);
+    assert!(String::from_utf8_lossy(&out.stdout).contains("bands of 320 rows"));
     let want = read_exr(&whole);
     let got = read_exr(&streamed);
     assert_eq!((got.display, got.data), ((2100, 1100), (0, 0, 2100, 1100)));
     assert_same_bits(got.channel("Y"), want.channel("R"), 2100, "streamed EXR");
 
-    // A 1×2 grid: the assembler's 1024-row bands cross the tiles' boundary at row 550.
+    // A 1×2 grid: the assembler's 256-row bands cut the tiles' boundary at row 550.
     let mut tiles = Vec::new();
     for k in ["0", "1"] {
         let tile = dir.join(format!("half-{k}.exr"));
@@ -211,13 +206,23 @@ fn streamed_renders_equal_whole_ones() {
             "1x2",
             "--tile-index",
             k,
+            "--band-rows",
+            "128",
             "-o",
             s(&tile),
         ]);
         tiles.push(tile);
     }
     let joined = dir.join("joined.exr");
-    spectex_ok(&["assemble", s(&tiles[0]), s(&tiles[1]), "-o", s(&joined)]);
+    spectex_ok(&[
+        "assemble",
+        s(&tiles[0]),
+        s(&tiles[1]),
+        "--band-rows",
+        "256",
+        "-o",
+        s(&joined),
+    ]);
     assert_same_bits(
         read_exr(&joined).channel("Y"),
         want.channel("R"),
@@ -238,17 +243,18 @@ fn streamed_renders_equal_whole_ones() {
             "-o",
             s(&a),
         ]);
-        spectex_ok(&[
+        let mut args = vec![
             "render",
             s(&grey),
             "--size",
             size,
             "--bit-depth",
             depth,
-            "--stream",
             "-o",
             s(&b),
-        ]);
+        ];
+        args.extend(bands);
+        spectex_ok(&args);
         let (a, b) = (image::open(&a).unwrap(), image::open(&b).unwrap());
         assert_eq!(a.color(), b.color(), "{depth}-bit");
         assert!(
@@ -305,7 +311,9 @@ fn bad_grids_indices_and_tile_sets_are_refused() {
         args.extend(extra);
         spectex_env(&args, env)
     };
-    let cases: [(&[&str], &[(&str, &str)], &[&str]); 5] = [
+    /// Flags, environment, and what the error must name.
+    type Case<'a> = (&'a [&'a str], &'a [(&'a str, &'a str)], &'a [&'a str]);
+    let cases: [Case<'_>; 5] = [
         (
             &["--tiles", "2x2"],
             &[],
