@@ -179,21 +179,22 @@ fn tiles_of_a_grid_assemble_into_the_whole_render() {
 fn streamed_renders_equal_whole_ones() {
     let dir = scratch("stream-whole");
     let grey = model("classic-perlin-fbm.json");
-    let size = "2100x1100";
+    let size = "700x460";
     let whole = dir.join("whole.exr");
     let streamed = dir.join("streamed.exr");
     spectex_ok(&["render", s(&grey), "--size", size, "-o", s(&whole)]);
-    let bands = ["--stream", "--band-rows", "320"];
+    let bands = ["--stream", "--band-rows", "128"];
     let mut args = vec!["render", s(&grey), "--size", size, "-o", s(&streamed)];
     args.extend(bands);
     let out = spectex_ok(&args);
-    assert!(String::from_utf8_lossy(&out.stdout).contains("bands of 320 rows"));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("bands of 128 rows"));
     let want = read_exr(&whole);
     let got = read_exr(&streamed);
-    assert_eq!((got.display, got.data), ((2100, 1100), (0, 0, 2100, 1100)));
-    assert_same_bits(got.channel("Y"), want.channel("R"), 2100, "streamed EXR");
+    assert_eq!((got.display, got.data), ((700, 460), (0, 0, 700, 460)));
+    assert_same_bits(got.channel("Y"), want.channel("R"), 700, "streamed EXR");
 
-    // A 1×2 grid: the assembler's 256-row bands cut the tiles' boundary at row 550.
+    // A 1×2 grid of 230-row tiles, written in 64-row bands: the assembler's 128-row bands cut
+    // the tiles' boundary.
     let mut tiles = Vec::new();
     for k in ["0", "1"] {
         let tile = dir.join(format!("half-{k}.exr"));
@@ -207,7 +208,7 @@ fn streamed_renders_equal_whole_ones() {
             "--tile-index",
             k,
             "--band-rows",
-            "128",
+            "64",
             "-o",
             s(&tile),
         ]);
@@ -219,14 +220,14 @@ fn streamed_renders_equal_whole_ones() {
         s(&tiles[0]),
         s(&tiles[1]),
         "--band-rows",
-        "256",
+        "128",
         "-o",
         s(&joined),
     ]);
     assert_same_bits(
         read_exr(&joined).channel("Y"),
         want.channel("R"),
-        2100,
+        700,
         "assembled 1×2",
     );
 
