@@ -409,3 +409,44 @@ fn bad_grids_indices_and_tile_sets_are_refused() {
     );
     assert_refused(&assemble(&[&t0, &m]), &outdir, &[], &["cannot read tile"]);
 }
+
+/// `--device gpu` streams band by band too: the same values as the GPU's whole render (tiles
+/// are invisible on either evaluator). Skips loudly without an adapter unless
+/// `SPECTEX_REQUIRE_GPU=1`.
+#[test]
+fn gpu_renders_stream_the_same_values() {
+    if let Err(e) = spectex_gpu::GpuContext::new() {
+        assert!(
+            !std::env::var("SPECTEX_REQUIRE_GPU").is_ok_and(|v| v == "1"),
+            "SPECTEX_REQUIRE_GPU=1 but no GPU: {e}"
+        );
+        eprintln!("SKIPPED gpu_renders_stream_the_same_values: {e}");
+        return;
+    }
+    let dir = scratch("stream-gpu");
+    let m = model("classic-perlin-fbm.json");
+    let whole = dir.join("whole.exr");
+    let streamed = dir.join("streamed.exr");
+    let args = ["render", s(&m), "--size", "150x140", "--offset", "1e6,-2e5"];
+    let mut a = args.to_vec();
+    a.extend(["--device", "gpu", "-o", s(&whole)]);
+    spectex_ok(&a);
+    let mut b = args.to_vec();
+    b.extend([
+        "--device",
+        "gpu",
+        "--stream",
+        "--band-rows",
+        "64",
+        "-o",
+        s(&streamed),
+    ]);
+    let out = spectex_ok(&b);
+    assert!(String::from_utf8_lossy(&out.stdout).contains("on the GPU"));
+    assert_same_bits(
+        read_exr(&streamed).channel("Y"),
+        read_exr(&whole).channel("R"),
+        150,
+        "GPU streamed",
+    );
+}
