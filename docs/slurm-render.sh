@@ -3,8 +3,9 @@
 # the tiles into one tiled OpenEXR. spectex needs no scheduler of its own: each task reads its
 # tile index from SLURM_ARRAY_TASK_ID (row-major from the top-left, 0 to COLS·ROWS − 1).
 #
-# Submit (the array range must be 0 to COLS·ROWS − 1; 8x8 tiles here):
-#   sbatch --array=0-63 docs/slurm-render.sh model.json
+# Submit (the array range must be 0 to COLS·ROWS − 1; 8x8 tiles here; Slurm opens the logs
+# below before the script runs, so their directory must exist):
+#   mkdir -p tiles && sbatch --array=0-63 docs/slurm-render.sh model.json
 # then, once every task has finished (or chain it with --dependency=afterok:<array job id>):
 #   spectex assemble tiles/tile-*.exr -o whole.exr
 #

@@ -373,9 +373,10 @@ pub(crate) fn render(
             None => format!("{}×{}", region.width, region.height),
         };
         println!(
-            "wrote {} ({what}, streamed in bands of {rows} rows on the {device_name}, {:.1} \
+            "wrote {} ({what}, streamed in bands of {} rows on the {device_name}, {:.1} \
              evaluations per pixel, {:.2} Mpix/s rendered and written)",
             args.output.display(),
+            rows.min(region.height),
             eval.cost_per_pixel(),
             pixels as f64 / seconds.max(1e-9) / 1e6
         );
