@@ -73,7 +73,7 @@ pub(crate) fn render(
 }
 
 /// The GPU to render on, or `None` for the CPU, as `--device` asks.
-fn gpu_for(device: Device) -> Result<Option<spectex_gpu::GpuContext>> {
+pub(crate) fn gpu_for(device: Device) -> Result<Option<spectex_gpu::GpuContext>> {
     match device {
         Device::Cpu => Ok(None),
         Device::Gpu => spectex_gpu::GpuContext::new()

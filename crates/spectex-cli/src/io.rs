@@ -181,7 +181,7 @@ pub fn check_output(path: &Path, depth: BitDepth) -> Result<Format> {
     Ok(format)
 }
 
-fn parent_dir(path: &Path) -> PathBuf {
+pub(crate) fn parent_dir(path: &Path) -> PathBuf {
     match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),
@@ -289,7 +289,7 @@ pub fn finish(tmp: tempfile::NamedTempFile, path: &Path) -> Result<()> {
     Ok(())
 }
 
-fn quantise(v: f64, max: f64) -> f64 {
+pub(crate) fn quantise(v: f64, max: f64) -> f64 {
     (v.clamp(0.0, 1.0) * max).round()
 }
 

@@ -4,6 +4,7 @@
 //! every failure into one `error: …` line that says what to do, with exit status 1.
 
 mod analyze;
+mod assemble;
 mod device;
 mod exemplar;
 mod fit;
@@ -14,6 +15,7 @@ mod phasor;
 mod relight;
 mod render;
 mod sheet;
+mod stream;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -88,6 +90,11 @@ enum Command {
         after_help = "Examples:\n  spectex relight height.png -o lit.png --light 135,45 --strength 16\n  spectex relight height.png -o normals.png --normals --periodic\n\nThe surface is z = strength · value (pixels); normals by central differences, wrapping around\nthe borders with --periodic (for tiling textures), one-sided there otherwise. The normal map\nstores (n + 1)/2 with +y up the image (OpenGL convention)."
     )]
     Relight(relight::RelightCommand),
+    /// Join the tiles of a `--tiles C×R` render into one tiled OpenEXR.
+    #[command(
+        after_help = "Examples:\n  spectex render model.json --size 8192x8192 --tiles 4x4 --tile-index 5 -o tile-5.exr\n  spectex assemble tile-*.exr -o whole.exr\n\nEach tile records its place in its data window; the tiles must be of one render and cover\nits image exactly once. Memory holds one band of rows of the image, not the image."
+    )]
+    Assemble(assemble::AssembleCommand),
 }
 
 #[derive(Debug, Args)]
@@ -227,6 +234,7 @@ fn run(cli: Cli) -> Result<()> {
         Command::Slices(cmd) => phasor::slices(&cmd),
         Command::Sheet(cmd) => sheet::sheet(&cmd),
         Command::Relight(cmd) => relight::relight(&cmd),
+        Command::Assemble(cmd) => assemble::assemble(&cmd),
     }
 }
 

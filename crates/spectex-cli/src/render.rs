@@ -50,6 +50,8 @@ pub struct RenderArgs {
     /// classic and wavelet noises.
     #[arg(long, value_name = "WxH", num_args = 0..=1, default_missing_value = "")]
     pub(crate) periodic: Option<String>,
+    #[command(flatten)]
+    pub(crate) stream: crate::stream::StreamArgs,
 }
 
 impl RenderArgs {
@@ -132,6 +134,9 @@ pub(crate) fn render_to_file_with_period(
     let window = Window::new(width, height)
         .at(args.offset.unwrap_or([0.0, 0.0]), args.scale)
         .filtered(filter_flag(args.no_filter));
+    if let Some(region) = crate::stream::plan(&args.stream, (width, height), format)? {
+        return crate::stream::render(model, period, args, &window, format, &region);
+    }
     window
         .validate()
         .map_err(|e| anyhow!("{e}; check --size, --offset and --scale"))?;

@@ -1,0 +1,650 @@
+//! Renders that never hold the whole image: band by band into a tiled OpenEXR or a PNG
+//! written row band by row band (`--stream`, automatic above [`STREAM_THRESHOLD_PIXELS`]), and
+//! one tile of a `--tiles C×R` grid for batch clusters, its place in the EXR's data window.
+
+use std::io::{BufWriter, Seek, Write};
+use std::sync::mpsc;
+
+use anyhow::{Context, Result, anyhow, bail};
+use clap::Args;
+use exr::block::writer::ChunksWriter;
+use exr::block::{BlockIndex, UncompressedBlock};
+use exr::math::{RoundingMode, Vec2};
+use exr::meta::attribute::{
+    AttributeValue, ChannelDescription, IntegerBounds, LevelMode, LineOrder, SampleType, Text,
+    TileDescription,
+};
+use exr::meta::header::Header;
+use exr::meta::{BlockDescription, Headers};
+use rayon::prelude::*;
+use spectex_cpu::{Evaluator, Window};
+use spectex_model::{Model, Period};
+
+use crate::device;
+use crate::io::{self, BitDepth, Format, WriteReport};
+use crate::render::RenderArgs;
+
+/// Renders with more pixels than this (4096 × 4096) stream without `--stream`.
+pub const STREAM_THRESHOLD_PIXELS: usize = 4096 * 4096;
+
+/// Side of the square tiles of a streamed OpenEXR: OpenEXR's customary 64, as the whole-image
+/// writer (`image`) uses.
+pub const EXR_TILE: usize = 64;
+
+/// Compression of a streamed OpenEXR: none. The whole-image writer's RLE saved 0.04% of a
+/// 32768² f32 Perlin render's 4.3 GB (noise has few runs) and doubled the user CPU time.
+pub const EXR_COMPRESSION: exr::compression::Compression =
+    exr::compression::Compression::Uncompressed;
+
+/// Pixels a band holds at least (whole rows of EXR tiles): 16 evaluator bands of 16 rows at
+/// 32768 columns, so that a thread stalled at a band's end costs little; 32 MB of f32.
+const BAND_PIXELS: usize = 1 << 23;
+
+/// Where a batch engine puts the index of the task that runs: a Slurm job array, then a
+/// Kubernetes Indexed Job.
+pub const TILE_INDEX_VARIABLES: [&str; 2] = ["SLURM_ARRAY_TASK_ID", "JOB_COMPLETION_INDEX"];
+
+/// The EXR attribute naming the render a file belongs to (model and window), which `spectex
+/// assemble` requires to be the same in every tile.
+pub const RENDER_ATTRIBUTE: &str = "spectexRender";
+
+/// The EXR attribute naming a tile's place in its grid: `K of CxR`.
+pub const TILE_ATTRIBUTE: &str = "spectexTile";
+
+/// Streaming and batch tiling of a render.
+#[derive(Debug, Args)]
+pub struct StreamArgs {
+    /// Render and write band by band, holding one band of rows in memory: a tiled OpenEXR
+    /// (64×64 tiles, one Y channel for grey models) or a PNG written row band by row band.
+    /// Automatic above 4096×4096 pixels.
+    #[arg(long)]
+    pub(crate) stream: bool,
+    /// Render only one tile of a C×R grid over the --size image (batch clusters): tiles of
+    /// ceil(W/C)×ceil(H/R) pixels, the last column and row cut to the image. The output (.exr)
+    /// records its place; `spectex assemble` joins the tiles.
+    #[arg(long, value_name = "CxR", value_parser = crate::parse_size)]
+    pub(crate) tiles: Option<(usize, usize)>,
+    /// The tile --tiles renders, row-major from the top-left (0 to C·R − 1); read from
+    /// SLURM_ARRAY_TASK_ID or JOB_COMPLETION_INDEX when absent.
+    #[arg(long, value_name = "K", requires = "tiles")]
+    pub(crate) tile_index: Option<usize>,
+    /// Rows per band of a streamed render, a multiple of 64 (fewer rows, less memory) [default:
+    /// about 8 Mpix per band, 256 rows at 32768 columns].
+    #[arg(long, value_name = "N", value_parser = parse_band_rows)]
+    pub(crate) band_rows: Option<usize>,
+}
+
+/// Parses `--band-rows`: a multiple of [`EXR_TILE`] from 64 to 65536.
+pub(crate) fn parse_band_rows(s: &str) -> Result<usize, String> {
+    match s.trim().parse::<usize>() {
+        Ok(n) if (EXR_TILE..=65_536).contains(&n) && n.is_multiple_of(EXR_TILE) => Ok(n),
+        _ => Err(format!(
+            "'{s}' is not a band height; give a multiple of 64 rows from 64 to 65536"
+        )),
+    }
+}
+
+/// The rectangle of the image a streamed render writes, in the image's pixels.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Region {
+    /// Size of the whole image.
+    pub image: (usize, usize),
+    /// Left column.
+    pub x: usize,
+    /// Top row.
+    pub y: usize,
+    /// Width.
+    pub width: usize,
+    /// Height.
+    pub height: usize,
+    /// For a tile of a grid: its index and the grid (columns, rows).
+    pub tile: Option<(usize, (usize, usize))>,
+}
+
+/// Tile `index` (row-major from the top-left) of a `grid` = (columns, rows) grid over an
+/// `image` = (width, height): tiles of `⌈W/C⌉ × ⌈H/R⌉`, the last column and row cut to the
+/// image.
+///
+/// # Errors
+/// A grid with no tiles, one whose last column or row would be empty, or an index out of range.
+pub fn tile_region(image: (usize, usize), grid: (usize, usize), index: usize) -> Result<Region> {
+    let ((w, h), (c, r)) = (image, grid);
+    if c == 0 || r == 0 {
+        bail!("--tiles {c}x{r} has no tiles; give at least 1 column and 1 row, e.g. --tiles 4x4");
+    }
+    let (tw, th) = (w.div_ceil(c), h.div_ceil(r));
+    if (c - 1) * tw >= w {
+        bail!(
+            "--tiles {c}x{r}: with tiles ceil({w}/{c}) = {tw} pixels wide the last column of the \
+             {w}-pixel-wide image is empty; give fewer columns (at most {w}, e.g. a divisor of {w})"
+        );
+    }
+    if (r - 1) * th >= h {
+        bail!(
+            "--tiles {c}x{r}: with tiles ceil({h}/{r}) = {th} pixels high the last row of the \
+             {h}-pixel-high image is empty; give fewer rows (at most {h}, e.g. a divisor of {h})"
+        );
+    }
+    if index >= c * r {
+        bail!(
+            "tile index {index} is out of range: a {c}x{r} grid has tiles 0 to {}",
+            c * r - 1
+        );
+    }
+    let (x, y) = ((index % c) * tw, (index / c) * th);
+    Ok(Region {
+        image,
+        x,
+        y,
+        width: tw.min(w - x),
+        height: th.min(h - y),
+        tile: Some((index, grid)),
+    })
+}
+
+/// The tile index: `--tile-index`, else the first of [`TILE_INDEX_VARIABLES`] that is set
+/// (`lookup` reads the environment).
+///
+/// # Errors
+/// Neither given, or a variable that is not a whole number.
+pub fn tile_index(given: Option<usize>, lookup: impl Fn(&str) -> Option<String>) -> Result<usize> {
+    if let Some(k) = given {
+        return Ok(k);
+    }
+    for name in TILE_INDEX_VARIABLES {
+        if let Some(value) = lookup(name) {
+            return value.trim().parse().map_err(|_| {
+                anyhow!("{name} = '{value}' is not a tile index; it must be a whole number from 0")
+            });
+        }
+    }
+    bail!(
+        "--tiles needs the tile to render: give --tile-index K, or run it as a Slurm array task \
+         (SLURM_ARRAY_TASK_ID) or a Kubernetes Indexed Job (JOB_COMPLETION_INDEX)"
+    )
+}
+
+/// The region to stream for these flags, or `None` for an ordinary whole render.
+///
+/// # Errors
+/// Bad `--tiles`/`--tile-index`, or `--tiles` with an output that is not OpenEXR.
+pub fn plan(args: &StreamArgs, image: (usize, usize), format: Format) -> Result<Option<Region>> {
+    if let Some(grid) = args.tiles {
+        if format != Format::Exr {
+            bail!(
+                "--tiles writes each tile as an OpenEXR that records its place: give -o a .exr \
+                 name (spectex assemble joins them into one .exr)"
+            );
+        }
+        let index = tile_index(args.tile_index, |name| std::env::var(name).ok())?;
+        return tile_region(image, grid, index).map(Some);
+    }
+    let whole = Region {
+        image,
+        x: 0,
+        y: 0,
+        width: image.0,
+        height: image.1,
+        tile: None,
+    };
+    Ok((args.stream || image.0.saturating_mul(image.1) > STREAM_THRESHOLD_PIXELS).then_some(whole))
+}
+
+/// Rows per band for a region `width` pixels wide: whole rows of EXR tiles, about
+/// [`BAND_PIXELS`] pixels.
+pub(crate) fn band_rows(width: usize) -> usize {
+    (BAND_PIXELS / width.max(1)).div_ceil(EXR_TILE).max(1) * EXR_TILE
+}
+
+/// A band of rows of a region, one plane of `rows × width` values per channel of the file
+/// (in the order the file lists them).
+pub(crate) struct Band {
+    /// First row, relative to the region.
+    pub y: usize,
+    /// Rows.
+    pub rows: usize,
+    /// One plane per channel.
+    pub planes: Vec<Vec<f32>>,
+}
+
+/// A band's values interleaved per pixel (`channels` of them) as planes in `order`.
+fn deinterleave(values: Vec<f32>, channels: usize, order: &[usize]) -> Vec<Vec<f32>> {
+    if channels == 1 {
+        return vec![values];
+    }
+    order
+        .iter()
+        .map(|&c| values.iter().skip(c).step_by(channels).copied().collect())
+        .collect()
+}
+
+/// What identifies the render a tile belongs to: the model and the window, but not the tile.
+fn render_identity(model: &Model, window: &Window, z: f64) -> String {
+    // FNV-1a over the model file's text: equal models, equal text.
+    let text = spectex_model::to_json(model).unwrap_or_default();
+    let hash = text.bytes().fold(0xcbf2_9ce4_8422_2325_u64, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+    });
+    format!(
+        "model fnv1a64 {hash:016x}, {}x{} at offset ({}, {}), scale {}, z {z}, filter {:?}",
+        window.width,
+        window.height,
+        window.offset[0],
+        window.offset[1],
+        window.scale,
+        window.filter
+    )
+}
+
+/// Renders `region` of `window` band by band and writes it to `args.output` in `format`,
+/// through a temporary file renamed into place once complete.
+pub(crate) fn render(
+    model: &Model,
+    period: Option<Period>,
+    args: &RenderArgs,
+    window: &Window,
+    format: Format,
+    region: &Region,
+) -> Result<()> {
+    // The whole window is checked through its first and last row and first column (its
+    // corners, sides and scale) without the in-memory limit on its pixel count.
+    for edge in [
+        window.tile(0, 0, window.width, 1),
+        window.tile(0, window.height.saturating_sub(1), window.width, 1),
+        window.tile(0, 0, 1, window.height),
+    ] {
+        edge.validate()
+            .map_err(|e| anyhow!("{e}; check --size, --offset and --scale"))?;
+    }
+    // A periodic stream is the periodic model's render, as in memory (`render_to_file_with_period`).
+    let eval = match period {
+        None => Evaluator::new_at_z(model, args.z).map_err(|e| anyhow!("{e}; check --z"))?,
+        Some(p) => Evaluator::periodic_at_z(model, args.z, p)
+            .map_err(|e| anyhow!("--periodic: {e}; check --periodic and --z"))?,
+    };
+    let gpu = match device::gpu_for(args.device)? {
+        Some(context) => Some((
+            match period {
+                None => spectex_gpu::GpuEvaluator::new_at_z(&context, model, args.z),
+                Some(p) => spectex_gpu::GpuEvaluator::periodic_at_z(&context, model, args.z, p),
+            }
+            .map_err(|e| anyhow!("{e}; try --device cpu"))?,
+            context.adapter_name(),
+        )),
+        None => None,
+    };
+    let device_name = gpu
+        .as_ref()
+        .map_or_else(|| "CPU".to_owned(), |(_, name)| format!("GPU {name}"));
+    let channels = eval.output_channels();
+    let render_band = |band: &Window, out: &mut Vec<f32>| -> Result<()> {
+        match &gpu {
+            Some((gpu, _)) => {
+                *out = gpu
+                    .render(band)
+                    .map_err(|e| anyhow!("{e}; try --device cpu"))?;
+            }
+            None => {
+                out.resize(band.width * band.height * channels, 0.0);
+                eval.render_into(band, out, &|_| {})
+                    .map_err(|e| anyhow!("{e}"))?;
+            }
+        }
+        Ok(())
+    };
+
+    let dir = io::parent_dir(&args.output);
+    let tmp = tempfile::Builder::new()
+        .prefix(".spectex-")
+        .suffix(".tmp")
+        .tempfile_in(&dir)
+        .map_err(|e| anyhow!("cannot write into '{}': {e}", dir.display()))?;
+    let start = std::time::Instant::now();
+    let rows = args
+        .stream
+        .band_rows
+        .unwrap_or_else(|| band_rows(region.width));
+    let bar = crate::render::progress_bar(region.height as u64, "rendering");
+    let order: Vec<usize> = if channels == 1 {
+        vec![0]
+    } else {
+        vec![2, 1, 0]
+    };
+    let (send, receive) = mpsc::sync_channel::<Band>(1);
+    let (give_back, take_back) = mpsc::channel::<Vec<f32>>();
+    let report = std::thread::scope(|scope| -> Result<WriteReport> {
+        let file = tmp.as_file();
+        let path = &args.output;
+        let identity = render_identity(model, window, args.z);
+        let writer = scope.spawn(move || -> Result<WriteReport> {
+            let mut out = BufWriter::with_capacity(1 << 20, file);
+            let next_band = || receive.recv().ok();
+            let recycle = |band: Band| {
+                if let Some(plane) = band.planes.into_iter().next() {
+                    let _ = give_back.send(plane);
+                }
+            };
+            let report = match format {
+                Format::Exr => {
+                    let header = exr_header(region, channels, &identity);
+                    write_tiled_exr(&mut out, header, next_band, recycle)
+                        .with_context(|| format!("cannot write '{}'", path.display()))?;
+                    WriteReport::default()
+                }
+                Format::Png(depth) => {
+                    write_png_rows(&mut out, region, channels, depth, next_band, recycle)
+                        .with_context(|| format!("cannot write '{}'", path.display()))?
+                }
+            };
+            out.flush()
+                .with_context(|| format!("cannot write '{}'", path.display()))?;
+            Ok(report)
+        });
+        let mut rendered = Ok(());
+        let mut y = 0;
+        while y < region.height {
+            let n = rows.min(region.height - y);
+            let mut values = take_back.try_recv().unwrap_or_default();
+            let band = window.tile(region.x, region.y + y, region.width, n);
+            if let Err(e) = render_band(&band, &mut values) {
+                rendered = Err(e);
+                break;
+            }
+            let planes = if format == Format::Exr {
+                deinterleave(values, channels, &order)
+            } else {
+                vec![values]
+            };
+            if send.send(Band { y, rows: n, planes }).is_err() {
+                break; // the writer failed: its error is the one to report
+            }
+            bar.inc(n as u64);
+            y += n;
+        }
+        drop(send);
+        let written = writer
+            .join()
+            .map_err(|_| anyhow!("internal: the writing thread panicked"))?;
+        rendered?;
+        written
+    })?;
+    bar.finish_and_clear();
+    let seconds = start.elapsed().as_secs_f64();
+    io::finish(tmp, &args.output)?;
+    let pixels = region.width * region.height;
+    #[allow(clippy::print_stdout)] // reason: the command's result summary
+    {
+        let what = match region.tile {
+            Some((k, (c, r))) => format!(
+                "tile {k} of {c}x{r}: {}×{} at ({}, {}) of {}×{}",
+                region.width, region.height, region.x, region.y, region.image.0, region.image.1
+            ),
+            None => format!("{}×{}", region.width, region.height),
+        };
+        println!(
+            "wrote {} ({what}, streamed in bands of {} rows on the {device_name}, {:.1} \
+             evaluations per pixel, {:.2} Mpix/s rendered and written)",
+            args.output.display(),
+            rows.min(region.height),
+            eval.cost_per_pixel(),
+            pixels as f64 / seconds.max(1e-9) / 1e6
+        );
+    }
+    crate::note_clipping(report);
+    Ok(())
+}
+
+/// The header of a tiled OpenEXR holding `region` of its image: the image as display window,
+/// the region as data window, f32 `Y` (grey) or `R`, `G`, `B`, uncompressed 64×64 tiles in
+/// increasing line order, and the render's identity (and tile) as attributes.
+fn exr_header(region: &Region, channels: usize, identity: &str) -> Header {
+    let names: &[&str] = if channels == 1 {
+        &["Y"]
+    } else {
+        &["B", "G", "R"]
+    };
+    let list = names
+        .iter()
+        .map(|n| ChannelDescription::new(*n, SampleType::F32, false))
+        .collect::<Vec<_>>();
+    let mut header = Header::new(
+        Text::from("spectex"),
+        (region.width, region.height),
+        list.into(),
+    )
+    .with_encoding(
+        EXR_COMPRESSION,
+        BlockDescription::Tiles(TileDescription {
+            tile_size: Vec2(EXR_TILE, EXR_TILE),
+            level_mode: LevelMode::Singular,
+            rounding_mode: RoundingMode::Down,
+        }),
+        LineOrder::Increasing,
+    )
+    .with_display_window(IntegerBounds::new(
+        Vec2(0, 0),
+        Vec2(region.image.0, region.image.1),
+    ))
+    .with_position(Vec2(region.x as i32, region.y as i32));
+    header.own_attributes.layer_name = None;
+    header.own_attributes.software_name = Some(Text::from("spectex"));
+    let other = &mut header.own_attributes.other;
+    other.insert(
+        Text::from(RENDER_ATTRIBUTE),
+        AttributeValue::Text(Text::from(identity)),
+    );
+    if let Some((k, (c, r))) = region.tile {
+        other.insert(
+            Text::from(TILE_ATTRIBUTE),
+            AttributeValue::Text(Text::from(format!("{k} of {c}x{r}").as_str())),
+        );
+    }
+    header
+}
+
+/// Writes a single-layer tiled OpenEXR with `header` to `out`, pulling its bands of rows in
+/// order from `next_band` (each a whole number of tile rows, but the last) and handing each
+/// back to `recycle` once written. Tiles are compressed in parallel, written in order.
+///
+/// # Errors
+/// An I/O or encoding error, or bands that stop before the image is complete.
+pub(crate) fn write_tiled_exr<W: Write + Seek>(
+    out: W,
+    header: Header,
+    mut next_band: impl FnMut() -> Option<Band>,
+    mut recycle: impl FnMut(Band),
+) -> Result<()> {
+    let width = header.layer_size.0;
+    let headers = Headers::from_vec(vec![header]);
+    exr::block::write(out, headers, true, |meta, chunks| {
+        let headers = &meta.headers;
+        let mut blocks = exr::block::enumerate_ordered_header_block_indices(headers).peekable();
+        while let Some(band) = next_band() {
+            let end = band.y + band.rows;
+            let mut these: Vec<(usize, BlockIndex)> = Vec::new();
+            while let Some((i, b)) = blocks.next_if(|(_, b)| b.pixel_position.1 < end) {
+                these.push((i, b));
+            }
+            let compressed: Vec<exr::error::Result<(usize, exr::block::chunk::Chunk)>> = these
+                .par_iter()
+                .map(|&(i, index)| {
+                    let Vec2(bx, by) = index.pixel_position;
+                    let Vec2(bw, bh) = index.pixel_size;
+                    let mut data = Vec::with_capacity(bw * bh * band.planes.len() * 4);
+                    for row in by - band.y..by - band.y + bh {
+                        for plane in &band.planes {
+                            let start = row * width + bx;
+                            for v in &plane[start..start + bw] {
+                                data.extend_from_slice(&v.to_ne_bytes());
+                            }
+                        }
+                    }
+                    UncompressedBlock { index, data }
+                        .compress_to_chunk(headers)
+                        .map(|chunk| (i, chunk))
+                })
+                .collect();
+            for result in compressed {
+                let (i, chunk) = result?;
+                chunks.write_chunk(i, chunk)?;
+            }
+            recycle(band);
+        }
+        if blocks.peek().is_some() {
+            return Err(exr::error::Error::Io(std::io::Error::other(
+                "the image stopped before its last row",
+            )));
+        }
+        Ok(())
+    })
+    .map_err(|e| anyhow!("{e}"))
+}
+
+/// Writes a PNG of `region`'s size to `out` band by band (values interleaved per pixel in
+/// the bands' one plane), clamped to `[0, 1]` and quantised exactly as a whole-image PNG.
+fn write_png_rows<W: Write>(
+    out: W,
+    region: &Region,
+    channels: usize,
+    depth: BitDepth,
+    mut next_band: impl FnMut() -> Option<Band>,
+    mut recycle: impl FnMut(Band),
+) -> Result<WriteReport> {
+    let mut encoder = png::Encoder::new(out, region.width as u32, region.height as u32);
+    encoder.set_color(if channels == 1 {
+        png::ColorType::Grayscale
+    } else {
+        png::ColorType::Rgb
+    });
+    encoder.set_depth(match depth {
+        BitDepth::Eight => png::BitDepth::Eight,
+        BitDepth::Sixteen => png::BitDepth::Sixteen,
+    });
+    // What `image`'s PNG encoder uses by default, so whole and streamed files compress alike.
+    encoder.set_compression(png::Compression::Fast);
+    encoder.set_filter(png::Filter::Adaptive);
+    let mut writer = encoder.write_header()?;
+    let mut stream = writer.stream_writer_with_size(1 << 20)?;
+    let mut report = WriteReport::default();
+    let mut bytes = Vec::new();
+    let mut rows = 0;
+    while let Some(band) = next_band() {
+        bytes.clear();
+        for plane in &band.planes {
+            for &v in plane {
+                let v = f64::from(v);
+                report.clipped += usize::from(!(0.0..=1.0).contains(&v));
+                report.total += 1;
+                match depth {
+                    BitDepth::Eight => bytes.push(io::quantise(v, 255.0) as u8),
+                    BitDepth::Sixteen => {
+                        bytes.extend_from_slice(&(io::quantise(v, 65535.0) as u16).to_be_bytes());
+                    }
+                }
+            }
+        }
+        stream.write_all(&bytes)?;
+        rows += band.rows;
+        recycle(band);
+    }
+    if rows != region.height {
+        bail!("the image stopped at row {rows} of {}", region.height);
+    }
+    stream.finish()?;
+    writer.finish()?;
+    Ok(report)
+}
+
+#[cfg(test)]
+#[allow(
+    clippy::unwrap_used,
+    reason = "a test fails loudly on the first unexpected Ok or Err"
+)]
+mod tests {
+    use super::*;
+
+    /// Every pixel of the image in exactly one tile, tiles of ⌈W/C⌉ × ⌈H/R⌉ pixels at most:
+    /// counted pixel by pixel, the slow obvious way.
+    #[test]
+    fn tiles_cover_the_image_once() {
+        for (image, grid) in [
+            ((200, 130), (3, 2)),
+            ((7, 5), (7, 5)),
+            ((10, 10), (4, 3)),
+            ((1, 1), (1, 1)),
+            ((65, 64), (2, 1)),
+        ] {
+            let mut hits = vec![0u8; image.0 * image.1];
+            for k in 0..grid.0 * grid.1 {
+                let t = tile_region(image, grid, k)
+                    .unwrap_or_else(|e| panic!("{image:?} {grid:?} {k}: {e}"));
+                assert!(
+                    t.width >= 1 && t.height >= 1,
+                    "{image:?} {grid:?} {k}: empty"
+                );
+                assert!(
+                    t.width <= image.0.div_ceil(grid.0) && t.height <= image.1.div_ceil(grid.1)
+                );
+                for y in t.y..t.y + t.height {
+                    for x in t.x..t.x + t.width {
+                        hits[y * image.0 + x] += 1;
+                    }
+                }
+            }
+            assert!(
+                hits.iter().all(|&h| h == 1),
+                "{image:?} {grid:?}: not covered once"
+            );
+        }
+        // The 3×2 grid of a 200×130 image: tiles of 67×65, the last column 66 wide.
+        let t = tile_region((200, 130), (3, 2), 5).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!((t.x, t.y, t.width, t.height), (134, 65, 66, 65));
+    }
+
+    #[test]
+    fn bad_grids_and_indices_are_refused() {
+        let err = |r: Result<Region>| r.map(|_| ()).unwrap_err().to_string();
+        assert!(err(tile_region((10, 10), (0, 2), 0)).contains("no tiles"));
+        // ⌈10/6⌉ = 2: columns at 0, 2, 4, 6, 8 and an empty sixth at 10.
+        assert!(err(tile_region((10, 10), (6, 1), 0)).contains("last column"));
+        assert!(err(tile_region((10, 10), (1, 6), 0)).contains("last row"));
+        assert!(err(tile_region((10, 10), (2, 2), 4)).contains("0 to 3"));
+    }
+
+    #[test]
+    fn the_index_comes_from_the_flag_then_slurm_then_kubernetes() {
+        let env = |vars: &'static [(&'static str, &'static str)]| {
+            move |name: &str| {
+                vars.iter()
+                    .find(|(n, _)| *n == name)
+                    .map(|(_, v)| (*v).to_owned())
+            }
+        };
+        let both = env(&[("SLURM_ARRAY_TASK_ID", "3"), ("JOB_COMPLETION_INDEX", "5")]);
+        assert_eq!(tile_index(Some(1), both).ok(), Some(1));
+        assert_eq!(tile_index(None, both).ok(), Some(3));
+        assert_eq!(
+            tile_index(None, env(&[("JOB_COMPLETION_INDEX", "5")])).ok(),
+            Some(5)
+        );
+        let none = tile_index(None, env(&[])).unwrap_err().to_string();
+        assert!(none.contains("--tile-index") && none.contains("SLURM_ARRAY_TASK_ID"));
+        let bad = tile_index(None, env(&[("SLURM_ARRAY_TASK_ID", "x")])).unwrap_err();
+        assert!(bad.to_string().contains("SLURM_ARRAY_TASK_ID = 'x'"));
+    }
+
+    #[test]
+    fn bands_are_whole_tile_rows() {
+        for width in [1, 63, 64, 200, 4096, 32768, 65536] {
+            let rows = band_rows(width);
+            assert!(
+                rows >= EXR_TILE && rows.is_multiple_of(EXR_TILE),
+                "{width}: {rows}"
+            );
+            assert!(
+                rows * width >= BAND_PIXELS.min(EXR_TILE * width),
+                "{width}: {rows}"
+            );
+        }
+    }
+}
