@@ -6,6 +6,7 @@
 use spectex_model::LrpNoise;
 
 use crate::axis::{columns, rows};
+use crate::export::{ExportKind, ExportParts};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::{Shaded, binding_limit};
@@ -118,11 +119,33 @@ pub(crate) fn lattice_axis(
     records
 }
 
+/// The kernel of a validated model and the tables it keeps on the device, in binding order:
+/// what the device evaluator uploads and what the WGSL export writes as constants.
+fn host(model: &LrpNoise) -> (LrpKernel, Vec<Table>, u64) {
+    let packed = pack(model);
+    let frequency_bytes = size_of_val(packed.frequencies.as_slice()) as u64;
+    let kernel = LrpKernel {
+        model: model.clone(),
+        seed: model.seed,
+        mean: model.mean,
+        deltas: model
+            .strata
+            .iter()
+            .map(|s| f64::from(s.window_width))
+            .collect(),
+    };
+    let tables = vec![
+        Table::new("lrp strata", &packed.strata),
+        Table::new("lrp frequencies", &packed.frequencies),
+        Table::new("lrp tables", &packed.tables),
+    ];
+    (kernel, tables, frequency_bytes)
+}
+
 impl GpuKind for LrpNoise {
     fn gpu_kernel(&self, context: &GpuContext, _z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
-        let packed = pack(self);
+        let (kernel, tables, needed) = host(self);
         let limit = binding_limit(&context.limits());
-        let needed = size_of_val(packed.frequencies.as_slice()) as u64;
         if needed > limit {
             return Err(GpuError::LimitsExceeded {
                 what: "frequency tables (bytes in one storage buffer)",
@@ -130,25 +153,16 @@ impl GpuKind for LrpNoise {
                 limit,
             });
         }
-        let kernel = LrpKernel {
-            model: self.clone(),
-            seed: self.seed,
-            mean: self.mean,
-            deltas: self
-                .strata
-                .iter()
-                .map(|s| f64::from(s.window_width))
-                .collect(),
-        };
-        Shaded::boxed(
-            context,
-            kernel,
-            &[
-                Table::new("lrp strata", &packed.strata),
-                Table::new("lrp frequencies", &packed.frequencies),
-                Table::new("lrp tables", &packed.tables),
-            ],
-        )
+        Shaded::boxed(context, kernel, &tables)
+    }
+}
+
+impl ExportKind for LrpNoise {
+    fn export_parts(&self, _z: f64) -> Result<ExportParts, GpuError> {
+        let (kernel, tables, _) = host(self);
+        // Stratum s's lattice is the export's lattice s (export/lrp.wgsl).
+        let lattices = kernel.deltas.clone();
+        ExportParts::of(&kernel, &tables, lattices, "lrp")
     }
 }
 
