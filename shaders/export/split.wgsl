@@ -6,6 +6,7 @@
 // points take x as an integer n (i32) plus an f32 fraction u, and the integer part is located
 // here from tables the exporter computes in f64 for each lattice l of the model:
 //     export_sides[l]                  Δ_l rounded to f32,
+//     export_inv_sides[l]              1/Δ_l rounded to f32 (for offsets in lattice units),
 //     export_quotients[32·l + k]       ⌊w_k / Δ_l⌋ mod 2³² (u32, wrapping),
 //     export_remainders[32·l + k]      w_k − ⌊w_k / Δ_l⌋·Δ_l in [0, Δ_l), rounded to f32,
 // with w_k = 2^k the weight of bit k of n's two's complement (w_31 = −2^31). Summing the terms

@@ -6,6 +6,7 @@
 mod analyze;
 mod device;
 mod exemplar;
+mod export;
 mod fit;
 mod io;
 mod model_file;
@@ -88,6 +89,11 @@ enum Command {
         after_help = "Examples:\n  spectex relight height.png -o lit.png --light 135,45 --strength 16\n  spectex relight height.png -o normals.png --normals --periodic\n\nThe surface is z = strength · value (pixels); normals by central differences, wrapping around\nthe borders with --periodic (for tiling textures), one-sided there otherwise. The normal map\nstores (n + 1)/2 with +y up the image (OpenGL convention)."
     )]
     Relight(relight::RelightCommand),
+    /// Export a model as a self-contained WGSL module for a fragment shader.
+    #[command(
+        after_help = "Examples:\n  spectex export model.json --wgsl model.wgsl\n\nThe module defines fn spectex_sample(p: vec2<f32>) -> f32 (vec3<f32> for colour models):\nthe model at p in model pixels, as `spectex render` computes it (pixel (i, j) of a render at\n--offset o --scale s is spectex_sample(o + (i, j)·s)), and spectex_sample_cell(cell, offset)\nfor positions far from the origin. Its header comment documents both."
+    )]
+    Export(export::ExportCommand),
 }
 
 #[derive(Debug, Args)]
@@ -221,6 +227,7 @@ fn run(cli: Cli) -> Result<()> {
         }
         Command::Fit(cmd) => fit::fit(&cmd),
         Command::Render(cmd) => render::render(&cmd),
+        Command::Export(cmd) => export::export(&cmd),
         Command::Synth(cmd) => fit::synth(&cmd),
         Command::Noise(cmd) => noise::noise(&cmd),
         Command::Phasor(cmd) => phasor::phasor(&cmd),

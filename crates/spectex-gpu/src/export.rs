@@ -28,6 +28,10 @@ pub const EXPORT_SHADERS: &[(&str, &str)] = &[
     ("split", include_str!("../../../shaders/export/split.wgsl")),
     ("lrp", include_str!("../../../shaders/export/lrp.wgsl")),
     ("gabor", include_str!("../../../shaders/export/gabor.wgsl")),
+    (
+        "classic",
+        include_str!("../../../shaders/export/classic.wgsl"),
+    ),
 ];
 
 /// Bytes of tables up to which an exported module is portable WGSL: the WGSL specification lets
@@ -100,7 +104,6 @@ macro_rules! unsupported_export {
 unsupported_export!(
     spectex_model::PhasorNoise,
     spectex_model::TextureModel,
-    spectex_model::ClassicNoise,
     spectex_model::Warp,
     spectex_model::WaveletNoise,
     spectex_model::TextonNoise
@@ -141,7 +144,12 @@ pub fn wgsl_module(model: &Model, options: &ExportOptions) -> Result<String, Gpu
     }
     let parts = parts(model, z)?;
     let common = crate::wgsl_source("common").unwrap_or_default();
-    let common_body = strip(&common);
+    // Domain warping is the compute evaluator's (bind group 1): here it is off, a constant.
+    let common_body = format!(
+        "{}\n/// No displacement: the exported module evaluates the model where it is asked to.\n\
+         const warp_params: WarpParams = WarpParams(0u, 0u, 0u, 0u);\n",
+        strip(&common)
+    );
     let common_names = top_level_names(&common_body);
     let common_map: HashMap<String, String> = common_names
         .iter()
@@ -221,8 +229,9 @@ fn header(model: &Model, parts: &ExportParts, table_bytes: usize, ret: &str, z: 
 // a tile size plus a UV) and pass them to `spectex_sample_cell`. `spectex_sample(p)` is
 // `spectex_sample_cell(floor(p), p − floor(p))`.
 //
-// Filtering: none. The module evaluates the model at a point; a minified render (large
-// footprints) aliases as the unfiltered CPU render does.
+// Filtering: none. The module point-samples the model: a minified view (more than one model
+// pixel per screen pixel) matches `spectex render --no-filter`, not the default render, which
+// fades what its pixels cannot resolve; filter or mip in your shader where that matters.
 //
 // Size: {table_bytes} bytes of tables, as `var<private>` arrays initialised with constants
 // (no bind group, no buffers): {portable} the {limit} bytes of private memory that the WGSL
@@ -287,7 +296,15 @@ fn model_chunk(
         tables.push_str(&decl);
     }
     let (sides, quotients, remainders) = lattice_tables(&parts.lattices);
-    table_bytes += 4 * (sides.len() + quotients.len() + remainders.len());
+    let inverses: Vec<f32> = parts.lattices.iter().map(|s| (1.0 / s) as f32).collect();
+    table_bytes += 4 * (sides.len() + inverses.len() + quotients.len() + remainders.len());
+    let _ = writeln!(
+        tables,
+        "var<private> export_inv_sides: array<f32, {}> = array<f32, {}>({});",
+        inverses.len(),
+        inverses.len(),
+        join(inverses.iter().map(|v| float(*v)))
+    );
     let _ = writeln!(
         tables,
         "var<private> export_sides: array<f32, {}> = array<f32, {}>({});",
@@ -317,7 +334,15 @@ fn model_chunk(
         .chain(top_level_names(&split))
         .chain(top_level_names(&glue))
         .chain(names)
-        .chain(["export_sides", "export_quotients", "export_remainders"].map(String::from))
+        .chain(
+            [
+                "export_sides",
+                "export_inv_sides",
+                "export_quotients",
+                "export_remainders",
+            ]
+            .map(String::from),
+        )
     {
         map.insert(name.clone(), format!("{prefix}{name}"));
     }

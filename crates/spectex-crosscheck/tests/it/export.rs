@@ -4,7 +4,8 @@
 //! `spectex_sample_cell` at its pixel's position) draws into an `Rgba32Float` texture on the
 //! adapter (lavapipe under `cargo xtask verify`), and the image is compared with the CPU
 //! evaluator's render of the same window: at the origin, at a fractional offset with scale
-//! 0.75, and at `(10⁷, 10⁷)` with scale 1.5 through the `(cell, offset)` entry.
+//! 0.75, and at `(10⁷, 10⁷)` with scale 1.5 through the `(cell, offset)` entry (point samples:
+//! the CPU window is unfiltered, `render --no-filter`, as the export does not filter).
 //!
 //! Tolerance, per model: the CPU–GPU bound of spectex-crosscheck (`tolerance(model)`, derived
 //! per kind: the fragment stage runs the same f32 WGSL functions as the compute evaluator, and
@@ -31,7 +32,7 @@ use std::path::PathBuf;
 use spectex_crosscheck::tolerance::{F32_UNIT_ROUNDOFF, regularity, tolerance};
 use spectex_gpu::export::{ExportOptions, wgsl_module};
 use spectex_gpu::{GpuContext, GpuError, wgpu};
-use spectex_model::{Model, Window};
+use spectex_model::{Filter, Model, Window};
 
 /// Roundings that separate the export's lattice offsets from the host's: up to 32 table
 /// remainders of half an f32 ulp each where a lattice side is not an f32 (Gabor's radius), the
@@ -43,7 +44,7 @@ const WIDTH: u32 = 64;
 const HEIGHT: u32 = 48;
 
 /// Kinds the exporter does not cover yet (as in spectex-gpu's export test).
-const NOT_EXPORTED: &[&str] = &["phasor", "texture", "classic", "warp", "wavelet", "texton"];
+const NOT_EXPORTED: &[&str] = &["phasor", "texture", "warp", "wavelet", "texton"];
 
 /// One window: how the fragment shader reaches it, and the CPU window.
 struct Case {
@@ -69,7 +70,10 @@ fn cases() -> Vec<Case> {
         Case {
             name: "(1e7, 1e7), scale 1.5",
             call: "spectex_sample_cell(vec2<i32>(10000000i, 10000000i), vec2<f32>(0.25f, 0.5f) + ij * 1.5f)",
-            window: Window::new(size.0, size.1).at([10_000_000.25, 10_000_000.5], 1.5),
+            // A minified window: the export point-samples, as `render --no-filter` does.
+            window: Window::new(size.0, size.1)
+                .at([10_000_000.25, 10_000_000.5], 1.5)
+                .filtered(Filter::Off),
         },
     ]
 }
@@ -102,13 +106,20 @@ fn gpu_or_skip() -> Option<GpuContext> {
 }
 
 /// The shader the test compiles: the exported module, a full-screen triangle and a fragment
-/// shader writing the sample at its pixel.
-fn shader(module: &str, call: &str, channels: usize) -> String {
-    let store = if channels == 3 {
-        "vec4<f32>(v, 1.0f)"
+/// shader writing, in row band `k` (`HEIGHT` rows each), case `k`'s sample at its pixel (one
+/// pipeline per model: lavapipe compiles a module with large constant tables slowly).
+fn shader(module: &str, calls: &[&str], channels: usize) -> String {
+    let (ty, store) = if channels == 3 {
+        ("vec3<f32>", "vec4<f32>(v, 1.0f)")
     } else {
-        "vec4<f32>(v, 0.0f, 0.0f, 1.0f)"
+        ("f32", "vec4<f32>(v, 0.0f, 0.0f, 1.0f)")
     };
+    let branches = calls
+        .iter()
+        .enumerate()
+        .map(|(k, call)| format!("if (band == {k}u) {{\n        v = {call};\n    }}"))
+        .collect::<Vec<_>>()
+        .join(" else ");
     format!(
         "{module}
 // ---- the test's own shader ----
@@ -120,8 +131,11 @@ fn vs(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {{
 
 @fragment
 fn fs(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {{
-    let ij = frag.xy - vec2<f32>(0.5f);
-    let v = {call};
+    let pixel = frag.xy - vec2<f32>(0.5f);
+    let band = u32(pixel.y) / {HEIGHT}u;
+    let ij = vec2<f32>(pixel.x, pixel.y - f32(band * {HEIGHT}u));
+    var v: {ty};
+    {branches}
     return {store};
 }}
 "
@@ -130,10 +144,16 @@ fn fs(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {{
 
 /// Renders `source`'s full-screen triangle into an `Rgba32Float` target and reads back the
 /// first `channels` components of every pixel, row-major from the top.
-fn render(context: &GpuContext, source: &str, channels: usize) -> Result<Vec<f32>, String> {
+fn render(
+    context: &GpuContext,
+    source: &str,
+    channels: usize,
+    bands: u32,
+) -> Result<Vec<f32>, String> {
+    let rows = HEIGHT * bands;
     let device = context.device();
     let queue = context.queue();
-    device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some("export test"),
         source: wgpu::ShaderSource::Wgsl(source.into()),
@@ -168,7 +188,7 @@ fn render(context: &GpuContext, source: &str, channels: usize) -> Result<Vec<f32
         label: Some("export target"),
         size: wgpu::Extent3d {
             width: WIDTH,
-            height: HEIGHT,
+            height: rows,
             depth_or_array_layers: 1,
         },
         mip_level_count: 1,
@@ -181,7 +201,7 @@ fn render(context: &GpuContext, source: &str, channels: usize) -> Result<Vec<f32
     let row_bytes = WIDTH * 16;
     let readback = device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("export readback"),
-        size: u64::from(row_bytes * HEIGHT),
+        size: u64::from(row_bytes * rows),
         usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
         mapped_at_creation: false,
     });
@@ -214,17 +234,17 @@ fn render(context: &GpuContext, source: &str, channels: usize) -> Result<Vec<f32
             layout: wgpu::TexelCopyBufferLayout {
                 offset: 0,
                 bytes_per_row: Some(row_bytes),
-                rows_per_image: Some(HEIGHT),
+                rows_per_image: Some(rows),
             },
         },
         wgpu::Extent3d {
             width: WIDTH,
-            height: HEIGHT,
+            height: rows,
             depth_or_array_layers: 1,
         },
     );
     queue.submit([encoder.finish()]);
-    if let Some(e) = pollster::block_on(device.pop_error_scope()) {
+    if let Some(e) = pollster::block_on(scope.pop()) {
         return Err(e.to_string());
     }
     let slice = readback.slice(..);
@@ -238,6 +258,71 @@ fn render(context: &GpuContext, source: &str, channels: usize) -> Result<Vec<f32
         .chunks_exact(4)
         .flat_map(|t| t[..channels].to_vec())
         .collect())
+}
+
+/// `(max, mean)` bounds on `|cpu − export|` for `model` (see the module doc).
+fn export_tolerance(case: &str, model: &Model) -> (f64, f64) {
+    let base = tolerance(model).unwrap_or_else(|| panic!("{case}: no tolerance"));
+    let reg = regularity(model).unwrap_or_else(|| panic!("{case}: no regularity"));
+    let position = POSITION_ROUNDINGS * F32_UNIT_ROUNDOFF * (2.0 * reg.cell + 2.0);
+    let moved = reg.slope * position * std::f64::consts::SQRT_2;
+    (
+        base.max_abs + moved + reg.jump.max(0.0),
+        base.mean_abs + moved,
+    )
+}
+
+/// The frame `cargo xtask bevy-check` rendered through examples/bevy-material (its
+/// `BEVY_MODEL` and `BEVY_WINDOW`), named by `SPECTEX_BEVY_FRAME`: RGB f32 per pixel from an
+/// `Rgba16Float` target, compared with the CPU render within [`export_tolerance`] plus the
+/// target's rounding to f16 (half an ulp: `|v|·2⁻¹¹` for normal values, `2⁻²⁵` below 2⁻¹⁴).
+/// Without the variable (every run but `bevy-check`'s) there is no frame and it says so.
+#[test]
+fn bevy_frame_matches_the_cpu() {
+    let Some(path) = std::env::var_os("SPECTEX_BEVY_FRAME") else {
+        println!("SKIPPED: SPECTEX_BEVY_FRAME is not set (cargo xtask bevy-check sets it)");
+        return;
+    };
+    let (width, height, offset, scale) = (128usize, 96usize, [-37.25, 81.5], 0.75);
+    let file = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../testdata/models/lrp-ring.json"
+    );
+    let model: Model = spectex_model::from_json(&std::fs::read_to_string(file).unwrap()).unwrap();
+    let want = spectex_cpu::Evaluator::new(&model)
+        .unwrap()
+        .render(&Window::new(width, height).at(offset, scale))
+        .unwrap();
+    let bytes = std::fs::read(&path).unwrap();
+    let got: Vec<f32> = bytes
+        .chunks_exact(4)
+        .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        .collect();
+    assert_eq!(got.len(), 3 * width * height, "frame size");
+    let (max_allowed, mean_allowed) = export_tolerance("lrp-ring", &model);
+    let (mut worst, mut excess, mut sum) = (0.0f64, f64::NEG_INFINITY, 0.0);
+    for (k, &w) in want.iter().enumerate() {
+        let w = f64::from(w);
+        let half_ulp = (w.abs() * 2f64.powi(-11)).max(2f64.powi(-25));
+        for c in 0..3 {
+            let e = (w - f64::from(got[3 * k + c])).abs();
+            worst = worst.max(e);
+            sum += e;
+            excess = excess.max(e - (max_allowed + half_ulp));
+        }
+    }
+    let mean = sum / (3 * width * height) as f64;
+    let peak = want.iter().fold(0.0f64, |m, v| m.max(f64::from(*v).abs()));
+    println!(
+        "bevy-check: lrp-ring {width}x{height} at {offset:?} scale {scale}: max |cpu − bevy| \
+         {worst:.3e} (allowed {max_allowed:.3e} + f16 half-ulp ≤ {:.3e}), mean {mean:.3e}",
+        peak * 2f64.powi(-11)
+    );
+    assert!(excess <= 0.0, "a pixel exceeds its bound by {excess:.3e}");
+    assert!(
+        mean <= mean_allowed + peak * 2f64.powi(-11),
+        "mean {mean:.3e} over {mean_allowed:.3e} + f16 rounding"
+    );
 }
 
 #[test]
@@ -257,20 +342,23 @@ fn exported_modules_render_the_cpu_values_in_a_fragment_shader() {
         };
         let channels = model.output_channels();
         let cpu = spectex_cpu::Evaluator::new(&model).unwrap();
-        let base = tolerance(&model).unwrap_or_else(|| panic!("{case}: no tolerance"));
-        let reg = regularity(&model).unwrap_or_else(|| panic!("{case}: no regularity"));
-        let position = POSITION_ROUNDINGS * F32_UNIT_ROUNDOFF * (2.0 * reg.cell + 2.0);
-        let moved = reg.slope * position * std::f64::consts::SQRT_2;
-        let max_allowed = base.max_abs + moved + if reg.jump > 0.0 { reg.jump } else { 0.0 };
-        let mean_allowed = base.mean_abs + moved;
-        for c in cases() {
+        let (max_allowed, mean_allowed) = export_tolerance(&case, &model);
+        let cases = cases();
+        let calls: Vec<&str> = cases.iter().map(|c| c.call).collect();
+        let all = render(
+            &context,
+            &shader(&module, &calls, channels),
+            channels,
+            cases.len() as u32,
+        )
+        .unwrap_or_else(|e| panic!("{case}: {e}"));
+        let per_case = all.len() / cases.len();
+        for (c, got) in cases.iter().zip(all.chunks_exact(per_case)) {
             let want = cpu.render(&c.window).unwrap();
-            let got = render(&context, &shader(&module, c.call, channels), channels)
-                .unwrap_or_else(|e| panic!("{case} {}: {e}", c.name));
             assert_eq!(got.len(), want.len());
             let errors: Vec<f64> = want
                 .iter()
-                .zip(&got)
+                .zip(got)
                 .map(|(a, b)| (f64::from(*a) - f64::from(*b)).abs())
                 .collect();
             let (worst, at) = errors.iter().enumerate().fold((0.0, 0), |(m, i), (k, &e)| {
@@ -294,7 +382,7 @@ fn exported_modules_render_the_cpu_values_in_a_fragment_shader() {
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
     assert!(
-        rendered >= 6,
-        "only {rendered} models rendered through the export"
+        rendered >= 12,
+        "only {rendered} models rendered through the export (LRP 4, Gabor 2, classic 6 expected)"
     );
 }

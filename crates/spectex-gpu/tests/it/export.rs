@@ -10,7 +10,7 @@ use spectex_gpu::GpuError;
 use spectex_gpu::export::{ExportOptions, wgsl_module};
 
 /// Kinds `wgsl_module` refuses with `GpuError::Unsupported` today.
-const NOT_EXPORTED: &[&str] = &["phasor", "texture", "classic", "warp", "wavelet", "texton"];
+const NOT_EXPORTED: &[&str] = &["phasor", "texture", "warp", "wavelet", "texton"];
 
 fn model_files() -> Vec<PathBuf> {
     let dir = PathBuf::from(concat!(
@@ -102,8 +102,8 @@ fn every_exportable_model_validates_with_its_entry_points_and_no_binding() {
         exported += 1;
     }
     assert!(
-        exported >= 6,
-        "only {exported} models exported (LRP 4, Gabor 2 expected)"
+        exported >= 12,
+        "only {exported} models exported (LRP 4, Gabor 2, classic 6 expected)"
     );
 }
 
