@@ -39,6 +39,13 @@ pub const EXPORT_SHADERS: &[(&str, &str)] = &[
 /// browsers, does; naga, hence wgpu and Bevy, does not).
 pub const PORTABLE_TABLE_BYTES: usize = 8192;
 
+/// Bytes of tables above which [`wgsl_module`] refuses a model: every table is a constant
+/// array initialised per shader invocation, and a module this large already takes lavapipe
+/// seconds to compile (a fitted LRP model with tens of thousands of frequencies, 0.3–1 MB of
+/// tables, would take minutes and no driver promises to accept it). Such models need a
+/// storage-buffer variant, which the exporter does not write yet.
+pub const MAX_TABLE_BYTES: u64 = 65_536;
+
 /// What a kind's export contributes: its shader, its glue, the values of its bindings and the
 /// lattices its glue locates positions on.
 #[derive(Debug, Clone)]
@@ -131,7 +138,8 @@ impl Default for ExportOptions {
 ///
 /// # Errors
 /// [`GpuError::Model`] for an invalid model, [`GpuError::Window`] for a non-finite or far `z`,
-/// [`GpuError::Unsupported`] for a kind the exporter does not cover.
+/// [`GpuError::Unsupported`] for a kind the exporter does not cover,
+/// [`GpuError::LimitsExceeded`] for tables over [`MAX_TABLE_BYTES`].
 pub fn wgsl_module(model: &Model, options: &ExportOptions) -> Result<String, GpuError> {
     model.validate()?;
     let z = options.z;
@@ -143,6 +151,22 @@ pub fn wgsl_module(model: &Model, options: &ExportOptions) -> Result<String, Gpu
         });
     }
     let parts = parts(model, z)?;
+    // The tables' bytes as emitted: every binding but the uniform, and per lattice a side, its
+    // inverse and 32 quotient and remainder words.
+    let needed = parts
+        .bindings
+        .iter()
+        .skip(1)
+        .map(|b| b.len() as u64)
+        .sum::<u64>()
+        + 4 * 66 * parts.lattices.len() as u64;
+    if needed > MAX_TABLE_BYTES {
+        return Err(GpuError::LimitsExceeded {
+            what: "bytes of model tables in one exported WGSL module (spectex_gpu::export::MAX_TABLE_BYTES)",
+            value: needed,
+            limit: MAX_TABLE_BYTES,
+        });
+    }
     let common = crate::wgsl_source("common").unwrap_or_default();
     // Domain warping is the compute evaluator's (bind group 1): here it is off, a constant.
     let common_body = format!(
@@ -157,11 +181,10 @@ pub fn wgsl_module(model: &Model, options: &ExportOptions) -> Result<String, Gpu
         .collect();
 
     let (chunk, table_bytes) = model_chunk(&parts, 0, &common_map)?;
-    let (ret, zero) = match parts.channels {
-        1 => ("f32", "0.0f"),
-        _ => ("vec3<f32>", "vec3<f32>(0.0f)"),
+    let ret = match parts.channels {
+        1 => "f32",
+        _ => "vec3<f32>",
     };
-    let _ = zero;
     let mut out = header(model, &parts, table_bytes, ret, z);
     out.push_str("\n// ---- spectex: common functions (common.wgsl), prefix spectex_ ----\n");
     out.push_str(&rename(&common_body, &common_map));
@@ -236,6 +259,8 @@ fn header(model: &Model, parts: &ExportParts, table_bytes: usize, ret: &str, z: 
 // Size: {table_bytes} bytes of tables, as `var<private>` arrays initialised with constants
 // (no bind group, no buffers): {portable} the {limit} bytes of private memory that the WGSL
 // specification guarantees (naga — wgpu, Bevy — accepts more; browsers' Tint may not).
+// The exporter refuses models with more than {max} bytes of tables (fitted LRP models with
+// tens of thousands of frequencies): a storage-buffer variant for those is not written yet.
 ",
         version = env!("CARGO_PKG_VERSION"),
         kind = model.kind(),
@@ -243,6 +268,7 @@ fn header(model: &Model, parts: &ExportParts, table_bytes: usize, ret: &str, z: 
         shader = parts.shader,
         glue = parts.glue,
         limit = PORTABLE_TABLE_BYTES,
+        max = MAX_TABLE_BYTES,
     )
 }
 
@@ -445,7 +471,7 @@ fn declaration(
             stride,
         } => {
             let stride = *stride as usize;
-            let count = if stride == 0 { 0 } else { bytes.len() / stride };
+            let count = bytes.len().checked_div(stride).unwrap_or(0);
             let element = type_name(module, *base)?;
             let values = (0..count)
                 .map(|i| value(module, *base, &bytes[i * stride..(i + 1) * stride]))

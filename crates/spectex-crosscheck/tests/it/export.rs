@@ -46,11 +46,13 @@ const HEIGHT: u32 = 48;
 /// Kinds the exporter does not cover yet (as in spectex-gpu's export test).
 const NOT_EXPORTED: &[&str] = &["phasor", "texture", "warp", "wavelet", "texton"];
 
-/// One window: how the fragment shader reaches it, and the CPU window.
+/// One window: its top-left position as the fragment shader receives it (integer part and
+/// f32 fraction), its scale, and the CPU window.
 struct Case {
     name: &'static str,
-    /// WGSL expression of the sample at `ij` (the pixel index as `vec2<f32>`).
-    call: &'static str,
+    cell: [i32; 2],
+    offset: [f32; 2],
+    scale: f32,
     window: Window,
 }
 
@@ -59,17 +61,23 @@ fn cases() -> Vec<Case> {
     vec![
         Case {
             name: "origin",
-            call: "spectex_sample(ij)",
+            cell: [0, 0],
+            offset: [0.0, 0.0],
+            scale: 1.0,
             window: Window::new(size.0, size.1),
         },
         Case {
             name: "offset, scale 0.75",
-            call: "spectex_sample(vec2<f32>(-37.25f, 81.5f) + ij * 0.75f)",
+            cell: [0, 0],
+            offset: [-37.25, 81.5],
+            scale: 0.75,
             window: Window::new(size.0, size.1).at([-37.25, 81.5], 0.75),
         },
         Case {
             name: "(1e7, 1e7), scale 1.5",
-            call: "spectex_sample_cell(vec2<i32>(10000000i, 10000000i), vec2<f32>(0.25f, 0.5f) + ij * 1.5f)",
+            cell: [10_000_000, 10_000_000],
+            offset: [0.25, 0.5],
+            scale: 1.5,
             // A minified window: the export point-samples, as `render --no-filter` does.
             window: Window::new(size.0, size.1)
                 .at([10_000_000.25, 10_000_000.5], 1.5)
@@ -106,18 +114,26 @@ fn gpu_or_skip() -> Option<GpuContext> {
 }
 
 /// The shader the test compiles: the exported module, a full-screen triangle and a fragment
-/// shader writing, in row band `k` (`HEIGHT` rows each), case `k`'s sample at its pixel (one
-/// pipeline per model: lavapipe compiles a module with large constant tables slowly).
-fn shader(module: &str, calls: &[&str], channels: usize) -> String {
+/// shader writing, in row band `k` (`HEIGHT` rows each), case `k`'s sample at its pixel:
+/// through `spectex_sample(p)` for cases at cell (0, 0), else through
+/// `spectex_sample_cell(cell, offset + ij·scale)`. One pipeline per model, with two call sites
+/// only: lavapipe inlines every call and compiles a module with large constant tables slowly.
+fn shader(module: &str, cases: &[Case], channels: usize) -> String {
     let (ty, store) = if channels == 3 {
         ("vec3<f32>", "vec4<f32>(v, 1.0f)")
     } else {
         ("f32", "vec4<f32>(v, 0.0f, 0.0f, 1.0f)")
     };
-    let branches = calls
+    let branches = cases
         .iter()
         .enumerate()
-        .map(|(k, call)| format!("if (band == {k}u) {{\n        v = {call};\n    }}"))
+        .map(|(k, c)| {
+            format!(
+                "if (band == {k}u) {{\n        cell = vec2<i32>({}i, {}i);\n        \
+                 offset = vec2<f32>({:?}f, {:?}f);\n        scale = {:?}f;\n    }}",
+                c.cell[0], c.cell[1], c.offset[0], c.offset[1], c.scale
+            )
+        })
         .collect::<Vec<_>>()
         .join(" else ");
     format!(
@@ -134,8 +150,16 @@ fn fs(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {{
     let pixel = frag.xy - vec2<f32>(0.5f);
     let band = u32(pixel.y) / {HEIGHT}u;
     let ij = vec2<f32>(pixel.x, pixel.y - f32(band * {HEIGHT}u));
-    var v: {ty};
+    var cell = vec2<i32>(0i);
+    var offset = vec2<f32>(0.0f);
+    var scale = 1.0f;
     {branches}
+    var v: {ty};
+    if (all(cell == vec2<i32>(0i))) {{
+        v = spectex_sample(offset + ij * scale);
+    }} else {{
+        v = spectex_sample_cell(cell, offset + ij * scale);
+    }}
     return {store};
 }}
 "
@@ -338,16 +362,17 @@ fn exported_modules_render_the_cpu_values_in_a_fragment_shader() {
             .unwrap_or_else(|e| panic!("{case}: {e}"));
         let module = match wgsl_module(&model, &ExportOptions::default()) {
             Err(GpuError::Unsupported { .. }) if NOT_EXPORTED.contains(&model.kind()) => continue,
+            // Fitted LRP models over MAX_TABLE_BYTES (spectex-gpu's export test counts them).
+            Err(GpuError::LimitsExceeded { .. }) => continue,
             other => other.unwrap_or_else(|e| panic!("{case}: {e}")),
         };
         let channels = model.output_channels();
         let cpu = spectex_cpu::Evaluator::new(&model).unwrap();
         let (max_allowed, mean_allowed) = export_tolerance(&case, &model);
         let cases = cases();
-        let calls: Vec<&str> = cases.iter().map(|c| c.call).collect();
         let all = render(
             &context,
-            &shader(&module, &calls, channels),
+            &shader(&module, &cases, channels),
             channels,
             cases.len() as u32,
         )
@@ -382,7 +407,7 @@ fn exported_modules_render_the_cpu_values_in_a_fragment_shader() {
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
     assert!(
-        rendered >= 12,
-        "only {rendered} models rendered through the export (LRP 4, Gabor 2, classic 6 expected)"
+        rendered >= 10,
+        "only {rendered} models rendered through the export (LRP 2, Gabor 2, classic 6 expected)"
     );
 }

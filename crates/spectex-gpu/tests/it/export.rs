@@ -1,13 +1,14 @@
 //! The WGSL export (`spectex_gpu::export`): every model of `testdata/models/` whose kind the
 //! exporter covers gives a module that naga parses and validates, with exactly the public
 //! entry points the header promises and no resource binding; the kinds it does not cover yet
-//! fail with a typed error (an unexpected success fails too, so the list stays true). The
+//! fail with a typed error (an unexpected success fails too, so the list stays true), and so
+//! do the two fitted LRP models whose tables exceed `MAX_TABLE_BYTES`. The
 //! rendering check (a wgpu render pipeline against the CPU) is in spectex-crosscheck.
 
 use std::path::PathBuf;
 
 use spectex_gpu::GpuError;
-use spectex_gpu::export::{ExportOptions, wgsl_module};
+use spectex_gpu::export::{ExportOptions, MAX_TABLE_BYTES, wgsl_module};
 
 /// Kinds `wgsl_module` refuses with `GpuError::Unsupported` today.
 const NOT_EXPORTED: &[&str] = &["phasor", "texture", "warp", "wavelet", "texton"];
@@ -50,7 +51,7 @@ fn validate(case: &str, source: &str) -> naga::Module {
 
 #[test]
 fn every_exportable_model_validates_with_its_entry_points_and_no_binding() {
-    let mut exported = 0;
+    let (mut exported, mut too_large) = (0, 0);
     for file in model_files() {
         let case = file
             .file_stem()
@@ -65,6 +66,15 @@ fn every_exportable_model_validates_with_its_entry_points_and_no_binding() {
                 "{case}: a {} model exported; remove the kind from NOT_EXPORTED",
                 model.kind()
             );
+            continue;
+        }
+        if let Err(GpuError::LimitsExceeded { value, limit, .. }) = &result {
+            assert!(
+                value > limit && *limit == MAX_TABLE_BYTES,
+                "{case}: {result:?}"
+            );
+            println!("{case}: {value} bytes of tables, over the export's {limit}: refused");
+            too_large += 1;
             continue;
         }
         let source = result.unwrap_or_else(|e| panic!("{case}: {e}"));
