@@ -27,12 +27,12 @@ pub struct ExportCommand {
 ///
 /// # Errors
 /// An unreadable or invalid model, a kind the exporter does not cover, or an unwritable output.
+#[allow(clippy::print_stdout)] // reason: the command's result summary
 pub fn export(cmd: &ExportCommand) -> Result<()> {
     let model = read_model(&cmd.model)?;
     let module = wgsl_module(&model, &ExportOptions { z: cmd.z })
         .with_context(|| format!("cannot export {}", cmd.model.display()))?;
     write_text_atomically(&cmd.wgsl, &module)?;
-    #[allow(clippy::print_stdout)] // reason: the command's result summary
     println!(
         "wrote {} ({} model, {} bytes of WGSL)",
         cmd.wgsl.display(),
