@@ -1,4 +1,4 @@
-//! `spectex export MODEL.json --wgsl OUT.wgsl`: the model as one self-contained WGSL module for
+//! `spectex export MODEL.json --wgsl OUT`: the model as one self-contained WGSL module for
 //! a fragment shader (`spectex_gpu::export`), written atomically.
 
 use std::path::PathBuf;

@@ -1,5 +1,5 @@
 //! A spectex model in a Bevy `Material2d`: loads a module written by
-//! `spectex export MODEL.json --wgsl model.wgsl`, registers it under the import path
+//! `spectex export MODEL.json --wgsl OUT`, registers it under the import path
 //! `spectex::model`, and draws a full-window rectangle whose fragment shader
 //! (`assets/spectex_material.wgsl`) calls `spectex_sample` at every pixel.
 //!
@@ -8,7 +8,7 @@
 //! row-major from the top) and the app exits. `cargo xtask bevy-check` runs it on lavapipe and
 //! compares the frame with `spectex render`.
 //!
-//! Usage: `spectex-bevy-material MODEL.wgsl OUT.f32 WIDTH HEIGHT OFFSET_X OFFSET_Y SCALE`
+//! Usage: `spectex-bevy-material MODULE OUT.f32 WIDTH HEIGHT OFFSET_X OFFSET_Y SCALE`
 
 use std::time::Duration;
 

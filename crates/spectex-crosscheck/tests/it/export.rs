@@ -39,7 +39,7 @@ use spectex_model::{Filter, Model, Window};
 /// carries, the offsets' sums and Gabor's scaling to cell units (8): 40 unit roundoffs.
 const POSITION_ROUNDINGS: f64 = 40.0;
 
-/// Image size: small, lavapipe is slow (FACTS.md).
+/// Image size: small, lavapipe is slow.
 const WIDTH: u32 = 64;
 const HEIGHT: u32 = 48;
 
