@@ -451,6 +451,65 @@ fn basis(column: ClassicAxis, row: ClassicAxis, octave: ClassicOctave, o: u32, d
     return n;
 }
 
+/// Octave `o`'s term at the pixel whose column and row (for this octave) are given, displaced
+/// by `d` when warping, added to `acc` (with `previous`, the ridged weight chain): the
+/// per-pixel evaluation, shared by `classic_main` and the exported module
+/// (`shaders/export/classic.wgsl`, which locates the pixel itself).
+fn classic_octave(o: u32, column: ClassicAxis, row: ClassicAxis, d: vec2<f32>, acc: ptr<function, f32>, previous: ptr<function, f32>) {
+    let octave = octaves[o];
+    let w = octave.weight;
+    var fade = vec2<f32>(0.0f);
+    if (params.filtered == 1u) {
+        fade = faded[o];
+        if (fade.x == 0.0f) {
+            // Faded out: the basis is not evaluated, its expected term stays.
+            switch params.fractal {
+                case 2u: {
+                    var s = fade.y;
+                    if (o > 0u) {
+                        s *= min(max((*previous) * params.weight_gain, 0.0f), 1.0f);
+                    }
+                    (*previous) = s;
+                    (*acc) += w * s;
+                }
+                default: {
+                    (*acc) += fade.y;
+                }
+            }
+            return;
+        }
+    }
+    let n = basis(column, row, octave, o, d);
+    switch params.fractal {
+        case 1u: {
+            if (params.filtered == 1u) {
+                (*acc) += fade.x * abs(n) + fade.y;
+            } else {
+                (*acc) += w * abs(n);
+            }
+        }
+        case 2u: {
+            let r = params.ridge_offset - abs(n);
+            var s = r * r;
+            if (params.filtered == 1u) {
+                s = fade.x * s + fade.y;
+            }
+            if (o > 0u) {
+                s *= min(max((*previous) * params.weight_gain, 0.0f), 1.0f);
+            }
+            (*previous) = s;
+            (*acc) += w * s;
+        }
+        default: {
+            if (params.filtered == 1u) {
+                (*acc) += fade.x * n + fade.y;
+            } else {
+                (*acc) += w * n;
+            }
+        }
+    }
+}
+
 @compute @workgroup_size(8, 8, 1)
 fn classic_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (gid.x >= params.width || gid.y >= params.height) {
@@ -463,58 +522,7 @@ fn classic_main(@builtin(global_invocation_id) gid: vec3<u32>) {
         d = warp_displacement[gid.y * params.width + gid.x];
     }
     for (var o = 0u; o < params.octaves; o++) {
-        let octave = octaves[o];
-        let w = octave.weight;
-        var fade = vec2<f32>(0.0f);
-        if (params.filtered == 1u) {
-            fade = faded[o];
-            if (fade.x == 0.0f) {
-                // Faded out: the basis is not evaluated, its expected term stays.
-                switch params.fractal {
-                    case 2u: {
-                        var s = fade.y;
-                        if (o > 0u) {
-                            s *= min(max(previous * params.weight_gain, 0.0f), 1.0f);
-                        }
-                        previous = s;
-                        acc += w * s;
-                    }
-                    default: {
-                        acc += fade.y;
-                    }
-                }
-                continue;
-            }
-        }
-        let n = basis(columns[o * params.width + gid.x], rows[o * params.height + gid.y], octave, o, d);
-        switch params.fractal {
-            case 1u: {
-                if (params.filtered == 1u) {
-                    acc += fade.x * abs(n) + fade.y;
-                } else {
-                    acc += w * abs(n);
-                }
-            }
-            case 2u: {
-                let r = params.ridge_offset - abs(n);
-                var s = r * r;
-                if (params.filtered == 1u) {
-                    s = fade.x * s + fade.y;
-                }
-                if (o > 0u) {
-                    s *= min(max(previous * params.weight_gain, 0.0f), 1.0f);
-                }
-                previous = s;
-                acc += w * s;
-            }
-            default: {
-                if (params.filtered == 1u) {
-                    acc += fade.x * n + fade.y;
-                } else {
-                    acc += w * n;
-                }
-            }
-        }
+        classic_octave(o, columns[o * params.width + gid.x], rows[o * params.height + gid.y], d, &acc, &previous);
     }
     output[gid.y * params.width + gid.x] = params.mean + params.amplitude * acc;
 }

@@ -93,27 +93,10 @@ fn kernel_term(uxs: f32, ox: f32, fx: f32, dy2: f32, py: f32, kw: f32) -> f32 {
     return kw * gauss * wave;
 }
 
-@compute @workgroup_size(8, 8, 1)
-fn gabor_main(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if (gid.x >= params.width || gid.y >= params.height) {
-        return;
-    }
-    var column = columns[gid.x];
-    var row = rows[gid.y];
-    let index = gid.y * params.width + gid.x;
-    if (warp_params.enabled == 1u) {
-        let d = warp_displacement[index] * params.inv_radius;
-        let cx = warp_relocate(column.cell, column.offset, d.x);
-        let cy = warp_relocate(row.cell, row.offset, d.y);
-        column.cell = cx.cell;
-        column.offset = cx.offset;
-        row.cell = cy.cell;
-        row.offset = cy.offset;
-    }
-    if (column.valid == 0u || row.valid == 0u) {
-        output[index] = params.mean;
-        return;
-    }
+/// The noise at the pixel whose column and row are located by `column` and `row` (both valid):
+/// the per-pixel evaluation, shared by `gabor_main` and the exported module
+/// (`shaders/export/gabor.wgsl`, which locates the pixel itself).
+fn gabor_value(column: GaborAxis, row: GaborAxis) -> f32 {
     let key = layer_key(GABOR_LAYER, params.seed);
     var sums = array<f32, 3>(0.0f, 0.0f, 0.0f);
     for (var s = 0; s < 3; s++) {
@@ -147,5 +130,29 @@ fn gabor_main(@builtin(global_invocation_id) gid: vec3<u32>) {
         }
         sums[s] = ((acc[0] + acc[1]) + (acc[2] + acc[3])) + ((acc[4] + acc[5]) + (acc[6] + acc[7]));
     }
-    output[index] = params.mean + ((sums[0] + sums[1]) + sums[2]);
+    return params.mean + ((sums[0] + sums[1]) + sums[2]);
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn gabor_main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if (gid.x >= params.width || gid.y >= params.height) {
+        return;
+    }
+    var column = columns[gid.x];
+    var row = rows[gid.y];
+    let index = gid.y * params.width + gid.x;
+    if (warp_params.enabled == 1u) {
+        let d = warp_displacement[index] * params.inv_radius;
+        let cx = warp_relocate(column.cell, column.offset, d.x);
+        let cy = warp_relocate(row.cell, row.offset, d.y);
+        column.cell = cx.cell;
+        column.offset = cx.offset;
+        row.cell = cy.cell;
+        row.offset = cy.offset;
+    }
+    if (column.valid == 0u || row.valid == 0u) {
+        output[index] = params.mean;
+        return;
+    }
+    output[index] = gabor_value(column, row);
 }

@@ -101,6 +101,49 @@ fn lattice_index(cell: i32, k: u32) -> i32 {
     return bitcast<i32>(bitcast<u32>(cell) + k - 1u);
 }
 
+/// Stratum `s`'s term `A_s · Σ w(r²) · Σ_j cos(…)` at the pixel whose column and row axes (for
+/// this stratum) are given: the per-pixel evaluation, shared by `lrp_main` and the exported
+/// module (`shaders/export/lrp.wgsl`, which builds the axes from a position itself).
+fn lrp_stratum(s: u32, column: LatticeAxis, row: LatticeAxis) -> f32 {
+    let stratum = strata[s];
+    let key = layer_key(s, params.seed);
+    var stratum_sum = 0.0f;
+    for (var ky = 0u; ky < 4u; ky++) {
+        let dy = row.offset[ky];
+        let dy2 = dy * dy * stratum.aspect2;
+        // A whole lattice row beyond the support contributes exactly 0: skip it.
+        if (dy2 * stratum.inv_delta2 >= KB_SUPPORT2) {
+            continue;
+        }
+        let rkey = row_key(wrap_cell(lattice_index(row.cell, ky), stratum.cells_y), key);
+        for (var kx = 0u; kx < 4u; kx++) {
+            let dx = column.offset[kx];
+            let r2 = (dx * dx + dy2) * stratum.inv_delta2;
+            if (r2 >= KB_SUPPORT2) {
+                continue;
+            }
+            let w = kaiser_bessel_r2(r2);
+            let cx = wrap_cell(lattice_index(column.cell, kx), stratum.cells_x);
+            var prng = Prng(cell_hash_in_row(cx, rkey));
+            var cosines = 0.0f;
+            for (var j = 0u; j < stratum.cosines; j++) {
+                let table = tables[stratum.table_first + j];
+                let index = table.x + prng_next_u32(&prng) % table.y;
+                let f = frequencies[index];
+                let phase = prng_next_f32(&prng);
+                let c = f.y * dy + phase;
+                if (params.filtered == 1u) {
+                    cosines += gains[index] * cos_turns(f.x * dx + c);
+                } else {
+                    cosines += cos_turns(f.x * dx + c);
+                }
+            }
+            stratum_sum += w * cosines;
+        }
+    }
+    return stratum.amplitude * stratum_sum;
+}
+
 @compute @workgroup_size(8, 8, 1)
 fn lrp_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (gid.x >= params.width || gid.y >= params.height) {
@@ -108,50 +151,14 @@ fn lrp_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     var total = 0.0f;
     for (var s = 0u; s < params.strata; s++) {
-        let stratum = strata[s];
         var column = columns[s * params.width + gid.x];
         var row = rows[s * params.height + gid.y];
         if (warp_params.enabled == 1u) {
             let d = warp_displacement[gid.y * params.width + gid.x];
-            column = lrp_displaced(column, d.x, stratum.delta);
-            row = lrp_displaced(row, d.y, stratum.delta_y);
+            column = lrp_displaced(column, d.x, strata[s].delta);
+            row = lrp_displaced(row, d.y, strata[s].delta_y);
         }
-        let key = layer_key(s, params.seed);
-        var stratum_sum = 0.0f;
-        for (var ky = 0u; ky < 4u; ky++) {
-            let dy = row.offset[ky];
-            let dy2 = dy * dy * stratum.aspect2;
-            // A whole lattice row beyond the support contributes exactly 0: skip it.
-            if (dy2 * stratum.inv_delta2 >= KB_SUPPORT2) {
-                continue;
-            }
-            let rkey = row_key(wrap_cell(lattice_index(row.cell, ky), stratum.cells_y), key);
-            for (var kx = 0u; kx < 4u; kx++) {
-                let dx = column.offset[kx];
-                let r2 = (dx * dx + dy2) * stratum.inv_delta2;
-                if (r2 >= KB_SUPPORT2) {
-                    continue;
-                }
-                let w = kaiser_bessel_r2(r2);
-                let cx = wrap_cell(lattice_index(column.cell, kx), stratum.cells_x);
-                var prng = Prng(cell_hash_in_row(cx, rkey));
-                var cosines = 0.0f;
-                for (var j = 0u; j < stratum.cosines; j++) {
-                    let table = tables[stratum.table_first + j];
-                    let index = table.x + prng_next_u32(&prng) % table.y;
-                    let f = frequencies[index];
-                    let phase = prng_next_f32(&prng);
-                    let c = f.y * dy + phase;
-                    if (params.filtered == 1u) {
-                        cosines += gains[index] * cos_turns(f.x * dx + c);
-                    } else {
-                        cosines += cos_turns(f.x * dx + c);
-                    }
-                }
-                stratum_sum += w * cosines;
-            }
-        }
-        total += stratum.amplitude * stratum_sum;
+        total += lrp_stratum(s, column, row);
     }
     output[gid.y * params.width + gid.x] = total + params.mean;
 }

@@ -48,6 +48,13 @@ const COMMANDS: &[(&str, &str)] = &[
          [--no-gpu]`, papers lrp, rpn, phasor, survey (all by default); exits 1 when a claim \
          recorded as reproduced no longer holds",
     ),
+    (
+        "bevy-check",
+        "the WGSL export in Bevy: exports testdata/models/lrp-ring.json, builds \
+         examples/bevy-material (its own project, never built by CI; target dir \
+         target/bevy unless BEVY_TARGET_DIR), renders one frame headlessly on lavapipe and \
+         compares it with the CPU render within the derived tolerance",
+    ),
     ("help", "print this list"),
 ];
 
@@ -91,6 +98,12 @@ fn run() -> Result<()> {
         Some("bench") => bench(&Workspace::locate()?, rest),
         Some("fuzz") => fuzz(&Workspace::locate()?, &rest),
         Some("reproduce") => reproduce(&Workspace::locate()?, &rest),
+        Some("bevy-check") => {
+            if !rest.is_empty() {
+                bail!("`cargo xtask bevy-check` takes no arguments (got {rest:?})");
+            }
+            bevy_check(&Workspace::locate()?)
+        }
         Some(other) => bail!(
             "unknown command `{other}`; valid commands: {}",
             COMMANDS
@@ -818,6 +831,69 @@ const PAPERS: &[&str] = &["lrp", "rpn", "phasor", "survey"];
 /// `cargo xtask reproduce [PAPER…] [--quick] [--no-gpu]`: builds spectex-reproduce in release
 /// and runs it into `target/reproduce/`. The arguments are checked here first, so a typo costs
 /// no build.
+/// The model, window and frame of `cargo xtask bevy-check`; the window is the one
+/// `crates/spectex-crosscheck/tests/it/export.rs` compares the frame on (`BEVY_WINDOW`).
+const BEVY_MODEL: &str = "testdata/models/lrp-ring.json";
+const BEVY_WINDOW: [&str; 5] = ["128", "96", "-37.25", "81.5", "0.75"];
+
+/// `cargo xtask bevy-check`: export a model, run the Bevy example headlessly on lavapipe (one
+/// frame into a file), and compare the frame with the CPU in the cross-check test binary.
+fn bevy_check(ws: &Workspace) -> Result<()> {
+    let icd = ensure_lavapipe()?;
+    let out = target_dir(ws).join("bevy-check");
+    fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
+    let module = out.join("model.wgsl");
+    let frame = out.join("frame.f32");
+    let _ = fs::remove_file(&frame);
+    let mut export = ws.cargo(&[
+        "run",
+        "-p",
+        "spectex-cli",
+        "--",
+        "export",
+        BEVY_MODEL,
+        "--wgsl",
+    ]);
+    export.arg(&module);
+    let example = ws.root.join("examples/bevy-material");
+    let mut bevy = Command::new(&ws.cargo);
+    bevy.current_dir(&example).args(["run", "--"]);
+    bevy.arg(&module).arg(&frame).args(BEVY_WINDOW);
+    bevy.env(
+        "CARGO_TARGET_DIR",
+        env::var_os("BEVY_TARGET_DIR").map_or_else(|| target_dir(ws).join("bevy"), PathBuf::from),
+    );
+    lavapipe_env(&mut bevy, &icd);
+    let mut compare = ws.cargo(&[
+        "test",
+        "-p",
+        "spectex-crosscheck",
+        "--test",
+        "it",
+        "export::bevy_frame",
+        "--",
+        "--nocapture",
+    ]);
+    compare.env("SPECTEX_BEVY_FRAME", &frame);
+    run_steps(
+        "bevy-check",
+        vec![
+            Step {
+                title: format!("export {BEVY_MODEL}"),
+                command: export,
+            },
+            Step {
+                title: "build and run examples/bevy-material (one headless frame)".to_owned(),
+                command: bevy,
+            },
+            Step {
+                title: "compare the frame with the CPU render".to_owned(),
+                command: compare,
+            },
+        ],
+    )
+}
+
 fn reproduce(ws: &Workspace, args: &[OsString]) -> Result<()> {
     for arg in args {
         let arg = arg.to_string_lossy();

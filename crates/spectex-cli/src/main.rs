@@ -7,6 +7,7 @@ mod analyze;
 mod assemble;
 mod device;
 mod exemplar;
+mod export;
 mod fit;
 mod io;
 mod model_file;
@@ -95,6 +96,11 @@ enum Command {
         after_help = "Examples:\n  spectex render model.json --size 8192x8192 --tiles 4x4 --tile-index 5 -o tile-5.exr\n  spectex assemble tile-*.exr -o whole.exr\n\nEach tile records its place in its data window; the tiles must be of one render and cover\nits image exactly once. Memory holds one band of rows of the image, not the image."
     )]
     Assemble(assemble::AssembleCommand),
+    /// Export a model as a self-contained WGSL module for a fragment shader.
+    #[command(
+        after_help = "Examples:\n  spectex export model.json --wgsl model.wgsl\n\nThe module defines fn spectex_sample(p: vec2<f32>) -> f32 (vec3<f32> for colour models):\nthe model at p in model pixels, as `spectex render` computes it (pixel (i, j) of a render at\n--offset o --scale s is spectex_sample(o + (i, j)·s)), and spectex_sample_cell(cell, offset)\nfor positions far from the origin. Its header comment documents both."
+    )]
+    Export(export::ExportCommand),
 }
 
 #[derive(Debug, Args)]
@@ -228,6 +234,7 @@ fn run(cli: Cli) -> Result<()> {
         }
         Command::Fit(cmd) => fit::fit(&cmd),
         Command::Render(cmd) => render::render(&cmd),
+        Command::Export(cmd) => export::export(&cmd),
         Command::Synth(cmd) => fit::synth(&cmd),
         Command::Noise(cmd) => noise::noise(&cmd),
         Command::Phasor(cmd) => phasor::phasor(&cmd),

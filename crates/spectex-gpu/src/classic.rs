@@ -10,6 +10,7 @@ use spectex_model::classic::{
 use spectex_model::random::layer_key;
 
 use crate::axis::{periodic_columns, periodic_rows};
+use crate::export::{ExportKind, ExportParts};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
@@ -265,6 +266,32 @@ impl GpuKind for ClassicNoise {
     ) -> Result<Box<dyn GpuKernel>, GpuError> {
         let (kernel, octaves) = pack_periodic(self, z, Some(period));
         Shaded::boxed(context, kernel, &[Table::new("classic octaves", &octaves)])
+    }
+}
+
+impl ExportKind for ClassicNoise {
+    fn export_parts(&self, z: f64) -> Result<ExportParts, GpuError> {
+        let (kernel, octaves) = pack(self, z);
+        // Octave o: lattices 3o (c_o), 3o + 1 (c_o/(1 + F)) and 3o + 2 (c_o/F) of
+        // export/classic.wgsl; the skew lattices only matter to simplex noise (F > 0).
+        let lattices = kernel
+            .sides
+            .iter()
+            .flat_map(|&c| {
+                let f = kernel.skew;
+                if f > 0.0 {
+                    [c, c / (1.0 + f), c / f]
+                } else {
+                    [c, c, c]
+                }
+            })
+            .collect();
+        ExportParts::of(
+            &kernel,
+            &[Table::new("classic octaves", &octaves)],
+            lattices,
+            "classic",
+        )
     }
 }
 

@@ -5,6 +5,7 @@
 use spectex_model::{GaborNoise, Orientation};
 
 use crate::axis::{CellAxis, cell_axis, columns, rows};
+use crate::export::{ExportKind, ExportParts};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
@@ -101,6 +102,15 @@ fn pack(model: &GaborNoise) -> GaborKernel {
 impl GpuKind for GaborNoise {
     fn gpu_kernel(&self, context: &GpuContext, _z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
         Shaded::boxed(context, pack(self), &[])
+    }
+}
+
+impl ExportKind for GaborNoise {
+    fn export_parts(&self, _z: f64) -> Result<ExportParts, GpuError> {
+        let kernel = pack(self);
+        // The kernel grid is the export's lattice 0 (export/gabor.wgsl).
+        let lattices = vec![kernel.radius];
+        ExportParts::of(&kernel, &[], lattices, "gabor")
     }
 }
 

@@ -73,6 +73,7 @@ mod axis;
 mod context;
 mod error;
 mod evaluator;
+pub mod export;
 mod kernel;
 mod layout;
 mod pipeline;

@@ -6,6 +6,7 @@
 use spectex_model::{LrpNoise, Period};
 
 use crate::axis::{periodic_columns, periodic_rows};
+use crate::export::{ExportKind, ExportParts};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::{Shaded, binding_limit};
@@ -145,6 +146,33 @@ pub(crate) fn lattice_axis(
     records
 }
 
+/// The kernel of a validated model (periodic with `period` when given) and the tables it keeps
+/// on the device, in binding order, with the frequency tables' size in bytes: what the device
+/// evaluator uploads and what the WGSL export writes as constants.
+fn host(model: &LrpNoise, period: Option<Period>) -> (LrpKernel, Vec<Table>, u64) {
+    let packed = pack(model, period);
+    let frequency_bytes = size_of_val(packed.frequencies.as_slice()) as u64;
+    let sides: Vec<[f64; 2]> = model
+        .strata
+        .iter()
+        .map(|s| lattice_sides(s.window_width, period))
+        .collect();
+    let kernel = LrpKernel {
+        model: model.clone(),
+        seed: model.seed,
+        mean: model.mean,
+        deltas: sides.iter().map(|s| s[0]).collect(),
+        deltas_y: sides.iter().map(|s| s[1]).collect(),
+        period,
+    };
+    let tables = vec![
+        Table::new("lrp strata", &packed.strata),
+        Table::new("lrp frequencies", &packed.frequencies),
+        Table::new("lrp tables", &packed.tables),
+    ];
+    (kernel, tables, frequency_bytes)
+}
+
 impl GpuKind for LrpNoise {
     fn gpu_kernel(&self, context: &GpuContext, _z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
         lrp_kernel(self, context, None)
@@ -160,15 +188,23 @@ impl GpuKind for LrpNoise {
     }
 }
 
+impl ExportKind for LrpNoise {
+    fn export_parts(&self, _z: f64) -> Result<ExportParts, GpuError> {
+        let (kernel, tables, _) = host(self, None);
+        // Stratum s's lattice is the export's lattice s (export/lrp.wgsl).
+        let lattices = kernel.deltas.clone();
+        ExportParts::of(&kernel, &tables, lattices, "lrp")
+    }
+}
+
 /// The kernel of a validated LRP model, periodic with `period` when given.
 fn lrp_kernel(
     model: &LrpNoise,
     context: &GpuContext,
     period: Option<Period>,
 ) -> Result<Box<dyn GpuKernel>, GpuError> {
-    let packed = pack(model, period);
+    let (kernel, tables, needed) = host(model, period);
     let limit = binding_limit(&context.limits());
-    let needed = size_of_val(packed.frequencies.as_slice()) as u64;
     if needed > limit {
         return Err(GpuError::LimitsExceeded {
             what: "frequency tables (bytes in one storage buffer)",
@@ -176,28 +212,7 @@ fn lrp_kernel(
             limit,
         });
     }
-    let sides: Vec<[f64; 2]> = model
-        .strata
-        .iter()
-        .map(|s| lattice_sides(s.window_width, period))
-        .collect();
-    let kernel = LrpKernel {
-        model: model.clone(),
-        seed: model.seed,
-        mean: model.mean,
-        deltas: sides.iter().map(|s| s[0]).collect(),
-        deltas_y: sides.iter().map(|s| s[1]).collect(),
-        period,
-    };
-    Shaded::boxed(
-        context,
-        kernel,
-        &[
-            Table::new("lrp strata", &packed.strata),
-            Table::new("lrp frequencies", &packed.frequencies),
-            Table::new("lrp tables", &packed.tables),
-        ],
-    )
+    Shaded::boxed(context, kernel, &tables)
 }
 
 impl ShaderKernel for LrpKernel {

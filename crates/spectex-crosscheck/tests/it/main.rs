@@ -4,5 +4,6 @@
 //! One test binary for the crate, a module per file: every test binary is another link of all
 //! the dependencies.
 
+mod export;
 mod models;
 mod texture_fixtures;

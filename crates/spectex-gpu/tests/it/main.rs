@@ -8,6 +8,7 @@ mod api;
 mod classic;
 mod common;
 mod contract;
+mod export;
 mod gabor;
 mod kit;
 mod lrp;

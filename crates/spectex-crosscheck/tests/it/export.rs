@@ -1,0 +1,413 @@
+//! The WGSL export inside someone else's shader: for every model of `testdata/models/` whose
+//! kind `spectex_gpu::export` covers, a wgpu **render** pipeline (a full-screen triangle and a
+//! fragment shader that includes the exported module and calls `spectex_sample` or
+//! `spectex_sample_cell` at its pixel's position) draws into an `Rgba32Float` texture on the
+//! adapter (lavapipe under `cargo xtask verify`), and the image is compared with the CPU
+//! evaluator's render of the same window: at the origin, at a fractional offset with scale
+//! 0.75, and at `(10⁷, 10⁷)` with scale 1.5 through the `(cell, offset)` entry (point samples:
+//! the CPU window is unfiltered, `render --no-filter`, as the export does not filter).
+//!
+//! Tolerance, per model: the CPU–GPU bound of spectex-crosscheck (`tolerance(model)`, derived
+//! per kind: the fragment stage runs the same f32 WGSL functions as the compute evaluator, and
+//! uses no derivative, so the same contraction and rounding bounds hold), plus what the export
+//! adds — its lattice positions come from `export/split.wgsl` instead of the host's f64, off by
+//! at most `POSITION_ROUNDINGS` roundings of a number below `2·cell + 2` pixels per axis — times
+//! the kind's Lipschitz bound (`regularity(model).slope`, per pixel), plus its `jump` for kinds
+//! whose kernels are truncated (a kernel edge within that distance may flip). The test
+//! positions are dyadic, so the fragment shader forms them exactly.
+//!
+//! Skips with a printed reason when no GPU adapter exists, unless `SPECTEX_REQUIRE_GPU=1`.
+
+#![allow(
+    clippy::unwrap_used,
+    reason = "a test fails loudly on the first unexpected None or Err"
+)]
+#![allow(
+    clippy::print_stdout,
+    reason = "the per-model lines are the test's report"
+)]
+
+use std::path::PathBuf;
+
+use spectex_crosscheck::tolerance::{F32_UNIT_ROUNDOFF, regularity, tolerance};
+use spectex_gpu::export::{ExportOptions, wgsl_module};
+use spectex_gpu::{GpuContext, GpuError, wgpu};
+use spectex_model::{Filter, Model, Window};
+
+/// Roundings that separate the export's lattice offsets from the host's: up to 32 table
+/// remainders of half an f32 ulp each where a lattice side is not an f32 (Gabor's radius), the
+/// carries, the offsets' sums and Gabor's scaling to cell units (8): 40 unit roundoffs.
+const POSITION_ROUNDINGS: f64 = 40.0;
+
+/// Image size: small, lavapipe is slow.
+const WIDTH: u32 = 64;
+const HEIGHT: u32 = 48;
+
+/// Kinds the exporter does not cover yet (as in spectex-gpu's export test).
+const NOT_EXPORTED: &[&str] = &["phasor", "texture", "warp", "wavelet", "texton"];
+
+/// One window: its top-left position as the fragment shader receives it (integer part and
+/// f32 fraction), its scale, and the CPU window.
+struct Case {
+    name: &'static str,
+    cell: [i32; 2],
+    offset: [f32; 2],
+    scale: f32,
+    window: Window,
+}
+
+fn cases() -> Vec<Case> {
+    let size = (WIDTH as usize, HEIGHT as usize);
+    vec![
+        Case {
+            name: "origin",
+            cell: [0, 0],
+            offset: [0.0, 0.0],
+            scale: 1.0,
+            window: Window::new(size.0, size.1),
+        },
+        Case {
+            name: "offset, scale 0.75",
+            cell: [0, 0],
+            offset: [-37.25, 81.5],
+            scale: 0.75,
+            window: Window::new(size.0, size.1).at([-37.25, 81.5], 0.75),
+        },
+        Case {
+            name: "(1e7, 1e7), scale 1.5",
+            cell: [10_000_000, 10_000_000],
+            offset: [0.25, 0.5],
+            scale: 1.5,
+            // A minified window: the export point-samples, as `render --no-filter` does.
+            window: Window::new(size.0, size.1)
+                .at([10_000_000.25, 10_000_000.5], 1.5)
+                .filtered(Filter::Off),
+        },
+    ]
+}
+
+fn model_files() -> Vec<PathBuf> {
+    let dir = PathBuf::from(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../testdata/models"
+    ));
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "json"))
+        .collect();
+    files.sort();
+    files
+}
+
+fn gpu_or_skip() -> Option<GpuContext> {
+    match GpuContext::new() {
+        Ok(c) => Some(c),
+        Err(e) if std::env::var("SPECTEX_REQUIRE_GPU").is_ok_and(|v| v == "1") => {
+            panic!("SPECTEX_REQUIRE_GPU=1 but no GPU: {e}")
+        }
+        Err(e) => {
+            println!("SKIPPED export render test: {e}");
+            None
+        }
+    }
+}
+
+/// The shader the test compiles: the exported module, a full-screen triangle and a fragment
+/// shader writing, in row band `k` (`HEIGHT` rows each), case `k`'s sample at its pixel:
+/// through `spectex_sample(p)` for cases at cell (0, 0), else through
+/// `spectex_sample_cell(cell, offset + ij·scale)`. One pipeline per model, with two call sites
+/// only: lavapipe inlines every call and compiles a module with large constant tables slowly.
+fn shader(module: &str, cases: &[Case], channels: usize) -> String {
+    let (ty, store) = if channels == 3 {
+        ("vec3<f32>", "vec4<f32>(v, 1.0f)")
+    } else {
+        ("f32", "vec4<f32>(v, 0.0f, 0.0f, 1.0f)")
+    };
+    let branches = cases
+        .iter()
+        .enumerate()
+        .map(|(k, c)| {
+            format!(
+                "if (band == {k}u) {{\n        cell = vec2<i32>({}i, {}i);\n        \
+                 offset = vec2<f32>({:?}f, {:?}f);\n        scale = {:?}f;\n    }}",
+                c.cell[0], c.cell[1], c.offset[0], c.offset[1], c.scale
+            )
+        })
+        .collect::<Vec<_>>()
+        .join(" else ");
+    format!(
+        "{module}
+// ---- the test's own shader ----
+@vertex
+fn vs(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {{
+    let xy = vec2<f32>(f32((i << 1u) & 2u), f32(i & 2u)) * 2.0f - 1.0f;
+    return vec4<f32>(xy, 0.0f, 1.0f);
+}}
+
+@fragment
+fn fs(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {{
+    let pixel = frag.xy - vec2<f32>(0.5f);
+    let band = u32(pixel.y) / {HEIGHT}u;
+    let ij = vec2<f32>(pixel.x, pixel.y - f32(band * {HEIGHT}u));
+    var cell = vec2<i32>(0i);
+    var offset = vec2<f32>(0.0f);
+    var scale = 1.0f;
+    {branches}
+    var v: {ty};
+    if (all(cell == vec2<i32>(0i))) {{
+        v = spectex_sample(offset + ij * scale);
+    }} else {{
+        v = spectex_sample_cell(cell, offset + ij * scale);
+    }}
+    return {store};
+}}
+"
+    )
+}
+
+/// Renders `source`'s full-screen triangle into an `Rgba32Float` target and reads back the
+/// first `channels` components of every pixel, row-major from the top.
+fn render(
+    context: &GpuContext,
+    source: &str,
+    channels: usize,
+    bands: u32,
+) -> Result<Vec<f32>, String> {
+    let rows = HEIGHT * bands;
+    let device = context.device();
+    let queue = context.queue();
+    let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("export test"),
+        source: wgpu::ShaderSource::Wgsl(source.into()),
+    });
+    let format = wgpu::TextureFormat::Rgba32Float;
+    let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("export test"),
+        layout: None,
+        vertex: wgpu::VertexState {
+            module: &module,
+            entry_point: Some("vs"),
+            compilation_options: wgpu::PipelineCompilationOptions::default(),
+            buffers: &[],
+        },
+        primitive: wgpu::PrimitiveState::default(),
+        depth_stencil: None,
+        multisample: wgpu::MultisampleState::default(),
+        fragment: Some(wgpu::FragmentState {
+            module: &module,
+            entry_point: Some("fs"),
+            compilation_options: wgpu::PipelineCompilationOptions::default(),
+            targets: &[Some(wgpu::ColorTargetState {
+                format,
+                blend: None,
+                write_mask: wgpu::ColorWrites::ALL,
+            })],
+        }),
+        multiview_mask: None,
+        cache: None,
+    });
+    let target = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("export target"),
+        size: wgpu::Extent3d {
+            width: WIDTH,
+            height: rows,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    });
+    let row_bytes = WIDTH * 16;
+    let readback = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("export readback"),
+        size: u64::from(row_bytes * rows),
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    let view = target.create_view(&wgpu::TextureViewDescriptor::default());
+    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+    {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("export test"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: None,
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&pipeline);
+        pass.draw(0..3, 0..1);
+    }
+    encoder.copy_texture_to_buffer(
+        target.as_image_copy(),
+        wgpu::TexelCopyBufferInfo {
+            buffer: &readback,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(row_bytes),
+                rows_per_image: Some(rows),
+            },
+        },
+        wgpu::Extent3d {
+            width: WIDTH,
+            height: rows,
+            depth_or_array_layers: 1,
+        },
+    );
+    queue.submit([encoder.finish()]);
+    if let Some(e) = pollster::block_on(scope.pop()) {
+        return Err(e.to_string());
+    }
+    let slice = readback.slice(..);
+    slice.map_async(wgpu::MapMode::Read, |_| {});
+    device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| e.to_string())?;
+    let data = slice.get_mapped_range().map_err(|e| e.to_string())?;
+    let texels: &[f32] = bytemuck::cast_slice(&data);
+    Ok(texels
+        .chunks_exact(4)
+        .flat_map(|t| t[..channels].to_vec())
+        .collect())
+}
+
+/// `(max, mean)` bounds on `|cpu − export|` for `model` (see the module doc).
+fn export_tolerance(case: &str, model: &Model) -> (f64, f64) {
+    let base = tolerance(model).unwrap_or_else(|| panic!("{case}: no tolerance"));
+    let reg = regularity(model).unwrap_or_else(|| panic!("{case}: no regularity"));
+    let position = POSITION_ROUNDINGS * F32_UNIT_ROUNDOFF * (2.0 * reg.cell + 2.0);
+    let moved = reg.slope * position * std::f64::consts::SQRT_2;
+    (
+        base.max_abs + moved + reg.jump.max(0.0),
+        base.mean_abs + moved,
+    )
+}
+
+/// The frame `cargo xtask bevy-check` rendered through examples/bevy-material (its
+/// `BEVY_MODEL` and `BEVY_WINDOW`), named by `SPECTEX_BEVY_FRAME`: RGB f32 per pixel from an
+/// `Rgba16Float` target, compared with the CPU render within [`export_tolerance`] plus the
+/// target's rounding to f16 (half an ulp: `|v|·2⁻¹¹` for normal values, `2⁻²⁵` below 2⁻¹⁴).
+/// Without the variable (every run but `bevy-check`'s) there is no frame and it says so.
+#[test]
+fn bevy_frame_matches_the_cpu() {
+    let Some(path) = std::env::var_os("SPECTEX_BEVY_FRAME") else {
+        println!("SKIPPED: SPECTEX_BEVY_FRAME is not set (cargo xtask bevy-check sets it)");
+        return;
+    };
+    let (width, height, offset, scale) = (128usize, 96usize, [-37.25, 81.5], 0.75);
+    let file = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../testdata/models/lrp-ring.json"
+    );
+    let model: Model = spectex_model::from_json(&std::fs::read_to_string(file).unwrap()).unwrap();
+    let want = spectex_cpu::Evaluator::new(&model)
+        .unwrap()
+        .render(&Window::new(width, height).at(offset, scale))
+        .unwrap();
+    let bytes = std::fs::read(&path).unwrap();
+    let got: Vec<f32> = bytes
+        .chunks_exact(4)
+        .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        .collect();
+    assert_eq!(got.len(), 3 * width * height, "frame size");
+    let (max_allowed, mean_allowed) = export_tolerance("lrp-ring", &model);
+    let (mut worst, mut excess, mut sum) = (0.0f64, f64::NEG_INFINITY, 0.0);
+    for (k, &w) in want.iter().enumerate() {
+        let w = f64::from(w);
+        let half_ulp = (w.abs() * 2f64.powi(-11)).max(2f64.powi(-25));
+        for c in 0..3 {
+            let e = (w - f64::from(got[3 * k + c])).abs();
+            worst = worst.max(e);
+            sum += e;
+            excess = excess.max(e - (max_allowed + half_ulp));
+        }
+    }
+    let mean = sum / (3 * width * height) as f64;
+    let peak = want.iter().fold(0.0f64, |m, v| m.max(f64::from(*v).abs()));
+    println!(
+        "bevy-check: lrp-ring {width}x{height} at {offset:?} scale {scale}: max |cpu − bevy| \
+         {worst:.3e} (allowed {max_allowed:.3e} + f16 half-ulp ≤ {:.3e}), mean {mean:.3e}",
+        peak * 2f64.powi(-11)
+    );
+    assert!(excess <= 0.0, "a pixel exceeds its bound by {excess:.3e}");
+    assert!(
+        mean <= mean_allowed + peak * 2f64.powi(-11),
+        "mean {mean:.3e} over {mean_allowed:.3e} + f16 rounding"
+    );
+}
+
+#[test]
+fn exported_modules_render_the_cpu_values_in_a_fragment_shader() {
+    let Some(context) = gpu_or_skip() else {
+        return;
+    };
+    let mut failures = Vec::new();
+    let mut rendered = 0;
+    for file in model_files() {
+        let case = file.file_stem().unwrap().to_string_lossy().into_owned();
+        let model: Model = spectex_model::from_json(&std::fs::read_to_string(&file).unwrap())
+            .unwrap_or_else(|e| panic!("{case}: {e}"));
+        let module = match wgsl_module(&model, &ExportOptions::default()) {
+            Err(GpuError::Unsupported { .. }) if NOT_EXPORTED.contains(&model.kind()) => continue,
+            // Fitted LRP models over MAX_TABLE_BYTES (spectex-gpu's export test counts them).
+            Err(GpuError::LimitsExceeded { .. }) => continue,
+            other => other.unwrap_or_else(|e| panic!("{case}: {e}")),
+        };
+        let channels = model.output_channels();
+        let cpu = spectex_cpu::Evaluator::new(&model).unwrap();
+        let (max_allowed, mean_allowed) = export_tolerance(&case, &model);
+        let cases = cases();
+        let all = render(
+            &context,
+            &shader(&module, &cases, channels),
+            channels,
+            cases.len() as u32,
+        )
+        .unwrap_or_else(|e| panic!("{case}: {e}"));
+        let per_case = all.len() / cases.len();
+        for (c, got) in cases.iter().zip(all.chunks_exact(per_case)) {
+            let want = cpu.render(&c.window).unwrap();
+            assert_eq!(got.len(), want.len());
+            let errors: Vec<f64> = want
+                .iter()
+                .zip(got)
+                .map(|(a, b)| (f64::from(*a) - f64::from(*b)).abs())
+                .collect();
+            let (worst, at) = errors.iter().enumerate().fold((0.0, 0), |(m, i), (k, &e)| {
+                if e > m || e.is_nan() { (e, k) } else { (m, i) }
+            });
+            let mean = errors.iter().sum::<f64>() / errors.len() as f64;
+            println!(
+                "export: {case} {}: max {worst:.3e} (allowed {max_allowed:.3e}), mean {mean:.3e} \
+                 (allowed {mean_allowed:.3e})",
+                c.name
+            );
+            if !(worst <= max_allowed && mean <= mean_allowed) {
+                failures.push(format!(
+                    "{case} {}: max {worst:.3e} at value {at} (cpu {}, export {}) vs {max_allowed:.3e}, \
+                     mean {mean:.3e} vs {mean_allowed:.3e}",
+                    c.name, want[at], got[at]
+                ));
+            }
+        }
+        rendered += 1;
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    assert!(
+        rendered >= 10,
+        "only {rendered} models rendered through the export (LRP 2, Gabor 2, classic 6 expected)"
+    );
+}

@@ -1,0 +1,224 @@
+//! A spectex model in a Bevy `Material2d`: loads a module written by
+//! `spectex export MODEL.json --wgsl OUT`, registers it under the import path
+//! `spectex::model`, and draws a full-window rectangle whose fragment shader
+//! (`assets/spectex_material.wgsl`) calls `spectex_sample` at every pixel.
+//!
+//! Headless (no window, no winit): the camera renders into an `Rgba16Float` image, one frame is
+//! captured with Bevy's `Screenshot`, written as raw little-endian f32 values (RGB per pixel,
+//! row-major from the top) and the app exits. `cargo xtask bevy-check` runs it on lavapipe and
+//! compares the frame with `spectex render`.
+//!
+//! Usage: `spectex-bevy-material MODULE OUT.f32 WIDTH HEIGHT OFFSET_X OFFSET_Y SCALE`
+
+use std::time::Duration;
+
+use bevy::app::ScheduleRunnerPlugin;
+use bevy::camera::RenderTarget;
+use bevy::core_pipeline::tonemapping::{DebandDither, Tonemapping};
+use bevy::prelude::*;
+use bevy::render::render_resource::{AsBindGroup, TextureFormat};
+use bevy::render::view::Hdr;
+use bevy::render::view::screenshot::{Screenshot, ScreenshotCaptured};
+use bevy::shader::ShaderRef;
+use bevy::sprite_render::{Material2d, Material2dPlugin};
+use bevy::window::ExitCondition;
+
+/// The material: where the window starts and how many model pixels a framebuffer pixel spans.
+#[derive(Asset, TypePath, AsBindGroup, Debug, Clone)]
+struct SpectexMaterial {
+    /// (offset x, offset y, scale, unused).
+    #[uniform(0)]
+    view: Vec4,
+}
+
+impl Material2d for SpectexMaterial {
+    fn fragment_shader() -> ShaderRef {
+        "spectex_material.wgsl".into()
+    }
+}
+
+/// The command line.
+#[derive(Resource, Clone)]
+struct Settings {
+    module: String,
+    output: String,
+    width: u32,
+    height: u32,
+    view: Vec4,
+}
+
+/// Keeps the exported module's shader asset alive (imports resolve against loaded shaders).
+#[derive(Resource)]
+#[allow(dead_code)]
+struct ModelShader(Handle<Shader>);
+
+/// Frames since start-up: the screenshot is requested once the pipeline had time to compile.
+#[derive(Resource, Default)]
+struct Frames(u32);
+
+fn parse() -> Result<Settings, String> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    if args.len() != 7 {
+        return Err(
+            "usage: spectex-bevy-material MODEL.wgsl OUT.f32 WIDTH HEIGHT OFFSET_X OFFSET_Y SCALE"
+                .into(),
+        );
+    }
+    let num = |i: usize| args[i].parse::<f32>().map_err(|e| format!("{}: {e}", args[i]));
+    let module = std::fs::read_to_string(&args[0]).map_err(|e| format!("{}: {e}", args[0]))?;
+    Ok(Settings {
+        module,
+        output: args[1].clone(),
+        width: args[2].parse().map_err(|e| format!("{}: {e}", args[2]))?,
+        height: args[3].parse().map_err(|e| format!("{}: {e}", args[3]))?,
+        view: Vec4::new(num(4)?, num(5)?, num(6)?, 0.0),
+    })
+}
+
+fn main() -> std::process::ExitCode {
+    let settings = match parse() {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return std::process::ExitCode::FAILURE;
+        }
+    };
+    let exit = App::new()
+        .add_plugins((
+            DefaultPlugins.set(WindowPlugin {
+                primary_window: None,
+                exit_condition: ExitCondition::DontExit,
+                ..default()
+            }),
+            ScheduleRunnerPlugin::run_loop(Duration::from_millis(5)),
+            Material2dPlugin::<SpectexMaterial>::default(),
+        ))
+        .insert_resource(settings)
+        .init_resource::<Frames>()
+        .add_systems(Startup, setup)
+        .add_systems(Update, capture)
+        .run();
+    match exit {
+        AppExit::Success => std::process::ExitCode::SUCCESS,
+        AppExit::Error(_) => std::process::ExitCode::FAILURE,
+    }
+}
+
+fn setup(
+    mut commands: Commands,
+    settings: Res<Settings>,
+    mut shaders: ResMut<Assets<Shader>>,
+    mut images: ResMut<Assets<Image>>,
+    mut meshes: ResMut<Assets<Mesh>>,
+    mut materials: ResMut<Assets<SpectexMaterial>>,
+) {
+    // The exported module, importable as `spectex::model` (naga_oil's import path).
+    let source = format!("#define_import_path spectex::model\n{}", settings.module);
+    let handle = shaders.add(Shader::from_wgsl(source, "spectex_model.wgsl"));
+    commands.insert_resource(ModelShader(handle));
+
+    let target = images.add(Image::new_target_texture(
+        settings.width,
+        settings.height,
+        TextureFormat::Rgba16Float,
+        None,
+    ));
+    commands.insert_resource(Target(target.clone()));
+    commands.spawn((
+        Camera2d,
+        RenderTarget::Image(target.into()),
+        Hdr,
+        Tonemapping::None,
+        DebandDither::Disabled,
+        Msaa::Off,
+    ));
+    commands.spawn((
+        Mesh2d(meshes.add(Rectangle::new(
+            settings.width as f32 * 2.0,
+            settings.height as f32 * 2.0,
+        ))),
+        MeshMaterial2d(materials.add(SpectexMaterial {
+            view: settings.view,
+        })),
+    ));
+}
+
+/// The render target.
+#[derive(Resource)]
+struct Target(Handle<Image>);
+
+fn capture(
+    mut commands: Commands,
+    mut frames: ResMut<Frames>,
+    target: Option<Res<Target>>,
+    settings: Res<Settings>,
+) {
+    frames.0 += 1;
+    let Some(target) = target else { return };
+    // A few frames for the asset loads and the pipeline compilation, then one capture.
+    if frames.0 != 30 {
+        return;
+    }
+    let settings = settings.clone();
+    commands
+        .spawn(Screenshot::image(target.0.clone()))
+        .observe(
+            move |captured: On<ScreenshotCaptured>, mut exit: MessageWriter<AppExit>| {
+                let result = write_frame(&captured.image, &settings);
+                if let Err(e) = &result {
+                    eprintln!("error: {e}");
+                }
+                exit.write(match result {
+                    Ok(()) => AppExit::Success,
+                    Err(_) => AppExit::error(),
+                });
+            },
+        );
+}
+
+/// Writes the frame's RGB as little-endian f32, row-major.
+fn write_frame(image: &Image, settings: &Settings) -> Result<(), String> {
+    let data = image.data.as_ref().ok_or("the screenshot has no data")?;
+    let (w, h) = (settings.width as usize, settings.height as usize);
+    let format = image.texture_descriptor.format;
+    let texel = match format {
+        TextureFormat::Rgba16Float => 8,
+        TextureFormat::Rgba32Float => 16,
+        other => return Err(format!("unexpected screenshot format {other:?}")),
+    };
+    if data.len() < w * h * texel {
+        return Err(format!("screenshot holds {} bytes for {w}x{h}", data.len()));
+    }
+    let row = data.len() / h;
+    let mut out = Vec::with_capacity(w * h * 12);
+    for j in 0..h {
+        for i in 0..w {
+            let at = j * row + i * texel;
+            for c in 0..3 {
+                let v = if texel == 8 {
+                    let b = &data[at + 2 * c..at + 2 * c + 2];
+                    f16_to_f32(u16::from_le_bytes([b[0], b[1]]))
+                } else {
+                    let b = &data[at + 4 * c..at + 4 * c + 4];
+                    f32::from_le_bytes([b[0], b[1], b[2], b[3]])
+                };
+                out.extend_from_slice(&v.to_le_bytes());
+            }
+        }
+    }
+    std::fs::write(&settings.output, out).map_err(|e| format!("{}: {e}", settings.output))?;
+    println!("wrote {} ({w}x{h}, {format:?})", settings.output);
+    Ok(())
+}
+
+/// IEEE binary16 to f32 (exact).
+fn f16_to_f32(h: u16) -> f32 {
+    let sign = if h & 0x8000 != 0 { -1.0 } else { 1.0 };
+    let exp = i32::from((h >> 10) & 0x1f);
+    let frac = f32::from(h & 0x3ff);
+    sign * match exp {
+        0 => frac * 2f32.powi(-24),
+        31 => f32::INFINITY,
+        e => (1.0 + frac / 1024.0) * 2f32.powi(e - 15),
+    }
+}
