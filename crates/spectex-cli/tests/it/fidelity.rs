@@ -256,19 +256,24 @@ fn noise_by_example_matches_the_exemplar_spectrum() {
 }
 
 /// Seeds of the periodic fidelity comparison.
-const PERIODIC_SEEDS: u32 = 4;
+const PERIODIC_SEEDS: u32 = 8;
 
 /// Issue 17, seamless output: a periodic LRP render (noise by example, the spectrum fit at
-/// J = 50, 1024² with period 1024×1024) is at most 0.02 further than the non-periodic render's
-/// spectral distance to the exemplar (Welch T = 256, relative L1, as
-/// [`noise_by_example_matches_the_exemplar_spectrum`]), on the mean over
-/// [`PERIODIC_SEEDS`] seeds, for the same four exemplars.
+/// J = 50, 1024² with period 1024×1024) keeps the exemplar's spectrum: the spectral distance
+/// (Welch T = 256, relative L1, as [`noise_by_example_matches_the_exemplar_spectrum`]) of the
+/// periodic renders is at most 0.02 more than the plain renders', for the same four exemplars.
 ///
-/// Both renders take the window at the origin, where the periodic lattice's cells `0..n` draw
-/// the same randomness as the plain one's (only the cells past the period wrap, and `Δ_S` moves
-/// to `1024/n`): the two estimates share most of their sampling error, so the comparison
-/// measures what the period changes — the wrapped seams and the fitted `Δ_S` — rather than two
-/// independent realisations' spread (±0.02–0.06 per seed).
+/// What the period changes is systematic: the fitted `Δ_S` (`1024/n` instead of the nominal
+/// side) and the wrapped seams move the *expected* spectrum, so the distance compared is that of
+/// the spectrum averaged over [`PERIODIC_SEEDS`] renders (one fit and one render per seed, the
+/// plain and the periodic render from the same fit). Single-render distances are no use here:
+/// on the height maps they spread by ±0.05 per seed, and moving a stratum's `Δ_S` reshuffles
+/// which lattice point covers which pixel, so a plain and a periodic render of one seed are not
+/// paired either (measured on dirt over 16 seeds: the paired differences spread by 0.045, the
+/// 16-seed means of single distances 0.152 plain and 0.162 periodic, +0.010 within that noise).
+/// Averaging 8 spectra first, the differences measured on seeds 1–8 and 9–16 were gravel +0.002
+/// and 0.000, sand −0.014 and +0.006, grass −0.001 and 0.000, dirt +0.006 and −0.010. The mean
+/// of the single-render distances is printed next to it.
 #[test]
 fn a_periodic_render_keeps_the_exemplar_spectrum() {
     let mut fft = Fft2::new();
@@ -278,7 +283,9 @@ fn a_periodic_render_keeps_the_exemplar_spectrum() {
     let window = Window::new(side, side);
     let to_array =
         |v: Vec<f32>| Array2::from_shape_vec((side, side), v.into_iter().map(f64::from).collect());
-    println!("texture   plain L1  periodic L1  difference");
+    println!(
+        "texture   L1 of the mean spectrum: plain  periodic  difference   (mean L1: plain  periodic)"
+    );
     for name in [
         "skimage_gravel.png",
         "astex_ambientcg_sand_height_512.png",
@@ -287,7 +294,8 @@ fn a_periodic_render_keeps_the_exemplar_spectrum() {
     ] {
         let Some(ex) = shared_grey(name) else { return };
         let psd = welch_psd_with_block(ex.view(), 256, &mut fft).unwrap();
-        let (mut plain, mut periodic) = (0.0, 0.0);
+        // Per render kind (plain, periodic): the summed spectra and the summed single distances.
+        let mut sums: [(Option<Array2<f64>>, f64); 2] = [(None, 0.0), (None, 0.0)];
         for seed in 1..=PERIODIC_SEEDS {
             let options = FitOptions {
                 budget: 50,
@@ -295,29 +303,37 @@ fn a_periodic_render_keeps_the_exemplar_spectrum() {
                 ..FitOptions::default()
             };
             let model = Model::Lrp(fit_image(ex.view(), &options).unwrap());
-            for (periodic_render, sum) in [(false, &mut plain), (true, &mut periodic)] {
-                let eval = if periodic_render {
+            for (periodic_render, (spectrum, single)) in sums.iter_mut().enumerate() {
+                let eval = if periodic_render == 1 {
                     Evaluator::periodic(&model, period).unwrap()
                 } else {
                     Evaluator::new(&model).unwrap()
                 };
                 let img = to_array(eval.render(&window).unwrap()).unwrap();
                 let psd_r = welch_psd_with_block(img.view(), 256, &mut fft).unwrap();
-                *sum += shape_distance(&psd_r, &psd) / f64::from(PERIODIC_SEEDS);
+                *single += shape_distance(&psd_r, &psd) / f64::from(PERIODIC_SEEDS);
+                *spectrum = Some(match spectrum.take() {
+                    None => psd_r,
+                    Some(sum) => sum + &psd_r,
+                });
             }
         }
+        // The distance is of normalised spectra: the sum needs no division by the seed count.
+        let [plain, periodic] = sums
+            .each_ref()
+            .map(|(s, _)| shape_distance(s.as_ref().unwrap(), &psd));
         let short = &name[..name.len().min(9)];
         println!(
-            "{short:<9} {plain:8.4}  {periodic:11.4}  {:+10.4}",
-            periodic - plain
+            "{short:<9} {plain:29.4} {periodic:9.4} {:+11.4}   {:16.4} {:9.4}",
+            periodic - plain,
+            sums[0].1,
+            sums[1].1,
         );
-        // One-sided: the period must cost at most 0.02. It may gain more: measured on the 4
-        // seeds, gravel +0.003, grass −0.002, but sand −0.026 and dirt −0.040 (height maps
-        // whose power lies at the lowest frequencies, where the period's fitted Δ_S and its
-        // spectrum on multiples of 1/1024 change most; not explained further yet).
+        // One-sided: the period may bring the spectrum closer (sand's first 8 seeds: −0.014).
         if periodic - plain > 0.02 {
             failures.push(format!(
-                "{name}: periodic L1 {periodic:.4} vs plain {plain:.4}, more than 0.02 worse"
+                "{name}: periodic renders' mean spectrum at L1 {periodic:.4} vs plain {plain:.4}, \
+                 more than 0.02 further"
             ));
         }
     }
