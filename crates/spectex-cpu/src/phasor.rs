@@ -53,7 +53,9 @@
 //! same bits. Impulse draws are cached per band of rows, which changes nothing but speed.
 
 use spectex_model::phasor_kernels::{Impulse, PhasorKernels};
-use spectex_model::{NEG_LN_20, PhasorNoise, PhasorOrientation, PhasorOutput, Profile, Window};
+use spectex_model::{
+    NEG_LN_20, Period, PhasorNoise, PhasorOrientation, PhasorOutput, Profile, Window,
+};
 
 use crate::lrp::Simd;
 use crate::math::{atan2_turns, cos_turns, exp_poly, sin_turns};
@@ -97,7 +99,17 @@ impl PhasorEvaluator {
     /// Prepares `model` (assumed validated) for evaluation on the plane `z` (pixels).
     #[must_use]
     pub fn new(model: &PhasorNoise, z: f64) -> Self {
-        let kernels = PhasorKernels::new(model);
+        Self::with_kernels(model, z, PhasorKernels::new(model))
+    }
+
+    /// Prepares `model` made periodic with `period` ([`PhasorKernels::new_periodic`]: cells
+    /// fitted to the period and hashed modulo it); `None` when it has no periodic form.
+    #[must_use]
+    pub fn new_periodic(model: &PhasorNoise, z: f64, period: Period) -> Option<Self> {
+        PhasorKernels::new_periodic(model, period).map(|k| Self::with_kernels(model, z, k))
+    }
+
+    fn with_kernels(model: &PhasorNoise, z: f64, kernels: PhasorKernels) -> Self {
         let mut series = Vec::new();
         samples_series(&model.profile, &mut series);
         Self {
@@ -644,6 +656,24 @@ fn profile(
 impl crate::CpuKind for PhasorNoise {
     fn cpu_kernel(&self, z: f64) -> Result<Box<dyn crate::RowKernel>, crate::CpuError> {
         Ok(Box::new(PhasorEvaluator::new(self, z)))
+    }
+
+    fn cpu_kernel_periodic(
+        &self,
+        z: f64,
+        period: Period,
+    ) -> Result<Box<dyn crate::RowKernel>, crate::CpuError> {
+        use spectex_model::ModelKind as _;
+        self.check_period(period)?;
+        PhasorEvaluator::new_periodic(self, z, period)
+            .map(|e| Box::new(e) as Box<dyn crate::RowKernel>)
+            .ok_or_else(|| {
+                crate::CpuError::Model(spectex_model::ModelError::Period {
+                    period: period.to_string(),
+                    kind: "phasor",
+                    requirement: "its cells could not be fitted to the period".into(),
+                })
+            })
     }
 }
 

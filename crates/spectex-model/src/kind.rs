@@ -53,7 +53,7 @@ pub trait ModelKind {
 
 /// The kinds that have a periodic form ([`ModelKind::check_period`]), for messages.
 pub const PERIODIC_KINDS: &[&str] = &[
-    "lrp", "gabor", "texture", "classic", "warp", "wavelet", "texton",
+    "lrp", "gabor", "phasor", "texture", "classic", "warp", "wavelet", "texton",
 ];
 
 /// Any procedural model spectex evaluates: one variant per kind, each a [`crate::ModelKind`].

@@ -77,8 +77,8 @@ pub use lrp::{LrpNoise, LrpNoiseBuilder, MAX_COSINES, MAX_STRATA, MAX_TABLE, Str
 pub use period::Period;
 pub use phasor::{
     COHERENT_BANDWIDTH_RATIO, COHERENT_SPREAD, Field, Harmonic, MAX_FIELD_SIDE,
-    MAX_PROFILE_SAMPLES, PHASOR_TRUNCATION, PhasorNoise, PhasorNoiseBuilder, PhasorOrientation,
-    PhasorOutput, Profile, RAMP_EXTENT,
+    MAX_PROFILE_SAMPLES, PHASOR_PERIOD_TOLERANCE, PHASOR_TRUNCATION, PhasorNoise,
+    PhasorNoiseBuilder, PhasorOrientation, PhasorOutput, Profile, RAMP_EXTENT,
 };
 pub use target::SpectralTarget;
 pub use texton::TextonNoise;

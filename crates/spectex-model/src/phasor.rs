@@ -30,6 +30,10 @@ pub const COHERENT_SPREAD: f32 = 2.4;
 /// The paper's locally coherent isotropic setting: `b_f = b / 2`.
 pub const COHERENT_BANDWIDTH_RATIO: f32 = 0.5;
 
+/// How far a periodic phasor noise's cell sides (so its kernels' bandwidth) may move to tile
+/// the period: 25%, as for Gabor noise.
+pub const PHASOR_PERIOD_TOLERANCE: f64 = 0.25;
+
 /// Positions at which linear fields are checked to stay in range, pixels: a ramp must keep its
 /// values valid over `|x|, |y|, |z| ≤ RAMP_EXTENT`.
 pub const RAMP_EXTENT: f64 = 1.0e4;
@@ -201,6 +205,31 @@ impl Field {
                 )?;
                 check_range(|| format!("{name}.min"), f64::from(*min), lo, hi, range)?;
                 check_range(|| format!("{name}.max"), f64::from(*max), lo, hi, range)
+            }
+        }
+    }
+
+    /// Whether the field repeats with `period` (model pixels along x and y): a constant does,
+    /// an image does when its repeat (`width·pixel_size`, `height·pixel_size`) divides the
+    /// period's sides exactly, a ramp never does.
+    #[must_use]
+    pub fn repeats_with(&self, period: crate::Period) -> bool {
+        match self {
+            Self::Constant { .. } => true,
+            Self::Linear { .. } => false,
+            Self::Image {
+                width,
+                height,
+                pixel_size,
+                ..
+            } => {
+                let [w, h] = period.sides();
+                let divides = |side: f64, repeat: f64| {
+                    let n = (side / repeat).round();
+                    n >= 1.0 && n * repeat == side
+                };
+                let p = f64::from(*pixel_size);
+                divides(w, *width as f64 * p) && divides(h, *height as f64 * p)
             }
         }
     }
@@ -438,6 +467,71 @@ impl PhasorNoise {
         (-PHASOR_TRUNCATION.ln() / std::f64::consts::PI).sqrt() / self.bandwidth_range().0
     }
 
+    /// The cell sides of this noise made periodic with `period`, pixels: the kernel grid's
+    /// (the kernel radius `r`) and, for a coherent orientation, the direction process's
+    /// (`r / bandwidth_ratio`), each `g / max(1, round(g / side))` with `g` the largest side
+    /// dividing both `W` and `H` ([`crate::Period::common_side`]), so that square cells tile the
+    /// period (as Gabor noise's, [`crate::GaborNoise::periodic_radius`]); the kernels scale
+    /// with their cells. `None` when a side moves by more than [`PHASOR_PERIOD_TOLERANCE`].
+    #[must_use]
+    pub fn periodic_sides(&self, period: crate::Period) -> Option<(f64, Option<f64>)> {
+        let g = f64::from(period.common_side());
+        let fit = |side: f64| {
+            let fitted = g / crate::period::cells_in(g, side) as f64;
+            ((fitted / side - 1.0).abs() <= PHASOR_PERIOD_TOLERANCE).then_some(fitted)
+        };
+        let r = self.kernel_radius();
+        let kernel = fit(r)?;
+        let directions = match &self.orientation {
+            PhasorOrientation::Coherent {
+                bandwidth_ratio, ..
+            } => Some(fit(r / f64::from(*bandwidth_ratio))?),
+            _ => None,
+        };
+        Some((kernel, directions))
+    }
+
+    /// The first field that does not repeat with `period` ([`Field::repeats_with`]), by its
+    /// dotted path: a periodic phasor noise reads its fields at kernel centres and at the
+    /// evaluated point, so each must repeat with the period.
+    fn field_not_repeating(&self, period: crate::Period) -> Option<String> {
+        fn profile_fields<'a>(p: &'a Profile, path: String, out: &mut Vec<(String, &'a Field)>) {
+            match p {
+                Profile::Square { duty } => out.push((format!("{path}.square.duty"), duty)),
+                Profile::Blend { a, b, weight } => {
+                    out.push((format!("{path}.blend.weight"), weight));
+                    profile_fields(a, format!("{path}.blend.a"), out);
+                    profile_fields(b, format!("{path}.blend.b"), out);
+                }
+                Profile::Sine
+                | Profile::Triangle
+                | Profile::Sawtooth
+                | Profile::Samples { .. }
+                | Profile::Harmonics { .. } => {}
+            }
+        }
+        let mut fields = vec![
+            ("phasor.bandwidth".to_owned(), &self.bandwidth),
+            ("phasor.frequency".to_owned(), &self.frequency),
+        ];
+        match &self.orientation {
+            PhasorOrientation::Aligned { angle } => {
+                fields.push(("phasor.orientation.aligned.angle".to_owned(), angle));
+            }
+            PhasorOrientation::Gradient { image, .. } => {
+                fields.push(("phasor.orientation.gradient.image".to_owned(), image));
+            }
+            PhasorOrientation::TwoLobes { .. }
+            | PhasorOrientation::Isotropic
+            | PhasorOrientation::Coherent { .. } => {}
+        }
+        profile_fields(&self.profile, "phasor.profile".to_owned(), &mut fields);
+        fields
+            .into_iter()
+            .find(|(_, f)| !f.repeats_with(period))
+            .map(|(path, _)| path)
+    }
+
     /// Mean impulses drawn per grid cell, before thinning: the footprint (`π r²` or `4/3 π r³`)
     /// of the narrowest kernel holds `impulses_per_kernel`, so a cell of the widest one's radius
     /// holds that times `(b_max/b_min)^dimensions`.
@@ -627,6 +721,38 @@ fn validate_profile(p: &Profile, name: &str, depth: usize) -> Result<(), ModelEr
 impl crate::ModelKind for PhasorNoise {
     const NAME: &'static str = "phasor";
 
+    /// Periodic when every field repeats with the period (constants, or images whose repeat
+    /// divides it) and the kernel cells (and a coherent orientation's direction cells) can be
+    /// fitted to it ([`PhasorNoise::periodic_sides`]).
+    fn check_period(&self, period: crate::Period) -> Result<(), ModelError> {
+        let refuse = |requirement: String| {
+            Err(ModelError::Period {
+                period: period.to_string(),
+                kind: "phasor",
+                requirement,
+            })
+        };
+        if let Some(path) = self.field_not_repeating(period) {
+            return refuse(format!(
+                "every field must repeat with the period, and {path} does not (a ramp never \
+                 does; an image does when its repeat, width·pixel_size by height·pixel_size, \
+                 divides the period)"
+            ));
+        }
+        if self.periodic_sides(period).is_none() {
+            return refuse(format!(
+                "its kernel radius {:.2} pixels (and a coherent orientation's direction cells, \
+                 radius / bandwidth_ratio) must become a divisor of gcd(W, H) = {} within 25%; \
+                 take a period whose sides share a large common divisor (a square one, or \
+                 multiples of {})",
+                self.kernel_radius(),
+                period.common_side(),
+                self.kernel_radius().ceil()
+            ));
+        }
+        Ok(())
+    }
+
     fn validate(&self) -> Result<(), ModelError> {
         PhasorNoise::validate(self)
     }
@@ -707,6 +833,39 @@ mod tests {
                 .unwrap_err()
                 .to_string()
                 .contains("image field")
+        );
+    }
+
+    #[test]
+    fn fields_repeat_with_periods_their_repeat_divides() {
+        let period = |w, h| crate::Period::new(w, h).unwrap();
+        assert!(Field::constant(0.3).repeats_with(period(7, 5)));
+        let ramp = Field::Linear {
+            value: 0.1,
+            gradient: [0.0, 1e-9, 0.0],
+        };
+        assert!(!ramp.repeats_with(period(256, 256)));
+        // 64 × 32 samples of 2 pixels: a 128 × 64 pixel repeat.
+        let image = Field::Image {
+            width: 64,
+            height: 32,
+            grey: vec![0.5; 64 * 32],
+            pixel_size: 2.0,
+            min: 0.0,
+            max: 1.0,
+        };
+        assert!(image.repeats_with(period(128, 64)));
+        assert!(image.repeats_with(period(384, 128)));
+        assert!(!image.repeats_with(period(128, 96)));
+        assert!(!image.repeats_with(period(64, 64)));
+        // A model whose duty cycle is that image is periodic exactly where the image repeats.
+        let mut m = model();
+        m.profile = Profile::Square { duty: image };
+        assert!(crate::ModelKind::check_period(&m, period(384, 128)).is_ok());
+        let err = crate::ModelKind::check_period(&m, period(384, 96)).unwrap_err();
+        assert!(
+            err.to_string().contains("phasor.profile.square.duty"),
+            "{err}"
         );
     }
 

@@ -7,7 +7,8 @@
 //!
 //! Cell `(i, j)` of a 2D model draws from `Prng::new(cell_hash(i, j, layer, seed))`; cell
 //! `(i, j, k)` of a 3D model from `Prng::new(cell_hash(i, j, layer, cell_hash(k, 0, layer,
-//! seed)))`. Layer [`PHASOR_LAYER`] holds the kernels: a Poisson count (Knuth's product of
+//! seed)))`; a periodic model ([`PhasorKernels::new_periodic`]) hashes `i` and `j` modulo its
+//! cells per period. Layer [`PHASOR_LAYER`] holds the kernels: a Poisson count (Knuth's product of
 //! uniforms against `exp(−λ)` in f32, capped at `⌊4λ + 32⌋`), then per impulse its offsets
 //! `u₁, u₂ (, u₃)`; where the bandwidth varies, one uniform `v` that keeps the impulse when
 //! `v < (b/b_max)^dims` for the bandwidth `b` at its position (a discarded impulse draws nothing
@@ -58,6 +59,8 @@ struct Grid {
     threshold: f32,
     /// `⌊4λ + 32⌋`.
     cap: u32,
+    /// Cells per period along x and y when periodic (cells hashed modulo them), else 0.
+    wrap: [i32; 2],
 }
 
 impl Grid {
@@ -67,17 +70,37 @@ impl Grid {
             layer,
             threshold: (-lambda).exp() as f32,
             cap: (4.0 * lambda + 32.0).floor().clamp(1.0, 4096.0) as u32,
+            wrap: [0, 0],
+        }
+    }
+
+    /// The same process on cells of side `side` hashed modulo the period `[w, h]` (pixels, each
+    /// a whole number of cells, [`crate::PhasorNoise::periodic_sides`]): a cell one period away
+    /// draws the same impulses, at its own position.
+    fn periodic(self, side: f64, period: [f64; 2]) -> Self {
+        let cells = |p: f64| (p / side).round().clamp(1.0, f64::from(i32::MAX)) as i32;
+        Self {
+            side,
+            wrap: [cells(period[0]), cells(period[1])],
+            ..self
         }
     }
 
     /// The PRNG of a cell, seeded by the contract.
     fn prng(&self, cell: [i32; 3], three_d: bool, seed: u32) -> Prng {
+        let [x, y] = [0, 1].map(|a| {
+            if self.wrap[a] > 0 {
+                cell[a].rem_euclid(self.wrap[a])
+            } else {
+                cell[a]
+            }
+        });
         let seed = if three_d {
             cell_hash(cell[2], 0, self.layer, seed)
         } else {
             seed
         };
-        Prng::new(cell_hash(cell[0], cell[1], self.layer, seed))
+        Prng::new(cell_hash(x, y, self.layer, seed))
     }
 
     /// Knuth's Poisson draw: multiply uniforms until the product falls below `exp(−λ)`.
@@ -176,6 +199,27 @@ impl PhasorKernels {
             grid: Grid::new(radius, lambda, PHASOR_LAYER),
             directions,
         }
+    }
+
+    /// The kernel process of `model` made periodic with `period` (along x and y; a 3D model's z
+    /// is not wrapped): cells of the sides [`PhasorNoise::periodic_sides`] fits, hashed modulo
+    /// the period, the kernels scaled with their cells (a kernel is truncated at one cell, and
+    /// its frequency vector is `F·side·u` turns per cell, so frequencies stay `F` per pixel while
+    /// the bandwidth moves with the side). `None` when the model has no periodic form
+    /// ([`crate::ModelKind::check_period`] says why).
+    #[must_use]
+    pub fn new_periodic(model: &PhasorNoise, period: crate::Period) -> Option<Self> {
+        crate::ModelKind::check_period(model, period).ok()?;
+        let (side, direction_side) = model.periodic_sides(period)?;
+        let sides = period.sides();
+        let mut kernels = Self::new(model);
+        kernels.grid = kernels.grid.periodic(side, sides);
+        if let (Directions::Coherent { grid, .. }, Some(d)) =
+            (&mut kernels.directions, direction_side)
+        {
+            *grid = grid.periodic(d, sides);
+        }
+        Some(kernels)
     }
 
     /// Cell side (the kernel radius), pixels.

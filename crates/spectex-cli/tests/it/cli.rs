@@ -1255,7 +1255,24 @@ fn periodic_renders_tile_seamlessly() {
         "16",
     ]);
     quarters_equal(&from_file, 40);
+    // Phasor noise (constant fields): its kernel cells fitted to the period (48.8 → 42.7 px).
+    let phasor = dir.join("phasor.png");
+    spectex_ok(&[
+        "phasor",
+        "-o",
+        s(&phasor),
+        "--size",
+        "256x256",
+        "--periodic",
+        "128x128",
+        "--offset",
+        "-77,5",
+        "--bit-depth",
+        "16",
+    ]);
+    quarters_equal(&phasor, 128);
     for f in [
+        &phasor,
         &fbm,
         &ring,
         &ring_model,
@@ -1288,8 +1305,9 @@ fn periodic_renders_tile_seamlessly() {
             &["--periodic", "not whole"],
         ),
         (
+            // The default kernel radius, 48.8 px, would move by 31% to divide 64.
             &["phasor", "--periodic", "64x64"],
-            &["--periodic", "phasor", "periodic kinds"],
+            &["--periodic", "phasor", "kernel radius", "divisor"],
         ),
     ];
     for (args, needles) in bad {

@@ -171,3 +171,52 @@ fn kinds_without_a_periodic_form_are_refused_by_name() {
         );
     }
 }
+
+/// Phasor noise is periodic when its fields repeat with the period; a ramp never does, and the
+/// refusal names the field by its path (the shipped gradient-blend model's frequency is a ramp).
+#[test]
+fn phasor_fields_that_do_not_repeat_are_refused_by_path() {
+    let p = Period::new(256, 256).unwrap();
+    let case = testdata_cases()
+        .into_iter()
+        .find(|c| c.name.contains("phasor-gradient-blend"))
+        .unwrap();
+    let err = Evaluator::periodic(&case.model, p).unwrap_err().to_string();
+    assert!(
+        err.contains("period 256x256") && err.contains("phasor.frequency"),
+        "{err}"
+    );
+    // So is the coherent PWM model's duty-cycle ramp.
+    let coherent = testdata_cases()
+        .into_iter()
+        .find(|c| c.name.contains("phasor-pwm-coherent"))
+        .unwrap();
+    let err = Evaluator::periodic(&coherent.model, p)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("phasor.profile.square.duty"), "{err}");
+    // With a constant duty cycle it is periodic: kernel cells 48.8 → 48 px and direction cells
+    // (radius / bandwidth ratio 0.5) 97.7 → 96 px both divide 96.
+    let Model::Phasor(mut m) = coherent.model else {
+        panic!("not a phasor model")
+    };
+    m.profile = spectex_model::Profile::Square {
+        duty: spectex_model::Field::constant(0.4),
+    };
+    let square = Period::new(96, 96).unwrap();
+    let eval = Evaluator::periodic(&Model::Phasor(m), square).unwrap();
+    for offset in [[0.0, 0.0], [-41.0, 1.0e7]] {
+        assert_quarters("phasor-pwm-coherent, constant duty", &eval, square, offset);
+    }
+    // The constant-field shipped models have a periodic form (the quarter tests above run them).
+    for name in ["phasor-two-lobes-phase", "phasor-3d-harmonics"] {
+        let case = testdata_cases()
+            .into_iter()
+            .find(|c| c.name.contains(name))
+            .unwrap();
+        assert!(
+            periodic_cases().iter().any(|(n, _, _)| *n == case.name),
+            "{name} has no periodic form among the test periods"
+        );
+    }
+}
