@@ -1,6 +1,6 @@
 //! Cellular automata on a torus: Life-like (B/S rules, Moore neighbourhood), elementary
 //! (Wolfram rule numbers, drawn as rows over time) and cyclic (Griffeath). Integer states, so
-//! the GPU (`shaders/automata.wgsl`) must give the same cells exactly.
+//! the GPU (`shaders/simulate.wgsl`) must give the same cells exactly.
 
 use rayon::prelude::*;
 use spectex_model::simulation::{Neighbourhood, Simulation, cell_grey};

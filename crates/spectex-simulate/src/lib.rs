@@ -7,7 +7,7 @@
 //! only, so the result is the same bytes at any thread count.
 //!
 //! * Gray–Scott: forward Euler with the 5-point Laplacian in f32 (`gray_scott.rs`; the WGSL
-//!   twin `shaders/gray_scott.wgsl` evaluates the same expression in the same order). Its
+//!   twin `shaders/simulate.wgsl` evaluates the same expression in the same order). Its
 //!   diffusion is small (Pearson's rates are 0.21 and 0.10 pixel² per step), so an explicit
 //!   step is cheaper than a spectral one at any stable time step.
 //! * Swift–Hohenberg: semi-implicit in Fourier space (`swift_hohenberg.rs`, f64 on rustfft via
