@@ -22,7 +22,7 @@
 //!
 //! let spec = SimulationSpec::new(32, 32, 10, 1, Simulation::Life(LifeLike::conway()));
 //! let mut sim = Simulator::new(&spec)?;
-//! sim.run(spec.steps, &mut |_| {});
+//! sim.run(Simulator::total_steps(&spec), &mut |_| {});
 //! let grey = sim.grey();
 //! assert_eq!(grey.len(), 32 * 32);
 //! assert!(grey.iter().all(|&g| g == 0.0 || g == 1.0));
