@@ -40,26 +40,29 @@ struct SimParams {
 @group(0) @binding(7) var<storage, read_write> image: array<u32>;
 @group(0) @binding(8) var<storage, read_write> generation: array<u32>;
 
-fn wrap_index(x: i32, y: i32) -> u32 {
-    let w = i32(params.width);
-    let h = i32(params.height);
-    let xx = ((x % w) + w) % w;
-    let yy = ((y % h) + h) % h;
-    return u32(yy * w + xx);
+// The column (row) before and after `i` on a torus of side `n`: selects, not `%` (integer
+// division is slow on software rasterisers such as lavapipe).
+fn before(i: u32, n: u32) -> u32 {
+    return select(i - 1u, n - 1u, i == 0u);
+}
+
+fn after(i: u32, n: u32) -> u32 {
+    return select(i + 1u, 0u, i + 1u == n);
 }
 
 @compute @workgroup_size(16, 16, 1)
 fn gray_scott_step(@builtin(global_invocation_id) id: vec3<u32>) {
-    if (id.x >= params.width || id.y >= params.height) {
+    let w = params.width;
+    let h = params.height;
+    if (id.x >= w || id.y >= h) {
         return;
     }
-    let x = i32(id.x);
-    let y = i32(id.y);
-    let i = wrap_index(x, y);
-    let l = wrap_index(x - 1, y);
-    let r = wrap_index(x + 1, y);
-    let t = wrap_index(x, y - 1);
-    let b = wrap_index(x, y + 1);
+    let row = id.y * w;
+    let i = row + id.x;
+    let l = row + before(id.x, w);
+    let r = row + after(id.x, w);
+    let t = before(id.y, h) * w + id.x;
+    let b = after(id.y, h) * w + id.x;
     let u = u_in[i];
     let v = v_in[i];
     let nu = (u_in[l] + u_in[r]) + (u_in[t] + u_in[b]);
@@ -71,27 +74,41 @@ fn gray_scott_step(@builtin(global_invocation_id) id: vec3<u32>) {
     v_out[i] = v + params.dt * ((params.dv * lap_v + uvv) - (params.feed + params.kill) * v);
 }
 
+// The 3 × 3 block around (x, y) on the torus as indices: rows[dy + 1] + cols[dx + 1].
+struct Block {
+    cols: vec3<u32>,
+    rows: vec3<u32>,
+}
+
+fn block(x: u32, y: u32) -> Block {
+    let w = params.width;
+    let h = params.height;
+    return Block(
+        vec3<u32>(before(x, w), x, after(x, w)),
+        vec3<u32>(before(y, h) * w, y * w, after(y, h) * w),
+    );
+}
+
 @compute @workgroup_size(16, 16, 1)
 fn life_step(@builtin(global_invocation_id) id: vec3<u32>) {
     if (id.x >= params.width || id.y >= params.height) {
         return;
     }
-    let x = i32(id.x);
-    let y = i32(id.y);
+    let k = block(id.x, id.y);
     var n = 0u;
-    for (var dy = -1; dy <= 1; dy++) {
-        for (var dx = -1; dx <= 1; dx++) {
-            if (dx != 0 || dy != 0) {
-                n += cells_in[wrap_index(x + dx, y + dy)];
+    for (var j = 0u; j < 3u; j++) {
+        for (var i = 0u; i < 3u; i++) {
+            if (i != 1u || j != 1u) {
+                n += cells_in[k.rows[j] + k.cols[i]];
             }
         }
     }
-    let i = wrap_index(x, y);
+    let c = k.rows[1] + k.cols[1];
     var mask = params.rule & 0xffffu;
-    if (cells_in[i] == 1u) {
+    if (cells_in[c] == 1u) {
         mask = params.rule >> 16u;
     }
-    cells_out[i] = (mask >> n) & 1u;
+    cells_out[c] = (mask >> n) & 1u;
 }
 
 @compute @workgroup_size(16, 16, 1)
@@ -99,26 +116,25 @@ fn cyclic_step(@builtin(global_invocation_id) id: vec3<u32>) {
     if (id.x >= params.width || id.y >= params.height) {
         return;
     }
-    let x = i32(id.x);
-    let y = i32(id.y);
-    let i = wrap_index(x, y);
-    let c = cells_in[i];
-    let succ = (c + 1u) % params.rule;
+    let k = block(id.x, id.y);
+    let c = k.rows[1] + k.cols[1];
+    let state = cells_in[c];
+    let succ = (state + 1u) % params.rule;
     let moore = (params.extra >> 8u) == 1u;
     var n = 0u;
-    for (var dy = -1; dy <= 1; dy++) {
-        for (var dx = -1; dx <= 1; dx++) {
-            let counted = (dx != 0 || dy != 0) && (dx == 0 || dy == 0 || moore);
-            if (counted && cells_in[wrap_index(x + dx, y + dy)] == succ) {
+    for (var j = 0u; j < 3u; j++) {
+        for (var i = 0u; i < 3u; i++) {
+            let counted = (i != 1u || j != 1u) && (i == 1u || j == 1u || moore);
+            if (counted && cells_in[k.rows[j] + k.cols[i]] == succ) {
                 n += 1u;
             }
         }
     }
-    var next = c;
+    var next = state;
     if (n >= (params.extra & 0xffu)) {
         next = succ;
     }
-    cells_out[i] = next;
+    cells_out[c] = next;
 }
 
 // One generation of an elementary automaton: row cells_in → cells_out, drawn into `image` at
@@ -131,9 +147,9 @@ fn elementary_step(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let w = params.width;
     let x = id.x;
-    let l = cells_in[(x + w - 1u) % w];
+    let l = cells_in[before(x, w)];
     let c = cells_in[x];
-    let r = cells_in[(x + 1u) % w];
+    let r = cells_in[after(x, w)];
     let next = (params.rule >> (4u * l + 2u * c + r)) & 1u;
     cells_out[x] = next;
     let g = generation[0] + 1u;
