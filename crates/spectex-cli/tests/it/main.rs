@@ -10,6 +10,7 @@ mod common;
 mod fidelity;
 mod fuzz_images;
 mod phasor_fidelity;
+mod simulate;
 mod stream;
 mod texture;
 mod warp_reseed;
