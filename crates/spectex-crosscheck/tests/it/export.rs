@@ -464,6 +464,7 @@ fn exported_modules_render_the_cpu_values_in_a_fragment_shader() {
         };
         let module = exported.wgsl;
         let channels = model.output_channels();
+        let started = std::time::Instant::now();
         let cpu = spectex_cpu::Evaluator::new(&model).unwrap();
         let (max_allowed, mean_allowed) = export_tolerance(&case, &model);
         let cases = cases();
@@ -501,6 +502,12 @@ fn exported_modules_render_the_cpu_values_in_a_fragment_shader() {
                 ));
             }
         }
+        println!(
+            "export: {case}: {} bytes of WGSL, {} bytes of buffer, compiled and rendered in {:.1} s",
+            module.len(),
+            exported.tables.len(),
+            started.elapsed().as_secs_f64()
+        );
         rendered += 1;
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
