@@ -12,7 +12,11 @@
 //! Every name is prefixed (`spectex_` for the common functions, `spectex_m<k>_` for model `k`:
 //! a warp's sub-models each get their own), so the module can be pasted into any shader.
 //!
-//! Kinds the exporter does not cover yet give [`GpuError::Unsupported`].
+//! A warp exports its three models and `export/warp.wgsl` composing them, a texture by
+//! example its LRP models and its own shader (`ExportNode`). Tables are constants up to
+//! [`MAX_TABLE_BYTES`]; with [`TableStorage::Buffer`] ([`export`]) they go to one read-only
+//! storage buffer whose bytes [`Export::tables`] holds and whose layout the header lists.
+//! Kinds the exporter does not cover yet (phasor) give [`GpuError::Unsupported`].
 
 use std::collections::{HashMap, HashSet};
 use std::fmt::Write as _;
