@@ -324,16 +324,14 @@ fn render(
 /// The largest lattice side a model's export locates positions on: its regularity's grid, or
 /// for a warp the largest of its base's, x's and y's (each is located by the split).
 fn largest_cell(case: &str, model: &Model) -> f64 {
-    match model {
-        Model::Warp(w) => largest_cell(case, &w.base)
+    if let Model::Warp(w) = model {
+        return largest_cell(case, &w.base)
             .max(largest_cell(case, &w.x))
-            .max(largest_cell(case, &w.y)),
-        _ => {
-            regularity(model)
-                .unwrap_or_else(|| panic!("{case}: no regularity"))
-                .cell
-        }
+            .max(largest_cell(case, &w.y));
     }
+    regularity(model)
+        .unwrap_or_else(|| panic!("{case}: no regularity"))
+        .cell
 }
 
 /// `(max, mean)` bounds on `|cpu − export|` for a texton model with ellipsoid spots, which
