@@ -7,6 +7,7 @@
 mod classic_fidelity;
 mod cli;
 mod common;
+mod export;
 mod fidelity;
 mod fuzz_images;
 mod phasor_fidelity;
