@@ -55,6 +55,19 @@ const HEIGHT: u32 = 48;
 /// warp's sub-model.
 const NOT_EXPORTED: &[&str] = &["phasor"];
 
+/// Models whose exported module lavapipe compiles for 20–200 s each (LLVM inlines every nested
+/// model and LRP part into the fragment shader), measured on the 2-core CI machine's kind: the
+/// render test leaves them out unless `SPECTEX_EXPORT_ALL=1` (`cargo xtask export-check`), so
+/// that CI stays in its time budget. Each kind keeps a model in the CI run
+/// (`texture-synthetic-grey`, `warp-lrp-by-gabor`).
+const SLOW_ON_LAVAPIPE: &[&str] = &[
+    "texture-fitted-colour",
+    "texture-synthetic-colour",
+    "warp-classic-fbm",
+    "warp-texture-colour",
+    "warp-wavelet-by-fbm",
+];
+
 /// Where the test binds the storage buffer of models whose tables exceed `MAX_TABLE_BYTES`
 /// (not the CLI's defaults: any group and binding work).
 const TABLES_GROUP: u32 = 0;
@@ -440,8 +453,13 @@ fn exported_modules_render_the_cpu_values_in_a_fragment_shader() {
     };
     let mut failures = Vec::new();
     let mut rendered = 0;
+    let all = std::env::var("SPECTEX_EXPORT_ALL").is_ok_and(|v| v == "1");
     for file in model_files() {
         let case = file.file_stem().unwrap().to_string_lossy().into_owned();
+        if !all && SLOW_ON_LAVAPIPE.contains(&case.as_str()) {
+            println!("export: {case}: left out (SPECTEX_EXPORT_ALL=1 renders it)");
+            continue;
+        }
         let model: Model = spectex_model::from_json(&std::fs::read_to_string(&file).unwrap())
             .unwrap_or_else(|e| panic!("{case}: {e}"));
         let exported = match export(&model, &ExportOptions::default()) {
@@ -509,9 +527,11 @@ fn exported_modules_render_the_cpu_values_in_a_fragment_shader() {
         rendered += 1;
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
+    let expected = if all { 24 } else { 24 - SLOW_ON_LAVAPIPE.len() };
     assert!(
-        rendered >= 20,
-        "only {rendered} models rendered through the export (LRP 4, Gabor 2, classic 6, \
-         texton 3, wavelet 2, warps 3 expected)"
+        rendered >= expected,
+        "only {rendered} models rendered through the export, {expected} expected (LRP 4, \
+         Gabor 2, classic 6, texton 3, wavelet 2, and with SPECTEX_EXPORT_ALL=1 textures 3 and \
+         warps 4; else one of each)"
     );
 }
