@@ -138,9 +138,14 @@ fn texton_main(@builtin(global_invocation_id) gid: vec3<u32>) {
         row.cell = cy.cell;
         row.offset = cy.offset;
     }
+    output[index] = texton_value(column, row);
+}
+
+/// The texture at the point `column`, `row` (its cells and offsets in cell units): the mean
+/// outside the usable range, else the mean plus the textons of the cells within `reach`.
+fn texton_value(column: TextonAxis, row: TextonAxis) -> f32 {
     if (column.valid == 0u || row.valid == 0u) {
-        output[index] = params.mean;
-        return;
+        return params.mean;
     }
     let reach = params.reach;
     var acc = 0.0f;
@@ -186,5 +191,5 @@ fn texton_main(@builtin(global_invocation_id) gid: vec3<u32>) {
             }
         }
     }
-    output[index] = params.mean + acc;
+    return params.mean + acc;
 }

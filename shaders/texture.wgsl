@@ -279,7 +279,21 @@ fn texture_main(@builtin(global_invocation_id) gid: vec3<u32>) {
         row = PlacementAxis(y.cell, y.offset);
     }
     let d = vec2<f32>(values[nc * n + pixel], values[(nc + 1u) * n + pixel]);
+    var strata = array<f32, 3>(0.0f, 0.0f, 0.0f);
+    for (var c = 0u; c < nc; c++) {
+        strata[c] = values[c * n + pixel];
+    }
+    let out = texture_value(column, row, strata, d);
+    for (var i = 0u; i < nc; i++) {
+        output[pixel * nc + i] = out[i];
+    }
+}
 
+/// The texture's components (the first `channels`) at the placement cells `column`, `row`,
+/// with the random-phase strata's value per channel `strata` and the turbulence displacement
+/// `d` (pixels) there.
+fn texture_value(column: PlacementAxis, row: PlacementAxis, strata: array<f32, 3>, d: vec2<f32>) -> array<f32, 3> {
+    let nc = params.channels;
     // Placement taps (`TextureModel::placement`).
     let t = f32(params.period);
     // 1/T exactly (T is a power of two; WGSL's division is only accurate to 2.5 ulps).
@@ -333,16 +347,18 @@ fn texture_main(@builtin(global_invocation_id) gid: vec3<u32>) {
                 }
             }
         }
-        v[c] = values[c * n + pixel] + structure;
+        v[c] = strata[c] + structure;
     }
 
     // Colour (`colour_component`).
+    var out = array<f32, 3>(0.0f, 0.0f, 0.0f);
     for (var i = 0u; i < nc; i++) {
         var component = v[i];
         if (params.colour != 0u) {
             let r = params.basis[i];
             component = params.colour_mean[i] + r.x * v[0] + r.y * v[1] + r.z * v[2];
         }
-        output[pixel * nc + i] = component;
+        out[i] = component;
     }
+    return out;
 }

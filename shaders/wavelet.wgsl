@@ -112,14 +112,18 @@ fn wavelet_main(@builtin(global_invocation_id) gid: vec3<u32>) {
             column = displaced(column, d.x, band.inv_side);
             row = displaced(row, d.y, band.inv_side);
         }
-        let wx = spline_weights(column.fraction);
-        let wy = spline_weights(row.fraction);
-        let i0 = column.index;
-        let i1 = next_index(i0);
-        let i2 = next_index(i1);
-        let s = (wx.x * row_value(i0, row.index, wy, band) + wx.y * row_value(i1, row.index, wy, band))
-            + wx.z * row_value(i2, row.index, wy, band);
-        acc = acc + band.amplitude * s;
+        acc = acc + band.amplitude * band_value(band, column, row);
     }
     output[gid.y * params.width + gid.x] = params.mean + acc;
+}
+
+/// One band's B-spline sum at the point `column`, `row` (before its amplitude).
+fn band_value(band: WaveletBand, column: WaveletAxis, row: WaveletAxis) -> f32 {
+    let wx = spline_weights(column.fraction);
+    let wy = spline_weights(row.fraction);
+    let i0 = column.index;
+    let i1 = next_index(i0);
+    let i2 = next_index(i1);
+    return (wx.x * row_value(i0, row.index, wy, band) + wx.y * row_value(i1, row.index, wy, band))
+        + wx.z * row_value(i2, row.index, wy, band);
 }

@@ -55,6 +55,13 @@ const COMMANDS: &[(&str, &str)] = &[
          target/bevy unless BEVY_TARGET_DIR), renders one frame headlessly on lavapipe and \
          compares it with the CPU render within the derived tolerance",
     ),
+    (
+        "export-check",
+        "the WGSL export render test on lavapipe over every exportable model in \
+         testdata/models, the textures and warps CI leaves out included (lavapipe compiles \
+         each of those for 20-200 s): `cargo test --workspace --test it \
+         export::exported_modules` with SPECTEX_EXPORT_ALL=1",
+    ),
     ("help", "print this list"),
 ];
 
@@ -98,6 +105,12 @@ fn run() -> Result<()> {
         Some("bench") => bench(&Workspace::locate()?, rest),
         Some("fuzz") => fuzz(&Workspace::locate()?, &rest),
         Some("reproduce") => reproduce(&Workspace::locate()?, &rest),
+        Some("export-check") => {
+            if !rest.is_empty() {
+                bail!("`cargo xtask export-check` takes no arguments (got {rest:?})");
+            }
+            export_check(&Workspace::locate()?)
+        }
         Some("bevy-check") => {
             if !rest.is_empty() {
                 bail!("`cargo xtask bevy-check` takes no arguments (got {rest:?})");
@@ -831,6 +844,29 @@ const PAPERS: &[&str] = &["lrp", "rpn", "phasor", "survey"];
 /// `cargo xtask reproduce [PAPER…] [--quick] [--no-gpu]`: builds spectex-reproduce in release
 /// and runs it into `target/reproduce/`. The arguments are checked here first, so a typo costs
 /// no build.
+/// `cargo xtask export-check`: the export render test over every exportable model on lavapipe.
+fn export_check(ws: &Workspace) -> Result<()> {
+    let icd = ensure_lavapipe()?;
+    let mut command = ws.cargo(&[
+        "test",
+        "--workspace",
+        "--test",
+        "it",
+        "export::exported_modules",
+        "--",
+        "--nocapture",
+    ]);
+    lavapipe_env(&mut command, &icd);
+    command.env("SPECTEX_EXPORT_ALL", "1");
+    run_steps(
+        "export-check",
+        vec![Step {
+            title: "the export render test over every exportable model (lavapipe)".to_owned(),
+            command,
+        }],
+    )
+}
+
 /// The model, window and frame of `cargo xtask bevy-check`; the window is the one
 /// `crates/spectex-crosscheck/tests/it/export.rs` compares the frame on (`BEVY_WINDOW`).
 const BEVY_MODEL: &str = "testdata/models/lrp-ring.json";

@@ -20,6 +20,7 @@ const ALLOWED_PROJECT_DEPENDENCIES: &[(&str, &[&str])] = &[
     ("spectex-sampling", &["spectex-model", "spectex-spectrum"]),
     ("spectex-cpu", &["spectex-model"]),
     ("spectex-gpu", &["spectex-model"]),
+    ("spectex-simulate", &["spectex-model", "spectex-spectrum"]),
     (
         "spectex-crosscheck",
         &[
@@ -27,6 +28,7 @@ const ALLOWED_PROJECT_DEPENDENCIES: &[(&str, &[&str])] = &[
             "spectex-cpu",
             "spectex-gpu",
             "spectex-spectrum",
+            "spectex-simulate",
         ],
     ),
     (
@@ -39,6 +41,7 @@ const ALLOWED_PROJECT_DEPENDENCIES: &[(&str, &[&str])] = &[
             "spectex-gpu",
             "spectex-crosscheck",
             "spectex-reproduce",
+            "spectex-simulate",
         ],
     ),
     (

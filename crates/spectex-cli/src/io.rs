@@ -249,6 +249,11 @@ pub fn save(path: &Path, pixels: &Array3<f64>, format: Format) -> Result<WriteRe
 
 /// Writes a text file atomically (temporary file in the same directory, then rename).
 pub fn write_text_atomically(path: &Path, text: &str) -> Result<()> {
+    write_bytes_atomically(path, text.as_bytes())
+}
+
+/// Writes a binary file atomically (temporary file in the same directory, then rename).
+pub fn write_bytes_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
     let dir = parent_dir(path);
     let mut tmp = tempfile::Builder::new()
         .prefix(".spectex-")
@@ -260,7 +265,7 @@ pub fn write_text_atomically(path: &Path, text: &str) -> Result<()> {
                 dir.display()
             )
         })?;
-    tmp.write_all(text.as_bytes())
+    tmp.write_all(bytes)
         .with_context(|| format!("cannot write '{}'", path.display()))?;
     finish(tmp, path)
 }

@@ -16,6 +16,7 @@ mod phasor;
 mod relight;
 mod render;
 mod sheet;
+mod simulate;
 mod stream;
 
 use std::path::{Path, PathBuf};
@@ -101,6 +102,11 @@ enum Command {
         after_help = "Examples:\n  spectex export model.json --wgsl model.wgsl\n\nThe module defines fn spectex_sample(p: vec2<f32>) -> f32 (vec3<f32> for colour models):\nthe model at p in model pixels, as `spectex render` computes it (pixel (i, j) of a render at\n--offset o --scale s is spectex_sample(o + (i, j)·s)), and spectex_sample_cell(cell, offset)\nfor positions far from the origin. Its header comment documents both."
     )]
     Export(export::ExportCommand),
+    /// Whole-grid simulations: reaction–diffusion and cellular automata, on a torus.
+    #[command(
+        after_help = "Examples:\n  spectex simulate gray-scott -o maze.png\n  spectex simulate gray-scott --preset spots --size 512x512 -o spots.png --frames frames/ --every 500\n  spectex simulate gray-scott --feed 0.03 --kill 0.06 --steps 20000 -o custom.png --save-params gs.json\n  spectex simulate file gs.json -o again.png --seed 2\n  spectex simulate swift-hohenberg --wavelength 16 -o stripes.png\n  spectex simulate life --rule B36/S23 -o highlife.png\n  spectex simulate elementary --rule 110 --single -o rule110.png\n  spectex simulate cyclic --states 14 --threshold 1 --neighbourhood von-neumann --steps 1000 -o cca.png\n\nAll grids wrap around (torus). --gpu steps on the GPU (Gray-Scott and the automata):\nautomata give the same cells as the CPU; Gray-Scott the same equations in f32, equal to the\nCPU within rounding for the first steps and statistically after many."
+    )]
+    Simulate(simulate::SimulateCommand),
 }
 
 #[derive(Debug, Args)]
@@ -242,6 +248,7 @@ fn run(cli: Cli) -> Result<()> {
         Command::Sheet(cmd) => sheet::sheet(&cmd),
         Command::Relight(cmd) => relight::relight(&cmd),
         Command::Assemble(cmd) => assemble::assemble(&cmd),
+        Command::Simulate(cmd) => simulate::simulate(&cmd),
     }
 }
 

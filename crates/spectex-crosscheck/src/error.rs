@@ -20,6 +20,9 @@ pub enum CrosscheckError {
         /// The model's kind ([`spectex_model::Model::kind`]).
         kind: &'static str,
     },
+    /// A simulation could not run on the CPU (a parameter out of range).
+    #[error(transparent)]
+    Simulation(#[from] spectex_simulate::SimulateError),
     /// The evaluators disagree on the values per pixel, or the tolerance does not match them.
     #[error(
         "values per pixel differ: CPU {cpu}, GPU {gpu}, tolerances {tolerances}; both evaluators \

@@ -19,7 +19,8 @@
 //! `error` ([`CrosscheckError`]) and [`tolerance`] (bounds and criteria, no rendering; its
 //! kind modules use only its shared items and, for composite kinds, other kinds' modules) ←
 //! `compare` (measuring two renders, verdicts) ← `report` (failure images and reports) ←
-//! `check` ([`check_model`]: renders, judges by the kind's criterion, reports).
+//! `check` ([`check_model`]: renders, judges by the kind's criterion, reports); `simulation`
+//! (whole-grid simulations, [`simulation::check_simulation`]) uses only `error`.
 //!
 //! ```no_run
 //! use spectex_crosscheck::{check_model, standard_windows};
@@ -38,6 +39,7 @@ mod check;
 mod compare;
 mod error;
 mod report;
+pub mod simulation;
 pub mod tolerance;
 
 pub use check::{check_model, check_model_at_z, check_model_with_period};

@@ -10,7 +10,7 @@ use spectex_model::classic::{
 use spectex_model::random::layer_key;
 
 use crate::axis::{periodic_columns, periodic_rows};
-use crate::export::{ExportKind, ExportParts};
+use crate::export::{ExportKind, ExportNode, ExportParts};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
@@ -270,7 +270,7 @@ impl GpuKind for ClassicNoise {
 }
 
 impl ExportKind for ClassicNoise {
-    fn export_parts(&self, z: f64) -> Result<ExportParts, GpuError> {
+    fn export_parts(&self, z: f64) -> Result<ExportNode, GpuError> {
         let (kernel, octaves) = pack(self, z);
         // Octave o: lattices 3o (c_o), 3o + 1 (c_o/(1 + F)) and 3o + 2 (c_o/F) of
         // export/classic.wgsl; the skew lattices only matter to simplex noise (F > 0).

@@ -5,7 +5,7 @@
 use spectex_model::{GaborNoise, Orientation};
 
 use crate::axis::{CellAxis, cell_axis, columns, rows};
-use crate::export::{ExportKind, ExportParts};
+use crate::export::{ExportKind, ExportNode, ExportParts};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
@@ -106,7 +106,7 @@ impl GpuKind for GaborNoise {
 }
 
 impl ExportKind for GaborNoise {
-    fn export_parts(&self, _z: f64) -> Result<ExportParts, GpuError> {
+    fn export_parts(&self, _z: f64) -> Result<ExportNode, GpuError> {
         let kernel = pack(self);
         // The kernel grid is the export's lattice 0 (export/gabor.wgsl).
         let lattices = vec![kernel.radius];

@@ -78,6 +78,7 @@ mod kernel;
 mod layout;
 mod pipeline;
 pub mod shaders;
+pub mod simulate;
 
 // One module per model kind: its records, packing and `GpuKind` implementation.
 mod classic;

@@ -6,7 +6,7 @@
 use spectex_model::{LrpNoise, Period};
 
 use crate::axis::{periodic_columns, periodic_rows};
-use crate::export::{ExportKind, ExportParts};
+use crate::export::{ExportKind, ExportNode, ExportParts};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::{Shaded, binding_limit};
@@ -189,7 +189,7 @@ impl GpuKind for LrpNoise {
 }
 
 impl ExportKind for LrpNoise {
-    fn export_parts(&self, _z: f64) -> Result<ExportParts, GpuError> {
+    fn export_parts(&self, _z: f64) -> Result<ExportNode, GpuError> {
         let (kernel, tables, _) = host(self, None);
         // Stratum s's lattice is the export's lattice s (export/lrp.wgsl).
         let lattices = kernel.deltas.clone();

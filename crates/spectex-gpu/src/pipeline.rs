@@ -299,7 +299,7 @@ impl ErrorScopes {
 }
 
 /// Maps `buffer`, waits for the device, and copies its bytes out.
-fn read_buffer(
+pub(crate) fn read_buffer(
     device: &wgpu::Device,
     buffer: &wgpu::Buffer,
     lost: &LostFlag,

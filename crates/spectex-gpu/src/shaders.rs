@@ -71,6 +71,18 @@ pub const SHADERS: &[ShaderFile] = &[
         entry_points: &["texton_main"],
     },
     ShaderFile {
+        name: "simulate",
+        source: include_str!("../../../shaders/simulate.wgsl"),
+        needs_common: false,
+        entry_points: &[
+            "gray_scott_step",
+            "life_step",
+            "cyclic_step",
+            "elementary_step",
+            "elementary_tick",
+        ],
+    },
+    ShaderFile {
         name: "probe",
         source: include_str!("../../../shaders/probe.wgsl"),
         needs_common: true,

@@ -6,6 +6,7 @@ use spectex_model::TextonNoise;
 use spectex_model::texton::{Combine, MAX_TEXTONS_PER_CELL, Placement, Spot};
 
 use crate::axis::{CellAxis, cell_axis, columns, rows};
+use crate::export::{ExportKind, ExportNode, ExportParts};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
@@ -55,16 +56,40 @@ pub(crate) struct TextonKernel {
 
 impl GpuKind for TextonNoise {
     fn gpu_kernel(&self, context: &GpuContext, _z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
-        let (jitter, placement) = match self.placement {
+        let (kernel, data) = host(self);
+        Shaded::boxed(context, kernel, &[Table::new("texton model data", &data)])
+    }
+}
+
+impl ExportKind for TextonNoise {
+    fn export_parts(&self, _z: f64) -> Result<ExportNode, GpuError> {
+        let (kernel, data) = host(self);
+        // The texton grid is the export's lattice 0 (export/texton.wgsl).
+        let lattices = vec![kernel.cell_size];
+        ExportParts::of(
+            &kernel,
+            &[Table::new("texton model data", &data)],
+            lattices,
+            "texton",
+        )
+    }
+}
+
+/// The kernel of a validated model and its model data (the Poisson CDF, then the image's
+/// texels): what the device evaluator uploads and what the WGSL export writes.
+fn host(model: &TextonNoise) -> (TextonKernel, Vec<f32>) {
+    let this = model;
+    {
+        let (jitter, placement) = match this.placement {
             Placement::Grid { jitter } => (jitter, 0),
             Placement::Poisson { .. } => (0.0, 1),
         };
         // The CDF (zeros for a grid, which never reads it), then the image's texels.
-        let mut data: Vec<f32> = self
+        let mut data: Vec<f32> = this
             .poisson_cdf()
             .unwrap_or([0.0; MAX_TEXTONS_PER_CELL as usize])
             .to_vec();
-        let (spot, image_width, image_height) = match &self.spot {
+        let (spot, image_width, image_height) = match &this.spot {
             Spot::Ellipsoid => (0, 0, 0),
             Spot::Gaussian => (1, 0, 0),
             Spot::Image {
@@ -77,38 +102,38 @@ impl GpuKind for TextonNoise {
             }
         };
         let kernel = TextonKernel {
-            cell_size: f64::from(self.cell_size),
+            cell_size: f64::from(this.cell_size),
             params: TextonParams {
                 width: 0,
                 height: 0,
-                seed: self.seed,
-                reach: self.reach(),
+                seed: this.seed,
+                reach: this.reach(),
                 placement,
                 spot,
-                combine: match self.combine {
+                combine: match this.combine {
                     Combine::Sum => 0,
                     Combine::Max => 1,
                 },
                 image_width,
                 image_height,
                 jitter,
-                cell_size: self.cell_size,
-                inv_cell: (1.0 / f64::from(self.cell_size)) as f32,
-                radius_a: self.radii[0],
-                radius_b: self.radii[1],
-                rotation_lo: self.rotation[0],
-                rotation_hi: self.rotation[1],
-                scale_lo: self.scale[0],
-                scale_hi: self.scale[1],
-                intensity_lo: self.intensity[0],
-                intensity_hi: self.intensity[1],
-                mean: self.mean,
+                cell_size: this.cell_size,
+                inv_cell: (1.0 / f64::from(this.cell_size)) as f32,
+                radius_a: this.radii[0],
+                radius_b: this.radii[1],
+                rotation_lo: this.rotation[0],
+                rotation_hi: this.rotation[1],
+                scale_lo: this.scale[0],
+                scale_hi: this.scale[1],
+                intensity_lo: this.intensity[0],
+                intensity_hi: this.intensity[1],
+                mean: this.mean,
                 _pad0: 0,
                 _pad1: 0,
                 _pad2: 0,
             },
         };
-        Shaded::boxed(context, kernel, &[Table::new("texton model data", &data)])
+        (kernel, data)
     }
 }
 

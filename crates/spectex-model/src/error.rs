@@ -38,6 +38,16 @@ pub enum ModelError {
         /// What the kind needs of a period (or that it has no periodic form).
         requirement: String,
     },
+    /// A simulation's rule string is malformed (`spectex_model::simulation`).
+    #[error("{field} = '{value}' is not a valid rule; write {expected}")]
+    SimulationRule {
+        /// Dotted path of the field.
+        field: String,
+        /// The value found.
+        value: String,
+        /// The accepted form.
+        expected: &'static str,
+    },
     /// A list has a length outside its range.
     #[error("{field} has {len} entries; it must have {range}")]
     Length {

@@ -54,6 +54,7 @@ pub mod period;
 mod phasor;
 pub mod phasor_kernels;
 pub mod random;
+pub mod simulation;
 mod target;
 pub mod texton;
 pub mod texture;

@@ -7,9 +7,11 @@
 mod classic_fidelity;
 mod cli;
 mod common;
+mod export;
 mod fidelity;
 mod fuzz_images;
 mod phasor_fidelity;
+mod simulate;
 mod stream;
 mod texture;
 mod warp_reseed;

@@ -6,4 +6,5 @@
 
 mod export;
 mod models;
+mod simulations;
 mod texture_fixtures;

@@ -1,17 +1,34 @@
-//! The WGSL export (`spectex_gpu::export`): every model of `testdata/models/` whose kind the
+//! The WGSL export (`spectex_gpu::export`): every model of `testdata/models/` whose kinds the
 //! exporter covers gives a module that naga parses and validates, with exactly the public
 //! entry points the header promises and no resource binding; the kinds it does not cover yet
-//! fail with a typed error (an unexpected success fails too, so the list stays true), and so
-//! do the two fitted LRP models whose tables exceed `MAX_TABLE_BYTES`. The
-//! rendering check (a wgpu render pipeline against the CPU) is in spectex-crosscheck.
+//! fail with a typed error naming the kind (an unexpected success fails too, so the list stays
+//! true). Models whose tables exceed `MAX_TABLE_BYTES` are refused as constants and export
+//! with a storage buffer: then the module declares exactly that one binding and the buffer
+//! holds the tables. The rendering check (a wgpu render pipeline against the CPU) is in
+//! spectex-crosscheck.
 
 use std::path::PathBuf;
 
 use spectex_gpu::GpuError;
-use spectex_gpu::export::{ExportOptions, MAX_TABLE_BYTES, wgsl_module};
+use spectex_gpu::export::{
+    DEFAULT_BINDING, DEFAULT_GROUP, ExportOptions, MAX_TABLE_BYTES, TableStorage, export,
+    wgsl_module,
+};
 
-/// Kinds `wgsl_module` refuses with `GpuError::Unsupported` today.
-const NOT_EXPORTED: &[&str] = &["phasor", "texture", "warp", "wavelet", "texton"];
+/// Kinds `wgsl_module` refuses with `GpuError::Unsupported` today (alone or in a warp).
+const NOT_EXPORTED: &[&str] = &["phasor"];
+
+/// Models over `MAX_TABLE_BYTES` = 65 536 bytes of tables, counted from their files: the
+/// fitted LRP models (tens of thousands of 8-byte frequencies), wavelet-2d (a 128² tile of f32:
+/// 65 536 bytes before its bands), wavelet-3d-multiband and the base of warp-wavelet-by-fbm
+/// (3D, tile side 32: 32³ f32, 131 072 bytes).
+const TOO_LARGE: &[&str] = &[
+    "lrp-gravel",
+    "lrp-sand",
+    "warp-wavelet-by-fbm",
+    "wavelet-2d",
+    "wavelet-3d-multiband",
+];
 
 fn model_files() -> Vec<PathBuf> {
     let dir = PathBuf::from(concat!(
@@ -49,9 +66,60 @@ fn validate(case: &str, source: &str) -> naga::Module {
     module
 }
 
+/// The checks of a module with no binding, or (`buffer`) exactly the tables' storage buffer.
+fn check_module(case: &str, model: &spectex_model::Model, source: &str, buffer: bool) {
+    let module = validate(case, source);
+    let bindings: Vec<_> = module
+        .global_variables
+        .iter()
+        .filter_map(|(_, v)| v.binding.map(|b| (b, v.name.clone(), v.space)))
+        .collect();
+    if buffer {
+        assert_eq!(bindings.len(), 1, "{case}: {bindings:?}");
+        let (b, name, space) = &bindings[0];
+        assert_eq!(
+            (b.group, b.binding, name.as_deref()),
+            (DEFAULT_GROUP, DEFAULT_BINDING, Some("spectex_tables")),
+            "{case}"
+        );
+        assert!(
+            matches!(space, naga::AddressSpace::Storage { access } if !access.contains(naga::StorageAccess::STORE)),
+            "{case}: {space:?}"
+        );
+    } else {
+        assert!(
+            bindings.is_empty(),
+            "{case}: the export declares a resource binding"
+        );
+    }
+    assert!(
+        module.entry_points.is_empty(),
+        "{case}: the export has an entry point"
+    );
+    let ret = if model.output_channels() == 3 {
+        "vec3<f32>"
+    } else {
+        "f32"
+    };
+    for signature in [
+        format!("fn spectex_sample(p: vec2<f32>) -> {ret}"),
+        format!("fn spectex_sample_cell(cell: vec2<i32>, offset: vec2<f32>) -> {ret}"),
+    ] {
+        assert!(source.contains(&signature), "{case}: no `{signature}`");
+    }
+    // Every other function is prefixed, so the module pastes into any shader.
+    for (_, f) in module.functions.iter() {
+        let name = f.name.as_deref().unwrap_or("");
+        assert!(
+            name.starts_with("spectex_"),
+            "{case}: unprefixed function {name}"
+        );
+    }
+}
+
 #[test]
 fn every_exportable_model_validates_with_its_entry_points_and_no_binding() {
-    let (mut exported, mut too_large) = (0, 0);
+    let (mut exported, mut too_large) = (0, Vec::new());
     for file in model_files() {
         let case = file
             .file_stem()
@@ -60,63 +128,48 @@ fn every_exportable_model_validates_with_its_entry_points_and_no_binding() {
         let text = std::fs::read_to_string(&file).unwrap_or_else(|e| panic!("{case}: {e}"));
         let model = spectex_model::from_json(&text).unwrap_or_else(|e| panic!("{case}: {e}"));
         let result = wgsl_module(&model, &ExportOptions::default());
-        if NOT_EXPORTED.contains(&model.kind()) {
-            assert!(
-                matches!(result, Err(GpuError::Unsupported { .. })),
-                "{case}: a {} model exported; remove the kind from NOT_EXPORTED",
-                model.kind()
-            );
+        if let Err(GpuError::Unsupported { kind, .. }) = &result {
+            assert!(NOT_EXPORTED.contains(kind), "{case}: {result:?}");
             continue;
         }
+        let buffer = ExportOptions {
+            tables: TableStorage::Buffer {
+                group: DEFAULT_GROUP,
+                binding: DEFAULT_BINDING,
+            },
+            ..ExportOptions::default()
+        };
         if let Err(GpuError::LimitsExceeded { value, limit, .. }) = &result {
             assert!(
                 value > limit && *limit == MAX_TABLE_BYTES,
                 "{case}: {result:?}"
             );
-            println!("{case}: {value} bytes of tables, over the export's {limit}: refused");
-            too_large += 1;
+            println!("{case}: {value} bytes of tables, over the export's {limit}: a buffer");
+            let exported = export(&model, &buffer).unwrap_or_else(|e| panic!("{case}: {e}"));
+            // The buffer holds every table (the lattice split's few words stay constants).
+            assert!(
+                exported.tables.len() as u64 > MAX_TABLE_BYTES
+                    && exported.tables.len() as u64 <= *value,
+                "{case}: {} bytes in the buffer for {value} bytes of tables",
+                exported.tables.len()
+            );
+            check_module(&case, &model, &exported.wgsl, true);
+            too_large.push(case);
             continue;
         }
         let source = result.unwrap_or_else(|e| panic!("{case}: {e}"));
-        let module = validate(&case, &source);
-        assert!(
-            module
-                .global_variables
-                .iter()
-                .all(|(_, v)| v.binding.is_none()),
-            "{case}: the export declares a resource binding"
-        );
-        assert!(
-            module.entry_points.is_empty(),
-            "{case}: the export has an entry point"
-        );
-        let ret = if model.output_channels() == 3 {
-            "vec3<f32>"
-        } else {
-            "f32"
-        };
-        for signature in [
-            format!("fn spectex_sample(p: vec2<f32>) -> {ret}"),
-            format!("fn spectex_sample_cell(cell: vec2<i32>, offset: vec2<f32>) -> {ret}"),
-        ] {
-            assert!(source.contains(&signature), "{case}: no `{signature}`");
-        }
-        // Every other function is prefixed, so the module pastes into any shader.
-        for (_, f) in module.functions.iter() {
-            let name = f.name.as_deref().unwrap_or("");
-            assert!(
-                name.starts_with("spectex_"),
-                "{case}: unprefixed function {name}"
-            );
-        }
+        check_module(&case, &model, &source, false);
+        // The same model through a buffer validates too.
+        let buffered = export(&model, &buffer).unwrap_or_else(|e| panic!("{case}: {e}"));
+        check_module(&case, &model, &buffered.wgsl, true);
         exported += 1;
     }
     assert!(
-        exported >= 10,
-        "only {exported} models exported (LRP 2, Gabor 2, classic 6 expected)"
+        exported >= 19,
+        "only {exported} models exported as constants (LRP 2, Gabor 2, classic 6, texton 3, \
+         texture 3, warps of classic, Gabor and texture models 3 expected)"
     );
-    // The fitted LRP models lrp-gravel and lrp-sand (tens of thousands of frequencies).
-    assert_eq!(too_large, 2, "models refused for their size");
+    assert_eq!(too_large, TOO_LARGE, "models over MAX_TABLE_BYTES");
 }
 
 #[test]
@@ -131,7 +184,13 @@ fn bad_plane_is_a_typed_error() {
     let Ok(model) = model else {
         panic!("lrp-ring.json does not load");
     };
-    let err = wgsl_module(&model, &ExportOptions { z: f64::NAN });
+    let err = wgsl_module(
+        &model,
+        &ExportOptions {
+            z: f64::NAN,
+            ..ExportOptions::default()
+        },
+    );
     assert!(
         matches!(err, Err(GpuError::Window { parameter: "z", .. })),
         "{err:?}"
