@@ -34,6 +34,7 @@ mod periodic;
 pub mod phasor;
 pub mod texton;
 pub mod texture;
+pub mod voronoi;
 pub mod warp;
 pub mod wavelet;
 

@@ -113,7 +113,8 @@ unsupported_export!(
     spectex_model::TextureModel,
     spectex_model::Warp,
     spectex_model::WaveletNoise,
-    spectex_model::TextonNoise
+    spectex_model::TextonNoise,
+    spectex_model::VoronoiNoise
 );
 
 /// The parts of one model: the one dispatch over kinds of the exporter.

@@ -86,6 +86,7 @@ mod lrp;
 mod phasor;
 mod texton;
 mod texture;
+mod voronoi;
 mod warp;
 mod wavelet;
 

@@ -71,6 +71,12 @@ pub const SHADERS: &[ShaderFile] = &[
         entry_points: &["texton_main"],
     },
     ShaderFile {
+        name: "voronoi",
+        source: include_str!("../../../shaders/voronoi.wgsl"),
+        needs_common: true,
+        entry_points: &["voronoi_main"],
+    },
+    ShaderFile {
         name: "probe",
         source: include_str!("../../../shaders/probe.wgsl"),
         needs_common: true,

@@ -11,7 +11,8 @@ use serde::{Deserialize, Serialize};
 use crate::error::ModelError;
 use crate::period::Period;
 use crate::{
-    ClassicNoise, GaborNoise, LrpNoise, PhasorNoise, TextonNoise, TextureModel, Warp, WaveletNoise,
+    ClassicNoise, GaborNoise, LrpNoise, PhasorNoise, TextonNoise, TextureModel, VoronoiNoise, Warp,
+    WaveletNoise,
 };
 
 /// The model-layer definition of one kind: its name, validation, output channels and seeds.
@@ -85,6 +86,8 @@ pub enum Model {
     Wavelet(WaveletNoise),
     /// Texton placement and spot noise (survey §2.3, §3.1.5).
     Texton(TextonNoise),
+    /// Voronoi diagrams (survey §2.6): cell IDs, distances, borders, colours.
+    Voronoi(VoronoiNoise),
 }
 
 /// Calls `$body` with `$m` bound to the kind struct inside `$model` (by the reference the match
@@ -127,6 +130,10 @@ macro_rules! for_each_kind {
                 type $Kind = $crate::TextonNoise;
                 $body
             }
+            $crate::Model::Voronoi($m) => {
+                type $Kind = $crate::VoronoiNoise;
+                $body
+            }
         }
     };
 }
@@ -142,6 +149,7 @@ pub const KIND_NAMES: &[&str] = &[
     <Warp as ModelKind>::NAME,
     <WaveletNoise as ModelKind>::NAME,
     <TextonNoise as ModelKind>::NAME,
+    <VoronoiNoise as ModelKind>::NAME,
 ];
 
 impl Model {

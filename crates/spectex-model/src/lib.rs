@@ -57,6 +57,7 @@ pub mod random;
 mod target;
 pub mod texton;
 pub mod texture;
+pub mod voronoi;
 pub mod warp;
 pub mod wavelet;
 pub mod window;
@@ -83,5 +84,6 @@ pub use phasor::{
 pub use target::SpectralTarget;
 pub use texton::TextonNoise;
 pub use texture::{ColourBasis, FixedCosine, Structure, TextureChannel, TextureModel, Turbulence};
+pub use voronoi::VoronoiNoise;
 pub use warp::{MAX_WARP, Warp, WarpBuilder};
 pub use wavelet::{WaveletNoise, WaveletNoiseBuilder};

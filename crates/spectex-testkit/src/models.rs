@@ -11,6 +11,7 @@ use spectex_model::classic::{
 };
 use spectex_model::texton::{Combine, MAX_DENSITY, MAX_REACH, Placement, Spot, TextonNoise};
 use spectex_model::texture::{MAX_CHANNELS, MAX_PERIOD};
+use spectex_model::voronoi::{MAX_PALETTE, VoronoiNoise, VoronoiOutput};
 use spectex_model::warp::{MAX_STRENGTH, MAX_WARP_DEPTH};
 use spectex_model::wavelet::{MAX_BANDS, MAX_TILE_2D, MAX_TILE_3D, MIN_TILE};
 use spectex_model::{
@@ -44,6 +45,9 @@ pub const KIND_STRATEGIES: &[(&str, KindStrategy)] = &[
         wavelet(o).prop_map(Model::Wavelet).boxed()
     }),
     ("texton", |o, _| texton(o).prop_map(Model::Texton).boxed()),
+    ("voronoi", |o, _| {
+        voronoi(o).prop_map(Model::Voronoi).boxed()
+    }),
 ];
 
 /// Warps nested at most in generated models: two past [`MAX_WARP_DEPTH`], so the limit itself
@@ -717,6 +721,59 @@ pub fn texton(o: Odds) -> BoxedStrategy<TextonNoise> {
                     combine,
                     mean,
                 }
+            },
+        )
+        .boxed()
+}
+
+// ---------------------------------------------------------------------------------------------
+// Voronoi diagrams.
+
+/// A Voronoi diagram: every output, palettes and small images (sometimes with a texel count
+/// that does not match their sides), relaxation at small iteration counts (the limits case
+/// takes the largest), values drawn inside and beyond their limits.
+pub fn voronoi(o: Odds) -> BoxedStrategy<VoronoiNoise> {
+    let colour = (level(o), level(o), level(o)).prop_map(|(r, g, b)| [r, g, b]);
+    let palette = list(colour.clone().boxed(), 1, 4, MAX_PALETTE, o)
+        .prop_map(|colours| VoronoiOutput::Palette { colours });
+    let image = (u32_in(1, 6, o), u32_in(1, 6, o)).prop_flat_map(move |(width, height)| {
+        let n = (width as usize * height as usize).min(64);
+        let len = prop_oneof![8 => Just(n), 1 => Just(n + 1), 1 => Just(n.saturating_sub(1))];
+        let colour = colour.clone();
+        len.prop_flat_map(move |len| {
+            proptest::collection::vec(colour.clone(), len).prop_map(move |texels| {
+                VoronoiOutput::Image {
+                    width,
+                    height,
+                    texels,
+                }
+            })
+        })
+    });
+    let output = prop_oneof![
+        Just(VoronoiOutput::CellId),
+        Just(VoronoiOutput::F1),
+        Just(VoronoiOutput::Border),
+        Just(VoronoiOutput::F2MinusF1),
+        palette,
+        image,
+    ];
+    (
+        seed(),
+        f32_in(1.0, 4096.0, o),
+        f32_in(0.0, 1.0, o),
+        prop_oneof![3 => Just(0u32), 1 => u32_in(0, 2, o)],
+        u32_in(1, 6, o),
+        output,
+    )
+        .prop_map(
+            |(seed, cell_size, jitter, lloyd_iterations, lloyd_block, output)| VoronoiNoise {
+                seed,
+                cell_size,
+                jitter,
+                lloyd_iterations,
+                lloyd_block,
+                output,
             },
         )
         .boxed()

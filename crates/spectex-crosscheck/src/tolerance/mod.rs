@@ -24,6 +24,7 @@ pub mod lrp;
 pub mod phasor;
 pub mod texton;
 pub mod texture;
+pub mod voronoi;
 pub mod warp;
 pub mod wavelet;
 
