@@ -26,6 +26,7 @@
 //! ```
 
 pub mod classic;
+pub mod combine;
 pub mod gabor;
 pub mod lrp;
 /// The f32 functions both evaluators share, defined once in `spectex-model`.

@@ -114,7 +114,8 @@ unsupported_export!(
     spectex_model::Warp,
     spectex_model::WaveletNoise,
     spectex_model::TextonNoise,
-    spectex_model::VoronoiNoise
+    spectex_model::VoronoiNoise,
+    spectex_model::Combine
 );
 
 /// The parts of one model: the one dispatch over kinds of the exporter.

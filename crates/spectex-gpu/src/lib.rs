@@ -81,6 +81,7 @@ pub mod shaders;
 
 // One module per model kind: its records, packing and `GpuKind` implementation.
 mod classic;
+mod combine;
 mod gabor;
 mod lrp;
 mod phasor;

@@ -11,8 +11,8 @@ use serde::{Deserialize, Serialize};
 use crate::error::ModelError;
 use crate::period::Period;
 use crate::{
-    ClassicNoise, GaborNoise, LrpNoise, PhasorNoise, TextonNoise, TextureModel, VoronoiNoise, Warp,
-    WaveletNoise,
+    ClassicNoise, Combine, GaborNoise, LrpNoise, PhasorNoise, TextonNoise, TextureModel,
+    VoronoiNoise, Warp, WaveletNoise,
 };
 
 /// The model-layer definition of one kind: its name, validation, output channels and seeds.
@@ -88,6 +88,8 @@ pub enum Model {
     Texton(TextonNoise),
     /// Voronoi diagrams (survey §2.6): cell IDs, distances, borders, colours.
     Voronoi(VoronoiNoise),
+    /// A pointwise combination of models (survey §4.1–4.2, [`crate::combine`]).
+    Combine(Combine),
 }
 
 /// Calls `$body` with `$m` bound to the kind struct inside `$model` (by the reference the match
@@ -134,6 +136,10 @@ macro_rules! for_each_kind {
                 type $Kind = $crate::VoronoiNoise;
                 $body
             }
+            $crate::Model::Combine($m) => {
+                type $Kind = $crate::Combine;
+                $body
+            }
         }
     };
 }
@@ -150,6 +156,7 @@ pub const KIND_NAMES: &[&str] = &[
     <WaveletNoise as ModelKind>::NAME,
     <TextonNoise as ModelKind>::NAME,
     <VoronoiNoise as ModelKind>::NAME,
+    <Combine as ModelKind>::NAME,
 ];
 
 impl Model {

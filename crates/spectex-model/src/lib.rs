@@ -40,6 +40,7 @@
 //! ```
 
 pub mod classic;
+pub mod combine;
 mod defaults;
 mod error;
 mod file;
@@ -63,6 +64,7 @@ pub mod wavelet;
 pub mod window;
 
 pub use classic::{ClassicNoise, ClassicNoiseBuilder, FractalNoiseBuilder};
+pub use combine::Combine;
 pub use defaults::{DEFAULT_MEAN, DEFAULT_SEED, DEFAULT_STD_DEV, Levels};
 pub use error::ModelError;
 pub use file::{

@@ -38,6 +38,10 @@ const TEXTON_MAX_COST: f64 =
 /// `B²` seeds each clipped by 48 bisectors.
 const VORONOI_MAX_COST: f64 =
     98.0 + 4.0 * MAX_LLOYD_ITERATIONS as f64 * (MAX_LLOYD_BLOCK * MAX_LLOYD_BLOCK) as f64 * 48.0;
+/// A combination costs its operands' costs: along any path at most 8 combinations and 8 warps
+/// nest (`MAX_COMBINE_DEPTH`, `MAX_WARP_DEPTH`), each with at most 8 (3) operands, so at most
+/// `8^16` leaves at the largest leaf cost (a texture's).
+const COMBINE_MAX_COST: f64 = 2.814_749_767_106_56e14 * TEXTURE_MAX_COST;
 /// One channel's or one turbulence axis's strata: `9(J_S + 1)` calls for each of 64 strata.
 const TEXTURE_STRATA_MAX_COST: f64 = 9.0 * (MAX_COSINES as f64 + 1.0) * MAX_STRATA as f64;
 /// Three channels of strata and a structure (4 blocks of 1024 cosines), and two turbulence axes.
@@ -63,6 +67,7 @@ pub const COST_BOUNDS: &[(&str, f64)] = &[
     ("wavelet", WAVELET_MAX_COST),
     ("texton", TEXTON_MAX_COST),
     ("voronoi", VORONOI_MAX_COST),
+    ("combine", COMBINE_MAX_COST),
 ];
 
 const _: () = assert!(6561 == 3usize.pow(MAX_WARP_DEPTH as u32));

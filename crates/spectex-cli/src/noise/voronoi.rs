@@ -42,13 +42,13 @@ pub(crate) struct VoronoiArgs {
     block: u32,
     /// What a pixel shows.
     #[arg(long, value_enum, default_value = "id")]
-    output: OutputArg,
-    /// Palette colours as hex RGB (e.g. 264653,2a9d8f,e9c46a), for --output palette.
+    show: OutputArg,
+    /// Palette colours as hex RGB (e.g. 264653,2a9d8f,e9c46a), for --show palette.
     #[arg(long, value_name = "HEX,…", value_delimiter = ',')]
     palette: Vec<String>,
     /// Colour each cell by this image's texel under its seed (PNG/JPEG, at most 1024 per
-    /// side, stored in the model; the image repeats over the plane), instead of --output.
-    #[arg(long, value_name = "IMAGE", conflicts_with = "output")]
+    /// side, stored in the model; the image repeats over the plane), instead of --show.
+    #[arg(long, value_name = "IMAGE", conflicts_with = "show")]
     image: Option<std::path::PathBuf>,
     /// Seed.
     #[arg(long, default_value_t = 0)]
@@ -121,7 +121,7 @@ fn flag(field: &str) -> &'static str {
 /// Builds the model, writes it if asked, and renders it.
 pub(crate) fn run(args: &VoronoiArgs) -> Result<()> {
     crate::io::check_output(&args.render.output, args.render.bit_depth)?;
-    let output = match (&args.image, args.output) {
+    let output = match (&args.image, args.show) {
         (Some(path), _) => image_output(path)?,
         (None, OutputArg::Id) => VoronoiOutput::CellId,
         (None, OutputArg::F1) => VoronoiOutput::F1,

@@ -19,6 +19,7 @@
 use spectex_model::Model;
 
 pub mod classic;
+pub mod combine;
 pub mod gabor;
 pub mod lrp;
 pub mod phasor;
