@@ -55,7 +55,7 @@ pub(crate) struct CombineArgs {
     #[arg(
         long,
         value_name = "E0,E1",
-        default_value = "-0.1,0.1",
+        default_value = "0.45,0.55",
         allow_hyphen_values = true
     )]
     edges: String,
@@ -73,7 +73,7 @@ pub(crate) struct CombineArgs {
     #[arg(
         long,
         value_name = "AT:HEX,…",
-        default_value = "-0.6:2b1a0e,0:6b4226,0.6:c8a27a"
+        default_value = "0.2:2b1a0e,0.5:6b4226,0.8:c8a27a"
     )]
     stops: String,
     /// Also write the model to this .json file (render it again with `spectex render`).

@@ -20,6 +20,7 @@ enum OutputArg {
     /// The exact distance to the cell's border (cell units).
     Border,
     /// Worley's F2 − F1 (cell units).
+    #[value(name = "f2-f1")]
     F2F1,
     /// A colour per cell from --palette (a built-in one by default).
     Palette,

@@ -943,7 +943,7 @@ fn voronoi_and_combinations_end_to_end() {
         &["combine"],
         &["combine", "multiply"],
         &["combine", "mix"],
-        &["combine", "smoothstep", "--edges", "-0.05,0.05"],
+        &["combine", "smoothstep", "--edges", "0.4,0.6"],
         &["combine", "fold", "--folds", "2"],
         &["combine", "sin-fold", "--gain", "3"],
         &["combine", "histogram"],
