@@ -44,7 +44,9 @@ const WIDTH: u32 = 64;
 const HEIGHT: u32 = 48;
 
 /// Kinds the exporter does not cover yet (as in spectex-gpu's export test).
-const NOT_EXPORTED: &[&str] = &["phasor", "texture", "warp", "wavelet", "texton"];
+const NOT_EXPORTED: &[&str] = &[
+    "phasor", "texture", "warp", "wavelet", "texton", "voronoi", "combine",
+];
 
 /// One window: its top-left position as the fragment shader receives it (integer part and
 /// f32 fraction), its scale, and the CPU window.

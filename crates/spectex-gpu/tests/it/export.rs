@@ -11,7 +11,9 @@ use spectex_gpu::GpuError;
 use spectex_gpu::export::{ExportOptions, MAX_TABLE_BYTES, wgsl_module};
 
 /// Kinds `wgsl_module` refuses with `GpuError::Unsupported` today.
-const NOT_EXPORTED: &[&str] = &["phasor", "texture", "warp", "wavelet", "texton"];
+const NOT_EXPORTED: &[&str] = &[
+    "phasor", "texture", "warp", "wavelet", "texton", "voronoi", "combine",
+];
 
 fn model_files() -> Vec<PathBuf> {
     let dir = PathBuf::from(concat!(
