@@ -1,12 +1,14 @@
 //! `spectex noise`: procedural noises built from flags, one module per family of subcommands
 //! (LRP noise of a continuous spectrum, Gabor, the classic noises, wavelet noise, domain
-//! warping, textons), each building its model through `spectex_model`'s builders, writing it if asked
+//! warping, textons, Voronoi diagrams, combinations), each building its model through `spectex_model`'s builders, writing it if asked
 //! (`--model`) and rendering it.
 
 mod classic;
+mod combine;
 mod gabor;
 mod spectral;
 mod texton;
+mod voronoi;
 mod warp;
 mod wavelet;
 
@@ -58,6 +60,12 @@ enum NoiseKind {
     /// Texton placement / spot noise (survey §2.3): ellipsoids, Gaussian spots or an image
     /// placed on a jittered grid or at Poisson points, rotated, scaled, summed or maxed.
     Texton(texton::TextonArgs),
+    /// Voronoi diagrams (survey §2.6): cell ID, F1, exact border distance, F2 − F1, or colours
+    /// from a palette or an image; optional Lloyd relaxation.
+    Voronoi(voronoi::VoronoiArgs),
+    /// A combination of models (survey §4.1–4.2): add, multiply, min, max, mix, smoothstep,
+    /// fold, sin-fold, histogram matching, colour ramp.
+    Combine(combine::CombineArgs),
 }
 
 /// What the noises of a spectrum (and Gabor noise) share.
@@ -115,5 +123,7 @@ pub fn noise(cmd: &NoiseCommand) -> Result<()> {
         NoiseKind::Worley(args) => classic::worley(args),
         NoiseKind::Wavelet(args) => wavelet::run(args),
         NoiseKind::Texton(args) => texton::run(args),
+        NoiseKind::Voronoi(args) => voronoi::run(args),
+        NoiseKind::Combine(args) => combine::run(args),
     }
 }

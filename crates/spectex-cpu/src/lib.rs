@@ -26,6 +26,7 @@
 //! ```
 
 pub mod classic;
+pub mod combine;
 pub mod gabor;
 pub mod lrp;
 /// The f32 functions both evaluators share, defined once in `spectex-model`.
@@ -34,6 +35,7 @@ mod periodic;
 pub mod phasor;
 pub mod texton;
 pub mod texture;
+pub mod voronoi;
 pub mod warp;
 pub mod wavelet;
 

@@ -214,7 +214,11 @@ macro_rules! unsupported_export {
         }
     )*};
 }
-unsupported_export!(spectex_model::PhasorNoise);
+unsupported_export!(
+    spectex_model::PhasorNoise,
+    spectex_model::VoronoiNoise,
+    spectex_model::Combine
+);
 
 impl ExportKind for spectex_model::Warp {
     fn export_parts(&self, z: f64) -> Result<ExportNode, GpuError> {

@@ -82,11 +82,13 @@ pub mod simulate;
 
 // One module per model kind: its records, packing and `GpuKind` implementation.
 mod classic;
+mod combine;
 mod gabor;
 mod lrp;
 mod phasor;
 mod texton;
 mod texture;
+mod voronoi;
 mod warp;
 mod wavelet;
 

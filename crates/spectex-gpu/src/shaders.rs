@@ -83,6 +83,12 @@ pub const SHADERS: &[ShaderFile] = &[
         ],
     },
     ShaderFile {
+        name: "voronoi",
+        source: include_str!("../../../shaders/voronoi.wgsl"),
+        needs_common: true,
+        entry_points: &["voronoi_main"],
+    },
+    ShaderFile {
         name: "probe",
         source: include_str!("../../../shaders/probe.wgsl"),
         needs_common: true,

@@ -11,7 +11,8 @@ use serde::{Deserialize, Serialize};
 use crate::error::ModelError;
 use crate::period::Period;
 use crate::{
-    ClassicNoise, GaborNoise, LrpNoise, PhasorNoise, TextonNoise, TextureModel, Warp, WaveletNoise,
+    ClassicNoise, Combine, GaborNoise, LrpNoise, PhasorNoise, TextonNoise, TextureModel,
+    VoronoiNoise, Warp, WaveletNoise,
 };
 
 /// The model-layer definition of one kind: its name, validation, output channels and seeds.
@@ -85,6 +86,10 @@ pub enum Model {
     Wavelet(WaveletNoise),
     /// Texton placement and spot noise (survey §2.3, §3.1.5).
     Texton(TextonNoise),
+    /// Voronoi diagrams (survey §2.6): cell IDs, distances, borders, colours.
+    Voronoi(VoronoiNoise),
+    /// A pointwise combination of models (survey §4.1–4.2, [`crate::combine`]).
+    Combine(Combine),
 }
 
 /// Calls `$body` with `$m` bound to the kind struct inside `$model` (by the reference the match
@@ -127,6 +132,14 @@ macro_rules! for_each_kind {
                 type $Kind = $crate::TextonNoise;
                 $body
             }
+            $crate::Model::Voronoi($m) => {
+                type $Kind = $crate::VoronoiNoise;
+                $body
+            }
+            $crate::Model::Combine($m) => {
+                type $Kind = $crate::Combine;
+                $body
+            }
         }
     };
 }
@@ -142,6 +155,8 @@ pub const KIND_NAMES: &[&str] = &[
     <Warp as ModelKind>::NAME,
     <WaveletNoise as ModelKind>::NAME,
     <TextonNoise as ModelKind>::NAME,
+    <VoronoiNoise as ModelKind>::NAME,
+    <Combine as ModelKind>::NAME,
 ];
 
 impl Model {

@@ -40,6 +40,7 @@
 //! ```
 
 pub mod classic;
+pub mod combine;
 mod defaults;
 mod error;
 mod file;
@@ -58,11 +59,13 @@ pub mod simulation;
 mod target;
 pub mod texton;
 pub mod texture;
+pub mod voronoi;
 pub mod warp;
 pub mod wavelet;
 pub mod window;
 
 pub use classic::{ClassicNoise, ClassicNoiseBuilder, FractalNoiseBuilder};
+pub use combine::Combine;
 pub use defaults::{DEFAULT_MEAN, DEFAULT_SEED, DEFAULT_STD_DEV, Levels};
 pub use error::ModelError;
 pub use file::{
@@ -84,5 +87,6 @@ pub use phasor::{
 pub use target::SpectralTarget;
 pub use texton::TextonNoise;
 pub use texture::{ColourBasis, FixedCosine, Structure, TextureChannel, TextureModel, Turbulence};
+pub use voronoi::VoronoiNoise;
 pub use warp::{MAX_WARP, Warp, WarpBuilder};
 pub use wavelet::{WaveletNoise, WaveletNoiseBuilder};

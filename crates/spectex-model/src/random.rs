@@ -32,7 +32,9 @@
 //! `cell_hash(i, j, WAVELET_LAYER, seed)`, 3D `(i, j, k)` with `cell_hash(i, j, WAVELET_LAYER,
 //! cell_hash(k, 0, WAVELET_LAYER, seed))`, and draws two words for one Box–Muller Gaussian in f64;
 //! band `b` draws its tile offsets (`next_u32 % n` per axis) from `cell_hash(b, −1, WAVELET_LAYER,
-//! seed)`.
+//! seed)`. Voronoi seeds (`spectex_model::voronoi`) use `VORONOI_LAYER = 0x564F524F` ("VORO"):
+//! cell `(i, j)` seeds the PRNG with `cell_hash(i, j, VORONOI_LAYER, seed)` and draws its offsets
+//! `x`, `y` then its ID; Lloyd relaxation moves the offsets on the host, per block, from these.
 
 /// Multiplier of the 32-bit LCG step (PCG's default 32-bit multiplier).
 pub const LCG_MULTIPLIER: u32 = 747_796_405;

@@ -134,11 +134,12 @@ fn prefixed(e: ModelError, name: &str) -> ModelError {
     }
 }
 
-/// Warps nested in `model` (0 for a model that is not a warp).
+/// Warps nested in `model` (0 for a model that is not a warp; a combination's deepest operand's).
 #[must_use]
 pub fn depth(model: &Model) -> usize {
     match model {
         Model::Warp(w) => w.depth(),
+        Model::Combine(c) => c.operands.iter().map(depth).max().unwrap_or(0),
         _ => 0,
     }
 }
@@ -151,6 +152,7 @@ pub fn reach(model: &Model) -> f64 {
         Model::Warp(w) => (f64::from(MAX_WARP) + reach(&w.base))
             .max(reach(&w.x))
             .max(reach(&w.y)),
+        Model::Combine(c) => c.operands.iter().map(reach).fold(0.0, f64::max),
         _ => 0.0,
     }
 }

@@ -9,6 +9,7 @@ use spectex_cpu::{CpuError, Evaluator};
 use spectex_model::classic::MAX_OCTAVES;
 use spectex_model::texton::{MAX_REACH, MAX_TEXTONS_PER_CELL};
 use spectex_model::texture::MAX_CHANNELS;
+use spectex_model::voronoi::{MAX_LLOYD_BLOCK, MAX_LLOYD_ITERATIONS};
 use spectex_model::warp::MAX_WARP_DEPTH;
 use spectex_model::wavelet::MAX_BANDS;
 use spectex_model::{MAX_COSINES, MAX_POSITION, MAX_STRATA, Model, Window};
@@ -32,6 +33,15 @@ const WAVELET_MAX_COST: f64 = 27.0 * MAX_BANDS as f64;
 /// Textons visited per pixel: `(2·MAX_REACH + 1)²` cells of at most `MAX_TEXTONS_PER_CELL`.
 const TEXTON_MAX_COST: f64 =
     ((2 * MAX_REACH + 1) * (2 * MAX_REACH + 1) * MAX_TEXTONS_PER_CELL) as f64;
+/// A Voronoi pixel: its search (7 × 7 cells, twice for the border) and, for a one-pixel window
+/// of a relaxed model, the relaxation of the up to 4 blocks its cells touch: `k` sweeps of
+/// `B²` seeds each clipped by 48 bisectors.
+const VORONOI_MAX_COST: f64 =
+    98.0 + 4.0 * MAX_LLOYD_ITERATIONS as f64 * (MAX_LLOYD_BLOCK * MAX_LLOYD_BLOCK) as f64 * 48.0;
+/// A combination costs its operands' costs: along any path at most 8 combinations and 8 warps
+/// nest (`MAX_COMBINE_DEPTH`, `MAX_WARP_DEPTH`), each with at most 8 (3) operands, so at most
+/// `8^16` leaves at the largest leaf cost (a texture's).
+const COMBINE_MAX_COST: f64 = 2.814_749_767_106_56e14 * TEXTURE_MAX_COST;
 /// One channel's or one turbulence axis's strata: `9(J_S + 1)` calls for each of 64 strata.
 const TEXTURE_STRATA_MAX_COST: f64 = 9.0 * (MAX_COSINES as f64 + 1.0) * MAX_STRATA as f64;
 /// Three channels of strata and a structure (4 blocks of 1024 cosines), and two turbulence axes.
@@ -56,6 +66,8 @@ pub const COST_BOUNDS: &[(&str, f64)] = &[
     ("warp", WARP_MAX_COST),
     ("wavelet", WAVELET_MAX_COST),
     ("texton", TEXTON_MAX_COST),
+    ("voronoi", VORONOI_MAX_COST),
+    ("combine", COMBINE_MAX_COST),
 ];
 
 const _: () = assert!(6561 == 3usize.pow(MAX_WARP_DEPTH as u32));

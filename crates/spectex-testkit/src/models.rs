@@ -9,8 +9,12 @@ use proptest::prelude::*;
 use spectex_model::classic::{
     Basis, FeaturePoints, Fractal, FractalKind, MAX_OCTAVES, Metric, WORLEY_MAX_POINTS, Worley,
 };
+use spectex_model::combine::{
+    Combine as Combination, CombineOp, MAX_STOPS, MAX_TABLE_KNOTS, RampStop,
+};
 use spectex_model::texton::{Combine, MAX_DENSITY, MAX_REACH, Placement, Spot, TextonNoise};
 use spectex_model::texture::{MAX_CHANNELS, MAX_PERIOD};
+use spectex_model::voronoi::{MAX_PALETTE, VoronoiNoise, VoronoiOutput};
 use spectex_model::warp::{MAX_STRENGTH, MAX_WARP_DEPTH};
 use spectex_model::wavelet::{MAX_BANDS, MAX_TILE_2D, MAX_TILE_3D, MIN_TILE};
 use spectex_model::{
@@ -44,6 +48,12 @@ pub const KIND_STRATEGIES: &[(&str, KindStrategy)] = &[
         wavelet(o).prop_map(Model::Wavelet).boxed()
     }),
     ("texton", |o, _| texton(o).prop_map(Model::Texton).boxed()),
+    ("voronoi", |o, _| {
+        voronoi(o).prop_map(Model::Voronoi).boxed()
+    }),
+    ("combine", |o, _| {
+        combine(o).prop_map(Model::Combine).boxed()
+    }),
 ];
 
 /// Warps nested at most in generated models: two past [`MAX_WARP_DEPTH`], so the limit itself
@@ -61,7 +71,7 @@ pub fn any_model() -> BoxedStrategy<Model> {
 pub fn model(o: Odds, depth: usize) -> BoxedStrategy<Model> {
     let kinds: Vec<BoxedStrategy<Model>> = KIND_STRATEGIES
         .iter()
-        .filter(|(name, _)| depth > 0 || *name != "warp")
+        .filter(|(name, _)| depth > 0 || (*name != "warp" && *name != "combine"))
         .map(|(_, strategy)| strategy(o, depth))
         .collect();
     proptest::strategy::Union::new(kinds).boxed()
@@ -720,6 +730,120 @@ pub fn texton(o: Odds) -> BoxedStrategy<TextonNoise> {
             },
         )
         .boxed()
+}
+
+// ---------------------------------------------------------------------------------------------
+// Voronoi diagrams.
+
+/// A Voronoi diagram: every output, palettes and small images (sometimes with a texel count
+/// that does not match their sides), relaxation at small iteration counts (the limits case
+/// takes the largest), values drawn inside and beyond their limits.
+pub fn voronoi(o: Odds) -> BoxedStrategy<VoronoiNoise> {
+    let colour = (level(o), level(o), level(o)).prop_map(|(r, g, b)| [r, g, b]);
+    let palette = list(colour.clone().boxed(), 1, 4, MAX_PALETTE, o)
+        .prop_map(|colours| VoronoiOutput::Palette { colours });
+    let image = (u32_in(1, 6, o), u32_in(1, 6, o)).prop_flat_map(move |(width, height)| {
+        let n = (width as usize * height as usize).min(64);
+        let len = prop_oneof![8 => Just(n), 1 => Just(n + 1), 1 => Just(n.saturating_sub(1))];
+        let colour = colour.clone();
+        len.prop_flat_map(move |len| {
+            proptest::collection::vec(colour.clone(), len).prop_map(move |texels| {
+                VoronoiOutput::Image {
+                    width,
+                    height,
+                    texels,
+                }
+            })
+        })
+    });
+    let output = prop_oneof![
+        Just(VoronoiOutput::CellId),
+        Just(VoronoiOutput::F1),
+        Just(VoronoiOutput::Border),
+        Just(VoronoiOutput::F2MinusF1),
+        palette,
+        image,
+    ];
+    (
+        seed(),
+        f32_in(1.0, 4096.0, o),
+        f32_in(0.0, 1.0, o),
+        prop_oneof![3 => Just(0u32), 1 => u32_in(0, 2, o)],
+        u32_in(1, 6, o),
+        output,
+    )
+        .prop_map(
+            |(seed, cell_size, jitter, lloyd_iterations, lloyd_block, output)| VoronoiNoise {
+                seed,
+                cell_size,
+                jitter,
+                lloyd_iterations,
+                lloyd_block,
+                output,
+            },
+        )
+        .boxed()
+}
+
+// ---------------------------------------------------------------------------------------------
+// Combinations.
+
+/// A combination of models without warps or combinations inside (their nesting is the warp
+/// strategy's and the limits cases'): every operation, operand counts around its arity with
+/// the odds, parameters inside and beyond their limits.
+pub fn combine(o: Odds) -> BoxedStrategy<Combination> {
+    let stop = (level(o), level(o), level(o), level(o)).prop_map(|(at, r, g, b)| RampStop {
+        at,
+        colour: [r, g, b],
+    });
+    let op = prop_oneof![
+        Just(CombineOp::Add),
+        Just(CombineOp::Multiply),
+        Just(CombineOp::Min),
+        Just(CombineOp::Max),
+        Just(CombineOp::Mix),
+        (level(o), level(o)).prop_map(|(a, b)| CombineOp::Smoothstep {
+            edges: [a.min(b), a.max(b)]
+        }),
+        (level(o), level(o), u32_in(0, 8, o)).prop_map(|(offset, step, folds)| {
+            CombineOp::AbsFold {
+                offset,
+                step,
+                folds,
+            }
+        }),
+        f32_in(-100.0, 100.0, o).prop_map(|gain| CombineOp::SinFold { gain }),
+        (
+            level(o),
+            f32_in(0.01, 10.0, o),
+            list(level(o), 2, 8, MAX_TABLE_KNOTS, o)
+        )
+            .prop_map(|(d0, span, table)| CombineOp::Histogram {
+                domain: [d0, d0 + span],
+                table,
+            }),
+        list(stop.boxed(), 1, 4, MAX_STOPS, o).prop_map(|mut stops| {
+            stops.sort_by(|a, b| a.at.total_cmp(&b.at));
+            CombineOp::Ramp { stops }
+        }),
+    ];
+    op.prop_flat_map(move |op| {
+        let (lo, hi) = op.arity();
+        let count = if o.bad > 0 {
+            (lo.saturating_sub(1)..=hi + 1).boxed()
+        } else {
+            (lo..=hi.min(3)).boxed()
+        };
+        let op = op.clone();
+        count.prop_flat_map(move |n| {
+            let op = op.clone();
+            proptest::collection::vec(model(o, 0), n).prop_map(move |operands| Combination {
+                op: op.clone(),
+                operands,
+            })
+        })
+    })
+    .boxed()
 }
 
 // ---------------------------------------------------------------------------------------------

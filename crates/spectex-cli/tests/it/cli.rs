@@ -919,6 +919,84 @@ fn classic_bad_inputs_fail_cleanly() {
     }
 }
 
+/// `spectex noise voronoi` and `spectex noise combine` with each output and operation: the
+/// model they write renders to the same bytes, the image is not constant; bad flags fail
+/// naming the field and the flag.
+#[test]
+fn voronoi_and_combinations_end_to_end() {
+    use image::GenericImageView;
+    let dir = scratch("survey-kinds");
+    let cases: &[&[&str]] = &[
+        &["voronoi"],
+        &["voronoi", "--show", "f1"],
+        &[
+            "voronoi", "--show", "border", "--jitter", "0.9", "--lloyd", "2",
+        ],
+        &["voronoi", "--show", "f2-f1", "--cell", "12"],
+        &[
+            "voronoi",
+            "--show",
+            "palette",
+            "--palette",
+            "ff0000,00ff00,0000ff",
+        ],
+        &["combine"],
+        &["combine", "multiply"],
+        &["combine", "mix"],
+        &["combine", "smoothstep", "--edges", "0.4,0.6"],
+        &["combine", "fold", "--folds", "2"],
+        &["combine", "sin-fold", "--gain", "3"],
+        &["combine", "histogram"],
+        &["combine", "ramp"],
+    ];
+    for (n, extra) in cases.iter().enumerate() {
+        let png = dir.join(format!("{n}.png"));
+        let model = dir.join(format!("{n}.json"));
+        let mut args = vec!["noise"];
+        args.extend(extra.iter().copied());
+        args.extend(["-o", s(&png), "--model", s(&model), "--size", "64x48"]);
+        spectex_ok(&args);
+        let again = dir.join(format!("{n}-again.png"));
+        spectex_ok(&["render", s(&model), "-o", s(&again), "--size", "64x48"]);
+        let (a, b) = (image::open(&png).unwrap(), image::open(&again).unwrap());
+        assert_eq!(a.dimensions(), (64, 48));
+        assert_eq!(
+            a.as_bytes(),
+            b.as_bytes(),
+            "{extra:?}: render differs from noise"
+        );
+        assert!(
+            a.as_bytes().iter().any(|&v| v != a.as_bytes()[0]),
+            "{extra:?}: constant image"
+        );
+    }
+    let bad = scratch("survey-kinds-bad");
+    let out = bad.join("bad.png");
+    let one = dir.join("1.json");
+    for (args, needles) in [
+        (
+            vec!["noise", "voronoi", "--jitter", "2"],
+            vec!["voronoi.jitter", "--jitter", "[0, 1]"],
+        ),
+        (
+            vec!["noise", "voronoi", "--lloyd", "17"],
+            vec!["voronoi.lloyd_iterations", "--lloyd"],
+        ),
+        (
+            vec!["noise", "combine", "--operand", s(&one)],
+            vec!["combine.operands", "--operand"],
+        ),
+        (
+            vec!["noise", "combine", "smoothstep", "--edges", "1,0"],
+            vec!["combine.op.smoothstep.edges[1]"],
+        ),
+    ] {
+        let mut a = args.clone();
+        a.extend(["-o", s(&out)]);
+        assert_fails(&spectex(&a), &bad, &needles);
+    }
+}
+
 /// `--device gpu` renders the classic noises (and `render MODEL --device gpu` their models)
 /// within one 16-bit level of the CPU's image, saying it used the GPU. Skips with a printed
 /// reason when no adapter exists, unless `SPECTEX_REQUIRE_GPU=1`.

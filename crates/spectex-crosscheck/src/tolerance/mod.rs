@@ -19,11 +19,13 @@
 use spectex_model::Model;
 
 pub mod classic;
+pub mod combine;
 pub mod gabor;
 pub mod lrp;
 pub mod phasor;
 pub mod texton;
 pub mod texture;
+pub mod voronoi;
 pub mod warp;
 pub mod wavelet;
 

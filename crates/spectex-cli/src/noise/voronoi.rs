@@ -1,0 +1,161 @@
+//! `spectex noise voronoi`: Voronoi diagrams (survey §2.6, `spectex_model::voronoi`) from flags:
+//! the cell ID, F1, the border distance, F2 − F1, or colours from a palette or an image, with
+//! optional Lloyd relaxation; written as a model (`--model`) and rendered.
+
+use anyhow::{Result, anyhow, bail};
+use clap::{Args, ValueEnum};
+use spectex_model::voronoi::{MAX_IMAGE_SIDE, VoronoiNoise, VoronoiOutput};
+use spectex_model::{Model, ModelError};
+
+use crate::model_file::write_model;
+use crate::render::{RenderArgs, render_to_file};
+
+/// What a pixel shows.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+enum OutputArg {
+    /// The cell's ID, uniform in [0, 1).
+    Id,
+    /// The distance to the nearest seed (cell units).
+    F1,
+    /// The exact distance to the cell's border (cell units).
+    Border,
+    /// Worley's F2 − F1 (cell units).
+    #[value(name = "f2-f1")]
+    F2F1,
+    /// A colour per cell from --palette (a built-in one by default).
+    Palette,
+}
+
+/// The options of `spectex noise voronoi`.
+#[derive(Debug, Args)]
+pub(crate) struct VoronoiArgs {
+    /// Lattice cell side, pixels (1 to 4096): one seed per cell.
+    #[arg(long, value_name = "PX", default_value_t = spectex_model::voronoi::DEFAULT_CELL_SIZE)]
+    cell: f32,
+    /// Jitter of the seeds in cells, 0 (regular grid) to 1 (anywhere in the cell).
+    #[arg(long, default_value_t = 1.0)]
+    jitter: f32,
+    /// Lloyd relaxation iterations (0 to 16), run per block of --block cells.
+    #[arg(long, default_value_t = 0)]
+    lloyd: u32,
+    /// Side of a relaxation block, cells (1 to 16).
+    #[arg(long, default_value_t = 4)]
+    block: u32,
+    /// What a pixel shows.
+    #[arg(long, value_enum, default_value = "id")]
+    show: OutputArg,
+    /// Palette colours as hex RGB (e.g. 264653,2a9d8f,e9c46a), for --show palette.
+    #[arg(long, value_name = "HEX,…", value_delimiter = ',')]
+    palette: Vec<String>,
+    /// Colour each cell by this image's texel under its seed (PNG/JPEG, at most 1024 per
+    /// side, stored in the model; the image repeats over the plane), instead of --show.
+    #[arg(long, value_name = "IMAGE", conflicts_with = "show")]
+    image: Option<std::path::PathBuf>,
+    /// Seed.
+    #[arg(long, default_value_t = 0)]
+    seed: u32,
+    /// Also write the model to this .json file (render it again with `spectex render`).
+    #[arg(long, value_name = "MODEL")]
+    model: Option<std::path::PathBuf>,
+    #[command(flatten)]
+    render: RenderArgs,
+}
+
+/// The built-in palette: five colours of a mosaic.
+const DEFAULT_PALETTE: [[f32; 3]; 5] = [
+    [0.149, 0.275, 0.325],
+    [0.165, 0.616, 0.561],
+    [0.914, 0.769, 0.416],
+    [0.957, 0.635, 0.380],
+    [0.906, 0.435, 0.310],
+];
+
+fn parse_hex(s: &str) -> Result<[f32; 3]> {
+    let t = s.trim().trim_start_matches('#');
+    if t.len() != 6 || !t.chars().all(|c| c.is_ascii_hexdigit()) {
+        bail!("--palette entry '{s}' is not a hex colour RRGGBB (for example 2a9d8f)");
+    }
+    let byte = |k: usize| u8::from_str_radix(&t[k..k + 2], 16).map(|b| f32::from(b) / 255.0);
+    Ok([byte(0)?, byte(2)?, byte(4)?])
+}
+
+/// An RGB image's texels (a grey one repeated in the three channels).
+fn image_output(path: &std::path::Path) -> Result<VoronoiOutput> {
+    let (loaded, name) = crate::load_input(Some(path))?;
+    let (c, h, w) = loaded.pixels.dim();
+    if w > MAX_IMAGE_SIDE as usize || h > MAX_IMAGE_SIDE as usize {
+        bail!(
+            "Voronoi image {name} is {w}×{h}; at most {MAX_IMAGE_SIDE} pixels per side are \
+             accepted, resize it"
+        );
+    }
+    let texels = (0..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .map(|(x, y)| {
+            let v = |k: usize| loaded.pixels[[k.min(c - 1), y, x]] as f32;
+            [v(0), v(1), v(2)]
+        })
+        .collect();
+    Ok(VoronoiOutput::Image {
+        width: w as u32,
+        height: h as u32,
+        texels,
+    })
+}
+
+/// The command-line flag that sets a model field, for error messages.
+fn flag(field: &str) -> &'static str {
+    const FLAGS: &[(&str, &str)] = &[
+        ("cell_size", "--cell"),
+        ("jitter", "--jitter"),
+        ("lloyd_iterations", "--lloyd"),
+        ("lloyd_block", "--block"),
+        ("palette", "--palette"),
+        ("image", "--image"),
+    ];
+    FLAGS
+        .iter()
+        .find(|(f, _)| field.contains(f))
+        .map_or("the Voronoi options", |(_, flag)| flag)
+}
+
+/// Builds the model, writes it if asked, and renders it.
+pub(crate) fn run(args: &VoronoiArgs) -> Result<()> {
+    crate::io::check_output(&args.render.output, args.render.bit_depth)?;
+    let output = match (&args.image, args.show) {
+        (Some(path), _) => image_output(path)?,
+        (None, OutputArg::Id) => VoronoiOutput::CellId,
+        (None, OutputArg::F1) => VoronoiOutput::F1,
+        (None, OutputArg::Border) => VoronoiOutput::Border,
+        (None, OutputArg::F2F1) => VoronoiOutput::F2MinusF1,
+        (None, OutputArg::Palette) => VoronoiOutput::Palette {
+            colours: if args.palette.is_empty() {
+                DEFAULT_PALETTE.to_vec()
+            } else {
+                args.palette
+                    .iter()
+                    .map(|s| parse_hex(s))
+                    .collect::<Result<_>>()?
+            },
+        },
+    };
+    let model = VoronoiNoise {
+        seed: args.seed,
+        cell_size: args.cell,
+        jitter: args.jitter,
+        lloyd_iterations: args.lloyd,
+        lloyd_block: args.block,
+        output,
+    };
+    model.validate().map_err(|e| match &e {
+        ModelError::OutOfRange { field, .. } | ModelError::Length { field, .. } => {
+            anyhow!("{e}; set {} within it", flag(field))
+        }
+        _ => anyhow!("{e}"),
+    })?;
+    let model = Model::Voronoi(model);
+    if let Some(path) = &args.model {
+        write_model(path, &model)?;
+    }
+    render_to_file(&model, &args.render, (512, 512))
+}

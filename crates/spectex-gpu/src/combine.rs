@@ -1,0 +1,87 @@
+//! Combinations on the device: a [`Combine`] has no shader of its own. Per tile it renders
+//! every operand through its own kernel (displaced when the combination is) and applies
+//! [`CombineOp::apply`](spectex_model::combine::CombineOp::apply) on the host in f32, the
+//! CPU's expression, as a warp applies its displacement.
+
+use spectex_model::{Combine, Model, ModelKind};
+
+use crate::kernel::{GpuKernel, GpuKind};
+use crate::{GpuContext, GpuError, GpuEvaluator, GpuWindow};
+
+/// A combination's operand evaluators.
+#[derive(Debug)]
+pub(crate) struct CombineKernel {
+    model: Combine,
+    /// The whole model, for [`spectex_model::warp::check_window`].
+    whole: Model,
+    operands: Vec<GpuEvaluator>,
+}
+
+impl GpuKind for Combine {
+    fn gpu_kernel(&self, context: &GpuContext, z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
+        let operands = self
+            .operands
+            .iter()
+            .map(|m| GpuEvaluator::prepared(context, m, z))
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(Box::new(CombineKernel {
+            model: self.clone(),
+            whole: Model::Combine(self.clone()),
+            operands,
+        }))
+    }
+}
+
+impl GpuKernel for CombineKernel {
+    fn output_channels(&self) -> usize {
+        self.model.output_channels()
+    }
+
+    /// Every operand renders the same tile: the smallest of theirs.
+    fn tile_size(&self, window: &GpuWindow, cap: [usize; 2]) -> Result<[usize; 2], GpuError> {
+        let mut size = [window.width.min(cap[0]), window.height.min(cap[1])];
+        for e in &self.operands {
+            let [w, h] = e.tile_size(window)?;
+            size = [size[0].min(w), size[1].min(h)];
+        }
+        Ok(size)
+    }
+
+    fn check_window(&self, window: &GpuWindow) -> Result<(), GpuError> {
+        Ok(spectex_model::warp::check_window(&self.whole, window)?)
+    }
+
+    fn render_tile(
+        &self,
+        tile: &GpuWindow,
+        displacement: Option<&[f32]>,
+    ) -> Result<Vec<f32>, GpuError> {
+        let values = self
+            .operands
+            .iter()
+            .map(|e| e.render_tile_displaced(tile, displacement))
+            .collect::<Result<Vec<_>, _>>()?;
+        let widths: Vec<usize> = self
+            .operands
+            .iter()
+            .map(GpuEvaluator::output_channels)
+            .collect();
+        let channels = self.output_channels();
+        let pixels = tile.width * tile.height;
+        let mut out = vec![0.0f32; pixels * channels];
+        let mut pixel: Vec<&[f32]> = Vec::with_capacity(values.len());
+        for (p, o) in out.chunks_exact_mut(channels).enumerate() {
+            pixel.clear();
+            pixel.extend(
+                values
+                    .iter()
+                    .zip(&widths)
+                    .map(|(v, &w)| &v[p * w..p * w + w]),
+            );
+            for (c, value) in o.iter_mut().enumerate() {
+                *value = self.model.op.apply(&pixel, c);
+            }
+        }
+        Ok(out)
+    }
+}

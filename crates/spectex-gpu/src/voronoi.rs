@@ -1,0 +1,225 @@
+//! Voronoi diagrams on the device (`shaders/voronoi.wgsl`): per tile, the host computes the
+//! sites of the box of lattice cells the tile's pixels search (`spectex_model::voronoi`, Lloyd
+//! relaxation included, so the device reads the CPU's f32 seeds, IDs and colours), and each
+//! column's and row's cell and offset (the CPU's split); the shader runs the search.
+
+use spectex_model::grid::locate_cell;
+use spectex_model::voronoi::{VoronoiNoise, VoronoiOutput};
+
+use crate::axis::{CellAxis, cell_axis, columns, rows};
+use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
+use crate::layout::wgsl_struct;
+use crate::pipeline::Shaded;
+use crate::{GpuContext, GpuError, GpuWindow};
+
+wgsl_struct! {
+    /// `VoronoiParams` of `voronoi.wgsl`; `width` and `height` are the tile's.
+    pub(crate) struct VoronoiParams {
+        width: u32,
+        height: u32,
+        reach: i32,
+        /// 0: cell ID, 1: F1, 2: border, 3: F2 − F1, 4: colour.
+        output: u32,
+        box_i0: i32,
+        box_j0: i32,
+        box_cols: u32,
+        box_rows: u32,
+        /// `1/C` (f32 of the f64 value), for warping.
+        inv_cell: f32,
+        _pad0: u32,
+        _pad1: u32,
+        _pad2: u32,
+    }
+}
+
+/// Floats per site in the table: offset x, y, ID, colour r, g, b.
+const SITE_FLOATS: usize = 6;
+
+/// A Voronoi model on the device.
+#[derive(Debug, Clone)]
+pub(crate) struct VoronoiKernel {
+    model: VoronoiNoise,
+    params: VoronoiParams,
+}
+
+impl VoronoiKernel {
+    fn side(&self) -> f64 {
+        f64::from(self.model.cell_size)
+    }
+
+    /// Cells of a tile's box at `scale` (its span plus the search reach each side, and one
+    /// more for rounding).
+    fn box_cells(&self, width: usize, height: usize, scale: f64) -> f64 {
+        let margin = 2.0 * f64::from(self.params.reach) + 3.0;
+        let along = |n: usize| n as f64 * scale / self.side() + margin;
+        along(width) * along(height)
+    }
+}
+
+impl GpuKind for VoronoiNoise {
+    fn gpu_kernel(&self, context: &GpuContext, _z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
+        let output = match self.output {
+            VoronoiOutput::CellId => 0,
+            VoronoiOutput::F1 => 1,
+            VoronoiOutput::Border => 2,
+            VoronoiOutput::F2MinusF1 => 3,
+            VoronoiOutput::Palette { .. } | VoronoiOutput::Image { .. } => 4,
+        };
+        let kernel = VoronoiKernel {
+            model: self.clone(),
+            params: VoronoiParams {
+                width: 0,
+                height: 0,
+                reach: self.output.reach(),
+                output,
+                box_i0: 0,
+                box_j0: 0,
+                box_cols: 0,
+                box_rows: 0,
+                inv_cell: (1.0 / f64::from(self.cell_size)) as f32,
+                _pad0: 0,
+                _pad1: 0,
+                _pad2: 0,
+            },
+        };
+        Shaded::boxed(context, kernel, &[])
+    }
+}
+
+impl ShaderKernel for VoronoiKernel {
+    const SHADER: &'static str = "voronoi";
+    const ENTRY_POINT: &'static str = "voronoi_main";
+
+    fn output_channels(&self) -> usize {
+        self.model.output.channels()
+    }
+
+    fn axis_bytes(&self) -> u64 {
+        size_of::<CellAxis>() as u64
+    }
+
+    /// The output (3 values for colour) or the displacement (2 values).
+    fn pixel_bytes(&self) -> u64 {
+        4 * self.model.output.channels().max(2) as u64
+    }
+
+    /// The tile's box of sites must fit one buffer.
+    fn fit_tile(
+        &self,
+        window: &GpuWindow,
+        [mut width, mut height]: [usize; 2],
+        limit: u64,
+    ) -> Result<[usize; 2], GpuError> {
+        let per_cell = (SITE_FLOATS * 4) as f64;
+        while width > 1 || height > 1 {
+            if self.box_cells(width, height, window.scale) * per_cell <= limit as f64 / 2.0 {
+                break;
+            }
+            width = width.div_ceil(2);
+            height = height.div_ceil(2);
+        }
+        Ok([width, height])
+    }
+
+    /// The box covers every (displaced) pixel's search: the cells of its pixels, widened by one
+    /// cell for the shader's f32 relocation of a displaced pixel, and by the reach.
+    fn tile_tables(
+        &self,
+        tile: &GpuWindow,
+        displacement: Option<&[f32]>,
+        limit: u64,
+    ) -> Result<TileTables, GpuError> {
+        let side = self.side();
+        let (width, height) = (tile.width, tile.height);
+        let columns = cell_axis(side, width, columns(tile));
+        let rows = cell_axis(side, height, rows(tile));
+        let mut range: [Option<(i64, i64)>; 2] = [None, None];
+        let mut widen = |axis: usize, c: i32| {
+            let c = i64::from(c);
+            let (lo, hi) = range[axis].unwrap_or((c, c));
+            range[axis] = Some((lo.min(c), hi.max(c)));
+        };
+        match displacement {
+            Some(d) => {
+                for j in 0..height {
+                    for i in 0..width {
+                        let k = 2 * (j * width + i);
+                        let p = [tile.x(i) + f64::from(d[k]), tile.y(j) + f64::from(d[k + 1])];
+                        for (axis, &v) in p.iter().enumerate() {
+                            if let Some((c, _)) = locate_cell(v, side) {
+                                widen(axis, c);
+                            }
+                        }
+                    }
+                }
+            }
+            None => {
+                for r in columns.iter().filter(|r| r.valid == 1) {
+                    widen(0, r.cell);
+                }
+                for r in rows.iter().filter(|r| r.valid == 1) {
+                    widen(1, r.cell);
+                }
+            }
+        }
+        let margin = i64::from(self.params.reach) + i64::from(displacement.is_some());
+        let mut params = VoronoiParams {
+            width: width as u32,
+            height: height as u32,
+            ..self.params
+        };
+        let mut data: Vec<f32> = Vec::new();
+        if let [Some((i_lo, i_hi)), Some((j_lo, j_hi))] = range {
+            let (i0, j0) = (i_lo - margin, j_lo - margin);
+            let cols = (i_hi + margin - i0 + 1) as usize;
+            let rows_n = (j_hi + margin - j0 + 1) as usize;
+            let bytes = (cols * rows_n * SITE_FLOATS * 4) as u64;
+            if bytes > limit {
+                return Err(GpuError::LimitsExceeded {
+                    what: "bytes of a tile's Voronoi site table (a smaller tile, scale or warp \
+                           strength)",
+                    value: bytes,
+                    limit,
+                });
+            }
+            let table = self.model.sites(i0, j0, cols, rows_n);
+            data.reserve(cols * rows_n * SITE_FLOATS);
+            for s in &table.sites {
+                data.extend([
+                    s.offset[0],
+                    s.offset[1],
+                    s.id,
+                    s.colour[0],
+                    s.colour[1],
+                    s.colour[2],
+                ]);
+            }
+            // Cells are i32 on the device; a box beyond that range is only at |p| near the
+            // limits, where the axis records are invalid anyway.
+            params.box_i0 = i0 as i32;
+            params.box_j0 = j0 as i32;
+            params.box_cols = cols as u32;
+            params.box_rows = rows_n as u32;
+        }
+        Ok(TileTables::new(
+            &params,
+            vec![
+                Table::new("voronoi sites", &data),
+                Table::new("voronoi columns", &columns),
+                Table::new("voronoi rows", &rows),
+            ],
+        ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::layout::check::assert_matches_wgsl;
+
+    #[test]
+    fn params_and_axis_match_the_wgsl() {
+        assert_matches_wgsl::<VoronoiParams>("voronoi", "VoronoiParams");
+        assert_matches_wgsl::<CellAxis>("voronoi", "VoronoiAxis");
+    }
+}

@@ -1,0 +1,730 @@
+//! Voronoi diagrams (survey Dong et al. 2020, §2.6): one seed point per lattice cell, jittered
+//! by the randomness contract and optionally relaxed by Lloyd's algorithm, and per pixel the
+//! cell's ID, the distance `F1` to its seed, the exact distance to the cell's border, `F2 − F1`,
+//! or a colour (from a palette, or from an image sampled at the seed point).
+//!
+//! # Definition
+//!
+//! Lattice cell `(i, j)` of side `C` pixels holds one seed. Its PRNG,
+//! `Prng::new(cell_hash(i, j, VORONOI_LAYER, seed))`, draws in order `o_x = ½ + jitter·(u − ½)`,
+//! `o_y` likewise, and the cell ID `u ∈ [0, 1)` ([`Site::id`]). With Lloyd relaxation
+//! ([`VoronoiNoise::lloyd_iterations`] `k > 0`) the offsets are then moved on the host, in f64,
+//! per block of `B × B` cells (`B` = [`VoronoiNoise::lloyd_block`], block `(b_x, b_y)` the
+//! cells `b·B ..< b·B + B`): `k` Jacobi sweeps move every seed of the block to the centroid of
+//! its Voronoi cell, computed exactly (the square of half-side 2 around the seed clipped by the
+//! bisector with every seed of the 7 × 7 cells around its cell), and clamp it back into its
+//! jitter square `[½ − jitter/2, ½ + jitter/2]²` of its own lattice cell (so seeds of a jitter
+//! below 1 stay at least `1 − jitter` apart, relaxed or not). The seeds of the cells around the block (3 cells deep) stay frozen at
+//! their jittered positions while the block relaxes. So a relaxed seed is a function of its
+//! block's coordinates alone: the diagram stays infinite and every tiling, window and thread
+//! sees the same seeds (blocks meet along lines where the relaxation is one-sided, which is
+//! invisible at `k ≤ 3` and is the price of locality). The relaxed offset is rounded to f32
+//! once, clamped to `[0, 1 − 2⁻²⁴]`.
+//!
+//! Because every lattice cell holds exactly one seed (relaxed seeds included), every disc of
+//! radius `√2` contains a seed, so a Voronoi cell lies within `√2` of its seed; from this:
+//! - `F1 < √2`, and a seed outside the 5 × 5 cells around a pixel's is more than 2 away: the
+//!   nearest seed is found among those 25 ([`NEAREST_REACH`] = 2);
+//! - `F2 < √5` (a disc of radius √5 contains the pixel's cell and a neighbour), so the second
+//!   nearest is among the 7 × 7 cells ([`BORDER_REACH`] = 3), whose outside is more than 3 away;
+//! - the border distance `b ≤ √2 − F1`, and a seed `q` more than 3 away has a bisector at least
+//!   `(3 − F1)/2 > √2 − F1` away: the 7 × 7 cells give the exact border distance.
+//!
+//! A pixel at `p` (pixels) is split per axis into its cell and an f32 offset `f`
+//! ([`crate::grid::locate_cell`]); for each cell of the search, rows (`dj`) outer and columns
+//! (`di`) inner, the seed is at `s = (di + o_x, dj + o_y)` relative to the pixel's cell and
+//! `d = s − f`, `d² = d_x·d_x + d_y·d_y` (f32, plain `*` and `+`). The nearest seed `n` is the
+//! first with the smallest `d²` (strict `<`); `F1 = √d²_n` and `F2` likewise for the second
+//! smallest, both in cell units. The border distance is the exact distance to the nearest
+//! bisector, `min over q ≠ n of ((d_q + d_n)·(d_q − d_n)) / (2·|d_q − d_n|)` (`|q−p|² − |n−p|²`
+//! over twice the seeds' distance, written as the dot product of the sum and difference, which
+//! is well conditioned), skipping a `q` with `d_q = d_n`; cell units. The colour outputs read
+//! the nearest seed's [`Site::colour`]: a palette's entry `⌊id·N⌋`, or the image's texel under
+//! the seed (the image repeats over the plane, one texel per model pixel, top row first; the
+//! texel `(⌊x⌋ mod W, ⌊y⌋ mod H)` for the seed at `(x, y) = ((i + o_x)·C, (j + o_y)·C)` in f64).
+//! The image's texels are stored in the model (a model file stands alone).
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{ModelError, check_len, check_level, check_range};
+use crate::random::{Prng, cell_hash};
+
+/// The random layer of Voronoi seeds ("VORO").
+pub const VORONOI_LAYER: u32 = 0x564F_524F;
+/// Cells searched beyond a pixel's own for the nearest seed (5 × 5 cells; module docs).
+pub const NEAREST_REACH: i32 = 2;
+/// Cells searched beyond a pixel's own for the second nearest seed and the border (7 × 7).
+pub const BORDER_REACH: i32 = 3;
+/// Most Lloyd iterations.
+pub const MAX_LLOYD_ITERATIONS: u32 = 16;
+/// Largest relaxation block side, cells.
+pub const MAX_LLOYD_BLOCK: u32 = 16;
+/// Most palette colours.
+pub const MAX_PALETTE: usize = 256;
+/// Largest side of a colour image, texels.
+pub const MAX_IMAGE_SIDE: u32 = 1024;
+/// Default cell side `C`, pixels.
+pub const DEFAULT_CELL_SIZE: f32 = 32.0;
+/// The largest offset a seed takes in its cell, `1 − 2⁻²⁴`.
+const MAX_OFFSET: f64 = 1.0 - 1.0 / 16_777_216.0;
+
+/// What a pixel shows.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, rename_all = "snake_case")]
+pub enum VoronoiOutput {
+    /// The nearest seed's ID, a uniform value in `[0, 1)` per cell.
+    CellId,
+    /// The distance to the nearest seed, cell units.
+    F1,
+    /// The exact distance to the nearest cell border (bisector), cell units.
+    Border,
+    /// Worley's `F2 − F1`, cell units.
+    F2MinusF1,
+    /// The nearest seed's colour from a palette, entry `⌊id·N⌋` (RGB output).
+    Palette {
+        /// `1..=256` RGB colours.
+        colours: Vec<[f32; 3]>,
+    },
+    /// The colour of an RGB image under the nearest seed (RGB output; module docs).
+    Image {
+        /// Texels per row (`1..=1024`).
+        width: u32,
+        /// Rows (`1..=1024`).
+        height: u32,
+        /// `width·height` RGB texels, row-major, top row first.
+        texels: Vec<[f32; 3]>,
+    },
+}
+
+impl VoronoiOutput {
+    /// Values per pixel: 3 for the colour outputs, else 1.
+    #[must_use]
+    pub fn channels(&self) -> usize {
+        match self {
+            Self::Palette { .. } | Self::Image { .. } => 3,
+            _ => 1,
+        }
+    }
+
+    /// The search reach the output needs: [`BORDER_REACH`] for the border and `F2 − F1`,
+    /// [`NEAREST_REACH`] for the rest.
+    #[must_use]
+    pub fn reach(&self) -> i32 {
+        match self {
+            Self::Border | Self::F2MinusF1 => BORDER_REACH,
+            _ => NEAREST_REACH,
+        }
+    }
+}
+
+/// A Voronoi diagram (module docs).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VoronoiNoise {
+    /// Seed of the randomness contract.
+    pub seed: u32,
+    /// `C`, the lattice cell side in pixels, in `[1, 4096]`.
+    pub cell_size: f32,
+    /// Jitter of the seeds in cells, `[0, 1]` (1: anywhere in the cell).
+    pub jitter: f32,
+    /// Lloyd iterations `k` (0: none), at most 16.
+    pub lloyd_iterations: u32,
+    /// Relaxation block side `B`, cells, in `[1, 16]`.
+    pub lloyd_block: u32,
+    /// What a pixel shows.
+    pub output: VoronoiOutput,
+}
+
+impl Default for VoronoiNoise {
+    /// Fully jittered seeds on a 32 px lattice, no relaxation (blocks of 4 when relaxed), the
+    /// cell ID.
+    fn default() -> Self {
+        Self {
+            seed: 0,
+            cell_size: DEFAULT_CELL_SIZE,
+            jitter: 1.0,
+            lloyd_iterations: 0,
+            lloyd_block: 4,
+            output: VoronoiOutput::CellId,
+        }
+    }
+}
+
+/// One lattice cell's seed as both evaluators read it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Site {
+    /// `(o_x, o_y)`, the seed's offset in its cell, cell units in `[0, 1)`.
+    pub offset: [f32; 2],
+    /// The cell ID in `[0, 1)`.
+    pub id: f32,
+    /// The colour of a colour output (zeros otherwise).
+    pub colour: [f32; 3],
+}
+
+/// A rectangle of lattice cells' sites, row-major: cell `(i0 + a, j0 + b)` at `b·width + a`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SiteTable {
+    /// First cell column.
+    pub i0: i64,
+    /// First cell row.
+    pub j0: i64,
+    /// Columns.
+    pub width: usize,
+    /// Rows.
+    pub height: usize,
+    /// The sites.
+    pub sites: Vec<Site>,
+}
+
+impl SiteTable {
+    /// The site of cell `(i, j)`, which must lie in the table.
+    #[inline]
+    #[must_use]
+    pub fn get(&self, i: i64, j: i64) -> &Site {
+        &self.sites[(j - self.j0) as usize * self.width + (i - self.i0) as usize]
+    }
+}
+
+/// What a pixel's search finds (module docs), all in cell units.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Nearest {
+    /// The nearest seed's site.
+    pub site: Site,
+    /// `F1`.
+    pub f1: f32,
+    /// `F2` (`INFINITY` when the search covered only the nearest's reach).
+    pub f2: f32,
+    /// The border distance (`INFINITY` when not computed).
+    pub border: f32,
+}
+
+impl VoronoiNoise {
+    /// Checks every field.
+    ///
+    /// # Errors
+    /// The first field found outside its range.
+    pub fn validate(&self) -> Result<(), ModelError> {
+        check_range(
+            || "voronoi.cell_size".into(),
+            f64::from(self.cell_size),
+            1.0,
+            4096.0,
+            "[1, 4096] pixels",
+        )?;
+        check_range(
+            || "voronoi.jitter".into(),
+            f64::from(self.jitter),
+            0.0,
+            1.0,
+            "[0, 1] cells",
+        )?;
+        check_range(
+            || "voronoi.lloyd_iterations".into(),
+            f64::from(self.lloyd_iterations),
+            0.0,
+            f64::from(MAX_LLOYD_ITERATIONS),
+            "[0, 16] iterations",
+        )?;
+        check_range(
+            || "voronoi.lloyd_block".into(),
+            f64::from(self.lloyd_block),
+            1.0,
+            f64::from(MAX_LLOYD_BLOCK),
+            "[1, 16] cells",
+        )?;
+        match &self.output {
+            VoronoiOutput::Palette { colours } => {
+                check_len(
+                    || "voronoi.output.palette.colours".into(),
+                    colours.len(),
+                    1,
+                    MAX_PALETTE,
+                    "1 to 256 colours",
+                )?;
+                for (k, c) in colours.iter().enumerate() {
+                    for (n, &v) in c.iter().enumerate() {
+                        check_level(|| format!("voronoi.output.palette.colours[{k}][{n}]"), v)?;
+                    }
+                }
+            }
+            VoronoiOutput::Image {
+                width,
+                height,
+                texels,
+            } => {
+                for (name, side) in [("width", *width), ("height", *height)] {
+                    check_range(
+                        || format!("voronoi.output.image.{name}"),
+                        f64::from(side),
+                        1.0,
+                        f64::from(MAX_IMAGE_SIDE),
+                        "[1, 1024] texels",
+                    )?;
+                }
+                let n = (*width as usize) * (*height as usize);
+                check_len(
+                    || "voronoi.output.image.texels".into(),
+                    texels.len(),
+                    n,
+                    n,
+                    "width·height texels",
+                )?;
+                for (k, c) in texels.iter().enumerate() {
+                    for (n, &v) in c.iter().enumerate() {
+                        check_level(|| format!("voronoi.output.image.texels[{k}][{n}]"), v)?;
+                    }
+                }
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+
+    /// The jittered offset and ID of cell `(i, j)` (before relaxation).
+    #[must_use]
+    pub fn jittered(&self, i: i64, j: i64) -> ([f32; 2], f32) {
+        let mut prng = Prng::new(cell_hash(i as i32, j as i32, VORONOI_LAYER, self.seed));
+        let ox = 0.5 + self.jitter * (prng.next_f32() - 0.5);
+        let oy = 0.5 + self.jitter * (prng.next_f32() - 0.5);
+        let id = prng.next_f32();
+        ([ox, oy], id)
+    }
+
+    /// The relaxed offsets of block `(bx, by)`'s `B × B` cells, row-major (module docs).
+    #[must_use]
+    pub fn relaxed_block(&self, bx: i64, by: i64) -> Vec<[f32; 2]> {
+        let b = i64::from(self.lloyd_block);
+        let ring = i64::from(BORDER_REACH);
+        let side = b + 2 * ring;
+        let (i0, j0) = (bx * b - ring, by * b - ring);
+        // Seeds relative to (i0, j0), f64: the block's (moving) and the ring's (frozen).
+        let mut points: Vec<[f64; 2]> = Vec::with_capacity((side * side) as usize);
+        for y in 0..side {
+            for x in 0..side {
+                let ([ox, oy], _) = self.jittered(i0 + x, j0 + y);
+                points.push([x as f64 + f64::from(ox), y as f64 + f64::from(oy)]);
+            }
+        }
+        let index = |x: i64, y: i64| (y * side + x) as usize;
+        // The jitter square: a relaxed seed stays where a jittered one may lie.
+        let half = 0.5 * f64::from(self.jitter);
+        let (lo, hi) = ((0.5 - half).max(0.0), (0.5 + half).min(MAX_OFFSET));
+        for _ in 0..self.lloyd_iterations {
+            let mut moved = points.clone();
+            for y in ring..ring + b {
+                for x in ring..ring + b {
+                    let p = points[index(x, y)];
+                    let mut others = Vec::with_capacity(48);
+                    for yy in y - ring..=y + ring {
+                        for xx in x - ring..=x + ring {
+                            if (xx, yy) != (x, y) {
+                                others.push(points[index(xx, yy)]);
+                            }
+                        }
+                    }
+                    let c = voronoi_centroid(p, &others);
+                    moved[index(x, y)] = [
+                        x as f64 + (c[0] - x as f64).clamp(lo, hi),
+                        y as f64 + (c[1] - y as f64).clamp(lo, hi),
+                    ];
+                }
+            }
+            points = moved;
+        }
+        let mut out = Vec::with_capacity((b * b) as usize);
+        for y in ring..ring + b {
+            for x in ring..ring + b {
+                let p = points[index(x, y)];
+                let o = |v: f64, c: i64| ((v - c as f64) as f32).min(MAX_OFFSET as f32);
+                out.push([o(p[0], x), o(p[1], y)]);
+            }
+        }
+        out
+    }
+
+    /// The sites of the cells `i0 ..< i0 + width`, `j0 ..< j0 + height` (relaxed blocks each
+    /// computed once).
+    #[must_use]
+    pub fn sites(&self, i0: i64, j0: i64, width: usize, height: usize) -> SiteTable {
+        let mut sites = Vec::with_capacity(width * height);
+        let b = i64::from(self.lloyd_block);
+        let mut blocks: std::collections::HashMap<(i64, i64), Vec<[f32; 2]>> =
+            std::collections::HashMap::new();
+        for y in 0..height as i64 {
+            for x in 0..width as i64 {
+                let (i, j) = (i0 + x, j0 + y);
+                let (mut offset, id) = self.jittered(i, j);
+                if self.lloyd_iterations > 0 {
+                    let (bx, by) = (i.div_euclid(b), j.div_euclid(b));
+                    let block = blocks
+                        .entry((bx, by))
+                        .or_insert_with(|| self.relaxed_block(bx, by));
+                    offset = block[(j.rem_euclid(b) * b + i.rem_euclid(b)) as usize];
+                }
+                sites.push(Site {
+                    offset,
+                    id,
+                    colour: self.colour(i, j, offset, id),
+                });
+            }
+        }
+        SiteTable {
+            i0,
+            j0,
+            width,
+            height,
+            sites,
+        }
+    }
+
+    /// The colour of a colour output for the seed of cell `(i, j)` at `offset` with `id`.
+    fn colour(&self, i: i64, j: i64, offset: [f32; 2], id: f32) -> [f32; 3] {
+        match &self.output {
+            VoronoiOutput::Palette { colours } => {
+                let n = colours.len();
+                colours[((id * n as f32) as usize).min(n - 1)]
+            }
+            VoronoiOutput::Image {
+                width,
+                height,
+                texels,
+            } => {
+                let c = f64::from(self.cell_size);
+                let x = ((i as f64 + f64::from(offset[0])) * c).floor() as i64;
+                let y = ((j as f64 + f64::from(offset[1])) * c).floor() as i64;
+                let tx = x.rem_euclid(i64::from(*width)) as usize;
+                let ty = y.rem_euclid(i64::from(*height)) as usize;
+                texels[ty * *width as usize + tx]
+            }
+            _ => [0.0; 3],
+        }
+    }
+
+    /// Cells per pixel a search visits, for costs.
+    #[must_use]
+    pub fn cells_per_pixel(&self) -> f64 {
+        let side = f64::from(2 * self.output.reach() + 1);
+        let search = side * side;
+        if matches!(self.output, VoronoiOutput::Border) {
+            2.0 * search
+        } else {
+            search
+        }
+    }
+}
+
+/// The pixel's search (module docs): `site(di, dj)` gives the site of the cell `(di, dj)` away
+/// from the pixel's, `(fx, fy)` is the pixel's offset in its cell; `reach` cells each way;
+/// `border` asks for the border distance too.
+#[inline]
+#[must_use]
+pub fn search<'a>(
+    site: impl Fn(i32, i32) -> &'a Site,
+    fx: f32,
+    fy: f32,
+    reach: i32,
+    border: bool,
+) -> Nearest {
+    let mut best = f32::INFINITY;
+    let mut second = f32::INFINITY;
+    let mut nearest = (0i32, 0i32);
+    let mut dn = [0.0f32; 2];
+    for dj in -reach..=reach {
+        for di in -reach..=reach {
+            let s = site(di, dj);
+            let dx = (di as f32 + s.offset[0]) - fx;
+            let dy = (dj as f32 + s.offset[1]) - fy;
+            let d2 = dx * dx + dy * dy;
+            if d2 < best {
+                second = best;
+                best = d2;
+                nearest = (di, dj);
+                dn = [dx, dy];
+            } else if d2 < second {
+                second = d2;
+            }
+        }
+    }
+    let mut b = f32::INFINITY;
+    if border {
+        for dj in -reach..=reach {
+            for di in -reach..=reach {
+                let s = site(di, dj);
+                let dx = (di as f32 + s.offset[0]) - fx;
+                let dy = (dj as f32 + s.offset[1]) - fy;
+                let ex = dx - dn[0];
+                let ey = dy - dn[1];
+                let e2 = ex * ex + ey * ey;
+                if e2 == 0.0 {
+                    continue;
+                }
+                let num = (dx + dn[0]) * ex + (dy + dn[1]) * ey;
+                let q = num * 0.5 / e2.sqrt();
+                if q < b {
+                    b = q;
+                }
+            }
+        }
+    }
+    Nearest {
+        site: *site(nearest.0, nearest.1),
+        f1: best.sqrt(),
+        f2: second.sqrt(),
+        border: b,
+    }
+}
+
+/// The centroid of the Voronoi cell of `p` among `others` (f64, exact up to rounding): the
+/// square of half-side 2 around `p` clipped by the half-plane nearer `p` than each other seed
+/// (Sutherland–Hodgman), then the polygon's area-weighted centroid.
+#[must_use]
+pub fn voronoi_centroid(p: [f64; 2], others: &[[f64; 2]]) -> [f64; 2] {
+    let h = 2.0;
+    let mut poly = vec![
+        [p[0] - h, p[1] - h],
+        [p[0] + h, p[1] - h],
+        [p[0] + h, p[1] + h],
+        [p[0] - h, p[1] + h],
+    ];
+    for q in others {
+        // Keep x with (x − m)·(q − p) ≤ 0, m the midpoint.
+        let n = [q[0] - p[0], q[1] - p[1]];
+        let m = [(q[0] + p[0]) * 0.5, (q[1] + p[1]) * 0.5];
+        let side = |v: &[f64; 2]| (v[0] - m[0]) * n[0] + (v[1] - m[1]) * n[1];
+        let mut out = Vec::with_capacity(poly.len() + 1);
+        for k in 0..poly.len() {
+            let a = poly[k];
+            let b = poly[(k + 1) % poly.len()];
+            let (sa, sb) = (side(&a), side(&b));
+            if sa <= 0.0 {
+                out.push(a);
+            }
+            if (sa < 0.0 && sb > 0.0) || (sa > 0.0 && sb < 0.0) {
+                let t = sa / (sa - sb);
+                out.push([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]);
+            }
+        }
+        poly = out;
+        if poly.is_empty() {
+            return p;
+        }
+    }
+    let (mut area, mut cx, mut cy) = (0.0, 0.0, 0.0);
+    for k in 0..poly.len() {
+        let a = poly[k];
+        let b = poly[(k + 1) % poly.len()];
+        let cross = a[0] * b[1] - b[0] * a[1];
+        area += cross;
+        cx += (a[0] + b[0]) * cross;
+        cy += (a[1] + b[1]) * cross;
+    }
+    if area.abs() < 1e-300 {
+        return p;
+    }
+    [cx / (3.0 * area), cy / (3.0 * area)]
+}
+
+impl From<VoronoiNoise> for crate::Model {
+    fn from(model: VoronoiNoise) -> Self {
+        Self::Voronoi(model)
+    }
+}
+
+impl crate::ModelKind for VoronoiNoise {
+    const NAME: &'static str = "voronoi";
+
+    fn validate(&self) -> Result<(), ModelError> {
+        VoronoiNoise::validate(self)
+    }
+
+    fn output_channels(&self) -> usize {
+        self.output.channels()
+    }
+
+    fn visit_seeds(&mut self, visit: &mut dyn FnMut(&mut u32)) {
+        visit(&mut self.seed);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_validate() {
+        VoronoiNoise::default().validate().expect("valid");
+    }
+
+    #[test]
+    fn validation_names_the_field_and_range() {
+        let cases: Vec<(VoronoiNoise, &str)> = vec![
+            (
+                VoronoiNoise {
+                    cell_size: 0.5,
+                    ..VoronoiNoise::default()
+                },
+                "voronoi.cell_size",
+            ),
+            (
+                VoronoiNoise {
+                    jitter: 1.5,
+                    ..VoronoiNoise::default()
+                },
+                "voronoi.jitter",
+            ),
+            (
+                VoronoiNoise {
+                    lloyd_iterations: 17,
+                    ..VoronoiNoise::default()
+                },
+                "voronoi.lloyd_iterations",
+            ),
+            (
+                VoronoiNoise {
+                    lloyd_block: 0,
+                    ..VoronoiNoise::default()
+                },
+                "voronoi.lloyd_block",
+            ),
+            (
+                VoronoiNoise {
+                    output: VoronoiOutput::Palette { colours: vec![] },
+                    ..VoronoiNoise::default()
+                },
+                "voronoi.output.palette.colours",
+            ),
+            (
+                VoronoiNoise {
+                    output: VoronoiOutput::Image {
+                        width: 2,
+                        height: 1,
+                        texels: vec![[0.0; 3], [f32::NAN, 0.0, 0.0]],
+                    },
+                    ..VoronoiNoise::default()
+                },
+                "voronoi.output.image.texels[1][0]",
+            ),
+        ];
+        for (model, field) in cases {
+            let err = model.validate().expect_err(field);
+            assert!(err.to_string().starts_with(field), "{field}: {err}");
+        }
+    }
+
+    #[test]
+    fn the_centroid_of_a_regular_grid_cell_is_its_seed() {
+        // Seeds on the integer lattice: each Voronoi cell is the unit square around its seed.
+        let p = [0.5, 0.5];
+        let others: Vec<[f64; 2]> = (-3..=3)
+            .flat_map(|y| (-3..=3).map(move |x| [0.5 + f64::from(x), 0.5 + f64::from(y)]))
+            .filter(|q| *q != p)
+            .collect();
+        let c = voronoi_centroid(p, &others);
+        assert!(
+            (c[0] - 0.5).abs() < 1e-12 && (c[1] - 0.5).abs() < 1e-12,
+            "{c:?}"
+        );
+        // Move one neighbour: the cell is the square cut at x = 0.5 + 0.3 (bisector of 0.5 and
+        // 1.1), so [0, 0.8] × [0, 1], centroid (0.4, 0.5).
+        let moved: Vec<[f64; 2]> = others
+            .iter()
+            .map(|&q| if q == [1.5, 0.5] { [1.1, 0.5] } else { q })
+            .collect();
+        let c = voronoi_centroid(p, &moved);
+        assert!(
+            (c[0] - 0.4).abs() < 1e-12 && (c[1] - 0.5).abs() < 1e-12,
+            "{c:?}"
+        );
+    }
+
+    /// The centroid by dense sampling: the mean of the grid points nearer `p` than any other.
+    fn sampled_centroid(p: [f64; 2], others: &[[f64; 2]]) -> [f64; 2] {
+        let n = 400;
+        let (mut sx, mut sy, mut count) = (0.0, 0.0, 0.0);
+        for a in 0..n {
+            for b in 0..n {
+                let x = p[0] - 2.0 + 4.0 * (f64::from(a) + 0.5) / f64::from(n);
+                let y = p[1] - 2.0 + 4.0 * (f64::from(b) + 0.5) / f64::from(n);
+                let d = |q: &[f64; 2]| (x - q[0]).powi(2) + (y - q[1]).powi(2);
+                if others.iter().all(|q| d(&p) < d(q)) {
+                    sx += x;
+                    sy += y;
+                    count += 1.0;
+                }
+            }
+        }
+        [sx / count, sy / count]
+    }
+
+    #[test]
+    fn clipped_centroids_match_dense_sampling() {
+        let m = VoronoiNoise::default();
+        for (cx, cy) in [(0i64, 0i64), (5, -3), (-40, 17)] {
+            let seed = |i: i64, j: i64| {
+                let (o, _) = m.jittered(i, j);
+                [i as f64 + f64::from(o[0]), j as f64 + f64::from(o[1])]
+            };
+            let p = seed(cx, cy);
+            let mut others = Vec::new();
+            for j in cy - 3..=cy + 3 {
+                for i in cx - 3..=cx + 3 {
+                    if (i, j) != (cx, cy) {
+                        others.push(seed(i, j));
+                    }
+                }
+            }
+            let exact = voronoi_centroid(p, &others);
+            let sampled = sampled_centroid(p, &others);
+            // 400² samples over 4 × 4 cells: a sample spacing of 0.01, the centroid's error
+            // well below it.
+            for k in 0..2 {
+                assert!(
+                    (exact[k] - sampled[k]).abs() < 5e-3,
+                    "cell ({cx}, {cy}): {exact:?} vs {sampled:?}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn relaxation_stays_in_the_cells_and_evens_the_spacing() {
+        let m = VoronoiNoise {
+            lloyd_iterations: 4,
+            lloyd_block: 6,
+            ..VoronoiNoise::default()
+        };
+        let raw = VoronoiNoise::default().sites(-6, -6, 18, 18);
+        let relaxed = m.sites(-6, -6, 18, 18);
+        let spread = |t: &SiteTable| {
+            // The variance of the nearest-neighbour distance: Lloyd relaxation evens it out.
+            let mut ds = Vec::new();
+            for j in 1..17i64 {
+                for i in 1..17i64 {
+                    let s = t.get(-6 + i, -6 + j);
+                    let mut best = f64::INFINITY;
+                    for (a, b) in [(-1i64, 0i64), (1, 0), (0, -1), (0, 1), (1, 1), (-1, -1)] {
+                        let q = t.get(-6 + i + a, -6 + j + b);
+                        let dx = a as f64 + f64::from(q.offset[0] - s.offset[0]);
+                        let dy = b as f64 + f64::from(q.offset[1] - s.offset[1]);
+                        best = best.min((dx * dx + dy * dy).sqrt());
+                    }
+                    ds.push(best);
+                }
+            }
+            let mean = ds.iter().sum::<f64>() / ds.len() as f64;
+            ds.iter().map(|d| (d - mean).powi(2)).sum::<f64>() / ds.len() as f64
+        };
+        for s in &relaxed.sites {
+            assert!((0.0..1.0).contains(&s.offset[0]) && (0.0..1.0).contains(&s.offset[1]));
+        }
+        assert!(
+            spread(&relaxed) < 0.5 * spread(&raw),
+            "{} vs {}",
+            spread(&relaxed),
+            spread(&raw)
+        );
+        // A window's sites do not depend on where the table starts.
+        let part = m.sites(-1, 2, 3, 4);
+        assert_eq!(part.get(0, 3), relaxed.get(0, 3));
+    }
+}

@@ -1,0 +1,150 @@
+// voronoi.wgsl — Voronoi diagrams (survey §2.6), the GPU twin of
+// crates/spectex-cpu/src/voronoi.rs; the definition is the module doc of
+// crates/spectex-model/src/voronoi.rs. Composed after common.wgsl.
+//
+// The host computes, per tile, the sites of a box of lattice cells covering every pixel's
+// search (jittered by the randomness contract and Lloyd-relaxed on the host, so the device
+// reads the CPU's f32 offsets, IDs and colours), and each column's and row's cell and f32
+// offset (spectex_model::grid::locate_cell). The search visits the cells within `reach`, rows
+// outer and columns inner, with the CPU's expressions in the CPU's order (spectex_model::
+// voronoi::search), so on an adapter that rounds `/` and `sqrt` correctly and does not
+// contract `a * b + c` the values are the CPU's bit for bit.
+
+/// Per-dispatch values.
+struct VoronoiParams {
+    width: u32,
+    height: u32,
+    /// Cells searched beyond the pixel's own.
+    reach: i32,
+    /// 0: cell ID, 1: F1, 2: border, 3: F2 − F1, 4: colour (3 values per pixel).
+    output: u32,
+    /// The site table's first cell and its extent.
+    box_i0: i32,
+    box_j0: i32,
+    box_cols: u32,
+    box_rows: u32,
+    /// 1 / C (f32 of the f64 value), for warping.
+    inv_cell: f32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
+}
+
+/// One column (or row): its cell, the offset in the cell (cell units) and whether it is inside
+/// the usable range.
+struct VoronoiAxis {
+    cell: i32,
+    offset: f32,
+    valid: u32,
+}
+
+@group(0) @binding(0) var<uniform> params: VoronoiParams;
+/// Six floats per site, row-major over the box: offset x, y, ID, colour r, g, b.
+@group(0) @binding(1) var<storage, read> sites: array<f32>;
+@group(0) @binding(2) var<storage, read> columns: array<VoronoiAxis>;
+@group(0) @binding(3) var<storage, read> rows: array<VoronoiAxis>;
+@group(0) @binding(4) var<storage, read_write> output: array<f32>;
+
+const SITE_FLOATS: u32 = 6u;
+
+/// Where the site of cell (cx, cy) starts in `sites`; the box covers every search.
+fn site_base(cx: i32, cy: i32) -> u32 {
+    let i = min(u32(cx - params.box_i0), params.box_cols - 1u);
+    let j = min(u32(cy - params.box_j0), params.box_rows - 1u);
+    return (j * params.box_cols + i) * SITE_FLOATS;
+}
+
+fn write_value(index: u32, base: u32, f1: f32, f2: f32, border: f32) {
+    let channels = select(1u, 3u, params.output == 4u);
+    let at = index * channels;
+    switch params.output {
+        case 0u: {
+            output[at] = sites[base + 2u];
+        }
+        case 1u: {
+            output[at] = f1;
+        }
+        case 2u: {
+            output[at] = border;
+        }
+        case 3u: {
+            output[at] = f2 - f1;
+        }
+        default: {
+            output[at] = sites[base + 3u];
+            output[at + 1u] = sites[base + 4u];
+            output[at + 2u] = sites[base + 5u];
+        }
+    }
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn voronoi_main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if (gid.x >= params.width || gid.y >= params.height) {
+        return;
+    }
+    var column = columns[gid.x];
+    var row = rows[gid.y];
+    let index = gid.y * params.width + gid.x;
+    if (warp_params.enabled == 1u) {
+        let d = warp_displacement[index] * params.inv_cell;
+        let cx = warp_relocate(column.cell, column.offset, d.x);
+        let cy = warp_relocate(row.cell, row.offset, d.y);
+        column.cell = cx.cell;
+        column.offset = cx.offset;
+        row.cell = cy.cell;
+        row.offset = cy.offset;
+    }
+    if (column.valid == 0u || row.valid == 0u || params.box_cols == 0u) {
+        let channels = select(1u, 3u, params.output == 4u);
+        for (var c = 0u; c < channels; c++) {
+            output[index * channels + c] = 0.0f;
+        }
+        return;
+    }
+    let reach = params.reach;
+    let fx = column.offset;
+    let fy = row.offset;
+    var best = 3.4028235e38f;
+    var second = 3.4028235e38f;
+    var nearest = 0u;
+    var dn = vec2<f32>(0.0f, 0.0f);
+    for (var dj = -reach; dj <= reach; dj++) {
+        for (var di = -reach; di <= reach; di++) {
+            let base = site_base(column.cell + di, row.cell + dj);
+            let dx = (f32(di) + sites[base]) - fx;
+            let dy = (f32(dj) + sites[base + 1u]) - fy;
+            let d2 = dx * dx + dy * dy;
+            if (d2 < best) {
+                second = best;
+                best = d2;
+                nearest = base;
+                dn = vec2<f32>(dx, dy);
+            } else if (d2 < second) {
+                second = d2;
+            }
+        }
+    }
+    var border = 3.4028235e38f;
+    if (params.output == 2u) {
+        for (var dj = -reach; dj <= reach; dj++) {
+            for (var di = -reach; di <= reach; di++) {
+                let base = site_base(column.cell + di, row.cell + dj);
+                let dx = (f32(di) + sites[base]) - fx;
+                let dy = (f32(dj) + sites[base + 1u]) - fy;
+                let ex = dx - dn.x;
+                let ey = dy - dn.y;
+                let e2 = ex * ex + ey * ey;
+                if (e2 == 0.0f) {
+                    continue;
+                }
+                let num = (dx + dn.x) * ex + (dy + dn.y) * ey;
+                let q = num * 0.5f / sqrt(e2);
+                if (q < border) {
+                    border = q;
+                }
+            }
+        }
+    }
+    write_value(index, nearest, sqrt(best), sqrt(second), border);
+}
