@@ -103,9 +103,15 @@ impl PhasorEvaluator {
     }
 
     /// Prepares `model` made periodic with `period` ([`PhasorKernels::new_periodic`]: cells
-    /// fitted to the period and hashed modulo it); `None` when it has no periodic form.
-    #[must_use]
-    pub fn new_periodic(model: &PhasorNoise, z: f64, period: Period) -> Option<Self> {
+    /// fitted to the period and hashed modulo it).
+    ///
+    /// # Errors
+    /// [`spectex_model::ModelError::Period`] when it has no periodic form with `period`.
+    pub fn new_periodic(
+        model: &PhasorNoise,
+        z: f64,
+        period: Period,
+    ) -> Result<Self, spectex_model::ModelError> {
         PhasorKernels::new_periodic(model, period).map(|k| Self::with_kernels(model, z, k))
     }
 
@@ -663,17 +669,7 @@ impl crate::CpuKind for PhasorNoise {
         z: f64,
         period: Period,
     ) -> Result<Box<dyn crate::RowKernel>, crate::CpuError> {
-        use spectex_model::ModelKind as _;
-        self.check_period(period)?;
-        PhasorEvaluator::new_periodic(self, z, period)
-            .map(|e| Box::new(e) as Box<dyn crate::RowKernel>)
-            .ok_or_else(|| {
-                crate::CpuError::Model(spectex_model::ModelError::Period {
-                    period: period.to_string(),
-                    kind: "phasor",
-                    requirement: "its cells could not be fitted to the period".into(),
-                })
-            })
+        Ok(Box::new(PhasorEvaluator::new_periodic(self, z, period)?))
     }
 }
 

@@ -205,12 +205,25 @@ impl PhasorKernels {
     /// is not wrapped): cells of the sides [`PhasorNoise::periodic_sides`] fits, hashed modulo
     /// the period, the kernels scaled with their cells (a kernel is truncated at one cell, and
     /// its frequency vector is `F·side·u` turns per cell, so frequencies stay `F` per pixel while
-    /// the bandwidth moves with the side). `None` when the model has no periodic form
+    /// the bandwidth moves with the side), or why the model has no periodic form
     /// ([`crate::ModelKind::check_period`] says why).
-    #[must_use]
-    pub fn new_periodic(model: &PhasorNoise, period: crate::Period) -> Option<Self> {
-        crate::ModelKind::check_period(model, period).ok()?;
-        let (side, direction_side) = model.periodic_sides(period)?;
+    ///
+    /// # Errors
+    /// [`crate::ModelError::Period`] when the model has no periodic form with `period`.
+    pub fn new_periodic(
+        model: &PhasorNoise,
+        period: crate::Period,
+    ) -> Result<Self, crate::ModelError> {
+        crate::ModelKind::check_period(model, period)?;
+        // `check_period` accepted the sides, so they fit.
+        let (side, direction_side) =
+            model
+                .periodic_sides(period)
+                .ok_or_else(|| crate::ModelError::Period {
+                    period: period.to_string(),
+                    kind: "phasor",
+                    requirement: "its cells could not be fitted to the period".into(),
+                })?;
         let sides = period.sides();
         let mut kernels = Self::new(model);
         kernels.grid = kernels.grid.periodic(side, sides);
@@ -219,7 +232,7 @@ impl PhasorKernels {
         {
             *grid = grid.periodic(d, sides);
         }
-        Some(kernels)
+        Ok(kernels)
     }
 
     /// Cell side (the kernel radius), pixels.
