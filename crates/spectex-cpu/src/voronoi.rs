@@ -1,10 +1,11 @@
 //! Voronoi diagrams on the CPU ([`spectex_model::voronoi`]): per band of rows, the sites of
-//! every lattice cell the band's pixels search are computed once (relaxed blocks included),
+//! every lattice cell the band's pixels search are computed once (relaxed blocks once per
+//! evaluator, [`BlockCache`]),
 //! then each pixel runs the model's search ([`spectex_model::voronoi::search`]) over them, so a
 //! pixel's bits do not depend on the window, tiling or thread that evaluates it.
 
 use spectex_model::grid::locate_cell;
-use spectex_model::voronoi::{Nearest, SiteTable, VoronoiNoise, VoronoiOutput, search};
+use spectex_model::voronoi::{BlockCache, Nearest, SiteTable, VoronoiNoise, VoronoiOutput, search};
 use spectex_model::{ModelKind, Window};
 
 use crate::{CpuError, CpuKind, RowKernel};
@@ -14,6 +15,8 @@ pub struct VoronoiEvaluator {
     model: VoronoiNoise,
     reach: i32,
     channels: usize,
+    /// Relaxed Lloyd blocks, each computed once for every band and point that needs it.
+    blocks: BlockCache,
 }
 
 impl VoronoiEvaluator {
@@ -24,6 +27,7 @@ impl VoronoiEvaluator {
             model: model.clone(),
             reach: model.output.reach(),
             channels: model.output_channels(),
+            blocks: BlockCache::default(),
         }
     }
 
@@ -122,7 +126,9 @@ impl RowKernel for VoronoiEvaluator {
             }
             return;
         }
-        let table = self.model.sites(lo, top, span as usize, tall as usize);
+        let table = self
+            .model
+            .sites_cached(lo, top, span as usize, tall as usize, &self.blocks);
         self.eval_with_table(window, first, out, &columns, &table);
     }
 }

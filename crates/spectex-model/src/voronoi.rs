@@ -46,6 +46,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use std::sync::{Arc, Mutex};
+
 use crate::error::{ModelError, check_image, check_len, check_level, check_range};
 use crate::random::{Prng, cell_hash};
 
@@ -182,6 +184,37 @@ impl SiteTable {
     #[must_use]
     pub fn get(&self, i: i64, j: i64) -> &Site {
         &self.sites[(j - self.j0) as usize * self.width + (i - self.i0) as usize]
+    }
+}
+
+/// Relaxed Lloyd blocks ([`VoronoiNoise::relaxed_block`]) kept across calls of
+/// [`VoronoiNoise::sites_cached`], by block coordinates; shared by threads. Holds at most
+/// [`BlockCache::CAPACITY`] blocks and starts again empty past that (a block is at most 16² offsets,
+/// so at most 8 MiB), which changes no result: a block is recomputed the same.
+#[derive(Debug, Default)]
+pub struct BlockCache(Mutex<std::collections::HashMap<(i64, i64), RelaxedBlock>>);
+
+/// One relaxed block's offsets, row-major.
+type RelaxedBlock = Arc<Vec<[f32; 2]>>;
+
+impl BlockCache {
+    /// Most blocks held.
+    pub const CAPACITY: usize = 4096;
+
+    /// Block `(bx, by)` of `model`, relaxed now or earlier. The cache must only ever serve one
+    /// model (an evaluator owns it). A poisoned lock only costs the cache.
+    fn get_or_relax(&self, model: &VoronoiNoise, bx: i64, by: i64) -> RelaxedBlock {
+        if let Some(hit) = self.0.lock().ok().and_then(|m| m.get(&(bx, by)).cloned()) {
+            return hit;
+        }
+        let block = Arc::new(model.relaxed_block(bx, by));
+        if let Ok(mut map) = self.0.lock() {
+            if map.len() >= Self::CAPACITY {
+                map.clear();
+            }
+            map.insert((bx, by), Arc::clone(&block));
+        }
+        block
     }
 }
 
@@ -325,9 +358,26 @@ impl VoronoiNoise {
     /// computed once).
     #[must_use]
     pub fn sites(&self, i0: i64, j0: i64, width: usize, height: usize) -> SiteTable {
+        self.sites_cached(i0, j0, width, height, &BlockCache::default())
+    }
+
+    /// [`sites`](Self::sites) with the relaxed blocks taken from `cache` (and added to it): an
+    /// evaluator that keeps one cache relaxes each block once however its pixels are asked
+    /// for (bands of rows, single displaced points through a warp). Relaxation is a function
+    /// of the block alone, so the sites are the same bits with or without the cache.
+    #[must_use]
+    pub fn sites_cached(
+        &self,
+        i0: i64,
+        j0: i64,
+        width: usize,
+        height: usize,
+        cache: &BlockCache,
+    ) -> SiteTable {
         let mut sites = Vec::with_capacity(width * height);
         let b = i64::from(self.lloyd_block);
-        let mut blocks: std::collections::HashMap<(i64, i64), Vec<[f32; 2]>> =
+        // This table's blocks, looked up in the shared cache once each.
+        let mut blocks: std::collections::HashMap<(i64, i64), RelaxedBlock> =
             std::collections::HashMap::new();
         for y in 0..height as i64 {
             for x in 0..width as i64 {
@@ -337,7 +387,7 @@ impl VoronoiNoise {
                     let (bx, by) = (i.div_euclid(b), j.div_euclid(b));
                     let block = blocks
                         .entry((bx, by))
-                        .or_insert_with(|| self.relaxed_block(bx, by));
+                        .or_insert_with(|| cache.get_or_relax(self, bx, by));
                     offset = block[(j.rem_euclid(b) * b + i.rem_euclid(b)) as usize];
                 }
                 sites.push(Site {
