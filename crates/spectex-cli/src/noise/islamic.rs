@@ -70,9 +70,9 @@ pub(crate) struct IslamicArgs {
         allow_hyphen_values = true
     )]
     rotation: f32,
-    /// Offset of the pattern, pixels, as X,Y.
-    #[arg(long, value_name = "X,Y", value_delimiter = ',', num_args = 2, default_values_t = [0.0, 0.0], allow_hyphen_values = true)]
-    shift: Vec<f32>,
+    /// Offset of the pattern, pixels, as X,Y (each within ±1e9).
+    #[arg(long, value_name = "X,Y", value_parser = parse_shift, allow_hyphen_values = true)]
+    shift: Option<[f32; 2]>,
     /// Seed (chooses the pattern's phase, a translation within one period).
     #[arg(long, default_value_t = 0)]
     seed: u32,
@@ -81,6 +81,22 @@ pub(crate) struct IslamicArgs {
     model: Option<std::path::PathBuf>,
     #[command(flatten)]
     render: RenderArgs,
+}
+
+/// Parses `X,Y` (two numbers; their range is the model's to check).
+fn parse_shift(s: &str) -> Result<[f32; 2], String> {
+    let parts: Vec<&str> = s.split(',').collect();
+    let [x, y] = parts.as_slice() else {
+        return Err(format!(
+            "'{s}' is not X,Y (two numbers, for example -3,5.5)"
+        ));
+    };
+    let num = |v: &str| {
+        v.trim()
+            .parse::<f32>()
+            .map_err(|_| format!("'{v}' in '{s}' is not a number"))
+    };
+    Ok([num(x)?, num(y)?])
 }
 
 /// The command-line flag that sets a model field, for error messages.
@@ -122,10 +138,7 @@ pub(crate) fn run(args: &IslamicArgs) -> Result<()> {
             ShowArg::Filled => IslamicOutput::Filled,
         },
         rotation: args.rotation,
-        offset: [
-            args.shift.first().copied().unwrap_or(0.0),
-            args.shift.get(1).copied().unwrap_or(0.0),
-        ],
+        offset: args.shift.unwrap_or([0.0, 0.0]),
     };
     model.validate().map_err(|e| match &e {
         ModelError::OutOfRange { field, .. } => anyhow!("{e}; set {} within it", flag(field)),
