@@ -6,6 +6,7 @@
 mod classic;
 mod combine;
 mod gabor;
+mod islamic;
 mod spectral;
 mod texton;
 mod voronoi;
@@ -66,6 +67,10 @@ enum NoiseKind {
     /// A combination of models (survey §4.1–4.2): add, multiply, min, max, mix, smoothstep,
     /// fold, sin-fold, histogram matching, colour ramp.
     Combine(combine::CombineArgs),
+    /// Islamic star patterns (survey §2.7): Hankin contact-angle rosettes or {n/d} stars on
+    /// the square, hexagonal, 4.8.8 or 3.12.12 tiling, as line bands, signed distance or
+    /// filled regions.
+    Islamic(islamic::IslamicArgs),
 }
 
 /// What the noises of a spectrum (and Gabor noise) share.
@@ -125,5 +130,6 @@ pub fn noise(cmd: &NoiseCommand) -> Result<()> {
         NoiseKind::Texton(args) => texton::run(args),
         NoiseKind::Voronoi(args) => voronoi::run(args),
         NoiseKind::Combine(args) => combine::run(args),
+        NoiseKind::Islamic(args) => islamic::run(args),
     }
 }

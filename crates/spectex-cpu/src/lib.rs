@@ -28,6 +28,7 @@
 pub mod classic;
 pub mod combine;
 pub mod gabor;
+pub mod islamic;
 pub mod lrp;
 /// The f32 functions both evaluators share, defined once in `spectex-model`.
 pub use spectex_model::math;

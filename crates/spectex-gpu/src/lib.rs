@@ -84,6 +84,7 @@ pub mod simulate;
 mod classic;
 mod combine;
 mod gabor;
+mod islamic;
 mod lrp;
 mod phasor;
 mod texton;

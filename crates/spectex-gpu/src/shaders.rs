@@ -89,6 +89,12 @@ pub const SHADERS: &[ShaderFile] = &[
         entry_points: &["voronoi_main"],
     },
     ShaderFile {
+        name: "islamic",
+        source: include_str!("../../../shaders/islamic.wgsl"),
+        needs_common: true,
+        entry_points: &["islamic_main"],
+    },
+    ShaderFile {
         name: "probe",
         source: include_str!("../../../shaders/probe.wgsl"),
         needs_common: true,

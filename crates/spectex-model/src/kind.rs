@@ -11,8 +11,8 @@ use serde::{Deserialize, Serialize};
 use crate::error::ModelError;
 use crate::period::Period;
 use crate::{
-    ClassicNoise, Combine, GaborNoise, LrpNoise, PhasorNoise, TextonNoise, TextureModel,
-    VoronoiNoise, Warp, WaveletNoise,
+    ClassicNoise, Combine, GaborNoise, IslamicPattern, LrpNoise, PhasorNoise, TextonNoise,
+    TextureModel, VoronoiNoise, Warp, WaveletNoise,
 };
 
 /// The model-layer definition of one kind: its name, validation, output channels and seeds.
@@ -90,6 +90,8 @@ pub enum Model {
     Voronoi(VoronoiNoise),
     /// A pointwise combination of models (survey §4.1–4.2, [`crate::combine`]).
     Combine(Combine),
+    /// Islamic star patterns on regular tilings (survey §2.7, [`crate::islamic`]).
+    Islamic(IslamicPattern),
 }
 
 /// Calls `$body` with `$m` bound to the kind struct inside `$model` (by the reference the match
@@ -140,6 +142,10 @@ macro_rules! for_each_kind {
                 type $Kind = $crate::Combine;
                 $body
             }
+            $crate::Model::Islamic($m) => {
+                type $Kind = $crate::IslamicPattern;
+                $body
+            }
         }
     };
 }
@@ -157,6 +163,7 @@ pub const KIND_NAMES: &[&str] = &[
     <TextonNoise as ModelKind>::NAME,
     <VoronoiNoise as ModelKind>::NAME,
     <Combine as ModelKind>::NAME,
+    <IslamicPattern as ModelKind>::NAME,
 ];
 
 impl Model {

@@ -48,6 +48,7 @@ pub mod filter;
 pub mod fixtures;
 mod gabor;
 pub mod grid;
+pub mod islamic;
 pub mod kind;
 mod lrp;
 pub mod math;
@@ -76,6 +77,7 @@ pub use gabor::{
     GABOR_PERIOD_TOLERANCE, GABOR_TRUNCATION, GaborNoise, GaborNoiseBuilder, NEG_LN_20, Orientation,
 };
 pub use grid::{Filter, MAX_POSITION, MAX_WINDOW_PIXELS, MAX_WINDOW_SIDE, Window, WindowError};
+pub use islamic::IslamicPattern;
 pub use kind::{KIND_NAMES, Model, ModelKind, PERIODIC_KINDS};
 pub use lrp::{LrpNoise, LrpNoiseBuilder, MAX_COSINES, MAX_STRATA, MAX_TABLE, Stratum};
 pub use period::Period;

@@ -35,6 +35,8 @@
 //! seed)`. Voronoi seeds (`spectex_model::voronoi`) use `VORONOI_LAYER = 0x564F524F` ("VORO"):
 //! cell `(i, j)` seeds the PRNG with `cell_hash(i, j, VORONOI_LAYER, seed)` and draws its offsets
 //! `x`, `y` then its ID; Lloyd relaxation moves the offsets on the host, per block, from these.
+//! Islamic patterns (`spectex_model::islamic`) draw their phase `φ₁`, `φ₂` (`next_f32` twice)
+//! from `cell_hash(0, 0, ISLAMIC_LAYER = 0x49534C4D "ISLM", seed)`.
 
 /// Multiplier of the 32-bit LCG step (PCG's default 32-bit multiplier).
 pub const LCG_MULTIPLIER: u32 = 747_796_405;

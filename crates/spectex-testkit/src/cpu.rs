@@ -38,6 +38,9 @@ const TEXTON_MAX_COST: f64 =
 /// `B²` seeds each clipped by 48 bisectors.
 const VORONOI_MAX_COST: f64 =
     98.0 + 4.0 * MAX_LLOYD_ITERATIONS as f64 * (MAX_LLOYD_BLOCK * MAX_LLOYD_BLOCK) as f64 * 48.0;
+/// Segments an Islamic pattern's pixel visits, at most its table's
+/// (`spectex_model::islamic::MAX_SEGMENTS`, tested there).
+const ISLAMIC_MAX_COST: f64 = spectex_model::islamic::MAX_SEGMENTS as f64;
 /// A combination costs its operands' costs: along any path at most 8 combinations and 8 warps
 /// nest (`MAX_COMBINE_DEPTH`, `MAX_WARP_DEPTH`), each with at most 8 (3) operands, so at most
 /// `8^16` leaves at the largest leaf cost (a texture's).
@@ -68,6 +71,7 @@ pub const COST_BOUNDS: &[(&str, f64)] = &[
     ("texton", TEXTON_MAX_COST),
     ("voronoi", VORONOI_MAX_COST),
     ("combine", COMBINE_MAX_COST),
+    ("islamic", ISLAMIC_MAX_COST),
 ];
 
 const _: () = assert!(6561 == 3usize.pow(MAX_WARP_DEPTH as u32));

@@ -12,6 +12,7 @@ use spectex_model::classic::{
 use spectex_model::combine::{
     Combine as Combination, CombineOp, MAX_STOPS, MAX_TABLE_KNOTS, RampStop,
 };
+use spectex_model::islamic::{IslamicOutput, IslamicPattern, Motif, Tiling};
 use spectex_model::texton::{Combine, MAX_DENSITY, MAX_REACH, Placement, Spot, TextonNoise};
 use spectex_model::texture::{MAX_CHANNELS, MAX_PERIOD};
 use spectex_model::voronoi::{MAX_PALETTE, VoronoiNoise, VoronoiOutput};
@@ -53,6 +54,9 @@ pub const KIND_STRATEGIES: &[(&str, KindStrategy)] = &[
     }),
     ("combine", |o, _| {
         combine(o).prop_map(Model::Combine).boxed()
+    }),
+    ("islamic", |o, _| {
+        islamic(o).prop_map(Model::Islamic).boxed()
     }),
 ];
 
@@ -780,6 +784,54 @@ pub fn voronoi(o: Odds) -> BoxedStrategy<VoronoiNoise> {
                 lloyd_iterations,
                 lloyd_block,
                 output,
+            },
+        )
+        .boxed()
+}
+
+// ---------------------------------------------------------------------------------------------
+// Islamic patterns.
+
+/// An Islamic pattern: every tiling, motif and output, values drawn inside and beyond their
+/// limits.
+pub fn islamic(o: Odds) -> BoxedStrategy<IslamicPattern> {
+    let tiling = prop_oneof![
+        Just(Tiling::Square),
+        Just(Tiling::Hexagonal),
+        Just(Tiling::OctagonSquare),
+        Just(Tiling::DodecagonTriangle),
+    ];
+    let motif = prop_oneof![
+        f32_in(1.0, 89.0, o).prop_map(|angle| Motif::Contact { angle }),
+        u32_in(1, 5, o).prop_map(|step| Motif::Star { step }),
+    ];
+    let output = prop_oneof![
+        Just(IslamicOutput::Band),
+        Just(IslamicOutput::Distance),
+        Just(IslamicOutput::Filled),
+    ];
+    (
+        seed(),
+        tiling,
+        motif,
+        f32_in(4.0, 4096.0, o),
+        f32_in(0.0, 8.0, o),
+        output,
+        f32_in(-360.0, 360.0, o),
+        (f32_in(-1e9, 1e9, o), f32_in(-1e9, 1e9, o)),
+    )
+        .prop_map(
+            |(seed, tiling, motif, cell_size, line_width, output, rotation, (ox, oy))| {
+                IslamicPattern {
+                    seed,
+                    tiling,
+                    motif,
+                    cell_size,
+                    line_width,
+                    output,
+                    rotation,
+                    offset: [ox, oy],
+                }
             },
         )
         .boxed()

@@ -997,6 +997,71 @@ fn voronoi_and_combinations_end_to_end() {
     }
 }
 
+/// `spectex noise islamic` with its defaults (`-o OUT --size WxH` and nothing else) and with
+/// each tiling, motif and output: the model it writes renders to the same bytes, the image is
+/// not constant; bad flags fail naming the field, its range and the flag, leaving no file.
+#[test]
+fn islamic_patterns_end_to_end() {
+    use image::GenericImageView;
+    let dir = scratch("islamic");
+    let plain = dir.join("plain.png");
+    spectex_ok(&["noise", "islamic", "-o", s(&plain), "--size", "64x48"]);
+    assert_eq!(image::open(&plain).unwrap().dimensions(), (64, 48));
+    let cases: &[&[&str]] = &[
+        &["--tiling", "square", "--angle", "30", "--show", "filled"],
+        &["--tiling", "hexagonal", "--star", "2", "--cell", "24"],
+        &["--tiling", "4.8.8", "--star", "3", "--show", "filled"],
+        &[
+            "--tiling",
+            "3.12.12",
+            "--rotation",
+            "-20",
+            "--shift",
+            "-3,5.5",
+        ],
+    ];
+    for (n, extra) in cases.iter().enumerate() {
+        let png = dir.join(format!("{n}.png"));
+        let model = dir.join(format!("{n}.json"));
+        let mut args = vec!["noise", "islamic"];
+        args.extend(extra.iter().copied());
+        args.extend(["-o", s(&png), "--model", s(&model), "--size", "64x48"]);
+        spectex_ok(&args);
+        let again = dir.join(format!("{n}-again.png"));
+        spectex_ok(&["render", s(&model), "-o", s(&again), "--size", "64x48"]);
+        let (a, b) = (image::open(&png).unwrap(), image::open(&again).unwrap());
+        assert_eq!(
+            a.as_bytes(),
+            b.as_bytes(),
+            "{extra:?}: render differs from noise"
+        );
+        assert!(
+            a.as_bytes().iter().any(|&v| v != a.as_bytes()[0]),
+            "{extra:?}: constant image"
+        );
+    }
+    let bad = scratch("islamic-bad");
+    let out = bad.join("bad.png");
+    for (args, needles) in [
+        (
+            vec!["noise", "islamic", "--angle", "95"],
+            vec!["islamic.motif.contact.angle", "--angle", "[1, 89]"],
+        ),
+        (
+            vec!["noise", "islamic", "--star", "9"],
+            vec!["islamic.motif.star.step", "--star", "[1, 5]"],
+        ),
+        (
+            vec!["noise", "islamic", "--cell", "2"],
+            vec!["islamic.cell_size", "--cell", "[4, 4096]"],
+        ),
+    ] {
+        let mut a = args.clone();
+        a.extend(["-o", s(&out)]);
+        assert_fails(&spectex(&a), &bad, &needles);
+    }
+}
+
 /// `--device gpu` renders the classic noises (and `render MODEL --device gpu` their models)
 /// within one 16-bit level of the CPU's image, saying it used the GPU. Skips with a printed
 /// reason when no adapter exists, unless `SPECTEX_REQUIRE_GPU=1`.

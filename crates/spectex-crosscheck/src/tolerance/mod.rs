@@ -21,6 +21,7 @@ use spectex_model::Model;
 pub mod classic;
 pub mod combine;
 pub mod gabor;
+pub mod islamic;
 pub mod lrp;
 pub mod phasor;
 pub mod texton;

@@ -5,6 +5,7 @@
 //! the dependencies.
 
 mod export;
+mod islamic;
 mod models;
 mod simulations;
 mod texture_fixtures;

@@ -1,0 +1,152 @@
+//! `spectex noise islamic`: Islamic star patterns (survey §2.7, `spectex_model::islamic`) from
+//! flags: a tiling, a contact angle or a star `{n/d}`, and the output; written as a model
+//! (`--model`) and rendered.
+
+use anyhow::{Result, anyhow};
+use clap::{Args, ValueEnum};
+use spectex_model::islamic::{
+    DEFAULT_CELL_SIZE, DEFAULT_CONTACT_ANGLE, DEFAULT_LINE_WIDTH, IslamicOutput, IslamicPattern,
+    Motif, Tiling,
+};
+use spectex_model::{Model, ModelError};
+
+use crate::model_file::write_model;
+use crate::render::{RenderArgs, render_to_file};
+
+/// The tiling.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+enum TilingArg {
+    /// Squares (4.4.4.4).
+    Square,
+    /// Hexagons (6.6.6).
+    Hexagonal,
+    /// Octagons and squares.
+    #[value(name = "4.8.8")]
+    OctagonSquare,
+    /// Dodecagons and triangles.
+    #[value(name = "3.12.12")]
+    DodecagonTriangle,
+}
+
+/// What a pixel shows.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+enum ShowArg {
+    /// Anti-aliased line bands of --width pixels.
+    Band,
+    /// The signed distance to the lines, pixels (negative inside the stars).
+    Distance,
+    /// The stars' regions filled (even–odd), anti-aliased.
+    Filled,
+}
+
+/// The options of `spectex noise islamic`.
+#[derive(Debug, Args)]
+pub(crate) struct IslamicArgs {
+    /// The tiling.
+    #[arg(long, value_enum, default_value = "4.8.8")]
+    tiling: TilingArg,
+    /// Hankin's contact angle in degrees (1 to 89): the rays leave each edge midpoint at this
+    /// angle to the edge.
+    #[arg(long, value_name = "DEG", default_value_t = DEFAULT_CONTACT_ANGLE, conflicts_with = "star")]
+    angle: f32,
+    /// Draw the star polygon {n/d} on each n-gon's edge midpoints instead (d from 1 to 5,
+    /// at most (n − 1)/2 per polygon).
+    #[arg(long, value_name = "D")]
+    star: Option<u32>,
+    /// Lattice period, pixels (4 to 4096).
+    #[arg(long, value_name = "PX", default_value_t = DEFAULT_CELL_SIZE)]
+    cell: f32,
+    /// Line band width, pixels (0 to the period).
+    #[arg(long, value_name = "PX", default_value_t = DEFAULT_LINE_WIDTH)]
+    width: f32,
+    /// What a pixel shows.
+    #[arg(long, value_enum, default_value = "band")]
+    show: ShowArg,
+    /// Rotation of the pattern, degrees (-360 to 360).
+    #[arg(
+        long,
+        value_name = "DEG",
+        default_value_t = 0.0,
+        allow_hyphen_values = true
+    )]
+    rotation: f32,
+    /// Offset of the pattern, pixels, as X,Y (each within ±1e9).
+    #[arg(long, value_name = "X,Y", value_parser = parse_shift, allow_hyphen_values = true)]
+    shift: Option<[f32; 2]>,
+    /// Seed (chooses the pattern's phase, a translation within one period).
+    #[arg(long, default_value_t = 0)]
+    seed: u32,
+    /// Also write the model to this .json file (render it again with `spectex render`).
+    #[arg(long, value_name = "MODEL")]
+    model: Option<std::path::PathBuf>,
+    #[command(flatten)]
+    render: RenderArgs,
+}
+
+/// Parses `X,Y` (two numbers; their range is the model's to check).
+fn parse_shift(s: &str) -> Result<[f32; 2], String> {
+    let parts: Vec<&str> = s.split(',').collect();
+    let [x, y] = parts.as_slice() else {
+        return Err(format!(
+            "'{s}' is not X,Y (two numbers, for example -3,5.5)"
+        ));
+    };
+    let num = |v: &str| {
+        v.trim()
+            .parse::<f32>()
+            .map_err(|_| format!("'{v}' in '{s}' is not a number"))
+    };
+    Ok([num(x)?, num(y)?])
+}
+
+/// The command-line flag that sets a model field, for error messages.
+fn flag(field: &str) -> &'static str {
+    const FLAGS: &[(&str, &str)] = &[
+        ("cell_size", "--cell"),
+        ("line_width", "--width"),
+        ("rotation", "--rotation"),
+        ("offset", "--shift"),
+        ("angle", "--angle"),
+        ("step", "--star"),
+    ];
+    FLAGS
+        .iter()
+        .find(|(f, _)| field.contains(f))
+        .map_or("the islamic options", |(_, flag)| flag)
+}
+
+/// Builds the model, writes it if asked, and renders it.
+pub(crate) fn run(args: &IslamicArgs) -> Result<()> {
+    crate::io::check_output(&args.render.output, args.render.bit_depth)?;
+    let model = IslamicPattern {
+        seed: args.seed,
+        tiling: match args.tiling {
+            TilingArg::Square => Tiling::Square,
+            TilingArg::Hexagonal => Tiling::Hexagonal,
+            TilingArg::OctagonSquare => Tiling::OctagonSquare,
+            TilingArg::DodecagonTriangle => Tiling::DodecagonTriangle,
+        },
+        motif: match args.star {
+            Some(step) => Motif::Star { step },
+            None => Motif::Contact { angle: args.angle },
+        },
+        cell_size: args.cell,
+        line_width: args.width,
+        output: match args.show {
+            ShowArg::Band => IslamicOutput::Band,
+            ShowArg::Distance => IslamicOutput::Distance,
+            ShowArg::Filled => IslamicOutput::Filled,
+        },
+        rotation: args.rotation,
+        offset: args.shift.unwrap_or([0.0, 0.0]),
+    };
+    model.validate().map_err(|e| match &e {
+        ModelError::OutOfRange { field, .. } => anyhow!("{e}; set {} within it", flag(field)),
+        _ => anyhow!("{e}"),
+    })?;
+    let model = Model::Islamic(model);
+    if let Some(path) = &args.model {
+        write_model(path, &model)?;
+    }
+    render_to_file(&model, &args.render, (512, 512))
+}
