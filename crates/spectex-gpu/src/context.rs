@@ -3,6 +3,7 @@
 use std::sync::{Arc, Mutex};
 
 use crate::GpuError;
+use crate::pipeline::PipelineCache;
 
 /// Environment variable naming the adapter to use: the first adapter whose name contains it
 /// (ignoring case) is chosen, e.g. `WGPU_ADAPTER_NAME=llvmpipe` for lavapipe.
@@ -19,6 +20,8 @@ pub struct GpuContext {
     device: wgpu::Device,
     queue: wgpu::Queue,
     lost: LostFlag,
+    /// The compute pipelines built on this device, by shader and entry point.
+    pipelines: PipelineCache,
 }
 
 impl GpuContext {
@@ -73,6 +76,7 @@ impl GpuContext {
             device,
             queue,
             lost,
+            pipelines: PipelineCache::default(),
         })
     }
 
@@ -108,6 +112,10 @@ impl GpuContext {
 
     pub(crate) fn lost_flag(&self) -> LostFlag {
         Arc::clone(&self.lost)
+    }
+
+    pub(crate) fn pipeline_cache(&self) -> &PipelineCache {
+        &self.pipelines
     }
 }
 

@@ -1,10 +1,12 @@
-//! The wgpu side every shader kind shares: [`Shaded`] builds a kind's compute pipeline with the
-//! layout derived from its WGSL (`layout: None`, then `get_bind_group_layout`, as wgpu's examples
-//! do: the shader is the one place the layout is written), uploads its tables, dispatches a tile
-//! and reads it back; [`Gpu`] holds the device handles, and [`ErrorScopes`] turns wgpu's
-//! validation and out-of-memory errors into [`GpuError`]s.
+//! The wgpu side every shader kind shares: [`Shaded`] builds a kind's compute pipeline (once per
+//! device: [`PipelineCache`]) with the layout derived from its WGSL (`layout: None`, then
+//! `get_bind_group_layout`, as wgpu's examples do: the shader is the one place the layout is
+//! written), uploads its tables, dispatches a tile and reads it back; [`Gpu`] holds the device
+//! handles, and [`ErrorScopes`] turns wgpu's validation and out-of-memory errors into
+//! [`GpuError`]s.
 
-use std::sync::mpsc;
+use std::collections::HashMap;
+use std::sync::{Mutex, mpsc};
 
 use crate::context::LostFlag;
 use crate::kernel::{GpuKernel, ShaderKernel, Table, TileTables};
@@ -76,6 +78,41 @@ impl Gpu {
     }
 }
 
+/// A compute pipeline and the two bind group layouts derived from its shader.
+#[derive(Debug, Clone)]
+struct CachedPipeline {
+    pipeline: wgpu::ComputePipeline,
+    model_layout: wgpu::BindGroupLayout,
+    warp_layout: wgpu::BindGroupLayout,
+}
+
+/// The compute pipelines a [`GpuContext`] has built, by `(shader, entry point)`. A kind's shader
+/// source is fixed by its name ([`wgsl_source`]), so every evaluator of that kind on the device
+/// shares one pipeline: building a pipeline compiles the shader (on lavapipe, LLVM: 0.1 s to
+/// seconds per shader), where a model's own data lives in its uniform and tables.
+#[derive(Debug, Default)]
+pub(crate) struct PipelineCache(Mutex<HashMap<(&'static str, &'static str), CachedPipeline>>);
+
+impl PipelineCache {
+    /// The cached pipeline of `(shader, entry)`, or the one `build` makes (then cached). A
+    /// poisoned lock (a panic while another thread held it) only loses the cache: the pipeline
+    /// is built again.
+    fn get_or_build(
+        &self,
+        key: (&'static str, &'static str),
+        build: impl FnOnce() -> Result<CachedPipeline, GpuError>,
+    ) -> Result<CachedPipeline, GpuError> {
+        if let Some(hit) = self.0.lock().ok().and_then(|m| m.get(&key).cloned()) {
+            return Ok(hit);
+        }
+        let built = build()?;
+        if let Ok(mut map) = self.0.lock() {
+            map.insert(key, built.clone());
+        }
+        Ok(built)
+    }
+}
+
 /// A [`ShaderKernel`] on the device: its pipeline (layouts derived from the shader), its tables
 /// packed once, and the dispatch of a tile. The [`GpuKernel`] of every kind with a shader.
 #[derive(Debug)]
@@ -93,7 +130,8 @@ pub(crate) struct Shaded<K> {
 
 impl<K: ShaderKernel> Shaded<K> {
     /// Uploads `resident` (the kind's tables packed once, in binding order after the uniform)
-    /// and builds the kind's pipeline.
+    /// and takes the kind's pipeline from the context's [`PipelineCache`], building it the
+    /// first time.
     ///
     /// # Errors
     /// [`GpuError::Validation`] if the device rejects the shader or a buffer.
@@ -104,28 +142,44 @@ impl<K: ShaderKernel> Shaded<K> {
     ) -> Result<Box<dyn GpuKernel>, GpuError> {
         let gpu = Gpu::new(context);
         let device = &gpu.device;
-        let source = wgsl_source(K::SHADER).ok_or_else(|| {
-            GpuError::Validation(format!("shader {} missing from the registry", K::SHADER))
-        })?;
+        let cached = context
+            .pipeline_cache()
+            .get_or_build((K::SHADER, K::ENTRY_POINT), || {
+                let source = wgsl_source(K::SHADER).ok_or_else(|| {
+                    GpuError::Validation(format!("shader {} missing from the registry", K::SHADER))
+                })?;
+                let scope = ErrorScopes::push(device);
+                let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                    label: Some(K::SHADER),
+                    source: wgpu::ShaderSource::Wgsl(source.into()),
+                });
+                // The layout is the shader's own. A derived layout leaves out bindings the entry
+                // point does not use; the shader test `every_binding_is_used_by_its_entry_point`
+                // keeps every declared binding used, so the host may bind them all.
+                let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: Some(K::SHADER),
+                    layout: None,
+                    module: &module,
+                    entry_point: Some(K::ENTRY_POINT),
+                    compilation_options: wgpu::PipelineCompilationOptions::default(),
+                    cache: None,
+                });
+                let model_layout = pipeline.get_bind_group_layout(0);
+                let warp_layout = pipeline.get_bind_group_layout(1);
+                scope.pop()?;
+                Ok(CachedPipeline {
+                    pipeline,
+                    model_layout,
+                    warp_layout,
+                })
+            })?;
+        let CachedPipeline {
+            pipeline,
+            model_layout,
+            warp_layout,
+        } = cached;
         let scope = ErrorScopes::push(device);
         let resident = resident.iter().map(|t| gpu.storage(t)).collect();
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(K::SHADER),
-            source: wgpu::ShaderSource::Wgsl(source.into()),
-        });
-        // The layout is the shader's own. A derived layout leaves out bindings the entry point
-        // does not use; the shader test `every_binding_is_used_by_its_entry_point` keeps every
-        // declared binding used, so the host may bind them all.
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some(K::SHADER),
-            layout: None,
-            module: &module,
-            entry_point: Some(K::ENTRY_POINT),
-            compilation_options: wgpu::PipelineCompilationOptions::default(),
-            cache: None,
-        });
-        let model_layout = pipeline.get_bind_group_layout(0);
-        let warp_layout = pipeline.get_bind_group_layout(1);
         scope.pop()?;
         Ok(Box::new(Self {
             pipeline,

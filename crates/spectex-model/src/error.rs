@@ -109,6 +109,51 @@ pub(crate) fn check_len(
     }
 }
 
+/// Checks an image stored in a model: `width` and `height` in `[1, 1024]` texels, `width·height`
+/// texels of `C` levels each (row-major), every level finite within `[−1e9, 1e9]`. Field paths
+/// are `{at}.width`, `{at}.height`, `{at}.{texels}` and `{at}.{texels}[k]` (`[k][n]` when a texel
+/// has several channels).
+pub(crate) fn check_image<const C: usize>(
+    at: &str,
+    width: u32,
+    height: u32,
+    texels_name: &str,
+    texels: &[[f32; C]],
+) -> Result<(), ModelError> {
+    for (name, side) in [("width", width), ("height", height)] {
+        check_range(
+            || format!("{at}.{name}"),
+            f64::from(side),
+            1.0,
+            f64::from(MAX_IMAGE_SIDE),
+            "[1, 1024] texels",
+        )?;
+    }
+    let n = (width as usize) * (height as usize);
+    check_len(
+        || format!("{at}.{texels_name}"),
+        texels.len(),
+        n,
+        n,
+        "width·height texels",
+    )?;
+    for (k, texel) in texels.iter().enumerate() {
+        for (c, &v) in texel.iter().enumerate() {
+            check_level(
+                || match C {
+                    1 => format!("{at}.{texels_name}[{k}]"),
+                    _ => format!("{at}.{texels_name}[{k}][{c}]"),
+                },
+                v,
+            )?;
+        }
+    }
+    Ok(())
+}
+
+/// Largest side of an image stored in a model (a texton's spot, Voronoi colours), texels.
+pub(crate) const MAX_IMAGE_SIDE: u32 = 1024;
+
 #[cfg(test)]
 mod tests {
     use super::*;

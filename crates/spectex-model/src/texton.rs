@@ -38,7 +38,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::error::{ModelError, check_len, check_level, check_range};
+use crate::error::{ModelError, check_image, check_level, check_range};
 use crate::math::{cos_turns, exp_poly, sin_turns};
 use crate::random::{Prng, cell_hash};
 
@@ -52,7 +52,7 @@ pub const MAX_DENSITY: f32 = 8.0;
 /// pixel at most, which bounds the cost of a pixel.
 pub const MAX_REACH: u32 = 3;
 /// Largest side of an image texton, texels.
-pub const MAX_IMAGE_SIDE: u32 = 1024;
+pub const MAX_IMAGE_SIDE: u32 = crate::error::MAX_IMAGE_SIDE;
 /// Largest scale factor of a texton.
 pub const MAX_SCALE: f32 = 16.0;
 /// Default cell side `C`, pixels.
@@ -305,26 +305,13 @@ impl TextonNoise {
             values,
         } = &self.spot
         {
-            for (name, side) in [("width", *width), ("height", *height)] {
-                check_range(
-                    || format!("texton.spot.image.{name}"),
-                    f64::from(side),
-                    1.0,
-                    f64::from(MAX_IMAGE_SIDE),
-                    "[1, 1024] texels",
-                )?;
-            }
-            let n = (*width as usize) * (*height as usize);
-            check_len(
-                || "texton.spot.image.values".into(),
-                values.len(),
-                n,
-                n,
-                "width·height values",
+            check_image(
+                "texton.spot.image",
+                *width,
+                *height,
+                "values",
+                values.as_chunks::<1>().0,
             )?;
-            for (k, &v) in values.iter().enumerate() {
-                check_level(|| format!("texton.spot.image.values[{k}]"), v)?;
-            }
         }
         for (k, &r) in self.radii.iter().enumerate() {
             check_range(

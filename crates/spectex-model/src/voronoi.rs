@@ -46,7 +46,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::error::{ModelError, check_len, check_level, check_range};
+use crate::error::{ModelError, check_image, check_len, check_level, check_range};
 use crate::random::{Prng, cell_hash};
 
 /// The random layer of Voronoi seeds ("VORO").
@@ -62,7 +62,7 @@ pub const MAX_LLOYD_BLOCK: u32 = 16;
 /// Most palette colours.
 pub const MAX_PALETTE: usize = 256;
 /// Largest side of a colour image, texels.
-pub const MAX_IMAGE_SIDE: u32 = 1024;
+pub const MAX_IMAGE_SIDE: u32 = crate::error::MAX_IMAGE_SIDE;
 /// Default cell side `C`, pixels.
 pub const DEFAULT_CELL_SIZE: f32 = 32.0;
 /// The largest offset a seed takes in its cell, `1 − 2⁻²⁴`.
@@ -252,28 +252,7 @@ impl VoronoiNoise {
                 height,
                 texels,
             } => {
-                for (name, side) in [("width", *width), ("height", *height)] {
-                    check_range(
-                        || format!("voronoi.output.image.{name}"),
-                        f64::from(side),
-                        1.0,
-                        f64::from(MAX_IMAGE_SIDE),
-                        "[1, 1024] texels",
-                    )?;
-                }
-                let n = (*width as usize) * (*height as usize);
-                check_len(
-                    || "voronoi.output.image.texels".into(),
-                    texels.len(),
-                    n,
-                    n,
-                    "width·height texels",
-                )?;
-                for (k, c) in texels.iter().enumerate() {
-                    for (n, &v) in c.iter().enumerate() {
-                        check_level(|| format!("voronoi.output.image.texels[{k}][{n}]"), v)?;
-                    }
-                }
+                check_image("voronoi.output.image", *width, *height, "texels", texels)?;
             }
             _ => {}
         }

@@ -4,7 +4,7 @@
 //! cannot pass by accident. Uses `../shared/testdata/textures/` and skips
 //! with a printed reason when it is absent.
 //!
-//! `cargo test --release -p spectex-cli --test it fidelity:: -- --nocapture --skip _fidelity::`
+//! `cargo test --release -p spectex-cli --test it fidelity:: -- --include-ignored --nocapture --skip _fidelity::`
 //! prints the tables.
 
 #![allow(
@@ -132,15 +132,42 @@ const SEEDS: u32 = 8;
 
 /// Noise by example on the four stochastic shared textures: the spectrum fit (the default) at
 /// J = 10, 50, 100 and the paper's fit at J = 50, each rendered at 1024² with [`SEEDS`] seeds
-/// and measured by an independent Welch estimate (T = 256) against the exemplar's, next to RPN
-/// (1024² by the spot extension) and a stationary Gaussian field of the exemplar's spectrum
-/// ([`gaussian_reference`]) measured the same way. Asserted, the bounds of issue 16 on the means
-/// over the seeds: at J = 50 at most 0.15 on each exemplar; from J = 10 to 50 to 100 falling or
-/// flat within 0.01; mean and variance within 2% for every fit and seed; the paper's fit
-/// further from the spectrum than the spectrum fit. Single seeds are printed (max), not
-/// asserted: on the height maps even the Gaussian field's single seeds pass 0.15.
+/// and measured by an independent Welch estimate (T = 256) against the exemplar's. Asserted, the
+/// bounds of issue 16 on the means over the seeds: at J = 50 at most 0.15 on each exemplar; from
+/// J = 10 to 50 to 100 falling or flat within 0.01; mean and variance within 2% at J = 50 (for
+/// seeds 1 and 2 here: a 512² sparse sample of the model costs about three dense 1024² renders;
+/// every seed in [`noise_by_example_full_table`]); the paper's fit further from the spectrum than
+/// the spectrum fit. Single seeds are printed (max), not asserted: on the height maps even the
+/// Gaussian field's single seeds pass 0.15.
 #[test]
 fn noise_by_example_matches_the_exemplar_spectrum() {
+    noise_by_example(Depth::Ci);
+}
+
+/// [`noise_by_example_matches_the_exemplar_spectrum`] with the moments of every seed, next to
+/// RPN (1024² by the spot extension) and a stationary Gaussian field of the exemplar's spectrum
+/// ([`gaussian_reference`]) measured the same way: the table of the closing notes. The same
+/// bounds are asserted, and RPN's mean distance at most 0.15 (RPN keeps the exemplar's spectrum
+/// exactly; its distance is the estimate's own noise, 0.054–0.074 measured). Left out of CI for
+/// its time (about 4 minutes more on 2 cores):
+/// `cargo test --release -p spectex-cli --test it fidelity::noise_by_example -- --include-ignored
+/// --nocapture`.
+#[test]
+#[ignore = "the full table: several minutes; CI runs noise_by_example_matches_the_exemplar_spectrum"]
+fn noise_by_example_full_table() {
+    noise_by_example(Depth::Full);
+}
+
+/// How much of the noise-by-example table a test measures.
+#[derive(Clone, Copy, PartialEq)]
+enum Depth {
+    /// Moments at J = 50 for seeds 1 and 2; no RPN or Gaussian-field references.
+    Ci,
+    /// Moments at J = 50 for every seed; RPN and Gaussian-field references.
+    Full,
+}
+
+fn noise_by_example(depth: Depth) {
     let mut fft = Fft2::new();
     let mut failures = Vec::new();
     println!("texture   fit       J    L1 mean (sd, max)        Δmean/σ   var ratio  Mpix/s");
@@ -155,22 +182,30 @@ fn noise_by_example_matches_the_exemplar_spectrum() {
         let t = 256;
         let psd = welch_psd_with_block(ex.view(), t, &mut fft).unwrap();
         let (mean, var) = mean_var(&ex);
-        let rpn: Vec<f64> = (1..=SEEDS)
-            .map(|seed| {
-                let options = spectex_spectrum::RpnOptions {
-                    size: Some((1024, 1024)),
-                    seed,
-                    ..Default::default()
-                };
-                let out = spectex_spectrum::rpn(ex.clone().insert_axis(Axis(0)).view(), &options)
-                    .unwrap();
-                let psd_r = welch_psd_with_block(out.index_axis(Axis(0), 0), t, &mut fft).unwrap();
-                shape_distance(&psd_r, &psd)
-            })
-            .collect();
-        println!("{short:<9} rpn        -  {}", summary(&rpn));
-        let gaussian = gaussian_reference(&ex, &psd, 1024, &mut fft);
-        println!("{short:<9} gaussian   -  {}", summary(&gaussian));
+        if depth == Depth::Full {
+            let rpn: Vec<f64> = (1..=SEEDS)
+                .map(|seed| {
+                    let options = spectex_spectrum::RpnOptions {
+                        size: Some((1024, 1024)),
+                        seed,
+                        ..Default::default()
+                    };
+                    let out =
+                        spectex_spectrum::rpn(ex.clone().insert_axis(Axis(0)).view(), &options)
+                            .unwrap();
+                    let psd_r =
+                        welch_psd_with_block(out.index_axis(Axis(0), 0), t, &mut fft).unwrap();
+                    shape_distance(&psd_r, &psd)
+                })
+                .collect();
+            println!("{short:<9} rpn        -  {}", summary(&rpn));
+            let mean_rpn = rpn.iter().sum::<f64>() / rpn.len() as f64;
+            if mean_rpn > 0.15 {
+                failures.push(format!("{name}: RPN mean L1 {mean_rpn:.4} above 0.15"));
+            }
+            let gaussian = gaussian_reference(&ex, &psd, 1024, &mut fft);
+            println!("{short:<9} gaussian   -  {}", summary(&gaussian));
+        }
         let mut spectrum_at_50 = f64::NAN;
         let mut previous: Option<(u32, f64)> = None;
         for (method, budget, seeds) in [
@@ -180,7 +215,7 @@ fn noise_by_example_matches_the_exemplar_spectrum() {
             (FitMethod::Paper, 50, 1),
         ] {
             let mut distances = Vec::new();
-            let mut worst_moments = (0.0f64, 1.0f64);
+            let mut worst_moments: Option<(f64, f64)> = None;
             let mut pixels_per_second = 0.0;
             for seed in 1..=seeds {
                 let options = FitOptions {
@@ -194,35 +229,43 @@ fn noise_by_example_matches_the_exemplar_spectrum() {
                 pixels_per_second += (1024.0 * 1024.0) / seconds / f64::from(seeds);
                 let psd_r = welch_psd_with_block(img.view(), t, &mut fft).unwrap();
                 distances.push(shape_distance(&psd_r, &psd));
+                // The moments at J = 50, the budget the issue's targets name: a 512² sparse
+                // sample costs about three dense renders (each sample draws a lattice
+                // neighbourhood of its own), and J = 10 and 100 only enter the falling check.
+                if (method, budget) != (FitMethod::Spectrum, 50) || (depth == Depth::Ci && seed > 2)
+                {
+                    continue;
+                }
                 let (m_r, v_r) = sparse_mean_var(&model);
                 let (dm, vr) = ((m_r - mean) / var.sqrt(), v_r / var);
-                if dm.abs() > worst_moments.0.abs() {
-                    worst_moments.0 = dm;
+                let worst = worst_moments.get_or_insert((dm, vr));
+                if dm.abs() > worst.0.abs() {
+                    worst.0 = dm;
                 }
-                if (vr - 1.0).abs() > (worst_moments.1 - 1.0).abs() {
-                    worst_moments.1 = vr;
+                if (vr - 1.0).abs() > (worst.1 - 1.0).abs() {
+                    worst.1 = vr;
                 }
-                if method == FitMethod::Spectrum {
-                    // Mean within 2% of σ, variance within 2%.
-                    if dm.abs() >= 0.02 {
-                        failures.push(format!(
-                            "{name} J={budget} seed {seed}: mean {m_r} vs {mean}"
-                        ));
-                    }
-                    if (vr - 1.0).abs() >= 0.02 {
-                        failures.push(format!(
-                            "{name} J={budget} seed {seed}: variance {v_r} vs {var}"
-                        ));
-                    }
+                // Mean within 2% of σ, variance within 2%.
+                if dm.abs() >= 0.02 {
+                    failures.push(format!(
+                        "{name} J={budget} seed {seed}: mean {m_r} vs {mean}"
+                    ));
+                }
+                if (vr - 1.0).abs() >= 0.02 {
+                    failures.push(format!(
+                        "{name} J={budget} seed {seed}: variance {v_r} vs {var}"
+                    ));
                 }
             }
+            let moments = worst_moments.map_or_else(
+                || format!("{:>8}  {:>9}", "-", "-"),
+                |(dm, vr)| format!("{dm:8.4}  {vr:9.3}"),
+            );
             let d = distances.iter().sum::<f64>() / distances.len() as f64;
             println!(
-                "{short:<9} {:<8} {budget:>3}  {}  {:8.4}  {:9.3}  {:6.2}",
+                "{short:<9} {:<8} {budget:>3}  {}  {moments}  {:6.2}",
                 method.name(),
                 summary(&distances),
-                worst_moments.0,
-                worst_moments.1,
                 pixels_per_second / 1e6,
             );
             if method == FitMethod::Paper {
