@@ -359,8 +359,7 @@ pub fn fit_psd(
 /// Why the equal share for `Δ_S`: its `(J_S/12)^¼` factor balances the window's blur against
 /// the randomness of the frequencies a window draws; a capped stratum draws each of its few
 /// frequencies once per lattice point, with less of that randomness, not more, so its window
-/// keeps the width of the share. Measured with the blur-only sharpening that
-/// [`sharpen_welch`] replaced (mean relative L1 over the fidelity test's 8 seeds,
+/// keeps the width of the share. Measured (mean relative L1 over the fidelity test's 8 seeds,
 /// J = 50 / 100): dirt 0.140 / 0.127 with the capped `J_S`, 0.124 / 0.109 with the share; sand
 /// 0.089 / 0.091 and 0.087 / 0.094.
 fn fit_psd_spectrum(

@@ -301,8 +301,7 @@ pub fn resolving_width(bins: &[Bin], psd: &dyn Fn(Bin) -> f64, size: usize) -> f
 /// bias falling as `1/Δ_S`, and by the randomness of the frequencies drawn, which a render sees
 /// `J_S` per window over `(side/Δ_S)²` windows: a relative error growing as `Δ_S/√J_S`. Their
 /// sum is least at `Δ_S ∝ J_S^¼`; at `J_S = 12` (J = 50 over 4 strata) [`RESOLVING_PERIODS`]
-/// was best of 1 and 2 periods. Measured with the blur-only sharpening that [`sharpen_welch`]
-/// replaced (mean relative L1 over 8 seeds, `J` = 10 / 50 / 100):
+/// was best of 1 and 2 periods. Measured (mean relative L1 over 8 seeds, `J` = 10 / 50 / 100):
 /// gravel 0.100 / 0.067 / 0.062 with 2 periods at every `J`, 0.082 / 0.079 / 0.078 with 1, and
 /// 0.085 / 0.067 / 0.062 with the factor; grass 0.109 / 0.079 / 0.074, 0.095 / 0.090 / 0.089
 /// and 0.095 / 0.079 / 0.071.
