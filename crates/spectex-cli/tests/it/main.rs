@@ -9,6 +9,7 @@ mod cli;
 mod common;
 mod export;
 mod fidelity;
+mod fidelity_dirt;
 mod fuzz_images;
 mod phasor_fidelity;
 mod simulate;
