@@ -48,6 +48,9 @@ enum NoiseKind {
     Simplex(classic::ClassicArgs),
     /// Value noise: random lattice values with quintic interpolation, 2D or 3D.
     Value(classic::ClassicArgs),
+    /// Better gradient noise (Kensler, Knoll & Shirley 2008): xor hash, radial kernel of
+    /// radius 2 cells, 2D or 3D.
+    Kensler(classic::ClassicArgs),
     /// Fractal sum over octaves (fBm, turbulence, ridged multifractal) of a basis.
     Fbm(classic::FbmArgs),
     /// Domain warping: --base evaluated at p + strength·(x(p), y(p)) for the --by (x) and
@@ -118,6 +121,7 @@ pub fn noise(cmd: &NoiseCommand) -> Result<()> {
         NoiseKind::Perlin(args) => classic::run(Basis::Gradient, None, args),
         NoiseKind::Simplex(args) => classic::run(Basis::Simplex, None, args),
         NoiseKind::Value(args) => classic::run(Basis::Value, None, args),
+        NoiseKind::Kensler(args) => classic::run(Basis::Kensler, None, args),
         NoiseKind::Fbm(args) => classic::fbm(args),
         NoiseKind::Warp(args) => warp::run(args),
         NoiseKind::Worley(args) => classic::worley(args),

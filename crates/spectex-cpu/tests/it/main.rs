@@ -7,6 +7,7 @@ mod classic;
 mod fast_paths;
 mod filter;
 mod gabor;
+mod kensler;
 mod lrp;
 mod periodic;
 mod phasor;
