@@ -1,11 +1,12 @@
 //! `spectex noise`: procedural noises built from flags, one module per family of subcommands
 //! (LRP noise of a continuous spectrum, Gabor, the classic noises, wavelet noise, domain
-//! warping, textons, Voronoi diagrams, combinations), each building its model through `spectex_model`'s builders, writing it if asked
+//! warping, textons, Voronoi diagrams, matrix transformation, combinations), each building its model through `spectex_model`'s builders, writing it if asked
 //! (`--model`) and rendering it.
 
 mod classic;
 mod combine;
 mod gabor;
+mod matrix;
 mod spectral;
 mod texton;
 mod voronoi;
@@ -66,6 +67,12 @@ enum NoiseKind {
     /// Voronoi diagrams (survey §2.6): cell ID, F1, exact border distance, F2 − F1, or colours
     /// from a palette or an image; optional Lloyd relaxation.
     Voronoi(voronoi::VoronoiArgs),
+    /// Matrix transformation (survey §2.4): a source (built-in rings or a square image) moved
+    /// k times by an integer matrix on the N × N torus, e.g. the cat map.
+    Matrix(matrix::MatrixArgs),
+    // Stochastic subdivision (survey §3.1.7) would fit as a pointwise kind (a level-ℓ lattice
+    // value depends only on its ancestors' hashes, a bounded block per level; README, after
+    // `spectex noise matrix`): not built yet.
     /// A combination of models (survey §4.1–4.2): add, multiply, min, max, mix, smoothstep,
     /// fold, sin-fold, histogram matching, colour ramp.
     Combine(combine::CombineArgs),
@@ -128,6 +135,7 @@ pub fn noise(cmd: &NoiseCommand) -> Result<()> {
         NoiseKind::Wavelet(args) => wavelet::run(args),
         NoiseKind::Texton(args) => texton::run(args),
         NoiseKind::Voronoi(args) => voronoi::run(args),
+        NoiseKind::Matrix(args) => matrix::run(args),
         NoiseKind::Combine(args) => combine::run(args),
     }
 }

@@ -217,7 +217,8 @@ macro_rules! unsupported_export {
 unsupported_export!(
     spectex_model::PhasorNoise,
     spectex_model::VoronoiNoise,
-    spectex_model::Combine
+    spectex_model::Combine,
+    spectex_model::MatrixTransform
 );
 
 impl ExportKind for spectex_model::Warp {

@@ -85,6 +85,7 @@ mod classic;
 mod combine;
 mod gabor;
 mod lrp;
+mod matrix;
 mod phasor;
 mod texton;
 mod texture;

@@ -89,6 +89,12 @@ pub const SHADERS: &[ShaderFile] = &[
         entry_points: &["voronoi_main"],
     },
     ShaderFile {
+        name: "matrix",
+        source: include_str!("../../../shaders/matrix.wgsl"),
+        needs_common: true,
+        entry_points: &["matrix_main"],
+    },
+    ShaderFile {
         name: "probe",
         source: include_str!("../../../shaders/probe.wgsl"),
         needs_common: true,

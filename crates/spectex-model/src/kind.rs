@@ -11,8 +11,8 @@ use serde::{Deserialize, Serialize};
 use crate::error::ModelError;
 use crate::period::Period;
 use crate::{
-    ClassicNoise, Combine, GaborNoise, LrpNoise, PhasorNoise, TextonNoise, TextureModel,
-    VoronoiNoise, Warp, WaveletNoise,
+    ClassicNoise, Combine, GaborNoise, LrpNoise, MatrixTransform, PhasorNoise, TextonNoise,
+    TextureModel, VoronoiNoise, Warp, WaveletNoise,
 };
 
 /// The model-layer definition of one kind: its name, validation, output channels and seeds.
@@ -90,6 +90,9 @@ pub enum Model {
     Voronoi(VoronoiNoise),
     /// A pointwise combination of models (survey §4.1–4.2, [`crate::combine`]).
     Combine(Combine),
+    /// Matrix transformation (survey §2.4, [`crate::matrix`]): a source moved `k` times by an
+    /// integer matrix on the `N × N` torus.
+    Matrix(MatrixTransform),
 }
 
 /// Calls `$body` with `$m` bound to the kind struct inside `$model` (by the reference the match
@@ -140,6 +143,10 @@ macro_rules! for_each_kind {
                 type $Kind = $crate::Combine;
                 $body
             }
+            $crate::Model::Matrix($m) => {
+                type $Kind = $crate::MatrixTransform;
+                $body
+            }
         }
     };
 }
@@ -157,6 +164,7 @@ pub const KIND_NAMES: &[&str] = &[
     <TextonNoise as ModelKind>::NAME,
     <VoronoiNoise as ModelKind>::NAME,
     <Combine as ModelKind>::NAME,
+    <MatrixTransform as ModelKind>::NAME,
 ];
 
 impl Model {

@@ -51,6 +51,7 @@ pub mod grid;
 pub mod kind;
 mod lrp;
 pub mod math;
+pub mod matrix;
 pub mod period;
 mod phasor;
 pub mod phasor_kernels;
@@ -78,6 +79,7 @@ pub use gabor::{
 pub use grid::{Filter, MAX_POSITION, MAX_WINDOW_PIXELS, MAX_WINDOW_SIDE, Window, WindowError};
 pub use kind::{KIND_NAMES, Model, ModelKind, PERIODIC_KINDS};
 pub use lrp::{LrpNoise, LrpNoiseBuilder, MAX_COSINES, MAX_STRATA, MAX_TABLE, Stratum};
+pub use matrix::MatrixTransform;
 pub use period::Period;
 pub use phasor::{
     COHERENT_BANDWIDTH_RATIO, COHERENT_SPREAD, Field, Harmonic, MAX_FIELD_SIDE,

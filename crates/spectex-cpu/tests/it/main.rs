@@ -9,6 +9,7 @@ mod filter;
 mod gabor;
 mod kensler;
 mod lrp;
+mod matrix;
 mod periodic;
 mod phasor;
 mod warp;

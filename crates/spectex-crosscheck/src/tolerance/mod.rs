@@ -22,6 +22,7 @@ pub mod classic;
 pub mod combine;
 pub mod gabor;
 pub mod lrp;
+pub mod matrix;
 pub mod phasor;
 pub mod texton;
 pub mod texture;
