@@ -43,9 +43,9 @@ fn renders_are_the_forward_moved_image_near_far_and_tiled() {
         (
             [[3, 0], [0, 7]],
             2,
-            24,
+            32,
             MatrixSource::Image {
-                texels: (0..576).map(|i| i as f32 / 576.0).collect(),
+                texels: (0..1024).map(|i| i as f32 / 1024.0).collect(),
             },
         ),
     ];
