@@ -1,5 +1,5 @@
-// classic.wgsl — the classic pointwise noises (improved Perlin gradient, simplex, value and
-// Worley noise, in 2D or on a plane z of 3D) and their fractal sums (fBm, turbulence, ridged),
+// classic.wgsl — the classic pointwise noises (improved Perlin gradient, simplex, value, Kensler
+// and Worley noise, in 2D or on a plane z of 3D) and their fractal sums (fBm, turbulence, ridged),
 // the GPU twin of crates/spectex-cpu/src/classic.rs; the definitions and the randomness contract
 // are in crates/spectex-model/src/classic.rs. Composed after common.wgsl.
 //
@@ -34,7 +34,7 @@ struct ClassicParams {
     height: u32,
     seed: u32,
     octaves: u32,
-    /// 0 gradient, 1 simplex, 2 value, 3 Worley.
+    /// 0 gradient, 1 simplex, 2 value, 3 Worley, 4 Kensler.
     basis: u32,
     /// 1 for a 3D model (on the plane z of the octave table), 0 for 2D.
     three_d: u32,
@@ -121,6 +121,9 @@ const SIMPLEX2_R2: f32 = 0.5f;
 const SIMPLEX2_SCALE: f32 = 70.0f;
 const SIMPLEX3_R2: f32 = 0.6f;
 const SIMPLEX3_SCALE: f32 = 32.0f;
+/// Kensler noise's output scales (spectex_model::classic::KENSLER2_SCALE, KENSLER3_SCALE).
+const KENSLER2_SCALE: f32 = 0.16739757f;
+const KENSLER3_SCALE: f32 = 0.1369134f;
 
 /// a + b on i32 with wrapping (as the CPU's wrapping_add).
 fn wrap_add(a: i32, b: i32) -> i32 {
@@ -262,6 +265,74 @@ fn lattice_noise(p: Located3, o: u32, key2: u32, gradient: bool) -> f32 {
     }
     let y1 = lerp(lerp(c[4], c[5], sx), lerp(c[6], c[7], sx), sy);
     return lerp(y0, y1, fade(u.z));
+}
+
+/// Kensler noise's kernel fade(1 − r²/4), 0 for r² ≥ 4 (spectex_model::classic::kensler_weight).
+fn kensler_weight(r2: f32) -> f32 {
+    let t = 1.0f - r2 * 0.25f;
+    return select(0.0f, fade(t), t > 0.0f);
+}
+
+/// g · δ for the gradient chosen by hash(h) (spectex_model::classic::kensler_dot): 2D, direction
+/// hash(h) >> 29 at multiples of 45° as c·(a_x, a_y), a in {0, ±1}, c = 1 or 1/√2; 3D, Perlin's
+/// cube edge hash(h) % 12 over √2. Same operations in the same order as the CPU.
+fn kensler_dot(h: u32, x: f32, y: f32, z: f32) -> f32 {
+    let g = hash(h);
+    if (params.three_d == 1u) {
+        let e = g % 12u;
+        // Edges 0–3 (±1, ±1, 0), 4–7 (±1, 0, ±1), 8–11 (0, ±1, ±1); signs: bit 0 flips the
+        // first non-zero coordinate, bit 1 the second.
+        let s0 = select(1.0f, -1.0f, (e & 1u) == 1u);
+        let s1 = select(1.0f, -1.0f, (e & 2u) == 2u);
+        let ax = select(s0, 0.0f, e >= 8u);
+        let ay = select(select(0.0f, s1, e < 4u), s0, e >= 8u);
+        let az = select(select(s1, 0.0f, e < 4u), s1, e >= 8u);
+        return ((ax * x + ay * y) + az * z) * 0.70710677f;
+    }
+    let k = g >> 29u;
+    // Directions k·45°: x component 1, 1, 0, −1, −1, −1, 0, 1; y the same turned by 90°.
+    let ax = select(select(-1.0f, 0.0f, k == 2u || k == 6u), 1.0f, k <= 1u || k == 7u);
+    let ay = select(select(-1.0f, 0.0f, k == 0u || k == 4u), 1.0f, k >= 1u && k <= 3u);
+    let c = select(1.0f, 0.70710677f, (k & 1u) == 1u);
+    return (ax * x + ay * y) * c;
+}
+
+/// Kensler noise at p: the 4×4 (4×4×4) corners from p.cell − 1 to p.cell + 2, visited z, y, x,
+/// each adding kensler_weight(r²)·kensler_dot(P_x ⊕ P_y (⊕ P_z), δ) with the per-axis entries
+/// P_a[n] = cell_hash(n, a, o, seed) (x and y wrapped by a periodic octave's cells); in 2D one
+/// plane with δz = 0 and P_z = 0. The CPU's `kensler` in the same order.
+fn kensler(p: Located3, o: u32, key2: u32) -> f32 {
+    let kx = row_key(0, key2);
+    let ky = row_key(1, key2);
+    let u = p.offset;
+    var px: array<u32, 4>;
+    var py: array<u32, 4>;
+    var pz: array<u32, 4>;
+    for (var d = 0; d < 4; d++) {
+        let x = wrap_cell(wrap_add(p.cell.x, d - 1), octaves[o].cells_x);
+        let y = wrap_cell(wrap_add(p.cell.y, d - 1), octaves[o].cells_y);
+        px[d] = cell_hash_in_row(x, kx);
+        py[d] = cell_hash_in_row(y, ky);
+        pz[d] = cell_hash(wrap_add(p.cell.z, d - 1), 2, o, params.seed);
+    }
+    let three_d = params.three_d == 1u;
+    let planes = select(1, 4, three_d);
+    var sum = 0.0f;
+    for (var dz = 0; dz < planes; dz++) {
+        let hz = select(0u, pz[dz], three_d);
+        let vz = select(0.0f, u.z - f32(dz - 1), three_d);
+        for (var dy = 0; dy < 4; dy++) {
+            let vy = u.y - f32(dy - 1);
+            for (var dx = 0; dx < 4; dx++) {
+                let vx = u.x - f32(dx - 1);
+                let r2 = (vx * vx + vy * vy) + vz * vz;
+                let w = kensler_weight(r2);
+                let h = (px[dx] ^ py[dy]) ^ hz;
+                sum += w * kensler_dot(h, vx, vy, vz);
+            }
+        }
+    }
+    return select(KENSLER2_SCALE, KENSLER3_SCALE, three_d) * sum;
 }
 
 /// One simplex corner's term max(0, r² − |δ|²)⁴ · (g · δ).
@@ -443,6 +514,9 @@ fn basis(column: ClassicAxis, row: ClassicAxis, octave: ClassicOctave, o: u32, d
         }
         case 3u: {
             n = worley(lattice_position(column, row, octave, d), o, octave.key2);
+        }
+        case 4u: {
+            n = kensler(lattice_position(column, row, octave, d), o, octave.key2);
         }
         default: {
             n = lattice_noise(lattice_position(column, row, octave, d), o, octave.key2, true);

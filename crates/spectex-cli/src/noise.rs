@@ -1,12 +1,13 @@
 //! `spectex noise`: procedural noises built from flags, one module per family of subcommands
 //! (LRP noise of a continuous spectrum, Gabor, the classic noises, wavelet noise, domain
-//! warping, textons, Voronoi diagrams, combinations), each building its model through `spectex_model`'s builders, writing it if asked
+//! warping, textons, Voronoi diagrams, matrix transformation, combinations), each building its model through `spectex_model`'s builders, writing it if asked
 //! (`--model`) and rendering it.
 
 mod classic;
 mod combine;
 mod gabor;
 mod islamic;
+mod matrix;
 mod spectral;
 mod texton;
 mod voronoi;
@@ -49,6 +50,9 @@ enum NoiseKind {
     Simplex(classic::ClassicArgs),
     /// Value noise: random lattice values with quintic interpolation, 2D or 3D.
     Value(classic::ClassicArgs),
+    /// Better gradient noise (Kensler, Knoll & Shirley 2008): xor hash, radial kernel of
+    /// radius 2 cells, 2D or 3D.
+    Kensler(classic::ClassicArgs),
     /// Fractal sum over octaves (fBm, turbulence, ridged multifractal) of a basis.
     Fbm(classic::FbmArgs),
     /// Domain warping: --base evaluated at p + strength·(x(p), y(p)) for the --by (x) and
@@ -64,6 +68,12 @@ enum NoiseKind {
     /// Voronoi diagrams (survey §2.6): cell ID, F1, exact border distance, F2 − F1, or colours
     /// from a palette or an image; optional Lloyd relaxation.
     Voronoi(voronoi::VoronoiArgs),
+    /// Matrix transformation (survey §2.4): a source (built-in rings or a square image) moved
+    /// k times by an integer matrix on the N × N torus, e.g. the cat map.
+    Matrix(matrix::MatrixArgs),
+    // Stochastic subdivision (survey §3.1.7) would fit as a pointwise kind (a level-ℓ lattice
+    // value depends only on its ancestors' hashes, a bounded block per level; README, after
+    // `spectex noise matrix`): not built yet.
     /// A combination of models (survey §4.1–4.2): add, multiply, min, max, mix, smoothstep,
     /// fold, sin-fold, histogram matching, colour ramp.
     Combine(combine::CombineArgs),
@@ -123,12 +133,14 @@ pub fn noise(cmd: &NoiseCommand) -> Result<()> {
         NoiseKind::Perlin(args) => classic::run(Basis::Gradient, None, args),
         NoiseKind::Simplex(args) => classic::run(Basis::Simplex, None, args),
         NoiseKind::Value(args) => classic::run(Basis::Value, None, args),
+        NoiseKind::Kensler(args) => classic::run(Basis::Kensler, None, args),
         NoiseKind::Fbm(args) => classic::fbm(args),
         NoiseKind::Warp(args) => warp::run(args),
         NoiseKind::Worley(args) => classic::worley(args),
         NoiseKind::Wavelet(args) => wavelet::run(args),
         NoiseKind::Texton(args) => texton::run(args),
         NoiseKind::Voronoi(args) => voronoi::run(args),
+        NoiseKind::Matrix(args) => matrix::run(args),
         NoiseKind::Combine(args) => combine::run(args),
         NoiseKind::Islamic(args) => islamic::run(args),
     }

@@ -80,6 +80,7 @@ fn bench_grid(c: &mut Criterion) {
         ("perlin", Basis::Gradient, None, true),
         ("value", Basis::Value, None, true),
         ("simplex", Basis::Simplex, None, false),
+        ("kensler", Basis::Kensler, None, false),
         ("cellular", cellular, None, false),
         ("fbm6", Basis::Gradient, Some(6), true),
     ];

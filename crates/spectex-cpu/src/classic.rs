@@ -1,5 +1,6 @@
-//! The classic pointwise noises (gradient, simplex, value, Worley) and their fractal sums on the
-//! CPU; the definitions and the randomness contract are in [`spectex_model::classic`].
+//! The classic pointwise noises (gradient, simplex, value, Kensler, Worley) and their fractal sums
+//! on the CPU; the definitions and the randomness contract are in [`spectex_model::classic`].
+//! Kensler noise's 4×4 (4×4×4) stencil runs one lane at a time (`kensler`: no per-row tables).
 //!
 //! Every pixel is independent: a row is evaluated `L` consecutive pixels at a time (8 lanes, or
 //! 16 with AVX-512), every octave of a group of lanes before the next group, with the lattice
@@ -52,9 +53,10 @@
 //! ```
 
 use spectex_model::classic::{
-    Basis, ClassicNoise, FeaturePoints, FractalKind, Metric, SIMPLEX_F2, SIMPLEX_F3, SIMPLEX_G2,
-    SIMPLEX_G3, SIMPLEX2_R2, SIMPLEX2_SCALE, SIMPLEX3_R2, SIMPLEX3_SCALE, WORLEY_MAX_POINTS,
-    WORLEY_MAX_RING, fade, gradient_dot, lattice_value,
+    Basis, ClassicNoise, FeaturePoints, FractalKind, KENSLER2_SCALE, KENSLER3_SCALE, Metric,
+    SIMPLEX_F2, SIMPLEX_F3, SIMPLEX_G2, SIMPLEX_G3, SIMPLEX2_R2, SIMPLEX2_SCALE, SIMPLEX3_R2,
+    SIMPLEX3_SCALE, WORLEY_MAX_POINTS, WORLEY_MAX_RING, fade, gradient_dot, kensler_dot,
+    kensler_weight, lattice_value,
 };
 use spectex_model::filter::{BasisStatistics, OctaveFade};
 use spectex_model::random::{
@@ -166,6 +168,9 @@ struct Octave {
     uz: f32,
     /// `layer_key(o, cell_hash(kz + d, 0, o, seed))` for `d = −1, 0, 1` (3D).
     zkeys: [u32; 3],
+    /// Kensler noise's per-axis table entries of the plane `z`, `cell_hash(kz + d, 2, o, seed)`
+    /// for `d = −1..=2` (3D; zeros in 2D, where the xor leaves the hash alone).
+    kensler_z: [u32; 4],
 }
 
 /// What one octave needs on one row.
@@ -583,6 +588,11 @@ impl ClassicEvaluator {
                     kz,
                     uz,
                     zkeys,
+                    kensler_z: if model.dimensions == 3 {
+                        [-1, 0, 1, 2].map(|d| cell_hash(kz.wrapping_add(d), 2, o, model.seed))
+                    } else {
+                        [0; 4]
+                    },
                 }
             })
             .collect();
@@ -627,6 +637,9 @@ impl ClassicEvaluator {
         let per = match (&self.basis, self.three_d) {
             (Basis::Worley(_), false) => 9.0,
             (Basis::Worley(_), true) => 27.0,
+            // 16 (64) corners against the gradient basis's 4 (8).
+            (Basis::Kensler, false) => 4.0,
+            (Basis::Kensler, true) => 8.0,
             _ => 1.0,
         };
         per * self.octaves.len() as f64
@@ -1151,7 +1164,7 @@ impl ClassicEvaluator {
         // Only the keys the basis reads: gradient and value noise the rows `iy` and `iy + 1`
         // (and planes `kz`, `kz + 1`), Worley every neighbour, simplex none (it hashes its own).
         let (planes, rows) = match (&self.basis, self.three_d) {
-            (Basis::Simplex, _) => (0..0, 0..0),
+            (Basis::Simplex | Basis::Kensler, _) => (0..0, 0..0),
             (Basis::Gradient | Basis::Value, false) => (1..2, 1..3),
             (Basis::Gradient | Basis::Value, true) => (1..3, 1..3),
             (Basis::Worley(_), false) => (1..2, 0..3),
@@ -1328,6 +1341,7 @@ impl ClassicEvaluator {
             (Basis::Value, true) => gradient3(o, r, x, &mut n, false),
             (Basis::Simplex, false) => simplex2(o, r, x, &mut n),
             (Basis::Simplex, true) => simplex3(o, r, x, &mut n),
+            (Basis::Kensler, three_d) => kensler(o, r, x, &mut n, three_d),
             (Basis::Worley(_), three_d) => {
                 if let Some(w) = &self.worley {
                     // Metric and dimension as constants, so each inner loop is one straight
@@ -1840,6 +1854,58 @@ fn gradient3<const L: usize, R: RowLanes>(
             sy,
         );
         n[l] = lerp(y0, y1, sz);
+    }
+}
+
+/// Kensler noise in the lanes, one lane at a time (a scalar kernel: no per-row tables, no
+/// vectorised form yet). Corners `(ix + dx, iy + dy (, kz + dz))`, `dx, dy, dz ∈ −1..=2`,
+/// visited z, then y, then x, each adding `kensler_weight(r²)·kensler_dot(h, δ)` with
+/// `r² = (δx·δx + δy·δy) + δz·δz` and `h = P_x ⊕ P_y (⊕ P_z)` (in 2D the z loop is one
+/// plane with `δz = 0`, `P_z = 0`); the sum times the output scale. `shaders/classic.wgsl`'s
+/// `kensler` is the same sequence of operations.
+#[inline(always)]
+fn kensler<const L: usize, R: RowLanes>(
+    o: &Octave,
+    r: &R,
+    x: &[f64; L],
+    n: &mut [f32; L],
+    three_d: bool,
+) {
+    let (kx, ky) = (row_key(0, o.key2), row_key(1, o.key2));
+    let (planes, scale) = if three_d {
+        (4, KENSLER3_SCALE)
+    } else {
+        (1, KENSLER2_SCALE)
+    };
+    for l in 0..L {
+        let (ix, ux) = locate(x[l] / o.side);
+        let (iy, uy) = (r.iy(l), r.uy(l));
+        let mut px = [0u32; 4];
+        let mut py = [0u32; 4];
+        for d in 0..4 {
+            let step = d as i32 - 1;
+            px[d] = cell_hash_in_row(lattice(ix.wrapping_add(step), o.cells[0]), kx);
+            py[d] = cell_hash_in_row(lattice(iy.wrapping_add(step), o.cells[1]), ky);
+        }
+        let mut sum = 0.0f32;
+        for dz in 0..planes {
+            let (pz, vz) = if three_d {
+                (o.kensler_z[dz], o.uz - (dz as f32 - 1.0))
+            } else {
+                (0, 0.0)
+            };
+            for dy in 0..4 {
+                let vy = uy - (dy as f32 - 1.0);
+                for dx in 0..4 {
+                    let vx = ux - (dx as f32 - 1.0);
+                    let r2 = (vx * vx + vy * vy) + vz * vz;
+                    let w = kensler_weight(r2);
+                    let h = (px[dx] ^ py[dy]) ^ pz;
+                    sum += w * kensler_dot(h, vx, vy, vz, three_d);
+                }
+            }
+        }
+        n[l] = scale * sum;
     }
 }
 

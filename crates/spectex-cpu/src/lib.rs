@@ -32,6 +32,7 @@ pub mod islamic;
 pub mod lrp;
 /// The f32 functions both evaluators share, defined once in `spectex-model`.
 pub use spectex_model::math;
+pub mod matrix;
 mod periodic;
 pub mod phasor;
 pub mod texton;

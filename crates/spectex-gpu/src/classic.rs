@@ -170,6 +170,7 @@ fn pack_periodic(
             Basis::Simplex => 1,
             Basis::Value => 2,
             Basis::Worley(_) => 3,
+            Basis::Kensler => 4,
         },
         three_d: u32::from(three_d),
         fractal: match kind {

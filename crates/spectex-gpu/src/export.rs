@@ -218,7 +218,8 @@ unsupported_export!(
     spectex_model::PhasorNoise,
     spectex_model::VoronoiNoise,
     spectex_model::Combine,
-    spectex_model::IslamicPattern
+    spectex_model::IslamicPattern,
+    spectex_model::MatrixTransform
 );
 
 impl ExportKind for spectex_model::Warp {

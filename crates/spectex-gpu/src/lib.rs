@@ -86,6 +86,7 @@ mod combine;
 mod gabor;
 mod islamic;
 mod lrp;
+mod matrix;
 mod phasor;
 mod texton;
 mod texture;

@@ -95,6 +95,12 @@ pub const SHADERS: &[ShaderFile] = &[
         entry_points: &["islamic_main"],
     },
     ShaderFile {
+        name: "matrix",
+        source: include_str!("../../../shaders/matrix.wgsl"),
+        needs_common: true,
+        entry_points: &["matrix_main"],
+    },
+    ShaderFile {
         name: "probe",
         source: include_str!("../../../shaders/probe.wgsl"),
         needs_common: true,

@@ -19,6 +19,23 @@
 //!   `F = (√(d+1) − 1)/d`, unskew by `G = (1 − 1/√(d+1))/d`; each of the `d + 1` simplex corners
 //!   adds `max(0, r² − |δ|²)⁴ · (g_c · δ)` with `r² = ½` (2D) or `0.6` (3D), times 70 (2D) or
 //!   32 (3D), with the same gradient set.
+//! - **Kensler** (Kensler, Knoll & Shirley, "Better Gradient Noise", UUSCI-2008-001; survey
+//!   §3.2.3): gradient noise with the report's two planar changes, the xor hash and the
+//!   extended, radially symmetric reconstruction kernel. Corner `c` adds
+//!   `w(|x − c|) · (g_c · (x − c))` with `w(r) = fade(1 − r²/4)` for `r < 2` and 0 beyond
+//!   ([`kensler_weight`], [`KENSLER_RADIUS2`]): a 4×4 (4×4×4) stencil instead of Perlin's 2×2
+//!   (2×2×2) tensor-product lerp, so the spectrum is isotropic (for gradients whose second
+//!   moment `E[g gᵀ] = I/d`). Hash: Perlin's nested `P[P[P[i] + j] + k]` becomes a xor of
+//!   independent per-axis tables, `H = P_x[i] ⊕ P_y[j] ⊕ P_z[k]` (report §2), with each table
+//!   an entry of the randomness contract, `P_a[n] = cell_hash(n, a, o, seed)`, instead of a
+//!   256-entry permutation (so the noise does not repeat every 256 cells), and the gradient
+//!   table `G[H]` the hash `hash(H)` ([`kensler_dot`]): 8 unit directions at multiples of 45°
+//!   in 2D, Perlin's 12 cube-edge directions normalised in 3D. Output `KENSLER{2,3}_SCALE ·
+//!   Σ`, standard deviation ¼. The report's third change (the stencil projected onto a surface
+//!   normal, for 2D slices of 3D noise) is not implemented: a 3D model is rendered on a plane
+//!   `z` with the full 3D stencil. Departure: the report's text was not at hand (only its
+//!   abstract and figure captions, and the survey's summary); the kernel's form and radius
+//!   here are our reading of "extended reconstruction kernel", stated so it can be checked.
 //! - **Value**: lattice values `2·unit_f32(h) − 1 ∈ [−1, 1)` interpolated with the same fade.
 //! - **Worley** (Worley 1996; survey §2.5): feature points per cell (a fixed count, or a Poisson
 //!   count), `F_n` the distance from `x` to its `n`-th nearest point in cell units under the
@@ -36,7 +53,9 @@
 //!
 //! 2D corner `(i, j)` of octave `o` hashes to `cell_hash(i, j, o, seed)`; 3D corner `(i, j, k)`
 //! to `cell_hash(i, j, o, cell_hash(k, 0, o, seed))` (as phasor noise does). Gradient and
-//! simplex take the gradient index `h >> 28`, value noise `unit_f32(h)`. A Worley cell seeds
+//! simplex take the gradient index `h >> 28`, value noise `unit_f32(h)`. Kensler
+//! noise xors per-axis entries `cell_hash(n, a, o, seed)` (axis `a` = 0, 1, 2) and takes its
+//! gradient from `hash` of the xor ([`kensler_dot`]). A Worley cell seeds
 //! `Prng::new(h)` and draws, in order: for a Poisson count one uniform `u`, the count being the
 //! number of `k ∈ 0..WORLEY_MAX_POINTS` with `u ≥ P(N ≤ k)` (the CDF rounded to f32); then per
 //! point its offsets `x`, `y` (and `z`) with `next_f32`.
@@ -54,6 +73,16 @@ pub const MAX_OCTAVES: u32 = 16;
 pub const WORLEY_MAX_POINTS: u32 = 16;
 /// Rings of cells searched around a point's cell at most, for Worley `F_n`.
 pub const WORLEY_MAX_RING: i32 = 6;
+/// Squared support radius of Kensler noise's kernel, cell units: `w(r) = 0` for `r² ≥ 4`.
+pub const KENSLER_RADIUS2: f32 = 4.0;
+/// Output scale of 2D Kensler noise: `¼/σ`, `σ² = ½∫ w(|δ|)²|δ|² dδ = 2.230395` the variance
+/// of the unscaled sum (closed form of a sum of independent corners with `E[g gᵀ] = I/2`, the
+/// integral in f64 by the midpoint rule).
+pub const KENSLER2_SCALE: f32 = 0.167_397_57;
+/// Output scale of 3D Kensler noise: `¼/σ`, `σ² = ⅓∫ w(|δ|)²|δ|² dδ = 3.334172` (averaged over
+/// the plane's `z`).
+pub const KENSLER3_SCALE: f32 = 0.136_913_4;
+
 /// Smallest cell side of the finest octave, in pixels: cells stay `i32` over the whole
 /// position range (`|x| ≤ 2³⁰`), skewed simplex coordinates included (`1.74·2³⁰ < 2³¹`).
 pub const MIN_CELL_SIZE: f64 = 1.0;
@@ -106,6 +135,8 @@ pub enum Basis {
     Simplex,
     /// Value noise.
     Value,
+    /// Kensler, Knoll & Shirley's better gradient noise (2008): xor hash, radial kernel.
+    Kensler,
     /// Worley cellular noise.
     Worley(Worley),
 }
@@ -362,6 +393,69 @@ pub fn gradient_dot(h: u32, x: f32, y: f32, z: f32) -> f32 {
     let u = f32::from_bits(u.to_bits() ^ ((g & 1) << 31));
     let v = f32::from_bits(v.to_bits() ^ ((g & 2) << 30));
     u + v
+}
+
+/// Kensler noise's radial kernel `w(r) = fade(1 − r²/4)` of the squared distance `r2` (cell
+/// units), 0 for `r2 ≥ 4`: 1 at the corner, `C²` where it reaches 0.
+#[inline(always)]
+#[must_use]
+pub fn kensler_weight(r2: f32) -> f32 {
+    let t = 1.0 - r2 * 0.25;
+    if t > 0.0 { fade(t) } else { 0.0 }
+}
+
+/// `(a_x, a_y, c)` of the 2D direction `k` (`k·45°`): the gradient is `c·(a_x, a_y)`, with
+/// `a` in `{0, ±1}` so that `a·δ` is exact and `c` = 1 or `1/√2`.
+const KENSLER2_DIRECTIONS: [(f32, f32); 8] = [
+    (1.0, 0.0),
+    (1.0, 1.0),
+    (0.0, 1.0),
+    (-1.0, 1.0),
+    (-1.0, 0.0),
+    (-1.0, -1.0),
+    (0.0, -1.0),
+    (1.0, -1.0),
+];
+
+/// Perlin's 12 cube-edge directions `(±1, ±1, 0)`, `(±1, 0, ±1)`, `(0, ±1, ±1)`, before the
+/// `1/√2` that makes them unit.
+const KENSLER3_DIRECTIONS: [(f32, f32, f32); 12] = [
+    (1.0, 1.0, 0.0),
+    (-1.0, 1.0, 0.0),
+    (1.0, -1.0, 0.0),
+    (-1.0, -1.0, 0.0),
+    (1.0, 0.0, 1.0),
+    (-1.0, 0.0, 1.0),
+    (1.0, 0.0, -1.0),
+    (-1.0, 0.0, -1.0),
+    (0.0, 1.0, 1.0),
+    (0.0, -1.0, 1.0),
+    (0.0, 1.0, -1.0),
+    (0.0, -1.0, -1.0),
+];
+
+/// Kensler noise's corner hash from its per-axis entries `P_x[i] ⊕ P_y[j] (⊕ P_z[k])`: `g · δ`
+/// for the unit gradient `G[h]` chosen by `hash(h)`: in 2D (`three_d = false`) direction
+/// `hash(h) >> 29` of 8 at multiples of 45°, in 3D direction `hash(h) % 12` of Perlin's cube
+/// edges over `√2`. Both sets have `E[g gᵀ] = I/d`. `a·δ` is computed with `a ∈ {0, ±1}` (exact
+/// products) in the order x, y, z, then multiplied by 1 or `1/√2` (f32).
+#[inline(always)]
+#[must_use]
+pub fn kensler_dot(h: u32, x: f32, y: f32, z: f32, three_d: bool) -> f32 {
+    let g = crate::random::hash(h);
+    if three_d {
+        let (ax, ay, az) = KENSLER3_DIRECTIONS[(g % 12) as usize];
+        ((ax * x + ay * y) + az * z) * std::f32::consts::FRAC_1_SQRT_2
+    } else {
+        let k = (g >> 29) as usize;
+        let (ax, ay) = KENSLER2_DIRECTIONS[k];
+        let c = if k & 1 == 1 {
+            std::f32::consts::FRAC_1_SQRT_2
+        } else {
+            1.0
+        };
+        (ax * x + ay * y) * c
+    }
 }
 
 /// Value noise's lattice value `2·unit_f32(h) − 1 ∈ [−1, 1)`: exact in f32.

@@ -251,6 +251,7 @@ pub fn basis_statistics(basis: &crate::classic::Basis, dimensions: u32) -> Basis
         Basis::Gradient => lattice(GRADIENT_SPREAD, GRADIENT_MOMENTS),
         Basis::Simplex => lattice(SIMPLEX_SPREAD, SIMPLEX_MOMENTS),
         Basis::Value => lattice(VALUE_SPREAD, VALUE_MOMENTS),
+        Basis::Kensler => lattice(KENSLER_SPREAD, KENSLER_MOMENTS),
         Basis::Worley(w) => worley_statistics(w, dimensions == 3),
     }
 }
@@ -262,6 +263,15 @@ pub const GRADIENT_SPREAD: f64 = 0.416;
 pub const SIMPLEX_SPREAD: f64 = 0.743;
 /// Per-axis RMS frequency of value noise.
 pub const VALUE_SPREAD: f64 = 0.270;
+
+/// Per-axis RMS frequency of Kensler noise, closed form in 2D: `σ_f² = E[(∂ₓn)²]/(4π² Var n)`
+/// with both expectations integrals of the corner kernel `w(|δ|)δ` (midpoint rule, 800²
+/// samples): 0.2358.
+pub const KENSLER_SPREAD: f64 = 0.236;
+
+/// `[E|n|, E[n²]]` of Kensler noise: `E[n²] = ¼²` by its output scale, `E|n| = ¼·√(2/π)` (a
+/// sum of about 13 independent corners, near Gaussian).
+pub const KENSLER_MOMENTS: [f64; 2] = [0.1995, 0.0625];
 
 /// `[E|n|, E[n²]]` of gradient noise (measured at cell 8, seed 9, 1024×256 pixels).
 pub const GRADIENT_MOMENTS: [f64; 2] = [0.2027, 0.0627];

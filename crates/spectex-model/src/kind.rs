@@ -11,8 +11,8 @@ use serde::{Deserialize, Serialize};
 use crate::error::ModelError;
 use crate::period::Period;
 use crate::{
-    ClassicNoise, Combine, GaborNoise, IslamicPattern, LrpNoise, PhasorNoise, TextonNoise,
-    TextureModel, VoronoiNoise, Warp, WaveletNoise,
+    ClassicNoise, Combine, GaborNoise, IslamicPattern, LrpNoise, MatrixTransform, PhasorNoise,
+    TextonNoise, TextureModel, VoronoiNoise, Warp, WaveletNoise,
 };
 
 /// The model-layer definition of one kind: its name, validation, output channels and seeds.
@@ -92,6 +92,9 @@ pub enum Model {
     Combine(Combine),
     /// Islamic star patterns on regular tilings (survey §2.7, [`crate::islamic`]).
     Islamic(IslamicPattern),
+    /// Matrix transformation (survey §2.4, [`crate::matrix`]): a source moved `k` times by an
+    /// integer matrix on the `N × N` torus.
+    Matrix(MatrixTransform),
 }
 
 /// Calls `$body` with `$m` bound to the kind struct inside `$model` (by the reference the match
@@ -146,6 +149,10 @@ macro_rules! for_each_kind {
                 type $Kind = $crate::IslamicPattern;
                 $body
             }
+            $crate::Model::Matrix($m) => {
+                type $Kind = $crate::MatrixTransform;
+                $body
+            }
         }
     };
 }
@@ -164,6 +171,7 @@ pub const KIND_NAMES: &[&str] = &[
     <VoronoiNoise as ModelKind>::NAME,
     <Combine as ModelKind>::NAME,
     <IslamicPattern as ModelKind>::NAME,
+    <MatrixTransform as ModelKind>::NAME,
 ];
 
 impl Model {

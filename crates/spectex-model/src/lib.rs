@@ -52,6 +52,7 @@ pub mod islamic;
 pub mod kind;
 mod lrp;
 pub mod math;
+pub mod matrix;
 pub mod period;
 mod phasor;
 pub mod phasor_kernels;
@@ -80,6 +81,7 @@ pub use grid::{Filter, MAX_POSITION, MAX_WINDOW_PIXELS, MAX_WINDOW_SIDE, Window,
 pub use islamic::IslamicPattern;
 pub use kind::{KIND_NAMES, Model, ModelKind, PERIODIC_KINDS};
 pub use lrp::{LrpNoise, LrpNoiseBuilder, MAX_COSINES, MAX_STRATA, MAX_TABLE, Stratum};
+pub use matrix::MatrixTransform;
 pub use period::Period;
 pub use phasor::{
     COHERENT_BANDWIDTH_RATIO, COHERENT_SPREAD, Field, Harmonic, MAX_FIELD_SIDE,

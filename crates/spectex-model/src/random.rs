@@ -25,7 +25,8 @@
 //! `kmeans::KMEANS_LAYER`. Classic noises use layer `o` for octave `o`: 2D corner `(i, j)` hashes
 //! to `cell_hash(i, j, o, seed)`, 3D corner `(i, j, k)` to `cell_hash(i, j, o, cell_hash(k, 0, o,
 //! seed))`; gradient and simplex noise take the gradient index `h >> 28`, value noise
-//! `2·unit_f32(h) − 1`; a Worley cell seeds the PRNG with `h` and draws a Poisson count (one
+//! `2·unit_f32(h) − 1`; Kensler noise xors per-axis entries `cell_hash(n, a, o, seed)` (axis `a`
+//! = 0, 1, 2) into `h` and picks its gradient by `hash(h)`; a Worley cell seeds the PRNG with `h` and draws a Poisson count (one
 //! uniform against the f32 CDF) when the count is not fixed, then per point its offsets `x`, `y` (,
 //! `z`). New models take new layer numbers per stratum or octave and list them here. Wavelet noise
 //! uses `WAVELET_LAYER = 0x57415645` ("WAVE"): 2D tile sample `(i, j)` seeds the PRNG with

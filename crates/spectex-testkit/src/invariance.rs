@@ -21,10 +21,11 @@
 //!   standard errors of the difference (the windows' spread over the plane is the sampling
 //!   error the comparison must allow). A model with a `linear` field is `n/a`: its ramps are
 //!   clamped to their ends far away, so far windows see other parameters by design;
-//! - **reseed**: `Model::reseeded(1)` changes at least [`MIN_RESEED_CHANGE`] of the values and
-//!   keeps the mean and standard deviation within `6·√2` standard deviations of the spread of
-//!   `K` further reseedings (independent realisations of the same noise: the difference of two
-//!   of them has `√2` times their spread).
+//! - **reseed** (`n/a` for a model without a seed): `Model::reseeded(1)` changes at least
+//!   [`MIN_RESEED_CHANGE`] of the values and keeps the mean and standard deviation within
+//!   `6·√2` standard deviations of the spread of `K` further reseedings (independent
+//!   realisations of the same noise: the difference of two of them has `√2` times their
+//!   spread).
 //!
 //! Each statistic is per output channel.
 
@@ -698,6 +699,13 @@ fn rn_scale(rows: &[Vec<(f64, f64)>], c: usize) -> f64 {
 
 fn reseed(p: &dyn Prepared, case: &Case, backend: &dyn Backend, plan: &Plan) -> Outcome {
     outcome("reseed", || {
+        // A kind without a seed (a matrix transformation) is one deterministic texture.
+        if case.model.reseeded(1) == case.model {
+            return Ok((
+                Verdict::NotApplicable("the model has no seed".into()),
+                String::new(),
+            ));
+        }
         let nc = p.channels();
         let side = plan.stats_side;
         let window = Window::new(side, side).at([-150.5, 80.25], 1.0);

@@ -548,6 +548,7 @@ pub fn classic(o: Odds) -> BoxedStrategy<ClassicNoise> {
         Just(Basis::Gradient),
         Just(Basis::Simplex),
         Just(Basis::Value),
+        Just(Basis::Kensler),
         worley,
     ];
     let kind = prop_oneof![

@@ -116,3 +116,81 @@ pub fn gabor(m: &GaborNoise, x: f64, y: f64) -> GaborReference {
     }
     out
 }
+
+/// Kensler noise's corner gradient (unit vector) from the report's definition as
+/// `spectex_model::classic` documents it: the xor `h = P_x[i] ⊕ P_y[j] (⊕ P_z[k])` of per-axis
+/// entries `P_a[n] = cell_hash(n, a, o, seed)`, then `hash(h)`: in 2D the direction at
+/// `(hash(h) >> 29)·45°` (by `cos`/`sin` in f64), in 3D the cube edge `hash(h) % 12` in
+/// Perlin's order `(±1, ±1, 0)`, `(±1, 0, ±1)`, `(0, ±1, ±1)` (bit 0 the first sign, bit 1
+/// the second) over `√2`.
+#[must_use]
+pub fn kensler_gradient(corner: [i64; 3], three_d: bool, o: u32, seed: u32) -> [f64; 3] {
+    let axis = |n: i64, a: i32| cell_hash(n as i32, a, o, seed);
+    let mut h = axis(corner[0], 0) ^ axis(corner[1], 1);
+    if three_d {
+        h ^= axis(corner[2], 2);
+    }
+    let g = spectex_model::random::hash(h);
+    if three_d {
+        let e = g % 12;
+        let s0 = if e & 1 == 1 { -1.0 } else { 1.0 };
+        let s1 = if e & 2 == 2 { -1.0 } else { 1.0 };
+        let v = match e / 4 {
+            0 => [s0, s1, 0.0],
+            1 => [s0, 0.0, s1],
+            _ => [0.0, s0, s1],
+        };
+        v.map(|c| c / 2f64.sqrt())
+    } else {
+        let angle = f64::from(g >> 29) * PI / 4.0;
+        [angle.cos(), angle.sin(), 0.0]
+    }
+}
+
+/// The radial kernel of Kensler noise in f64: `fade(1 − r²/4)` for `r < 2`, else 0, with
+/// `fade(t) = 6t⁵ − 15t⁴ + 10t³`; and its derivative with respect to `r`.
+#[must_use]
+pub fn kensler_kernel(r: f64) -> (f64, f64) {
+    if r >= 2.0 {
+        return (0.0, 0.0);
+    }
+    let t = 1.0 - r * r / 4.0;
+    let w = t.powi(3) * (6.0 * t * t - 15.0 * t + 10.0);
+    let dw_dt = 30.0 * t * t * (t - 1.0) * (t - 1.0);
+    (w, dw_dt * (-r / 2.0))
+}
+
+/// One octave of Kensler noise (unscaled: the plain sum over corners) at `p` in cell units and
+/// its gradient: every corner within 3 cells of `p` (one ring more than the kernel's support
+/// needs) adds `w(|δ|)·(g·δ)`, `δ = p − corner`.
+#[must_use]
+pub fn kensler(p: [f64; 3], three_d: bool, o: u32, seed: u32) -> (f64, [f64; 3]) {
+    let base = p.map(|c| c.floor() as i64);
+    let reach_z = if three_d { 3 } else { 0 };
+    let (mut value, mut gradient) = (0.0, [0.0; 3]);
+    for dz in -reach_z..=reach_z {
+        for dy in -3..=3 {
+            for dx in -3..=3 {
+                let c = [base[0] + dx, base[1] + dy, base[2] + dz];
+                let d = [
+                    p[0] - c[0] as f64,
+                    p[1] - c[1] as f64,
+                    if three_d { p[2] - c[2] as f64 } else { 0.0 },
+                ];
+                let r = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+                let (w, dw) = kensler_kernel(r);
+                if w == 0.0 {
+                    continue;
+                }
+                let g = kensler_gradient(c, three_d, o, seed);
+                let dot = g[0] * d[0] + g[1] * d[1] + g[2] * d[2];
+                value += w * dot;
+                for a in 0..3 {
+                    let radial = if r > 0.0 { dw * d[a] / r * dot } else { 0.0 };
+                    gradient[a] += radial + w * g[a];
+                }
+            }
+        }
+    }
+    (value, gradient)
+}

@@ -1,4 +1,4 @@
-//! `spectex noise perlin|simplex|value|fbm|worley`: the classic pointwise noises of
+//! `spectex noise perlin|simplex|value|kensler|fbm|worley`: the classic pointwise noises of
 //! `spectex_model::classic` from flags, written as a model (`--model`) and rendered.
 
 use anyhow::{Result, anyhow};
@@ -71,6 +71,8 @@ pub(crate) enum BasisArg {
     Simplex,
     /// Value noise.
     Value,
+    /// Kensler's better gradient noise.
+    Kensler,
     /// Worley cellular noise (with the Worley options).
     Worley,
 }
@@ -246,6 +248,7 @@ fn fbm_basis(args: &FbmArgs) -> Basis {
         BasisArg::Perlin => Basis::Gradient,
         BasisArg::Simplex => Basis::Simplex,
         BasisArg::Value => Basis::Value,
+        BasisArg::Kensler => Basis::Kensler,
         BasisArg::Worley => worley_basis(&args.worley),
     }
 }

@@ -948,6 +948,18 @@ fn voronoi_and_combinations_end_to_end() {
         &["combine", "sin-fold", "--gain", "3"],
         &["combine", "histogram"],
         &["combine", "ramp"],
+        &["matrix"],
+        &[
+            "matrix",
+            "--matrix",
+            "3,0,0,7",
+            "--iterations",
+            "2",
+            "--torus",
+            "64",
+        ],
+        &["kensler"],
+        &["kensler", "--dims", "3"],
     ];
     for (n, extra) in cases.iter().enumerate() {
         let png = dir.join(format!("{n}.png"));
@@ -989,6 +1001,18 @@ fn voronoi_and_combinations_end_to_end() {
         (
             vec!["noise", "combine", "smoothstep", "--edges", "1,0"],
             vec!["combine.op.smoothstep.edges[1]"],
+        ),
+        (
+            vec!["noise", "matrix", "--matrix", "6,0,0,1"],
+            vec!["matrix.matrix[0][0]", "--matrix", "Lucas"],
+        ),
+        (
+            vec!["noise", "matrix", "--matrix", "2,0,0,1"],
+            vec!["matrix.matrix", "prime to size", "--matrix"],
+        ),
+        (
+            vec!["noise", "matrix", "--torus", "1"],
+            vec!["matrix.size", "--torus"],
         ),
     ] {
         let mut a = args.clone();

@@ -57,6 +57,8 @@ fn all_models() -> Vec<(&'static str, ClassicNoise)> {
         ("value3", noise(Basis::Value, 3, None)),
         ("simplex2", noise(Basis::Simplex, 2, None)),
         ("simplex3", noise(Basis::Simplex, 3, None)),
+        ("kensler2", noise(Basis::Kensler, 2, None)),
+        ("kensler3", noise(Basis::Kensler, 3, None)),
         (
             "fbm_gradient2",
             noise(Basis::Gradient, 2, fbm(FractalKind::Fbm)),

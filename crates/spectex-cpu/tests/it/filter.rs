@@ -186,7 +186,7 @@ fn lrp_gravel_at_scale_4_does_not_alias() {
     check("lrp-gravel", &testdata("lrp-gravel.json"));
 }
 
-/// The bases whose statistics the filter uses: the three lattice bases (constants) and Worley
+/// The bases whose statistics the filter uses: the four lattice bases (constants) and Worley
 /// bases over metrics, point processes and coefficient sets (measured by
 /// `spectex_model::filter::worley_statistics` on its own f64 search).
 fn bases() -> Vec<spectex_model::classic::Basis> {
@@ -202,6 +202,7 @@ fn bases() -> Vec<spectex_model::classic::Basis> {
         Basis::Gradient,
         Basis::Simplex,
         Basis::Value,
+        Basis::Kensler,
         worley(
             Metric::Euclidean,
             FeaturePoints::Fixed(1),

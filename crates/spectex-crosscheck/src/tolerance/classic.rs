@@ -2,8 +2,8 @@
 //! fractal sums): their tolerance, regularity and the plane a 3D one is checked on.
 
 use spectex_model::classic::{
-    Basis, ClassicNoise, FractalKind, Metric, SIMPLEX2_R2, SIMPLEX2_SCALE, SIMPLEX3_R2,
-    SIMPLEX3_SCALE, WORLEY_MAX_RING,
+    Basis, ClassicNoise, FractalKind, KENSLER2_SCALE, KENSLER3_SCALE, Metric, SIMPLEX2_R2,
+    SIMPLEX2_SCALE, SIMPLEX3_R2, SIMPLEX3_SCALE, WORLEY_MAX_RING,
 };
 
 use super::{CheckKind, F32_UNIT_ROUNDOFF, Regularity, SUMMATION_ROUNDINGS, Tolerance};
@@ -33,6 +33,34 @@ pub const SIMPLEX_OFFSET_ERROR: f64 = 32.0 * F32_UNIT_ROUNDOFF;
 /// rounds a value ≤ 0.6 (`Δt ≤ 3·2⁻²⁴`), amplified by `d(t⁴)/dt = 4t³ ≤ 0.87` and `|g·δ| ≤ √2·0.78`
 /// (`≤ 4·2⁻²⁴`), plus the final products' roundings of a value ≤ 0.2: `5·2⁻²⁴`.
 pub const SIMPLEX_TERM_ERROR: f64 = 5.0 * F32_UNIT_ROUNDOFF;
+
+/// Rounding difference of one Kensler corner term `w(r²)·(g·δ)` from identical `δ` (the host
+/// hands the GPU the CPU's f32 offsets, and `δ = u − d` is one IEEE operation on both sides):
+/// `r² = (δx² + δy²) + δz²` may be contracted (2 skipped roundings of squares `< 4`) and its
+/// two sums then round differing values (`< 4`): `Δr² ≤ 16·2⁻²⁴`; `t = 1 − r²/4` (the
+/// quarter is exact) `Δt ≤ 4 + 1` units; `fade` amplifies by `fade' ≤ 30/16` and adds
+/// [`FADE_ABS_ERROR`]: `Δw ≤ (9.4 + 24)·2⁻²⁴ ≤ 34·2⁻²⁴`. `g·δ` is `(a·δ)·c` with `a ∈ {0, ±1}`
+/// (exact products: contraction changes nothing), so it is identical; `|g·δ| ≤ r < 2` where
+/// `w > 0`, and the product rounds a value `< 2` on each side: `2·34 + 2·2 = 72` units.
+pub const KENSLER_TERM_ERROR: f64 = 72.0 * F32_UNIT_ROUNDOFF;
+
+/// Kensler noise's bounds in `d` dimensions: corners in the stencil `K` (16, 64), the output
+/// scale, `|basis| ≤ N = scale·K·2` (each term `|w·(g·δ)| ≤ r < 2`), the sum's error
+/// `scale·K·(KENSLER_TERM_ERROR + 2·2⁻²⁴·(N/scale + 2))` (the terms' differences, then each of
+/// the `K` additions rounding a partial sum `≤ N/scale` on each side, a contracted product
+/// `< 2` included) and the per-axis slope `scale·K·4.75`: `∂ₓ[w(r)(g·δ)] = w'(r)(δx/r)(g·δ) +
+/// w·g_x` with `|w'| = |fade'(t)|·r/2 ≤ 1.875`, `|g·δ| ≤ r`, `|δx| ≤ r` and `|g_x| ≤ 1`:
+/// `1.875·2 + 1`.
+fn kensler_bounds(three_d: bool) -> (f64, f64, f64) {
+    let (k, scale) = if three_d {
+        (64.0, f64::from(KENSLER3_SCALE))
+    } else {
+        (16.0, f64::from(KENSLER2_SCALE))
+    };
+    let n = scale * k * 2.0;
+    let e = scale * k * (KENSLER_TERM_ERROR + 2.0 * F32_UNIT_ROUNDOFF * (k * 2.0 + 2.0));
+    (n, e, scale * k * 4.75)
+}
 
 /// Relative error of WGSL's `sqrt` (the spec inherits it from `1/inverseSqrt`: 2 + 2.5 ulps,
 /// one ulp being at most `2·2⁻²⁴` relative) plus the CPU's correctly rounded one: `10 + 1` unit
@@ -81,6 +109,9 @@ fn simplex_bounds(three_d: bool) -> (f64, f64) {
 ///   Such ties are not rare on a pixel grid: where `x − y` is a multiple of the cell side,
 ///   `x₀ = y₀` exactly, and the two sides' roundings break the tie differently (measured on
 ///   lavapipe: `1.04·10⁻³` at amplitude ½ in `testdata/models/classic-simplex-3d.json`).
+/// - **Kensler**: the corners' offsets are the CPU's, so each term differs only by its
+///   roundings ([`KENSLER_TERM_ERROR`], `kensler_bounds`); the 16 (64) terms are summed in
+///   the same order on both sides.
 /// - **Worley**: offsets and feature points are bit-identical; Manhattan and Chebyshev distances
 ///   are sums, `abs` and `max` only, so they agree exactly; a Euclidean distance differs by
 ///   [`WORLEY_SQRT_ROUNDINGS`] relative. `F_n`, the `n`-th smallest distance, is 1-Lipschitz in
@@ -122,6 +153,10 @@ pub fn classic(m: &ClassicNoise) -> Tolerance {
             let e = lipschitz * d.sqrt() * SIMPLEX_OFFSET_ERROR
                 + scale * (corners * SIMPLEX_TERM_ERROR + 3.0 * u * n / scale)
                 + seam;
+            (e, n)
+        }
+        Basis::Kensler => {
+            let (n, e, _) = kensler_bounds(three_d);
             (e, n)
         }
         Basis::Worley(w) => {
@@ -181,6 +216,7 @@ fn octave_sum(m: &ClassicNoise, n: f64, term: impl Fn(u32) -> f64) -> (f64, f64)
 ///   `|b − a| ≤ 2`: 3.75 per axis, `N = 1`;
 /// - **gradient**: corner values `g·δ` with `|g·δ| ≤ 2` and `|∂(g·δ)/∂x| = |g_x| ≤ 1`:
 ///   `1.875·4 + 1 = 8.5` per axis, `N = 2`;
+/// - **Kensler**: `kensler_bounds` (`scale·K·4.75` per axis, `N = scale·K·2`);
 /// - **simplex**: [`simplex_bounds`]; 3D noise also jumps at simplex faces by
 ///   `2·scale·(0.6 − ½)⁴` (see [`classic`]);
 /// - **Worley**: a distance is 1-Lipschitz in the Euclidean and Chebyshev metrics and
@@ -205,6 +241,10 @@ fn classic_regularity(m: &ClassicNoise) -> Regularity {
                 0.0
             };
             (l, n, seam)
+        }
+        Basis::Kensler => {
+            let (n, _, slope) = kensler_bounds(three_d);
+            (slope * d.sqrt(), n, 0.0)
         }
         Basis::Worley(w) => {
             let c: f64 = w.coefficients.iter().map(|c| f64::from(*c).abs()).sum();

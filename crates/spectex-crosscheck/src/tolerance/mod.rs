@@ -23,6 +23,7 @@ pub mod combine;
 pub mod gabor;
 pub mod islamic;
 pub mod lrp;
+pub mod matrix;
 pub mod phasor;
 pub mod texton;
 pub mod texture;

@@ -53,7 +53,7 @@ const HEIGHT: u32 = 48;
 
 /// Kinds the exporter does not cover yet (as in spectex-gpu's export test), alone or as a
 /// warp's sub-model.
-const NOT_EXPORTED: &[&str] = &["phasor", "voronoi", "combine", "islamic"];
+const NOT_EXPORTED: &[&str] = &["phasor", "voronoi", "combine", "islamic", "matrix"];
 
 /// Models whose exported module lavapipe compiles for 20–200 s each (LLVM inlines every nested
 /// model and LRP part into the fragment shader), measured on the 2-core CI machine's kind: the

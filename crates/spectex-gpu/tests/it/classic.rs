@@ -18,10 +18,11 @@ use common::gpu_or_skip;
 use spectex_gpu::{GpuContext, GpuError, GpuEvaluator, GpuWindow};
 use spectex_model::Model;
 use spectex_model::classic::{
-    Basis, ClassicNoise, FeaturePoints, Fractal, FractalKind, Metric, SIMPLEX_F2, SIMPLEX_F3,
-    SIMPLEX_G2, SIMPLEX_G3, Worley,
+    Basis, ClassicNoise, FeaturePoints, Fractal, FractalKind, KENSLER2_SCALE, KENSLER3_SCALE,
+    Metric, SIMPLEX_F2, SIMPLEX_F3, SIMPLEX_G2, SIMPLEX_G3, Worley,
 };
 use spectex_model::random::{Prng, cell_hash, unit_f32};
+use spectex_testkit::reference;
 
 fn noise(seed: u32, dimensions: u32, cell_size: f32, basis: Basis) -> ClassicNoise {
     ClassicNoise {
@@ -226,6 +227,14 @@ fn reference(m: &ClassicNoise, x: f64, y: f64, z: f64) -> (f64, bool) {
                 near |= seam && m.dimensions == 3;
                 n
             }
+            Basis::Kensler => {
+                let scale = if m.dimensions == 3 {
+                    KENSLER3_SCALE
+                } else {
+                    KENSLER2_SCALE
+                };
+                f64::from(scale) * reference::kensler(p, m.dimensions == 3, o, m.seed).0
+            }
             Basis::Worley(w) => worley_brute(m, w, p, o),
         };
         let weight = f64::from(m.fractal.as_ref().map_or(1.0, |f| f.gain)).powi(o as i32);
@@ -363,6 +372,12 @@ fn cases() -> Vec<(&'static str, ClassicNoise, f64)> {
             -11.7,
         ),
         ("simplex 2D", noise(4, 2, 14.0, Basis::Simplex), 0.0),
+        ("kensler 2D", noise(12, 2, 13.0, Basis::Kensler), 0.0),
+        (
+            "kensler 3D fBm",
+            with_fractal(noise(13, 3, 17.0, Basis::Kensler), FractalKind::Fbm, 2),
+            29.1,
+        ),
         (
             "simplex 3D turbulence",
             with_fractal(

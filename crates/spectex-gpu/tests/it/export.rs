@@ -16,7 +16,7 @@ use spectex_gpu::export::{
 };
 
 /// Kinds `wgsl_module` refuses with `GpuError::Unsupported` today (alone or in a warp).
-const NOT_EXPORTED: &[&str] = &["phasor", "voronoi", "combine", "islamic"];
+const NOT_EXPORTED: &[&str] = &["phasor", "voronoi", "combine", "islamic", "matrix"];
 
 /// Models over `MAX_TABLE_BYTES` = 65 536 bytes of tables, counted from their files: the
 /// fitted LRP models (tens of thousands of 8-byte frequencies), wavelet-2d (a 128² tile of f32:

@@ -12,6 +12,7 @@ mod export;
 mod gabor;
 mod kit;
 mod lrp;
+mod matrix;
 mod phasor;
 mod shaders;
 mod texture;

@@ -57,6 +57,12 @@ impl ClassicNoise {
         Self::builder(Basis::Value)
     }
 
+    /// Kensler, Knoll & Shirley's better gradient noise, one octave (standard deviation ¼,
+    /// mapped into `[0, 1]` by `0.5 + 0.5·v` like the other lattice noises).
+    pub fn kensler() -> ClassicNoiseBuilder {
+        Self::builder(Basis::Kensler)
+    }
+
     /// Worley cellular noise `F₁` (Euclidean, one point per cell: [`Worley::default`]), one
     /// octave; [`ClassicNoiseBuilder::worley`] sets another combination.
     ///

@@ -1,0 +1,120 @@
+//! Matrix transformation on the device (`shaders/matrix.wgsl`): the host computes
+//! `A = (M⁻¹)^k mod N` once and, per tile, each column's and row's cell on the pixel grid (the
+//! CPU's split); the shader reduces the cell modulo `N` and reads the source at `A·q mod N`.
+
+use spectex_model::matrix::{MatrixSource, MatrixTransform};
+
+use crate::axis::{CellAxis, cell_axis, columns, rows};
+use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
+use crate::layout::wgsl_struct;
+use crate::pipeline::Shaded;
+use crate::{GpuContext, GpuError, GpuWindow};
+
+wgsl_struct! {
+    /// `MatrixParams` of `matrix.wgsl`; `width` and `height` are the tile's.
+    pub(crate) struct MatrixParams {
+        width: u32,
+        height: u32,
+        size: u32,
+        /// 0: rings, 1: image.
+        image: u32,
+        a00: u32,
+        a01: u32,
+        a10: u32,
+        a11: u32,
+        rings: u32,
+        amplitude: f32,
+        mean: f32,
+        _pad0: u32,
+    }
+}
+
+/// A matrix transformation on the device.
+#[derive(Debug, Clone)]
+pub(crate) struct MatrixKernel {
+    params: MatrixParams,
+}
+
+impl GpuKind for MatrixTransform {
+    fn gpu_kernel(&self, context: &GpuContext, _z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
+        let a = self
+            .inverse_power()
+            .ok_or_else(|| GpuError::Model(self.validate().err().unwrap_or_else(not_invertible)))?;
+        let (image, rings, texels) = match &self.source {
+            MatrixSource::Rings { rings } => (0, *rings, vec![0.0f32]),
+            MatrixSource::Image { texels } => (1, 0, texels.clone()),
+        };
+        let kernel = MatrixKernel {
+            params: MatrixParams {
+                width: 0,
+                height: 0,
+                size: self.size,
+                image,
+                a00: a[0][0],
+                a01: a[0][1],
+                a10: a[1][0],
+                a11: a[1][1],
+                rings,
+                amplitude: self.amplitude,
+                mean: self.mean,
+                _pad0: 0,
+            },
+        };
+        Shaded::boxed(context, kernel, &[Table::new("matrix texels", &texels)])
+    }
+}
+
+fn not_invertible() -> spectex_model::ModelError {
+    spectex_model::ModelError::OutOfRange {
+        field: "matrix.matrix".into(),
+        value: 0.0,
+        range: "an invertible matrix modulo size",
+    }
+}
+
+impl ShaderKernel for MatrixKernel {
+    const SHADER: &'static str = "matrix";
+    const ENTRY_POINT: &'static str = "matrix_main";
+
+    fn axis_bytes(&self) -> u64 {
+        size_of::<CellAxis>() as u64
+    }
+
+    /// The output or the displacement (2 values).
+    fn pixel_bytes(&self) -> u64 {
+        8
+    }
+
+    fn tile_tables(
+        &self,
+        tile: &GpuWindow,
+        _displacement: Option<&[f32]>,
+        _limit: u64,
+    ) -> Result<TileTables, GpuError> {
+        let (width, height) = (tile.width, tile.height);
+        let params = MatrixParams {
+            width: width as u32,
+            height: height as u32,
+            ..self.params
+        };
+        Ok(TileTables::new(
+            &params,
+            vec![
+                Table::new("matrix columns", &cell_axis(1.0, width, columns(tile))),
+                Table::new("matrix rows", &cell_axis(1.0, height, rows(tile))),
+            ],
+        ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::layout::check::assert_matches_wgsl;
+
+    #[test]
+    fn params_and_axis_match_the_wgsl() {
+        assert_matches_wgsl::<MatrixParams>("matrix", "MatrixParams");
+        assert_matches_wgsl::<CellAxis>("matrix", "MatrixAxis");
+    }
+}
