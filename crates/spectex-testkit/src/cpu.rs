@@ -41,6 +41,9 @@ const VORONOI_MAX_COST: f64 =
 /// Segments an Islamic pattern's pixel visits, at most its table's
 /// (`spectex_model::islamic::MAX_SEGMENTS`, tested there).
 const ISLAMIC_MAX_COST: f64 = spectex_model::islamic::MAX_SEGMENTS as f64;
+/// A matrix transformation reads one source texel per pixel (the map `A·q mod N` is folded into
+/// one matrix on the host, whatever the iteration count).
+const MATRIX_MAX_COST: f64 = 1.0;
 /// A combination costs its operands' costs: along any path at most 8 combinations and 8 warps
 /// nest (`MAX_COMBINE_DEPTH`, `MAX_WARP_DEPTH`), each with at most 8 (3) operands, so at most
 /// `8^16` leaves at the largest leaf cost (a texture's).
@@ -72,6 +75,7 @@ pub const COST_BOUNDS: &[(&str, f64)] = &[
     ("voronoi", VORONOI_MAX_COST),
     ("combine", COMBINE_MAX_COST),
     ("islamic", ISLAMIC_MAX_COST),
+    ("matrix", MATRIX_MAX_COST),
 ];
 
 const _: () = assert!(6561 == 3usize.pow(MAX_WARP_DEPTH as u32));
