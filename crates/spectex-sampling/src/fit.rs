@@ -353,15 +353,19 @@ pub fn fit_psd(
 /// [`fit_psd`] with [`FitMethod::Spectrum`]: the strata of the chosen partition, their budgets
 /// as in the paper but none above the stratum's distinct frequencies
 /// ([`spectrum_fit::capped_budgets`]), amplitudes by Eq. (3) for those budgets, tables from
-/// [`spectrum_tables`] and `Δ_S` from [`spectrum_fit::window_width`] of the stratum's equal
-/// share of the budget (before capping).
+/// [`spectrum_tables`] and `Δ_S` from [`spectrum_fit::window_width`] of the stratum's capped
+/// budget `J_S`.
 ///
-/// Why the equal share for `Δ_S`: its `(J_S/12)^¼` factor balances the window's blur against
+/// Why the capped `J_S` for `Δ_S`: its `(J_S/12)^¼` factor balances the window's blur against
 /// the randomness of the frequencies a window draws; a capped stratum draws each of its few
-/// frequencies once per lattice point, with less of that randomness, not more, so its window
-/// keeps the width of the share. Measured (mean relative L1 over the fidelity test's 8 seeds,
-/// J = 50 / 100): dirt 0.140 / 0.127 with the capped `J_S`, 0.124 / 0.109 with the share; sand
-/// 0.089 / 0.091 and 0.087 / 0.094.
+/// frequencies about once per lattice point, and the width of the equal share (before capping)
+/// made its windows wider, with fewer lattice points in a render to average that randomness over.
+/// With the exact Welch sharpening ([`sharpen_welch`]), mean relative L1 over the fidelity
+/// test's 8 seeds at J = 10 / 50 / 100, the share's width against the capped `J_S`'s:
+/// dirt 0.111 / 0.071 / 0.093 against 0.130 / 0.106 / 0.096 (the share's J = 100 broke the
+/// falling-with-J bound); sand 0.084 / 0.091 / 0.094 against 0.084 / 0.076 / 0.071; gravel and
+/// grass unchanged to the third decimal. (With the blur-only sharpening the share
+/// had been better: dirt 0.124 / 0.109 against 0.140 / 0.127 at J = 50 / 100.)
 fn fit_psd_spectrum(
     psd: ArrayView2<'_, f64>,
     mean: f64,
@@ -378,10 +382,10 @@ fn fit_psd_spectrum(
     let cosines = spectrum_fit::capped_budgets(&budgets, &capacities, &energies);
     let strata = partition
         .par_iter()
-        .zip(cosines.par_iter().zip(budgets.par_iter()))
-        .filter(|(s, (cosines, _))| !s.bins.is_empty() && **cosines > 0)
-        .map(|(s, (&cosines, &share))| Stratum {
-            window_width: spectrum_fit::window_width(&s.bins, &power, size, share) as f32,
+        .zip(cosines.par_iter())
+        .filter(|(s, cosines)| !s.bins.is_empty() && **cosines > 0)
+        .map(|(s, &cosines)| Stratum {
+            window_width: spectrum_fit::window_width(&s.bins, &power, size, cosines) as f32,
             amplitude: amplitude(s.energy, cosines) as f32,
             sub_strata: spectrum_tables(&s.bins, &power, size, cosines),
         })

@@ -315,8 +315,10 @@ const PERIODIC_SEEDS: u32 = 8;
 /// paired either (measured on dirt over 16 seeds: the paired differences spread by 0.045, the
 /// 16-seed means of single distances 0.152 plain and 0.162 periodic, +0.010 within that noise).
 /// Averaging 8 spectra first, the differences measured on seeds 1–8 and 9–16 were gravel +0.002
-/// and 0.000, sand −0.014 and +0.006, grass −0.001 and 0.000, dirt +0.006 and −0.010. The mean
-/// of the single-render distances is printed next to it.
+/// and 0.000, sand −0.014 and +0.006, grass −0.001 and 0.000, dirt +0.006 and −0.010. (These
+/// numbers predate the spectrum fit's exact Welch sharpening, `sharpen_welch`, which took dirt's
+/// plain single-render mean at this window from 0.147 to 0.112 over 32 seeds: see the
+/// `fidelity_dirt` harness.) The mean of the single-render distances is printed next to it.
 #[test]
 fn a_periodic_render_keeps_the_exemplar_spectrum() {
     let mut fft = Fft2::new();
