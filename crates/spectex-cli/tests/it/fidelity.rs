@@ -22,7 +22,7 @@ use spectex_model::Model;
 use spectex_sampling::{FitMethod, FitOptions, fit_image};
 use spectex_spectrum::{Fft2, mean_variance, welch_psd_with_block};
 
-fn shared_grey(name: &str) -> Option<Array2<f64>> {
+pub(crate) fn shared_grey(name: &str) -> Option<Array2<f64>> {
     let dir = concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../../../shared/testdata/textures"
@@ -93,35 +93,48 @@ fn gaussian_reference(
     side: usize,
     fft: &mut Fft2<f64>,
 ) -> Vec<f64> {
-    use num_complex::Complex64;
     let (target, _) = spectex_sampling::exemplar_target(ex.view(), FitMethod::Spectrum).unwrap();
-    let t = target.nrows() as f64;
-    let n = 2 * side;
     (1..=SEEDS)
         .map(|seed| {
-            let mut prng = spectex_model::random::Prng::new(seed.wrapping_mul(7919));
-            let mut field = Array2::from_shape_fn((n, n), |_| {
-                // Box–Muller.
-                let (u1, u2) = (prng.next_f64().max(1e-300), prng.next_f64());
-                let g = (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos();
-                Complex64::new(g, 0.0)
-            });
-            fft.forward(&mut field);
-            let nearest = |k: usize| {
-                let f = spectex_spectrum::signed_frequency(k, n);
-                ((f * t).round() as i64).rem_euclid(t as i64) as usize
-            };
-            for ((y, x), v) in field.indexed_iter_mut() {
-                let bin = [nearest(y), nearest(x)];
-                let p = if bin == [0, 0] { 0.0 } else { target[bin] };
-                *v *= p.max(0.0).sqrt();
-            }
-            fft.inverse(&mut field);
-            let img = Array2::from_shape_fn((side, side), |(y, x)| field[[y, x]].re);
+            let img = gaussian_field(&target, side, seed, fft);
             let psd_r = welch_psd_with_block(img.view(), 256, fft).unwrap();
             shape_distance(&psd_r, psd)
         })
         .collect()
+}
+
+/// One stationary Gaussian field of `side`² with the spectrum `target` (a Welch-block grid of
+/// power, zero frequency first): white noise (Box–Muller on the PRNG seeded with `seed·7919`)
+/// filtered on a `2·side`² periodic grid by the square root of the target's nearest bin, cropped
+/// to `side`² so that it is not periodic over the render.
+pub(crate) fn gaussian_field(
+    target: &Array2<f64>,
+    side: usize,
+    seed: u32,
+    fft: &mut Fft2<f64>,
+) -> Array2<f64> {
+    use num_complex::Complex64;
+    let t = target.nrows() as f64;
+    let n = 2 * side;
+    let mut prng = spectex_model::random::Prng::new(seed.wrapping_mul(7919));
+    let mut field = Array2::from_shape_fn((n, n), |_| {
+        // Box–Muller.
+        let (u1, u2) = (prng.next_f64().max(1e-300), prng.next_f64());
+        let g = (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos();
+        Complex64::new(g, 0.0)
+    });
+    fft.forward(&mut field);
+    let nearest = |k: usize| {
+        let f = spectex_spectrum::signed_frequency(k, n);
+        ((f * t).round() as i64).rem_euclid(t as i64) as usize
+    };
+    for ((y, x), v) in field.indexed_iter_mut() {
+        let bin = [nearest(y), nearest(x)];
+        let p = if bin == [0, 0] { 0.0 } else { target[bin] };
+        *v *= p.max(0.0).sqrt();
+    }
+    fft.inverse(&mut field);
+    Array2::from_shape_fn((side, side), |(y, x)| field[[y, x]].re)
 }
 
 /// Seeds each fit is rendered with: one render's spectrum at the lowest frequencies is a few

@@ -23,59 +23,18 @@ use spectex_model::Model;
 use spectex_sampling::{FitMethod, FitOptions, fit_image};
 use spectex_spectrum::{Fft2, welch_psd_with_block};
 
+use crate::fidelity::{gaussian_field, shared_grey};
+
 /// Welch block side of the measure (issue 16: `T = 256`).
 const T: usize = 256;
 /// Render side of the measure (issue 16: a 1024² render).
 const SIDE: usize = 1024;
-
-fn shared_grey(name: &str) -> Option<Array2<f64>> {
-    let dir = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/testdata/textures"
-    );
-    if !std::path::Path::new(dir).is_dir() {
-        println!("skipping {name}: ../shared/testdata/textures is absent");
-        return None;
-    }
-    let img = image::open(format!("{dir}/{name}")).unwrap().to_luma32f();
-    let (w, h) = img.dimensions();
-    Some(Array2::from_shape_fn((h as usize, w as usize), |(y, x)| {
-        f64::from(img.get_pixel(x as u32, y as u32).0[0])
-    }))
-}
 
 /// A 1024² render whose top-left pixel is at `at` (the fidelity test's window: `[3e3, −7e3]`).
 fn render(model: &Model, at: [f64; 2]) -> Array2<f64> {
     let eval = Evaluator::new(model).unwrap();
     let v = eval.render(&Window::new(SIDE, SIDE).at(at, 1.0)).unwrap();
     Array2::from_shape_vec((SIDE, SIDE), v.into_iter().map(f64::from).collect()).unwrap()
-}
-
-/// A stationary Gaussian field with the exemplar's sharpened spectrum, as the fidelity test's
-/// `gaussian_reference` builds it (white noise filtered on a `2·SIDE`² periodic grid by the
-/// square root of the target, nearest bin, cropped to `SIDE`²).
-fn gaussian_field(target: &Array2<f64>, seed: u32, fft: &mut Fft2<f64>) -> Array2<f64> {
-    use num_complex::Complex64;
-    let t = target.nrows() as f64;
-    let n = 2 * SIDE;
-    let mut prng = spectex_model::random::Prng::new(seed.wrapping_mul(7919));
-    let mut field = Array2::from_shape_fn((n, n), |_| {
-        let (u1, u2) = (prng.next_f64().max(1e-300), prng.next_f64());
-        let g = (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos();
-        Complex64::new(g, 0.0)
-    });
-    fft.forward(&mut field);
-    let nearest = |k: usize| {
-        let f = spectex_spectrum::signed_frequency(k, n);
-        ((f * t).round() as i64).rem_euclid(t as i64) as usize
-    };
-    for ((y, x), v) in field.indexed_iter_mut() {
-        let bin = [nearest(y), nearest(x)];
-        let p = if bin == [0, 0] { 0.0 } else { target[bin] };
-        *v *= p.max(0.0).sqrt();
-    }
-    fft.inverse(&mut field);
-    Array2::from_shape_fn((SIDE, SIDE), |(y, x)| field[[y, x]].re)
 }
 
 fn env_or<T: std::str::FromStr>(name: &str, default: T) -> T {
@@ -245,6 +204,6 @@ fn dirt_distance_over_many_renders() {
     }
     let (target, _) = spectex_sampling::exemplar_target(ex.view(), FitMethod::Spectrum).unwrap();
     measure("gaussian", renders, &psd, &mut fft, &mut |seed, fft| {
-        gaussian_field(&target, seed, fft)
+        gaussian_field(&target, SIDE, seed, fft)
     });
 }
