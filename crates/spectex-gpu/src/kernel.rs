@@ -14,6 +14,23 @@ use spectex_model::{ModelKind, Period};
 
 use crate::{GpuContext, GpuError, GpuWindow};
 
+/// The largest tile, from `[width, height]` halved (rounding up) on both sides together, whose
+/// box of host-drawn cells fits half a buffer of `limit` bytes: `cells(width, height)` cells of
+/// `per_cell` bytes each. A 1×1 tile is returned when nothing larger fits (the caller's table
+/// check then refuses a cell box past the limit, typed).
+pub(crate) fn halve_tile_to_fit(
+    [mut width, mut height]: [usize; 2],
+    per_cell: f64,
+    limit: u64,
+    cells: impl Fn(usize, usize) -> f64,
+) -> [usize; 2] {
+    while (width > 1 || height > 1) && cells(width, height) * per_cell > limit as f64 / 2.0 {
+        width = width.div_ceil(2);
+        height = height.div_ceil(2);
+    }
+    [width, height]
+}
+
 /// The device layer of one model kind.
 pub(crate) trait GpuKind: ModelKind {
     /// The kernel of a **validated** model on the plane `z` (ignored by 2D models): its tables

@@ -8,7 +8,7 @@ use spectex_model::phasor_kernels::{Impulse, PhasorKernels};
 use spectex_model::{Field, ModelKind, PhasorNoise, PhasorOutput, Profile};
 
 use crate::axis::{CellAxis, cell_axis, columns, rows};
-use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
+use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables, halve_tile_to_fit};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
 use crate::{GpuContext, GpuError, GpuWindow};
@@ -234,18 +234,13 @@ impl ShaderKernel for PhasorKernel {
     fn fit_tile(
         &self,
         window: &GpuWindow,
-        [mut width, mut height]: [usize; 2],
+        tile: [usize; 2],
         limit: u64,
     ) -> Result<[usize; 2], GpuError> {
         let per_cell = (1.5 * self.lambda + 4.0) * size_of::<PhasorImpulse>() as f64;
-        while width > 1 || height > 1 {
-            if self.box_cells(width, height, window.scale) * per_cell <= limit as f64 / 2.0 {
-                break;
-            }
-            width = width.div_ceil(2);
-            height = height.div_ceil(2);
-        }
-        Ok([width, height])
+        Ok(halve_tile_to_fit(tile, per_cell, limit, |w, h| {
+            self.box_cells(w, h, window.scale)
+        }))
     }
 
     /// Draws the tile's cell box and builds its tables. With a per-pixel `displacement`, the box

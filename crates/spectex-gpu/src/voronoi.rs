@@ -7,7 +7,7 @@ use spectex_model::grid::locate_cell;
 use spectex_model::voronoi::{VoronoiNoise, VoronoiOutput};
 
 use crate::axis::{CellAxis, cell_axis, columns, rows};
-use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
+use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables, halve_tile_to_fit};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
 use crate::{GpuContext, GpuError, GpuWindow};
@@ -107,18 +107,13 @@ impl ShaderKernel for VoronoiKernel {
     fn fit_tile(
         &self,
         window: &GpuWindow,
-        [mut width, mut height]: [usize; 2],
+        tile: [usize; 2],
         limit: u64,
     ) -> Result<[usize; 2], GpuError> {
         let per_cell = (SITE_FLOATS * 4) as f64;
-        while width > 1 || height > 1 {
-            if self.box_cells(width, height, window.scale) * per_cell <= limit as f64 / 2.0 {
-                break;
-            }
-            width = width.div_ceil(2);
-            height = height.div_ceil(2);
-        }
-        Ok([width, height])
+        Ok(halve_tile_to_fit(tile, per_cell, limit, |w, h| {
+            self.box_cells(w, h, window.scale)
+        }))
     }
 
     /// The box covers every (displaced) pixel's search: the cells of its pixels, widened by one
