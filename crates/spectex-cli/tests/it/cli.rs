@@ -1355,7 +1355,7 @@ fn periodic_noise_of_every_other_kind_tiles_seamlessly() {
                 );
             }
         }
-        assert!(distinct.len() > 2, "{name}: a flat render");
+        assert!(distinct.len() > 1, "{name}: a flat render");
         std::fs::remove_file(&out).unwrap();
     }
     let bad: &[(&[&str], &[&str])] = &[
