@@ -44,6 +44,12 @@ struct GaborParams {
     /// 1 / r, cell units per pixel (f32 of the f64 value), for warping.
     inv_radius: f32,
     _pad1: u32,
+    /// Cells per period along x and y of a periodic noise (cells enter the hash wrapped modulo
+    /// them, wrap_cell in common.wgsl, as on the CPU); 0 when not periodic.
+    cells_x: i32,
+    cells_y: i32,
+    _pad2: u32,
+    _pad3: u32,
 }
 
 /// One column (or row): its cell, the offset in the cell (cell units) and whether it is inside
@@ -107,7 +113,8 @@ fn gabor_value(column: GaborAxis, row: GaborAxis) -> f32 {
         for (var t = 0; t < 3; t++) {
             let uyt = row.offset - f32(t - 1);
             let cell_y = bitcast<i32>(bitcast<u32>(row.cell) + bitcast<u32>(t - 1));
-            var prng = Prng(cell_hash_in_row(cell_x, row_key(cell_y, key)));
+            var prng = Prng(cell_hash_in_row(wrap_cell(cell_x, params.cells_x),
+                row_key(wrap_cell(cell_y, params.cells_y), key)));
             let count = poisson_count(&prng);
             for (var n = 0u; n < count; n++) {
                 let ox = prng_next_f32(&prng);

@@ -47,6 +47,12 @@ struct TextonParams {
     _pad0: u32,
     _pad1: u32,
     _pad2: u32,
+    /// Cells per period along x and y of a periodic model (cells enter the hash wrapped modulo
+    /// them, wrap_cell in common.wgsl, as on the CPU); 0 when not periodic.
+    cells_x: i32,
+    cells_y: i32,
+    _pad3: u32,
+    _pad4: u32,
 }
 
 /// One column (or row): its cell, the offset in the cell (cell units) and whether it is inside
@@ -153,7 +159,8 @@ fn texton_value(column: TextonAxis, row: TextonAxis) -> f32 {
         let cell_y = bitcast<i32>(bitcast<u32>(row.cell) + bitcast<u32>(dj));
         for (var di = -reach; di <= reach; di++) {
             let cell_x = bitcast<i32>(bitcast<u32>(column.cell) + bitcast<u32>(di));
-            var prng = Prng(cell_hash(cell_x, cell_y, TEXTON_LAYER, params.seed));
+            var prng = Prng(cell_hash(wrap_cell(cell_x, params.cells_x),
+                wrap_cell(cell_y, params.cells_y), TEXTON_LAYER, params.seed));
             var count = 1u;
             if (params.placement == 1u) {
                 let u = prng_next_f32(&prng);

@@ -50,6 +50,12 @@ struct TextureParams {
     colour_mean: vec4<f32>,
     /// Row i maps the channels to component i (xyz).
     basis: array<vec4<f32>, 3>,
+    /// Placement cells per period along x and y of a periodic model (cells enter the hash
+    /// wrapped modulo them, wrap_cell in common.wgsl, as on the CPU); 0 when not periodic.
+    cells_x: i32,
+    cells_y: i32,
+    _pad2: u32,
+    _pad3: u32,
 }
 
 /// One channel's structure, packed by the host.
@@ -314,8 +320,8 @@ fn texture_value(column: PlacementAxis, row: PlacementAxis, strata: array<f32, 3
         var norm = 0.0f;
         for (var ky = 0u; ky < ys.count; ky++) {
             for (var kx = 0u; kx < xs.count; kx++) {
-                var prng = Prng(cell_hash(xs.cell[kx], ys.cell[ky], params.placement_layer,
-                    params.seed));
+                var prng = Prng(cell_hash(wrap_cell(xs.cell[kx], params.cells_x),
+                    wrap_cell(ys.cell[ky], params.cells_y), params.placement_layer, params.seed));
                 let sx = prng_next_f32(&prng) * t;
                 let sy = prng_next_f32(&prng) * t;
                 let w = xs.weight[kx] * ys.weight[ky];

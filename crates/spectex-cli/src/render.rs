@@ -46,8 +46,8 @@ pub struct RenderArgs {
     /// Make the texture exactly periodic with period WxH model pixels (seamless tiles: a
     /// 2W×2H render is the W×H one repeated 2×2, bit for bit); bare --periodic takes the
     /// output's extent (--size × --scale). Lattices are hashed modulo the period; LRP lattices
-    /// are fitted to it; every fBm octave's cell must divide it. The GPU renders periodic LRP,
-    /// classic and wavelet noises.
+    /// are fitted to it; every fBm octave's cell must divide it. Every kind with a periodic form
+    /// renders periodic on the CPU and the GPU.
     #[arg(long, value_name = "WxH", num_args = 0..=1, default_missing_value = "")]
     pub(crate) periodic: Option<String>,
     #[command(flatten)]

@@ -3,9 +3,9 @@
 //! [`CombineOp::apply`](spectex_model::combine::CombineOp::apply) per pixel and channel.
 
 use spectex_model::combine::Combine;
-use spectex_model::{Model, ModelKind, Window};
+use spectex_model::{Model, ModelKind, Period, Window};
 
-use crate::{CpuError, CpuKind, RowKernel, kind_kernel};
+use crate::{CpuError, CpuKind, RowKernel, kind_kernel, kind_kernel_periodic};
 
 /// A combination prepared for evaluation.
 pub struct CombineEvaluator {
@@ -23,13 +23,29 @@ impl CpuKind for Combine {
             .iter()
             .map(|m| kind_kernel(m, z))
             .collect::<Result<Vec<_>, _>>()?;
-        Ok(Box::new(CombineEvaluator {
-            model: self.clone(),
-            operands,
-            channels: self.output_channels(),
-            whole: Model::Combine(self.clone()),
-        }))
+        Ok(evaluator(self, operands))
     }
+
+    /// Every operand's periodic kernel (each accepts `period`: the combination's
+    /// `check_period`), combined pixel by pixel: a periodic function.
+    fn cpu_kernel_periodic(&self, z: f64, period: Period) -> Result<Box<dyn RowKernel>, CpuError> {
+        let operands = self
+            .operands
+            .iter()
+            .map(|m| kind_kernel_periodic(m, z, period))
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(evaluator(self, operands))
+    }
+}
+
+/// The evaluator of `model` from its operands' kernels.
+fn evaluator(model: &Combine, operands: Vec<Box<dyn RowKernel>>) -> Box<dyn RowKernel> {
+    Box::new(CombineEvaluator {
+        model: model.clone(),
+        operands,
+        channels: model.output_channels(),
+        whole: Model::Combine(model.clone()),
+    })
 }
 
 impl CombineEvaluator {

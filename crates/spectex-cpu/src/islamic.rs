@@ -37,6 +37,17 @@ impl CpuKind for IslamicPattern {
     fn cpu_kernel(&self, _z: f64) -> Result<Box<dyn RowKernel>, CpuError> {
         Ok(Box::new(IslamicEvaluator::new(self)))
     }
+
+    /// The pattern itself: it repeats with every period it accepts (a lattice period,
+    /// `check_period`), and `Evaluator::periodic` reduces the positions.
+    fn cpu_kernel_periodic(
+        &self,
+        z: f64,
+        period: spectex_model::Period,
+    ) -> Result<Box<dyn RowKernel>, CpuError> {
+        spectex_model::ModelKind::check_period(self, period)?;
+        self.cpu_kernel(z)
+    }
 }
 
 impl RowKernel for IslamicEvaluator {

@@ -58,6 +58,17 @@ impl CpuKind for MatrixTransform {
             ))),
         }
     }
+
+    /// The transformation itself: it repeats every `N` pixels, so with every period it accepts
+    /// (multiples of `N`, `check_period`), and `Evaluator::periodic` reduces the positions.
+    fn cpu_kernel_periodic(
+        &self,
+        z: f64,
+        period: spectex_model::Period,
+    ) -> Result<Box<dyn RowKernel>, CpuError> {
+        spectex_model::ModelKind::check_period(self, period)?;
+        self.cpu_kernel(z)
+    }
 }
 
 impl RowKernel for MatrixEvaluator {

@@ -6,7 +6,7 @@
 
 use spectex_model::grid::locate_cell;
 use spectex_model::voronoi::{BlockCache, Nearest, SiteTable, VoronoiNoise, VoronoiOutput, search};
-use spectex_model::{ModelKind, Window};
+use spectex_model::{ModelKind, Period, Window};
 
 use crate::{CpuError, CpuKind, RowKernel};
 
@@ -17,6 +17,9 @@ pub struct VoronoiEvaluator {
     channels: usize,
     /// Relaxed Lloyd blocks, each computed once for every band and point that needs it.
     blocks: BlockCache,
+    /// Cells per period along x and y of a periodic model (cells and Lloyd blocks wrapped,
+    /// `VoronoiNoise::sites_periodic`).
+    cells: Option<[i64; 2]>,
 }
 
 impl VoronoiEvaluator {
@@ -28,6 +31,17 @@ impl VoronoiEvaluator {
             reach: model.output.reach(),
             channels: model.output_channels(),
             blocks: BlockCache::default(),
+            cells: None,
+        }
+    }
+
+    /// Prepares a validated model that accepts `period` made periodic: its cells (and Lloyd
+    /// blocks) hashed and relaxed modulo the period.
+    #[must_use]
+    pub fn new_periodic(model: &VoronoiNoise, period: Period) -> Self {
+        Self {
+            cells: Some(period.cells(f64::from(model.cell_size))),
+            ..Self::new(model)
         }
     }
 
@@ -78,6 +92,11 @@ impl CpuKind for VoronoiNoise {
     fn cpu_kernel(&self, _z: f64) -> Result<Box<dyn RowKernel>, CpuError> {
         Ok(Box::new(VoronoiEvaluator::new(self)))
     }
+
+    fn cpu_kernel_periodic(&self, _z: f64, period: Period) -> Result<Box<dyn RowKernel>, CpuError> {
+        self.check_period(period)?;
+        Ok(Box::new(VoronoiEvaluator::new_periodic(self, period)))
+    }
 }
 
 impl RowKernel for VoronoiEvaluator {
@@ -126,9 +145,13 @@ impl RowKernel for VoronoiEvaluator {
             }
             return;
         }
-        let table = self
-            .model
-            .sites_cached(lo, top, span as usize, tall as usize, &self.blocks);
+        let (w, h) = (span as usize, tall as usize);
+        let table = match self.cells {
+            None => self.model.sites_cached(lo, top, w, h, &self.blocks),
+            Some(cells) => self
+                .model
+                .sites_periodic(lo, top, w, h, &self.blocks, cells),
+        };
         self.eval_with_table(window, first, out, &columns, &table);
     }
 }

@@ -9,17 +9,7 @@ use spectex_model::period::reduce;
 use crate::GpuWindow;
 use crate::layout::wgsl_struct;
 
-/// Column positions of a window, for the axis tables.
-pub(crate) fn columns(window: &GpuWindow) -> impl Fn(usize) -> f64 + '_ {
-    move |i| window.x(i)
-}
-
-/// Row positions of a window.
-pub(crate) fn rows(window: &GpuWindow) -> impl Fn(usize) -> f64 + '_ {
-    move |j| window.y(j)
-}
-
-/// Column positions of a window, reduced modulo the period's width for a periodic model
+/// Column positions of a window for the axis tables, reduced modulo the period's width for a periodic model
 /// ([`spectex_model::period::reduce`], exact: the CPU's reduced positions).
 pub(crate) fn periodic_columns(
     window: &GpuWindow,

@@ -3,7 +3,7 @@
 //! [`CombineOp::apply`](spectex_model::combine::CombineOp::apply) on the host in f32, the
 //! CPU's expression, as a warp applies its displacement.
 
-use spectex_model::{Combine, Model, ModelKind};
+use spectex_model::{Combine, Model, ModelKind, Period};
 
 use crate::kernel::{GpuKernel, GpuKind};
 use crate::{GpuContext, GpuError, GpuEvaluator, GpuWindow};
@@ -15,21 +15,46 @@ pub(crate) struct CombineKernel {
     /// The whole model, for [`spectex_model::warp::check_window`].
     whole: Model,
     operands: Vec<GpuEvaluator>,
+    /// The period of a periodic combination: every operand is periodic (each reduces its own
+    /// positions), so its window is never out of range.
+    period: Option<Period>,
 }
 
 impl GpuKind for Combine {
     fn gpu_kernel(&self, context: &GpuContext, z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
-        let operands = self
-            .operands
-            .iter()
-            .map(|m| GpuEvaluator::prepared(context, m, z))
-            .collect::<Result<Vec<_>, _>>()?;
-        Ok(Box::new(CombineKernel {
-            model: self.clone(),
-            whole: Model::Combine(self.clone()),
-            operands,
-        }))
+        combine_kernel(self, context, z, None)
     }
+
+    /// Every operand periodic with `period` (the CPU's periodic combination).
+    fn gpu_kernel_periodic(
+        &self,
+        context: &GpuContext,
+        z: f64,
+        period: Period,
+    ) -> Result<Box<dyn GpuKernel>, GpuError> {
+        self.check_period(period)?;
+        combine_kernel(self, context, z, Some(period))
+    }
+}
+
+/// The kernel of a validated combination, periodic with `period` when given.
+fn combine_kernel(
+    model: &Combine,
+    context: &GpuContext,
+    z: f64,
+    period: Option<Period>,
+) -> Result<Box<dyn GpuKernel>, GpuError> {
+    let operands = model
+        .operands
+        .iter()
+        .map(|m| GpuEvaluator::prepared_with_period(context, m, z, period))
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(Box::new(CombineKernel {
+        model: model.clone(),
+        whole: Model::Combine(model.clone()),
+        operands,
+        period,
+    }))
 }
 
 impl GpuKernel for CombineKernel {
@@ -47,7 +72,11 @@ impl GpuKernel for CombineKernel {
         Ok(size)
     }
 
+    /// A periodic combination's positions are reduced into the period.
     fn check_window(&self, window: &GpuWindow) -> Result<(), GpuError> {
+        if self.period.is_some() {
+            return Ok(());
+        }
         Ok(spectex_model::warp::check_window(&self.whole, window)?)
     }
 

@@ -50,8 +50,8 @@ impl GpuEvaluator {
 
     /// As [`new_at_z`](Self::new_at_z), for `model` made exactly periodic with `period`
     /// (`spectex_model::period`; the CPU's `Evaluator::periodic`): positions reduced modulo the
-    /// period on the host, cells hashed modulo it on the device. LRP, classic and wavelet noises
-    /// have a periodic device path.
+    /// period on the host, cells hashed modulo it on the device. Every kind with a periodic form
+    /// (`spectex_model::PERIODIC_KINDS`) has a periodic device path.
     ///
     /// # Errors
     /// As [`new_at_z`](Self::new_at_z); [`GpuError::Model`] for a period the model cannot take,
@@ -71,19 +71,32 @@ impl GpuEvaluator {
                 range: "finite, |z| ≤ 2³⁰ pixels",
             });
         }
-        let kernel = spectex_model::for_each_kind!(model, m: K => <K as GpuKind>::gpu_kernel_periodic(m, context, z, period)?);
-        Ok(Self {
-            adapter_info: context.adapter_info(),
-            kernel,
-            max_tile: [DEFAULT_MAX_TILE, DEFAULT_MAX_TILE],
-        })
+        Self::prepared_with_period(context, model, z, Some(period))
     }
 
-    /// The evaluator of a validated model and plane: the one dispatch over model kinds in this
-    /// crate (every kind implements [`GpuKind`] in its own module). A warp builds its base, x
-    /// and y through here too.
+    /// The evaluator of a validated model and plane.
     pub(crate) fn prepared(context: &GpuContext, model: &Model, z: f64) -> Result<Self, GpuError> {
-        let kernel = spectex_model::for_each_kind!(model, m: K => <K as GpuKind>::gpu_kernel(m, context, z)?);
+        Self::prepared_with_period(context, model, z, None)
+    }
+
+    /// The evaluator of a validated model and plane, periodic with `period` when given (a
+    /// period the model accepts): the one dispatch over model kinds in this crate (every kind
+    /// implements [`GpuKind`] in its own module). A warp builds its base, x and y through here
+    /// too, a combination its operands, a texture its LRP passes.
+    pub(crate) fn prepared_with_period(
+        context: &GpuContext,
+        model: &Model,
+        z: f64,
+        period: Option<Period>,
+    ) -> Result<Self, GpuError> {
+        let kernel = match period {
+            None => {
+                spectex_model::for_each_kind!(model, m: K => <K as GpuKind>::gpu_kernel(m, context, z)?)
+            }
+            Some(p) => {
+                spectex_model::for_each_kind!(model, m: K => <K as GpuKind>::gpu_kernel_periodic(m, context, z, p)?)
+            }
+        };
         Ok(Self {
             adapter_info: context.adapter_info(),
             kernel,

@@ -2,9 +2,9 @@
 //! computes, by the same f64 expressions, in the uniform, and per tile each column's and row's
 //! kernel-grid cell and offset.
 
-use spectex_model::{GaborNoise, Orientation};
+use spectex_model::{GaborNoise, Orientation, Period};
 
-use crate::axis::{CellAxis, cell_axis, columns, rows};
+use crate::axis::{CellAxis, cell_axis, periodic_columns, periodic_rows};
 use crate::export::{ExportKind, ExportNode, ExportParts};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
@@ -42,6 +42,12 @@ wgsl_struct! {
         inv_radius: f32,
         // Padding to a whole 16-byte uniform row, as the WGSL struct has it.
         _pad1: u32,
+        /// Cells per period along x and y of a periodic noise (cells hashed modulo them,
+        /// `wrap_cell`), 0 when not periodic.
+        cells_x: i32,
+        cells_y: i32,
+        _pad2: u32,
+        _pad3: u32,
     }
 }
 
@@ -51,11 +57,18 @@ pub(crate) struct GaborKernel {
     /// Kernel radius `r` = grid cell side, pixels.
     radius: f64,
     params: GaborParams,
+    /// The period of a periodic noise: positions reduced modulo it.
+    period: Option<Period>,
 }
 
-/// Packs a validated Gabor model.
-fn pack(model: &GaborNoise) -> GaborKernel {
-    let radius = model.kernel_radius();
+/// Packs a validated Gabor model, periodic with `period` when given (a period it accepts): the
+/// CPU's `GaborEvaluator::new_periodic`, square cells of the fitted radius hashed modulo the
+/// period.
+fn pack(model: &GaborNoise, period: Option<Period>) -> GaborKernel {
+    let radius = period
+        .and_then(|p| model.periodic_radius(p))
+        .unwrap_or_else(|| model.kernel_radius());
+    let cells = period.map_or([0, 0], |p| p.cells(radius).map(|n| n as i32));
     let lambda = model.impulses_per_cell();
     let chunks = (lambda / POISSON_CHUNK).floor();
     let rest = lambda - chunks * POISSON_CHUNK;
@@ -94,20 +107,36 @@ fn pack(model: &GaborNoise) -> GaborKernel {
         dir_a,
         dir_b,
         inv_radius: (1.0 / radius) as f32,
-        _pad1: 0,
+        cells_x: cells[0],
+        cells_y: cells[1],
+        ..bytemuck::Zeroable::zeroed()
     };
-    GaborKernel { radius, params }
+    GaborKernel {
+        radius,
+        params,
+        period,
+    }
 }
 
 impl GpuKind for GaborNoise {
     fn gpu_kernel(&self, context: &GpuContext, _z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
-        Shaded::boxed(context, pack(self), &[])
+        Shaded::boxed(context, pack(self, None), &[])
+    }
+
+    fn gpu_kernel_periodic(
+        &self,
+        context: &GpuContext,
+        _z: f64,
+        period: Period,
+    ) -> Result<Box<dyn GpuKernel>, GpuError> {
+        spectex_model::ModelKind::check_period(self, period)?;
+        Shaded::boxed(context, pack(self, Some(period)), &[])
     }
 }
 
 impl ExportKind for GaborNoise {
     fn export_parts(&self, _z: f64) -> Result<ExportNode, GpuError> {
-        let kernel = pack(self);
+        let kernel = pack(self, None);
         // The kernel grid is the export's lattice 0 (export/gabor.wgsl).
         let lattices = vec![kernel.radius];
         ExportParts::of(&kernel, &[], lattices, "gabor")
@@ -138,11 +167,11 @@ impl ShaderKernel for GaborKernel {
             vec![
                 Table::new(
                     "gabor columns",
-                    &cell_axis(self.radius, tile.width, columns(tile)),
+                    &cell_axis(self.radius, tile.width, periodic_columns(tile, self.period)),
                 ),
                 Table::new(
                     "gabor rows",
-                    &cell_axis(self.radius, tile.height, rows(tile)),
+                    &cell_axis(self.radius, tile.height, periodic_rows(tile, self.period)),
                 ),
             ],
         ))

@@ -4,7 +4,9 @@
 //! segment loop and output formula.
 
 use spectex_model::islamic::{IslamicOutput, IslamicPattern, LatticeMap, footprint};
+use spectex_model::{ModelKind, Period};
 
+use crate::axis::{periodic_columns, periodic_rows};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
@@ -45,44 +47,69 @@ wgsl_struct! {
 pub(crate) struct IslamicKernel {
     map: LatticeMap,
     params: IslamicParams,
+    /// The period of a periodic pattern (a lattice period of the tiling): positions reduced
+    /// modulo it, the pattern itself unchanged.
+    period: Option<Period>,
 }
 
 impl GpuKind for IslamicPattern {
     fn gpu_kernel(&self, context: &GpuContext, _z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
-        let geometry = self.geometry();
-        let map = self.lattice_map();
-        let [e1, e2] = geometry.basis;
-        let kernel = IslamicKernel {
-            map,
-            params: IslamicParams {
-                width: 0,
-                height: 0,
-                segments: geometry.len() as u32,
-                output: match self.output {
-                    IslamicOutput::Band => 0,
-                    IslamicOutput::Distance => 1,
-                    IslamicOutput::Filled => 2,
-                },
-                cell: self.cell_size,
-                line_width: self.line_width,
-                footprint: 1.0,
-                inv_footprint: 1.0,
-                e1x: e1[0],
-                e1y: e1[1],
-                e2x: e2[0],
-                e2y: e2[1],
-                a00: map.a[0][0] as f32,
-                a01: map.a[0][1] as f32,
-                a10: map.a[1][0] as f32,
-                a11: map.a[1][1] as f32,
-            },
-        };
-        Shaded::boxed(
-            context,
-            kernel,
-            &[Table::new("islamic segments", &geometry.segments)],
-        )
+        islamic_kernel(self, context, None)
     }
+
+    /// The pattern is periodic with every lattice period ([`ModelKind::check_period`]): only
+    /// the positions are reduced, as the CPU's `PeriodicKernel` reduces them.
+    fn gpu_kernel_periodic(
+        &self,
+        context: &GpuContext,
+        _z: f64,
+        period: Period,
+    ) -> Result<Box<dyn GpuKernel>, GpuError> {
+        self.check_period(period)?;
+        islamic_kernel(self, context, Some(period))
+    }
+}
+
+/// The kernel of a validated pattern, its positions reduced modulo `period` when given.
+fn islamic_kernel(
+    model: &IslamicPattern,
+    context: &GpuContext,
+    period: Option<Period>,
+) -> Result<Box<dyn GpuKernel>, GpuError> {
+    let geometry = model.geometry();
+    let map = model.lattice_map();
+    let [e1, e2] = geometry.basis;
+    let kernel = IslamicKernel {
+        map,
+        params: IslamicParams {
+            width: 0,
+            height: 0,
+            segments: geometry.len() as u32,
+            output: match model.output {
+                IslamicOutput::Band => 0,
+                IslamicOutput::Distance => 1,
+                IslamicOutput::Filled => 2,
+            },
+            cell: model.cell_size,
+            line_width: model.line_width,
+            footprint: 1.0,
+            inv_footprint: 1.0,
+            e1x: e1[0],
+            e1y: e1[1],
+            e2x: e2[0],
+            e2y: e2[1],
+            a00: map.a[0][0] as f32,
+            a01: map.a[0][1] as f32,
+            a10: map.a[1][0] as f32,
+            a11: map.a[1][1] as f32,
+        },
+        period,
+    };
+    Shaded::boxed(
+        context,
+        kernel,
+        &[Table::new("islamic segments", &geometry.segments)],
+    )
 }
 
 impl ShaderKernel for IslamicKernel {
@@ -107,10 +134,12 @@ impl ShaderKernel for IslamicKernel {
             inv_footprint: inv_f,
             ..self.params
         };
-        let columns: Vec<[f32; 2]> = (0..tile.width)
-            .map(|i| self.map.column(tile.x(i)))
-            .collect();
-        let rows: Vec<[f32; 2]> = (0..tile.height).map(|j| self.map.row(tile.y(j))).collect();
+        let (x, y) = (
+            periodic_columns(tile, self.period),
+            periodic_rows(tile, self.period),
+        );
+        let columns: Vec<[f32; 2]> = (0..tile.width).map(|i| self.map.column(x(i))).collect();
+        let rows: Vec<[f32; 2]> = (0..tile.height).map(|j| self.map.row(y(j))).collect();
         Ok(TileTables::new(
             &params,
             vec![

@@ -45,7 +45,8 @@ pub(crate) trait GpuKind: ModelKind {
     /// The kernel of a **validated** model made exactly periodic with `period`, a period it
     /// accepts ([`ModelKind::check_period`]): tile positions reduced modulo the period on the
     /// host (`spectex_model::period::reduce`, per axis) and cells hashed modulo it in the shader,
-    /// as on the CPU. The default is for kinds whose device path has no periodic form.
+    /// as on the CPU. The default is for kinds without a periodic form: the model layer's
+    /// refusal.
     ///
     /// # Errors
     /// As [`gpu_kernel`](Self::gpu_kernel), [`GpuError::Model`] for a period the model refuses,
@@ -60,9 +61,7 @@ pub(crate) trait GpuKind: ModelKind {
         self.check_period(period)?;
         Err(GpuError::Unsupported {
             kind: Self::NAME,
-            feature: format!(
-                "a period ({period}; periodic on the GPU: lrp, classic and wavelet models)"
-            ),
+            feature: format!("a period ({period}): the device path has no periodic form for it"),
         })
     }
 }

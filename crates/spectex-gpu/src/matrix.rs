@@ -3,8 +3,9 @@
 //! CPU's split); the shader reduces the cell modulo `N` and reads the source at `A·q mod N`.
 
 use spectex_model::matrix::{MatrixSource, MatrixTransform};
+use spectex_model::{ModelKind, Period};
 
-use crate::axis::{CellAxis, cell_axis, columns, rows};
+use crate::axis::{CellAxis, cell_axis, periodic_columns, periodic_rows};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
@@ -33,35 +34,60 @@ wgsl_struct! {
 #[derive(Debug, Clone)]
 pub(crate) struct MatrixKernel {
     params: MatrixParams,
+    /// The period of a periodic transformation (a multiple of `N`): positions reduced modulo
+    /// it, the texture itself unchanged.
+    period: Option<Period>,
 }
 
 impl GpuKind for MatrixTransform {
     fn gpu_kernel(&self, context: &GpuContext, _z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
-        let a = self
-            .inverse_power()
-            .ok_or_else(|| GpuError::Model(self.validate().err().unwrap_or_else(not_invertible)))?;
-        let (image, rings, texels) = match &self.source {
-            MatrixSource::Rings { rings } => (0, *rings, vec![0.0f32]),
-            MatrixSource::Image { texels } => (1, 0, texels.clone()),
-        };
-        let kernel = MatrixKernel {
-            params: MatrixParams {
-                width: 0,
-                height: 0,
-                size: self.size,
-                image,
-                a00: a[0][0],
-                a01: a[0][1],
-                a10: a[1][0],
-                a11: a[1][1],
-                rings,
-                amplitude: self.amplitude,
-                mean: self.mean,
-                _pad0: 0,
-            },
-        };
-        Shaded::boxed(context, kernel, &[Table::new("matrix texels", &texels)])
+        matrix_kernel(self, context, None)
     }
+
+    /// The texture is periodic with its torus side `N` ([`ModelKind::check_period`]): only the
+    /// positions are reduced, as the CPU's `PeriodicKernel` reduces them.
+    fn gpu_kernel_periodic(
+        &self,
+        context: &GpuContext,
+        _z: f64,
+        period: Period,
+    ) -> Result<Box<dyn GpuKernel>, GpuError> {
+        self.check_period(period)?;
+        matrix_kernel(self, context, Some(period))
+    }
+}
+
+/// The kernel of a validated transformation, its positions reduced modulo `period` when given.
+fn matrix_kernel(
+    model: &MatrixTransform,
+    context: &GpuContext,
+    period: Option<Period>,
+) -> Result<Box<dyn GpuKernel>, GpuError> {
+    let a = model
+        .inverse_power()
+        .ok_or_else(|| GpuError::Model(model.validate().err().unwrap_or_else(not_invertible)))?;
+    let (image, rings, texels) = match &model.source {
+        MatrixSource::Rings { rings } => (0, *rings, vec![0.0f32]),
+        MatrixSource::Image { texels } => (1, 0, texels.clone()),
+    };
+    let kernel = MatrixKernel {
+        params: MatrixParams {
+            width: 0,
+            height: 0,
+            size: model.size,
+            image,
+            a00: a[0][0],
+            a01: a[0][1],
+            a10: a[1][0],
+            a11: a[1][1],
+            rings,
+            amplitude: model.amplitude,
+            mean: model.mean,
+            _pad0: 0,
+        },
+        period,
+    };
+    Shaded::boxed(context, kernel, &[Table::new("matrix texels", &texels)])
 }
 
 fn not_invertible() -> spectex_model::ModelError {
@@ -100,8 +126,14 @@ impl ShaderKernel for MatrixKernel {
         Ok(TileTables::new(
             &params,
             vec![
-                Table::new("matrix columns", &cell_axis(1.0, width, columns(tile))),
-                Table::new("matrix rows", &cell_axis(1.0, height, rows(tile))),
+                Table::new(
+                    "matrix columns",
+                    &cell_axis(1.0, width, periodic_columns(tile, self.period)),
+                ),
+                Table::new(
+                    "matrix rows",
+                    &cell_axis(1.0, height, periodic_rows(tile, self.period)),
+                ),
             ],
         ))
     }

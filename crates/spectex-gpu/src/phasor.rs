@@ -5,9 +5,9 @@
 
 use spectex_model::grid::locate_cell;
 use spectex_model::phasor_kernels::{Impulse, PhasorKernels};
-use spectex_model::{Field, ModelKind, PhasorNoise, PhasorOutput, Profile};
+use spectex_model::{Field, ModelKind, Period, PhasorNoise, PhasorOutput, Profile};
 
-use crate::axis::{CellAxis, cell_axis, columns, rows};
+use crate::axis::{CellAxis, cell_axis, periodic_columns, periodic_rows};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables, halve_tile_to_fit};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
@@ -90,6 +90,9 @@ pub(crate) struct PhasorKernel {
     frequency: Field,
     /// Mean impulses per cell, for sizing tiles.
     lambda: f64,
+    /// The period of a periodic model: positions reduced modulo it (the kernels' cells are
+    /// fitted to it and hashed modulo it, `PhasorKernels::new_periodic`).
+    period: Option<Period>,
 }
 
 fn leaf(profile: &Profile, data: &mut Vec<f32>) -> Result<Leaf, GpuError> {
@@ -134,8 +137,13 @@ fn unit_at(field: Option<&Field>, p: [f64; 3]) -> f32 {
     field.map_or(0.0, |f| f.at(p[0], p[1], p[2]).clamp(0.0, 1.0) as f32)
 }
 
-/// Packs a validated phasor model for the plane `z`: the kernel and the profile data.
-fn pack(model: &PhasorNoise, z: f64) -> Result<(PhasorKernel, Vec<f32>), GpuError> {
+/// Packs a validated phasor model for the plane `z`, periodic with `period` when given: the
+/// kernel and the profile data.
+fn pack(
+    model: &PhasorNoise,
+    z: f64,
+    period: Option<Period>,
+) -> Result<(PhasorKernel, Vec<f32>), GpuError> {
     let mut data = Vec::new();
     let (a, b, weight) = match &model.profile {
         Profile::Blend { a, b, weight } => (
@@ -152,7 +160,10 @@ fn pack(model: &PhasorNoise, z: f64) -> Result<(PhasorKernel, Vec<f32>), GpuErro
     let duty_b = b.as_ref().and_then(|b| b.duty.clone());
     let per_pixel = !(constant(&a.duty) && constant(&duty_b) && constant(&weight));
     let origin = [0.0; 3];
-    let kernels = PhasorKernels::new(model);
+    let kernels = match period {
+        None => PhasorKernels::new(model),
+        Some(p) => PhasorKernels::new_periodic(model, p)?,
+    };
     let mut params = PhasorParams {
         three_d: u32::from(kernels.three_d()),
         output_kind: match model.output {
@@ -187,13 +198,30 @@ fn pack(model: &PhasorNoise, z: f64) -> Result<(PhasorKernel, Vec<f32>), GpuErro
         per_pixel,
         frequency: model.frequency.clone(),
         lambda: model.impulses_per_cell(),
+        period,
     };
     Ok((kernel, data))
 }
 
 impl GpuKind for PhasorNoise {
     fn gpu_kernel(&self, context: &GpuContext, z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
-        let (kernel, profile_data) = pack(self, z)?;
+        let (kernel, profile_data) = pack(self, z, None)?;
+        Shaded::boxed(
+            context,
+            kernel,
+            &[Table::new("phasor profile", &profile_data)],
+        )
+    }
+
+    /// The cells drawn on the host by `PhasorKernels::new_periodic` (fitted to the period and
+    /// hashed modulo it, the CPU's), at positions reduced modulo the period.
+    fn gpu_kernel_periodic(
+        &self,
+        context: &GpuContext,
+        z: f64,
+        period: Period,
+    ) -> Result<Box<dyn GpuKernel>, GpuError> {
+        let (kernel, profile_data) = pack(self, z, Some(period))?;
         Shaded::boxed(
             context,
             kernel,
@@ -255,8 +283,11 @@ impl ShaderKernel for PhasorKernel {
     ) -> Result<TileTables, GpuError> {
         let side = self.side();
         let (width, height) = (tile.width, tile.height);
-        let columns = cell_axis(side, width, columns(tile));
-        let rows = cell_axis(side, height, rows(tile));
+        // The pixels' positions, reduced modulo the period of a periodic model.
+        let column_x = periodic_columns(tile, self.period);
+        let row_y = periodic_rows(tile, self.period);
+        let columns = cell_axis(side, width, &column_x);
+        let rows = cell_axis(side, height, &row_y);
         let range = |records: &[CellAxis]| {
             records
                 .iter()
@@ -270,9 +301,12 @@ impl ShaderKernel for PhasorKernel {
             match displacement {
                 Some(d) => {
                     let k = 2 * (j * width + i);
-                    [tile.x(i) + f64::from(d[k]), tile.y(j) + f64::from(d[k + 1])]
+                    [
+                        column_x(i) + f64::from(d[k]),
+                        row_y(j) + f64::from(d[k + 1]),
+                    ]
                 }
-                None => [tile.x(i), tile.y(j)],
+                None => [column_x(i), row_y(j)],
             }
         };
         // The cell range of the displaced pixels, widened by one cell (f32 relocation).
@@ -422,7 +456,7 @@ mod tests {
             weight: Field::constant(0.5),
         };
         model.profile = blend(blend(Profile::Sine));
-        match pack(&model, 0.0) {
+        match pack(&model, 0.0, None) {
             Err(e @ GpuError::Unsupported { kind: "phasor", .. }) => assert_eq!(
                 e.to_string(),
                 "the GPU evaluator does not support profiles with nested blends (one blend of \

@@ -2,10 +2,10 @@
 //! in the uniform, its Poisson CDF and image texels packed once, and per tile each column's and
 //! row's texton-grid cell and offset (the CPU's split).
 
-use spectex_model::TextonNoise;
 use spectex_model::texton::{Combine, MAX_TEXTONS_PER_CELL, Placement, Spot};
+use spectex_model::{Period, TextonNoise};
 
-use crate::axis::{CellAxis, cell_axis, columns, rows};
+use crate::axis::{CellAxis, cell_axis, periodic_columns, periodic_rows};
 use crate::export::{ExportKind, ExportNode, ExportParts};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
@@ -44,6 +44,12 @@ wgsl_struct! {
         _pad0: u32,
         _pad1: u32,
         _pad2: u32,
+        /// Cells per period along x and y of a periodic model (cells hashed modulo them,
+        /// `wrap_cell`), 0 when not periodic.
+        cells_x: i32,
+        cells_y: i32,
+        _pad3: u32,
+        _pad4: u32,
     }
 }
 
@@ -52,11 +58,30 @@ wgsl_struct! {
 pub(crate) struct TextonKernel {
     cell_size: f64,
     params: TextonParams,
+    /// The period of a periodic model: positions reduced modulo it.
+    period: Option<Period>,
 }
 
 impl GpuKind for TextonNoise {
     fn gpu_kernel(&self, context: &GpuContext, _z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
         let (kernel, data) = host(self);
+        Shaded::boxed(context, kernel, &[Table::new("texton model data", &data)])
+    }
+
+    /// The CPU's `TextonEvaluator::new_periodic`: the cell divides the period, cells hashed
+    /// modulo the cells per period.
+    fn gpu_kernel_periodic(
+        &self,
+        context: &GpuContext,
+        _z: f64,
+        period: Period,
+    ) -> Result<Box<dyn GpuKernel>, GpuError> {
+        spectex_model::ModelKind::check_period(self, period)?;
+        let (mut kernel, data) = host(self);
+        let cells = period.cells(kernel.cell_size);
+        kernel.params.cells_x = cells[0] as i32;
+        kernel.params.cells_y = cells[1] as i32;
+        kernel.period = Some(period);
         Shaded::boxed(context, kernel, &[Table::new("texton model data", &data)])
     }
 }
@@ -128,10 +153,9 @@ fn host(model: &TextonNoise) -> (TextonKernel, Vec<f32>) {
                 intensity_lo: this.intensity[0],
                 intensity_hi: this.intensity[1],
                 mean: this.mean,
-                _pad0: 0,
-                _pad1: 0,
-                _pad2: 0,
+                ..bytemuck::Zeroable::zeroed()
             },
+            period: None,
         };
         (kernel, data)
     }
@@ -161,11 +185,19 @@ impl ShaderKernel for TextonKernel {
             vec![
                 Table::new(
                     "texton columns",
-                    &cell_axis(self.cell_size, tile.width, columns(tile)),
+                    &cell_axis(
+                        self.cell_size,
+                        tile.width,
+                        periodic_columns(tile, self.period),
+                    ),
                 ),
                 Table::new(
                     "texton rows",
-                    &cell_axis(self.cell_size, tile.height, rows(tile)),
+                    &cell_axis(
+                        self.cell_size,
+                        tile.height,
+                        periodic_rows(tile, self.period),
+                    ),
                 ),
             ],
         ))

@@ -5,8 +5,9 @@
 
 use spectex_model::grid::locate_cell;
 use spectex_model::texture::PLACEMENT_LAYER;
-use spectex_model::{LrpNoise, Model, TextureModel};
+use spectex_model::{LrpNoise, Model, ModelKind, Period, TextureModel};
 
+use crate::axis::{periodic_columns, periodic_rows};
 use crate::export::{ExportKind, ExportNode, ExportNodeOf, ExportParts, TextureExport};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
@@ -41,6 +42,12 @@ wgsl_struct! {
         colour_mean: [f32; 4],
         /// Row `i` maps the channels to component `i` (`vec4<f32>` rows, `w` unused).
         basis: [[f32; 4]; 3],
+        /// Placement cells per period along x and y of a periodic model (hashed modulo them,
+        /// `wrap_cell`), 0 when not periodic.
+        cells_x: i32,
+        cells_y: i32,
+        _pad2: u32,
+        _pad3: u32,
     }
 }
 
@@ -79,6 +86,9 @@ pub(crate) struct TextureKernel {
     strata: Vec<Option<GpuEvaluator>>,
     /// Turbulence strata per axis, each a single-stratum LRP noise of mean 0.
     turbulence: [Vec<GpuEvaluator>; 2],
+    /// The period of a periodic model: positions reduced modulo it, the strata and turbulence
+    /// periodic LRP noises (the CPU's `TextureEvaluator::new_periodic`).
+    period: Option<Period>,
 }
 
 /// The structure tables of a texture: a [`ChannelStructure`] per channel, the `(start, count)`
@@ -151,60 +161,94 @@ fn pack_structures(model: &TextureModel) -> Structures {
 
 impl GpuKind for TextureModel {
     fn gpu_kernel(&self, context: &GpuContext, _z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
-        let strata = self
-            .channels
-            .iter()
-            .map(|ch| {
-                if ch.strata.is_empty() {
-                    return Ok(None);
-                }
+        texture_kernel(self, context, None)
+    }
+
+    fn gpu_kernel_periodic(
+        &self,
+        context: &GpuContext,
+        _z: f64,
+        period: Period,
+    ) -> Result<Box<dyn GpuKernel>, GpuError> {
+        self.check_period(period)?;
+        texture_kernel(self, context, Some(period))
+    }
+}
+
+/// The kernel of a validated texture model, periodic with `period` when given.
+fn texture_kernel(
+    model: &TextureModel,
+    context: &GpuContext,
+    period: Option<Period>,
+) -> Result<Box<dyn GpuKernel>, GpuError> {
+    let strata = model
+        .channels
+        .iter()
+        .map(|ch| {
+            if ch.strata.is_empty() {
+                return Ok(None);
+            }
+            let lrp = LrpNoise {
+                seed: ch.seed,
+                mean: ch.mean,
+                strata: ch.strata.clone(),
+            };
+            lrp_evaluator(context, lrp, period).map(Some)
+        })
+        .collect::<Result<Vec<_>, GpuError>>()?;
+    let mut turbulence: [Vec<GpuEvaluator>; 2] = [Vec::new(), Vec::new()];
+    if let Some(t) = &model.turbulence {
+        for (axis, evaluators) in turbulence.iter_mut().enumerate() {
+            for (s, stratum) in t.strata.iter().enumerate() {
                 let lrp = LrpNoise {
-                    seed: ch.seed,
-                    mean: ch.mean,
-                    strata: ch.strata.clone(),
+                    seed: t.seed(axis, s),
+                    mean: 0.0,
+                    strata: vec![stratum.clone()],
                 };
-                GpuEvaluator::new(context, &Model::Lrp(lrp)).map(Some)
-            })
-            .collect::<Result<Vec<_>, GpuError>>()?;
-        let mut turbulence: [Vec<GpuEvaluator>; 2] = [Vec::new(), Vec::new()];
-        if let Some(t) = &self.turbulence {
-            for (axis, evaluators) in turbulence.iter_mut().enumerate() {
-                for (s, stratum) in t.strata.iter().enumerate() {
-                    let lrp = LrpNoise {
-                        seed: t.seed(axis, s),
-                        mean: 0.0,
-                        strata: vec![stratum.clone()],
-                    };
-                    evaluators.push(GpuEvaluator::new(context, &Model::Lrp(lrp))?);
-                }
+                evaluators.push(lrp_evaluator(context, lrp, period)?);
             }
         }
-        let structures = pack_structures(self);
-        let limit = binding_limit(&context.limits());
-        // What the cosine table occupies on the device (one unused record where there is none).
-        let needed = size_of_val(structures.cosines.as_slice()).max(size_of::<[f32; 4]>()) as u64;
-        if needed > limit {
-            return Err(GpuError::LimitsExceeded {
-                what: "texture structure cosines (bytes in one storage buffer)",
-                value: needed,
-                limit,
-            });
-        }
-        let kernel = TextureKernel {
-            model: self.clone(),
-            strata,
-            turbulence,
-        };
-        Shaded::boxed(
-            context,
-            kernel,
-            &[
-                Table::new("texture structures", &structures.channels),
-                Table::new("texture blocks", &structures.blocks),
-                Table::new("texture cosines", &structures.cosines),
-                Table::new("texture block means", &structures.means),
-            ],
-        )
+    }
+    let structures = pack_structures(model);
+    let limit = binding_limit(&context.limits());
+    // What the cosine table occupies on the device (one unused record where there is none).
+    let needed = size_of_val(structures.cosines.as_slice()).max(size_of::<[f32; 4]>()) as u64;
+    if needed > limit {
+        return Err(GpuError::LimitsExceeded {
+            what: "texture structure cosines (bytes in one storage buffer)",
+            value: needed,
+            limit,
+        });
+    }
+    let kernel = TextureKernel {
+        model: model.clone(),
+        strata,
+        turbulence,
+        period,
+    };
+    Shaded::boxed(
+        context,
+        kernel,
+        &[
+            Table::new("texture structures", &structures.channels),
+            Table::new("texture blocks", &structures.blocks),
+            Table::new("texture cosines", &structures.cosines),
+            Table::new("texture block means", &structures.means),
+        ],
+    )
+}
+
+/// The evaluator of one of a texture's LRP passes, periodic with `period` when given (an LRP
+/// noise takes any period: its lattices are fitted to it).
+fn lrp_evaluator(
+    context: &GpuContext,
+    lrp: LrpNoise,
+    period: Option<Period>,
+) -> Result<GpuEvaluator, GpuError> {
+    let model = Model::Lrp(lrp);
+    match period {
+        None => GpuEvaluator::new(context, &model),
+        Some(p) => GpuEvaluator::periodic_at_z(context, &model, 0.0, p),
     }
 }
 
@@ -391,8 +435,11 @@ impl ShaderKernel for TextureKernel {
                 })
                 .collect()
         };
-        let columns = axis(tile.width, &|i| tile.x(i));
-        let rows = axis(tile.height, &|j| tile.y(j));
+        let columns = axis(tile.width, &periodic_columns(tile, self.period));
+        let rows = axis(tile.height, &periodic_rows(tile, self.period));
+        let cells = self
+            .period
+            .map_or([0, 0], |p| p.cells(side).map(|n| n as i32));
         let mut params = TextureParams {
             width: tile.width as u32,
             height: tile.height as u32,
@@ -404,6 +451,8 @@ impl ShaderKernel for TextureKernel {
             placement_layer: PLACEMENT_LAYER,
             filtered: u32::from(tile.footprint().is_some()),
             footprint: tile.footprint().map_or(0.0, |f| f as f32),
+            cells_x: cells[0],
+            cells_y: cells[1],
             ..bytemuck::Zeroable::zeroed()
         };
         if let Some(c) = &self.model.colour {

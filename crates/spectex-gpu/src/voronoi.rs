@@ -4,9 +4,10 @@
 //! column's and row's cell and offset (the CPU's split); the shader runs the search.
 
 use spectex_model::grid::locate_cell;
-use spectex_model::voronoi::{VoronoiNoise, VoronoiOutput};
+use spectex_model::voronoi::{BlockCache, VoronoiNoise, VoronoiOutput};
+use spectex_model::{ModelKind, Period};
 
-use crate::axis::{CellAxis, cell_axis, columns, rows};
+use crate::axis::{CellAxis, cell_axis, periodic_columns, periodic_rows};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables, halve_tile_to_fit};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
@@ -40,6 +41,9 @@ const SITE_FLOATS: usize = 6;
 pub(crate) struct VoronoiKernel {
     model: VoronoiNoise,
     params: VoronoiParams,
+    /// The period of a periodic model and its cells per period: positions reduced modulo it,
+    /// sites drawn by `VoronoiNoise::sites_periodic` (cells and Lloyd blocks wrapped).
+    period: Option<(Period, [i64; 2])>,
 }
 
 impl VoronoiKernel {
@@ -58,32 +62,54 @@ impl VoronoiKernel {
 
 impl GpuKind for VoronoiNoise {
     fn gpu_kernel(&self, context: &GpuContext, _z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
-        let output = match self.output {
-            VoronoiOutput::CellId => 0,
-            VoronoiOutput::F1 => 1,
-            VoronoiOutput::Border => 2,
-            VoronoiOutput::F2MinusF1 => 3,
-            VoronoiOutput::Palette { .. } | VoronoiOutput::Image { .. } => 4,
-        };
-        let kernel = VoronoiKernel {
-            model: self.clone(),
-            params: VoronoiParams {
-                width: 0,
-                height: 0,
-                reach: self.output.reach(),
-                output,
-                box_i0: 0,
-                box_j0: 0,
-                box_cols: 0,
-                box_rows: 0,
-                inv_cell: (1.0 / f64::from(self.cell_size)) as f32,
-                _pad0: 0,
-                _pad1: 0,
-                _pad2: 0,
-            },
-        };
-        Shaded::boxed(context, kernel, &[])
+        voronoi_kernel(self, context, None)
     }
+
+    /// The CPU's periodic Voronoi diagram: the host draws the sites with the cells and Lloyd
+    /// blocks wrapped, at positions reduced modulo the period.
+    fn gpu_kernel_periodic(
+        &self,
+        context: &GpuContext,
+        _z: f64,
+        period: Period,
+    ) -> Result<Box<dyn GpuKernel>, GpuError> {
+        self.check_period(period)?;
+        voronoi_kernel(self, context, Some(period))
+    }
+}
+
+/// The kernel of a validated model, periodic with `period` when given.
+fn voronoi_kernel(
+    model: &VoronoiNoise,
+    context: &GpuContext,
+    period: Option<Period>,
+) -> Result<Box<dyn GpuKernel>, GpuError> {
+    let output = match model.output {
+        VoronoiOutput::CellId => 0,
+        VoronoiOutput::F1 => 1,
+        VoronoiOutput::Border => 2,
+        VoronoiOutput::F2MinusF1 => 3,
+        VoronoiOutput::Palette { .. } | VoronoiOutput::Image { .. } => 4,
+    };
+    let kernel = VoronoiKernel {
+        model: model.clone(),
+        params: VoronoiParams {
+            width: 0,
+            height: 0,
+            reach: model.output.reach(),
+            output,
+            box_i0: 0,
+            box_j0: 0,
+            box_cols: 0,
+            box_rows: 0,
+            inv_cell: (1.0 / f64::from(model.cell_size)) as f32,
+            _pad0: 0,
+            _pad1: 0,
+            _pad2: 0,
+        },
+        period: period.map(|p| (p, p.cells(f64::from(model.cell_size)))),
+    };
+    Shaded::boxed(context, kernel, &[])
 }
 
 impl ShaderKernel for VoronoiKernel {
@@ -126,8 +152,10 @@ impl ShaderKernel for VoronoiKernel {
     ) -> Result<TileTables, GpuError> {
         let side = self.side();
         let (width, height) = (tile.width, tile.height);
-        let columns = cell_axis(side, width, columns(tile));
-        let rows = cell_axis(side, height, rows(tile));
+        let period = self.period.map(|(p, _)| p);
+        let (column_x, row_y) = (periodic_columns(tile, period), periodic_rows(tile, period));
+        let columns = cell_axis(side, width, &column_x);
+        let rows = cell_axis(side, height, &row_y);
         let mut range: [Option<(i64, i64)>; 2] = [None, None];
         let mut widen = |axis: usize, c: i32| {
             let c = i64::from(c);
@@ -139,7 +167,10 @@ impl ShaderKernel for VoronoiKernel {
                 for j in 0..height {
                     for i in 0..width {
                         let k = 2 * (j * width + i);
-                        let p = [tile.x(i) + f64::from(d[k]), tile.y(j) + f64::from(d[k + 1])];
+                        let p = [
+                            column_x(i) + f64::from(d[k]),
+                            row_y(j) + f64::from(d[k + 1]),
+                        ];
                         for (axis, &v) in p.iter().enumerate() {
                             if let Some((c, _)) = locate_cell(v, side) {
                                 widen(axis, c);
@@ -177,7 +208,13 @@ impl ShaderKernel for VoronoiKernel {
                     limit,
                 });
             }
-            let table = self.model.sites(i0, j0, cols, rows_n);
+            let table = match self.period {
+                None => self.model.sites(i0, j0, cols, rows_n),
+                Some((_, cells)) => {
+                    self.model
+                        .sites_periodic(i0, j0, cols, rows_n, &BlockCache::default(), cells)
+                }
+            };
             data.reserve(cols * rows_n * SITE_FLOATS);
             for s in &table.sites {
                 data.extend([

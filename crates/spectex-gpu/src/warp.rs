@@ -3,7 +3,7 @@
 //! and renders its base displaced by the sum through the base's own shader (`common.wgsl`'s
 //! displacement convention, bind group 1 of every model shader).
 
-use spectex_model::{Model, Warp};
+use spectex_model::{Model, ModelKind, Period, Warp};
 
 use crate::kernel::{GpuKernel, GpuKind};
 use crate::{GpuContext, GpuError, GpuEvaluator, GpuWindow};
@@ -17,18 +17,45 @@ pub(crate) struct WarpKernel {
     base: GpuEvaluator,
     x: GpuEvaluator,
     y: GpuEvaluator,
+    /// The period of a periodic warp: its three models are periodic (each reduces its own
+    /// positions), so its window is never out of range.
+    period: Option<Period>,
 }
 
 impl GpuKind for Warp {
     fn gpu_kernel(&self, context: &GpuContext, z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
-        Ok(Box::new(WarpKernel {
-            model: self.clone(),
-            whole: Model::Warp(self.clone()),
-            base: GpuEvaluator::prepared(context, &self.base, z)?,
-            x: GpuEvaluator::prepared(context, &self.x, z)?,
-            y: GpuEvaluator::prepared(context, &self.y, z)?,
-        }))
+        warp_kernel(self, context, z, None)
     }
+
+    /// The CPU's periodic warp: base, x and y each periodic with `period` (then `d` is, and
+    /// the base at positions one period apart is too).
+    fn gpu_kernel_periodic(
+        &self,
+        context: &GpuContext,
+        z: f64,
+        period: Period,
+    ) -> Result<Box<dyn GpuKernel>, GpuError> {
+        self.check_period(period)?;
+        warp_kernel(self, context, z, Some(period))
+    }
+}
+
+/// The kernel of a validated warp, periodic with `period` when given.
+fn warp_kernel(
+    model: &Warp,
+    context: &GpuContext,
+    z: f64,
+    period: Option<Period>,
+) -> Result<Box<dyn GpuKernel>, GpuError> {
+    let sub = |m: &Model| GpuEvaluator::prepared_with_period(context, m, z, period);
+    Ok(Box::new(WarpKernel {
+        model: model.clone(),
+        whole: Model::Warp(model.clone()),
+        base: sub(&model.base)?,
+        x: sub(&model.x)?,
+        y: sub(&model.y)?,
+        period,
+    }))
 }
 
 impl GpuKernel for WarpKernel {
@@ -46,7 +73,12 @@ impl GpuKernel for WarpKernel {
         Ok(size)
     }
 
+    /// A periodic warp's positions are reduced into the period (the CPU's `PeriodicKernel`
+    /// checks nothing either).
     fn check_window(&self, window: &GpuWindow) -> Result<(), GpuError> {
+        if self.period.is_some() {
+            return Ok(());
+        }
         Ok(spectex_model::warp::check_window(&self.whole, window)?)
     }
 

@@ -410,6 +410,14 @@ impl From<Combine> for Model {
 impl crate::ModelKind for Combine {
     const NAME: &'static str = "combine";
 
+    /// A period every operand accepts: the operation applies pixel by pixel, so the
+    /// combination of periodic operands is periodic (as a warp of periodic models is).
+    fn check_period(&self, period: crate::Period) -> Result<(), ModelError> {
+        self.operands
+            .iter()
+            .try_for_each(|m| m.check_period(period))
+    }
+
     fn validate(&self) -> Result<(), ModelError> {
         Combine::validate(self)
     }

@@ -572,6 +572,44 @@ impl From<IslamicPattern> for crate::Model {
 impl crate::ModelKind for IslamicPattern {
     const NAME: &'static str = "islamic";
 
+    /// A translation period of the pattern: a square lattice (`square` or `4.8.8` tilings)
+    /// turned by a multiple of 90°, whose period's width and height are multiples of the cell
+    /// `C` (the pattern repeats every `C` pixels along both axes). A hexagonal lattice has no
+    /// axis-aligned period of whole pixels (its rows are `C·√3/2` apart, irrational for a
+    /// rational `C`), nor has a lattice turned by another angle.
+    fn check_period(&self, period: crate::Period) -> Result<(), ModelError> {
+        let refuse = |requirement: String| {
+            Err(ModelError::Period {
+                period: period.to_string(),
+                kind: "islamic",
+                requirement,
+            })
+        };
+        if !matches!(self.tiling, Tiling::Square | Tiling::OctagonSquare) {
+            return refuse(
+                "islamic.tiling must be \"square\" or \"4.8.8\" for a periodic pattern (the                  hexagonal lattices of \"hexagonal\" and \"3.12.12\" repeat every C·√3/2                  pixels vertically, never a whole number of pixels)"
+                    .into(),
+            );
+        }
+        if self.rotation % 90.0 != 0.0 {
+            return refuse(format!(
+                "islamic.rotation is {}°; a periodic pattern's rotation must be a multiple of                  90° (−360, −270, …, 360) so that its lattice stays axis-aligned",
+                self.rotation
+            ));
+        }
+        let cell = f64::from(self.cell_size);
+        for (axis, p) in [("width", period.width), ("height", period.height)] {
+            if f64::from(p) % cell != 0.0 {
+                return refuse(format!(
+                    "the period's {axis} {p} must be a multiple of islamic.cell_size = {cell}                      pixels, the pattern's translation period (valid: {cell}, {}, {}, …)",
+                    2.0 * cell,
+                    3.0 * cell
+                ));
+            }
+        }
+        Ok(())
+    }
+
     fn validate(&self) -> Result<(), ModelError> {
         IslamicPattern::validate(self)
     }

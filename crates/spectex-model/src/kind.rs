@@ -54,7 +54,8 @@ pub trait ModelKind {
 
 /// The kinds that have a periodic form ([`ModelKind::check_period`]), for messages.
 pub const PERIODIC_KINDS: &[&str] = &[
-    "lrp", "gabor", "phasor", "texture", "classic", "warp", "wavelet", "texton",
+    "lrp", "gabor", "phasor", "texture", "classic", "warp", "wavelet", "texton", "combine",
+    "islamic", "matrix", "voronoi",
 ];
 
 /// Any procedural model spectex evaluates: one variant per kind, each a [`crate::ModelKind`].

@@ -250,6 +250,26 @@ pub fn rings_value(s: [u32; 2], n: u32, rings: u32) -> f32 {
 impl crate::ModelKind for MatrixTransform {
     const NAME: &'static str = "matrix";
 
+    /// A period whose width and height are multiples of the torus side `N`: the texture is a
+    /// function of the pixel's cell modulo `N`, so it repeats every `N` pixels.
+    fn check_period(&self, period: crate::Period) -> Result<(), ModelError> {
+        let n = self.size;
+        for (axis, p) in [("width", period.width), ("height", period.height)] {
+            if n == 0 || !p.is_multiple_of(n) {
+                return Err(ModelError::Period {
+                    period: period.to_string(),
+                    kind: "matrix",
+                    requirement: format!(
+                        "the period's {axis} {p} must be a multiple of matrix.size = {n} pixels,                          the torus the texture repeats on (valid: {n}, {}, {}, …)",
+                        2 * u64::from(n),
+                        3 * u64::from(n)
+                    ),
+                });
+            }
+        }
+        Ok(())
+    }
+
     fn validate(&self) -> Result<(), ModelError> {
         MatrixTransform::validate(self)
     }

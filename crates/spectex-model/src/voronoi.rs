@@ -203,11 +203,19 @@ impl BlockCache {
 
     /// Block `(bx, by)` of `model`, relaxed now or earlier. The cache must only ever serve one
     /// model (an evaluator owns it). A poisoned lock only costs the cache.
-    fn get_or_relax(&self, model: &VoronoiNoise, bx: i64, by: i64) -> RelaxedBlock {
+    /// A periodic model's blocks are relaxed with the `cells` per period it wraps; a cache
+    /// serves one evaluator, so one `cells`.
+    fn get_or_relax(
+        &self,
+        model: &VoronoiNoise,
+        bx: i64,
+        by: i64,
+        cells: Option<[i64; 2]>,
+    ) -> RelaxedBlock {
         if let Some(hit) = self.0.lock().ok().and_then(|m| m.get(&(bx, by)).cloned()) {
             return hit;
         }
-        let block = Arc::new(model.relaxed_block(bx, by));
+        let block = Arc::new(model.relaxed_block_in(bx, by, cells));
         if let Ok(mut map) = self.0.lock() {
             if map.len() >= Self::CAPACITY {
                 map.clear();
@@ -305,6 +313,14 @@ impl VoronoiNoise {
     /// The relaxed offsets of block `(bx, by)`'s `B × B` cells, row-major (module docs).
     #[must_use]
     pub fn relaxed_block(&self, bx: i64, by: i64) -> Vec<[f32; 2]> {
+        self.relaxed_block_in(bx, by, None)
+    }
+
+    /// [`relaxed_block`](Self::relaxed_block) of a periodic model with `cells` per period
+    /// ([`sites_periodic`](Self::sites_periodic)): the frozen ring around the block reads the
+    /// wrapped cells' jittered seeds, so the blocks at the period's edges relax against the
+    /// other side's seeds.
+    fn relaxed_block_in(&self, bx: i64, by: i64, cells: Option<[i64; 2]>) -> Vec<[f32; 2]> {
         let b = i64::from(self.lloyd_block);
         let ring = i64::from(BORDER_REACH);
         let side = b + 2 * ring;
@@ -313,7 +329,8 @@ impl VoronoiNoise {
         let mut points: Vec<[f64; 2]> = Vec::with_capacity((side * side) as usize);
         for y in 0..side {
             for x in 0..side {
-                let ([ox, oy], _) = self.jittered(i0 + x, j0 + y);
+                let (wi, wj) = wrapped(i0 + x, j0 + y, cells);
+                let ([ox, oy], _) = self.jittered(wi, wj);
                 points.push([x as f64 + f64::from(ox), y as f64 + f64::from(oy)]);
             }
         }
@@ -374,6 +391,37 @@ impl VoronoiNoise {
         height: usize,
         cache: &BlockCache,
     ) -> SiteTable {
+        self.sites_in(i0, j0, width, height, cache, None)
+    }
+
+    /// [`sites_cached`](Self::sites_cached) of the model made periodic with `cells` cells per
+    /// period along x and y (a model that accepts the period, `check_period`): cell `(i, j)`
+    /// holds the seed, ID and colour of cell `(i mod n_x, j mod n_y)` (offsets within the cell,
+    /// so the same seed one period away), and Lloyd blocks (which divide the period) are
+    /// relaxed against wrapped neighbours. A `cache` must serve one `cells` only.
+    #[must_use]
+    pub fn sites_periodic(
+        &self,
+        i0: i64,
+        j0: i64,
+        width: usize,
+        height: usize,
+        cache: &BlockCache,
+        cells: [i64; 2],
+    ) -> SiteTable {
+        self.sites_in(i0, j0, width, height, cache, Some(cells))
+    }
+
+    /// The site table, periodic with `cells` per period when given.
+    fn sites_in(
+        &self,
+        i0: i64,
+        j0: i64,
+        width: usize,
+        height: usize,
+        cache: &BlockCache,
+        cells: Option<[i64; 2]>,
+    ) -> SiteTable {
         let mut sites = Vec::with_capacity(width * height);
         let b = i64::from(self.lloyd_block);
         // This table's blocks, looked up in the shared cache once each.
@@ -381,13 +429,13 @@ impl VoronoiNoise {
             std::collections::HashMap::new();
         for y in 0..height as i64 {
             for x in 0..width as i64 {
-                let (i, j) = (i0 + x, j0 + y);
+                let (i, j) = wrapped(i0 + x, j0 + y, cells);
                 let (mut offset, id) = self.jittered(i, j);
                 if self.lloyd_iterations > 0 {
                     let (bx, by) = (i.div_euclid(b), j.div_euclid(b));
                     let block = blocks
                         .entry((bx, by))
-                        .or_insert_with(|| cache.get_or_relax(self, bx, by));
+                        .or_insert_with(|| cache.get_or_relax(self, bx, by, cells));
                     offset = block[(j.rem_euclid(b) * b + i.rem_euclid(b)) as usize];
                 }
                 sites.push(Site {
@@ -439,6 +487,18 @@ impl VoronoiNoise {
         } else {
             search
         }
+    }
+}
+
+/// Cell `(i, j)` wrapped into one period's `cells` when given (the cell whose seed it holds).
+#[inline]
+fn wrapped(i: i64, j: i64, cells: Option<[i64; 2]>) -> (i64, i64) {
+    match cells {
+        None => (i, j),
+        Some([nx, ny]) => (
+            crate::period::wrap(i, nx.max(1)),
+            crate::period::wrap(j, ny.max(1)),
+        ),
     }
 }
 
@@ -561,6 +621,41 @@ impl From<VoronoiNoise> for crate::Model {
 
 impl crate::ModelKind for VoronoiNoise {
     const NAME: &'static str = "voronoi";
+
+    /// A period that is a whole number of cells along x and y (the cells wrap,
+    /// [`VoronoiNoise::sites_periodic`]) and, with Lloyd relaxation, of blocks of `B × B`
+    /// cells (the blocks wrap too).
+    fn check_period(&self, period: crate::Period) -> Result<(), ModelError> {
+        let cell = f64::from(self.cell_size);
+        let (side, what) = if self.lloyd_iterations > 0 {
+            (
+                cell * f64::from(self.lloyd_block),
+                format!(
+                    "its Lloyd block of voronoi.lloyd_block × voronoi.cell_size = {} × {cell} \
+                     pixels",
+                    self.lloyd_block
+                ),
+            )
+        } else {
+            (
+                cell,
+                format!("its cell of voronoi.cell_size = {cell} pixels"),
+            )
+        };
+        if period.sides().iter().all(|&p| p % side == 0.0) {
+            return Ok(());
+        }
+        Err(ModelError::Period {
+            period: period.to_string(),
+            kind: "voronoi",
+            requirement: format!(
+                "{what} must divide the period's width and height (valid sides: {side}, {}, {}, \
+                 …)",
+                2.0 * side,
+                3.0 * side
+            ),
+        })
+    }
 
     fn validate(&self) -> Result<(), ModelError> {
         VoronoiNoise::validate(self)

@@ -1302,6 +1302,100 @@ fn no_filter_point_samples_minified_renders() {
     assert_eq!(near, near_point, "at scale 1 filtering changes nothing");
 }
 
+/// `noise voronoi|islamic|matrix|combine|kensler --periodic`: each 2P × 2P render (16-bit PNG,
+/// at an offset) is its P × P quarter repeated, sample by sample; a period a kind cannot take
+/// fails naming the field and the valid sides.
+#[test]
+fn periodic_noise_of_every_other_kind_tiles_seamlessly() {
+    let dir = scratch("periodic-kinds");
+    let runs: &[(&str, &[&str], u32)] = &[
+        (
+            "voronoi",
+            &["noise", "voronoi", "--cell", "16", "--lloyd", "2"],
+            64,
+        ),
+        (
+            "voronoi-colour",
+            &["noise", "voronoi", "--cell", "20", "--show", "palette"],
+            80,
+        ),
+        ("islamic", &["noise", "islamic", "--cell", "32"], 64),
+        ("matrix", &["noise", "matrix", "--torus", "32"], 64),
+        ("combine", &["noise", "combine"], 128),
+        ("kensler", &["noise", "kensler", "--cell", "16"], 64),
+    ];
+    for (name, args, p) in runs {
+        let out = dir.join(format!("{name}.png"));
+        let size = format!("{}x{}", 2 * p, 2 * p);
+        let period = format!("{p}x{p}");
+        let mut all = args.to_vec();
+        all.extend([
+            "-o",
+            s(&out),
+            "--size",
+            &size,
+            "--periodic",
+            &period,
+            "--offset",
+            "-1003,517",
+            "--bit-depth",
+            "16",
+        ]);
+        spectex_ok(&all);
+        let img = image::open(&out).unwrap().to_luma16();
+        assert_eq!(img.dimensions(), (2 * p, 2 * p), "{name}");
+        let mut distinct = std::collections::HashSet::new();
+        for y in 0..2 * p {
+            for x in 0..2 * p {
+                distinct.insert(img.get_pixel(x, y)[0]);
+                assert_eq!(
+                    img.get_pixel(x, y),
+                    img.get_pixel(x % p, y % p),
+                    "{name}: pixel ({x}, {y})"
+                );
+            }
+        }
+        assert!(distinct.len() > 1, "{name}: a flat render");
+        std::fs::remove_file(&out).unwrap();
+    }
+    let bad: &[(&[&str], &[&str])] = &[
+        (
+            &[
+                "noise",
+                "voronoi",
+                "--cell",
+                "16",
+                "--lloyd",
+                "1",
+                "--periodic",
+                "48x48",
+            ],
+            &["--periodic", "voronoi.lloyd_block", "64"],
+        ),
+        (
+            &[
+                "noise",
+                "islamic",
+                "--tiling",
+                "hexagonal",
+                "--periodic",
+                "64x64",
+            ],
+            &["--periodic", "islamic.tiling"],
+        ),
+        (
+            &["noise", "matrix", "--torus", "32", "--periodic", "48x64"],
+            &["--periodic", "matrix.size = 32", "64, 96"],
+        ),
+    ];
+    for (args, needles) in bad {
+        let out_file = dir.join("bad.png");
+        let mut all = args.to_vec();
+        all.extend(["-o", s(&out_file), "--size", "64x64"]);
+        assert_fails(&spectex(&all), &dir, needles);
+    }
+}
+
 /// `--periodic`: a 2P × 2P render is its P × P quarter repeated (16-bit PNGs, compared sample
 /// by sample), through `render` with a file's period and the flag, `noise fbm` and `synth`;
 /// bad periods fail cleanly, naming the option and what is needed.

@@ -15,8 +15,9 @@ use spectex_model::{Model, PERIODIC_KINDS, Period};
 use spectex_testkit::invariance::testdata_cases;
 
 /// The periods tried, in order: a rectangular one (an axis mix-up shows), then one that every
-/// classic octave of the shipped models divides, then the shipped wavelet tiles' 768 pixels.
-const PERIODS: [(u32, u32); 3] = [(96, 64), (256, 128), (768, 768)];
+/// classic octave of the shipped models divides, then the shipped wavelet tiles' 768 pixels,
+/// then multiples of the shipped 4.8.8 Islamic pattern's 40-pixel cell.
+const PERIODS: [(u32, u32); 4] = [(96, 64), (256, 128), (768, 768), (480, 320)];
 
 /// The cases whose model accepts one of [`PERIODS`], with the first it accepts.
 fn periodic_cases() -> Vec<(String, Model, Period)> {
@@ -144,9 +145,11 @@ fn seams_are_seamless_where_the_plain_model_is_not() {
                 "{name}, period {p}, shift {shift:?}: differs by {periodic} (spread {spread})"
             );
             // The plain model one period away is another part of the noise, except where it
-            // is periodic by construction: a wavelet tile, a texture's structure alone.
+            // is periodic by construction: a wavelet tile, a texture's structure alone, an
+            // Islamic pattern's lattice, a matrix transformation's torus.
             let other = max(&plain);
-            let plain_periodic = matches!(model.kind(), "wavelet" | "texture");
+            let plain_periodic =
+                matches!(model.kind(), "wavelet" | "texture" | "islamic" | "matrix");
             assert!(
                 plain_periodic || other > 0.1 * spread,
                 "{name}, shift {shift:?}: the plain model is periodic too ({other}, {spread})"
@@ -157,19 +160,78 @@ fn seams_are_seamless_where_the_plain_model_is_not() {
 
 #[test]
 fn kinds_without_a_periodic_form_are_refused_by_name() {
-    let p = Period::new(96, 64).unwrap();
+    // Every shipped model that takes none of the test periods is refused by kind and period.
     for case in testdata_cases() {
-        let kind = case.model.kind();
-        if PERIODIC_KINDS.contains(&kind) {
+        let accepted = PERIODS
+            .iter()
+            .any(|&(w, h)| case.model.check_period(Period::new(w, h).unwrap()).is_ok());
+        if accepted {
             continue;
         }
+        let p = Period::new(96, 64).unwrap();
         let err = Evaluator::periodic(&case.model, p).unwrap_err().to_string();
         assert!(
-            err.contains("period 96x64") && err.contains(kind),
+            err.contains("period 96x64") && err.contains(case.model.kind()),
             "{}: {err}",
             case.name
         );
     }
+    // What each refusal names: (model, period, the words its message must hold).
+    let cases: &[(&str, (u32, u32), &[&str])] = &[
+        ("classic-simplex-2d", (256, 128), &["simplex", "skewed"]),
+        (
+            "islamic-hexagonal-star-distance",
+            (480, 320),
+            &["islamic.tiling", "\"square\" or \"4.8.8\""],
+        ),
+        (
+            "islamic-488-band",
+            (100, 80),
+            &["islamic.cell_size = 40", "80, 120"],
+        ),
+        (
+            "matrix-cat-rings",
+            (96, 100),
+            &["matrix.size = 96", "height 100", "192"],
+        ),
+        // Cells of 24 px divide 48, the Lloyd blocks of 4 × 24 = 96 px do not.
+        (
+            "voronoi-border-lloyd",
+            (48, 48),
+            &["voronoi.lloyd_block", "96"],
+        ),
+        ("voronoi-f1", (100, 56), &["voronoi.cell_size = 28", "56"]),
+    ];
+    for (name, (w, h), needles) in cases {
+        let case = testdata_cases()
+            .into_iter()
+            .find(|c| c.name.contains(name))
+            .unwrap();
+        let p = Period::new(*w, *h).unwrap();
+        let err = Evaluator::periodic(&case.model, p).unwrap_err().to_string();
+        for needle in *needles {
+            assert!(err.contains(needle), "{name} with {p}: {err}");
+        }
+    }
+    // A rotated square lattice is periodic only when turned by a multiple of 90°.
+    let case = testdata_cases()
+        .into_iter()
+        .find(|c| c.name.contains("islamic-488-band"))
+        .unwrap();
+    let Model::Islamic(mut m) = case.model else {
+        panic!("not an Islamic model")
+    };
+    let p = Period::new(480, 320).unwrap();
+    m.rotation = 90.0;
+    assert!(Evaluator::periodic(&Model::Islamic(m.clone()), p).is_ok());
+    m.rotation = 30.0;
+    let err = Evaluator::periodic(&Model::Islamic(m), p)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("islamic.rotation") && err.contains("90°"),
+        "{err}"
+    );
 }
 
 /// Phasor noise is periodic when its fields repeat with the period; a ramp never does, and the

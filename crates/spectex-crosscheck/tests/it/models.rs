@@ -220,16 +220,16 @@ fn minified_phasor_profiles_agree() {
     }
 }
 
-/// Periodic models (issue 17, seamless output): every shipped LRP, classic and wavelet model that
-/// takes a 96×64, 256×128 or 768×768 period (the kinds with a periodic device path) agrees on the CPU
-/// and the GPU within its kind's derived tolerances on the standard windows, and the GPU's own
-/// `2W × 2H` render is its `W × H` render repeated, bit for bit (the device evaluates the same
-/// reduced positions).
+/// Periodic models (issue 17, seamless output): every shipped model of a kind with a periodic
+/// form (`spectex_model::PERIODIC_KINDS`) that takes a 96×64, 256×128, 768×768 or 480×320
+/// period agrees on the CPU and the GPU within its kind's derived tolerances on the standard
+/// windows, and the GPU's own `2W × 2H` render is its `W × H` render repeated, bit for bit (the
+/// device evaluates the same reduced positions). Every periodic kind has such a model.
 #[test]
 fn periodic_models_agree_on_cpu_and_gpu() {
     use spectex_crosscheck::check_model_with_period;
     use spectex_gpu::{GpuEvaluator, GpuWindow};
-    use spectex_model::Period;
+    use spectex_model::{PERIODIC_KINDS, Period};
     let Some(context) = gpu_or_skip() else {
         return;
     };
@@ -238,10 +238,7 @@ fn periodic_models_agree_on_cpu_and_gpu() {
     for file in &model_files() {
         let case = file.file_stem().unwrap().to_string_lossy().into_owned();
         let model = spectex_model::from_json(&std::fs::read_to_string(file).unwrap()).unwrap();
-        if !matches!(model.kind(), "lrp" | "classic" | "wavelet") {
-            continue;
-        }
-        let Some(period) = [(96, 64), (256, 128), (768, 768)]
+        let Some(period) = [(96, 64), (256, 128), (768, 768), (480, 320)]
             .map(|(w, h)| Period::new(w, h).unwrap())
             .into_iter()
             .find(|&p| model.check_period(p).is_ok())
@@ -265,6 +262,7 @@ fn periodic_models_agree_on_cpu_and_gpu() {
             }
         }
         let gpu = GpuEvaluator::periodic_at_z(&context, &model, 0.0, period).unwrap();
+        let c = gpu.output_channels();
         let (w, h) = (period.width as usize, period.height as usize);
         let big = gpu
             .render(&GpuWindow::new(2 * w, 2 * h).at([-3.0, 5.0], 1.0))
@@ -274,22 +272,29 @@ fn periodic_models_agree_on_cpu_and_gpu() {
             .unwrap();
         for j in 0..2 * h {
             for i in 0..2 * w {
-                let (a, b) = (big[j * 2 * w + i], tile[(j % h) * w + i % w]);
-                assert_eq!(
-                    a.to_bits(),
-                    b.to_bits(),
-                    "{name} on the GPU: pixel ({i}, {j})"
-                );
+                for k in 0..c {
+                    let (a, b) = (
+                        big[(j * 2 * w + i) * c + k],
+                        tile[((j % h) * w + i % w) * c + k],
+                    );
+                    assert_eq!(
+                        a.to_bits(),
+                        b.to_bits(),
+                        "{name} on the GPU: pixel ({i}, {j}) channel {k}"
+                    );
+                }
             }
         }
-        checked.push(case);
+        checked.push((case, model.kind()));
     }
-    println!("periodic cross-check: {}", checked.join(", "));
+    println!("periodic cross-check: {checked:?}");
+    let missing: Vec<&&str> = PERIODIC_KINDS
+        .iter()
+        .filter(|k| !checked.iter().any(|(_, kind)| kind == *k))
+        .collect();
     assert!(
-        ["lrp", "classic", "wavelet"]
-            .iter()
-            .all(|k| checked.iter().any(|c| c.starts_with(k))),
-        "a periodic kind without a case: {checked:?}"
+        missing.is_empty(),
+        "periodic kinds without a case: {missing:?}"
     );
     assert!(failed.is_empty(), "{}", failed.join("\n"));
 }

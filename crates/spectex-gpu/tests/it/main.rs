@@ -13,6 +13,7 @@ mod gabor;
 mod kit;
 mod lrp;
 mod matrix;
+mod periodic;
 mod phasor;
 mod shaders;
 mod texture;
