@@ -15,6 +15,7 @@ mod lrp;
 mod matrix;
 mod phasor;
 mod shaders;
+mod subdivision;
 mod texture;
 mod warp;
 mod wavelet;
