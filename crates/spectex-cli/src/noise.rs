@@ -1,6 +1,6 @@
 //! `spectex noise`: procedural noises built from flags, one module per family of subcommands
 //! (LRP noise of a continuous spectrum, Gabor, the classic noises, wavelet noise, domain
-//! warping, textons, Voronoi diagrams, matrix transformation, combinations), each building its model through `spectex_model`'s builders, writing it if asked
+//! warping, textons, Voronoi diagrams, matrix transformation, stochastic subdivision, combinations), each building its model through `spectex_model`'s builders, writing it if asked
 //! (`--model`) and rendering it.
 
 mod classic;
@@ -9,6 +9,7 @@ mod gabor;
 mod islamic;
 mod matrix;
 mod spectral;
+mod subdivision;
 mod texton;
 mod voronoi;
 mod warp;
@@ -71,9 +72,10 @@ enum NoiseKind {
     /// Matrix transformation (survey §2.4): a source (built-in rings or a square image) moved
     /// k times by an integer matrix on the N × N torus, e.g. the cat map.
     Matrix(matrix::MatrixArgs),
-    // Stochastic subdivision (survey §3.1.7) would fit as a pointwise kind (a level-ℓ lattice
-    // value depends only on its ancestors' hashes, a bounded block per level; README, after
-    // `spectex noise matrix`): not built yet.
+    /// Stochastic subdivision (survey §3.1.7): midpoint displacement (Fournier et al. 1982)
+    /// or a smoother 4-point stencil (after Lewis 1987), each displacement hashed from its
+    /// level and lattice point, so infinite and tile-invariant.
+    Subdivision(subdivision::SubdivisionArgs),
     /// A combination of models (survey §4.1–4.2): add, multiply, min, max, mix, smoothstep,
     /// fold, sin-fold, histogram matching, colour ramp.
     Combine(combine::CombineArgs),
@@ -141,6 +143,7 @@ pub fn noise(cmd: &NoiseCommand) -> Result<()> {
         NoiseKind::Texton(args) => texton::run(args),
         NoiseKind::Voronoi(args) => voronoi::run(args),
         NoiseKind::Matrix(args) => matrix::run(args),
+        NoiseKind::Subdivision(args) => subdivision::run(args),
         NoiseKind::Combine(args) => combine::run(args),
         NoiseKind::Islamic(args) => islamic::run(args),
     }

@@ -35,6 +35,7 @@ pub use spectex_model::math;
 pub mod matrix;
 mod periodic;
 pub mod phasor;
+pub mod subdivision;
 pub mod texton;
 pub mod texture;
 pub mod voronoi;

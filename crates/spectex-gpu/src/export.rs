@@ -49,6 +49,10 @@ pub const EXPORT_SHADERS: &[(&str, &str)] = &[
         include_str!("../../../shaders/export/texture.wgsl"),
     ),
     ("warp", include_str!("../../../shaders/export/warp.wgsl")),
+    (
+        "subdivision",
+        include_str!("../../../shaders/export/subdivision.wgsl"),
+    ),
 ];
 
 /// Bytes of tables up to which an exported module is portable WGSL: the WGSL specification lets

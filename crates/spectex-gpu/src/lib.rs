@@ -88,6 +88,7 @@ mod islamic;
 mod lrp;
 mod matrix;
 mod phasor;
+mod subdivision;
 mod texton;
 mod texture;
 mod voronoi;

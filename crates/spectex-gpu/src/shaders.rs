@@ -101,6 +101,12 @@ pub const SHADERS: &[ShaderFile] = &[
         entry_points: &["matrix_main"],
     },
     ShaderFile {
+        name: "subdivision",
+        source: include_str!("../../../shaders/subdivision.wgsl"),
+        needs_common: true,
+        entry_points: &["subdivision_main"],
+    },
+    ShaderFile {
         name: "probe",
         source: include_str!("../../../shaders/probe.wgsl"),
         needs_common: true,

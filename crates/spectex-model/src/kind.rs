@@ -12,7 +12,7 @@ use crate::error::ModelError;
 use crate::period::Period;
 use crate::{
     ClassicNoise, Combine, GaborNoise, IslamicPattern, LrpNoise, MatrixTransform, PhasorNoise,
-    TextonNoise, TextureModel, VoronoiNoise, Warp, WaveletNoise,
+    StochasticSubdivision, TextonNoise, TextureModel, VoronoiNoise, Warp, WaveletNoise,
 };
 
 /// The model-layer definition of one kind: its name, validation, output channels and seeds.
@@ -96,6 +96,9 @@ pub enum Model {
     /// Matrix transformation (survey §2.4, [`crate::matrix`]): a source moved `k` times by an
     /// integer matrix on the `N × N` torus.
     Matrix(MatrixTransform),
+    /// Stochastic subdivision (survey §3.1.7, [`crate::subdivision`]): midpoint displacement
+    /// on a square lattice, each displacement a hash of its level and lattice point.
+    Subdivision(StochasticSubdivision),
 }
 
 /// Calls `$body` with `$m` bound to the kind struct inside `$model` (by the reference the match
@@ -154,6 +157,10 @@ macro_rules! for_each_kind {
                 type $Kind = $crate::MatrixTransform;
                 $body
             }
+            $crate::Model::Subdivision($m) => {
+                type $Kind = $crate::StochasticSubdivision;
+                $body
+            }
         }
     };
 }
@@ -173,6 +180,7 @@ pub const KIND_NAMES: &[&str] = &[
     <Combine as ModelKind>::NAME,
     <IslamicPattern as ModelKind>::NAME,
     <MatrixTransform as ModelKind>::NAME,
+    <StochasticSubdivision as ModelKind>::NAME,
 ];
 
 impl Model {

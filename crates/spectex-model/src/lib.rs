@@ -58,6 +58,7 @@ mod phasor;
 pub mod phasor_kernels;
 pub mod random;
 pub mod simulation;
+pub mod subdivision;
 mod target;
 pub mod texton;
 pub mod texture;
@@ -88,6 +89,7 @@ pub use phasor::{
     MAX_PROFILE_SAMPLES, PHASOR_PERIOD_TOLERANCE, PHASOR_TRUNCATION, PhasorNoise,
     PhasorNoiseBuilder, PhasorOrientation, PhasorOutput, Profile, RAMP_EXTENT,
 };
+pub use subdivision::StochasticSubdivision;
 pub use target::SpectralTarget;
 pub use texton::TextonNoise;
 pub use texture::{ColourBasis, FixedCosine, Structure, TextureChannel, TextureModel, Turbulence};

@@ -38,6 +38,9 @@
 //! `x`, `y` then its ID; Lloyd relaxation moves the offsets on the host, per block, from these.
 //! Islamic patterns (`spectex_model::islamic`) draw their phase `φ₁`, `φ₂` (`next_f32` twice)
 //! from `cell_hash(0, 0, ISLAMIC_LAYER = 0x49534C4D "ISLM", seed)`.
+//! Stochastic subdivision (`spectex_model::subdivision`) displaces level-`ℓ` point `k` of coarse
+//! cell `c` by the byte sum of `cell_hash(k_x, k_y, SUBD + ℓ, cell_hash(c_x, c_y, SUBD, seed))`,
+//! `SUBDIVISION_LAYER = 0x53554244` ("SUBD").
 
 /// Multiplier of the 32-bit LCG step (PCG's default 32-bit multiplier).
 pub const LCG_MULTIPLIER: u32 = 747_796_405;

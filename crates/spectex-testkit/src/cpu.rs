@@ -44,6 +44,9 @@ const ISLAMIC_MAX_COST: f64 = spectex_model::islamic::MAX_SEGMENTS as f64;
 /// A matrix transformation reads one source texel per pixel (the map `A·q mod N` is folded into
 /// one matrix on the host, whatever the iteration count).
 const MATRIX_MAX_COST: f64 = 1.0;
+/// A stochastic subdivision computes at most a 6 × 6 block of lattice values per level, 17
+/// levels (`spectex_cpu::subdivision`: `W²·(L + 1)`, `L ≤ MAX_LEVELS = 16`).
+const SUBDIVISION_MAX_COST: f64 = 36.0 * 17.0;
 /// A combination costs its operands' costs: along any path at most 8 combinations and 8 warps
 /// nest (`MAX_COMBINE_DEPTH`, `MAX_WARP_DEPTH`), each with at most 8 (3) operands, so at most
 /// `8^16` leaves at the largest leaf cost (a texture's).
@@ -76,6 +79,7 @@ pub const COST_BOUNDS: &[(&str, f64)] = &[
     ("combine", COMBINE_MAX_COST),
     ("islamic", ISLAMIC_MAX_COST),
     ("matrix", MATRIX_MAX_COST),
+    ("subdivision", SUBDIVISION_MAX_COST),
 ];
 
 const _: () = assert!(6561 == 3usize.pow(MAX_WARP_DEPTH as u32));

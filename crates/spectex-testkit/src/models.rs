@@ -14,6 +14,7 @@ use spectex_model::combine::{
 };
 use spectex_model::islamic::{IslamicOutput, IslamicPattern, Motif, Tiling};
 use spectex_model::matrix::{MAX_ENTRY, MAX_RINGS, MatrixSource, MatrixTransform};
+use spectex_model::subdivision::{MAX_LEVELS, Stencil, StochasticSubdivision};
 use spectex_model::texton::{Combine, MAX_DENSITY, MAX_REACH, Placement, Spot, TextonNoise};
 use spectex_model::texture::{MAX_CHANNELS, MAX_PERIOD};
 use spectex_model::voronoi::{MAX_PALETTE, VoronoiNoise, VoronoiOutput};
@@ -60,6 +61,9 @@ pub const KIND_STRATEGIES: &[(&str, KindStrategy)] = &[
         islamic(o).prop_map(Model::Islamic).boxed()
     }),
     ("matrix", |o, _| matrix(o).prop_map(Model::Matrix).boxed()),
+    ("subdivision", |o, _| {
+        subdivision(o).prop_map(Model::Subdivision).boxed()
+    }),
 ];
 
 /// Warps nested at most in generated models: two past [`MAX_WARP_DEPTH`], so the limit itself
@@ -877,6 +881,35 @@ pub fn matrix(o: Odds) -> BoxedStrategy<MatrixTransform> {
                 source,
                 amplitude,
                 mean,
+            },
+        )
+        .boxed()
+}
+
+// ---------------------------------------------------------------------------------------------
+// Stochastic subdivision.
+
+/// A stochastic subdivision: cells of 1 to 4096 pixels, 0 to 16 levels (with the odds 17),
+/// `H` in `[0, 1]` (with the odds outside), either stencil, any amplitude and mean.
+pub fn subdivision(o: Odds) -> BoxedStrategy<StochasticSubdivision> {
+    (
+        seed(),
+        f32_in(1.0, 4096.0, o),
+        u32_in(0, MAX_LEVELS, o),
+        f32_in(0.0, 1.0, o),
+        level(o),
+        level(o),
+        prop_oneof![Just(Stencil::Midpoint), Just(Stencil::Cubic)],
+    )
+        .prop_map(
+            |(seed, cell_size, levels, hurst, amplitude, mean, stencil)| StochasticSubdivision {
+                seed,
+                cell_size,
+                levels,
+                hurst,
+                amplitude,
+                mean,
+                stencil,
             },
         )
         .boxed()

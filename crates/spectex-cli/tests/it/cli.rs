@@ -919,7 +919,7 @@ fn classic_bad_inputs_fail_cleanly() {
     }
 }
 
-/// `spectex noise voronoi` and `spectex noise combine` with each output and operation: the
+/// `spectex noise voronoi`, `combine`, `matrix`, `kensler` and `subdivision` with each output and operation: the
 /// model they write renders to the same bytes, the image is not constant; bad flags fail
 /// naming the field and the flag.
 #[test]
@@ -960,6 +960,16 @@ fn voronoi_and_combinations_end_to_end() {
         ],
         &["kensler"],
         &["kensler", "--dims", "3"],
+        &["subdivision"],
+        &[
+            "subdivision",
+            "--stencil",
+            "cubic",
+            "--hurst",
+            "0.2",
+            "--levels",
+            "9",
+        ],
     ];
     for (n, extra) in cases.iter().enumerate() {
         let png = dir.join(format!("{n}.png"));
@@ -1013,6 +1023,18 @@ fn voronoi_and_combinations_end_to_end() {
         (
             vec!["noise", "matrix", "--torus", "1"],
             vec!["matrix.size", "--torus"],
+        ),
+        (
+            vec!["noise", "subdivision", "--levels", "17"],
+            vec!["subdivision.levels", "0 to 16", "--levels"],
+        ),
+        (
+            vec!["noise", "subdivision", "--hurst", "1.5"],
+            vec!["subdivision.hurst", "[0, 1]", "--hurst"],
+        ),
+        (
+            vec!["noise", "subdivision", "--cell", "0.5"],
+            vec!["subdivision.cell_size", "--cell"],
         ),
     ] {
         let mut a = args.clone();

@@ -12,5 +12,6 @@ mod lrp;
 mod matrix;
 mod periodic;
 mod phasor;
+mod subdivision;
 mod warp;
 mod wavelet;

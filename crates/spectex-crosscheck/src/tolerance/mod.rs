@@ -25,6 +25,7 @@ pub mod islamic;
 pub mod lrp;
 pub mod matrix;
 pub mod phasor;
+pub mod subdivision;
 pub mod texton;
 pub mod texture;
 pub mod voronoi;

@@ -8,4 +8,5 @@ mod export;
 mod islamic;
 mod models;
 mod simulations;
+mod subdivision;
 mod texture_fixtures;

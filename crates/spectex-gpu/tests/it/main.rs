@@ -16,6 +16,7 @@ mod matrix;
 mod periodic;
 mod phasor;
 mod shaders;
+mod subdivision;
 mod texture;
 mod warp;
 mod wavelet;

@@ -1,0 +1,191 @@
+// subdivision.wgsl — stochastic subdivision (survey §3.1.7), the GPU twin of
+// crates/spectex-cpu/src/subdivision.rs; the definition is the module doc of
+// crates/spectex-model/src/subdivision.rs. Composed after common.wgsl.
+//
+// The host sends each column's and row's coarse cell and f32 offset (spectex_model::grid::
+// locate_cell, the CPU's split) and the level scales σ_ℓ/√21845 (f32 of the CPU's f64). A pixel
+// finds its finest cell ⌊t·2^L⌋ (exact in f32), the W × W block of lattice points each level
+// needs (W = 2 midpoint, 6 cubic), and computes the blocks from level 0 to L: the stencil along
+// x, then along y, plus the hashed displacement of each new point (integers, bit-identical to
+// the CPU's). Only the sums differ from the CPU: f32 here, f64 there.
+
+/// Per-dispatch values and the model's constants.
+struct SubdivisionParams {
+    width: u32,
+    height: u32,
+    seed: u32,
+    /// L.
+    levels: u32,
+    /// 0: midpoint (bilinear), 1: cubic (4-point stencil, Catmull–Rom).
+    cubic: u32,
+    mean: f32,
+    /// 1 / C (f32 of the f64 value), for warping.
+    inv_cell: f32,
+    _pad0: u32,
+}
+
+/// One column (or row): its coarse cell, the offset in it, and whether it is in range.
+struct SubdivisionAxis {
+    cell: i32,
+    offset: f32,
+    valid: u32,
+}
+
+@group(0) @binding(0) var<uniform> params: SubdivisionParams;
+/// σ_ℓ/√21845 for ℓ = 0..=L.
+@group(0) @binding(1) var<storage, read> scales: array<f32>;
+@group(0) @binding(2) var<storage, read> columns: array<SubdivisionAxis>;
+@group(0) @binding(3) var<storage, read> rows: array<SubdivisionAxis>;
+@group(0) @binding(4) var<storage, read_write> output: array<f32>;
+
+/// spectex_model::subdivision::SUBDIVISION_LAYER ("SUBD").
+const SUBDIVISION_LAYER: u32 = 0x53554244u;
+
+/// spectex_model::subdivision::normalise: (c + ⌊k/2^ℓ⌋ wrapping, k mod 2^ℓ).
+fn subdivision_normalise(c: i32, k: i32, level: u32) -> vec2<i32> {
+    let carry = k >> level;
+    return vec2<i32>(bitcast<i32>(bitcast<u32>(c) + bitcast<u32>(carry)), k & ((1i << level) - 1i));
+}
+
+/// The displacement's centred byte sum at level `level`, coarse cell `c`, index `k` (normalised):
+/// spectex_model::subdivision::{lattice_bits, centred_byte_sum}, exact in f32.
+fn subdivision_displacement(level: u32, c: vec2<i32>, k: vec2<i32>) -> f32 {
+    let cell = cell_hash(c.x, c.y, SUBDIVISION_LAYER, params.seed);
+    let b = cell_hash(k.x, k.y, SUBDIVISION_LAYER + level, cell);
+    let sum = (b & 0xffu) + ((b >> 8u) & 0xffu) + ((b >> 16u) & 0xffu) + (b >> 24u);
+    return f32(i32(sum) - 510i);
+}
+
+/// Stencil::taps: the first parent index, the weights and their count for level index `q`.
+struct SubdivisionTaps {
+    first: i32,
+    w: vec4<f32>,
+    n: i32,
+}
+
+fn subdivision_taps(q: i32) -> SubdivisionTaps {
+    if ((q & 1i) == 0i) {
+        return SubdivisionTaps(q >> 1u, vec4<f32>(1.0f, 0.0f, 0.0f, 0.0f), 1i);
+    }
+    if (params.cubic == 1u) {
+        return SubdivisionTaps((q >> 1u) - 1i, vec4<f32>(-0.0625f, 0.5625f, 0.5625f, -0.0625f), 4i);
+    }
+    return SubdivisionTaps(q >> 1u, vec4<f32>(0.5f, 0.5f, 0.0f, 0.0f), 2i);
+}
+
+/// Stencil::final_weights at u: (1 − u, u) or Catmull–Rom's.
+fn subdivision_final_weights(u: f32) -> vec4<f32> {
+    if (params.cubic == 1u) {
+        let u2 = u * u;
+        let u3 = u * u * u;
+        return vec4<f32>(
+            0.5f * (-u3 + 2.0f * u2 - u),
+            0.5f * (3.0f * u3 - 5.0f * u2 + 2.0f),
+            0.5f * (-3.0f * u3 + 4.0f * u2 + u),
+            0.5f * (u3 - u2),
+        );
+    }
+    return vec4<f32>(1.0f - u, u, 0.0f, 0.0f);
+}
+
+/// The texture at offset (tx, ty) of coarse cell (cx, cy).
+fn subdivision_value(cx: i32, tx: f32, cy: i32, ty: f32) -> f32 {
+    let levels = params.levels;
+    let side = f32(1u << levels);
+    let fx = tx * side;
+    let fy = ty * side;
+    let kx = floor(fx);
+    let ky = floor(fy);
+    var w = 2i;
+    var r = 0i;
+    var n_final = 2i;
+    if (params.cubic == 1u) {
+        w = 6i;
+        r = 1i;
+        n_final = 4i;
+    }
+    var origins: array<vec2<i32>, 17>;
+    origins[levels] = vec2<i32>(i32(kx) - r, i32(ky) - r);
+    for (var l = levels; l >= 1u; l = l - 1u) {
+        let o = origins[l];
+        origins[l - 1u] = vec2<i32>((o.x >> 1u) - r, (o.y >> 1u) - r);
+    }
+    var block: array<array<f32, 6>, 6>;
+    var tmp: array<array<f32, 6>, 6>;
+    let o0 = origins[0];
+    for (var j = 0i; j < w; j = j + 1i) {
+        let py = subdivision_normalise(cy, o0.y + j, 0u).x;
+        for (var i = 0i; i < w; i = i + 1i) {
+            let px = subdivision_normalise(cx, o0.x + i, 0u).x;
+            block[j][i] = scales[0] * subdivision_displacement(0u, vec2<i32>(px, py), vec2<i32>(0i, 0i));
+        }
+    }
+    for (var l = 1u; l <= levels; l = l + 1u) {
+        let po = origins[l - 1u];
+        let o = origins[l];
+        for (var i = 0i; i < w; i = i + 1i) {
+            let taps = subdivision_taps(o.x + i);
+            let a = taps.first - po.x;
+            for (var j = 0i; j < w; j = j + 1i) {
+                var s = 0.0f;
+                for (var t = 0i; t < taps.n; t = t + 1i) {
+                    s = s + taps.w[t] * block[j][a + t];
+                }
+                tmp[j][i] = s;
+            }
+        }
+        for (var j = 0i; j < w; j = j + 1i) {
+            let qy = o.y + j;
+            let taps = subdivision_taps(qy);
+            let b = taps.first - po.y;
+            for (var i = 0i; i < w; i = i + 1i) {
+                let qx = o.x + i;
+                var s = 0.0f;
+                for (var t = 0i; t < taps.n; t = t + 1i) {
+                    s = s + taps.w[t] * tmp[b + t][i];
+                }
+                if (((qx | qy) & 1i) == 1i) {
+                    let nx = subdivision_normalise(cx, qx, l);
+                    let ny = subdivision_normalise(cy, qy, l);
+                    s = s + scales[l] * subdivision_displacement(l, vec2<i32>(nx.x, ny.x), vec2<i32>(nx.y, ny.y));
+                }
+                block[j][i] = s;
+            }
+        }
+    }
+    let wx = subdivision_final_weights(fx - kx);
+    let wy = subdivision_final_weights(fy - ky);
+    var sum = 0.0f;
+    for (var b = 0i; b < n_final; b = b + 1i) {
+        var row = 0.0f;
+        for (var a = 0i; a < n_final; a = a + 1i) {
+            row = row + wx[a] * block[b][a];
+        }
+        sum = sum + wy[b] * row;
+    }
+    return params.mean + sum;
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn subdivision_main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if (gid.x >= params.width || gid.y >= params.height) {
+        return;
+    }
+    var column = columns[gid.x];
+    var row = rows[gid.y];
+    let index = gid.y * params.width + gid.x;
+    if (warp_params.enabled == 1u) {
+        let d = warp_displacement[index] * params.inv_cell;
+        let cx = warp_relocate(column.cell, column.offset, d.x);
+        let cy = warp_relocate(row.cell, row.offset, d.y);
+        column.cell = cx.cell;
+        column.offset = cx.offset;
+        row.cell = cy.cell;
+        row.offset = cy.offset;
+    }
+    let cx = select(0i, column.cell, column.valid == 1u);
+    let tx = select(0.0f, column.offset, column.valid == 1u);
+    let cy = select(0i, row.cell, row.valid == 1u);
+    let ty = select(0.0f, row.offset, row.valid == 1u);
+    output[index] = subdivision_value(cx, tx, cy, ty);
+}
