@@ -49,40 +49,46 @@ pub(crate) struct IslamicKernel {
 
 impl GpuKind for IslamicPattern {
     fn gpu_kernel(&self, context: &GpuContext, _z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
-        let geometry = self.geometry();
-        let map = self.lattice_map();
-        let [e1, e2] = geometry.basis;
-        let kernel = IslamicKernel {
-            map,
-            params: IslamicParams {
-                width: 0,
-                height: 0,
-                segments: geometry.len() as u32,
-                output: match self.output {
-                    IslamicOutput::Band => 0,
-                    IslamicOutput::Distance => 1,
-                    IslamicOutput::Filled => 2,
-                },
-                cell: self.cell_size,
-                line_width: self.line_width,
-                footprint: 1.0,
-                inv_footprint: 1.0,
-                e1x: e1[0],
-                e1y: e1[1],
-                e2x: e2[0],
-                e2y: e2[1],
-                a00: map.a[0][0] as f32,
-                a01: map.a[0][1] as f32,
-                a10: map.a[1][0] as f32,
-                a11: map.a[1][1] as f32,
-            },
-        };
+        let (kernel, segments) = pack(self);
         Shaded::boxed(
             context,
             kernel,
-            &[Table::new("islamic segments", &geometry.segments)],
+            &[Table::new("islamic segments", &segments)],
         )
     }
+}
+
+/// The kernel of an Islamic pattern and its segment table (seven f32 per segment).
+pub(crate) fn pack(model: &IslamicPattern) -> (IslamicKernel, Vec<f32>) {
+    let geometry = model.geometry();
+    let map = model.lattice_map();
+    let [e1, e2] = geometry.basis;
+    let kernel = IslamicKernel {
+        map,
+        params: IslamicParams {
+            width: 0,
+            height: 0,
+            segments: geometry.len() as u32,
+            output: match model.output {
+                IslamicOutput::Band => 0,
+                IslamicOutput::Distance => 1,
+                IslamicOutput::Filled => 2,
+            },
+            cell: model.cell_size,
+            line_width: model.line_width,
+            footprint: 1.0,
+            inv_footprint: 1.0,
+            e1x: e1[0],
+            e1y: e1[1],
+            e2x: e2[0],
+            e2y: e2[1],
+            a00: map.a[0][0] as f32,
+            a01: map.a[0][1] as f32,
+            a10: map.a[1][0] as f32,
+            a11: map.a[1][1] as f32,
+        },
+    };
+    (kernel, geometry.segments)
 }
 
 impl ShaderKernel for IslamicKernel {

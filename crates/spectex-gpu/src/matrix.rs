@@ -37,31 +37,38 @@ pub(crate) struct MatrixKernel {
 
 impl GpuKind for MatrixTransform {
     fn gpu_kernel(&self, context: &GpuContext, _z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
-        let a = self
-            .inverse_power()
-            .ok_or_else(|| GpuError::Model(self.validate().err().unwrap_or_else(not_invertible)))?;
-        let (image, rings, texels) = match &self.source {
-            MatrixSource::Rings { rings } => (0, *rings, vec![0.0f32]),
-            MatrixSource::Image { texels } => (1, 0, texels.clone()),
-        };
-        let kernel = MatrixKernel {
-            params: MatrixParams {
-                width: 0,
-                height: 0,
-                size: self.size,
-                image,
-                a00: a[0][0],
-                a01: a[0][1],
-                a10: a[1][0],
-                a11: a[1][1],
-                rings,
-                amplitude: self.amplitude,
-                mean: self.mean,
-                _pad0: 0,
-            },
-        };
+        let (kernel, texels) = pack(self)?;
         Shaded::boxed(context, kernel, &[Table::new("matrix texels", &texels)])
     }
+}
+
+/// The kernel of a matrix transformation and its source's texels (one unused texel for the
+/// rings).
+pub(crate) fn pack(model: &MatrixTransform) -> Result<(MatrixKernel, Vec<f32>), GpuError> {
+    let a = model
+        .inverse_power()
+        .ok_or_else(|| GpuError::Model(model.validate().err().unwrap_or_else(not_invertible)))?;
+    let (image, rings, texels) = match &model.source {
+        MatrixSource::Rings { rings } => (0, *rings, vec![0.0f32]),
+        MatrixSource::Image { texels } => (1, 0, texels.clone()),
+    };
+    let kernel = MatrixKernel {
+        params: MatrixParams {
+            width: 0,
+            height: 0,
+            size: model.size,
+            image,
+            a00: a[0][0],
+            a01: a[0][1],
+            a10: a[1][0],
+            a11: a[1][1],
+            rings,
+            amplitude: model.amplitude,
+            mean: model.mean,
+            _pad0: 0,
+        },
+    };
+    Ok((kernel, texels))
 }
 
 fn not_invertible() -> spectex_model::ModelError {

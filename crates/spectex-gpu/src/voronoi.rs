@@ -58,31 +58,35 @@ impl VoronoiKernel {
 
 impl GpuKind for VoronoiNoise {
     fn gpu_kernel(&self, context: &GpuContext, _z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
-        let output = match self.output {
-            VoronoiOutput::CellId => 0,
-            VoronoiOutput::F1 => 1,
-            VoronoiOutput::Border => 2,
-            VoronoiOutput::F2MinusF1 => 3,
-            VoronoiOutput::Palette { .. } | VoronoiOutput::Image { .. } => 4,
-        };
-        let kernel = VoronoiKernel {
-            model: self.clone(),
-            params: VoronoiParams {
-                width: 0,
-                height: 0,
-                reach: self.output.reach(),
-                output,
-                box_i0: 0,
-                box_j0: 0,
-                box_cols: 0,
-                box_rows: 0,
-                inv_cell: (1.0 / f64::from(self.cell_size)) as f32,
-                _pad0: 0,
-                _pad1: 0,
-                _pad2: 0,
-            },
-        };
-        Shaded::boxed(context, kernel, &[])
+        Shaded::boxed(context, pack(self), &[])
+    }
+}
+
+/// The kernel of a Voronoi model.
+pub(crate) fn pack(model: &VoronoiNoise) -> VoronoiKernel {
+    let output = match model.output {
+        VoronoiOutput::CellId => 0,
+        VoronoiOutput::F1 => 1,
+        VoronoiOutput::Border => 2,
+        VoronoiOutput::F2MinusF1 => 3,
+        VoronoiOutput::Palette { .. } | VoronoiOutput::Image { .. } => 4,
+    };
+    VoronoiKernel {
+        model: model.clone(),
+        params: VoronoiParams {
+            width: 0,
+            height: 0,
+            reach: model.output.reach(),
+            output,
+            box_i0: 0,
+            box_j0: 0,
+            box_cols: 0,
+            box_rows: 0,
+            inv_cell: (1.0 / f64::from(model.cell_size)) as f32,
+            _pad0: 0,
+            _pad1: 0,
+            _pad2: 0,
+        },
     }
 }
 
