@@ -1,6 +1,6 @@
-//! The WGSL export inside someone else's shader: for every model of `testdata/models/` whose
-//! kinds `spectex_gpu::export` covers (LRP, Gabor, classic, texton, wavelet, texture and warps
-//! of them; phasor is not exported yet), a wgpu **render** pipeline (a full-screen triangle
+//! The WGSL export inside someone else's shader: for every model of `testdata/models/` (every
+//! kind exports; `REFUSED` lists the models with a feature the exporter refuses), a wgpu
+//! **render** pipeline (a full-screen triangle
 //! and a fragment shader that includes the exported module and calls `spectex_sample` or
 //! `spectex_sample_cell` at its pixel's position; models over `MAX_TABLE_BYTES` with their
 //! tables' storage buffer bound) draws into an `Rgba32Float` texture on the
@@ -22,7 +22,16 @@
 //! covers them the same way. A warp's export adds the displacement's fraction to the offset
 //! (one rounding of a number below 2, far below the compute path's relocation that the warp
 //! tolerance bounds) and moves whole pixels exactly. The test positions are dyadic, so the
-//! fragment shader forms them exactly.
+//! fragment shader forms them exactly. A matrix transformation takes its pixel cell from the
+//! integer part exactly: its bound is spectex-crosscheck's alone. A combination's bound is
+//! spectex-crosscheck's (composed from its operands') with the position term of its largest
+//! operand lattice. Where spectex-crosscheck judges a kind by its own criterion over
+//! companion renders, so does this test, every companion exported too: a phasor model by
+//! phasor's pixel criterion with its complex-sum bound `E` grown by what the export's offsets
+//! and in-shader directions add (`phasor_export_bound`), on the pixels no kernel edge can
+//! cross (`phasor_edge_mask`); a Voronoi cell ID by equality wherever the two nearest seeds
+//! cannot swap (`check_voronoi_discrete`). Phasor kernels and Voronoi sites are drawn in the
+//! shader from the same integer hashes as on the host, so they are the same kernels.
 //!
 //! Skips with a printed reason when no GPU adapter exists, unless `SPECTEX_REQUIRE_GPU=1`.
 
@@ -71,8 +80,10 @@ const REFUSED: &[(&str, &str)] = &[
 /// model and LRP part into the fragment shader), measured on the 2-core CI machine's kind: the
 /// render test leaves them out unless `SPECTEX_EXPORT_ALL=1` (`cargo xtask export-check`), so
 /// that CI stays in its time budget. Each kind keeps a model in the CI run
-/// (`texture-synthetic-grey`, `warp-lrp-by-gabor`).
+/// (`texture-synthetic-grey`, `warp-lrp-by-gabor`, `combine-mix-product`; `combine-bark`, a
+/// ramp of a fold of a warp, compiled in 84 s).
 const SLOW_ON_LAVAPIPE: &[&str] = &[
+    "combine-bark",
     "texture-fitted-colour",
     "texture-synthetic-colour",
     "warp-classic-fbm",
@@ -587,6 +598,85 @@ fn check_phasor(context: &GpuContext, case: &str, model: &Model, m: &PhasorNoise
     failures
 }
 
+/// A Voronoi model's discontinuous output (the cell ID, a palette colour) through the export,
+/// judged as spectex-crosscheck judges it (`CheckKind::own_verdict` of the Voronoi kind):
+/// every pixel equal on both sides unless the CPU's `F2 − F1` (the companion model, exported
+/// and rendered too) is within the margin where the two nearest seeds may swap —
+/// spectex-crosscheck's `FLIP_MARGIN` plus what the export adds: a swap needs
+/// `F2 − F1 ≤ 2·(|δd_q| + |δd_n|)` more, for the seeds' vectors `d = s − f` moved by the
+/// export's pixel offset `f` (`POSITION_ROUNDINGS` roundings of a number below `2C + 2`
+/// pixels per axis, `/C` in cell units) and its site offsets (drawn in the shader:
+/// `½ + jitter·(u − ½)` may be contracted into one fused operation, one ulp of a number
+/// below 1, `u`), `√2` of that per vector. Returns the failures.
+fn check_voronoi_discrete(
+    context: &GpuContext,
+    case: &str,
+    model: &Model,
+    m: &spectex_model::voronoi::VoronoiNoise,
+) -> Vec<String> {
+    use spectex_crosscheck::tolerance::voronoi::FLIP_MARGIN;
+    let cases = cases();
+    let c = f64::from(m.cell_size);
+    let per_axis = POSITION_ROUNDINGS * F32_UNIT_ROUNDOFF * (2.0 * c + 2.0) / c + F32_UNIT_ROUNDOFF;
+    let margin = FLIP_MARGIN + 2.0 * 2.0 * std::f64::consts::SQRT_2 * per_axis;
+    let channels = m.output.channels();
+    let companion = check_kind(model).companions().remove(0);
+    let mut renders = Vec::new();
+    for (variant, width) in [(model, channels), (&companion, 1)] {
+        let module = export(variant, &ExportOptions::default())
+            .unwrap_or_else(|e| panic!("{case}: {e}"))
+            .wgsl;
+        renders.push(
+            render(
+                context,
+                &shader(&module, &cases, width),
+                width,
+                cases.len() as u32,
+                &[],
+            )
+            .unwrap_or_else(|e| panic!("{case}: {e}")),
+        );
+    }
+    let mut failures = Vec::new();
+    for (k, c) in cases.iter().enumerate() {
+        let want = spectex_cpu::Evaluator::new(model)
+            .unwrap()
+            .render(&c.window)
+            .unwrap();
+        let gaps = spectex_cpu::Evaluator::new(&companion)
+            .unwrap()
+            .render(&c.window)
+            .unwrap();
+        let pixels = gaps.len();
+        let got = &renders[0][k * pixels * channels..(k + 1) * pixels * channels];
+        let (mut differ, mut bad) = (0, 0);
+        for ((a, b), gap) in want
+            .chunks_exact(channels)
+            .zip(got.chunks_exact(channels))
+            .zip(&gaps)
+        {
+            if a != b {
+                differ += 1;
+                if f64::from(*gap) > margin {
+                    bad += 1;
+                }
+            }
+        }
+        println!(
+            "export: {case} {}: {differ} of {pixels} pixels differ, {bad} where F2 − F1 > \
+             {margin:.2e}",
+            c.name
+        );
+        if bad > 0 {
+            failures.push(format!(
+                "{case} {}: {bad} pixels differ where the nearest seed is unambiguous",
+                c.name
+            ));
+        }
+    }
+    failures
+}
+
 /// The frame `cargo xtask bevy-check` rendered through examples/bevy-material (its
 /// `BEVY_MODEL` and `BEVY_WINDOW`), named by `SPECTEX_BEVY_FRAME`: RGB f32 per pixel from an
 /// `Rgba16Float` target, compared with the CPU render within [`export_tolerance`] plus the
@@ -648,8 +738,19 @@ fn exported_modules_render_the_cpu_values_in_a_fragment_shader() {
     let mut failures = Vec::new();
     let (mut rendered, mut refused) = (0, 0);
     let all = std::env::var("SPECTEX_EXPORT_ALL").is_ok_and(|v| v == "1");
+    // `SPECTEX_EXPORT_ONLY=a,b`: only the models whose names start with `a` or `b` (a
+    // developer's shortcut; the counts are then not checked).
+    let only: Option<Vec<String>> = std::env::var("SPECTEX_EXPORT_ONLY")
+        .ok()
+        .map(|v| v.split(',').map(str::to_owned).collect());
     for file in model_files() {
         let case = file.file_stem().unwrap().to_string_lossy().into_owned();
+        if only
+            .as_ref()
+            .is_some_and(|o| !o.iter().any(|p| case.starts_with(p.as_str())))
+        {
+            continue;
+        }
         if !all && SLOW_ON_LAVAPIPE.contains(&case.as_str()) {
             println!("export: {case}: left out (SPECTEX_EXPORT_ALL=1 renders it)");
             continue;
@@ -680,6 +781,13 @@ fn exported_modules_render_the_cpu_values_in_a_fragment_shader() {
             }
             other => other.unwrap_or_else(|e| panic!("{case}: {e}")),
         };
+        if let Model::Voronoi(m) = &model
+            && regularity(&model).is_none()
+        {
+            failures.extend(check_voronoi_discrete(&context, &case, &model, m));
+            rendered += 1;
+            continue;
+        }
         if let Model::Phasor(m) = &model {
             let started = std::time::Instant::now();
             failures.extend(check_phasor(&context, &case, &model, m));
@@ -740,6 +848,10 @@ fn exported_modules_render_the_cpu_values_in_a_fragment_shader() {
         rendered += 1;
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
+    if only.is_some() {
+        println!("SPECTEX_EXPORT_ONLY is set: {rendered} models rendered, counts not checked");
+        return;
+    }
     assert_eq!(refused, REFUSED.len(), "refused models");
     let expected = if all { 37 } else { 37 - SLOW_ON_LAVAPIPE.len() };
     assert!(
