@@ -69,13 +69,13 @@ fn islamic_main(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 
 /// The pattern at the lattice fractions `(s, t)` in `[0, 1]`: the CPU's segment loop over the
-/// first `segments` segments (IslamicGeometry::nearest) and output formula (output_value).
-fn islamic_at(s: f32, t: f32, segments: u32) -> f32 {
+/// first `count` segments (IslamicGeometry::nearest) and output formula (output_value).
+fn islamic_at(s: f32, t: f32, count: u32) -> f32 {
     let qx = s * params.e1x + t * params.e2x;
     let qy = s * params.e1y + t * params.e2y;
     var best = 3.4028235e38f;
     var odd = false;
-    for (var k = 0u; k < segments; k++) {
+    for (var k = 0u; k < count; k++) {
         let base = k * SEGMENT_FLOATS;
         let ax = segments[base];
         let ay = segments[base + 1u];

@@ -53,3 +53,41 @@ impl ExportKind for IslamicPattern {
         .with_constants(constants))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The glue's sum of the set bits' table entries, modulo 2³² (`islamic_export_fixed_sum`),
+    /// is `frac(a·n)·2³²` within its roundings: at most half a unit per entry (32) and for the
+    /// reference (1), whatever `n` — the identity `a·n = Σ_k bit_k(n)·a·w_k`.
+    #[test]
+    fn fixed_point_sums_are_the_fraction_of_a_times_n() {
+        for a in [1.0 / 48.0, -0.017_320_508_075_688_77, 0.123_456_789, 3.5] {
+            let table: Vec<u32> = bit_table(a).collect();
+            for n in [
+                0i32,
+                1,
+                -1,
+                7,
+                -48,
+                1_000_003,
+                10_000_000,
+                i32::MAX,
+                i32::MIN,
+            ] {
+                let bits = n as u32;
+                let sum = (0..32)
+                    .filter(|k| ((bits >> k) & 1) == 1)
+                    .fold(0u32, |acc, k| acc.wrapping_add(table[k]));
+                // The reference: a·n = p + e exactly (p the rounded product, e = fma(a, n, −p)
+                // its exact error), so frac(a·n) = frac(frac(p) + e), one rounding of 2⁻⁵³.
+                let p = a * f64::from(n);
+                let e = a.mul_add(f64::from(n), -p);
+                let want = fixed((p - p.floor()) + e);
+                let diff = sum.wrapping_sub(want) as i32;
+                assert!(diff.abs() <= 17, "a = {a}, n = {n}: {sum} vs {want}");
+            }
+        }
+    }
+}
