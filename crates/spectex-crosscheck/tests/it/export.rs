@@ -870,11 +870,11 @@ fn exported_modules_render_the_cpu_values_in_a_fragment_shader() {
         return;
     }
     assert_eq!(refused, REFUSED.len(), "refused models");
-    let expected = if all { 37 } else { 37 - SLOW_ON_LAVAPIPE.len() };
+    let expected = if all { 38 } else { 38 - SLOW_ON_LAVAPIPE.len() };
     assert!(
         rendered >= expected,
         "only {rendered} models rendered through the export, {expected} expected (LRP 4, \
-         Gabor 2, classic 6, texton 3, wavelet 2, phasor 2, matrix 2, Islamic 3, Voronoi 2, \
+         Gabor 2, classic 8, texton 3, wavelet 2, phasor 2, matrix 2, Islamic 3, Voronoi 2, \
          combinations 2, warp-lrp-by-gabor, warp-phasor-by-lrp, and with SPECTEX_EXPORT_ALL=1 \
          textures 3 and warps 4; else one of each)"
     );

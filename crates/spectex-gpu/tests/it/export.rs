@@ -180,8 +180,8 @@ fn every_exportable_model_validates_with_its_entry_points_and_no_binding() {
         exported += 1;
     }
     assert!(
-        exported >= 31,
-        "only {exported} models exported as constants (LRP 2, Gabor 2, classic 6, texton 3, \
+        exported >= 33,
+        "only {exported} models exported as constants (LRP 2, Gabor 2, classic 8, texton 3, \
          texture 3, warps of classic, Gabor, phasor and texture models 4, phasor 2, matrix 2, \
          Islamic 3, Voronoi 2, combinations 2 expected)"
     );
