@@ -38,9 +38,11 @@ fn islamic_sample_cell(cell: vec2<i32>, offset: vec2<f32>) -> f32 {
     var t = f32(tf) * 0x1p-32f + (params.a10 * at.u.x + params.a11 * at.u.y);
     s = s - floor(s);
     t = t - floor(t);
-    // The segment count plus an opaque zero (the sign bit of u, which is never negative): a
-    // count the compiler cannot see keeps it from unrolling the loop over hundreds of
-    // constant segments (lavapipe's LLVM then took over 8 minutes to compile one module).
+    // The segment count plus an opaque zero (the sign bit of u, which is never negative), so
+    // that a compiler does not unroll the loop over hundreds of constant segments. (A
+    // precaution: lavapipe's slow compile of islamic-31212-filled, over 8 minutes, persisted
+    // with it and came from the 3024-float table as a private array; through the storage
+    // buffer the module compiles and renders in about a second.)
     let opaque = bitcast<u32>(at.u.x) >> 31u;
     return islamic_at(s, t, params.segments + opaque);
 }
