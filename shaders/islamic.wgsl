@@ -65,11 +65,17 @@ fn islamic_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     s = s - floor(s);
     t = t - floor(t);
+    output[index] = islamic_at(s, t, params.segments);
+}
+
+/// The pattern at the lattice fractions `(s, t)` in `[0, 1]`: the CPU's segment loop over the
+/// first `count` segments (IslamicGeometry::nearest) and output formula (output_value).
+fn islamic_at(s: f32, t: f32, count: u32) -> f32 {
     let qx = s * params.e1x + t * params.e2x;
     let qy = s * params.e1y + t * params.e2y;
     var best = 3.4028235e38f;
     var odd = false;
-    for (var k = 0u; k < params.segments; k++) {
+    for (var k = 0u; k < count; k++) {
         let base = k * SEGMENT_FLOATS;
         let ax = segments[base];
         let ay = segments[base + 1u];
@@ -111,5 +117,5 @@ fn islamic_main(@builtin(global_invocation_id) gid: vec3<u32>) {
             value = clamp(0.5f - sd * params.inv_footprint, 0.0f, 1.0f);
         }
     }
-    output[index] = value;
+    return value;
 }

@@ -12,11 +12,19 @@
 //! Every name is prefixed (`spectex_` for the common functions, `spectex_m<k>_` for model `k`:
 //! a warp's sub-models each get their own), so the module can be pasted into any shader.
 //!
-//! A warp exports its three models and `export/warp.wgsl` composing them, a texture by
-//! example its LRP models and its own shader (`ExportNode`). Tables are constants up to
+//! A warp exports its three models and `export/warp.wgsl` composing them, a combination its
+//! operands and `export/combine.wgsl` applying its operation per channel, a texture by
+//! example its LRP models and its own shader (`ExportNode`). Where the compute path's host
+//! computes per tile what a pixel reads, the glue computes it from the position: phasor
+//! kernels and Voronoi sites are drawn in the shader with the randomness contract's WGSL
+//! twin (`export/phasor.rs`, `export/voronoi.rs`), an Islamic pattern's lattice fractions
+//! summed from fixed-point tables (`export/islamic.rs`), a matrix transformation's pixel cell
+//! taken from the integer part. Tables are constants up to
 //! [`MAX_TABLE_BYTES`]; with [`TableStorage::Buffer`] ([`export`]) they go to one read-only
 //! storage buffer whose bytes [`Export::tables`] holds and whose layout the header lists.
-//! Kinds the exporter does not cover yet (phasor) give [`GpuError::Unsupported`].
+//! Every kind exports; features with no exact export give [`GpuError::Unsupported`] naming
+//! them (varying phasor fields and its gradient and coherent orientations, Voronoi Lloyd
+//! relaxation and image colours: each kind's export module says why).
 
 use std::collections::{HashMap, HashSet};
 use std::fmt::Write as _;
@@ -25,6 +33,12 @@ use spectex_model::{Model, ModelKind};
 
 use crate::GpuError;
 use crate::kernel::{ShaderKernel, Table};
+
+mod combine;
+mod islamic;
+mod matrix;
+mod phasor;
+mod voronoi;
 
 /// The files of `shaders/export/`: the lattice split every exported model uses and each
 /// supported kind's glue (its `<kind>_sample_cell`).
@@ -52,6 +66,26 @@ pub const EXPORT_SHADERS: &[(&str, &str)] = &[
     (
         "subdivision",
         include_str!("../../../shaders/export/subdivision.wgsl"),
+    ),
+    (
+        "phasor",
+        include_str!("../../../shaders/export/phasor.wgsl"),
+    ),
+    (
+        "matrix",
+        include_str!("../../../shaders/export/matrix.wgsl"),
+    ),
+    (
+        "islamic",
+        include_str!("../../../shaders/export/islamic.wgsl"),
+    ),
+    (
+        "combine",
+        include_str!("../../../shaders/export/combine.wgsl"),
+    ),
+    (
+        "voronoi",
+        include_str!("../../../shaders/export/voronoi.wgsl"),
     ),
 ];
 
@@ -174,6 +208,15 @@ pub(crate) enum ExportNode {
         /// Pixels per unit of x and y.
         strength: f32,
     },
+    /// `op` applied per channel to the operands' values (`spectex_model::combine`).
+    Combine {
+        /// The operation.
+        op: spectex_model::combine::CombineOp,
+        /// The operands, in the operation's order.
+        operands: Vec<ExportNode>,
+        /// Values per pixel of the result.
+        channels: usize,
+    },
 }
 
 impl ExportNode {
@@ -191,6 +234,7 @@ impl ExportNode {
             Self::Leaf(p) => p.channels,
             Self::Texture(t) => t.leaf.channels,
             Self::Warp { base, .. } => base.channels(),
+            Self::Combine { channels, .. } => *channels,
         }
     }
 }
@@ -205,7 +249,12 @@ pub(crate) trait ExportKind: ModelKind {
 }
 
 /// Kinds the exporter does not cover (yet): `export_parts` gives [`GpuError::Unsupported`].
-/// Kept for kinds being added: list a new kind here until its export exists.
+/// Kept for kinds being added: list a new kind here until its export exists (none is listed
+/// today: every kind exports, some features of phasor and Voronoi models excepted).
+#[allow(
+    unused_macros,
+    reason = "kept for kinds being added, which list themselves here until they export"
+)]
 macro_rules! unsupported_export {
     ($($kind:ty),*) => {$(
         impl ExportKind for $kind {
@@ -218,13 +267,6 @@ macro_rules! unsupported_export {
         }
     )*};
 }
-unsupported_export!(
-    spectex_model::PhasorNoise,
-    spectex_model::VoronoiNoise,
-    spectex_model::Combine,
-    spectex_model::IslamicPattern,
-    spectex_model::MatrixTransform
-);
 
 impl ExportKind for spectex_model::Warp {
     fn export_parts(&self, z: f64) -> Result<ExportNode, GpuError> {
@@ -474,6 +516,9 @@ fn node_bytes(node: &ExportNode) -> u64 {
                     .sum::<u64>()
         }
         ExportNode::Warp { base, x, y, .. } => node_bytes(base) + node_bytes(x) + node_bytes(y),
+        ExportNode::Combine { op, operands, .. } => {
+            operands.iter().map(node_bytes).sum::<u64>() + combine::table_bytes(op)
+        }
     }
 }
 
@@ -589,6 +634,11 @@ impl Emitter<'_> {
                 out.push_str(&rename(&glue, &map, &HashSet::new()));
                 Ok(format!("{prefix}warp_sample_cell"))
             }
+            ExportNode::Combine {
+                op,
+                operands,
+                channels,
+            } => self.combine(op, operands, *channels, ret, out),
         }
     }
 

@@ -76,6 +76,17 @@ fn islamic_kernel(
     context: &GpuContext,
     period: Option<Period>,
 ) -> Result<Box<dyn GpuKernel>, GpuError> {
+    let (mut kernel, segments) = pack(model);
+    kernel.period = period;
+    Shaded::boxed(
+        context,
+        kernel,
+        &[Table::new("islamic segments", &segments)],
+    )
+}
+
+/// The kernel of an Islamic pattern and its segment table (seven f32 per segment).
+pub(crate) fn pack(model: &IslamicPattern) -> (IslamicKernel, Vec<f32>) {
     let geometry = model.geometry();
     let map = model.lattice_map();
     let [e1, e2] = geometry.basis;
@@ -103,13 +114,9 @@ fn islamic_kernel(
             a10: map.a[1][0] as f32,
             a11: map.a[1][1] as f32,
         },
-        period,
+        period: None,
     };
-    Shaded::boxed(
-        context,
-        kernel,
-        &[Table::new("islamic segments", &geometry.segments)],
-    )
+    (kernel, geometry.segments)
 }
 
 impl ShaderKernel for IslamicKernel {

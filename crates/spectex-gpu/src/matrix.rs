@@ -63,6 +63,14 @@ fn matrix_kernel(
     context: &GpuContext,
     period: Option<Period>,
 ) -> Result<Box<dyn GpuKernel>, GpuError> {
+    let (mut kernel, texels) = pack(model)?;
+    kernel.period = period;
+    Shaded::boxed(context, kernel, &[Table::new("matrix texels", &texels)])
+}
+
+/// The kernel of a matrix transformation and its source's texels (one unused texel for the
+/// rings).
+pub(crate) fn pack(model: &MatrixTransform) -> Result<(MatrixKernel, Vec<f32>), GpuError> {
     let a = model
         .inverse_power()
         .ok_or_else(|| GpuError::Model(model.validate().err().unwrap_or_else(not_invertible)))?;
@@ -85,9 +93,9 @@ fn matrix_kernel(
             mean: model.mean,
             _pad0: 0,
         },
-        period,
+        period: None,
     };
-    Shaded::boxed(context, kernel, &[Table::new("matrix texels", &texels)])
+    Ok((kernel, texels))
 }
 
 fn not_invertible() -> spectex_model::ModelError {

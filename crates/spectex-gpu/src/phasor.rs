@@ -85,7 +85,7 @@ pub(crate) struct PhasorKernel {
     duty_a: Option<Field>,
     duty_b: Option<Field>,
     weight: Option<Field>,
-    per_pixel: bool,
+    pub(crate) per_pixel: bool,
     /// `F`, for the harmonic scale `u = F(p)·s` of a minified render.
     frequency: Field,
     /// Mean impulses per cell, for sizing tiles.
@@ -139,7 +139,7 @@ fn unit_at(field: Option<&Field>, p: [f64; 3]) -> f32 {
 
 /// Packs a validated phasor model for the plane `z`, periodic with `period` when given: the
 /// kernel and the profile data.
-fn pack(
+pub(crate) fn pack(
     model: &PhasorNoise,
     z: f64,
     period: Option<Period>,

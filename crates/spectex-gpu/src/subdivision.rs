@@ -5,7 +5,7 @@
 
 use spectex_model::subdivision::{Stencil, StochasticSubdivision};
 
-use crate::axis::{CellAxis, cell_axis, columns, rows};
+use crate::axis::{CellAxis, cell_axis, periodic_columns, periodic_rows};
 use crate::export::{ExportKind, ExportNode, ExportParts};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
@@ -110,11 +110,11 @@ impl ShaderKernel for SubdivisionKernel {
             vec![
                 Table::new(
                     "subdivision columns",
-                    &cell_axis(self.side, width, columns(tile)),
+                    &cell_axis(self.side, width, periodic_columns(tile, None)),
                 ),
                 Table::new(
                     "subdivision rows",
-                    &cell_axis(self.side, height, rows(tile)),
+                    &cell_axis(self.side, height, periodic_rows(tile, None)),
                 ),
             ],
         ))

@@ -84,6 +84,11 @@ fn voronoi_kernel(
     context: &GpuContext,
     period: Option<Period>,
 ) -> Result<Box<dyn GpuKernel>, GpuError> {
+    Shaded::boxed(context, pack(model, period), &[])
+}
+
+/// The kernel of a Voronoi model, periodic with `period` when given.
+pub(crate) fn pack(model: &VoronoiNoise, period: Option<Period>) -> VoronoiKernel {
     let output = match model.output {
         VoronoiOutput::CellId => 0,
         VoronoiOutput::F1 => 1,
@@ -91,7 +96,7 @@ fn voronoi_kernel(
         VoronoiOutput::F2MinusF1 => 3,
         VoronoiOutput::Palette { .. } | VoronoiOutput::Image { .. } => 4,
     };
-    let kernel = VoronoiKernel {
+    VoronoiKernel {
         model: model.clone(),
         params: VoronoiParams {
             width: 0,
@@ -108,8 +113,7 @@ fn voronoi_kernel(
             _pad2: 0,
         },
         period: period.map(|p| (p, p.cells(f64::from(model.cell_size)))),
-    };
-    Shaded::boxed(context, kernel, &[])
+    }
 }
 
 impl ShaderKernel for VoronoiKernel {

@@ -213,6 +213,19 @@ fn judge_pixels(
     why
 }
 
+/// The reasons a window fails [`CheckKind::own_verdict`]'s criterion with the complex sum
+/// bounded by `e` instead of [`complex_bound`]: for evaluators that add their own, derived
+/// error to the sum's (the WGSL export's position rounding). `renders` as `own_verdict`'s.
+#[must_use]
+pub fn judge_with_bound(
+    m: &PhasorNoise,
+    e: f64,
+    renders: &[(Vec<f32>, Vec<f32>)],
+    footprint: Option<f64>,
+) -> Vec<String> {
+    judge_pixels(m, e, renders, footprint)
+}
+
 /// `m` rendering `output` at zero mean and unit amplitude: one of its companions.
 fn variant(m: &PhasorNoise, output: PhasorOutput) -> Model {
     Model::Phasor(PhasorNoise {

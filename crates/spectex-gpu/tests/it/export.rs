@@ -1,8 +1,8 @@
 //! The WGSL export (`spectex_gpu::export`): every model of `testdata/models/` whose kinds the
 //! exporter covers gives a module that naga parses and validates, with exactly the public
-//! entry points the header promises and no resource binding; the kinds it does not cover yet
-//! fail with a typed error naming the kind (an unexpected success fails too, so the list stays
-//! true). Models whose tables exceed `MAX_TABLE_BYTES` are refused as constants and export
+//! entry points the header promises and no resource binding; the models with a feature it
+//! cannot export exactly fail with a typed error naming the feature (an unexpected success
+//! fails too, so the list stays true). Models whose tables exceed `MAX_TABLE_BYTES` are refused as constants and export
 //! with a storage buffer: then the module declares exactly that one binding and the buffer
 //! holds the tables. The rendering check (a wgpu render pipeline against the CPU) is in
 //! spectex-crosscheck.
@@ -15,8 +15,17 @@ use spectex_gpu::export::{
     wgsl_module,
 };
 
-/// Kinds `wgsl_module` refuses with `GpuError::Unsupported` today (alone or in a warp).
-const NOT_EXPORTED: &[&str] = &["phasor", "voronoi", "combine", "islamic", "matrix"];
+/// Models `wgsl_module` refuses with `GpuError::Unsupported`, each for one feature the
+/// exporter cannot export exactly (its module doc says why), with a word of the error's
+/// feature: every other model exports, and each of these is refused.
+const REFUSED: &[(&str, &str)] = &[
+    ("combine-cracks", "Lloyd"),
+    ("phasor-graded-pwm", "varying bandwidth"),
+    ("phasor-gradient-blend", "varying frequency"),
+    ("phasor-pwm-coherent", "varying duty"),
+    ("voronoi-border-lloyd", "Lloyd"),
+    ("voronoi-palette-lloyd", "Lloyd"),
+];
 
 /// Models over `MAX_TABLE_BYTES` = 65 536 bytes of tables, counted from their files: the
 /// fitted LRP models (tens of thousands of 8-byte frequencies), wavelet-2d (a 128² tile of f32:
@@ -119,7 +128,7 @@ fn check_module(case: &str, model: &spectex_model::Model, source: &str, buffer: 
 
 #[test]
 fn every_exportable_model_validates_with_its_entry_points_and_no_binding() {
-    let (mut exported, mut too_large) = (0, Vec::new());
+    let (mut exported, mut too_large, mut refused) = (0, Vec::new(), Vec::new());
     for file in model_files() {
         let case = file
             .file_stem()
@@ -128,8 +137,14 @@ fn every_exportable_model_validates_with_its_entry_points_and_no_binding() {
         let text = std::fs::read_to_string(&file).unwrap_or_else(|e| panic!("{case}: {e}"));
         let model = spectex_model::from_json(&text).unwrap_or_else(|e| panic!("{case}: {e}"));
         let result = wgsl_module(&model, &ExportOptions::default());
-        if let Err(GpuError::Unsupported { kind, .. }) = &result {
-            assert!(NOT_EXPORTED.contains(kind), "{case}: {result:?}");
+        if let Err(GpuError::Unsupported { feature, .. }) = &result {
+            assert!(
+                REFUSED
+                    .iter()
+                    .any(|(m, word)| *m == case && feature.contains(word)),
+                "{case}: {result:?}"
+            );
+            refused.push(case);
             continue;
         }
         let buffer = ExportOptions {
@@ -165,11 +180,17 @@ fn every_exportable_model_validates_with_its_entry_points_and_no_binding() {
         exported += 1;
     }
     assert!(
-        exported >= 19,
-        "only {exported} models exported as constants (LRP 2, Gabor 2, classic 6, texton 3, \
-         texture 3, warps of classic, Gabor and texture models 3 expected)"
+        exported >= 33,
+        "only {exported} models exported as constants (LRP 2, Gabor 2, classic 8, texton 3, \
+         texture 3, warps of classic, Gabor, phasor and texture models 4, phasor 2, matrix 2, \
+         Islamic 3, Voronoi 2, combinations 2 expected)"
     );
     assert_eq!(too_large, TOO_LARGE, "models over MAX_TABLE_BYTES");
+    assert_eq!(
+        refused,
+        REFUSED.iter().map(|(m, _)| *m).collect::<Vec<_>>(),
+        "refused models"
+    );
 }
 
 #[test]

@@ -1,0 +1,57 @@
+// export/combine.wgsl — the exported entry of a combination (spectex_model::combine), after
+// its operands: each operand is exported as its own model (its own prefix), and the exporter
+// writes `combine_sample_cell`, which evaluates them at the position and applies the
+// operation per channel with the functions below: WGSL twins of `CombineOp::apply` (the
+// compute path applies it on the host, in f32, the CPU's expression). It declares
+// `combine_knots` and `combine_table` (a histogram's table; one unused 0 otherwise) and
+// `combine_stops`, `combine_stops_at`, `combine_stops_colour` (a ramp's stops, sorted; one
+// unused stop otherwise).
+
+/// spectex_model::combine::smoothstep: `s·s·(3 − 2s)`, a threshold for equal edges.
+fn combine_smoothstep(e0: f32, e1: f32, v: f32) -> f32 {
+    if (e0 >= e1) {
+        return select(0.0f, 1.0f, v >= e0);
+    }
+    let s = clamp((v - e0) / (e1 - e0), 0.0f, 1.0f);
+    return s * s * (3.0f - 2.0f * s);
+}
+
+/// `CombineOp::AbsFold`: `v − offset`, then `folds` times `|v − step|`.
+fn combine_abs_fold(value: f32, offset: f32, step: f32, folds: u32) -> f32 {
+    var v = value - offset;
+    for (var k = 0u; k < folds; k++) {
+        v = abs(v - step);
+    }
+    return v;
+}
+
+/// spectex_model::combine::lookup: the table over `[d0, d1]`, linear between knots, clamped
+/// (NaN gives the first entry).
+fn combine_lookup(d0: f32, d1: f32, v: f32) -> f32 {
+    let last = f32(combine_knots - 1u);
+    var x = clamp((v - d0) / (d1 - d0) * last, 0.0f, last);
+    if (!(x == x)) {
+        x = 0.0f;
+    }
+    let k = min(u32(floor(x)), combine_knots - 2u);
+    let f = x - f32(k);
+    return combine_table[k] + (combine_table[k + 1u] - combine_table[k]) * f;
+}
+
+/// spectex_model::combine::ramp: channel `c` at `v`, linear between the stops around it,
+/// clamped at the ends.
+fn combine_ramp(v: f32, c: u32) -> f32 {
+    if (!(v == v) || v <= combine_stops_at[0]) {
+        return combine_stops_colour[0][c];
+    }
+    for (var i = 0u; i + 1u < combine_stops; i++) {
+        let a = combine_stops_at[i];
+        let b = combine_stops_at[i + 1u];
+        if (v < b) {
+            let f = (v - a) / (b - a);
+            return combine_stops_colour[i][c]
+                + (combine_stops_colour[i + 1u][c] - combine_stops_colour[i][c]) * f;
+        }
+    }
+    return combine_stops_colour[combine_stops - 1u][c];
+}
