@@ -107,16 +107,11 @@ fn locate_lanes<const L: usize>(p: &[f64; L], ix: &mut [i32; L], ux: &mut [f32; 
         m[l] = p[l] + ROUND_MAGIC;
     }
     let mut f = [0.0f64; L];
-    let mut above = [0i32; L];
     for l in 0..L {
         let r = m[l] - ROUND_MAGIC;
-        let a = r > p[l];
-        above[l] = i32::from(a);
-        f[l] = if a { r - 1.0 } else { r };
+        f[l] = if r > p[l] { r - 1.0 } else { r };
     }
-    for l in 0..L {
-        ix[l] = (m[l].to_bits() as u32 as i32).wrapping_sub(above[l]);
-    }
+    floor_cells(&f, ix);
     for l in 0..L {
         ux[l] = (p[l] - f[l]) as f32;
     }
@@ -1945,15 +1940,21 @@ fn split_lanes<const L: usize>(p: &[f64; L], i: &mut [i32; L], f: &mut [f64; L])
     for l in 0..L {
         m[l] = p[l] + ROUND_MAGIC;
     }
-    let mut above = [0i32; L];
     for l in 0..L {
         let r = m[l] - ROUND_MAGIC;
-        let a = r > p[l];
-        above[l] = i32::from(a);
-        f[l] = if a { r - 1.0 } else { r };
+        f[l] = if r > p[l] { r - 1.0 } else { r };
     }
+    floor_cells(f, i);
+}
+
+/// The `i32` cells of the floors `f` (integers of magnitude below 2⁵¹): the low 32 bits of
+/// `f + M` ([`ROUND_MAGIC`], exact), which are those [`split`] takes, `p + M` less one where
+/// it rounded up. No compare mask crosses from the f64 lanes to the i32 ones, so the step
+/// stays a vector add and a shuffle.
+#[inline(always)]
+fn floor_cells<const L: usize>(f: &[f64; L], i: &mut [i32; L]) {
     for l in 0..L {
-        i[l] = (m[l].to_bits() as u32 as i32).wrapping_sub(above[l]);
+        i[l] = (f[l] + ROUND_MAGIC).to_bits() as u32 as i32;
     }
 }
 
