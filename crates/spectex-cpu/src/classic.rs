@@ -19,7 +19,10 @@
 //! row of cells 32 pixels wide then hashes each cell once instead of once per pixel; the tables
 //! hold the very integers and floats the lanes would compute, so the bits do not change, and
 //! [`ClassicEvaluator::eval_rows_reference`] keeps the per-pixel path they are tested against.
-//! Octaves with cells under 2 pixels, Poisson counts and batches of points hash in the lanes.
+//! Gradient and value octaves with cells under a pixel (a table would be longer than the row),
+//! simplex and Worley octaves with cells under 2 pixels, Poisson counts and batches of points
+//! hash in the lanes. Lane code is written as one simple loop per step over arrays of `L`
+//! lanes, so that the compiler vectorises each step at the full width.
 //!
 //! A minified render (a window with a [`footprint`](Window::footprint)) fades each octave as
 //! [`spectex_model::filter::classic_fade`] says (turbulence and ridged toward their expected
@@ -104,16 +107,11 @@ fn locate_lanes<const L: usize>(p: &[f64; L], ix: &mut [i32; L], ux: &mut [f32; 
         m[l] = p[l] + ROUND_MAGIC;
     }
     let mut f = [0.0f64; L];
-    let mut above = [0i32; L];
     for l in 0..L {
         let r = m[l] - ROUND_MAGIC;
-        let a = r > p[l];
-        above[l] = i32::from(a);
-        f[l] = if a { r - 1.0 } else { r };
+        f[l] = if r > p[l] { r - 1.0 } else { r };
     }
-    for l in 0..L {
-        ix[l] = (m[l].to_bits() as u32 as i32).wrapping_sub(above[l]);
-    }
+    floor_cells(&f, ix);
     for l in 0..L {
         ux[l] = (p[l] - f[l]) as f32;
     }
@@ -327,6 +325,21 @@ fn corners<const L: usize, F: Fetch<L>, const GRADIENT: bool>(
         }
     }
     out
+}
+
+/// `cell_hash_in_row(lattice(lo + c, cells), key)` of the columns `c` of `out`, in a loop
+/// that vectorises (the wrap of a periodic octave is hoisted out of it).
+#[inline(always)]
+fn column_hashes(lo: i32, cells: i32, key: u32, out: &mut [u32]) {
+    if cells == 0 {
+        for (c, h) in out.iter_mut().enumerate() {
+            *h = cell_hash_in_row(lo.wrapping_add(c as i32), key);
+        }
+    } else {
+        for (c, h) in out.iter_mut().enumerate() {
+            *h = cell_hash_in_row(lattice(lo.wrapping_add(c as i32), cells), key);
+        }
+    }
 }
 
 /// The [`WINDOW`] entries of `table` from `at`.
@@ -804,15 +817,14 @@ impl ClassicEvaluator {
         for (l, v) in lane_index.iter_mut().enumerate() {
             *v = l as f64;
         }
-        let tables: Vec<Option<RowTable>> = if columns {
-            self.octaves
-                .iter()
-                .zip(rows)
-                .map(|(o, r)| self.columns::<L>(o, r, window, width))
-                .collect()
-        } else {
-            Vec::new()
-        };
+        // A plain loop, not an iterator adapter: the tables are built in this function's
+        // instruction set (an adapter's `fold` is compiled apart, without AVX2).
+        let mut tables: Vec<Option<RowTable>> = Vec::with_capacity(rows.len());
+        if columns {
+            for (o, r) in self.octaves.iter().zip(rows) {
+                tables.push(self.columns::<L>(o, r, window, width));
+            }
+        }
         let mut start = 0;
         while start < width {
             // `window.x(i)` lane by lane: the integer `x0 + i` is exact in f64 either way.
@@ -860,8 +872,8 @@ impl ClassicEvaluator {
         if !matches!(self.basis, Basis::Gradient | Basis::Value) || width == 0 {
             return None;
         }
-        // Cells under 2 pixels: hashing in the lanes is as fast as building the table.
-        if o.side < 2.0 * window.scale {
+        // Cells under a pixel: the table would hold more columns than the row has pixels.
+        if o.side < window.scale {
             return None;
         }
         let (lo, hi) = Self::column_range::<L>(o, window, width);
@@ -887,21 +899,24 @@ impl ClassicEvaluator {
         };
         let mut hashes = vec![0u32; count];
         for (p, &key) in keys.iter().enumerate() {
-            for (c, h) in hashes.iter_mut().enumerate() {
-                *h = cell_hash_in_row(lattice(lo.wrapping_add(c as i32), o.cells[0]), key);
-            }
+            column_hashes(lo, o.cells[0], key, &mut hashes);
             let at = p * len;
+            // One loop per table over slices of one length, so that each vectorises (a row
+            // of cells of one pixel builds as many entries as it has pixels).
+            let constant = &mut t.constant[at..at + count];
             if gradient {
                 // As the lanes compute them: `uy − dy`, `uz − dz` (2D: `uy`, `uy − 1`, 0).
                 let (dz, dy) = (p / 2, p % 2);
                 let y = r.uy - dy as f32;
                 let z = if self.three_d { o.uz - dz as f32 } else { 0.0 };
-                for (c, &h) in hashes.iter().enumerate() {
-                    (t.mask[at + c], t.sign[at + c], t.constant[at + c]) = gradient_terms(h, y, z);
+                let mask = &mut t.mask[at..at + count];
+                let sign = &mut t.sign[at..at + count];
+                for (((&h, m), s), k) in hashes.iter().zip(mask).zip(sign).zip(constant) {
+                    (*m, *s, *k) = gradient_terms(h, y, z);
                 }
             } else {
-                for (c, &h) in hashes.iter().enumerate() {
-                    t.constant[at + c] = lattice_value(h).to_bits();
+                for (&h, k) in hashes.iter().zip(constant) {
+                    *k = lattice_value(h).to_bits();
                 }
             }
         }
@@ -1917,33 +1932,113 @@ fn simplex_term(h: u32, r2: f32, dx: f32, dy: f32, dz: f32) -> f32 {
     t2 * t2 * gradient_dot(h, dx, dy, dz)
 }
 
-/// 2D simplex noise in the lanes.
+/// [`split`] in the lanes, one simple loop per step so that it vectorises (the same
+/// operations, so the same bits): the cells `i` and their floors `f`.
+#[inline(always)]
+fn split_lanes<const L: usize>(p: &[f64; L], i: &mut [i32; L], f: &mut [f64; L]) {
+    let mut m = [0.0f64; L];
+    for l in 0..L {
+        m[l] = p[l] + ROUND_MAGIC;
+    }
+    for l in 0..L {
+        let r = m[l] - ROUND_MAGIC;
+        f[l] = if r > p[l] { r - 1.0 } else { r };
+    }
+    floor_cells(f, i);
+}
+
+/// The `i32` cells of the floors `f` (integers of magnitude below 2⁵¹): the low 32 bits of
+/// `f + M` ([`ROUND_MAGIC`], exact), which are those [`split`] takes, `p + M` less one where
+/// it rounded up. No compare mask crosses from the f64 lanes to the i32 ones, so the step
+/// stays a vector add and a shuffle.
+#[inline(always)]
+fn floor_cells<const L: usize>(f: &[f64; L], i: &mut [i32; L]) {
+    for l in 0..L {
+        i[l] = (f[l] + ROUND_MAGIC).to_bits() as u32 as i32;
+    }
+}
+
+/// Where 2D simplex noise's lanes stand: the cells `(i, j)` of the skewed lattice and the
+/// offsets `(x0, y0)` from its first corner.
+struct Simplex2At<const L: usize> {
+    i: [i32; L],
+    j: [i32; L],
+    x0: [f32; L],
+    y0: [f32; L],
+}
+
+/// The skew of 2D simplex noise at the lanes' positions `px` (cell units) on the rows of `r`.
+#[inline(always)]
+fn simplex2_at<const L: usize, R: RowLanes>(r: &R, px: &[f64; L]) -> Simplex2At<L> {
+    let mut py = [0.0f64; L];
+    for l in 0..L {
+        py[l] = r.py(l);
+    }
+    let (mut a, mut b) = ([0.0f64; L], [0.0f64; L]);
+    for l in 0..L {
+        let s = (px[l] + py[l]) * SIMPLEX_F2;
+        a[l] = px[l] + s;
+        b[l] = py[l] + s;
+    }
+    let mut at = Simplex2At {
+        i: [0; L],
+        j: [0; L],
+        x0: [0.0; L],
+        y0: [0.0; L],
+    };
+    let (mut fi, mut fj) = ([0.0f64; L], [0.0f64; L]);
+    split_lanes(&a, &mut at.i, &mut fi);
+    split_lanes(&b, &mut at.j, &mut fj);
+    for l in 0..L {
+        let t = (fi[l] + fj[l]) * SIMPLEX_G2;
+        at.x0[l] = (px[l] - (fi[l] - t)) as f32;
+        at.y0[l] = (py[l] - (fj[l] - t)) as f32;
+    }
+    at
+}
+
+/// 2D simplex noise's sum at `at`, from the row keys `k0`, `k1` of each lane's skewed rows
+/// `j` and `j + 1`: one simple loop per step, so that it vectorises.
+#[inline(always)]
+fn simplex2_sum<const L: usize>(
+    at: &Simplex2At<L>,
+    k0: &[u32; L],
+    k1: &[u32; L],
+    n: &mut [f32; L],
+) {
+    let g2 = SIMPLEX_G2 as f32;
+    let mut sum = [0.0f32; L];
+    // Corner 0, then the middle corner (x first where `x0 > y0`), then corner (1, 1).
+    for l in 0..L {
+        let h = cell_hash_in_row(at.i[l], k0[l]);
+        sum[l] = simplex_term(h, SIMPLEX2_R2, at.x0[l], at.y0[l], 0.0);
+    }
+    for l in 0..L {
+        let step_x = at.x0[l] > at.y0[l];
+        let (i1, j1) = if step_x { (1, 0) } else { (0, 1) };
+        let x1 = (at.x0[l] - i1 as f32) + g2;
+        let y1 = (at.y0[l] - j1 as f32) + g2;
+        let h = cell_hash_in_row(at.i[l].wrapping_add(i1), if step_x { k0[l] } else { k1[l] });
+        sum[l] += simplex_term(h, SIMPLEX2_R2, x1, y1, 0.0);
+    }
+    for l in 0..L {
+        let x2 = (at.x0[l] - 1.0) + 2.0 * g2;
+        let y2 = (at.y0[l] - 1.0) + 2.0 * g2;
+        let h = cell_hash_in_row(at.i[l].wrapping_add(1), k1[l]);
+        n[l] = SIMPLEX2_SCALE * (sum[l] + simplex_term(h, SIMPLEX2_R2, x2, y2, 0.0));
+    }
+}
+
+/// 2D simplex noise in the lanes, every row key hashed in them.
 #[inline(always)]
 fn simplex2<const L: usize, R: RowLanes>(o: &Octave, r: &R, x: &[f64; L], n: &mut [f32; L]) {
-    let g2 = SIMPLEX_G2 as f32;
+    let at = simplex2_at(r, &cell_units(o, x));
+    let (mut k0, mut k1) = ([0u32; L], [0u32; L]);
     for l in 0..L {
-        let py = r.py(l);
-        let px = x[l] / o.side;
-        let s = (px + py) * SIMPLEX_F2;
-        let (i, fi) = split(px + s);
-        let (j, fj) = split(py + s);
-        let t = (fi + fj) * SIMPLEX_G2;
-        let x0 = (px - (fi - t)) as f32;
-        let y0 = (py - (fj - t)) as f32;
-        let step_x = x0 > y0;
-        let (i1, j1) = if step_x { (1, 0) } else { (0, 1) };
-        let x1 = (x0 - i1 as f32) + g2;
-        let y1 = (y0 - j1 as f32) + g2;
-        let x2 = (x0 - 1.0) + 2.0 * g2;
-        let y2 = (y0 - 1.0) + 2.0 * g2;
-        let h0 = cell_hash_in_row(i, row_key(j, o.key2));
-        let h1 = cell_hash_in_row(i.wrapping_add(i1), row_key(j.wrapping_add(j1), o.key2));
-        let h2 = cell_hash_in_row(i.wrapping_add(1), row_key(j.wrapping_add(1), o.key2));
-        let c0 = simplex_term(h0, SIMPLEX2_R2, x0, y0, 0.0);
-        let c1 = simplex_term(h1, SIMPLEX2_R2, x1, y1, 0.0);
-        let c2 = simplex_term(h2, SIMPLEX2_R2, x2, y2, 0.0);
-        n[l] = SIMPLEX2_SCALE * ((c0 + c1) + c2);
+        k0[l] = row_key(at.j[l], o.key2);
+        k1[l] = row_key(at.j[l].wrapping_add(1), o.key2);
     }
+    simplex2_sum(&at, &k0, &k1, n);
 }
 
 /// `x / side` in the lanes (by the exact reciprocal where the octave has one).
@@ -1994,51 +2089,117 @@ fn simplex2_table<const L: usize, F: Fetch<L>, R: RowLanes>(
     t: &SimplexColumns,
     n: &mut [f32; L],
 ) -> bool {
-    let g2 = SIMPLEX_G2 as f32;
-    let px = cell_units(o, x);
-    let mut i = [0i32; L];
-    let mut j = [0i32; L];
-    let mut fi = [0.0f64; L];
-    let mut fj = [0.0f64; L];
-    for l in 0..L {
-        let py = r.py(l);
-        let s = (px[l] + py) * SIMPLEX_F2;
-        (i[l], fi[l]) = split(px[l] + s);
-        (j[l], fj[l]) = split(py + s);
-    }
-    let Some((base, idx)) = simplex_window(t, &j) else {
+    let at = simplex2_at(r, &cell_units(o, x));
+    let Some((base, idx)) = simplex_window(t, &at.j) else {
         return false;
     };
     let keys = window(&t.keys, base);
     let (k0, k1) = (F::fetch(&keys[..L], &idx), F::fetch(&keys[1..=L], &idx));
-    for l in 0..L {
-        let py = r.py(l);
-        let t = (fi[l] + fj[l]) * SIMPLEX_G2;
-        let x0 = (px[l] - (fi[l] - t)) as f32;
-        let y0 = (py - (fj[l] - t)) as f32;
-        let step_x = x0 > y0;
-        let (i1, j1) = if step_x { (1, 0) } else { (0, 1) };
-        let x1 = (x0 - i1 as f32) + g2;
-        let y1 = (y0 - j1 as f32) + g2;
-        let x2 = (x0 - 1.0) + 2.0 * g2;
-        let y2 = (y0 - 1.0) + 2.0 * g2;
-        let h0 = cell_hash_in_row(i[l], k0[l]);
-        let h1 = cell_hash_in_row(i[l].wrapping_add(i1), if step_x { k0[l] } else { k1[l] });
-        let h2 = cell_hash_in_row(i[l].wrapping_add(1), k1[l]);
-        let c0 = simplex_term(h0, SIMPLEX2_R2, x0, y0, 0.0);
-        let c1 = simplex_term(h1, SIMPLEX2_R2, x1, y1, 0.0);
-        let c2 = simplex_term(h2, SIMPLEX2_R2, x2, y2, 0.0);
-        n[l] = SIMPLEX2_SCALE * ((c0 + c1) + c2);
-    }
+    simplex2_sum(&at, &k0, &k1, n);
     true
 }
 
-/// `hash3` of corner `(i + di, j + dj, k + dk)` from the layer keys of planes `k` (`l0`) and
-/// `k + 1` (`l1`).
+/// Where 3D simplex noise's lanes stand: the cells `(i, j, k)` of the skewed lattice and the
+/// offsets `(x0, y0, z0)` from its first corner.
+struct Simplex3At<const L: usize> {
+    i: [i32; L],
+    j: [i32; L],
+    k: [i32; L],
+    x0: [f32; L],
+    y0: [f32; L],
+    z0: [f32; L],
+}
+
+/// The skew of 3D simplex noise at the lanes' positions `px` (cell units) on the rows of `r`
+/// and the octave's plane.
 #[inline(always)]
-fn simplex3_hash(i: i32, j: i32, (di, dj, dk): (i32, i32, i32), l0: u32, l1: u32) -> u32 {
-    let layer = if dk == 0 { l0 } else { l1 };
-    cell_hash_in_row(i.wrapping_add(di), row_key(j.wrapping_add(dj), layer))
+fn simplex3_at<const L: usize, R: RowLanes>(o: &Octave, r: &R, px: &[f64; L]) -> Simplex3At<L> {
+    let pz = o.pz;
+    let mut py = [0.0f64; L];
+    for l in 0..L {
+        py[l] = r.py(l);
+    }
+    let (mut a, mut b, mut c) = ([0.0f64; L], [0.0f64; L], [0.0f64; L]);
+    for l in 0..L {
+        let s = ((px[l] + py[l]) + pz) * SIMPLEX_F3;
+        a[l] = px[l] + s;
+        b[l] = py[l] + s;
+        c[l] = pz + s;
+    }
+    let mut at = Simplex3At {
+        i: [0; L],
+        j: [0; L],
+        k: [0; L],
+        x0: [0.0; L],
+        y0: [0.0; L],
+        z0: [0.0; L],
+    };
+    let (mut fi, mut fj, mut fk) = ([0.0f64; L], [0.0f64; L], [0.0f64; L]);
+    split_lanes(&a, &mut at.i, &mut fi);
+    split_lanes(&b, &mut at.j, &mut fj);
+    split_lanes(&c, &mut at.k, &mut fk);
+    for l in 0..L {
+        let t = ((fi[l] + fj[l]) + fk[l]) * SIMPLEX_G3;
+        at.x0[l] = (px[l] - (fi[l] - t)) as f32;
+        at.y0[l] = (py[l] - (fj[l] - t)) as f32;
+        at.z0[l] = (pz - (fk[l] - t)) as f32;
+    }
+    at
+}
+
+/// 3D simplex noise's sum at `at`, from the layer keys `l0`, `l1` of each lane's skewed planes
+/// `k` and `k + 1`: one simple loop per corner, so that it vectorises.
+#[inline(always)]
+fn simplex3_sum<const L: usize>(
+    at: &Simplex3At<L>,
+    l0: &[u32; L],
+    l1: &[u32; L],
+    n: &mut [f32; L],
+) {
+    let g3 = SIMPLEX_G3 as f32;
+    // Gustavson's ranking of x0, y0, z0, written as selects: the steps `(i1, j1, k1)` and
+    // `(i2, j2, k2)` of the middle corners.
+    let mut step = [[[0i32; L]; 3]; 2];
+    for l in 0..L {
+        let (x0, y0, z0) = (at.x0[l], at.y0[l], at.z0[l]);
+        let (a, b, c) = (x0 >= y0, y0 >= z0, x0 >= z0);
+        step[0][0][l] = i32::from(a && (b || c));
+        step[0][1][l] = i32::from(!a && b);
+        step[0][2][l] = i32::from(!b && (!a || !c));
+        step[1][0][l] = i32::from(a || (b && c));
+        step[1][1][l] = i32::from(b || !a);
+        step[1][2][l] = i32::from(!b || (!a && !c));
+    }
+    // `hash3` of corner `(i + di, j + dj, k + dk)` and its term, with the offsets
+    // `(x0 − di) + off`.
+    let term = |l: usize, di: i32, dj: i32, dk: i32, off: f32| {
+        let layer = if dk == 0 { l0[l] } else { l1[l] };
+        let h = cell_hash_in_row(
+            at.i[l].wrapping_add(di),
+            row_key(at.j[l].wrapping_add(dj), layer),
+        );
+        simplex_term(
+            h,
+            SIMPLEX3_R2,
+            (at.x0[l] - di as f32) + off,
+            (at.y0[l] - dj as f32) + off,
+            (at.z0[l] - dk as f32) + off,
+        )
+    };
+    // `((c0 + c1) + c2) + c3`.
+    let mut sum = [0.0f32; L];
+    for l in 0..L {
+        sum[l] = term(l, 0, 0, 0, 0.0);
+    }
+    for (corner, s) in step.iter().enumerate() {
+        let off = (corner + 1) as f32 * g3;
+        for l in 0..L {
+            sum[l] += term(l, s[0][l], s[1][l], s[2][l], off);
+        }
+    }
+    for l in 0..L {
+        n[l] = SIMPLEX3_SCALE * (sum[l] + term(l, 1, 1, 1, 3.0 * g3));
+    }
 }
 
 /// [`simplex3`] with the layer keys of the skewed planes `k`, `k + 1` read from the row's
@@ -2051,112 +2212,27 @@ fn simplex3_table<const L: usize, F: Fetch<L>, R: RowLanes>(
     t: &SimplexColumns,
     n: &mut [f32; L],
 ) -> bool {
-    let g3 = SIMPLEX_G3 as f32;
-    let px = cell_units(o, x);
-    let pz = o.pz;
-    let mut i = [0i32; L];
-    let mut j = [0i32; L];
-    let mut k = [0i32; L];
-    let mut fi = [0.0f64; L];
-    let mut fj = [0.0f64; L];
-    let mut fk = [0.0f64; L];
-    for l in 0..L {
-        let py = r.py(l);
-        let s = ((px[l] + py) + pz) * SIMPLEX_F3;
-        (i[l], fi[l]) = split(px[l] + s);
-        (j[l], fj[l]) = split(py + s);
-        (k[l], fk[l]) = split(pz + s);
-    }
-    let Some((base, idx)) = simplex_window(t, &k) else {
+    let at = simplex3_at(o, r, &cell_units(o, x));
+    let Some((base, idx)) = simplex_window(t, &at.k) else {
         return false;
     };
     let keys = window(&t.keys, base);
-    let (lk0, lk1) = (F::fetch(&keys[..L], &idx), F::fetch(&keys[1..=L], &idx));
-    for l in 0..L {
-        let py = r.py(l);
-        let t = ((fi[l] + fj[l]) + fk[l]) * SIMPLEX_G3;
-        let x0 = (px[l] - (fi[l] - t)) as f32;
-        let y0 = (py - (fj[l] - t)) as f32;
-        let z0 = (pz - (fk[l] - t)) as f32;
-        let (a, b, c) = (x0 >= y0, y0 >= z0, x0 >= z0);
-        let i1 = i32::from(a && (b || c));
-        let j1 = i32::from(!a && b);
-        let k1 = i32::from(!b && (!a || !c));
-        let i2 = i32::from(a || (b && c));
-        let j2 = i32::from(b || !a);
-        let k2 = i32::from(!b || (!a && !c));
-        let (l0, l1) = (lk0[l], lk1[l]);
-        let mut sum = 0.0f32;
-        for (corner, (di, dj, dk, off)) in [
-            (0, 0, 0, 0.0),
-            (i1, j1, k1, g3),
-            (i2, j2, k2, 2.0 * g3),
-            (1, 1, 1, 3.0 * g3),
-        ]
-        .into_iter()
-        .enumerate()
-        {
-            let h = simplex3_hash(i[l], j[l], (di, dj, dk), l0, l1);
-            let term = simplex_term(
-                h,
-                SIMPLEX3_R2,
-                (x0 - di as f32) + off,
-                (y0 - dj as f32) + off,
-                (z0 - dk as f32) + off,
-            );
-            // `((c0 + c1) + c2) + c3`, as `simplex3` sums them.
-            sum = if corner == 0 { term } else { sum + term };
-        }
-        n[l] = SIMPLEX3_SCALE * sum;
-    }
+    let (l0, l1) = (F::fetch(&keys[..L], &idx), F::fetch(&keys[1..=L], &idx));
+    simplex3_sum(&at, &l0, &l1, n);
     true
 }
 
-/// 3D simplex noise on the plane of the octave's `z`, in the lanes.
+/// 3D simplex noise on the plane of the octave's `z`, in the lanes: corner `(i, j, k)`'s hash
+/// is `hash3(i, j, k, o, key0)`, the layer keys of the planes hashed in the lanes.
 #[inline(always)]
 fn simplex3<const L: usize, R: RowLanes>(o: &Octave, r: &R, x: &[f64; L], n: &mut [f32; L]) {
-    let g3 = SIMPLEX_G3 as f32;
+    let at = simplex3_at(o, r, &cell_units(o, x));
+    let (mut l0, mut l1) = ([0u32; L], [0u32; L]);
     for l in 0..L {
-        let (py, pz) = (r.py(l), o.pz);
-        let px = x[l] / o.side;
-        let s = ((px + py) + pz) * SIMPLEX_F3;
-        let (i, fi) = split(px + s);
-        let (j, fj) = split(py + s);
-        let (k, fk) = split(pz + s);
-        let t = ((fi + fj) + fk) * SIMPLEX_G3;
-        let x0 = (px - (fi - t)) as f32;
-        let y0 = (py - (fj - t)) as f32;
-        let z0 = (pz - (fk - t)) as f32;
-        // Gustavson's ranking of x0, y0, z0, written as selects.
-        let (a, b, c) = (x0 >= y0, y0 >= z0, x0 >= z0);
-        let i1 = i32::from(a && (b || c));
-        let j1 = i32::from(!a && b);
-        let k1 = i32::from(!b && (!a || !c));
-        let i2 = i32::from(a || (b && c));
-        let j2 = i32::from(b || !a);
-        let k2 = i32::from(!b || (!a && !c));
-        let corner = |di: i32, dj: i32, dk: i32, off: f32| {
-            let h = hash3(
-                i.wrapping_add(di),
-                j.wrapping_add(dj),
-                k.wrapping_add(dk),
-                o.layer,
-                o.key0,
-            );
-            simplex_term(
-                h,
-                SIMPLEX3_R2,
-                (x0 - di as f32) + off,
-                (y0 - dj as f32) + off,
-                (z0 - dk as f32) + off,
-            )
-        };
-        let c0 = corner(0, 0, 0, 0.0);
-        let c1 = corner(i1, j1, k1, g3);
-        let c2 = corner(i2, j2, k2, 2.0 * g3);
-        let c3 = corner(1, 1, 1, 3.0 * g3);
-        n[l] = SIMPLEX3_SCALE * (((c0 + c1) + c2) + c3);
+        l0[l] = layer_key(o.layer, cell_hash_in_row(at.k[l], o.key0));
+        l1[l] = layer_key(o.layer, cell_hash_in_row(at.k[l].wrapping_add(1), o.key0));
     }
+    simplex3_sum(&at, &l0, &l1, n);
 }
 
 impl crate::CpuKind for ClassicNoise {
