@@ -86,10 +86,15 @@ pub fn check_model_with_period(
         });
     }
     let mut pairs = vec![(cpu, gpu)];
+    // Companions with the model's period: a combination's verdict composes its operands'
+    // renders, which must be the ones it evaluated.
     for companion in kind.companions() {
         pairs.push((
-            Evaluator::new_at_z(&companion, z)?,
-            GpuEvaluator::new_at_z(context, &companion, z)?,
+            Evaluator::with_period(&companion, z, period)?,
+            match period {
+                None => GpuEvaluator::new_at_z(context, &companion, z)?,
+                Some(p) => GpuEvaluator::periodic_at_z(context, &companion, z, p)?,
+            },
         ));
     }
     let adapter = context.adapter_name();

@@ -6,6 +6,17 @@
 //! operands' range and `ε` its own f32 evaluation error (counted once per side). Operand
 //! magnitudes come from their [`Regularity`]; an operation that needs one and an operand
 //! without it (or without a bound) gives no tolerance.
+//!
+//! Where that composition has no bound — an operand judged by its own criterion, such as the
+//! phase-based outputs of phasor noise in the phasor paper's crossed waves, or a threshold —
+//! the combination is judged by composing verdicts instead ([`CheckKind::own_verdict`]): its
+//! [`companions`](CheckKind::companions) are its operands (each followed by its own
+//! companions), every operand must pass its own kind's criterion, and on each evaluator the
+//! combination's value must be `CombineOp::apply` of that evaluator's operand values, bit for
+//! bit (both evaluators compose exactly so: the CPU per row, the GPU on the host). An operand
+//! judged by the generic criterion is held to its max and mean bounds there (its spectral
+//! bound needs the window's shape, which a verdict does not see; the operand's own
+//! cross-check keeps it).
 
 use spectex_model::Model;
 use spectex_model::combine::{Combine, CombineOp, RampStop};
@@ -26,8 +37,13 @@ struct Operand {
 }
 
 fn operand(m: &Model) -> Option<Operand> {
+    operand_with(m, check_kind(m).value_bound()?)
+}
+
+/// An operand with `tol` standing for its bound: the scale of [`super::tolerance`] for an
+/// operand judged by its own criterion, in the figure a composed verdict's report shows.
+fn operand_with(m: &Model, tol: f64) -> Option<Operand> {
     let k = check_kind(m);
-    let tol = k.value_bound()?;
     let r = k.regularity();
     Some(Operand {
         tol,
@@ -121,6 +137,112 @@ fn unary(op: &CombineOp, mag: Option<f64>, c: usize) -> Option<(f64, f64, f64)> 
 /// `(tolerance, magnitude)` of channel `c`.
 fn compose(m: &Combine, c: usize) -> Option<(f64, Option<f64>)> {
     let ops: Vec<Operand> = m.operands.iter().map(operand).collect::<Option<_>>()?;
+    compose_ops(m, &ops, c)
+}
+
+/// The per-channel bounds of the composition, or `None` where it has none and the combination
+/// is judged by composing its operands' verdicts.
+fn composed(m: &Combine) -> Option<Vec<Tolerance>> {
+    (0..spectex_model::ModelKind::output_channels(m))
+        .map(|c| compose(m, c).map(|(t, _)| Tolerance::from_max(t)))
+        .collect()
+}
+
+/// The scale a composed verdict reports: the composition with each operand's reported
+/// tolerance ([`super::tolerance`]) in place of a bound, infinite where even that has none.
+fn reported(m: &Combine) -> Vec<Tolerance> {
+    let ops: Option<Vec<Operand>> = m
+        .operands
+        .iter()
+        .map(|o| operand_with(o, super::tolerance(o)?.max_abs))
+        .collect();
+    (0..spectex_model::ModelKind::output_channels(m))
+        .map(|c| {
+            let t = ops
+                .as_deref()
+                .and_then(|ops| compose_ops(m, ops, c))
+                .map_or(f64::INFINITY, |(t, _)| t);
+            Tolerance::from_max(t)
+        })
+        .collect()
+}
+
+/// Why one operand's renders (its own, then its companions') fail its kind's criterion.
+fn operand_reasons(
+    index: usize,
+    model: &Model,
+    renders: &[(Vec<f32>, Vec<f32>)],
+    footprint: Option<f64>,
+) -> Vec<String> {
+    let kind = check_kind(model);
+    let why = kind.own_verdict(renders, footprint).unwrap_or_else(|| {
+        let Some(tolerances) = kind.tolerances() else {
+            return vec!["no derived tolerance".to_owned()];
+        };
+        let (cpu, gpu) = &renders[0];
+        let channels = tolerances.len();
+        let mut why = Vec::new();
+        for (c, t) in tolerances.iter().enumerate() {
+            let errors: Vec<f64> = cpu
+                .iter()
+                .zip(gpu)
+                .skip(c)
+                .step_by(channels)
+                .map(|(a, b)| (f64::from(*a) - f64::from(*b)).abs())
+                .collect();
+            let max = errors.iter().copied().fold(0.0, f64::max);
+            let mean = errors.iter().sum::<f64>() / errors.len().max(1) as f64;
+            if errors.iter().any(|e| e.is_nan()) || max > t.max_abs {
+                why.push(format!("channel {c}: max {max:.3e} > {:.3e}", t.max_abs));
+            }
+            if mean > t.mean_abs {
+                why.push(format!("channel {c}: mean {mean:.3e} > {:.3e}", t.mean_abs));
+            }
+        }
+        why
+    });
+    why.into_iter()
+        .map(|w| format!("operand {index} ({}): {w}", model.kind()))
+        .collect()
+}
+
+/// The pixels where `out` (one evaluator's render of the combination) is not `op` applied to
+/// that evaluator's operand renders `operands`, bit for bit: at most a few are named.
+fn composition_reasons(m: &Combine, side: &str, out: &[f32], operands: &[&[f32]]) -> Vec<String> {
+    let channels = spectex_model::ModelKind::output_channels(m);
+    let widths: Vec<usize> = m.operands.iter().map(Model::output_channels).collect();
+    let mut pixel: Vec<&[f32]> = Vec::with_capacity(operands.len());
+    let (mut wrong, mut first) = (0usize, None);
+    for (p, o) in out.chunks_exact(channels).enumerate() {
+        pixel.clear();
+        pixel.extend(
+            operands
+                .iter()
+                .zip(&widths)
+                .map(|(v, &w)| &v[p * w..p * w + w]),
+        );
+        for (c, &v) in o.iter().enumerate() {
+            let want = m.op.apply(&pixel, c);
+            if v.to_bits() != want.to_bits() && !(v.is_nan() && want.is_nan()) {
+                wrong += 1;
+                first.get_or_insert((p, c, v, want));
+            }
+        }
+    }
+    first
+        .map(|(p, c, v, want)| {
+            format!(
+                "{side}: {wrong} value(s) are not the operation of the operands, first pixel {p} \
+                 channel {c}: {v:e} against {want:e}"
+            )
+        })
+        .into_iter()
+        .collect()
+}
+
+/// `(tolerance, magnitude)` of channel `c` over the operands `ops`.
+fn compose_ops(m: &Combine, ops: &[Operand], c: usize) -> Option<(f64, Option<f64>)> {
+    let ops = ops.to_vec();
     let sum_mag = || ops.iter().map(|o| o.mag).sum::<Option<f64>>();
     match &m.op {
         CombineOp::Add => {
@@ -159,12 +281,59 @@ fn compose(m: &Combine, c: usize) -> Option<(f64, Option<f64>)> {
 }
 
 impl CheckKind for Combine {
-    /// Per output channel, the composed bound (module docs).
+    /// Per output channel, the composed bound (module docs); where there is none, the scale a
+    /// composed verdict reports.
     fn tolerances(&self) -> Option<Vec<Tolerance>> {
-        let channels = spectex_model::ModelKind::output_channels(self);
-        (0..channels)
-            .map(|c| compose(self, c).map(|(t, _)| Tolerance::from_max(t)))
+        Some(composed(self).unwrap_or_else(|| reported(self)))
+    }
+
+    /// A bound only where the composition has one: a warp over a combination judged by its
+    /// operands' verdicts has none.
+    fn value_bound(&self) -> Option<f64> {
+        composed(self)?
+            .iter()
+            .map(|t| t.max_abs)
+            .max_by(f64::total_cmp)
+    }
+
+    /// None where the composition bounds the combination; else each operand followed by its
+    /// own companions, for [`own_verdict`](CheckKind::own_verdict).
+    fn companions(&self) -> Vec<Model> {
+        if composed(self).is_some() {
+            return Vec::new();
+        }
+        self.operands
+            .iter()
+            .flat_map(|o| std::iter::once(o.clone()).chain(check_kind(o).companions()))
             .collect()
+    }
+
+    /// The composed verdict (module docs), where the composition has no bound.
+    fn own_verdict(
+        &self,
+        renders: &[(Vec<f32>, Vec<f32>)],
+        footprint: Option<f64>,
+    ) -> Option<Vec<String>> {
+        if composed(self).is_some() {
+            return None;
+        }
+        let mut why = Vec::new();
+        let (mut cpu, mut gpu) = (Vec::new(), Vec::new());
+        let mut at = 1;
+        for (i, o) in self.operands.iter().enumerate() {
+            let n = 1 + check_kind(o).companions().len();
+            let Some(own) = renders.get(at..at + n) else {
+                why.push(format!("operand {i}: its renders are missing"));
+                return Some(why);
+            };
+            why.extend(operand_reasons(i, o, own, footprint));
+            cpu.push(own[0].0.as_slice());
+            gpu.push(own[0].1.as_slice());
+            at += n;
+        }
+        why.extend(composition_reasons(self, "cpu", &renders[0].0, &cpu));
+        why.extend(composition_reasons(self, "gpu", &renders[0].1, &gpu));
+        Some(why)
     }
 
     /// The chain rule on the operands' regularities: a sum's slopes and jumps add, a product's
@@ -260,13 +429,96 @@ mod tests {
         assert_eq!(t_max, one);
     }
 
+    fn wave(angle: f32) -> Model {
+        use spectex_model::{Field, PhasorNoise, PhasorOrientation, PhasorOutput, Profile};
+        Model::Phasor(PhasorNoise {
+            seed: 1,
+            dimensions: 2,
+            bandwidth: Field::constant(0.02),
+            frequency: Field::constant(0.07),
+            orientation: PhasorOrientation::Aligned {
+                angle: Field::constant(angle),
+            },
+            impulses_per_kernel: 16.0,
+            profile: Profile::Sine,
+            output: PhasorOutput::Profiled,
+            mean: 0.25,
+            amplitude: 0.25,
+        })
+    }
+
+    /// One pixel of crossed waves: the sum's (cpu, gpu), then per wave its profiled value,
+    /// Gabor, intensity and phase, each (cpu, gpu).
+    fn crossed_pixel(sum: [f32; 2], waves: [[[f32; 2]; 4]; 2]) -> Vec<(Vec<f32>, Vec<f32>)> {
+        std::iter::once(sum)
+            .chain(waves.into_iter().flatten())
+            .map(|p| (vec![p[0]], vec![p[1]]))
+            .collect()
+    }
+
+    #[test]
+    fn crossed_waves_are_judged_by_their_operands_verdicts_and_the_operation() {
+        let crossed = Combine {
+            op: CombineOp::Add,
+            operands: vec![wave(0.4), wave(1.97)],
+        };
+        // Phasor's profiled output has no value bound: the composition has none either.
+        assert!(composed(&crossed).is_none());
+        assert!(crossed.value_bound().is_none());
+        // Each wave brings its Gabor, intensity and phase companions.
+        let companions = crossed.companions();
+        assert_eq!(companions.len(), 8);
+        assert_eq!(companions[0], crossed.operands[0]);
+        assert_eq!(companions[4], crossed.operands[1]);
+        // A pixel where both evaluators agree on every render, the sum being the f32 sum.
+        let (a, b) = (0.375f32, 0.125f32);
+        let good = [[a, a], [0.5, 0.5], [1.0, 1.0], [0.125, 0.125]];
+        let other = [[b, b], [-0.5, -0.5], [1.0, 1.0], [0.875, 0.875]];
+        let ok = crossed_pixel([a + b, a + b], [good, other]);
+        assert_eq!(crossed.own_verdict(&ok, None), Some(vec![]));
+        // The GPU's sum one ulp away from the sum of its operands.
+        let off = f32::from_bits((a + b).to_bits() + 1);
+        let why = crossed
+            .own_verdict(&crossed_pixel([a + b, off], [good, other]), None)
+            .expect("a composed verdict");
+        assert_eq!(why.len(), 1, "{why:?}");
+        assert!(why[0].starts_with("gpu: 1 value"), "{why:?}");
+        // The second wave's phase a tenth of a turn off where its intensity determines it.
+        let bent = [[b, b], [-0.5, -0.5], [1.0, 1.0], [0.875, 0.975]];
+        let why = crossed
+            .own_verdict(&crossed_pixel([a + b, a + b], [good, bent]), None)
+            .expect("a composed verdict");
+        assert!(
+            why.iter().any(|w| w.starts_with("operand 1 (phasor)")),
+            "{why:?}"
+        );
+    }
+
+    #[test]
+    fn a_bounded_combination_keeps_the_generic_criterion() {
+        let add = Combine {
+            op: CombineOp::Add,
+            operands: vec![f1(), f1()],
+        };
+        assert!(add.companions().is_empty());
+        assert_eq!(add.own_verdict(&[(vec![0.0], vec![1.0])], None), None);
+        // A threshold over a bounded operand is judged by the composed verdict.
+        let step = Combine {
+            op: CombineOp::Smoothstep { edges: [0.5, 0.5] },
+            operands: vec![f1()],
+        };
+        assert_eq!(step.companions(), vec![f1()]);
+        let ok = [(vec![1.0], vec![1.0]), (vec![0.75], vec![0.75])];
+        assert_eq!(step.own_verdict(&ok, None), Some(vec![]));
+    }
+
     #[test]
     fn a_threshold_has_no_bound_and_a_smoothstep_scales_by_its_slope() {
         let step = |edges| Combine {
             op: CombineOp::Smoothstep { edges },
             operands: vec![f1()],
         };
-        assert!(step([0.5, 0.5]).tolerances().is_none());
+        assert!(composed(&step([0.5, 0.5])).is_none());
         let one = check_kind(&f1()).value_bound().expect("bound");
         let t = step([0.0, 0.5]).tolerances().expect("bound")[0].max_abs;
         // Slope 1.5/0.5 = 3.
