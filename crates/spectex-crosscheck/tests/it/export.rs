@@ -816,6 +816,21 @@ fn exported_modules_render_the_cpu_values_in_a_fragment_shader() {
             rendered += 1;
             continue;
         }
+        // A combination over operands judged by their own criteria (crossed phasor waves) has
+        // no pointwise bound: its compute cross-check composes the operands' verdicts, which
+        // this test does not do over exported modules yet. Exported (naga validates it in
+        // spectex-gpu's export test), not render-compared; said so, not passed silently.
+        if matches!(model, Model::Combine(_))
+            && spectex_crosscheck::tolerance::check_kind(&model)
+                .value_bound()
+                .is_none()
+        {
+            println!(
+                "export: {case}: exported, not render-compared (a combination judged by its \
+                 operands' own criteria has no pointwise bound)"
+            );
+            continue;
+        }
         let module = exported.wgsl;
         let channels = model.output_channels();
         let started = std::time::Instant::now();
