@@ -149,19 +149,26 @@ fn composed(m: &Combine) -> Option<Vec<Tolerance>> {
 }
 
 /// The scale a composed verdict reports: the composition with each operand's reported
-/// tolerance ([`super::tolerance`]) in place of a bound, infinite where even that has none.
+/// tolerance ([`super::tolerance`]) in place of a bound; where an operand has no magnitude
+/// either, the sum of the operands' scales (infinite where one has none).
 fn reported(m: &Combine) -> Vec<Tolerance> {
+    let scales: Vec<f64> = m
+        .operands
+        .iter()
+        .map(|o| super::tolerance(o).map_or(f64::INFINITY, |t| t.max_abs))
+        .collect();
     let ops: Option<Vec<Operand>> = m
         .operands
         .iter()
-        .map(|o| operand_with(o, super::tolerance(o)?.max_abs))
+        .zip(&scales)
+        .map(|(o, &s)| operand_with(o, s))
         .collect();
     (0..spectex_model::ModelKind::output_channels(m))
         .map(|c| {
             let t = ops
                 .as_deref()
                 .and_then(|ops| compose_ops(m, ops, c))
-                .map_or(f64::INFINITY, |(t, _)| t);
+                .map_or_else(|| scales.iter().sum(), |(t, _)| t);
             Tolerance::from_max(t)
         })
         .collect()

@@ -820,11 +820,7 @@ fn exported_modules_render_the_cpu_values_in_a_fragment_shader() {
         // no pointwise bound: its compute cross-check composes the operands' verdicts, which
         // this test does not do over exported modules yet. Exported (naga validates it in
         // spectex-gpu's export test), not render-compared; said so, not passed silently.
-        if matches!(model, Model::Combine(_))
-            && spectex_crosscheck::tolerance::check_kind(&model)
-                .value_bound()
-                .is_none()
-        {
+        if matches!(model, Model::Combine(_)) && check_kind(&model).value_bound().is_none() {
             println!(
                 "export: {case}: exported, not render-compared (a combination judged by its \
                  operands' own criteria has no pointwise bound)"
