@@ -76,8 +76,7 @@ fn islamic_kernel(
     context: &GpuContext,
     period: Option<Period>,
 ) -> Result<Box<dyn GpuKernel>, GpuError> {
-    let (mut kernel, segments) = pack(model);
-    kernel.period = period;
+    let (kernel, segments) = pack(model, period);
     Shaded::boxed(
         context,
         kernel,
@@ -85,8 +84,9 @@ fn islamic_kernel(
     )
 }
 
-/// The kernel of an Islamic pattern and its segment table (seven f32 per segment).
-pub(crate) fn pack(model: &IslamicPattern) -> (IslamicKernel, Vec<f32>) {
+/// The kernel of an Islamic pattern, its positions reduced modulo `period` when given, and its
+/// segment table (seven f32 per segment).
+pub(crate) fn pack(model: &IslamicPattern, period: Option<Period>) -> (IslamicKernel, Vec<f32>) {
     let geometry = model.geometry();
     let map = model.lattice_map();
     let [e1, e2] = geometry.basis;
@@ -114,7 +114,7 @@ pub(crate) fn pack(model: &IslamicPattern) -> (IslamicKernel, Vec<f32>) {
             a10: map.a[1][0] as f32,
             a11: map.a[1][1] as f32,
         },
-        period: None,
+        period,
     };
     (kernel, geometry.segments)
 }

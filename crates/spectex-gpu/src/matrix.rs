@@ -63,14 +63,16 @@ fn matrix_kernel(
     context: &GpuContext,
     period: Option<Period>,
 ) -> Result<Box<dyn GpuKernel>, GpuError> {
-    let (mut kernel, texels) = pack(model)?;
-    kernel.period = period;
+    let (kernel, texels) = pack(model, period)?;
     Shaded::boxed(context, kernel, &[Table::new("matrix texels", &texels)])
 }
 
-/// The kernel of a matrix transformation and its source's texels (one unused texel for the
-/// rings).
-pub(crate) fn pack(model: &MatrixTransform) -> Result<(MatrixKernel, Vec<f32>), GpuError> {
+/// The kernel of a matrix transformation, its positions reduced modulo `period` when given, and
+/// its source's texels (one unused texel for the rings).
+pub(crate) fn pack(
+    model: &MatrixTransform,
+    period: Option<Period>,
+) -> Result<(MatrixKernel, Vec<f32>), GpuError> {
     let a = model
         .inverse_power()
         .ok_or_else(|| GpuError::Model(model.validate().err().unwrap_or_else(not_invertible)))?;
@@ -93,7 +95,7 @@ pub(crate) fn pack(model: &MatrixTransform) -> Result<(MatrixKernel, Vec<f32>), 
             mean: model.mean,
             _pad0: 0,
         },
-        period: None,
+        period,
     };
     Ok((kernel, texels))
 }

@@ -29,7 +29,7 @@ fn bit_table(a: f64) -> impl Iterator<Item = u32> {
 
 impl ExportKind for IslamicPattern {
     fn export_parts(&self, _z: f64) -> Result<ExportNode, GpuError> {
-        let (kernel, segments) = crate::islamic::pack(self);
+        let (kernel, segments) = crate::islamic::pack(self, None);
         let map = self.lattice_map();
         // Tables 0–3: A₀₀ (s from x), A₀₁ (s from y), A₁₀ (t from x), A₁₁ (t from y).
         let table: Vec<String> = [map.a[0][0], map.a[0][1], map.a[1][0], map.a[1][1]]

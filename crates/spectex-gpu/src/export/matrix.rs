@@ -10,7 +10,7 @@ use crate::kernel::Table;
 
 impl ExportKind for MatrixTransform {
     fn export_parts(&self, _z: f64) -> Result<ExportNode, GpuError> {
-        let (kernel, texels) = crate::matrix::pack(self)?;
+        let (kernel, texels) = crate::matrix::pack(self, None)?;
         ExportParts::of(
             &kernel,
             &[Table::new("matrix texels", &texels)],
