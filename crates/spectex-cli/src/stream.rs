@@ -310,6 +310,7 @@ pub(crate) fn render(
     } else {
         vec![2, 1, 0]
     };
+    keep_freed_memory();
     let (send, receive) = mpsc::sync_channel::<Band>(1);
     let (give_back, take_back) = mpsc::channel::<Vec<f32>>();
     let report = std::thread::scope(|scope| -> Result<WriteReport> {
@@ -392,6 +393,25 @@ pub(crate) fn render(
     }
     crate::note_clipping(report);
     Ok(())
+}
+
+/// Tells glibc's allocator to keep freed memory for reuse instead of returning it to the kernel.
+///
+/// Each band allocates and frees its tiles' chunks (64 MB for a band of 8 Mpix: the exr crate
+/// takes each chunk by value), and by default glibc trims the freed top of each thread's heap
+/// at once, so the next band faults the same pages in again, zeroed by the kernel: a 32768²
+/// stream spent 8.3 s of system time against 4.6 s with trimming held off (`/usr/bin/time`,
+/// `spectex noise perlin --size 32768x32768 -o OUT.exr`), 20% of its CPU time. What is kept
+/// is memory the bands already used, so memory stays bounded by the band size (peak RSS 172
+/// against 154 MB in that run). Elsewhere (other C libraries) this does nothing.
+fn keep_freed_memory() {
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    {
+        #[allow(unsafe_code)]
+        // SAFETY: `mallopt` only sets an allocator parameter; it is called before the band
+        // threads start, and glibc serialises it with allocation anyway.
+        let _ = unsafe { libc::mallopt(libc::M_TRIM_THRESHOLD, 1 << 30) };
+    }
 }
 
 /// The header of a tiled OpenEXR holding `region` of its image: the image as display window,
