@@ -119,18 +119,13 @@ fn pack(model: &GaborNoise, period: Option<Period>) -> GaborKernel {
 }
 
 impl GpuKind for GaborNoise {
-    fn gpu_kernel(&self, context: &GpuContext, _z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
-        Shaded::boxed(context, pack(self, None), &[])
-    }
-
-    fn gpu_kernel_periodic(
+    fn kernel_with_period(
         &self,
         context: &GpuContext,
         _z: f64,
-        period: Period,
+        period: Option<Period>,
     ) -> Result<Box<dyn GpuKernel>, GpuError> {
-        spectex_model::ModelKind::check_period(self, period)?;
-        Shaded::boxed(context, pack(self, Some(period)), &[])
+        Shaded::boxed(context, pack(self, period), &[])
     }
 }
 

@@ -2,8 +2,8 @@
 //! `A = (M⁻¹)^k mod N` once and, per tile, each column's and row's cell on the pixel grid (the
 //! CPU's split); the shader reduces the cell modulo `N` and reads the source at `A·q mod N`.
 
+use spectex_model::Period;
 use spectex_model::matrix::{MatrixSource, MatrixTransform};
-use spectex_model::{ModelKind, Period};
 
 use crate::axis::{CellAxis, cell_axis, periodic_columns, periodic_rows};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
@@ -40,31 +40,18 @@ pub(crate) struct MatrixKernel {
 }
 
 impl GpuKind for MatrixTransform {
-    fn gpu_kernel(&self, context: &GpuContext, _z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
-        matrix_kernel(self, context, None)
-    }
-
-    /// The texture is periodic with its torus side `N` ([`ModelKind::check_period`]): only the
-    /// positions are reduced, as the CPU's `PeriodicKernel` reduces them.
-    fn gpu_kernel_periodic(
+    /// Periodic: the texture is periodic with its torus side `N`
+    /// (`ModelKind::check_period`): only the positions are reduced, as the CPU's
+    /// `PeriodicKernel` reduces them.
+    fn kernel_with_period(
         &self,
         context: &GpuContext,
         _z: f64,
-        period: Period,
+        period: Option<Period>,
     ) -> Result<Box<dyn GpuKernel>, GpuError> {
-        self.check_period(period)?;
-        matrix_kernel(self, context, Some(period))
+        let (kernel, texels) = pack(self, period)?;
+        Shaded::boxed(context, kernel, &[Table::new("matrix texels", &texels)])
     }
-}
-
-/// The kernel of a validated transformation, its positions reduced modulo `period` when given.
-fn matrix_kernel(
-    model: &MatrixTransform,
-    context: &GpuContext,
-    period: Option<Period>,
-) -> Result<Box<dyn GpuKernel>, GpuError> {
-    let (kernel, texels) = pack(model, period)?;
-    Shaded::boxed(context, kernel, &[Table::new("matrix texels", &texels)])
 }
 
 /// The kernel of a matrix transformation, its positions reduced modulo `period` when given, and

@@ -204,24 +204,15 @@ pub(crate) fn pack(
 }
 
 impl GpuKind for PhasorNoise {
-    fn gpu_kernel(&self, context: &GpuContext, z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
-        let (kernel, profile_data) = pack(self, z, None)?;
-        Shaded::boxed(
-            context,
-            kernel,
-            &[Table::new("phasor profile", &profile_data)],
-        )
-    }
-
-    /// The cells drawn on the host by `PhasorKernels::new_periodic` (fitted to the period and
-    /// hashed modulo it, the CPU's), at positions reduced modulo the period.
-    fn gpu_kernel_periodic(
+    /// Periodic: the cells drawn on the host by `PhasorKernels::new_periodic` (fitted to the
+    /// period and hashed modulo it, the CPU's), at positions reduced modulo the period.
+    fn kernel_with_period(
         &self,
         context: &GpuContext,
         z: f64,
-        period: Period,
+        period: Option<Period>,
     ) -> Result<Box<dyn GpuKernel>, GpuError> {
-        let (kernel, profile_data) = pack(self, z, Some(period))?;
+        let (kernel, profile_data) = pack(self, z, period)?;
         Shaded::boxed(
             context,
             kernel,

@@ -4,6 +4,7 @@
 //! pixel in f32. The WGSL export locates the coarse cell itself (`export/subdivision.wgsl`).
 
 use spectex_model::subdivision::{Stencil, StochasticSubdivision};
+use spectex_model::{ModelKind, Period};
 
 use crate::axis::{CellAxis, cell_axis, periodic_columns, periodic_rows};
 use crate::export::{ExportKind, ExportNode, ExportParts};
@@ -56,7 +57,21 @@ fn host(model: &StochasticSubdivision) -> (SubdivisionKernel, Vec<f32>) {
 }
 
 impl GpuKind for StochasticSubdivision {
-    fn gpu_kernel(&self, context: &GpuContext, _z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
+    /// No periodic form (the model layer refuses every period first).
+    fn kernel_with_period(
+        &self,
+        context: &GpuContext,
+        _z: f64,
+        period: Option<Period>,
+    ) -> Result<Box<dyn GpuKernel>, GpuError> {
+        if let Some(period) = period {
+            return Err(GpuError::Unsupported {
+                kind: Self::NAME,
+                feature: format!(
+                    "a period ({period}): the device path has no periodic form for it"
+                ),
+            });
+        }
         let (kernel, scales) = host(self);
         Shaded::boxed(
             context,

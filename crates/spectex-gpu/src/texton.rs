@@ -63,25 +63,21 @@ pub(crate) struct TextonKernel {
 }
 
 impl GpuKind for TextonNoise {
-    fn gpu_kernel(&self, context: &GpuContext, _z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
-        let (kernel, data) = host(self);
-        Shaded::boxed(context, kernel, &[Table::new("texton model data", &data)])
-    }
-
-    /// The CPU's `TextonEvaluator::new_periodic`: the cell divides the period, cells hashed
-    /// modulo the cells per period.
-    fn gpu_kernel_periodic(
+    /// Periodic: the CPU's `TextonEvaluator::new_periodic`: the cell divides the period, cells
+    /// hashed modulo the cells per period.
+    fn kernel_with_period(
         &self,
         context: &GpuContext,
         _z: f64,
-        period: Period,
+        period: Option<Period>,
     ) -> Result<Box<dyn GpuKernel>, GpuError> {
-        spectex_model::ModelKind::check_period(self, period)?;
         let (mut kernel, data) = host(self);
-        let cells = period.cells(kernel.cell_size);
-        kernel.params.cells_x = cells[0] as i32;
-        kernel.params.cells_y = cells[1] as i32;
-        kernel.period = Some(period);
+        if let Some(period) = period {
+            let cells = period.cells(kernel.cell_size);
+            kernel.params.cells_x = cells[0] as i32;
+            kernel.params.cells_y = cells[1] as i32;
+            kernel.period = Some(period);
+        }
         Shaded::boxed(context, kernel, &[Table::new("texton model data", &data)])
     }
 }

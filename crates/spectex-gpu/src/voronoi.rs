@@ -3,9 +3,9 @@
 //! relaxation included, so the device reads the CPU's f32 seeds, IDs and colours), and each
 //! column's and row's cell and offset (the CPU's split); the shader runs the search.
 
+use spectex_model::Period;
 use spectex_model::grid::locate_cell;
 use spectex_model::voronoi::{BlockCache, VoronoiNoise, VoronoiOutput};
-use spectex_model::{ModelKind, Period};
 
 use crate::axis::{CellAxis, cell_axis, periodic_columns, periodic_rows};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables, halve_tile_to_fit};
@@ -61,30 +61,16 @@ impl VoronoiKernel {
 }
 
 impl GpuKind for VoronoiNoise {
-    fn gpu_kernel(&self, context: &GpuContext, _z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
-        voronoi_kernel(self, context, None)
-    }
-
-    /// The CPU's periodic Voronoi diagram: the host draws the sites with the cells and Lloyd
-    /// blocks wrapped, at positions reduced modulo the period.
-    fn gpu_kernel_periodic(
+    /// Periodic: the CPU's periodic Voronoi diagram: the host draws the sites with the cells
+    /// and Lloyd blocks wrapped, at positions reduced modulo the period.
+    fn kernel_with_period(
         &self,
         context: &GpuContext,
         _z: f64,
-        period: Period,
+        period: Option<Period>,
     ) -> Result<Box<dyn GpuKernel>, GpuError> {
-        self.check_period(period)?;
-        voronoi_kernel(self, context, Some(period))
+        Shaded::boxed(context, pack(self, period), &[])
     }
-}
-
-/// The kernel of a validated model, periodic with `period` when given.
-fn voronoi_kernel(
-    model: &VoronoiNoise,
-    context: &GpuContext,
-    period: Option<Period>,
-) -> Result<Box<dyn GpuKernel>, GpuError> {
-    Shaded::boxed(context, pack(model, period), &[])
 }
 
 /// The kernel of a Voronoi model, periodic with `period` when given.
