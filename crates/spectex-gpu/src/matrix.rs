@@ -5,7 +5,7 @@
 use spectex_model::Period;
 use spectex_model::matrix::{MatrixSource, MatrixTransform};
 
-use crate::axis::{CellAxis, cell_axis, periodic_columns, periodic_rows};
+use crate::axis::{CellAxes, CellAxis};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
@@ -122,16 +122,7 @@ impl ShaderKernel for MatrixKernel {
         };
         Ok(TileTables::new(
             &params,
-            vec![
-                Table::new(
-                    "matrix columns",
-                    &cell_axis(1.0, width, periodic_columns(tile, self.period)),
-                ),
-                Table::new(
-                    "matrix rows",
-                    &cell_axis(1.0, height, periodic_rows(tile, self.period)),
-                ),
-            ],
+            CellAxes::new(1.0, tile, self.period).tables(["matrix columns", "matrix rows"]),
         ))
     }
 }

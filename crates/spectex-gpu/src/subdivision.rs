@@ -6,7 +6,7 @@
 use spectex_model::subdivision::{Stencil, StochasticSubdivision};
 use spectex_model::{ModelKind, Period};
 
-use crate::axis::{CellAxis, cell_axis, periodic_columns, periodic_rows};
+use crate::axis::{CellAxes, CellAxis};
 use crate::export::{ExportKind, ExportNode, ExportParts};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
@@ -122,16 +122,8 @@ impl ShaderKernel for SubdivisionKernel {
         };
         Ok(TileTables::new(
             &params,
-            vec![
-                Table::new(
-                    "subdivision columns",
-                    &cell_axis(self.side, width, periodic_columns(tile, None)),
-                ),
-                Table::new(
-                    "subdivision rows",
-                    &cell_axis(self.side, height, periodic_rows(tile, None)),
-                ),
-            ],
+            CellAxes::new(self.side, tile, None)
+                .tables(["subdivision columns", "subdivision rows"]),
         ))
     }
 }

@@ -5,7 +5,7 @@
 use spectex_model::texton::{Combine, MAX_TEXTONS_PER_CELL, Placement, Spot};
 use spectex_model::{Period, TextonNoise};
 
-use crate::axis::{CellAxis, cell_axis, periodic_columns, periodic_rows};
+use crate::axis::{CellAxes, CellAxis};
 use crate::export::{ExportKind, ExportNode, ExportParts};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
@@ -178,24 +178,8 @@ impl ShaderKernel for TextonKernel {
         };
         Ok(TileTables::new(
             &params,
-            vec![
-                Table::new(
-                    "texton columns",
-                    &cell_axis(
-                        self.cell_size,
-                        tile.width,
-                        periodic_columns(tile, self.period),
-                    ),
-                ),
-                Table::new(
-                    "texton rows",
-                    &cell_axis(
-                        self.cell_size,
-                        tile.height,
-                        periodic_rows(tile, self.period),
-                    ),
-                ),
-            ],
+            CellAxes::new(self.cell_size, tile, self.period)
+                .tables(["texton columns", "texton rows"]),
         ))
     }
 }
