@@ -34,9 +34,10 @@ pub(crate) fn periodic_rows(
 }
 
 wgsl_struct! {
-    /// `GaborAxis` of `gabor.wgsl` and `PhasorAxis` of `phasor.wgsl`: a position's cell on a
-    /// kernel grid, its f32 offset in the cell, and whether it is in range (0: the pixel is the
-    /// model's mean).
+    /// `GridAxis` of `common.wgsl`, what every shader on a cell grid (Gabor, phasor, texton,
+    /// Voronoi, subdivision, matrix) reads per column and row and moves by a warp's
+    /// displacement (`grid_point`): a position's cell on the grid, its f32 offset in the cell,
+    /// and whether it is in range (0: the kind's out-of-range value).
     pub(crate) struct CellAxis {
         cell: i32,
         offset: f32,
@@ -170,8 +171,7 @@ mod tests {
     }
 
     #[test]
-    fn cell_axis_matches_both_wgsl_twins() {
-        assert_matches_wgsl::<CellAxis>("gabor", "GaborAxis");
-        assert_matches_wgsl::<CellAxis>("phasor", "PhasorAxis");
+    fn cell_axis_matches_its_wgsl_twin() {
+        assert_matches_wgsl::<CellAxis>("common", "GridAxis");
     }
 }

@@ -133,8 +133,7 @@ mod tests {
     use crate::layout::check::assert_matches_wgsl;
 
     #[test]
-    fn params_and_axis_match_the_wgsl() {
+    fn params_match_the_wgsl() {
         assert_matches_wgsl::<MatrixParams>("matrix", "MatrixParams");
-        assert_matches_wgsl::<CellAxis>("matrix", "MatrixAxis");
     }
 }

@@ -134,8 +134,7 @@ mod tests {
     use crate::layout::check::assert_matches_wgsl;
 
     #[test]
-    fn params_and_axis_match_the_wgsl() {
+    fn params_match_the_wgsl() {
         assert_matches_wgsl::<SubdivisionParams>("subdivision", "SubdivisionParams");
-        assert_matches_wgsl::<CellAxis>("subdivision", "SubdivisionAxis");
     }
 }

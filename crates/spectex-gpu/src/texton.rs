@@ -190,8 +190,7 @@ mod tests {
     use crate::layout::check::assert_matches_wgsl;
 
     #[test]
-    fn params_and_axis_match_the_wgsl() {
+    fn params_match_the_wgsl() {
         assert_matches_wgsl::<TextonParams>("texton", "TextonParams");
-        assert_matches_wgsl::<CellAxis>("texton", "TextonAxis");
     }
 }

@@ -207,8 +207,7 @@ mod tests {
     use crate::layout::check::assert_matches_wgsl;
 
     #[test]
-    fn params_and_axis_match_the_wgsl() {
+    fn params_match_the_wgsl() {
         assert_matches_wgsl::<VoronoiParams>("voronoi", "VoronoiParams");
-        assert_matches_wgsl::<CellAxis>("voronoi", "VoronoiAxis");
     }
 }
