@@ -26,6 +26,8 @@
 // `warp_relocate(cell, offset, d / cell_side)` (offset + d, the cell moved by the floor, the
 // fraction kept; LRP rebuilds its four lattice offsets from the remainder the same way), so the
 // arithmetic stays on numbers of the cell's size and positions near 10⁷ keep their precision.
+// A shader whose host splits columns and rows on one cell grid (`GridAxis`: Gabor, phasor,
+// texton, Voronoi, subdivision, matrix) takes its pixel through `grid_point`.
 // Where the host draws cells for a tile (phasor), it widens the box to the displaced pixels' cells
 // (plus one for the f32 relocation). `classic.wgsl` relocates each octave's (cell, offset) with
 // `1/c_o` from its octave table (simplex noise skews the displacement, `d + (Σd)·F`, and adds it
@@ -295,6 +297,39 @@ fn warp_relocate(cell: i32, offset: f32, d: f32) -> Located {
     let u = offset + d;
     let shift = floor(u);
     return Located(bitcast<i32>(bitcast<u32>(cell) + bitcast<u32>(i32(shift))), u - shift);
+}
+
+/// One column (or row) of a tile on a cell grid, as the host splits it in f64 (spectex-gpu's
+/// `axis::CellAxis`, packed by `axis::cell_axis`): its cell, the offset in the cell (cell units)
+/// and whether it is inside the usable range (0: the kind's out-of-range value).
+struct GridAxis {
+    cell: i32,
+    offset: f32,
+    valid: u32,
+}
+
+/// A pixel's column and row on a cell grid.
+struct GridPoint {
+    column: GridAxis,
+    row: GridAxis,
+}
+
+/// The pixel `index` of the tile at `column` and `row` (the host's split), moved by its
+/// displacement in cell units, `warp_displacement[index]·inv_side` (`inv_side` = 1/cell side),
+/// when the dispatch is displaced (`warp_relocate` on each axis, the valid flags kept), and
+/// untouched otherwise: the warp-relocation prologue of every shader on a cell grid.
+fn grid_point(column: GridAxis, row: GridAxis, index: u32, inv_side: f32) -> GridPoint {
+    var at = GridPoint(column, row);
+    if (warp_params.enabled == 1u) {
+        let d = warp_displacement[index] * inv_side;
+        let cx = warp_relocate(column.cell, column.offset, d.x);
+        let cy = warp_relocate(row.cell, row.offset, d.y);
+        at.column.cell = cx.cell;
+        at.column.offset = cx.offset;
+        at.row.cell = cy.cell;
+        at.row.offset = cy.offset;
+    }
+    return at;
 }
 
 /// spectex_model::filter's FADE_START and FADE_END: the clamp of a minified render's filter

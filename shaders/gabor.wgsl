@@ -52,17 +52,9 @@ struct GaborParams {
     _pad3: u32,
 }
 
-/// One column (or row): its cell, the offset in the cell (cell units) and whether it is inside
-/// the usable range.
-struct GaborAxis {
-    cell: i32,
-    offset: f32,
-    valid: u32,
-}
-
 @group(0) @binding(0) var<uniform> params: GaborParams;
-@group(0) @binding(1) var<storage, read> columns: array<GaborAxis>;
-@group(0) @binding(2) var<storage, read> rows: array<GaborAxis>;
+@group(0) @binding(1) var<storage, read> columns: array<GridAxis>;
+@group(0) @binding(2) var<storage, read> rows: array<GridAxis>;
 @group(0) @binding(3) var<storage, read_write> output: array<f32>;
 
 /// The randomness-contract layer of Gabor impulses.
@@ -102,7 +94,7 @@ fn kernel_term(uxs: f32, ox: f32, fx: f32, dy2: f32, py: f32, kw: f32) -> f32 {
 /// The noise at the pixel whose column and row are located by `column` and `row` (both valid):
 /// the per-pixel evaluation, shared by `gabor_main` and the exported module
 /// (`shaders/export/gabor.wgsl`, which locates the pixel itself).
-fn gabor_value(column: GaborAxis, row: GaborAxis) -> f32 {
+fn gabor_value(column: GridAxis, row: GridAxis) -> f32 {
     let key = layer_key(GABOR_LAYER, params.seed);
     var sums = array<f32, 3>(0.0f, 0.0f, 0.0f);
     for (var s = 0; s < 3; s++) {
@@ -145,18 +137,10 @@ fn gabor_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (gid.x >= params.width || gid.y >= params.height) {
         return;
     }
-    var column = columns[gid.x];
-    var row = rows[gid.y];
     let index = gid.y * params.width + gid.x;
-    if (warp_params.enabled == 1u) {
-        let d = warp_displacement[index] * params.inv_radius;
-        let cx = warp_relocate(column.cell, column.offset, d.x);
-        let cy = warp_relocate(row.cell, row.offset, d.y);
-        column.cell = cx.cell;
-        column.offset = cx.offset;
-        row.cell = cy.cell;
-        row.offset = cy.offset;
-    }
+    let at = grid_point(columns[gid.x], rows[gid.y], index, params.inv_radius);
+    let column = at.column;
+    let row = at.row;
     if (column.valid == 0u || row.valid == 0u) {
         output[index] = params.mean;
         return;

@@ -28,18 +28,11 @@ struct MatrixParams {
     _pad0: u32,
 }
 
-/// One column (or row): its cell on the pixel grid, the offset in it, and whether it is in range.
-struct MatrixAxis {
-    cell: i32,
-    offset: f32,
-    valid: u32,
-}
-
 @group(0) @binding(0) var<uniform> params: MatrixParams;
 /// The image source's N·N texels (one unused texel for the rings).
 @group(0) @binding(1) var<storage, read> texels: array<f32>;
-@group(0) @binding(2) var<storage, read> columns: array<MatrixAxis>;
-@group(0) @binding(3) var<storage, read> rows: array<MatrixAxis>;
+@group(0) @binding(2) var<storage, read> columns: array<GridAxis>;
+@group(0) @binding(3) var<storage, read> rows: array<GridAxis>;
 @group(0) @binding(4) var<storage, read_write> output: array<f32>;
 
 /// The procedural source ⌊rings·|d|²/N²⌋ mod 2, d = 2s + 1 − N (spectex_model::matrix::rings_value).
@@ -56,16 +49,10 @@ fn matrix_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (gid.x >= params.width || gid.y >= params.height) {
         return;
     }
-    var column = columns[gid.x];
-    var row = rows[gid.y];
     let index = gid.y * params.width + gid.x;
-    if (warp_params.enabled == 1u) {
-        let d = warp_displacement[index];
-        let cx = warp_relocate(column.cell, column.offset, d.x);
-        let cy = warp_relocate(row.cell, row.offset, d.y);
-        column.cell = cx.cell;
-        row.cell = cy.cell;
-    }
+    let at = grid_point(columns[gid.x], rows[gid.y], index, 1.0f);
+    let column = at.column;
+    let row = at.row;
     let n = i32(params.size);
     let qx = u32(select(0, wrap_cell(column.cell, n), column.valid == 1u));
     let qy = u32(select(0, wrap_cell(row.cell, n), row.valid == 1u));

@@ -55,13 +55,6 @@ struct PhasorParams {
     filtered: u32,
 }
 
-/// One column (or row): its cell, the offset in the cell and whether it is in range.
-struct PhasorAxis {
-    cell: i32,
-    offset: f32,
-    valid: u32,
-}
-
 /// One impulse: offset in its cell and ψ; frequency vector (turns per cell unit) and the
 /// sharpness s = (b_j/b_min)² (the kernel is exp(−ln 20·s·|d|²) for s·|d|² < 1).
 struct PhasorImpulse {
@@ -80,8 +73,8 @@ struct PhasorImpulse {
 /// Per pixel (when `filtered` = 1): u = F(p)·s, the local frequency times the footprint, at
 /// which every profile's harmonics are weighted.
 @group(0) @binding(5) var<storage, read> harmonic_scale: array<f32>;
-@group(0) @binding(6) var<storage, read> columns: array<PhasorAxis>;
-@group(0) @binding(7) var<storage, read> rows: array<PhasorAxis>;
+@group(0) @binding(6) var<storage, read> columns: array<GridAxis>;
+@group(0) @binding(7) var<storage, read> rows: array<GridAxis>;
 @group(0) @binding(8) var<storage, read_write> output: array<f32>;
 
 /// spectex_model::filter's MAX_SQUARE_HARMONICS (`filter_response` is common.wgsl's).
@@ -230,18 +223,10 @@ fn phasor_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (gid.x >= params.width || gid.y >= params.height) {
         return;
     }
-    var column = columns[gid.x];
-    var row = rows[gid.y];
     let index = gid.y * params.width + gid.x;
-    if (warp_params.enabled == 1u) {
-        let d = warp_displacement[index] * params.inv_side;
-        let cx = warp_relocate(column.cell, column.offset, d.x);
-        let cy = warp_relocate(row.cell, row.offset, d.y);
-        column.cell = cx.cell;
-        column.offset = cx.offset;
-        row.cell = cy.cell;
-        row.offset = cy.offset;
-    }
+    let at = grid_point(columns[gid.x], rows[gid.y], index, params.inv_side);
+    let column = at.column;
+    let row = at.row;
     if (column.valid == 0u || row.valid == 0u || params.z_valid == 0u) {
         output[index] = 0.0f;
         return;

@@ -24,18 +24,11 @@ struct SubdivisionParams {
     _pad0: u32,
 }
 
-/// One column (or row): its coarse cell, the offset in it, and whether it is in range.
-struct SubdivisionAxis {
-    cell: i32,
-    offset: f32,
-    valid: u32,
-}
-
 @group(0) @binding(0) var<uniform> params: SubdivisionParams;
 /// σ_ℓ/√21845 for ℓ = 0..=L.
 @group(0) @binding(1) var<storage, read> scales: array<f32>;
-@group(0) @binding(2) var<storage, read> columns: array<SubdivisionAxis>;
-@group(0) @binding(3) var<storage, read> rows: array<SubdivisionAxis>;
+@group(0) @binding(2) var<storage, read> columns: array<GridAxis>;
+@group(0) @binding(3) var<storage, read> rows: array<GridAxis>;
 @group(0) @binding(4) var<storage, read_write> output: array<f32>;
 
 /// spectex_model::subdivision::SUBDIVISION_LAYER ("SUBD").
@@ -171,18 +164,10 @@ fn subdivision_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (gid.x >= params.width || gid.y >= params.height) {
         return;
     }
-    var column = columns[gid.x];
-    var row = rows[gid.y];
     let index = gid.y * params.width + gid.x;
-    if (warp_params.enabled == 1u) {
-        let d = warp_displacement[index] * params.inv_cell;
-        let cx = warp_relocate(column.cell, column.offset, d.x);
-        let cy = warp_relocate(row.cell, row.offset, d.y);
-        column.cell = cx.cell;
-        column.offset = cx.offset;
-        row.cell = cy.cell;
-        row.offset = cy.offset;
-    }
+    let at = grid_point(columns[gid.x], rows[gid.y], index, params.inv_cell);
+    let column = at.column;
+    let row = at.row;
     let cx = select(0i, column.cell, column.valid == 1u);
     let tx = select(0.0f, column.offset, column.valid == 1u);
     let cy = select(0i, row.cell, row.valid == 1u);

@@ -55,19 +55,11 @@ struct TextonParams {
     _pad4: u32,
 }
 
-/// One column (or row): its cell, the offset in the cell (cell units) and whether it is inside
-/// the usable range.
-struct TextonAxis {
-    cell: i32,
-    offset: f32,
-    valid: u32,
-}
-
 @group(0) @binding(0) var<uniform> params: TextonParams;
 /// The Poisson CDF (16 values, rounded to f32 by the host) then the image texels.
 @group(0) @binding(1) var<storage, read> model_data: array<f32>;
-@group(0) @binding(2) var<storage, read> columns: array<TextonAxis>;
-@group(0) @binding(3) var<storage, read> rows: array<TextonAxis>;
+@group(0) @binding(2) var<storage, read> columns: array<GridAxis>;
+@group(0) @binding(3) var<storage, read> rows: array<GridAxis>;
 @group(0) @binding(4) var<storage, read_write> output: array<f32>;
 
 /// The randomness-contract layer of texton cells ("TEXT").
@@ -132,24 +124,16 @@ fn texton_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (gid.x >= params.width || gid.y >= params.height) {
         return;
     }
-    var column = columns[gid.x];
-    var row = rows[gid.y];
     let index = gid.y * params.width + gid.x;
-    if (warp_params.enabled == 1u) {
-        let d = warp_displacement[index] * params.inv_cell;
-        let cx = warp_relocate(column.cell, column.offset, d.x);
-        let cy = warp_relocate(row.cell, row.offset, d.y);
-        column.cell = cx.cell;
-        column.offset = cx.offset;
-        row.cell = cy.cell;
-        row.offset = cy.offset;
-    }
+    let at = grid_point(columns[gid.x], rows[gid.y], index, params.inv_cell);
+    let column = at.column;
+    let row = at.row;
     output[index] = texton_value(column, row);
 }
 
 /// The texture at the point `column`, `row` (its cells and offsets in cell units): the mean
 /// outside the usable range, else the mean plus the textons of the cells within `reach`.
-fn texton_value(column: TextonAxis, row: TextonAxis) -> f32 {
+fn texton_value(column: GridAxis, row: GridAxis) -> f32 {
     if (column.valid == 0u || row.valid == 0u) {
         return params.mean;
     }

@@ -30,19 +30,11 @@ struct VoronoiParams {
     _pad2: u32,
 }
 
-/// One column (or row): its cell, the offset in the cell (cell units) and whether it is inside
-/// the usable range.
-struct VoronoiAxis {
-    cell: i32,
-    offset: f32,
-    valid: u32,
-}
-
 @group(0) @binding(0) var<uniform> params: VoronoiParams;
 /// Six floats per site, row-major over the box: offset x, y, ID, colour r, g, b.
 @group(0) @binding(1) var<storage, read> sites: array<f32>;
-@group(0) @binding(2) var<storage, read> columns: array<VoronoiAxis>;
-@group(0) @binding(3) var<storage, read> rows: array<VoronoiAxis>;
+@group(0) @binding(2) var<storage, read> columns: array<GridAxis>;
+@group(0) @binding(3) var<storage, read> rows: array<GridAxis>;
 @group(0) @binding(4) var<storage, read_write> output: array<f32>;
 
 const SITE_FLOATS: u32 = 6u;
@@ -83,18 +75,10 @@ fn voronoi_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (gid.x >= params.width || gid.y >= params.height) {
         return;
     }
-    var column = columns[gid.x];
-    var row = rows[gid.y];
     let index = gid.y * params.width + gid.x;
-    if (warp_params.enabled == 1u) {
-        let d = warp_displacement[index] * params.inv_cell;
-        let cx = warp_relocate(column.cell, column.offset, d.x);
-        let cy = warp_relocate(row.cell, row.offset, d.y);
-        column.cell = cx.cell;
-        column.offset = cx.offset;
-        row.cell = cy.cell;
-        row.offset = cy.offset;
-    }
+    let at = grid_point(columns[gid.x], rows[gid.y], index, params.inv_cell);
+    let column = at.column;
+    let row = at.row;
     if (column.valid == 0u || row.valid == 0u || params.box_cols == 0u) {
         let channels = select(1u, 3u, params.output == 4u);
         for (var c = 0u; c < channels; c++) {

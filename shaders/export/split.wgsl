@@ -67,6 +67,14 @@ fn export_locate(n: i32, u: f32, lattice: u32) -> ExportSplit {
     return at;
 }
 
+/// The point `n + u` on lattice `lattice` as the compute shaders' `GridAxis` (common.wgsl): its
+/// cell and the offset in cell units, `(rem + u)·(1/Δ)` (the CPU rounds `x/Δ − ⌊x/Δ⌋` from f64
+/// once), always valid (|n| < 2³¹ and Δ ≥ 1 keep the cell an i32).
+fn export_grid_axis(n: i32, u: f32, lattice: u32) -> GridAxis {
+    let at = export_locate(n, u, lattice);
+    return GridAxis(at.cell, (at.rem + u) * export_inv_sides[lattice], 1u);
+}
+
 /// A position given as an integer part and any f32 offset, moved to the form the lattice
 /// functions take: `n + ⌊offset⌋` and the fraction in `[0, 1)` (exact for |offset| < 2²³).
 fn export_normalise(cell: vec2<i32>, offset: vec2<f32>) -> ExportPoint {

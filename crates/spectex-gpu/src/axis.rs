@@ -7,6 +7,7 @@ use spectex_model::Period;
 use spectex_model::period::reduce;
 
 use crate::GpuWindow;
+use crate::kernel::Table;
 use crate::layout::wgsl_struct;
 
 /// Column positions of a window for the axis tables, reduced modulo the period's width for a periodic model
@@ -33,9 +34,10 @@ pub(crate) fn periodic_rows(
 }
 
 wgsl_struct! {
-    /// `GaborAxis` of `gabor.wgsl` and `PhasorAxis` of `phasor.wgsl`: a position's cell on a
-    /// kernel grid, its f32 offset in the cell, and whether it is in range (0: the pixel is the
-    /// model's mean).
+    /// `GridAxis` of `common.wgsl`, what every shader on a cell grid (Gabor, phasor, texton,
+    /// Voronoi, subdivision, matrix) reads per column and row and moves by a warp's
+    /// displacement (`grid_point`): a position's cell on the grid, its f32 offset in the cell,
+    /// and whether it is in range (0: the kind's out-of-range value).
     pub(crate) struct CellAxis {
         cell: i32,
         offset: f32,
@@ -61,6 +63,84 @@ pub(crate) fn cell_axis(side: f64, count: usize, position: impl Fn(usize) -> f64
         .collect()
 }
 
+/// A tile's [`CellAxis`] tables on a grid of cells of side `side`: one record per column and
+/// one per row ([`cell_axis`] at [`periodic_columns`] and [`periodic_rows`]), what every kind
+/// on a cell grid binds last before its output.
+#[derive(Debug, Clone)]
+pub(crate) struct CellAxes {
+    /// One record per column of the tile.
+    pub columns: Vec<CellAxis>,
+    /// One record per row of the tile.
+    pub rows: Vec<CellAxis>,
+    side: f64,
+    period: Option<Period>,
+}
+
+impl CellAxes {
+    /// The columns and rows of `tile` on the grid of side `side`, at positions reduced modulo
+    /// `period` when given.
+    pub(crate) fn new(side: f64, tile: &GpuWindow, period: Option<Period>) -> Self {
+        Self {
+            columns: cell_axis(side, tile.width, periodic_columns(tile, period)),
+            rows: cell_axis(side, tile.height, periodic_rows(tile, period)),
+            side,
+            period,
+        }
+    }
+
+    /// The two tables, columns then rows, labelled `labels`.
+    pub(crate) fn tables(&self, labels: [&'static str; 2]) -> Vec<Table> {
+        vec![
+            Table::new(labels[0], &self.columns),
+            Table::new(labels[1], &self.rows),
+        ]
+    }
+
+    /// The lowest and highest cell along x and y (`None` where there is none) of the pixels of
+    /// `tile` (the tile these axes were made for): of the valid columns and rows, or, with a
+    /// displacement (pixels, `(dx, dy)` per pixel, row-major), of every pixel's reduced position
+    /// plus its displacement, summed and located in f64 as the CPU locates it.
+    pub(crate) fn cell_range(
+        &self,
+        tile: &GpuWindow,
+        displacement: Option<&[f32]>,
+    ) -> [Option<(i32, i32)>; 2] {
+        let mut range: [Option<(i32, i32)>; 2] = [None, None];
+        let mut widen = |axis: usize, c: i32| {
+            let (lo, hi) = range[axis].unwrap_or((c, c));
+            range[axis] = Some((lo.min(c), hi.max(c)));
+        };
+        match displacement {
+            Some(d) => {
+                let column_x = periodic_columns(tile, self.period);
+                let row_y = periodic_rows(tile, self.period);
+                for j in 0..tile.height {
+                    for i in 0..tile.width {
+                        let k = 2 * (j * tile.width + i);
+                        let p = [
+                            column_x(i) + f64::from(d[k]),
+                            row_y(j) + f64::from(d[k + 1]),
+                        ];
+                        for (axis, &v) in p.iter().enumerate() {
+                            if let Some((c, _)) = spectex_model::grid::locate_cell(v, self.side) {
+                                widen(axis, c);
+                            }
+                        }
+                    }
+                }
+            }
+            None => {
+                for (axis, records) in [&self.columns, &self.rows].into_iter().enumerate() {
+                    for r in records.iter().filter(|r| r.valid == 1) {
+                        widen(axis, r.cell);
+                    }
+                }
+            }
+        }
+        range
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -75,9 +155,23 @@ mod tests {
         assert_eq!(words[6..9], [0, 0, 0]);
     }
 
+    /// Cells worked by hand on a grid of side 2: the columns at x = 0 and 1 are both in cell
+    /// 0; displaced by (3, 0) and (−5, 1) the pixels sit at (3, 0) and (−4, 1), cells (1, 0)
+    /// and (−2, 0).
     #[test]
-    fn cell_axis_matches_both_wgsl_twins() {
-        assert_matches_wgsl::<CellAxis>("gabor", "GaborAxis");
-        assert_matches_wgsl::<CellAxis>("phasor", "PhasorAxis");
+    fn cell_range_covers_the_pixels_and_their_displacements() {
+        let tile = GpuWindow::new(2, 1);
+        let axes = CellAxes::new(2.0, &tile, None);
+        assert_eq!(axes.cell_range(&tile, None), [Some((0, 0)), Some((0, 0))]);
+        let d = [3.0, 0.0, -5.0, 1.0];
+        assert_eq!(
+            axes.cell_range(&tile, Some(&d)),
+            [Some((-2, 1)), Some((0, 0))]
+        );
+    }
+
+    #[test]
+    fn cell_axis_matches_its_wgsl_twin() {
+        assert_matches_wgsl::<CellAxis>("common", "GridAxis");
     }
 }

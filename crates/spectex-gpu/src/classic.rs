@@ -254,18 +254,13 @@ impl ClassicKernel {
 }
 
 impl GpuKind for ClassicNoise {
-    fn gpu_kernel(&self, context: &GpuContext, z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
-        let (kernel, octaves) = pack(self, z);
-        Shaded::boxed(context, kernel, &[Table::new("classic octaves", &octaves)])
-    }
-
-    fn gpu_kernel_periodic(
+    fn kernel_with_period(
         &self,
         context: &GpuContext,
         z: f64,
-        period: Period,
+        period: Option<Period>,
     ) -> Result<Box<dyn GpuKernel>, GpuError> {
-        let (kernel, octaves) = pack_periodic(self, z, Some(period));
+        let (kernel, octaves) = pack_periodic(self, z, period);
         Shaded::boxed(context, kernel, &[Table::new("classic octaves", &octaves)])
     }
 }

@@ -21,40 +21,25 @@ pub(crate) struct CombineKernel {
 }
 
 impl GpuKind for Combine {
-    fn gpu_kernel(&self, context: &GpuContext, z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
-        combine_kernel(self, context, z, None)
-    }
-
-    /// Every operand periodic with `period` (the CPU's periodic combination).
-    fn gpu_kernel_periodic(
+    /// Periodic: every operand periodic with `period` (the CPU's periodic combination).
+    fn kernel_with_period(
         &self,
         context: &GpuContext,
         z: f64,
-        period: Period,
+        period: Option<Period>,
     ) -> Result<Box<dyn GpuKernel>, GpuError> {
-        self.check_period(period)?;
-        combine_kernel(self, context, z, Some(period))
+        let operands = self
+            .operands
+            .iter()
+            .map(|m| GpuEvaluator::prepared_with_period(context, m, z, period))
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(Box::new(CombineKernel {
+            model: self.clone(),
+            whole: Model::Combine(self.clone()),
+            operands,
+            period,
+        }))
     }
-}
-
-/// The kernel of a validated combination, periodic with `period` when given.
-fn combine_kernel(
-    model: &Combine,
-    context: &GpuContext,
-    z: f64,
-    period: Option<Period>,
-) -> Result<Box<dyn GpuKernel>, GpuError> {
-    let operands = model
-        .operands
-        .iter()
-        .map(|m| GpuEvaluator::prepared_with_period(context, m, z, period))
-        .collect::<Result<Vec<_>, _>>()?;
-    Ok(Box::new(CombineKernel {
-        model: model.clone(),
-        whole: Model::Combine(model.clone()),
-        operands,
-        period,
-    }))
 }
 
 impl GpuKernel for CombineKernel {

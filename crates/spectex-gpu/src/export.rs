@@ -426,7 +426,10 @@ pub fn export(model: &Model, options: &ExportOptions) -> Result<Export, GpuError
     // Domain warping is the compute evaluator's (bind group 1): here it is off, a constant.
     let common_body = format!(
         "{}\n/// No displacement: the exported module evaluates the model where it is asked to.\n\
-         const warp_params: WarpParams = WarpParams(0u, 0u, 0u, 0u);\n",
+         const warp_params: WarpParams = WarpParams(0u, 0u, 0u, 0u);\n\
+         /// Never read (`warp_params.enabled` is 0): what `grid_point` names in place of the\n\
+         /// compute evaluator's displacement binding.\n\
+         var<private> warp_displacement: array<vec2<f32>, 1>;\n",
         strip(&common)
     );
     let common_names = top_level_names(&common_body);

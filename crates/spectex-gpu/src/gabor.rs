@@ -4,9 +4,9 @@
 
 use spectex_model::{GaborNoise, Orientation, Period};
 
-use crate::axis::{CellAxis, cell_axis, periodic_columns, periodic_rows};
+use crate::axis::{CellAxes, CellAxis};
 use crate::export::{ExportKind, ExportNode, ExportParts};
-use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
+use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
 use crate::{GpuContext, GpuError, GpuWindow};
@@ -119,18 +119,13 @@ fn pack(model: &GaborNoise, period: Option<Period>) -> GaborKernel {
 }
 
 impl GpuKind for GaborNoise {
-    fn gpu_kernel(&self, context: &GpuContext, _z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
-        Shaded::boxed(context, pack(self, None), &[])
-    }
-
-    fn gpu_kernel_periodic(
+    fn kernel_with_period(
         &self,
         context: &GpuContext,
         _z: f64,
-        period: Period,
+        period: Option<Period>,
     ) -> Result<Box<dyn GpuKernel>, GpuError> {
-        spectex_model::ModelKind::check_period(self, period)?;
-        Shaded::boxed(context, pack(self, Some(period)), &[])
+        Shaded::boxed(context, pack(self, period), &[])
     }
 }
 
@@ -164,16 +159,7 @@ impl ShaderKernel for GaborKernel {
         };
         Ok(TileTables::new(
             &params,
-            vec![
-                Table::new(
-                    "gabor columns",
-                    &cell_axis(self.radius, tile.width, periodic_columns(tile, self.period)),
-                ),
-                Table::new(
-                    "gabor rows",
-                    &cell_axis(self.radius, tile.height, periodic_rows(tile, self.period)),
-                ),
-            ],
+            CellAxes::new(self.radius, tile, self.period).tables(["gabor columns", "gabor rows"]),
         ))
     }
 }

@@ -3,8 +3,8 @@
 //! split, `spectex_model::islamic::LatticeMap`); the shader sums them and runs the CPU's
 //! segment loop and output formula.
 
+use spectex_model::Period;
 use spectex_model::islamic::{IslamicOutput, IslamicPattern, LatticeMap, footprint};
-use spectex_model::{ModelKind, Period};
 
 use crate::axis::{periodic_columns, periodic_rows};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
@@ -53,35 +53,22 @@ pub(crate) struct IslamicKernel {
 }
 
 impl GpuKind for IslamicPattern {
-    fn gpu_kernel(&self, context: &GpuContext, _z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
-        islamic_kernel(self, context, None)
-    }
-
-    /// The pattern is periodic with every lattice period ([`ModelKind::check_period`]): only
-    /// the positions are reduced, as the CPU's `PeriodicKernel` reduces them.
-    fn gpu_kernel_periodic(
+    /// Periodic: the pattern is periodic with every lattice period
+    /// (`ModelKind::check_period`): only the positions are reduced, as the CPU's
+    /// `PeriodicKernel` reduces them.
+    fn kernel_with_period(
         &self,
         context: &GpuContext,
         _z: f64,
-        period: Period,
+        period: Option<Period>,
     ) -> Result<Box<dyn GpuKernel>, GpuError> {
-        self.check_period(period)?;
-        islamic_kernel(self, context, Some(period))
+        let (kernel, segments) = pack(self, period);
+        Shaded::boxed(
+            context,
+            kernel,
+            &[Table::new("islamic segments", &segments)],
+        )
     }
-}
-
-/// The kernel of a validated pattern, its positions reduced modulo `period` when given.
-fn islamic_kernel(
-    model: &IslamicPattern,
-    context: &GpuContext,
-    period: Option<Period>,
-) -> Result<Box<dyn GpuKernel>, GpuError> {
-    let (kernel, segments) = pack(model, period);
-    Shaded::boxed(
-        context,
-        kernel,
-        &[Table::new("islamic segments", &segments)],
-    )
 }
 
 /// The kernel of an Islamic pattern, its positions reduced modulo `period` when given, and its

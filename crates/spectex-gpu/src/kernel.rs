@@ -31,38 +31,51 @@ pub(crate) fn halve_tile_to_fit(
     [width, height]
 }
 
-/// The device layer of one model kind.
+/// The device layer of one model kind: a kind writes its kernel construction once,
+/// [`kernel_with_period`](Self::kernel_with_period), and the evaluator reaches it through the
+/// provided [`gpu_kernel`](Self::gpu_kernel) and [`gpu_kernel_periodic`](Self::gpu_kernel_periodic).
 pub(crate) trait GpuKind: ModelKind {
     /// The kernel of a **validated** model on the plane `z` (ignored by 2D models): its tables
-    /// packed and uploaded, its pipeline built.
+    /// packed and uploaded, its pipeline built; made exactly periodic with `period` when given,
+    /// a period the model accepts ([`ModelKind::check_period`], checked by the caller): tile
+    /// positions reduced modulo the period on the host (`spectex_model::period::reduce`, per
+    /// axis) and cells hashed modulo it in the shader, as on the CPU.
     ///
     /// # Errors
     /// [`GpuError::LimitsExceeded`] when a table does not fit one storage buffer,
-    /// [`GpuError::Unsupported`] for a feature of the kind the device path lacks,
-    /// [`GpuError::Validation`] if the device rejects the shader or the buffers.
-    fn gpu_kernel(&self, context: &GpuContext, z: f64) -> Result<Box<dyn GpuKernel>, GpuError>;
+    /// [`GpuError::Unsupported`] for a feature of the kind the device path lacks (a period
+    /// included, for a kind without a periodic form), [`GpuError::Validation`] if the device
+    /// rejects the shader or the buffers.
+    fn kernel_with_period(
+        &self,
+        context: &GpuContext,
+        z: f64,
+        period: Option<Period>,
+    ) -> Result<Box<dyn GpuKernel>, GpuError>;
 
-    /// The kernel of a **validated** model made exactly periodic with `period`, a period it
-    /// accepts ([`ModelKind::check_period`]): tile positions reduced modulo the period on the
-    /// host (`spectex_model::period::reduce`, per axis) and cells hashed modulo it in the shader,
-    /// as on the CPU. The default is for kinds without a periodic form: the model layer's
-    /// refusal.
+    /// The kernel of a **validated** model on the plane `z`, not periodic.
     ///
     /// # Errors
-    /// As [`gpu_kernel`](Self::gpu_kernel), [`GpuError::Model`] for a period the model refuses,
-    /// [`GpuError::Unsupported`] where the device path has no periodic form.
+    /// As [`kernel_with_period`](Self::kernel_with_period).
+    fn gpu_kernel(&self, context: &GpuContext, z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
+        self.kernel_with_period(context, z, None)
+    }
+
+    /// The kernel of a **validated** model made exactly periodic with `period`, once the model
+    /// layer accepts the period ([`ModelKind::check_period`]; kinds without a periodic form
+    /// refuse every period there).
+    ///
+    /// # Errors
+    /// [`GpuError::Model`] for a period the model refuses, else as
+    /// [`kernel_with_period`](Self::kernel_with_period).
     fn gpu_kernel_periodic(
         &self,
         context: &GpuContext,
         z: f64,
         period: Period,
     ) -> Result<Box<dyn GpuKernel>, GpuError> {
-        let _ = (context, z);
         self.check_period(period)?;
-        Err(GpuError::Unsupported {
-            kind: Self::NAME,
-            feature: format!("a period ({period}): the device path has no periodic form for it"),
-        })
+        self.kernel_with_period(context, z, Some(period))
     }
 }
 

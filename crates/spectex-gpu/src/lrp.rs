@@ -174,17 +174,22 @@ fn host(model: &LrpNoise, period: Option<Period>) -> (LrpKernel, Vec<Table>, u64
 }
 
 impl GpuKind for LrpNoise {
-    fn gpu_kernel(&self, context: &GpuContext, _z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
-        lrp_kernel(self, context, None)
-    }
-
-    fn gpu_kernel_periodic(
+    fn kernel_with_period(
         &self,
         context: &GpuContext,
         _z: f64,
-        period: Period,
+        period: Option<Period>,
     ) -> Result<Box<dyn GpuKernel>, GpuError> {
-        lrp_kernel(self, context, Some(period))
+        let (kernel, tables, needed) = host(self, period);
+        let limit = binding_limit(&context.limits());
+        if needed > limit {
+            return Err(GpuError::LimitsExceeded {
+                what: "frequency tables (bytes in one storage buffer)",
+                value: needed,
+                limit,
+            });
+        }
+        Shaded::boxed(context, kernel, &tables)
     }
 }
 
@@ -195,24 +200,6 @@ impl ExportKind for LrpNoise {
         let lattices = kernel.deltas.clone();
         ExportParts::of(&kernel, &tables, lattices, "lrp")
     }
-}
-
-/// The kernel of a validated LRP model, periodic with `period` when given.
-fn lrp_kernel(
-    model: &LrpNoise,
-    context: &GpuContext,
-    period: Option<Period>,
-) -> Result<Box<dyn GpuKernel>, GpuError> {
-    let (kernel, tables, needed) = host(model, period);
-    let limit = binding_limit(&context.limits());
-    if needed > limit {
-        return Err(GpuError::LimitsExceeded {
-            what: "frequency tables (bytes in one storage buffer)",
-            value: needed,
-            limit,
-        });
-    }
-    Shaded::boxed(context, kernel, &tables)
 }
 
 impl ShaderKernel for LrpKernel {

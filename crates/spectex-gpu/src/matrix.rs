@@ -2,10 +2,10 @@
 //! `A = (M⁻¹)^k mod N` once and, per tile, each column's and row's cell on the pixel grid (the
 //! CPU's split); the shader reduces the cell modulo `N` and reads the source at `A·q mod N`.
 
+use spectex_model::Period;
 use spectex_model::matrix::{MatrixSource, MatrixTransform};
-use spectex_model::{ModelKind, Period};
 
-use crate::axis::{CellAxis, cell_axis, periodic_columns, periodic_rows};
+use crate::axis::{CellAxes, CellAxis};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
@@ -40,31 +40,18 @@ pub(crate) struct MatrixKernel {
 }
 
 impl GpuKind for MatrixTransform {
-    fn gpu_kernel(&self, context: &GpuContext, _z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
-        matrix_kernel(self, context, None)
-    }
-
-    /// The texture is periodic with its torus side `N` ([`ModelKind::check_period`]): only the
-    /// positions are reduced, as the CPU's `PeriodicKernel` reduces them.
-    fn gpu_kernel_periodic(
+    /// Periodic: the texture is periodic with its torus side `N`
+    /// (`ModelKind::check_period`): only the positions are reduced, as the CPU's
+    /// `PeriodicKernel` reduces them.
+    fn kernel_with_period(
         &self,
         context: &GpuContext,
         _z: f64,
-        period: Period,
+        period: Option<Period>,
     ) -> Result<Box<dyn GpuKernel>, GpuError> {
-        self.check_period(period)?;
-        matrix_kernel(self, context, Some(period))
+        let (kernel, texels) = pack(self, period)?;
+        Shaded::boxed(context, kernel, &[Table::new("matrix texels", &texels)])
     }
-}
-
-/// The kernel of a validated transformation, its positions reduced modulo `period` when given.
-fn matrix_kernel(
-    model: &MatrixTransform,
-    context: &GpuContext,
-    period: Option<Period>,
-) -> Result<Box<dyn GpuKernel>, GpuError> {
-    let (kernel, texels) = pack(model, period)?;
-    Shaded::boxed(context, kernel, &[Table::new("matrix texels", &texels)])
 }
 
 /// The kernel of a matrix transformation, its positions reduced modulo `period` when given, and
@@ -135,16 +122,7 @@ impl ShaderKernel for MatrixKernel {
         };
         Ok(TileTables::new(
             &params,
-            vec![
-                Table::new(
-                    "matrix columns",
-                    &cell_axis(1.0, width, periodic_columns(tile, self.period)),
-                ),
-                Table::new(
-                    "matrix rows",
-                    &cell_axis(1.0, height, periodic_rows(tile, self.period)),
-                ),
-            ],
+            CellAxes::new(1.0, tile, self.period).tables(["matrix columns", "matrix rows"]),
         ))
     }
 }
@@ -155,8 +133,7 @@ mod tests {
     use crate::layout::check::assert_matches_wgsl;
 
     #[test]
-    fn params_and_axis_match_the_wgsl() {
+    fn params_match_the_wgsl() {
         assert_matches_wgsl::<MatrixParams>("matrix", "MatrixParams");
-        assert_matches_wgsl::<CellAxis>("matrix", "MatrixAxis");
     }
 }

@@ -7,7 +7,7 @@ use spectex_model::grid::locate_cell;
 use spectex_model::phasor_kernels::{Impulse, PhasorKernels};
 use spectex_model::{Field, ModelKind, Period, PhasorNoise, PhasorOutput, Profile};
 
-use crate::axis::{CellAxis, cell_axis, periodic_columns, periodic_rows};
+use crate::axis::{CellAxes, CellAxis, periodic_columns, periodic_rows};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables, halve_tile_to_fit};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
@@ -204,24 +204,15 @@ pub(crate) fn pack(
 }
 
 impl GpuKind for PhasorNoise {
-    fn gpu_kernel(&self, context: &GpuContext, z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
-        let (kernel, profile_data) = pack(self, z, None)?;
-        Shaded::boxed(
-            context,
-            kernel,
-            &[Table::new("phasor profile", &profile_data)],
-        )
-    }
-
-    /// The cells drawn on the host by `PhasorKernels::new_periodic` (fitted to the period and
-    /// hashed modulo it, the CPU's), at positions reduced modulo the period.
-    fn gpu_kernel_periodic(
+    /// Periodic: the cells drawn on the host by `PhasorKernels::new_periodic` (fitted to the
+    /// period and hashed modulo it, the CPU's), at positions reduced modulo the period.
+    fn kernel_with_period(
         &self,
         context: &GpuContext,
         z: f64,
-        period: Period,
+        period: Option<Period>,
     ) -> Result<Box<dyn GpuKernel>, GpuError> {
-        let (kernel, profile_data) = pack(self, z, Some(period))?;
+        let (kernel, profile_data) = pack(self, z, period)?;
         Shaded::boxed(
             context,
             kernel,
@@ -286,17 +277,7 @@ impl ShaderKernel for PhasorKernel {
         // The pixels' positions, reduced modulo the period of a periodic model.
         let column_x = periodic_columns(tile, self.period);
         let row_y = periodic_rows(tile, self.period);
-        let columns = cell_axis(side, width, &column_x);
-        let rows = cell_axis(side, height, &row_y);
-        let range = |records: &[CellAxis]| {
-            records
-                .iter()
-                .filter(|r| r.valid == 1)
-                .map(|r| r.cell)
-                .fold(None, |acc: Option<(i32, i32)>, c| {
-                    Some(acc.map_or((c, c), |(lo, hi)| (lo.min(c), hi.max(c))))
-                })
-        };
+        let axes = CellAxes::new(side, tile, self.period);
         let displaced = |i: usize, j: usize| -> [f64; 2] {
             match displacement {
                 Some(d) => {
@@ -309,25 +290,11 @@ impl ShaderKernel for PhasorKernel {
                 None => [column_x(i), row_y(j)],
             }
         };
-        // The cell range of the displaced pixels, widened by one cell (f32 relocation).
-        let displaced_range = || {
-            let mut range: [Option<(i32, i32)>; 2] = [None, None];
-            for j in 0..height {
-                for i in 0..width {
-                    for (axis, &p) in displaced(i, j).iter().enumerate() {
-                        if let Some((c, _)) = locate_cell(p, side) {
-                            let (lo, hi) = range[axis].unwrap_or((c, c));
-                            range[axis] = Some((lo.min(c), hi.max(c)));
-                        }
-                    }
-                }
-            }
-            range.map(|r| r.map(|(lo, hi)| (lo.saturating_sub(1), hi.saturating_add(1))))
-        };
-        let [x_range, y_range] = match displacement {
-            Some(_) => displaced_range(),
-            None => [range(&columns), range(&rows)],
-        };
+        // The cell range of the pixels; of displaced ones widened by one cell (f32 relocation).
+        let [x_range, y_range] = axes.cell_range(tile, displacement).map(|r| {
+            let widen = i32::from(displacement.is_some());
+            r.map(|(lo, hi)| (lo.saturating_sub(widen), hi.saturating_add(widen)))
+        });
         let (z_cell, z_offset, z_valid) = if self.kernels.three_d() {
             match locate_cell(self.z, side) {
                 Some((k, u)) => (k, u, 1),
@@ -427,9 +394,10 @@ impl ShaderKernel for PhasorKernel {
                 Table::new("phasor impulses", &impulses),
                 Table::new("phasor pixel params", &pixel_params),
                 Table::new("phasor harmonic scale", &harmonic_scale),
-                Table::new("phasor columns", &columns),
-                Table::new("phasor rows", &rows),
-            ],
+            ]
+            .into_iter()
+            .chain(axes.tables(["phasor columns", "phasor rows"]))
+            .collect(),
         ))
     }
 }

@@ -4,8 +4,9 @@
 //! pixel in f32. The WGSL export locates the coarse cell itself (`export/subdivision.wgsl`).
 
 use spectex_model::subdivision::{Stencil, StochasticSubdivision};
+use spectex_model::{ModelKind, Period};
 
-use crate::axis::{CellAxis, cell_axis, periodic_columns, periodic_rows};
+use crate::axis::{CellAxes, CellAxis};
 use crate::export::{ExportKind, ExportNode, ExportParts};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
@@ -56,7 +57,21 @@ fn host(model: &StochasticSubdivision) -> (SubdivisionKernel, Vec<f32>) {
 }
 
 impl GpuKind for StochasticSubdivision {
-    fn gpu_kernel(&self, context: &GpuContext, _z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
+    /// No periodic form (the model layer refuses every period first).
+    fn kernel_with_period(
+        &self,
+        context: &GpuContext,
+        _z: f64,
+        period: Option<Period>,
+    ) -> Result<Box<dyn GpuKernel>, GpuError> {
+        if let Some(period) = period {
+            return Err(GpuError::Unsupported {
+                kind: Self::NAME,
+                feature: format!(
+                    "a period ({period}): the device path has no periodic form for it"
+                ),
+            });
+        }
         let (kernel, scales) = host(self);
         Shaded::boxed(
             context,
@@ -107,16 +122,8 @@ impl ShaderKernel for SubdivisionKernel {
         };
         Ok(TileTables::new(
             &params,
-            vec![
-                Table::new(
-                    "subdivision columns",
-                    &cell_axis(self.side, width, periodic_columns(tile, None)),
-                ),
-                Table::new(
-                    "subdivision rows",
-                    &cell_axis(self.side, height, periodic_rows(tile, None)),
-                ),
-            ],
+            CellAxes::new(self.side, tile, None)
+                .tables(["subdivision columns", "subdivision rows"]),
         ))
     }
 }
@@ -127,8 +134,7 @@ mod tests {
     use crate::layout::check::assert_matches_wgsl;
 
     #[test]
-    fn params_and_axis_match_the_wgsl() {
+    fn params_match_the_wgsl() {
         assert_matches_wgsl::<SubdivisionParams>("subdivision", "SubdivisionParams");
-        assert_matches_wgsl::<CellAxis>("subdivision", "SubdivisionAxis");
     }
 }

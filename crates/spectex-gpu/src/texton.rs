@@ -5,7 +5,7 @@
 use spectex_model::texton::{Combine, MAX_TEXTONS_PER_CELL, Placement, Spot};
 use spectex_model::{Period, TextonNoise};
 
-use crate::axis::{CellAxis, cell_axis, periodic_columns, periodic_rows};
+use crate::axis::{CellAxes, CellAxis};
 use crate::export::{ExportKind, ExportNode, ExportParts};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
@@ -63,25 +63,21 @@ pub(crate) struct TextonKernel {
 }
 
 impl GpuKind for TextonNoise {
-    fn gpu_kernel(&self, context: &GpuContext, _z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
-        let (kernel, data) = host(self);
-        Shaded::boxed(context, kernel, &[Table::new("texton model data", &data)])
-    }
-
-    /// The CPU's `TextonEvaluator::new_periodic`: the cell divides the period, cells hashed
-    /// modulo the cells per period.
-    fn gpu_kernel_periodic(
+    /// Periodic: the CPU's `TextonEvaluator::new_periodic`: the cell divides the period, cells
+    /// hashed modulo the cells per period.
+    fn kernel_with_period(
         &self,
         context: &GpuContext,
         _z: f64,
-        period: Period,
+        period: Option<Period>,
     ) -> Result<Box<dyn GpuKernel>, GpuError> {
-        spectex_model::ModelKind::check_period(self, period)?;
         let (mut kernel, data) = host(self);
-        let cells = period.cells(kernel.cell_size);
-        kernel.params.cells_x = cells[0] as i32;
-        kernel.params.cells_y = cells[1] as i32;
-        kernel.period = Some(period);
+        if let Some(period) = period {
+            let cells = period.cells(kernel.cell_size);
+            kernel.params.cells_x = cells[0] as i32;
+            kernel.params.cells_y = cells[1] as i32;
+            kernel.period = Some(period);
+        }
         Shaded::boxed(context, kernel, &[Table::new("texton model data", &data)])
     }
 }
@@ -182,24 +178,8 @@ impl ShaderKernel for TextonKernel {
         };
         Ok(TileTables::new(
             &params,
-            vec![
-                Table::new(
-                    "texton columns",
-                    &cell_axis(
-                        self.cell_size,
-                        tile.width,
-                        periodic_columns(tile, self.period),
-                    ),
-                ),
-                Table::new(
-                    "texton rows",
-                    &cell_axis(
-                        self.cell_size,
-                        tile.height,
-                        periodic_rows(tile, self.period),
-                    ),
-                ),
-            ],
+            CellAxes::new(self.cell_size, tile, self.period)
+                .tables(["texton columns", "texton rows"]),
         ))
     }
 }
@@ -210,8 +190,7 @@ mod tests {
     use crate::layout::check::assert_matches_wgsl;
 
     #[test]
-    fn params_and_axis_match_the_wgsl() {
+    fn params_match_the_wgsl() {
         assert_matches_wgsl::<TextonParams>("texton", "TextonParams");
-        assert_matches_wgsl::<CellAxis>("texton", "TextonAxis");
     }
 }

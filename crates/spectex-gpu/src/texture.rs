@@ -5,7 +5,7 @@
 
 use spectex_model::grid::locate_cell;
 use spectex_model::texture::PLACEMENT_LAYER;
-use spectex_model::{LrpNoise, Model, ModelKind, Period, TextureModel};
+use spectex_model::{LrpNoise, Model, Period, TextureModel};
 
 use crate::axis::{periodic_columns, periodic_rows};
 use crate::export::{ExportKind, ExportNode, ExportNodeOf, ExportParts, TextureExport};
@@ -160,82 +160,68 @@ fn pack_structures(model: &TextureModel) -> Structures {
 }
 
 impl GpuKind for TextureModel {
-    fn gpu_kernel(&self, context: &GpuContext, _z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
-        texture_kernel(self, context, None)
-    }
-
-    fn gpu_kernel_periodic(
+    fn kernel_with_period(
         &self,
         context: &GpuContext,
         _z: f64,
-        period: Period,
+        period: Option<Period>,
     ) -> Result<Box<dyn GpuKernel>, GpuError> {
-        self.check_period(period)?;
-        texture_kernel(self, context, Some(period))
-    }
-}
-
-/// The kernel of a validated texture model, periodic with `period` when given.
-fn texture_kernel(
-    model: &TextureModel,
-    context: &GpuContext,
-    period: Option<Period>,
-) -> Result<Box<dyn GpuKernel>, GpuError> {
-    let strata = model
-        .channels
-        .iter()
-        .map(|ch| {
-            if ch.strata.is_empty() {
-                return Ok(None);
-            }
-            let lrp = LrpNoise {
-                seed: ch.seed,
-                mean: ch.mean,
-                strata: ch.strata.clone(),
-            };
-            lrp_evaluator(context, lrp, period).map(Some)
-        })
-        .collect::<Result<Vec<_>, GpuError>>()?;
-    let mut turbulence: [Vec<GpuEvaluator>; 2] = [Vec::new(), Vec::new()];
-    if let Some(t) = &model.turbulence {
-        for (axis, evaluators) in turbulence.iter_mut().enumerate() {
-            for (s, stratum) in t.strata.iter().enumerate() {
+        let strata = self
+            .channels
+            .iter()
+            .map(|ch| {
+                if ch.strata.is_empty() {
+                    return Ok(None);
+                }
                 let lrp = LrpNoise {
-                    seed: t.seed(axis, s),
-                    mean: 0.0,
-                    strata: vec![stratum.clone()],
+                    seed: ch.seed,
+                    mean: ch.mean,
+                    strata: ch.strata.clone(),
                 };
-                evaluators.push(lrp_evaluator(context, lrp, period)?);
+                lrp_evaluator(context, lrp, period).map(Some)
+            })
+            .collect::<Result<Vec<_>, GpuError>>()?;
+        let mut turbulence: [Vec<GpuEvaluator>; 2] = [Vec::new(), Vec::new()];
+        if let Some(t) = &self.turbulence {
+            for (axis, evaluators) in turbulence.iter_mut().enumerate() {
+                for (s, stratum) in t.strata.iter().enumerate() {
+                    let lrp = LrpNoise {
+                        seed: t.seed(axis, s),
+                        mean: 0.0,
+                        strata: vec![stratum.clone()],
+                    };
+                    evaluators.push(lrp_evaluator(context, lrp, period)?);
+                }
             }
         }
+        let structures = pack_structures(self);
+        let limit = binding_limit(&context.limits());
+        // What the cosine table occupies on the device (one unused record where there is none).
+        let needed = size_of_val(structures.cosines.as_slice()).max(size_of::<[f32; 4]>()) as u64;
+        if needed > limit {
+            return Err(GpuError::LimitsExceeded {
+                what: "texture structure cosines (bytes in one storage buffer)",
+                value: needed,
+                limit,
+            });
+        }
+        let kernel = TextureKernel {
+            model: self.clone(),
+            strata,
+            turbulence,
+            period,
+        };
+        Shaded::boxed(
+            context,
+            kernel,
+            &[
+                Table::new("texture structures", &structures.channels),
+                Table::new("texture blocks", &structures.blocks),
+                Table::new("texture cosines", &structures.cosines),
+                Table::new("texture block means", &structures.means),
+            ],
+        )
     }
-    let structures = pack_structures(model);
-    let limit = binding_limit(&context.limits());
-    // What the cosine table occupies on the device (one unused record where there is none).
-    let needed = size_of_val(structures.cosines.as_slice()).max(size_of::<[f32; 4]>()) as u64;
-    if needed > limit {
-        return Err(GpuError::LimitsExceeded {
-            what: "texture structure cosines (bytes in one storage buffer)",
-            value: needed,
-            limit,
-        });
-    }
-    let kernel = TextureKernel {
-        model: model.clone(),
-        strata,
-        turbulence,
-        period,
-    };
-    Shaded::boxed(
-        context,
-        kernel,
-        &[
-            Table::new("texture structures", &structures.channels),
-            Table::new("texture blocks", &structures.blocks),
-            Table::new("texture cosines", &structures.cosines),
-            Table::new("texture block means", &structures.means),
-        ],
-    )
 }
 
 /// The evaluator of one of a texture's LRP passes, periodic with `period` when given (an LRP

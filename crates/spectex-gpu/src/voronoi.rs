@@ -3,11 +3,10 @@
 //! relaxation included, so the device reads the CPU's f32 seeds, IDs and colours), and each
 //! column's and row's cell and offset (the CPU's split); the shader runs the search.
 
-use spectex_model::grid::locate_cell;
+use spectex_model::Period;
 use spectex_model::voronoi::{BlockCache, VoronoiNoise, VoronoiOutput};
-use spectex_model::{ModelKind, Period};
 
-use crate::axis::{CellAxis, cell_axis, periodic_columns, periodic_rows};
+use crate::axis::{CellAxes, CellAxis};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables, halve_tile_to_fit};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
@@ -61,30 +60,16 @@ impl VoronoiKernel {
 }
 
 impl GpuKind for VoronoiNoise {
-    fn gpu_kernel(&self, context: &GpuContext, _z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
-        voronoi_kernel(self, context, None)
-    }
-
-    /// The CPU's periodic Voronoi diagram: the host draws the sites with the cells and Lloyd
-    /// blocks wrapped, at positions reduced modulo the period.
-    fn gpu_kernel_periodic(
+    /// Periodic: the CPU's periodic Voronoi diagram: the host draws the sites with the cells
+    /// and Lloyd blocks wrapped, at positions reduced modulo the period.
+    fn kernel_with_period(
         &self,
         context: &GpuContext,
         _z: f64,
-        period: Period,
+        period: Option<Period>,
     ) -> Result<Box<dyn GpuKernel>, GpuError> {
-        self.check_period(period)?;
-        voronoi_kernel(self, context, Some(period))
+        Shaded::boxed(context, pack(self, period), &[])
     }
-}
-
-/// The kernel of a validated model, periodic with `period` when given.
-fn voronoi_kernel(
-    model: &VoronoiNoise,
-    context: &GpuContext,
-    period: Option<Period>,
-) -> Result<Box<dyn GpuKernel>, GpuError> {
-    Shaded::boxed(context, pack(model, period), &[])
 }
 
 /// The kernel of a Voronoi model, periodic with `period` when given.
@@ -157,41 +142,10 @@ impl ShaderKernel for VoronoiKernel {
         let side = self.side();
         let (width, height) = (tile.width, tile.height);
         let period = self.period.map(|(p, _)| p);
-        let (column_x, row_y) = (periodic_columns(tile, period), periodic_rows(tile, period));
-        let columns = cell_axis(side, width, &column_x);
-        let rows = cell_axis(side, height, &row_y);
-        let mut range: [Option<(i64, i64)>; 2] = [None, None];
-        let mut widen = |axis: usize, c: i32| {
-            let c = i64::from(c);
-            let (lo, hi) = range[axis].unwrap_or((c, c));
-            range[axis] = Some((lo.min(c), hi.max(c)));
-        };
-        match displacement {
-            Some(d) => {
-                for j in 0..height {
-                    for i in 0..width {
-                        let k = 2 * (j * width + i);
-                        let p = [
-                            column_x(i) + f64::from(d[k]),
-                            row_y(j) + f64::from(d[k + 1]),
-                        ];
-                        for (axis, &v) in p.iter().enumerate() {
-                            if let Some((c, _)) = locate_cell(v, side) {
-                                widen(axis, c);
-                            }
-                        }
-                    }
-                }
-            }
-            None => {
-                for r in columns.iter().filter(|r| r.valid == 1) {
-                    widen(0, r.cell);
-                }
-                for r in rows.iter().filter(|r| r.valid == 1) {
-                    widen(1, r.cell);
-                }
-            }
-        }
+        let axes = CellAxes::new(side, tile, period);
+        let range = axes
+            .cell_range(tile, displacement)
+            .map(|r| r.map(|(lo, hi)| (i64::from(lo), i64::from(hi))));
         let margin = i64::from(self.params.reach) + i64::from(displacement.is_some());
         let mut params = VoronoiParams {
             width: width as u32,
@@ -239,11 +193,10 @@ impl ShaderKernel for VoronoiKernel {
         }
         Ok(TileTables::new(
             &params,
-            vec![
-                Table::new("voronoi sites", &data),
-                Table::new("voronoi columns", &columns),
-                Table::new("voronoi rows", &rows),
-            ],
+            vec![Table::new("voronoi sites", &data)]
+                .into_iter()
+                .chain(axes.tables(["voronoi columns", "voronoi rows"]))
+                .collect(),
         ))
     }
 }
@@ -254,8 +207,7 @@ mod tests {
     use crate::layout::check::assert_matches_wgsl;
 
     #[test]
-    fn params_and_axis_match_the_wgsl() {
+    fn params_match_the_wgsl() {
         assert_matches_wgsl::<VoronoiParams>("voronoi", "VoronoiParams");
-        assert_matches_wgsl::<CellAxis>("voronoi", "VoronoiAxis");
     }
 }

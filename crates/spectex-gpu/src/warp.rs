@@ -3,7 +3,7 @@
 //! and renders its base displaced by the sum through the base's own shader (`common.wgsl`'s
 //! displacement convention, bind group 1 of every model shader).
 
-use spectex_model::{Model, ModelKind, Period, Warp};
+use spectex_model::{Model, Period, Warp};
 
 use crate::kernel::{GpuKernel, GpuKind};
 use crate::{GpuContext, GpuError, GpuEvaluator, GpuWindow};
@@ -23,39 +23,24 @@ pub(crate) struct WarpKernel {
 }
 
 impl GpuKind for Warp {
-    fn gpu_kernel(&self, context: &GpuContext, z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
-        warp_kernel(self, context, z, None)
-    }
-
-    /// The CPU's periodic warp: base, x and y each periodic with `period` (then `d` is, and
-    /// the base at positions one period apart is too).
-    fn gpu_kernel_periodic(
+    /// Periodic: the CPU's periodic warp: base, x and y each periodic with `period` (then `d`
+    /// is, and the base at positions one period apart is too).
+    fn kernel_with_period(
         &self,
         context: &GpuContext,
         z: f64,
-        period: Period,
+        period: Option<Period>,
     ) -> Result<Box<dyn GpuKernel>, GpuError> {
-        self.check_period(period)?;
-        warp_kernel(self, context, z, Some(period))
+        let sub = |m: &Model| GpuEvaluator::prepared_with_period(context, m, z, period);
+        Ok(Box::new(WarpKernel {
+            model: self.clone(),
+            whole: Model::Warp(self.clone()),
+            base: sub(&self.base)?,
+            x: sub(&self.x)?,
+            y: sub(&self.y)?,
+            period,
+        }))
     }
-}
-
-/// The kernel of a validated warp, periodic with `period` when given.
-fn warp_kernel(
-    model: &Warp,
-    context: &GpuContext,
-    z: f64,
-    period: Option<Period>,
-) -> Result<Box<dyn GpuKernel>, GpuError> {
-    let sub = |m: &Model| GpuEvaluator::prepared_with_period(context, m, z, period);
-    Ok(Box::new(WarpKernel {
-        model: model.clone(),
-        whole: Model::Warp(model.clone()),
-        base: sub(&model.base)?,
-        x: sub(&model.x)?,
-        y: sub(&model.y)?,
-        period,
-    }))
 }
 
 impl GpuKernel for WarpKernel {

@@ -95,17 +95,14 @@ fn band_records(model: &WaveletNoise, bands: &[Band], z: f64) -> Vec<WaveletBand
 }
 
 impl GpuKind for WaveletNoise {
-    fn gpu_kernel(&self, context: &GpuContext, z: f64) -> Result<Box<dyn GpuKernel>, GpuError> {
-        wavelet_kernel(self, context, z, None)
-    }
-
-    fn gpu_kernel_periodic(
+    fn kernel_with_period(
         &self,
         context: &GpuContext,
         z: f64,
-        period: Period,
+        period: Option<Period>,
     ) -> Result<Box<dyn GpuKernel>, GpuError> {
-        wavelet_kernel(self, context, z, Some(period))
+        let (kernel, tables) = host(self, z, period);
+        Shaded::boxed(context, kernel, &tables)
     }
 }
 
@@ -149,17 +146,6 @@ fn host(model: &WaveletNoise, z: f64, period: Option<Period>) -> (WaveletKernel,
         Table::new("wavelet bands", &band_records),
     ];
     (kernel, tables)
-}
-
-/// The kernel of a validated wavelet noise, periodic with `period` when given.
-fn wavelet_kernel(
-    model: &WaveletNoise,
-    context: &GpuContext,
-    z: f64,
-    period: Option<Period>,
-) -> Result<Box<dyn GpuKernel>, GpuError> {
-    let (kernel, tables) = host(model, z, period);
-    Shaded::boxed(context, kernel, &tables)
 }
 
 impl ShaderKernel for WaveletKernel {

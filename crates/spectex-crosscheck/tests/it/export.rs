@@ -55,6 +55,8 @@ use spectex_gpu::{GpuContext, GpuError, wgpu};
 use spectex_model::phasor_kernels::{Impulse, PhasorKernels};
 use spectex_model::{Filter, Model, PhasorNoise, PhasorOrientation, Window};
 
+use crate::common::gpu_or_skip;
+
 /// Roundings that separate the export's lattice offsets from the host's: up to 32 table
 /// remainders of half an f32 ulp each where a lattice side is not an f32 (Gabor's radius), the
 /// carries, the offsets' sums and Gabor's scaling to cell units (8): 40 unit roundoffs.
@@ -148,19 +150,6 @@ fn model_files() -> Vec<PathBuf> {
         .collect();
     files.sort();
     files
-}
-
-fn gpu_or_skip() -> Option<GpuContext> {
-    match GpuContext::new() {
-        Ok(c) => Some(c),
-        Err(e) if std::env::var("SPECTEX_REQUIRE_GPU").is_ok_and(|v| v == "1") => {
-            panic!("SPECTEX_REQUIRE_GPU=1 but no GPU: {e}")
-        }
-        Err(e) => {
-            println!("SKIPPED export render test: {e}");
-            None
-        }
-    }
 }
 
 /// The shader the test compiles: the exported module, a full-screen triangle and a fragment
@@ -732,7 +721,7 @@ fn bevy_frame_matches_the_cpu() {
 
 #[test]
 fn exported_modules_render_the_cpu_values_in_a_fragment_shader() {
-    let Some(context) = gpu_or_skip() else {
+    let Some(context) = gpu_or_skip("export render test") else {
         return;
     };
     let mut failures = Vec::new();

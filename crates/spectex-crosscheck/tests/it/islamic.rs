@@ -3,48 +3,18 @@
 //! judged by the kind's derived tolerance; and a warp of one, whose displacement the shader
 //! applies to its lattice fractions.
 
-use spectex_crosscheck::{CaseWindow, Verdict, check_model};
-use spectex_gpu::{GpuContext, GpuEvaluator};
+use spectex_gpu::GpuEvaluator;
 use spectex_model::islamic::{IslamicOutput, IslamicPattern, Motif, Tiling};
 use spectex_model::{LrpNoise, Model, Stratum, Warp, Window};
 
-fn gpu_or_skip() -> Option<GpuContext> {
-    match GpuContext::new() {
-        Ok(c) => Some(c),
-        Err(e) if std::env::var("SPECTEX_REQUIRE_GPU").is_ok_and(|v| v == "1") => {
-            panic!("SPECTEX_REQUIRE_GPU=1 but no GPU: {e}")
-        }
-        Err(e) => {
-            eprintln!("SKIPPED islamic cross-check: {e}");
-            None
-        }
-    }
-}
-
-fn windows() -> Vec<CaseWindow> {
-    [
-        ("origin", [0.0, 0.0], 1.0),
-        ("far", [1.0e7, -1.0e7], 1.0),
-        ("magnified", [-37.25, 11.5], 0.37),
-        ("minified", [5.5, -13.25], 4.0),
-    ]
-    .into_iter()
-    .map(|(name, offset, scale)| CaseWindow {
-        name,
-        width: 32,
-        height: 32,
-        offset,
-        scale,
-    })
-    .collect()
-}
+use crate::common::{check_cases, gpu_or_skip, small_windows};
 
 #[test]
 fn every_tiling_motif_and_output_agrees_on_cpu_and_gpu() {
-    let Some(context) = gpu_or_skip() else {
+    let Some(context) = gpu_or_skip("islamic cross-check") else {
         return;
     };
-    let mut failed = Vec::new();
+    let mut cases = Vec::new();
     for (k, tiling) in [
         Tiling::Square,
         Tiling::Hexagonal,
@@ -69,16 +39,10 @@ fn every_tiling_motif_and_output_agrees_on_cpu_and_gpu() {
                 rotation: 11.0 * k as f32,
                 offset: [1.5, -2.0],
             });
-            let case = format!("{tiling:?} {motif:?} {output:?}");
-            for (w, o) in check_model(&context, &case, &model, &windows()).unwrap() {
-                println!("{case} {w}: max {:.2e}", o.comparison.max_abs);
-                if !matches!(o.verdict, Verdict::Pass) {
-                    failed.push(format!("{case} {w}: {}", o.summary()));
-                }
-            }
+            cases.push((format!("{tiling:?} {motif:?} {output:?}"), model));
         }
     }
-    assert!(failed.is_empty(), "{}", failed.join("\n"));
+    check_cases(&context, cases, &small_windows(4.0));
 }
 
 /// A constant warp shifts the window: the shader moves the lattice fractions by `A·d` in f32,
@@ -86,7 +50,7 @@ fn every_tiling_motif_and_output_agrees_on_cpu_and_gpu() {
 /// rounding bound grown by the f32 product (a few ulps of a cell: 1e-3 pixels here).
 #[test]
 fn a_constant_warp_shifts_the_pattern_on_the_gpu() {
-    let Some(context) = gpu_or_skip() else {
+    let Some(context) = gpu_or_skip("islamic cross-check") else {
         return;
     };
     let base = Model::Islamic(IslamicPattern {

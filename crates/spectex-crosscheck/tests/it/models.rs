@@ -21,25 +21,8 @@
 use std::path::PathBuf;
 
 use spectex_crosscheck::{check_model, standard_windows};
-use spectex_gpu::GpuContext;
 
-/// Environment variable that turns a missing adapter from a skip into a failure.
-const REQUIRE_GPU_ENV: &str = "SPECTEX_REQUIRE_GPU";
-
-/// The device, or `None` after printing why when there is no adapter, unless
-/// `SPECTEX_REQUIRE_GPU=1`, which makes a missing adapter a failure.
-fn gpu_or_skip() -> Option<GpuContext> {
-    match GpuContext::new() {
-        Ok(c) => Some(c),
-        Err(e) if std::env::var(REQUIRE_GPU_ENV).is_ok_and(|v| v == "1") => {
-            panic!("{REQUIRE_GPU_ENV}=1 but no GPU: {e}")
-        }
-        Err(e) => {
-            println!("SKIPPED cross-check: {e}");
-            None
-        }
-    }
-}
+use crate::common::gpu_or_skip;
 
 /// Environment variable naming a file to which the suite also writes its `crosscheck:` lines, for
 /// `cargo xtask ci` and `verify` to print after the test run (libtest shows a passing test's
@@ -68,7 +51,7 @@ fn every_shipped_model_agrees_on_cpu_and_gpu() {
         "testdata/models should hold the LRP (2 fitted, ring), Gabor (2), phasor (5), texture and \
          classic cases"
     );
-    let Some(context) = gpu_or_skip() else {
+    let Some(context) = gpu_or_skip("cross-check") else {
         return;
     };
     let adapter = context.adapter_name();
@@ -131,7 +114,7 @@ fn every_shipped_model_agrees_on_cpu_and_gpu() {
 #[test]
 fn minified_texture_structures_agree_across_mipmap_levels() {
     use spectex_crosscheck::{CaseWindow, Verdict};
-    let Some(context) = gpu_or_skip() else {
+    let Some(context) = gpu_or_skip("cross-check") else {
         return;
     };
     let file = PathBuf::from(concat!(
@@ -164,7 +147,7 @@ fn minified_texture_structures_agree_across_mipmap_levels() {
 fn minified_phasor_profiles_agree() {
     use spectex_crosscheck::{CaseWindow, Verdict};
     use spectex_model::{Harmonic, Model, Profile};
-    let Some(context) = gpu_or_skip() else {
+    let Some(context) = gpu_or_skip("cross-check") else {
         return;
     };
     let file = PathBuf::from(concat!(
@@ -230,7 +213,7 @@ fn periodic_models_agree_on_cpu_and_gpu() {
     use spectex_crosscheck::check_model_with_period;
     use spectex_gpu::{GpuEvaluator, GpuWindow};
     use spectex_model::{PERIODIC_KINDS, Period};
-    let Some(context) = gpu_or_skip() else {
+    let Some(context) = gpu_or_skip("cross-check") else {
         return;
     };
     let mut failed = Vec::new();

@@ -10,18 +10,7 @@ use spectex_model::simulation::{
     SimulationSpec, SwiftHohenberg,
 };
 
-fn gpu_or_skip() -> Option<GpuContext> {
-    match GpuContext::new() {
-        Ok(c) => Some(c),
-        Err(e) if std::env::var("SPECTEX_REQUIRE_GPU").is_ok_and(|v| v == "1") => {
-            panic!("SPECTEX_REQUIRE_GPU=1 but no GPU: {e}")
-        }
-        Err(e) => {
-            eprintln!("skipping the simulation cross-check: no GPU ({e})");
-            None
-        }
-    }
-}
+use crate::common::gpu_or_skip;
 
 fn check(context: &GpuContext, name: &str, spec: &SimulationSpec, criteria: &[&str]) {
     let checks = check_simulation(context, spec).unwrap_or_else(|e| panic!("{name}: {e}"));
@@ -44,7 +33,7 @@ fn check(context: &GpuContext, name: &str, spec: &SimulationSpec, criteria: &[&s
 
 #[test]
 fn automata_are_equal_cell_for_cell() {
-    let Some(context) = gpu_or_skip() else {
+    let Some(context) = gpu_or_skip("simulation cross-check") else {
         return;
     };
     let cases = [
@@ -91,7 +80,7 @@ fn automata_are_equal_cell_for_cell() {
 
 #[test]
 fn gray_scott_agrees_pixelwise_then_statistically() {
-    let Some(context) = gpu_or_skip() else {
+    let Some(context) = gpu_or_skip("simulation cross-check") else {
         return;
     };
     let gs = Simulation::GrayScott(GrayScott::preset(GrayScottPreset::Mazes));
@@ -105,7 +94,7 @@ fn gray_scott_agrees_pixelwise_then_statistically() {
 
 #[test]
 fn swift_hohenberg_is_refused_on_the_gpu_with_a_reason() {
-    let Some(context) = gpu_or_skip() else {
+    let Some(context) = gpu_or_skip("simulation cross-check") else {
         return;
     };
     let spec = SimulationSpec::new(

@@ -8,41 +8,10 @@
     reason = "a test fails loudly on the first unexpected None or Err"
 )]
 
-use spectex_crosscheck::{CaseWindow, Verdict, check_model};
-use spectex_gpu::GpuContext;
 use spectex_model::subdivision::{Stencil, StochasticSubdivision};
 use spectex_model::{ClassicNoise, Model, Warp};
 
-fn gpu_or_skip() -> Option<GpuContext> {
-    match GpuContext::new() {
-        Ok(c) => Some(c),
-        Err(e) if std::env::var("SPECTEX_REQUIRE_GPU").is_ok_and(|v| v == "1") => {
-            panic!("SPECTEX_REQUIRE_GPU=1 but no GPU: {e}")
-        }
-        Err(e) => {
-            eprintln!("SKIPPED subdivision cross-check: {e}");
-            None
-        }
-    }
-}
-
-fn windows() -> Vec<CaseWindow> {
-    [
-        ("origin", [0.0, 0.0], 1.0),
-        ("far", [1.0e7, -1.0e7], 1.0),
-        ("magnified", [-37.25, 11.5], 0.37),
-        ("minified", [5.5, -13.25], 6.0),
-    ]
-    .into_iter()
-    .map(|(name, offset, scale)| CaseWindow {
-        name,
-        width: 32,
-        height: 32,
-        offset,
-        scale,
-    })
-    .collect()
-}
+use crate::common::{check_cases, gpu_or_skip, small_windows};
 
 fn subdivision(stencil: Stencil, levels: u32, hurst: f32, cell_size: f32) -> StochasticSubdivision {
     StochasticSubdivision {
@@ -58,10 +27,10 @@ fn subdivision(stencil: Stencil, levels: u32, hurst: f32, cell_size: f32) -> Sto
 
 #[test]
 fn both_stencils_agree_on_cpu_and_gpu() {
-    let Some(context) = gpu_or_skip() else {
+    let Some(context) = gpu_or_skip("subdivision cross-check") else {
         return;
     };
-    let mut failed = Vec::new();
+    let mut cases = Vec::new();
     for stencil in [Stencil::Midpoint, Stencil::Cubic] {
         for (levels, hurst, cell) in [
             (0, 0.5, 8.0),
@@ -70,21 +39,15 @@ fn both_stencils_agree_on_cpu_and_gpu() {
             (12, 0.9, 1000.0),
         ] {
             let model = Model::Subdivision(subdivision(stencil, levels, hurst, cell));
-            let case = format!("{stencil:?} L={levels} H={hurst}");
-            for (w, o) in check_model(&context, &case, &model, &windows()).unwrap() {
-                println!("{case} {w}: max {:.2e}", o.comparison.max_abs);
-                if !matches!(o.verdict, Verdict::Pass) {
-                    failed.push(format!("{case} {w}: {}", o.summary()));
-                }
-            }
+            cases.push((format!("{stencil:?} L={levels} H={hurst}"), model));
         }
     }
-    assert!(failed.is_empty(), "{}", failed.join("\n"));
+    check_cases(&context, cases, &small_windows(6.0));
 }
 
 #[test]
 fn a_warped_subdivision_agrees_on_cpu_and_gpu() {
-    let Some(context) = gpu_or_skip() else {
+    let Some(context) = gpu_or_skip("subdivision cross-check") else {
         return;
     };
     let by = |seed: u32| {
@@ -96,21 +59,14 @@ fn a_warped_subdivision_agrees_on_cpu_and_gpu() {
                 .unwrap(),
         )
     };
-    for stencil in [Stencil::Midpoint, Stencil::Cubic] {
+    let cases = [Stencil::Midpoint, Stencil::Cubic].map(|stencil| {
         let model = Model::Warp(Warp {
             base: Box::new(Model::Subdivision(subdivision(stencil, 6, 0.5, 64.0))),
             x: Box::new(by(1)),
             y: Box::new(by(2)),
             strength: 6.0,
         });
-        let case = format!("warped {stencil:?}");
-        for (w, o) in check_model(&context, &case, &model, &windows()[..2]).unwrap() {
-            println!("{case} {w}: max {:.2e}", o.comparison.max_abs);
-            assert!(
-                matches!(o.verdict, Verdict::Pass),
-                "{case} {w}: {}",
-                o.summary()
-            );
-        }
-    }
+        (format!("warped {stencil:?}"), model)
+    });
+    check_cases(&context, cases, &small_windows(6.0)[..2]);
 }
