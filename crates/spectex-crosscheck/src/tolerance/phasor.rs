@@ -142,6 +142,18 @@ fn judge_pixels(
     renders: &[(Vec<f32>, Vec<f32>)],
     footprint: Option<f64>,
 ) -> Vec<String> {
+    judge_pixels_at(m, &|_| e, &|_| 0.0, renders, footprint)
+}
+
+/// [`judge_pixels`] with the complex bound `e(k)` of pixel `k` and `slack(k)` added to its
+/// output's bound where a profile is continuous.
+fn judge_pixels_at(
+    m: &PhasorNoise,
+    e: &dyn Fn(usize) -> f64,
+    slack: &dyn Fn(usize) -> f64,
+    renders: &[(Vec<f32>, Vec<f32>)],
+    footprint: Option<f64>,
+) -> Vec<String> {
     // A minified render filters profiles to `harmonics` terms of their Fourier series.
     let harmonics = footprint.map_or(0, |s| square_harmonics(m.frequency.range().0 * s));
     let (lipschitz, jumps) = shape(&m.profile, harmonics);
@@ -153,22 +165,27 @@ fn judge_pixels(
             why.push(format!("{bad} {name} pixels outside their bound"));
         }
     };
-    let over = |pair: &(Vec<f32>, Vec<f32>), bound: f64| {
+    let over = |pair: &(Vec<f32>, Vec<f32>), bound: &dyn Fn(usize) -> f64| {
         pair.0
             .iter()
             .zip(&pair.1)
-            .filter(|(a, b)| (f64::from(**a) - f64::from(**b)).abs() > bound)
+            .enumerate()
+            .filter(|(k, (a, b))| (f64::from(**a) - f64::from(**b)).abs() > bound(*k))
             .count()
     };
     count("Gabor", over(gabor, e));
-    count("intensity", over(intensity, std::f64::consts::SQRT_2 * e));
+    count(
+        "intensity",
+        over(intensity, &|k| std::f64::consts::SQRT_2 * e(k)),
+    );
     // Per pixel: the phase tolerance where the phase is determined.
     let dphi: Vec<Option<f64>> = intensity
         .0
         .iter()
-        .map(|&i| {
+        .enumerate()
+        .map(|(k, &i)| {
             let i = f64::from(i);
-            let r = std::f64::consts::SQRT_2 * e;
+            let r = std::f64::consts::SQRT_2 * e(k);
             (i > 2.0 * r).then(|| (r / i).asin() / std::f64::consts::TAU + 2.0 * ATAN_ERROR)
         })
         .collect();
@@ -187,8 +204,10 @@ fn judge_pixels(
         amplitude * (lipschitz * d + 1e-6 * (1.0 + harmonics as f64)) + 4.0 * F32_UNIT_ROUNDOFF
     };
     let bad_own = match m.output {
-        PhasorOutput::Gabor => over(own, amplitude * e + 1e-6),
-        PhasorOutput::Intensity => over(own, amplitude * std::f64::consts::SQRT_2 * e + 1e-6),
+        PhasorOutput::Gabor => over(own, &|k| amplitude * e(k) + 1e-6),
+        PhasorOutput::Intensity => {
+            over(own, &|k| amplitude * std::f64::consts::SQRT_2 * e(k) + 1e-6)
+        }
         PhasorOutput::Phase | PhasorOutput::Profiled => own
             .0
             .iter()
@@ -205,7 +224,7 @@ fn judge_pixels(
                 }
                 let t = f64::from(phase.0[*k]).rem_euclid(1.0);
                 let near_jump = jumps.iter().any(|j| j.is_none_or(|j| circular(t, j) <= d));
-                !near_jump && diff.abs() > value_bound(d)
+                !near_jump && diff.abs() > value_bound(d) + slack(*k)
             })
             .count(),
     };
@@ -224,6 +243,22 @@ pub fn judge_with_bound(
     footprint: Option<f64>,
 ) -> Vec<String> {
     judge_pixels(m, e, renders, footprint)
+}
+
+/// [`judge_with_bound`] with a bound per pixel: `e[k]` bounds pixel `k`'s complex sum, and
+/// `slack[k]` adds to its output's bound where the profile is continuous (what an evaluator
+/// that computes a profile parameter, such as a blend weight, in its own precision adds). For
+/// evaluators whose added error varies over the window (the WGSL export's fields, evaluated
+/// in f32 at each impulse). `renders` as `own_verdict`'s, `e` and `slack` one per pixel.
+#[must_use]
+pub fn judge_with_pixel_bounds(
+    m: &PhasorNoise,
+    e: &[f64],
+    slack: &[f64],
+    renders: &[(Vec<f32>, Vec<f32>)],
+    footprint: Option<f64>,
+) -> Vec<String> {
+    judge_pixels_at(m, &|k| e[k], &|k| slack[k], renders, footprint)
 }
 
 /// `m` rendering `output` at zero mean and unit amplitude: one of its companions.
