@@ -31,7 +31,15 @@
 //! and in-shader directions add (`phasor_export_bound`), on the pixels no kernel edge can
 //! cross (`phasor_edge_mask`); a Voronoi cell ID by equality wherever the two nearest seeds
 //! cannot swap (`check_voronoi_discrete`). Phasor kernels and Voronoi sites are drawn in the
-//! shader from the same integer hashes as on the host, so they are the same kernels.
+//! shader from the same integer hashes as on the host, so they are the same kernels. A phasor
+//! model whose fields vary (or steered by an image's gradient or the coherent direction
+//! process) has them evaluated in f32 in the shader: `fields` (an f64 reference of its
+//! kernel process) grows `E` per pixel by what each impulse's field errors add and leaves out,
+//! counting them, the pixels where a thinning comparison or a direction is within the f32
+//! evaluation's error of its discontinuity. A combination with no pointwise bound (crossed
+//! waves) is judged by spectex-crosscheck's composed verdict (`composed_verdict`): each
+//! operand exported, rendered and judged as above, and the combination's render equal to
+//! `CombineOp::apply` of its operands' renders on each side (`check_combination`).
 //!
 //! Skips with a printed reason when no GPU adapter exists, unless `SPECTEX_REQUIRE_GPU=1`.
 
