@@ -142,15 +142,19 @@ fn judge_pixels(
     renders: &[(Vec<f32>, Vec<f32>)],
     footprint: Option<f64>,
 ) -> Vec<String> {
-    judge_pixels_at(m, &|_| e, &|_| 0.0, renders, footprint)
+    judge_pixels_at(m, &|_| e, &|_| 0.0, &|_| None, renders, footprint)
 }
 
-/// [`judge_pixels`] with the complex bound `e(k)` of pixel `k` and `slack(k)` added to its
-/// output's bound where a profile is continuous.
+/// [`judge_pixels`] with the complex bound `e(k)` of pixel `k`, `slack(k)` added to its
+/// output's bound where a profile is continuous, and `duties(k)`: where known, the varying
+/// duty cycles' values at pixel `k` each with a bound on the evaluator's error, so that a
+/// square profile's jump there is located (else it may be anywhere and the output is not
+/// judged).
 fn judge_pixels_at(
     m: &PhasorNoise,
     e: &dyn Fn(usize) -> f64,
     slack: &dyn Fn(usize) -> f64,
+    duties: &dyn Fn(usize) -> Option<Vec<(f64, f64)>>,
     renders: &[(Vec<f32>, Vec<f32>)],
     footprint: Option<f64>,
 ) -> Vec<String> {
@@ -223,7 +227,14 @@ fn judge_pixels_at(
                     return amplitude > 0.0 && circular(diff / amplitude, 0.0) > d;
                 }
                 let t = f64::from(phase.0[*k]).rem_euclid(1.0);
-                let near_jump = jumps.iter().any(|j| j.is_none_or(|j| circular(t, j) <= d));
+                let varying = duties(*k);
+                let near_jump = jumps.iter().any(|j| match (j, &varying) {
+                    (Some(j), _) => circular(t, *j) <= d,
+                    // A varying duty: near any of the pixel's duties, by the phase's tolerance
+                    // plus the duty's own error.
+                    (None, Some(at)) => at.iter().any(|(v, dv)| circular(t, *v) <= d + dv),
+                    (None, None) => true,
+                });
                 !near_jump && diff.abs() > value_bound(d) + slack(*k)
             })
             .count(),
@@ -247,7 +258,10 @@ pub fn judge_with_bound(
 
 /// [`judge_with_bound`] with a bound per pixel: `e[k]` bounds pixel `k`'s complex sum, and
 /// `slack[k]` adds to its output's bound where the profile is continuous (what an evaluator
-/// that computes a profile parameter, such as a blend weight, in its own precision adds). For
+/// that computes a profile parameter, such as a blend weight, in its own precision adds), and
+/// `duties[k]` (empty, or one entry per pixel) lists the varying duty cycles' values at pixel
+/// `k` with a bound on the evaluator's error in each: a square profile's jump is then judged
+/// there rather than anywhere. For
 /// evaluators whose added error varies over the window (the WGSL export's fields, evaluated
 /// in f32 at each impulse). `renders` as `own_verdict`'s, `e` and `slack` one per pixel.
 #[must_use]
@@ -255,10 +269,18 @@ pub fn judge_with_pixel_bounds(
     m: &PhasorNoise,
     e: &[f64],
     slack: &[f64],
+    duties: &[Vec<(f64, f64)>],
     renders: &[(Vec<f32>, Vec<f32>)],
     footprint: Option<f64>,
 ) -> Vec<String> {
-    judge_pixels_at(m, &|k| e[k], &|k| slack[k], renders, footprint)
+    judge_pixels_at(
+        m,
+        &|k| e[k],
+        &|k| slack[k],
+        &|k| duties.get(k).cloned(),
+        renders,
+        footprint,
+    )
 }
 
 /// `m` rendering `output` at zero mean and unit amplitude: one of its companions.
@@ -390,6 +412,35 @@ mod tests {
     }
 
     const E: f64 = 1e-4;
+
+    /// A varying duty cycle: without its value at the pixel the output is not judged (the
+    /// jump may be anywhere); with it, a flip far from that duty fails and one within the
+    /// duty's error of it passes.
+    #[test]
+    fn a_located_varying_duty_judges_the_output() {
+        let mut m = pwm(PhasorOutput::Profiled);
+        m.profile = Profile::Square {
+            duty: Field::Linear {
+                value: 0.4,
+                gradient: [1e-5, 0.0, 0.0],
+            },
+        };
+        let flip = renders([1.0, 0.0], [0.3, 0.3], [1.0, 1.0], [0.1, 0.1]);
+        let judge = |duties: &[Vec<(f64, f64)>]| {
+            judge_with_pixel_bounds(&m, &[E], &[0.0], duties, &flip, None).len()
+        };
+        assert_eq!(judge(&[]), 0, "not located: not judged");
+        assert_eq!(
+            judge(&[vec![(0.4, 1e-6)]]),
+            1,
+            "a flip 0.3 turns from the duty"
+        );
+        assert_eq!(
+            judge(&[vec![(0.1 + 1e-3, 2e-3)]]),
+            0,
+            "within the duty's error"
+        );
+    }
 
     #[test]
     fn a_profile_may_flip_only_next_to_its_jump() {

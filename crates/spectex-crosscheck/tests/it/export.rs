@@ -609,6 +609,7 @@ fn judge_phasor(
             ambiguous: vec![false; n],
             extra: vec![0.0; n],
             slack: vec![0.0; n],
+            duties: Vec::new(),
         }
     };
     let left = |k: usize| bounds.edge[k] || bounds.ambiguous[k];
@@ -652,7 +653,18 @@ fn judge_phasor(
          {ambiguous} ambiguous (a thinning or direction the f32 fields may decide otherwise) \
          left out"
     );
-    (judge_with_pixel_bounds(m, &es, &slack, &kept, None), line)
+    let duties: Vec<Vec<(f64, f64)>> = if bounds.duties.is_empty() {
+        Vec::new()
+    } else {
+        (0..per_case)
+            .filter(|k| !left(*k))
+            .map(|k| bounds.duties[k].clone())
+            .collect()
+    };
+    (
+        judge_with_pixel_bounds(m, &es, &slack, &duties, &kept, None),
+        line,
+    )
 }
 
 /// Whether a phasor model has a field that varies or a direction computed from the plane

@@ -25,8 +25,8 @@
 //!   only: its pixels are left out as **edge** pixels (as for constant fields).
 //!
 //! Profile parameters are read at the pixel: a blend weight's error times the two profiles'
-//! peaks is the output's slack. A square profile whose duty varies is not judged on its
-//! output by phasor's criterion anyway (its jump may be anywhere), only through the sum.
+//! peaks is the output's slack; a varying duty cycle's value and error locate a square
+//! profile's jump at the pixel (`judge_with_pixel_bounds`' `duties`).
 
 use spectex_crosscheck::tolerance::phasor::ATAN_ERROR;
 use spectex_crosscheck::tolerance::{
@@ -52,6 +52,9 @@ pub(super) struct FieldBounds {
     pub(super) extra: Vec<f64>,
     /// Added to the output's bound where the profile is continuous.
     pub(super) slack: Vec<f64>,
+    /// The varying duty cycles at the pixel (the CPU's, clamped to [0, 1]) and the bound on
+    /// the export's difference.
+    pub(super) duties: Vec<Vec<(f64, f64)>>,
 }
 
 /// How far the export's impulse position `n + r` lies from the CPU's `(cell + o)·r` (f64),
@@ -409,6 +412,31 @@ pub(super) fn field_bounds(m: &PhasorNoise, window: &Window, dx: f64, eta: f64) 
         }
         _ => 0.0,
     };
+    fn square(p: &Profile) -> Option<&Field> {
+        match p {
+            Profile::Square { duty } if duty.range().0 != duty.range().1 => Some(duty),
+            _ => None,
+        }
+    }
+    let duty_fields: Vec<&Field> = {
+        match &m.profile {
+            Profile::Blend { a, b, .. } => [square(a), square(b)].into_iter().flatten().collect(),
+            other => square(other).into_iter().collect(),
+        }
+    };
+    // The duty at the pixel: the field within its error (the pixel's position is exact), the
+    // clamp to [0, 1] (no larger), the CPU's rounding to f32 (u).
+    let duties_of = |x: [f64; 2]| -> Vec<(f64, f64)> {
+        duty_fields
+            .iter()
+            .map(|f| {
+                (
+                    f.at(x[0], x[1], 0.0).clamp(0.0, 1.0),
+                    field_error(f, x, 0.0, 1.0) + U,
+                )
+            })
+            .collect()
+    };
     let mut cells: std::collections::HashMap<[i32; 2], Cell> = std::collections::HashMap::new();
     let n = window.width * window.height;
     let mut out = FieldBounds {
@@ -416,6 +444,7 @@ pub(super) fn field_bounds(m: &PhasorNoise, window: &Window, dx: f64, eta: f64) 
         ambiguous: Vec::with_capacity(n),
         extra: Vec::with_capacity(n),
         slack: Vec::with_capacity(n),
+        duties: Vec::with_capacity(n),
     };
     let ln20 = -f64::from(NEG_LN_20);
     for j in 0..window.height {
@@ -450,6 +479,7 @@ pub(super) fn field_bounds(m: &PhasorNoise, window: &Window, dx: f64, eta: f64) 
             out.ambiguous.push(ambiguous && !edge);
             out.extra.push(extra);
             out.slack.push(slack_of([x, y]));
+            out.duties.push(duties_of([x, y]));
         }
     }
     out
