@@ -23,8 +23,9 @@
 //! [`MAX_TABLE_BYTES`]; with [`TableStorage::Buffer`] ([`export`]) they go to one read-only
 //! storage buffer whose bytes [`Export::tables`] holds and whose layout the header lists.
 //! Every kind exports; features with no exact export give [`GpuError::Unsupported`] naming
-//! them (varying phasor fields and its gradient and coherent orientations, Voronoi Lloyd
-//! relaxation and image colours: each kind's export module says why).
+//! them (Voronoi Lloyd relaxation and image colours, a 3D phasor model with varying fields:
+//! each kind's export module says why). A phasor model's varying fields are evaluated in the
+//! shader in f32 (`export/phasor.rs`), image fields located with the lattice split.
 
 use std::collections::{HashMap, HashSet};
 use std::fmt::Write as _;

@@ -247,6 +247,48 @@ fn composition_reasons(m: &Combine, side: &str, out: &[f32], operands: &[&[f32]]
         .collect()
 }
 
+/// A judge of one operand for [`composed_verdict`]: its index, its model and its renders
+/// (its own, then its companions', each `(cpu, gpu)`) to the reasons it fails.
+pub type OperandJudge<'a> = dyn FnMut(usize, &Model, &[(Vec<f32>, Vec<f32>)]) -> Vec<String> + 'a;
+
+/// The composed verdict of a combination (module docs) with each operand judged by `judge`
+/// (its index, its model, and its renders: its own, then its companions'; it returns the
+/// reasons that operand fails, prefixed with its index and kind by `judge` itself): every
+/// operand passes its judge, and on each side the combination's value is `CombineOp::apply`
+/// of that side's operand values, bit for bit. `renders` as
+/// [`own_verdict`](CheckKind::own_verdict)'s: the combination's, then per operand its own
+/// and its companions' ([`CheckKind::companions`] of the combination). Evaluators that add
+/// their own, derived error to an operand's (the WGSL export's position rounding) judge the
+/// operands with their own bounds through this; `own_verdict` judges them by their kind's
+/// criterion.
+pub fn composed_verdict(
+    m: &Combine,
+    renders: &[(Vec<f32>, Vec<f32>)],
+    judge: &mut OperandJudge<'_>,
+) -> Vec<String> {
+    let mut why = Vec::new();
+    let (mut cpu, mut gpu) = (Vec::new(), Vec::new());
+    let mut at = 1;
+    for (i, o) in m.operands.iter().enumerate() {
+        let n = 1 + check_kind(o).companions().len();
+        let Some(own) = renders.get(at..at + n) else {
+            why.push(format!("operand {i}: its renders are missing"));
+            return why;
+        };
+        why.extend(judge(i, o, own));
+        cpu.push(own[0].0.as_slice());
+        gpu.push(own[0].1.as_slice());
+        at += n;
+    }
+    let Some(whole) = renders.first() else {
+        why.push("the combination's render is missing".to_owned());
+        return why;
+    };
+    why.extend(composition_reasons(m, "cpu", &whole.0, &cpu));
+    why.extend(composition_reasons(m, "gpu", &whole.1, &gpu));
+    why
+}
+
 /// `(tolerance, magnitude)` of channel `c` over the operands `ops`.
 fn compose_ops(m: &Combine, ops: &[Operand], c: usize) -> Option<(f64, Option<f64>)> {
     let ops = ops.to_vec();
@@ -324,23 +366,9 @@ impl CheckKind for Combine {
         if composed(self).is_some() {
             return None;
         }
-        let mut why = Vec::new();
-        let (mut cpu, mut gpu) = (Vec::new(), Vec::new());
-        let mut at = 1;
-        for (i, o) in self.operands.iter().enumerate() {
-            let n = 1 + check_kind(o).companions().len();
-            let Some(own) = renders.get(at..at + n) else {
-                why.push(format!("operand {i}: its renders are missing"));
-                return Some(why);
-            };
-            why.extend(operand_reasons(i, o, own, footprint));
-            cpu.push(own[0].0.as_slice());
-            gpu.push(own[0].1.as_slice());
-            at += n;
-        }
-        why.extend(composition_reasons(self, "cpu", &renders[0].0, &cpu));
-        why.extend(composition_reasons(self, "gpu", &renders[0].1, &gpu));
-        Some(why)
+        Some(composed_verdict(self, renders, &mut |i, o, own| {
+            operand_reasons(i, o, own, footprint)
+        }))
     }
 
     /// The chain rule on the operands' regularities: a sum's slopes and jumps add, a product's

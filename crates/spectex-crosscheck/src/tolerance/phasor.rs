@@ -142,6 +142,22 @@ fn judge_pixels(
     renders: &[(Vec<f32>, Vec<f32>)],
     footprint: Option<f64>,
 ) -> Vec<String> {
+    judge_pixels_at(m, &|_| e, &|_| 0.0, &|_| None, renders, footprint)
+}
+
+/// [`judge_pixels`] with the complex bound `e(k)` of pixel `k`, `slack(k)` added to its
+/// output's bound where a profile is continuous, and `duties(k)`: where known, the varying
+/// duty cycles' values at pixel `k` each with a bound on the evaluator's error, so that a
+/// square profile's jump there is located (else it may be anywhere and the output is not
+/// judged).
+fn judge_pixels_at(
+    m: &PhasorNoise,
+    e: &dyn Fn(usize) -> f64,
+    slack: &dyn Fn(usize) -> f64,
+    duties: &dyn Fn(usize) -> Option<Vec<(f64, f64)>>,
+    renders: &[(Vec<f32>, Vec<f32>)],
+    footprint: Option<f64>,
+) -> Vec<String> {
     // A minified render filters profiles to `harmonics` terms of their Fourier series.
     let harmonics = footprint.map_or(0, |s| square_harmonics(m.frequency.range().0 * s));
     let (lipschitz, jumps) = shape(&m.profile, harmonics);
@@ -153,22 +169,27 @@ fn judge_pixels(
             why.push(format!("{bad} {name} pixels outside their bound"));
         }
     };
-    let over = |pair: &(Vec<f32>, Vec<f32>), bound: f64| {
+    let over = |pair: &(Vec<f32>, Vec<f32>), bound: &dyn Fn(usize) -> f64| {
         pair.0
             .iter()
             .zip(&pair.1)
-            .filter(|(a, b)| (f64::from(**a) - f64::from(**b)).abs() > bound)
+            .enumerate()
+            .filter(|(k, (a, b))| (f64::from(**a) - f64::from(**b)).abs() > bound(*k))
             .count()
     };
     count("Gabor", over(gabor, e));
-    count("intensity", over(intensity, std::f64::consts::SQRT_2 * e));
+    count(
+        "intensity",
+        over(intensity, &|k| std::f64::consts::SQRT_2 * e(k)),
+    );
     // Per pixel: the phase tolerance where the phase is determined.
     let dphi: Vec<Option<f64>> = intensity
         .0
         .iter()
-        .map(|&i| {
+        .enumerate()
+        .map(|(k, &i)| {
             let i = f64::from(i);
-            let r = std::f64::consts::SQRT_2 * e;
+            let r = std::f64::consts::SQRT_2 * e(k);
             (i > 2.0 * r).then(|| (r / i).asin() / std::f64::consts::TAU + 2.0 * ATAN_ERROR)
         })
         .collect();
@@ -187,8 +208,10 @@ fn judge_pixels(
         amplitude * (lipschitz * d + 1e-6 * (1.0 + harmonics as f64)) + 4.0 * F32_UNIT_ROUNDOFF
     };
     let bad_own = match m.output {
-        PhasorOutput::Gabor => over(own, amplitude * e + 1e-6),
-        PhasorOutput::Intensity => over(own, amplitude * std::f64::consts::SQRT_2 * e + 1e-6),
+        PhasorOutput::Gabor => over(own, &|k| amplitude * e(k) + 1e-6),
+        PhasorOutput::Intensity => {
+            over(own, &|k| amplitude * std::f64::consts::SQRT_2 * e(k) + 1e-6)
+        }
         PhasorOutput::Phase | PhasorOutput::Profiled => own
             .0
             .iter()
@@ -204,8 +227,15 @@ fn judge_pixels(
                     return amplitude > 0.0 && circular(diff / amplitude, 0.0) > d;
                 }
                 let t = f64::from(phase.0[*k]).rem_euclid(1.0);
-                let near_jump = jumps.iter().any(|j| j.is_none_or(|j| circular(t, j) <= d));
-                !near_jump && diff.abs() > value_bound(d)
+                let varying = duties(*k);
+                let near_jump = jumps.iter().any(|j| match (j, &varying) {
+                    (Some(j), _) => circular(t, *j) <= d,
+                    // A varying duty: near any of the pixel's duties, by the phase's tolerance
+                    // plus the duty's own error.
+                    (None, Some(at)) => at.iter().any(|(v, dv)| circular(t, *v) <= d + dv),
+                    (None, None) => true,
+                });
+                !near_jump && diff.abs() > value_bound(d) + slack(*k)
             })
             .count(),
     };
@@ -224,6 +254,33 @@ pub fn judge_with_bound(
     footprint: Option<f64>,
 ) -> Vec<String> {
     judge_pixels(m, e, renders, footprint)
+}
+
+/// [`judge_with_bound`] with a bound per pixel: `e[k]` bounds pixel `k`'s complex sum, and
+/// `slack[k]` adds to its output's bound where the profile is continuous (what an evaluator
+/// that computes a profile parameter, such as a blend weight, in its own precision adds), and
+/// `duties[k]` (empty, or one entry per pixel) lists the varying duty cycles' values at pixel
+/// `k` with a bound on the evaluator's error in each: a square profile's jump is then judged
+/// there rather than anywhere. For
+/// evaluators whose added error varies over the window (the WGSL export's fields, evaluated
+/// in f32 at each impulse). `renders` as `own_verdict`'s, `e` and `slack` one per pixel.
+#[must_use]
+pub fn judge_with_pixel_bounds(
+    m: &PhasorNoise,
+    e: &[f64],
+    slack: &[f64],
+    duties: &[Vec<(f64, f64)>],
+    renders: &[(Vec<f32>, Vec<f32>)],
+    footprint: Option<f64>,
+) -> Vec<String> {
+    judge_pixels_at(
+        m,
+        &|k| e[k],
+        &|k| slack[k],
+        &|k| duties.get(k).cloned(),
+        renders,
+        footprint,
+    )
 }
 
 /// `m` rendering `output` at zero mean and unit amplitude: one of its companions.
@@ -355,6 +412,35 @@ mod tests {
     }
 
     const E: f64 = 1e-4;
+
+    /// A varying duty cycle: without its value at the pixel the output is not judged (the
+    /// jump may be anywhere); with it, a flip far from that duty fails and one within the
+    /// duty's error of it passes.
+    #[test]
+    fn a_located_varying_duty_judges_the_output() {
+        let mut m = pwm(PhasorOutput::Profiled);
+        m.profile = Profile::Square {
+            duty: Field::Linear {
+                value: 0.4,
+                gradient: [1e-5, 0.0, 0.0],
+            },
+        };
+        let flip = renders([1.0, 0.0], [0.3, 0.3], [1.0, 1.0], [0.1, 0.1]);
+        let judge = |duties: &[Vec<(f64, f64)>]| {
+            judge_with_pixel_bounds(&m, &[E], &[0.0], duties, &flip, None).len()
+        };
+        assert_eq!(judge(&[]), 0, "not located: not judged");
+        assert_eq!(
+            judge(&[vec![(0.4, 1e-6)]]),
+            1,
+            "a flip 0.3 turns from the duty"
+        );
+        assert_eq!(
+            judge(&[vec![(0.1 + 1e-3, 2e-3)]]),
+            0,
+            "within the duty's error"
+        );
+    }
 
     #[test]
     fn a_profile_may_flip_only_next_to_its_jump() {

@@ -31,7 +31,15 @@
 //! and in-shader directions add (`phasor_export_bound`), on the pixels no kernel edge can
 //! cross (`phasor_edge_mask`); a Voronoi cell ID by equality wherever the two nearest seeds
 //! cannot swap (`check_voronoi_discrete`). Phasor kernels and Voronoi sites are drawn in the
-//! shader from the same integer hashes as on the host, so they are the same kernels.
+//! shader from the same integer hashes as on the host, so they are the same kernels. A phasor
+//! model whose fields vary (or steered by an image's gradient or the coherent direction
+//! process) has them evaluated in f32 in the shader: `fields` (an f64 reference of its
+//! kernel process) grows `E` per pixel by what each impulse's field errors add and leaves out,
+//! counting them, the pixels where a thinning comparison or a direction is within the f32
+//! evaluation's error of its discontinuity. A combination with no pointwise bound (crossed
+//! waves) is judged by spectex-crosscheck's composed verdict (`composed_verdict`): each
+//! operand exported, rendered and judged as above, and the combination's render equal to
+//! `CombineOp::apply` of its operands' renders on each side (`check_combination`).
 //!
 //! Skips with a printed reason when no GPU adapter exists, unless `SPECTEX_REQUIRE_GPU=1`.
 
@@ -44,9 +52,12 @@
     reason = "the per-model lines are the test's report"
 )]
 
+mod fields;
+
 use std::path::PathBuf;
 
-use spectex_crosscheck::tolerance::phasor::{complex_bound, judge_with_bound};
+use spectex_crosscheck::tolerance::combine::composed_verdict;
+use spectex_crosscheck::tolerance::phasor::{complex_bound, judge_with_pixel_bounds};
 use spectex_crosscheck::tolerance::{
     COS_ABS_ERROR, F32_UNIT_ROUNDOFF, check_kind, regularity, tolerance,
 };
@@ -71,9 +82,6 @@ const HEIGHT: u32 = 48;
 /// error's feature.
 const REFUSED: &[(&str, &str)] = &[
     ("combine-cracks", "Lloyd"),
-    ("phasor-graded-pwm", "varying bandwidth"),
-    ("phasor-gradient-blend", "varying frequency"),
-    ("phasor-pwm-coherent", "varying duty"),
     ("voronoi-border-lloyd", "Lloyd"),
     ("voronoi-palette-lloyd", "Lloyd"),
 ];
@@ -518,68 +526,236 @@ fn phasor_edge_mask(m: &PhasorNoise, window: &Window, delta: f64) -> Vec<bool> {
     mask
 }
 
-/// A standalone phasor model through the export, judged by phasor's own criterion
-/// (`judge_with_bound`, spectex-crosscheck's pixel criterion over the Gabor, intensity and
-/// phase companions, each exported and rendered too) with [`phasor_export_bound`] for `E`,
-/// on the pixels [`phasor_edge_mask`] keeps. Returns the failures; prints per case the largest
-/// Gabor companion error against `E` and the pixels left out.
-fn check_phasor(context: &GpuContext, case: &str, model: &Model, m: &PhasorNoise) -> Vec<String> {
+/// The export's renders of every case for each of `variants` (one pipeline each, tables in
+/// a storage buffer where a model exceeds `MAX_TABLE_BYTES`): per variant, the cases' values
+/// one after the other.
+fn export_renders(context: &GpuContext, case: &str, variants: &[Model]) -> Vec<Vec<f32>> {
     let cases = cases();
-    let far = 2.0e7;
-    let e = phasor_export_bound(m, far);
-    let delta = phasor_delta(m.kernel_radius(), far);
-    let mut models = vec![model.clone()];
-    models.extend(check_kind(model).companions());
-    // Per model, the export's renders of every case (one pipeline each).
-    let mut exported = Vec::new();
-    for variant in &models {
-        let module = export(variant, &ExportOptions::default())
+    variants
+        .iter()
+        .map(|variant| {
+            let exported = export(variant, &ExportOptions::default())
+                .unwrap_or_else(|e| panic!("{case}: {e}"));
+            let channels = variant.output_channels();
+            render(
+                context,
+                &shader(&exported.wgsl, &cases, channels),
+                channels,
+                cases.len() as u32,
+                &exported.tables,
+            )
             .unwrap_or_else(|e| panic!("{case}: {e}"))
-            .wgsl;
-        let got = render(
-            context,
-            &shader(&module, &cases, 1),
-            1,
-            cases.len() as u32,
-            &[],
-        )
-        .unwrap_or_else(|e| panic!("{case}: {e}"));
-        exported.push(got);
-    }
-    let mut failures = Vec::new();
-    for (k, c) in cases.iter().enumerate() {
-        let mask = phasor_edge_mask(m, &c.window, delta);
-        let per_case = mask.len();
-        let mut renders = Vec::new();
-        for (variant, got) in models.iter().zip(&exported) {
+        })
+        .collect()
+}
+
+/// `(cpu, export)` of each of `variants` for case `k` (`c`), from [`export_renders`]' output.
+fn case_renders(
+    variants: &[Model],
+    exported: &[Vec<f32>],
+    k: usize,
+    c: &Case,
+) -> Vec<(Vec<f32>, Vec<f32>)> {
+    variants
+        .iter()
+        .zip(exported)
+        .map(|(variant, got)| {
             let want = spectex_cpu::Evaluator::new(variant)
                 .unwrap()
                 .render(&c.window)
                 .unwrap();
-            let got = &got[k * per_case..(k + 1) * per_case];
-            let keep = |v: &[f32]| -> Vec<f32> {
-                v.iter()
-                    .zip(&mask)
-                    .filter(|(_, edge)| !**edge)
-                    .map(|(x, _)| *x)
-                    .collect()
-            };
-            renders.push((keep(&want), keep(got)));
+            let n = want.len();
+            (want, got[k * n..(k + 1) * n].to_vec())
+        })
+        .collect()
+}
+
+/// A phasor model's renders of one window (`(cpu, export)` of the model, then of its Gabor,
+/// intensity and phase companions) judged by phasor's own criterion (`judge_with_bound`,
+/// spectex-crosscheck's pixel criterion) with [`phasor_export_bound`] for `E`, on the pixels
+/// [`phasor_edge_mask`] keeps. Returns the reasons it fails and a line saying the largest
+/// Gabor companion error against `E` and the pixels left out.
+fn judge_phasor(
+    m: &PhasorNoise,
+    window: &Window,
+    renders: &[(Vec<f32>, Vec<f32>)],
+) -> (Vec<String>, String) {
+    let far = 2.0e7;
+    let e = phasor_export_bound(m, far);
+    let delta = phasor_delta(m.kernel_radius(), far);
+    let varying = m.dimensions == 2 && has_varying_fields(m);
+    let bounds = if varying {
+        let dims = 2.0;
+        let axis = phasor_axis_error(delta);
+        let eta = 2.0 * f64::sqrt(dims) * 1.1 * axis + dims * axis * axis + 4.0 * F32_UNIT_ROUNDOFF;
+        let dx = fields::position_error(m.kernel_radius(), POSITION_ROUNDINGS, far);
+        fields::field_bounds(m, window, dx, eta)
+    } else {
+        let edge = phasor_edge_mask(m, window, delta);
+        let n = edge.len();
+        fields::FieldBounds {
+            edge,
+            ambiguous: vec![false; n],
+            extra: vec![0.0; n],
+            slack: vec![0.0; n],
+            duties: Vec::new(),
         }
-        let gabor = &renders[1];
-        let worst = gabor
-            .0
-            .iter()
-            .zip(&gabor.1)
-            .map(|(a, b)| (f64::from(*a) - f64::from(*b)).abs())
-            .fold(0.0, f64::max);
-        let left_out = mask.iter().filter(|e| **e).count();
+    };
+    let left = |k: usize| bounds.edge[k] || bounds.ambiguous[k];
+    let per_case = bounds.edge.len();
+    let keep = |v: &[f32]| -> Vec<f32> {
+        v.iter()
+            .enumerate()
+            .filter(|(k, _)| !left(*k))
+            .map(|(_, x)| *x)
+            .collect()
+    };
+    let kept: Vec<(Vec<f32>, Vec<f32>)> = renders
+        .iter()
+        .map(|(want, got)| (keep(want), keep(got)))
+        .collect();
+    let es: Vec<f64> = (0..per_case)
+        .filter(|k| !left(*k))
+        .map(|k| e + bounds.extra[k])
+        .collect();
+    let slack: Vec<f64> = (0..per_case)
+        .filter(|k| !left(*k))
+        .map(|k| bounds.slack[k])
+        .collect();
+    let gabor = &kept[1];
+    let (worst, ratio) = gabor
+        .0
+        .iter()
+        .zip(&gabor.1)
+        .zip(&es)
+        .map(|((a, b), e)| {
+            let d = (f64::from(*a) - f64::from(*b)).abs();
+            (d, d / e)
+        })
+        .fold((0.0f64, 0.0f64), |(w, r), (d, q)| (w.max(d), r.max(q)));
+    let edges = bounds.edge.iter().filter(|e| **e).count();
+    let ambiguous = bounds.ambiguous.iter().filter(|e| **e).count();
+    let largest = es.iter().copied().fold(0.0, f64::max);
+    let line = format!(
+        "Gabor companion max {worst:.3e} (E {e:.3e}, per pixel up to {largest:.3e}; largest \
+         error/bound {ratio:.3}); {edges} of {per_case} pixels next to a kernel edge and \
+         {ambiguous} ambiguous (a thinning or direction the f32 fields may decide otherwise) \
+         left out"
+    );
+    let duties: Vec<Vec<(f64, f64)>> = if bounds.duties.is_empty() {
+        Vec::new()
+    } else {
+        (0..per_case)
+            .filter(|k| !left(*k))
+            .map(|k| bounds.duties[k].clone())
+            .collect()
+    };
+    (
+        judge_with_pixel_bounds(m, &es, &slack, &duties, &kept, None),
+        line,
+    )
+}
+
+/// Whether a phasor model has a field that varies or a direction computed from the plane
+/// (gradient, coherent): the export evaluates those in f32 ([`fields`]).
+fn has_varying_fields(m: &PhasorNoise) -> bool {
+    use spectex_model::Profile;
+    let varies = |f: &spectex_model::Field| {
+        let (lo, hi) = f.range();
+        lo != hi
+    };
+    let duty = |p: &Profile| matches!(p, Profile::Square { duty } if varies(duty));
+    varies(&m.bandwidth)
+        || varies(&m.frequency)
+        || match &m.orientation {
+            PhasorOrientation::Aligned { angle } => varies(angle),
+            PhasorOrientation::Gradient { .. } | PhasorOrientation::Coherent { .. } => true,
+            _ => false,
+        }
+        || match &m.profile {
+            Profile::Blend { a, b, weight } => varies(weight) || duty(a) || duty(b),
+            other => duty(other),
+        }
+}
+
+/// A standalone phasor model through the export, judged by [`judge_phasor`] over its and its
+/// companions' exported renders. Returns the failures.
+fn check_phasor(context: &GpuContext, case: &str, model: &Model, m: &PhasorNoise) -> Vec<String> {
+    let mut variants = vec![model.clone()];
+    variants.extend(check_kind(model).companions());
+    let exported = export_renders(context, case, &variants);
+    let mut failures = Vec::new();
+    for (k, c) in cases().iter().enumerate() {
+        let renders = case_renders(&variants, &exported, k, c);
+        let (why, line) = judge_phasor(m, &c.window, &renders);
+        println!("export: {case} {}: {line}", c.name);
+        if !why.is_empty() {
+            failures.push(format!("{case} {}: {}", c.name, why.join(", ")));
+        }
+    }
+    failures
+}
+
+/// A combination with no pointwise bound (crossed phasor waves) through the export, judged
+/// as spectex-crosscheck judges it on the compute path, by the composed verdict
+/// (`tolerance::combine::composed_verdict`): the combination and every operand (each with its
+/// companions) exported and rendered on their own, each operand judged as this test judges a
+/// model of its kind ([`judge_phasor`] for a phasor, else `|cpu − export|` within
+/// [`export_tolerance`]), and on each side the combination equal, bit for bit, to
+/// `CombineOp::apply` of that side's operand renders. That relation is exact for the export
+/// too: `combine_sample_cell` evaluates each operand's exported function (the same WGSL
+/// function the operand's own module exports, at the same position) and applies
+/// `CombineOp::apply`'s operations in its order, each an f32 operation WGSL rounds correctly
+/// (`+`, `*`, `min`, `max`); a fused or reordered glue would show here as a mismatch.
+fn check_combination(
+    context: &GpuContext,
+    case: &str,
+    model: &Model,
+    m: &spectex_model::Combine,
+) -> Vec<String> {
+    let mut variants = vec![model.clone()];
+    variants.extend(check_kind(model).companions());
+    let exported = export_renders(context, case, &variants);
+    let mut failures = Vec::new();
+    for (k, c) in cases().iter().enumerate() {
+        let renders = case_renders(&variants, &exported, k, c);
+        let mut judge = |i: usize, o: &Model, own: &[(Vec<f32>, Vec<f32>)]| -> Vec<String> {
+            let why = if let Model::Phasor(p) = o {
+                let (why, line) = judge_phasor(p, &c.window, own);
+                println!("export: {case} {} operand {i}: {line}", c.name);
+                why
+            } else {
+                let (max_allowed, mean_allowed) = export_tolerance(case, o);
+                let errors: Vec<f64> = own[0]
+                    .0
+                    .iter()
+                    .zip(&own[0].1)
+                    .map(|(a, b)| (f64::from(*a) - f64::from(*b)).abs())
+                    .collect();
+                let worst = errors.iter().copied().fold(0.0, f64::max);
+                let mean = errors.iter().sum::<f64>() / errors.len().max(1) as f64;
+                println!(
+                    "export: {case} {} operand {i}: max {worst:.3e} (allowed \
+                     {max_allowed:.3e}), mean {mean:.3e} (allowed {mean_allowed:.3e})",
+                    c.name
+                );
+                if errors.iter().any(|e| e.is_nan()) || worst > max_allowed || mean > mean_allowed {
+                    vec![format!("max {worst:.3e}, mean {mean:.3e}")]
+                } else {
+                    Vec::new()
+                }
+            };
+            why.into_iter()
+                .map(|w| format!("operand {i} ({}): {w}", o.kind()))
+                .collect()
+        };
+        let why = composed_verdict(m, &renders, &mut judge);
         println!(
-            "export: {case} {}: Gabor companion max {worst:.3e} (E {e:.3e}); {left_out} of \
-             {per_case} pixels next to a kernel edge left out",
-            c.name
+            "export: {case} {}: composed verdict over {} exported modules: {}",
+            c.name,
+            variants.len(),
+            if why.is_empty() { "passes" } else { "fails" }
         );
-        let why = judge_with_bound(m, e, &renders, None);
         if !why.is_empty() {
             failures.push(format!("{case} {}: {}", c.name, why.join(", ")));
         }
@@ -806,14 +982,19 @@ fn exported_modules_render_the_cpu_values_in_a_fragment_shader() {
             continue;
         }
         // A combination over operands judged by their own criteria (crossed phasor waves) has
-        // no pointwise bound: its compute cross-check composes the operands' verdicts, which
-        // this test does not do over exported modules yet. Exported (naga validates it in
-        // spectex-gpu's export test), not render-compared; said so, not passed silently.
-        if matches!(model, Model::Combine(_)) && check_kind(&model).value_bound().is_none() {
+        // no pointwise bound: judged by composing its operands' verdicts, as its compute
+        // cross-check is.
+        if let Model::Combine(m) = &model
+            && check_kind(&model).value_bound().is_none()
+        {
+            let started = std::time::Instant::now();
+            failures.extend(check_combination(&context, &case, &model, m));
             println!(
-                "export: {case}: exported, not render-compared (a combination judged by its \
-                 operands' own criteria has no pointwise bound)"
+                "export: {case}: the combination and its operands' modules compiled and \
+                 rendered in {:.1} s",
+                started.elapsed().as_secs_f64()
             );
+            rendered += 1;
             continue;
         }
         let module = exported.wgsl;
@@ -870,12 +1051,12 @@ fn exported_modules_render_the_cpu_values_in_a_fragment_shader() {
         return;
     }
     assert_eq!(refused, REFUSED.len(), "refused models");
-    let expected = if all { 38 } else { 38 - SLOW_ON_LAVAPIPE.len() };
+    let expected = if all { 42 } else { 42 - SLOW_ON_LAVAPIPE.len() };
     assert!(
         rendered >= expected,
         "only {rendered} models rendered through the export, {expected} expected (LRP 4, \
-         Gabor 2, classic 8, texton 3, wavelet 2, phasor 2, matrix 2, Islamic 3, Voronoi 2, \
-         combinations 2, warp-lrp-by-gabor, warp-phasor-by-lrp, and with SPECTEX_EXPORT_ALL=1 \
+         Gabor 2, classic 8, texton 3, wavelet 2, phasor 5, matrix 2, Islamic 3, Voronoi 2, \
+         combinations 3 (crossed waves among them), warp-lrp-by-gabor, warp-phasor-by-lrp, and with SPECTEX_EXPORT_ALL=1 \
          textures 3 and warps 4; else one of each)"
     );
 }

@@ -20,9 +20,6 @@ use spectex_gpu::export::{
 /// feature: every other model exports, and each of these is refused.
 const REFUSED: &[(&str, &str)] = &[
     ("combine-cracks", "Lloyd"),
-    ("phasor-graded-pwm", "varying bandwidth"),
-    ("phasor-gradient-blend", "varying frequency"),
-    ("phasor-pwm-coherent", "varying duty"),
     ("voronoi-border-lloyd", "Lloyd"),
     ("voronoi-palette-lloyd", "Lloyd"),
 ];
