@@ -128,12 +128,12 @@ fn voronoi_export_value3(c: vec3<i32>, f: vec3<f32>) -> vec3<f32> {
     var key = 2147483647;
     var nearest = vec4<f32>(0.0f);
     var dn = vec3<f32>(0.0f);
-    for (var pass = 0; pass < 2; pass++) {
-        let r = select(reach, 1, pass == 0);
+    for (var sweep = 0; sweep < 2; sweep++) {
+        let r = select(reach, 1, sweep == 0);
         for (var dk = -r; dk <= r; dk++) {
             for (var dj = -r; dj <= r; dj++) {
                 for (var di = -r; di <= r; di++) {
-                    if (pass == 1 && abs(di) <= 1 && abs(dj) <= 1 && abs(dk) <= 1) {
+                    if (sweep == 1 && abs(di) <= 1 && abs(dj) <= 1 && abs(dk) <= 1) {
                         continue;
                     }
                     let bound = voronoi_gap2(di, f.x) + voronoi_gap2(dj, f.y) + voronoi_gap2(dk, f.z);
@@ -168,12 +168,12 @@ fn voronoi_export_value3(c: vec3<i32>, f: vec3<f32>) -> vec3<f32> {
         case 2u: {
             var border = 3.4028235e38f;
             var limit = 3.4028235e38f;
-            for (var pass = 0; pass < 2; pass++) {
-                let r = select(reach, 1, pass == 0);
+            for (var sweep = 0; sweep < 2; sweep++) {
+                let r = select(reach, 1, sweep == 0);
                 for (var dk = -r; dk <= r; dk++) {
                     for (var dj = -r; dj <= r; dj++) {
                         for (var di = -r; di <= r; di++) {
-                            if (pass == 1 && abs(di) <= 1 && abs(dj) <= 1 && abs(dk) <= 1) {
+                            if (sweep == 1 && abs(di) <= 1 && abs(dj) <= 1 && abs(dk) <= 1) {
                                 continue;
                             }
                             let bound = voronoi_gap2(di, f.x) + voronoi_gap2(dj, f.y) + voronoi_gap2(dk, f.z);
