@@ -8,7 +8,8 @@
 // offset (spectex_model::grid::locate_cell). The search visits the cells within `reach`, rows
 // outer and columns inner, with the CPU's expressions in the CPU's order (spectex_model::
 // voronoi::search), so on an adapter that rounds `/` and `sqrt` correctly and does not
-// contract `a * b + c` the values are the CPU's bit for bit.
+// contract `a * b + c` the values are the CPU's bit for bit. A 3D diagram (box_depth > 0) reads
+// a box of planes around the plane z and runs spectex_model::voronoi::search3 (voronoi_main3).
 
 /// Per-dispatch values.
 struct VoronoiParams {
@@ -25,13 +26,16 @@ struct VoronoiParams {
     box_rows: u32,
     /// 1 / C (f32 of the f64 value), for warping.
     inv_cell: f32,
-    _pad0: u32,
-    _pad1: u32,
-    _pad2: u32,
+    /// 0 in 2D; in 3D the box's planes, 2·reach + 1 from z_cell − reach.
+    box_depth: u32,
+    /// A 3D model's plane z: its cell and offset (0 in 2D).
+    z_cell: i32,
+    z_offset: f32,
 }
 
 @group(0) @binding(0) var<uniform> params: VoronoiParams;
-/// Six floats per site, row-major over the box: offset x, y, ID, colour r, g, b.
+/// Six floats per site, row-major over the box: offset x, y, ID, colour r, g, b (3D: seven,
+/// offset z last, plane by plane).
 @group(0) @binding(1) var<storage, read> sites: array<f32>;
 @group(0) @binding(2) var<storage, read> columns: array<GridAxis>;
 @group(0) @binding(3) var<storage, read> rows: array<GridAxis>;
@@ -86,6 +90,11 @@ fn voronoi_main(@builtin(global_invocation_id) gid: vec3<u32>) {
         }
         return;
     }
+    if (params.box_depth > 0u) {
+        voronoi_main3(index, vec3<i32>(column.cell, row.cell, params.z_cell),
+            vec3<f32>(column.offset, row.offset, params.z_offset));
+        return;
+    }
     let reach = params.reach;
     let fx = column.offset;
     let fy = row.offset;
@@ -131,4 +140,116 @@ fn voronoi_main(@builtin(global_invocation_id) gid: vec3<u32>) {
         }
     }
     write_value(index, nearest, sqrt(best), sqrt(second), border);
+}
+
+const VORONOI_SITE3_FLOATS: u32 = 7u;
+/// spectex_model::voronoi::BORDER_PRUNE_MARGIN.
+const VORONOI_BORDER_PRUNE_MARGIN: f32 = 1e-3f;
+
+/// Where the site of 3D cell c starts in `sites`; the box covers every search.
+fn site_base3(c: vec3<i32>) -> u32 {
+    let i = min(u32(c.x - params.box_i0), params.box_cols - 1u);
+    let j = min(u32(c.y - params.box_j0), params.box_rows - 1u);
+    let k = min(u32(c.z - (params.z_cell - params.reach)), params.box_depth - 1u);
+    return ((k * params.box_rows + j) * params.box_cols + i) * VORONOI_SITE3_FLOATS;
+}
+
+/// The square of the lower bound of |d| along an axis over the sites of cell offset d from
+/// offset f (spectex_model::voronoi's `gap`).
+fn voronoi_gap2(d: i32, f: f32) -> f32 {
+    var g = 0.0f;
+    if (d > 0) {
+        g = max(f32(d) - f, 0.0f);
+    } else if (d < 0) {
+        g = max(f - f32(d + 1), 0.0f);
+    }
+    return g * g;
+}
+
+/// The vector d from the pixel at offset f to the seed of the cell `o` away from cell c.
+fn voronoi_delta3(c: vec3<i32>, o: vec3<i32>, f: vec3<f32>) -> vec3<f32> {
+    let base = site_base3(c + o);
+    return vec3<f32>(
+        (f32(o.x) + sites[base]) - f.x,
+        (f32(o.y) + sites[base + 1u]) - f.y,
+        (f32(o.z) + sites[base + 6u]) - f.z,
+    );
+}
+
+/// The 3D search of spectex_model::voronoi::search3: the 3 × 3 × 3 cells around the pixel's,
+/// then the others within the reach whose bound can beat what was found, each in (dk, dj, di)
+/// order; the nearest is the smallest d², ties to the first cell in that order.
+fn voronoi_main3(index: u32, c: vec3<i32>, f: vec3<f32>) {
+    let reach = params.reach;
+    let want_second = params.output == 3u;
+    var best = 3.4028235e38f;
+    var second = 3.4028235e38f;
+    var key = 2147483647;
+    var nearest = 0u;
+    var dn = vec3<f32>(0.0f);
+    for (var sweep = 0; sweep < 2; sweep++) {
+        let r = select(reach, 1, sweep == 0);
+        for (var dk = -r; dk <= r; dk++) {
+            for (var dj = -r; dj <= r; dj++) {
+                for (var di = -r; di <= r; di++) {
+                    if (sweep == 1 && abs(di) <= 1 && abs(dj) <= 1 && abs(dk) <= 1) {
+                        continue;
+                    }
+                    let bound = voronoi_gap2(di, f.x) + voronoi_gap2(dj, f.y) + voronoi_gap2(dk, f.z);
+                    if (bound > select(best, second, want_second)) {
+                        continue;
+                    }
+                    let o = vec3<i32>(di, dj, dk);
+                    let d = voronoi_delta3(c, o, f);
+                    let d2 = d.x * d.x + d.y * d.y + d.z * d.z;
+                    let k = ((dk + 4) * 9 + (dj + 4)) * 9 + (di + 4);
+                    if (d2 < best || (d2 == best && k < key)) {
+                        second = best;
+                        best = d2;
+                        key = k;
+                        nearest = site_base3(c + o);
+                        dn = d;
+                    } else if (d2 < second) {
+                        second = d2;
+                    }
+                }
+            }
+        }
+    }
+    let f1 = sqrt(best);
+    var border = 3.4028235e38f;
+    var limit = 3.4028235e38f;
+    if (params.output == 2u) {
+        for (var sweep = 0; sweep < 2; sweep++) {
+            let r = select(reach, 1, sweep == 0);
+            for (var dk = -r; dk <= r; dk++) {
+                for (var dj = -r; dj <= r; dj++) {
+                    for (var di = -r; di <= r; di++) {
+                        if (sweep == 1 && abs(di) <= 1 && abs(dj) <= 1 && abs(dk) <= 1) {
+                            continue;
+                        }
+                        let bound = voronoi_gap2(di, f.x) + voronoi_gap2(dj, f.y) + voronoi_gap2(dk, f.z);
+                        if (bound > limit) {
+                            continue;
+                        }
+                        let d = voronoi_delta3(c, vec3<i32>(di, dj, dk), f);
+                        let e = d - dn;
+                        let e2 = e.x * e.x + e.y * e.y + e.z * e.z;
+                        if (e2 == 0.0f) {
+                            continue;
+                        }
+                        let s = d + dn;
+                        let num = s.x * e.x + s.y * e.y + s.z * e.z;
+                        let q = num * 0.5f / sqrt(e2);
+                        if (q < border) {
+                            border = q;
+                            let far = 2.0f * (q + VORONOI_BORDER_PRUNE_MARGIN) + f1;
+                            limit = far * far;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    write_value(index, nearest, f1, sqrt(second), border);
 }

@@ -2,10 +2,15 @@
 //! every lattice cell the band's pixels search are computed once (relaxed blocks once per
 //! evaluator, [`BlockCache`]),
 //! then each pixel runs the model's search ([`spectex_model::voronoi::search`]) over them, so a
-//! pixel's bits do not depend on the window, tiling or thread that evaluates it.
+//! pixel's bits do not depend on the window, tiling or thread that evaluates it. A 3D
+//! diagram's band table is the box of cells its pixels search on the plane `z`
+//! ([`spectex_model::voronoi::search3`], which skips the cells that cannot matter).
 
 use spectex_model::grid::locate_cell;
-use spectex_model::voronoi::{BlockCache, Nearest, SiteTable, VoronoiNoise, VoronoiOutput, search};
+use spectex_model::voronoi::{
+    BlockCache, Nearest, Nearest3, SiteTable, SiteTable3, VoronoiNoise, VoronoiOutput, search,
+    search3, search3_full,
+};
 use spectex_model::{ModelKind, Period, Window};
 
 use crate::{CpuError, CpuKind, RowKernel};
@@ -20,18 +25,28 @@ pub struct VoronoiEvaluator {
     /// Cells per period along x and y of a periodic model (cells and Lloyd blocks wrapped,
     /// `VoronoiNoise::sites_periodic`).
     cells: Option<[i64; 2]>,
+    /// A 3D model's plane `z`: its cell and offset (`locate_cell`); `None` in 2D.
+    plane: Option<(i32, f32)>,
 }
 
 impl VoronoiEvaluator {
     /// Prepares a validated model.
     #[must_use]
     pub fn new(model: &VoronoiNoise) -> Self {
+        Self::new_at_z(model, 0.0)
+    }
+
+    /// Prepares a validated model on the plane `z` (pixels; 2D models ignore it).
+    #[must_use]
+    pub fn new_at_z(model: &VoronoiNoise, z: f64) -> Self {
         Self {
             model: model.clone(),
-            reach: model.output.reach(),
+            reach: model.reach(),
             channels: model.output_channels(),
             blocks: BlockCache::default(),
             cells: None,
+            plane: (model.dimensions == 3)
+                .then(|| locate_cell(z, f64::from(model.cell_size)).unwrap_or((0, 0.0))),
         }
     }
 
@@ -39,9 +54,66 @@ impl VoronoiEvaluator {
     /// blocks) hashed and relaxed modulo the period.
     #[must_use]
     pub fn new_periodic(model: &VoronoiNoise, period: Period) -> Self {
+        Self::new_periodic_at_z(model, 0.0, period)
+    }
+
+    /// [`new_periodic`](Self::new_periodic) on the plane `z` (pixels; 2D models ignore it): a
+    /// 3D model wraps its cells along x and y only.
+    #[must_use]
+    pub fn new_periodic_at_z(model: &VoronoiNoise, z: f64, period: Period) -> Self {
         Self {
             cells: Some(period.cells(f64::from(model.cell_size))),
-            ..Self::new(model)
+            ..Self::new_at_z(model, z)
+        }
+    }
+
+    /// A 3D pixel's value(s) from its search.
+    fn write3(&self, found: &Nearest3, out: &mut [f32]) {
+        match &self.model.output {
+            VoronoiOutput::CellId => out[0] = found.site.id,
+            VoronoiOutput::F1 => out[0] = found.f1,
+            VoronoiOutput::Border => out[0] = found.border,
+            VoronoiOutput::F2MinusF1 => out[0] = found.f2 - found.f1,
+            VoronoiOutput::Palette { .. } | VoronoiOutput::Image { .. } => {
+                out.copy_from_slice(&found.site.colour);
+            }
+        }
+    }
+
+    /// The rows `first..` of `window` into `out` with `table` covering their 3D searches on
+    /// the plane (cell `cz`, offset `fz`); `full` takes [`search3_full`].
+    #[allow(clippy::too_many_arguments)]
+    fn eval_with_table3(
+        &self,
+        window: &Window,
+        first: usize,
+        out: &mut [f32],
+        columns: &[(i32, f32)],
+        table: &SiteTable3,
+        (cz, fz): (i32, f32),
+        full: bool,
+    ) {
+        let side = f64::from(self.model.cell_size);
+        let border = matches!(self.model.output, VoronoiOutput::Border);
+        let second = matches!(self.model.output, VoronoiOutput::F2MinusF1);
+        let channels = self.channels;
+        for (r, line) in out.chunks_exact_mut(window.width * channels).enumerate() {
+            let (cy, fy) = locate_cell(window.y(first + r), side).unwrap_or((0, 0.0));
+            for (value, &(cx, fx)) in line.chunks_exact_mut(channels).zip(columns) {
+                let site = |di: i32, dj: i32, dk: i32| {
+                    table.get(
+                        i64::from(cx) + i64::from(di),
+                        i64::from(cy) + i64::from(dj),
+                        i64::from(cz) + i64::from(dk),
+                    )
+                };
+                let found = if full {
+                    search3_full(site, [fx, fy, fz], self.reach, second, border)
+                } else {
+                    search3(site, [fx, fy, fz], self.reach, second, border)
+                };
+                self.write3(&found, value);
+            }
         }
     }
 
@@ -89,13 +161,15 @@ impl VoronoiEvaluator {
 }
 
 impl CpuKind for VoronoiNoise {
-    fn cpu_kernel(&self, _z: f64) -> Result<Box<dyn RowKernel>, CpuError> {
-        Ok(Box::new(VoronoiEvaluator::new(self)))
+    fn cpu_kernel(&self, z: f64) -> Result<Box<dyn RowKernel>, CpuError> {
+        Ok(Box::new(VoronoiEvaluator::new_at_z(self, z)))
     }
 
-    fn cpu_kernel_periodic(&self, _z: f64, period: Period) -> Result<Box<dyn RowKernel>, CpuError> {
+    fn cpu_kernel_periodic(&self, z: f64, period: Period) -> Result<Box<dyn RowKernel>, CpuError> {
         self.check_period(period)?;
-        Ok(Box::new(VoronoiEvaluator::new_periodic(self, period)))
+        Ok(Box::new(VoronoiEvaluator::new_periodic_at_z(
+            self, z, period,
+        )))
     }
 }
 
@@ -109,6 +183,18 @@ impl RowKernel for VoronoiEvaluator {
     }
 
     fn eval_rows(&self, window: &Window, first: usize, out: &mut [f32]) {
+        self.eval(window, first, out, false);
+    }
+
+    /// A 3D model's rows by [`search3_full`] (every cell within the reach); 2D has one path.
+    fn eval_rows_reference(&self, window: &Window, first: usize, out: &mut [f32]) {
+        self.eval(window, first, out, true);
+    }
+}
+
+impl VoronoiEvaluator {
+    /// [`RowKernel::eval_rows`], by the full 3D search when `full`.
+    fn eval(&self, window: &Window, first: usize, out: &mut [f32], full: bool) {
         let width = window.width;
         if width == 0 {
             return;
@@ -136,16 +222,27 @@ impl RowKernel for VoronoiEvaluator {
             for r in 0..rows {
                 for i in 0..width {
                     let start = (r * width + i) * self.channels;
-                    self.eval_rows(
+                    self.eval(
                         &window.tile(i, first + r, 1, 1),
                         0,
                         &mut out[start..start + self.channels],
+                        full,
                     );
                 }
             }
             return;
         }
         let (w, h) = (span as usize, tall as usize);
+        if let Some((cz, fz)) = self.plane {
+            let depth = 2 * self.reach + 1;
+            let table = self.model.sites3(
+                [lo, top, i64::from(cz) - reach],
+                [w, h, depth as usize],
+                self.cells,
+            );
+            self.eval_with_table3(window, first, out, &columns, &table, (cz, fz), full);
+            return;
+        }
         let table = match self.cells {
             None => self.model.sites_cached(lo, top, w, h, &self.blocks),
             Some(cells) => self
@@ -257,6 +354,206 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// Brute force in f64 over the 11 × 11 × 11 cells around the pixel's on the plane `z`
+    /// (more than the 9 × 9 × 9 the exact border needs): F1, F2, the nearest's ID and the
+    /// border as the least distance to a bisector plane, `(|q − p|² − F1²) / (2|q − n|)`.
+    /// Positions relative to the pixel's cell, so far windows lose nothing in f64.
+    fn brute3(m: &VoronoiNoise, x: f64, y: f64, z: f64) -> (f64, f64, f32, f64) {
+        let c = f64::from(m.cell_size);
+        let p = [x / c, y / c, z / c];
+        let cell = p.map(f64::floor);
+        let f = [p[0] - cell[0], p[1] - cell[1], p[2] - cell[2]];
+        let (ci, cj, ck) = (cell[0] as i64, cell[1] as i64, cell[2] as i64);
+        let mut seeds = Vec::new();
+        for dk in -5..=5i64 {
+            for dj in -5..=5i64 {
+                for di in -5..=5i64 {
+                    let (o, id) = m.jittered3(ci + di, cj + dj, ck + dk);
+                    let q = [
+                        di as f64 + f64::from(o[0]),
+                        dj as f64 + f64::from(o[1]),
+                        dk as f64 + f64::from(o[2]),
+                    ];
+                    seeds.push((q, id));
+                }
+            }
+        }
+        let dist = |a: &[f64; 3], b: &[f64; 3]| {
+            ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+        };
+        seeds.sort_by(|a, b| dist(&a.0, &f).total_cmp(&dist(&b.0, &f)));
+        let (n, id) = seeds[0];
+        let (f1, f2) = (dist(&n, &f), dist(&seeds[1].0, &f));
+        let border = seeds[1..]
+            .iter()
+            .map(|(q, _)| (dist(q, &f).powi(2) - f1 * f1) / (2.0 * dist(q, &n)))
+            .fold(f64::INFINITY, f64::min);
+        (f1, f2, id, border)
+    }
+
+    fn render3(m: &VoronoiNoise, w: &Window, z: f64) -> Vec<f32> {
+        let e = VoronoiEvaluator::new_at_z(m, z);
+        let mut out = vec![0.0f32; w.width * w.height * e.channels];
+        e.eval_rows(w, 0, &mut out);
+        out
+    }
+
+    #[test]
+    fn outputs_3d_match_brute_force_near_and_far() {
+        let palette = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+        for (origin, z) in [
+            ([0.0, 0.0], 0.0),
+            ([-77.3, 12.9], 37.3),
+            ([1.0e7, -1.0e7], 1.0e5 + 0.7),
+        ] {
+            for jitter in [1.0f32, 0.8] {
+                let w = Window::new(20, 4).at(origin, 3.1);
+                let base = VoronoiNoise {
+                    dimensions: 3,
+                    cell_size: 16.0,
+                    jitter,
+                    seed: 5,
+                    ..VoronoiNoise::default()
+                };
+                let with = |output: VoronoiOutput| VoronoiNoise {
+                    output,
+                    ..base.clone()
+                };
+                let ids = render3(&with(VoronoiOutput::CellId), &w, z);
+                let f1 = render3(&with(VoronoiOutput::F1), &w, z);
+                let f21 = render3(&with(VoronoiOutput::F2MinusF1), &w, z);
+                let border = render3(&with(VoronoiOutput::Border), &w, z);
+                let colours = render3(
+                    &with(VoronoiOutput::Palette {
+                        colours: palette.to_vec(),
+                    }),
+                    &w,
+                    z,
+                );
+                for j in 0..w.height {
+                    for i in 0..w.width {
+                        let at = j * w.width + i;
+                        let (bf1, bf2, id, bb) = brute3(&base, w.x(i), w.y(j), z);
+                        let here = format!("origin {origin:?}, z {z}, jitter {jitter}, ({i}, {j})");
+                        // Cell units: the f32 rounding of the pixel's offsets and of a few
+                        // operations on values below 10 cells, ≈ 10⁻⁶.
+                        assert!((f64::from(f1[at]) - bf1).abs() < 1e-5, "{here}: F1");
+                        assert!(
+                            (f64::from(f21[at]) - (bf2 - bf1)).abs() < 1e-5,
+                            "{here}: F2-F1"
+                        );
+                        assert!((f64::from(border[at]) - bb).abs() < 1e-5, "{here}: border");
+                        if bf2 - bf1 > 1e-4 {
+                            assert_eq!(ids[at], id, "{here}: id");
+                            let want = palette[((id * 3.0) as usize).min(2)];
+                            assert_eq!(colours[at * 3..at * 3 + 3], want, "{here}: colour");
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn the_3d_fast_path_is_the_full_search() {
+        for output in [
+            VoronoiOutput::CellId,
+            VoronoiOutput::F2MinusF1,
+            VoronoiOutput::Border,
+        ] {
+            let m = VoronoiNoise {
+                dimensions: 3,
+                cell_size: 8.0,
+                jitter: 0.9,
+                output,
+                ..VoronoiNoise::default()
+            };
+            let e = VoronoiEvaluator::new_at_z(&m, -3.3);
+            let w = Window::new(64, 16).at([-100.0, 31.0], 0.7);
+            let mut fast = vec![0.0f32; 64 * 16];
+            let mut full = fast.clone();
+            e.eval_rows(&w, 0, &mut fast);
+            e.eval_rows_reference(&w, 0, &mut full);
+            let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&fast), bits(&full), "{:?}", m.output);
+        }
+    }
+
+    #[test]
+    fn a_regular_3d_lattice_slice_at_cell_centres_is_the_2d_diagram() {
+        // Jitter 0 puts every seed at its cell's centre. On the plane through the centres of
+        // the layer k (z = (k + ½)·C) the nearest seed lies in that layer (d_z = 0, so the
+        // same f32 d² as in 2D), and the layers above and below add bisector planes ½ away,
+        // no nearer than a square cell's own border (at most ½): F1 and the border equal the
+        // 2D diagram's bit for bit.
+        for output in [VoronoiOutput::F1, VoronoiOutput::Border] {
+            let two = VoronoiNoise {
+                jitter: 0.0,
+                cell_size: 12.0,
+                output,
+                ..VoronoiNoise::default()
+            };
+            let three = VoronoiNoise {
+                dimensions: 3,
+                ..two.clone()
+            };
+            let w = Window::new(40, 9).at([-30.2, 7.7], 0.9);
+            for k in [0i64, -3, 4000] {
+                let z = (k as f64 + 0.5) * 12.0;
+                let bits = |v: Vec<f32>| v.into_iter().map(f32::to_bits).collect::<Vec<_>>();
+                assert_eq!(
+                    bits(render3(&three, &w, z)),
+                    bits(render(&two, &w)),
+                    "{:?}, layer {k}",
+                    two.output
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn a_periodic_3d_diagram_repeats_in_x_and_y_only() {
+        let m = VoronoiNoise {
+            dimensions: 3,
+            cell_size: 8.0,
+            output: VoronoiOutput::Border,
+            ..VoronoiNoise::default()
+        };
+        let period = Period::new(32, 24).expect("valid period");
+        let e =
+            crate::Evaluator::periodic_at_z(&spectex_model::Model::Voronoi(m.clone()), 5.5, period)
+                .expect("periodic");
+        // A 64 × 48 render is the 32 × 24 period repeated 2 × 2, bit for bit.
+        let out = e
+            .render(&Window::new(64, 48).at([-7.5, 3.25], 1.0))
+            .expect("renders");
+        for j in 0..24 {
+            for i in 0..32 {
+                let v = out[j * 64 + i].to_bits();
+                for (a, b) in [(32, 0), (0, 24), (32, 24)] {
+                    assert_eq!(
+                        v,
+                        out[(j + b) * 64 + i + a].to_bits(),
+                        "({i}, {j}) + ({a}, {b})"
+                    );
+                }
+            }
+        }
+        // The cells of one period: the wrapped box equals the unwrapped one shifted.
+        let a = m.sites3([0, 0, 0], [4, 3, 2], Some([4, 3]));
+        let b = m.sites3([4, -3, 0], [4, 3, 2], Some([4, 3]));
+        assert_eq!(
+            a,
+            SiteTable3 {
+                origin: [0, 0, 0],
+                ..b.clone()
+            }
+        );
+        // z is not wrapped: another plane of cells holds other seeds.
+        let c = m.sites3([0, 0, 2], [4, 3, 2], Some([4, 3]));
+        assert_ne!(a.sites, c.sites);
     }
 
     #[test]

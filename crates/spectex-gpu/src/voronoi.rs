@@ -1,7 +1,8 @@
 //! Voronoi diagrams on the device (`shaders/voronoi.wgsl`): per tile, the host computes the
 //! sites of the box of lattice cells the tile's pixels search (`spectex_model::voronoi`, Lloyd
 //! relaxation included, so the device reads the CPU's f32 seeds, IDs and colours), and each
-//! column's and row's cell and offset (the CPU's split); the shader runs the search.
+//! column's and row's cell and offset (the CPU's split); the shader runs the search. A 3D
+//! diagram's box spans the planes of cells its search reaches around the plane `z`.
 
 use spectex_model::Period;
 use spectex_model::voronoi::{BlockCache, VoronoiNoise, VoronoiOutput};
@@ -26,14 +27,18 @@ wgsl_struct! {
         box_rows: u32,
         /// `1/C` (f32 of the f64 value), for warping.
         inv_cell: f32,
-        _pad0: u32,
-        _pad1: u32,
-        _pad2: u32,
+        /// 0 in 2D; in 3D the box's planes, `2·reach + 1` from `z_cell − reach`.
+        box_depth: u32,
+        /// A 3D model's plane `z`: its cell and offset (`locate_cell`), 0 in 2D.
+        z_cell: i32,
+        z_offset: f32,
     }
 }
 
 /// Floats per site in the table: offset x, y, ID, colour r, g, b.
 const SITE_FLOATS: usize = 6;
+/// Floats per site of a 3D table: those of [`SITE_FLOATS`], then offset z.
+const SITE3_FLOATS: usize = 7;
 
 /// A Voronoi model on the device.
 #[derive(Debug, Clone)]
@@ -55,25 +60,54 @@ impl VoronoiKernel {
     fn box_cells(&self, width: usize, height: usize, scale: f64) -> f64 {
         let margin = 2.0 * f64::from(self.params.reach) + 3.0;
         let along = |n: usize| n as f64 * scale / self.side() + margin;
-        along(width) * along(height)
+        along(width) * along(height) * f64::from(self.params.box_depth.max(1))
+    }
+
+    /// Floats per site of the table.
+    fn site_floats(&self) -> usize {
+        if self.params.box_depth > 0 {
+            SITE3_FLOATS
+        } else {
+            SITE_FLOATS
+        }
     }
 }
 
 impl GpuKind for VoronoiNoise {
     /// Periodic: the CPU's periodic Voronoi diagram: the host draws the sites with the cells
-    /// and Lloyd blocks wrapped, at positions reduced modulo the period.
+    /// and Lloyd blocks wrapped, at positions reduced modulo the period. A 3D model is cut at
+    /// the plane `z`.
     fn kernel_with_period(
         &self,
         context: &GpuContext,
-        _z: f64,
+        z: f64,
         period: Option<Period>,
     ) -> Result<Box<dyn GpuKernel>, GpuError> {
-        Shaded::boxed(context, pack(self, period), &[])
+        Shaded::boxed(context, pack(self, period).at_z(z), &[])
     }
 }
 
-/// The kernel of a Voronoi model, periodic with `period` when given.
+impl VoronoiKernel {
+    /// The kernel on the plane `z` (pixels; 2D models ignore it).
+    pub(crate) fn at_z(mut self, z: f64) -> Self {
+        if self.model.dimensions == 3 {
+            let (cell, offset) = locate_cell(z, self.side()).unwrap_or((0, 0.0));
+            self.params.z_cell = cell;
+            self.params.z_offset = offset;
+        }
+        self
+    }
+}
+
+/// The kernel of a Voronoi model, periodic with `period` when given (a 3D one on the plane
+/// `z = 0`: [`VoronoiKernel::at_z`]).
 pub(crate) fn pack(model: &VoronoiNoise, period: Option<Period>) -> VoronoiKernel {
+    let reach = model.reach();
+    let box_depth = if model.dimensions == 3 {
+        (2 * reach + 1) as u32
+    } else {
+        0
+    };
     let output = match model.output {
         VoronoiOutput::CellId => 0,
         VoronoiOutput::F1 => 1,
@@ -86,16 +120,16 @@ pub(crate) fn pack(model: &VoronoiNoise, period: Option<Period>) -> VoronoiKerne
         params: VoronoiParams {
             width: 0,
             height: 0,
-            reach: model.output.reach(),
+            reach,
             output,
             box_i0: 0,
             box_j0: 0,
             box_cols: 0,
             box_rows: 0,
             inv_cell: (1.0 / f64::from(model.cell_size)) as f32,
-            _pad0: 0,
-            _pad1: 0,
-            _pad2: 0,
+            box_depth,
+            z_cell: 0,
+            z_offset: 0.0,
         },
         period: period.map(|p| (p, p.cells(f64::from(model.cell_size)))),
     }
@@ -125,7 +159,7 @@ impl ShaderKernel for VoronoiKernel {
         tile: [usize; 2],
         limit: u64,
     ) -> Result<[usize; 2], GpuError> {
-        let per_cell = (SITE_FLOATS * 4) as f64;
+        let per_cell = (self.site_floats() * 4) as f64;
         Ok(halve_tile_to_fit(tile, per_cell, limit, |w, h| {
             self.box_cells(w, h, window.scale)
         }))
@@ -157,7 +191,8 @@ impl ShaderKernel for VoronoiKernel {
             let (i0, j0) = (i_lo - margin, j_lo - margin);
             let cols = (i_hi + margin - i0 + 1) as usize;
             let rows_n = (j_hi + margin - j0 + 1) as usize;
-            let bytes = (cols * rows_n * SITE_FLOATS * 4) as u64;
+            let depth = (self.params.box_depth as usize).max(1);
+            let bytes = (cols * rows_n * depth * self.site_floats() * 4) as u64;
             if bytes > limit {
                 return Err(GpuError::LimitsExceeded {
                     what: "bytes of a tile's Voronoi site table (a smaller tile, scale or warp \
@@ -166,15 +201,39 @@ impl ShaderKernel for VoronoiKernel {
                     limit,
                 });
             }
-            let table = match self.period {
-                None => self.model.sites(i0, j0, cols, rows_n),
-                Some((_, cells)) => {
-                    self.model
-                        .sites_periodic(i0, j0, cols, rows_n, &BlockCache::default(), cells)
+            if self.params.box_depth > 0 {
+                let cells = self.period.map(|(_, c)| c);
+                let k0 = i64::from(self.params.z_cell) - i64::from(self.params.reach);
+                let table = self
+                    .model
+                    .sites3([i0, j0, k0], [cols, rows_n, depth], cells);
+                data.reserve(cols * rows_n * depth * SITE3_FLOATS);
+                for s in &table.sites {
+                    data.extend([
+                        s.offset[0],
+                        s.offset[1],
+                        s.id,
+                        s.colour[0],
+                        s.colour[1],
+                        s.colour[2],
+                        s.offset[2],
+                    ]);
                 }
+            }
+            let table = match self.period {
+                _ if self.params.box_depth > 0 => None,
+                None => Some(self.model.sites(i0, j0, cols, rows_n)),
+                Some((_, cells)) => Some(self.model.sites_periodic(
+                    i0,
+                    j0,
+                    cols,
+                    rows_n,
+                    &BlockCache::default(),
+                    cells,
+                )),
             };
             data.reserve(cols * rows_n * SITE_FLOATS);
-            for s in &table.sites {
+            for s in table.iter().flat_map(|t| &t.sites) {
                 data.extend([
                     s.offset[0],
                     s.offset[1],

@@ -36,6 +36,8 @@
 //! seed)`. Voronoi seeds (`spectex_model::voronoi`) use `VORONOI_LAYER = 0x564F524F` ("VORO"):
 //! cell `(i, j)` seeds the PRNG with `cell_hash(i, j, VORONOI_LAYER, seed)` and draws its offsets
 //! `x`, `y` then its ID; Lloyd relaxation moves the offsets on the host, per block, from these.
+//! A 3D cell `(i, j, k)` seeds it with `cell_hash(i, j, VORONOI_LAYER, cell_hash(k, 0,
+//! VORONOI_LAYER, seed))` and draws `x`, `y`, `z` then its ID.
 //! Islamic patterns (`spectex_model::islamic`) draw their phase `φ₁`, `φ₂` (`next_f32` twice)
 //! from `cell_hash(0, 0, ISLAMIC_LAYER = 0x49534C4D "ISLM", seed)`.
 //! Stochastic subdivision (`spectex_model::subdivision`) displaces level-`ℓ` point `k` of coarse

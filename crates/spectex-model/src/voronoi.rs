@@ -43,6 +43,28 @@
 //! the seed (the image repeats over the plane, one texel per model pixel, top row first; the
 //! texel `(⌊x⌋ mod W, ⌊y⌋ mod H)` for the seed at `(x, y) = ((i + o_x)·C, (j + o_y)·C)` in f64).
 //! The image's texels are stored in the model (a model file stands alone).
+//!
+//! # Three dimensions
+//!
+//! With [`VoronoiNoise::dimensions`] = 3 the seeds fill space, one per cubic lattice cell
+//! `(i, j, k)` of side `C`, and a render is the plane `z` of the solid diagram. Cell
+//! `(i, j, k)`'s PRNG, `Prng::new(cell_hash(i, j, VORONOI_LAYER, cell_hash(k, 0,
+//! VORONOI_LAYER, seed)))` (the 3D convention of classic and phasor noise), draws in order
+//! `o_x`, `o_y`, `o_z` (`½ + jitter·(u − ½)` each) and the ID. The 2D bounds become: every
+//! ball of radius `√3` holds a whole cell, so `F1 < √3` and a Voronoi cell lies within `√3` of
+//! its seed; a seed 3 cells away along an axis is more than 2 away, so the nearest is among the
+//! 5 × 5 × 5 cells ([`NEAREST_REACH`]); `F2 < √6` (the pixel's cell and a neighbour), so the
+//! second nearest is among the 7 × 7 × 7 ([`F2_REACH_3D`]); the border distance is below
+//! `√3 − F1` and a seed more than 4 away has its bisector plane more than `(4 − F1)/2 > √3 − F1`
+//! away, so the 9 × 9 × 9 cells give the exact border distance ([`BORDER_REACH_3D`]). The
+//! expressions are the 2D ones with a third term (`d² = (d_x·d_x + d_y·d_y) + d_z·d_z`, the
+//! border `((d_q + d_n)·(d_q − d_n))·½ / |d_q − d_n|` with three-term dot products); the
+//! nearest seed is the one with the smallest `d²`, ties to the first in `(dk, dj, di)` order.
+//! [`search3`] visits only the cells that can matter: the 3 × 3 × 3 around the pixel's, then
+//! the others whose lower bound (below) can beat what was found, so its result is that of the
+//! full search ([`search3_full`]) bit for bit. Lloyd relaxation (centroids of clipped
+//! polyhedra) and the image colour output (a 2D image) are 2D only; validation refuses them in
+//! 3D. A periodic 3D diagram wraps `i` and `j` only (`z` is not periodic).
 
 use serde::{Deserialize, Serialize};
 
@@ -57,6 +79,15 @@ pub const VORONOI_LAYER: u32 = 0x564F_524F;
 pub const NEAREST_REACH: i32 = 2;
 /// Cells searched beyond a pixel's own for the second nearest seed and the border (7 × 7).
 pub const BORDER_REACH: i32 = 3;
+/// Cells searched beyond a pixel's own for the second nearest seed in 3D (7 × 7 × 7).
+pub const F2_REACH_3D: i32 = 3;
+/// Cells searched beyond a pixel's own for the border in 3D (9 × 9 × 9; module docs).
+pub const BORDER_REACH_3D: i32 = 4;
+/// How far (cell units) a cell's lower bound on its bisector distances must exceed the border
+/// found so far for [`search3`] to skip it: the bound and the computed distances differ by
+/// roundings of at most `≈ 20·2⁻²⁴·|d| < 1.1·10⁻⁵` cell each (`|d| < 9` cells), so `10⁻³` keeps
+/// every skipped bisector beyond the minimum and the result that of the full search.
+pub const BORDER_PRUNE_MARGIN: f32 = 1e-3;
 /// Most Lloyd iterations.
 pub const MAX_LLOYD_ITERATIONS: u32 = 16;
 /// Largest relaxation block side, cells.
@@ -125,6 +156,10 @@ impl VoronoiOutput {
 pub struct VoronoiNoise {
     /// Seed of the randomness contract.
     pub seed: u32,
+    /// 2 (a plane of seeds) or 3 (a volume of seeds, rendered on a plane `z`; module docs).
+    /// Absent in a file: 2.
+    #[serde(default = "two", skip_serializing_if = "is_two")]
+    pub dimensions: u32,
     /// `C`, the lattice cell side in pixels, in `[1, 4096]`.
     pub cell_size: f32,
     /// Jitter of the seeds in cells, `[0, 1]` (1: anywhere in the cell).
@@ -143,6 +178,7 @@ impl Default for VoronoiNoise {
     fn default() -> Self {
         Self {
             seed: 0,
+            dimensions: 2,
             cell_size: DEFAULT_CELL_SIZE,
             jitter: 1.0,
             lloyd_iterations: 0,
@@ -150,6 +186,17 @@ impl Default for VoronoiNoise {
             output: VoronoiOutput::CellId,
         }
     }
+}
+
+/// The default of [`VoronoiNoise::dimensions`].
+fn two() -> u32 {
+    2
+}
+
+/// Whether `dimensions` is the default (not written to files, so a 2D model's file is as before).
+#[allow(clippy::trivially_copy_pass_by_ref)] // serde's skip_serializing_if passes a reference
+fn is_two(dimensions: &u32) -> bool {
+    *dimensions == 2
 }
 
 /// One lattice cell's seed as both evaluators read it.
@@ -246,6 +293,32 @@ impl VoronoiNoise {
     /// The first field found outside its range.
     pub fn validate(&self) -> Result<(), ModelError> {
         check_range(
+            || "voronoi.dimensions".into(),
+            f64::from(self.dimensions),
+            2.0,
+            3.0,
+            "2 or 3",
+        )?;
+        if self.dimensions == 3 {
+            // Module docs: features with no exact 3D form.
+            check_range(
+                || "voronoi.lloyd_iterations".into(),
+                f64::from(self.lloyd_iterations),
+                0.0,
+                0.0,
+                "0 when voronoi.dimensions = 3 (Lloyd relaxation is 2D only: 3D needs the \
+                 centroids of clipped polyhedra)",
+            )?;
+            if matches!(self.output, VoronoiOutput::Image { .. }) {
+                return Err(ModelError::OutOfRange {
+                    field: "voronoi.dimensions".into(),
+                    value: 3.0,
+                    range: "2 for the image colour output (voronoi.output.image samples a 2D \
+                            image under each seed)",
+                });
+            }
+        }
+        check_range(
             || "voronoi.cell_size".into(),
             f64::from(self.cell_size),
             1.0,
@@ -308,6 +381,63 @@ impl VoronoiNoise {
         let oy = 0.5 + self.jitter * (prng.next_f32() - 0.5);
         let id = prng.next_f32();
         ([ox, oy], id)
+    }
+
+    /// The search reach of the output in the model's dimensions ([`VoronoiOutput::reach`] in
+    /// 2D; [`NEAREST_REACH`], [`F2_REACH_3D`] or [`BORDER_REACH_3D`] in 3D).
+    #[must_use]
+    pub fn reach(&self) -> i32 {
+        if self.dimensions != 3 {
+            return self.output.reach();
+        }
+        match self.output {
+            VoronoiOutput::Border => BORDER_REACH_3D,
+            VoronoiOutput::F2MinusF1 => F2_REACH_3D,
+            _ => NEAREST_REACH,
+        }
+    }
+
+    /// The jittered offset and ID of the 3D cell `(i, j, k)` (module docs).
+    #[must_use]
+    pub fn jittered3(&self, i: i64, j: i64, k: i64) -> ([f32; 3], f32) {
+        let plane = cell_hash(k as i32, 0, VORONOI_LAYER, self.seed);
+        let mut prng = Prng::new(cell_hash(i as i32, j as i32, VORONOI_LAYER, plane));
+        let ox = 0.5 + self.jitter * (prng.next_f32() - 0.5);
+        let oy = 0.5 + self.jitter * (prng.next_f32() - 0.5);
+        let oz = 0.5 + self.jitter * (prng.next_f32() - 0.5);
+        let id = prng.next_f32();
+        ([ox, oy, oz], id)
+    }
+
+    /// The sites of the 3D cells `i0 ..< i0 + width`, `j0 ..< j0 + height`, `k0 ..< k0 +
+    /// depth`; periodic in `i` and `j` with `cells` per period when given (`z` never is).
+    #[must_use]
+    pub fn sites3(
+        &self,
+        origin: [i64; 3],
+        size: [usize; 3],
+        cells: Option<[i64; 2]>,
+    ) -> SiteTable3 {
+        let [width, height, depth] = size;
+        let mut sites = Vec::with_capacity(width * height * depth);
+        for z in 0..depth as i64 {
+            for y in 0..height as i64 {
+                for x in 0..width as i64 {
+                    let (i, j) = wrapped(origin[0] + x, origin[1] + y, cells);
+                    let (offset, id) = self.jittered3(i, j, origin[2] + z);
+                    sites.push(Site3 {
+                        offset,
+                        id,
+                        colour: self.colour(i, j, [offset[0], offset[1]], id),
+                    });
+                }
+            }
+        }
+        SiteTable3 {
+            origin,
+            size,
+            sites,
+        }
     }
 
     /// The relaxed offsets of block `(bx, by)`'s `B × B` cells, row-major (module docs).
@@ -477,9 +607,17 @@ impl VoronoiNoise {
         }
     }
 
-    /// Cells per pixel a search visits, for costs.
+    /// Cells per pixel a search visits, for costs (in 3D the 27 cells around the pixel's
+    /// and, for the border, as many again: [`search3`] skips the others' sites in most pixels).
     #[must_use]
     pub fn cells_per_pixel(&self) -> f64 {
+        if self.dimensions == 3 {
+            return if matches!(self.output, VoronoiOutput::Border) {
+                54.0
+            } else {
+                27.0
+            };
+        }
         let side = f64::from(2 * self.output.reach() + 1);
         let search = side * side;
         if matches!(self.output, VoronoiOutput::Border) {
@@ -560,6 +698,278 @@ pub fn search<'a>(
         f1: best.sqrt(),
         f2: second.sqrt(),
         border: b,
+    }
+}
+
+/// One 3D lattice cell's seed as both evaluators read it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Site3 {
+    /// `(o_x, o_y, o_z)`, the seed's offset in its cell, cell units in `[0, 1)`.
+    pub offset: [f32; 3],
+    /// The cell ID in `[0, 1)`.
+    pub id: f32,
+    /// The colour of the palette output (zeros otherwise).
+    pub colour: [f32; 3],
+}
+
+/// A box of 3D lattice cells' sites: cell `origin + (a, b, c)` at `(c·height + b)·width + a`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SiteTable3 {
+    /// The first cell `(i0, j0, k0)`.
+    pub origin: [i64; 3],
+    /// Cells along `i`, `j`, `k`.
+    pub size: [usize; 3],
+    /// The sites.
+    pub sites: Vec<Site3>,
+}
+
+impl SiteTable3 {
+    /// The site of cell `(i, j, k)`, which must lie in the table.
+    #[inline]
+    #[must_use]
+    pub fn get(&self, i: i64, j: i64, k: i64) -> &Site3 {
+        let [w, h, _] = self.size;
+        let a = (i - self.origin[0]) as usize;
+        let b = (j - self.origin[1]) as usize;
+        let c = (k - self.origin[2]) as usize;
+        &self.sites[(c * h + b) * w + a]
+    }
+}
+
+/// What a pixel's 3D search finds (module docs), all in cell units.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Nearest3 {
+    /// The nearest seed's site.
+    pub site: Site3,
+    /// `F1`.
+    pub f1: f32,
+    /// `F2` (`INFINITY` unless asked for).
+    pub f2: f32,
+    /// The border distance (`INFINITY` unless asked for).
+    pub border: f32,
+}
+
+/// The largest 3D reach [`search3`] takes.
+const MAX_REACH_3D: i32 = BORDER_REACH_3D;
+
+/// The state of a 3D search.
+struct Search3 {
+    /// Smallest and second smallest `d²`.
+    best: f32,
+    second: f32,
+    /// The nearest's `(dk, dj, di)` and its `d`.
+    key: (i32, i32, i32),
+    dn: [f32; 3],
+    /// The border found so far and the `d²` beyond which no cell's bisector can beat it.
+    border: f32,
+    border_limit: f32,
+}
+
+/// `d = (di + o) − f` per axis and `d² = (d_x·d_x + d_y·d_y) + d_z·d_z`.
+#[inline]
+fn delta3(s: &Site3, di: i32, dj: i32, dk: i32, f: [f32; 3]) -> ([f32; 3], f32) {
+    let dx = (di as f32 + s.offset[0]) - f[0];
+    let dy = (dj as f32 + s.offset[1]) - f[1];
+    let dz = (dk as f32 + s.offset[2]) - f[2];
+    ([dx, dy, dz], dx * dx + dy * dy + dz * dz)
+}
+
+impl Search3 {
+    fn new() -> Self {
+        Self {
+            best: f32::INFINITY,
+            second: f32::INFINITY,
+            key: (i32::MAX, i32::MAX, i32::MAX),
+            dn: [0.0; 3],
+            border: f32::INFINITY,
+            border_limit: f32::INFINITY,
+        }
+    }
+
+    /// A seed at `d` with `d²` from cell `(di, dj, dk)`: the smallest `d²` wins, ties to the
+    /// first cell in `(dk, dj, di)` order.
+    #[inline]
+    fn nearest(&mut self, d: [f32; 3], d2: f32, key: (i32, i32, i32)) {
+        if d2 < self.best || (d2 == self.best && key < self.key) {
+            self.second = self.best;
+            self.best = d2;
+            self.key = key;
+            self.dn = d;
+        } else if d2 < self.second {
+            self.second = d2;
+        }
+    }
+
+    /// A seed at `d`: its bisector with the nearest (skipped where it is the nearest).
+    #[inline]
+    fn bisector(&mut self, d: [f32; 3], f1: f32) {
+        let n = self.dn;
+        let e = [d[0] - n[0], d[1] - n[1], d[2] - n[2]];
+        let e2 = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
+        if e2 == 0.0 {
+            return;
+        }
+        let num = (d[0] + n[0]) * e[0] + (d[1] + n[1]) * e[1] + (d[2] + n[2]) * e[2];
+        let q = num * 0.5 / e2.sqrt();
+        if q < self.border {
+            self.border = q;
+            let reach = 2.0 * (q + BORDER_PRUNE_MARGIN) + f1;
+            self.border_limit = reach * reach;
+        }
+    }
+}
+
+/// The lower bound of `|d|` along one axis over the sites of cell offset `d` from a pixel at
+/// offset `f`, rounded as the search rounds `d`, so it is at most the computed `|d|`: `d − f`
+/// for `d > 0` (as `(d + o) − f` with `o ≥ 0` rounds to at least it), `f − (d + 1)` for
+/// `d < 0`, 0 for the pixel's own column.
+#[inline]
+fn gap(d: i32, f: f32) -> f32 {
+    if d > 0 {
+        (d as f32 - f).max(0.0)
+    } else if d < 0 {
+        (f - (d + 1) as f32).max(0.0)
+    } else {
+        0.0
+    }
+}
+
+/// Visits the cells within `reach` whose sites can have a `d²` of at most `limit(state)`:
+/// the 3 × 3 × 3 around the pixel's, then the others, each in `(dk, dj, di)` order. A cell is
+/// skipped when its bound `(g_x² + g_y²) + g_z²` (the gaps' squares, summed as `d²` is, so
+/// never above any of its sites' `d²`) exceeds the limit, a plane or a row when the part of
+/// the bound it fixes already does.
+#[inline]
+fn walk3(
+    state: &mut Search3,
+    reach: i32,
+    g2: &[[f32; (2 * MAX_REACH_3D + 1) as usize]; 3],
+    limit: impl Fn(&Search3) -> f32,
+    mut visit: impl FnMut(&mut Search3, i32, i32, i32),
+) {
+    let at = |axis: usize, d: i32| g2[axis][(d + MAX_REACH_3D) as usize];
+    for pass in 0..2 {
+        let r = if pass == 0 { reach.min(1) } else { reach };
+        if pass == 1 && r <= 1 {
+            break;
+        }
+        for dk in -r..=r {
+            let gz = at(2, dk);
+            if gz > limit(state) {
+                continue;
+            }
+            for dj in -r..=r {
+                if at(1, dj) + gz > limit(state) {
+                    continue;
+                }
+                for di in -r..=r {
+                    if pass == 1 && di.abs() <= 1 && dj.abs() <= 1 && dk.abs() <= 1 {
+                        continue;
+                    }
+                    let bound = at(0, di) + at(1, dj) + gz;
+                    if bound > limit(state) {
+                        continue;
+                    }
+                    visit(state, di, dj, dk);
+                }
+            }
+        }
+    }
+}
+
+/// The 3D pixel's search (module docs): `site(di, dj, dk)` gives the site of the cell
+/// `(di, dj, dk)` away from the pixel's, `f` is the pixel's offset in its cell; `reach` cells
+/// each way (at most [`BORDER_REACH_3D`]); `second` asks for `F2`, `border` for the border
+/// distance. Only the cells that can hold the nearest (second nearest) seeds, or a nearer
+/// bisector, are visited: the result is [`search3_full`]'s bit for bit.
+#[inline]
+#[must_use]
+pub fn search3<'a>(
+    site: impl Fn(i32, i32, i32) -> &'a Site3,
+    f: [f32; 3],
+    reach: i32,
+    second: bool,
+    border: bool,
+) -> Nearest3 {
+    let reach = reach.min(MAX_REACH_3D);
+    let mut g2 = [[0.0f32; (2 * MAX_REACH_3D + 1) as usize]; 3];
+    for (axis, row) in g2.iter_mut().enumerate() {
+        for (k, v) in row.iter_mut().enumerate() {
+            let g = gap(k as i32 - MAX_REACH_3D, f[axis]);
+            *v = g * g;
+        }
+    }
+    let mut state = Search3::new();
+    let limit = |s: &Search3| if second { s.second } else { s.best };
+    walk3(&mut state, reach, &g2, limit, |s, di, dj, dk| {
+        let (d, d2) = delta3(site(di, dj, dk), di, dj, dk, f);
+        s.nearest(d, d2, (dk, dj, di));
+    });
+    let f1 = state.best.sqrt();
+    if border {
+        walk3(
+            &mut state,
+            reach,
+            &g2,
+            |s| s.border_limit,
+            |s, di, dj, dk| {
+                let (d, _) = delta3(site(di, dj, dk), di, dj, dk, f);
+                s.bisector(d, f1);
+            },
+        );
+    }
+    let (i, j, k) = (state.key.2, state.key.1, state.key.0);
+    Nearest3 {
+        site: *site(i, j, k),
+        f1,
+        f2: if second {
+            state.second.sqrt()
+        } else {
+            f32::INFINITY
+        },
+        border: if border { state.border } else { f32::INFINITY },
+    }
+}
+
+/// [`search3`] over every cell within `reach`, in `(dk, dj, di)` order: the definition, slow.
+#[must_use]
+pub fn search3_full<'a>(
+    site: impl Fn(i32, i32, i32) -> &'a Site3,
+    f: [f32; 3],
+    reach: i32,
+    second: bool,
+    border: bool,
+) -> Nearest3 {
+    let mut state = Search3::new();
+    for dk in -reach..=reach {
+        for dj in -reach..=reach {
+            for di in -reach..=reach {
+                let (d, d2) = delta3(site(di, dj, dk), di, dj, dk, f);
+                state.nearest(d, d2, (dk, dj, di));
+            }
+        }
+    }
+    let f1 = state.best.sqrt();
+    if border {
+        for dk in -reach..=reach {
+            for dj in -reach..=reach {
+                for di in -reach..=reach {
+                    let (d, _) = delta3(site(di, dj, dk), di, dj, dk, f);
+                    state.bisector(d, f1);
+                }
+            }
+        }
+    }
+    let (i, j, k) = (state.key.2, state.key.1, state.key.0);
+    Nearest3 {
+        site: *site(i, j, k),
+        f1,
+        f2: if second {
+            state.second.sqrt()
+        } else {
+            f32::INFINITY
+        },
+        border: if border { state.border } else { f32::INFINITY },
     }
 }
 
@@ -732,6 +1142,140 @@ mod tests {
         for (model, field) in cases {
             let err = model.validate().expect_err(field);
             assert!(err.to_string().starts_with(field), "{field}: {err}");
+        }
+    }
+
+    #[test]
+    fn three_dimensions_validate_with_field_paths() {
+        let three = VoronoiNoise {
+            dimensions: 3,
+            output: VoronoiOutput::Border,
+            ..VoronoiNoise::default()
+        };
+        three.validate().expect("3D border is valid");
+        let cases = [
+            (
+                VoronoiNoise {
+                    dimensions: 4,
+                    ..VoronoiNoise::default()
+                },
+                "voronoi.dimensions",
+            ),
+            (
+                VoronoiNoise {
+                    lloyd_iterations: 1,
+                    ..three.clone()
+                },
+                "voronoi.lloyd_iterations",
+            ),
+            (
+                VoronoiNoise {
+                    output: VoronoiOutput::Image {
+                        width: 1,
+                        height: 1,
+                        texels: vec![[0.0; 3]],
+                    },
+                    ..three.clone()
+                },
+                "voronoi.dimensions",
+            ),
+        ];
+        for (model, field) in cases {
+            let err = model.validate().expect_err(field);
+            assert!(err.to_string().starts_with(field), "{field}: {err}");
+        }
+    }
+
+    #[test]
+    fn a_file_without_dimensions_is_2d_and_2d_files_are_unchanged() {
+        let json = r#"{"seed":3,"cell_size":8.0,"jitter":1.0,"lloyd_iterations":0,"lloyd_block":4,"output":"f1"}"#;
+        let m: VoronoiNoise = serde_json::from_str(json).expect("parses");
+        assert_eq!(m.dimensions, 2);
+        assert_eq!(serde_json::to_string(&m).expect("serialises"), json);
+        let three = VoronoiNoise { dimensions: 3, ..m };
+        let text = serde_json::to_string(&three).expect("serialises");
+        assert!(text.contains(r#""dimensions":3"#), "{text}");
+    }
+
+    #[test]
+    fn the_3d_draw_follows_the_contract() {
+        // Cell (i, j, k): PRNG seeded with cell_hash(i, j, VORO, cell_hash(k, 0, VORO, seed)),
+        // drawing o_x, o_y, o_z and the ID, each ½ + jitter·(u − ½).
+        let m = VoronoiNoise {
+            dimensions: 3,
+            seed: 11,
+            jitter: 0.75,
+            ..VoronoiNoise::default()
+        };
+        for (i, j, k) in [(0i64, 0i64, 0i64), (-5, 7, 100_000), (1 << 20, -3, -9)] {
+            let plane = cell_hash(k as i32, 0, VORONOI_LAYER, 11);
+            let mut prng = Prng::new(cell_hash(i as i32, j as i32, VORONOI_LAYER, plane));
+            let u: Vec<f32> = (0..4).map(|_| prng.next_f32()).collect();
+            let (o, id) = m.jittered3(i, j, k);
+            for a in 0..3 {
+                assert_eq!(
+                    o[a],
+                    0.5 + 0.75 * (u[a] - 0.5),
+                    "cell ({i}, {j}, {k}) axis {a}"
+                );
+            }
+            assert_eq!(id, u[3]);
+        }
+    }
+
+    #[test]
+    fn the_pruned_3d_search_is_the_full_search() {
+        // Jitter 0 puts seeds on a regular lattice, where ties between cells are everywhere;
+        // jitter 1 lets seeds come arbitrarily close.
+        let mut prng = Prng::new(77);
+        for jitter in [1.0f32, 0.6, 0.0] {
+            let m = VoronoiNoise {
+                dimensions: 3,
+                jitter,
+                seed: 4,
+                ..VoronoiNoise::default()
+            };
+            let origin = [-6i64, 1000 - 6, -40_000 - 6];
+            let table = m.sites3(origin, [13, 13, 13], None);
+            let at = |di: i32, dj: i32, dk: i32| {
+                table.get(i64::from(di), 1000 + i64::from(dj), -40_000 + i64::from(dk))
+            };
+            for n in 0..400 {
+                let f = if jitter == 0.0 && n % 2 == 0 {
+                    // Points on the lattice's bisector planes and their crossings.
+                    [
+                        [0.0, 0.5, 0.5],
+                        [0.5, 0.0, 0.0],
+                        [0.0, 0.0, 0.25],
+                        [0.75, 0.0, 0.5],
+                    ][(n / 2) % 4]
+                } else {
+                    [prng.next_f32(), prng.next_f32(), prng.next_f32()]
+                };
+                for (reach, second, border) in [
+                    (NEAREST_REACH, false, false),
+                    (F2_REACH_3D, true, false),
+                    (BORDER_REACH_3D, false, true),
+                ] {
+                    let fast = search3(at, f, reach, second, border);
+                    let full = search3_full(at, f, reach, second, border);
+                    assert_eq!(
+                        (
+                            fast.site,
+                            fast.f1.to_bits(),
+                            fast.f2.to_bits(),
+                            fast.border.to_bits()
+                        ),
+                        (
+                            full.site,
+                            full.f1.to_bits(),
+                            full.f2.to_bits(),
+                            full.border.to_bits()
+                        ),
+                        "jitter {jitter}, point {f:?}, reach {reach}"
+                    );
+                }
+            }
         }
     }
 

@@ -748,7 +748,7 @@ pub fn texton(o: Odds) -> BoxedStrategy<TextonNoise> {
 
 /// A Voronoi diagram: every output, palettes and small images (sometimes with a texel count
 /// that does not match their sides), relaxation at small iteration counts (the limits case
-/// takes the largest), values drawn inside and beyond their limits.
+/// takes the largest), 2D and 3D, values drawn inside and beyond their limits.
 pub fn voronoi(o: Odds) -> BoxedStrategy<VoronoiNoise> {
     let colour = (level(o), level(o), level(o)).prop_map(|(r, g, b)| [r, g, b]);
     let palette = list(colour.clone().boxed(), 1, 4, MAX_PALETTE, o)
@@ -782,15 +782,19 @@ pub fn voronoi(o: Odds) -> BoxedStrategy<VoronoiNoise> {
         prop_oneof![3 => Just(0u32), 1 => u32_in(0, 2, o)],
         u32_in(1, 6, o),
         output,
+        prop_oneof![3 => Just(2u32), 1 => u32_in(2, 3, o)],
     )
         .prop_map(
-            |(seed, cell_size, jitter, lloyd_iterations, lloyd_block, output)| VoronoiNoise {
-                seed,
-                cell_size,
-                jitter,
-                lloyd_iterations,
-                lloyd_block,
-                output,
+            |(seed, cell_size, jitter, lloyd_iterations, lloyd_block, output, dimensions)| {
+                VoronoiNoise {
+                    seed,
+                    dimensions,
+                    cell_size,
+                    jitter,
+                    lloyd_iterations,
+                    lloyd_block,
+                    output,
+                }
             },
         )
         .boxed()

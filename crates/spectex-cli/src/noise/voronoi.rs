@@ -1,6 +1,7 @@
 //! `spectex noise voronoi`: Voronoi diagrams (survey §2.6, `spectex_model::voronoi`) from flags:
 //! the cell ID, F1, the border distance, F2 − F1, or colours from a palette or an image, with
-//! optional Lloyd relaxation; written as a model (`--model`) and rendered.
+//! optional Lloyd relaxation; in 2D or 3D (`--dims 3`, the solid diagram sliced at `--z`);
+//! written as a model (`--model`) and rendered.
 
 use anyhow::{Result, anyhow, bail};
 use clap::{Args, ValueEnum};
@@ -32,6 +33,10 @@ pub(crate) struct VoronoiArgs {
     /// Lattice cell side, pixels (1 to 4096): one seed per cell.
     #[arg(long, value_name = "PX", default_value_t = spectex_model::voronoi::DEFAULT_CELL_SIZE)]
     cell: f32,
+    /// 2 (seeds in the plane) or 3 (seeds in space, the diagram sliced at --z; no --lloyd or
+    /// --image).
+    #[arg(long, visible_alias = "dimensions", default_value_t = 2)]
+    dims: u32,
     /// Jitter of the seeds in cells, 0 (regular grid) to 1 (anywhere in the cell).
     #[arg(long, default_value_t = 1.0)]
     jitter: f32,
@@ -107,6 +112,7 @@ fn image_output(path: &std::path::Path) -> Result<VoronoiOutput> {
 fn flag(field: &str) -> &'static str {
     const FLAGS: &[(&str, &str)] = &[
         ("cell_size", "--cell"),
+        ("dimensions", "--dims"),
         ("jitter", "--jitter"),
         ("lloyd_iterations", "--lloyd"),
         ("lloyd_block", "--block"),
@@ -141,6 +147,7 @@ pub(crate) fn run(args: &VoronoiArgs) -> Result<()> {
     };
     let model = VoronoiNoise {
         seed: args.seed,
+        dimensions: args.dims,
         cell_size: args.cell,
         jitter: args.jitter,
         lloyd_iterations: args.lloyd,

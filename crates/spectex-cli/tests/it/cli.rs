@@ -934,6 +934,9 @@ fn voronoi_and_combinations_end_to_end() {
         ],
         &["voronoi", "--show", "f2-f1", "--cell", "12"],
         &[
+            "voronoi", "--dims", "3", "--show", "border", "--jitter", "0.85",
+        ],
+        &[
             "voronoi",
             "--show",
             "palette",
@@ -1003,6 +1006,10 @@ fn voronoi_and_combinations_end_to_end() {
         (
             vec!["noise", "voronoi", "--lloyd", "17"],
             vec!["voronoi.lloyd_iterations", "--lloyd"],
+        ),
+        (
+            vec!["noise", "voronoi", "--dims", "3", "--lloyd", "2"],
+            vec!["voronoi.lloyd_iterations", "2D only", "--lloyd"],
         ),
         (
             vec!["noise", "combine", "--operand", s(&one)],

@@ -8,9 +8,17 @@
 //! within a derived bound everywhere; the cell ID and the colours are equal wherever both sides
 //! pick the same nearest seed, and may differ only where the two nearest seeds are tied within
 //! the rounding: a pixel whose `F2 − F1` (a companion render) is at most [`FLIP_MARGIN`].
+//!
+//! A 3D diagram's bounds are derived the same way with three components per vector (one more
+//! product and sum per `d²` and dot product, `√3` instead of `√2`), its larger reach and
+//! distances (`F1 < √3`, `F2 < √6`), and one allowance more: both sides skip the cells whose
+//! bound exceeds what they found (`spectex_model::voronoi::search3`), the GPU with its own
+//! rounding of the bound, so a seed it skips has a `d²` within the bound's and `d²`'s roundings
+//! of the limit (`D2_ROUNDINGS_3D`); the border's skipping margin is far above any
+//! rounding. The checked plane is [`CHECK_PLANE_Z`].
 
 use spectex_model::Model;
-use spectex_model::voronoi::{BORDER_REACH, VoronoiNoise, VoronoiOutput};
+use spectex_model::voronoi::{BORDER_REACH, BORDER_REACH_3D, VoronoiNoise, VoronoiOutput};
 
 use super::{CheckKind, F32_UNIT_ROUNDOFF, Regularity, Tolerance};
 
@@ -31,15 +39,100 @@ const SQRT_ROUNDINGS: f64 = 3.0;
 /// quotient 3 + 3 in WGSL): 13 per side, 26 between them.
 const BORDER_ROUNDINGS: f64 = 26.0;
 
-/// Difference between the two sides of one component of `d = (di + o) − f`: two roundings of
-/// values below [`D_COMPONENT`] on either side.
-fn d_component_error() -> f64 {
-    4.0 * D_COMPONENT * F32_UNIT_ROUNDOFF
+/// The plane `z` (pixels) on which a 3D diagram is checked: off the lattice planes of the
+/// shipped cases' cells and far enough from 0 that the planes' cells are far from the origin.
+pub const CHECK_PLANE_Z: f64 = 12_345.6;
+
+/// The 3D counterparts of the 2D constants above (module docs).
+const D_COMPONENT_3D: f64 = (BORDER_REACH_3D + 1) as f64;
+/// `F1 < √3` and `F2 < √6` (`spectex_model::voronoi`'s module docs).
+const F1_MAX_3D: f64 = 1.732_050_807_568_877_2;
+/// See [`F1_MAX_3D`].
+const F2_MAX_3D: f64 = 2.449_489_742_783_178;
+/// `d² = (d_x² + d_y²) + d_z²`: three products and two sums per side (10), and as many again
+/// for the pruning bound the GPU rounds its own way (a skipped seed's `d²` is within the bound's
+/// and its own roundings of the limit).
+const D2_ROUNDINGS_3D: f64 = 20.0;
+/// The border term in 3D: sums and differences 6, the dot product 5, the square root and the
+/// quotient 3 + 3 in WGSL: 17 per side, 34 between them.
+const BORDER_ROUNDINGS_3D: f64 = 34.0;
+
+/// The constants of a diagram's dimensions.
+#[derive(Debug, Clone, Copy)]
+struct Dims {
+    /// Components per vector.
+    axes: f64,
+    /// [`D_COMPONENT`] or [`D_COMPONENT_3D`].
+    d_component: f64,
+    f1_max: f64,
+    f2_max: f64,
+    d2_roundings: f64,
+    border_roundings: f64,
 }
 
-/// The difference of a seed's vector `d` between the two sides, `|δd| ≤ √2·δd_x`.
-fn d_error() -> f64 {
-    std::f64::consts::SQRT_2 * d_component_error()
+impl Dims {
+    /// The plane's.
+    const TWO: Self = Self {
+        axes: 2.0,
+        d_component: D_COMPONENT,
+        f1_max: F1_MAX,
+        f2_max: F2_MAX,
+        d2_roundings: D2_ROUNDINGS,
+        border_roundings: BORDER_ROUNDINGS,
+    };
+    /// Space's.
+    const THREE: Self = Self {
+        axes: 3.0,
+        d_component: D_COMPONENT_3D,
+        f1_max: F1_MAX_3D,
+        f2_max: F2_MAX_3D,
+        d2_roundings: D2_ROUNDINGS_3D,
+        border_roundings: BORDER_ROUNDINGS_3D,
+    };
+
+    fn of(m: &VoronoiNoise) -> Self {
+        if m.dimensions == 3 {
+            Self::THREE
+        } else {
+            Self::TWO
+        }
+    }
+
+    /// Difference between the two sides of one component of `d = (di + o) − f`: two roundings
+    /// of values below the largest component on either side.
+    fn d_component_error(self) -> f64 {
+        4.0 * self.d_component * F32_UNIT_ROUNDOFF
+    }
+
+    /// The difference of a seed's vector `d` between the two sides, `|δd| ≤ √axes·δd_x`.
+    fn d_error(self) -> f64 {
+        self.axes.sqrt() * self.d_component_error()
+    }
+
+    /// [`FLIP_MARGIN`]'s derivation with these constants.
+    fn flip_margin(self) -> f64 {
+        2.0 * (2.0 * self.d_error()
+            + self.d2_roundings * F32_UNIT_ROUNDOFF * (self.f1_max + self.f2_max))
+    }
+
+    /// `distance_error`'s derivation with these constants.
+    fn distance_error(self, f_max: f64) -> f64 {
+        self.d_error() + (self.d2_roundings / 2.0 + SQRT_ROUNDINGS) * F32_UNIT_ROUNDOFF * f_max
+    }
+
+    /// `border_error`'s derivation with these constants.
+    fn border_error(self, separation: f64) -> f64 {
+        let s_max = 2.0 * self.axes.sqrt() * self.d_component;
+        let smooth = self.d_error() * (1.0 + 2.0 * s_max / separation)
+            + self.border_roundings * F32_UNIT_ROUNDOFF * s_max / 2.0;
+        let flipped = (self.f1_max + self.f2_max) * self.flip_margin() / (2.0 * separation);
+        smooth.max(flipped)
+    }
+}
+
+/// [`FLIP_MARGIN`] of a 3D diagram.
+pub fn flip_margin_3d() -> f64 {
+    Dims::THREE.flip_margin()
 }
 
 /// The largest `F2 − F1` at which the two sides may pick different nearest seeds: a flip needs
@@ -54,8 +147,9 @@ pub const FLIP_MARGIN: f64 = 2.0
 /// whose `d²` differ by at most `2|d|·|δd| + D2_ROUNDINGS·u·d²`: an order statistic is
 /// 1-Lipschitz in its inputs, and `√` turns the error into `|δd| + (D2_ROUNDINGS/2)·u·F` plus
 /// the square roots' roundings.
+#[cfg(test)]
 fn distance_error(f_max: f64) -> f64 {
-    d_error() + (D2_ROUNDINGS / 2.0 + SQRT_ROUNDINGS) * F32_UNIT_ROUNDOFF * f_max
+    Dims::TWO.distance_error(f_max)
 }
 
 /// The smallest distance between two seeds: `1 − jitter` (each seed lies in its cell's jitter
@@ -72,12 +166,9 @@ fn separation(m: &VoronoiNoise) -> Option<f64> {
 /// keeps it. Where the nearest seed flips both sides' borders are at most
 /// `(F2² − F1²)/(2|e|) ≤ (F1 + F2)·FLIP_MARGIN/(2·separation)`, which also bounds their
 /// difference.
+#[cfg(test)]
 fn border_error(separation: f64) -> f64 {
-    let s_max = 2.0 * std::f64::consts::SQRT_2 * D_COMPONENT;
-    let smooth = d_error() * (1.0 + 2.0 * s_max / separation)
-        + BORDER_ROUNDINGS * F32_UNIT_ROUNDOFF * s_max / 2.0;
-    let flipped = (F1_MAX + F2_MAX) * FLIP_MARGIN / (2.0 * separation);
-    smooth.max(flipped)
+    Dims::TWO.border_error(separation)
 }
 
 /// The largest jump of a discontinuous output: the ID's range, or the largest difference of a
@@ -103,13 +194,16 @@ impl CheckKind for VoronoiNoise {
     /// below 1, `None` otherwise); the ID and colours show their largest jump, for reports,
     /// and are judged by [`own_verdict`](Self::own_verdict).
     fn tolerances(&self) -> Option<Vec<Tolerance>> {
+        let dims = Dims::of(self);
         match &self.output {
-            VoronoiOutput::F1 => Some(vec![Tolerance::from_max(distance_error(F1_MAX))]),
+            VoronoiOutput::F1 => Some(vec![Tolerance::from_max(dims.distance_error(dims.f1_max))]),
             VoronoiOutput::F2MinusF1 => Some(vec![Tolerance::from_max(
-                distance_error(F1_MAX) + distance_error(F2_MAX) + F32_UNIT_ROUNDOFF * F2_MAX,
+                dims.distance_error(dims.f1_max)
+                    + dims.distance_error(dims.f2_max)
+                    + F32_UNIT_ROUNDOFF * dims.f2_max,
             )]),
             VoronoiOutput::Border => {
-                separation(self).map(|s| vec![Tolerance::from_max(border_error(s))])
+                separation(self).map(|s| vec![Tolerance::from_max(dims.border_error(s))])
             }
             VoronoiOutput::CellId | VoronoiOutput::Palette { .. } | VoronoiOutput::Image { .. } => {
                 Some(jumps(self).into_iter().map(Tolerance::from_max).collect())
@@ -121,10 +215,11 @@ impl CheckKind for VoronoiNoise {
     /// cell unit: per pixel `1/C` and `2/C`. The ID and colours jump at every border: none.
     fn regularity(&self) -> Option<Regularity> {
         let cell = f64::from(self.cell_size);
+        let dims = Dims::of(self);
         let (slope, magnitude) = match self.output {
-            VoronoiOutput::F1 => (1.0, F1_MAX),
-            VoronoiOutput::Border => (1.0, F1_MAX),
-            VoronoiOutput::F2MinusF1 => (2.0, F2_MAX),
+            VoronoiOutput::F1 => (1.0, dims.f1_max),
+            VoronoiOutput::Border => (1.0, dims.f1_max),
+            VoronoiOutput::F2MinusF1 => (2.0, dims.f2_max),
             _ => return None,
         };
         Some(Regularity {
@@ -148,8 +243,18 @@ impl CheckKind for VoronoiNoise {
         }
     }
 
+    /// A 3D diagram's plane [`CHECK_PLANE_Z`].
+    fn check_plane(&self) -> f64 {
+        if self.dimensions == 3 {
+            CHECK_PLANE_Z
+        } else {
+            0.0
+        }
+    }
+
     /// The ID and colours: every pixel equal on both sides unless its `F2 − F1` on the CPU is
-    /// at most [`FLIP_MARGIN`] (the two nearest seeds tied within the rounding).
+    /// at most [`FLIP_MARGIN`] (the two nearest seeds tied within the rounding; in 3D
+    /// [`flip_margin_3d`]).
     fn own_verdict(
         &self,
         renders: &[(Vec<f32>, Vec<f32>)],
@@ -160,17 +265,18 @@ impl CheckKind for VoronoiNoise {
             return None;
         };
         let channels = self.output.channels();
+        let flip = Dims::of(self).flip_margin();
         let bad = cpu
             .chunks_exact(channels)
             .zip(gpu.chunks_exact(channels))
             .zip(margin)
-            .filter(|((a, b), m)| a != b && f64::from(**m) > FLIP_MARGIN)
+            .filter(|((a, b), m)| a != b && f64::from(**m) > flip)
             .count();
         Some(if bad == 0 {
             Vec::new()
         } else {
             vec![format!(
-                "{bad} pixels differ where the nearest seed is unambiguous (F2 − F1 > {FLIP_MARGIN:.1e})"
+                "{bad} pixels differ where the nearest seed is unambiguous (F2 − F1 > {flip:.1e})"
             )]
         })
     }
@@ -188,6 +294,14 @@ mod tests {
         // Seeds 0.1 cell apart: the border's bound stays below 1e-3 cell.
         assert!(border_error(0.1) < 1e-3, "{}", border_error(0.1));
         assert!(separation(&VoronoiNoise::default()).is_none());
+        // The 2D derivation through `Dims` is the constant's.
+        assert!((Dims::TWO.flip_margin() - FLIP_MARGIN).abs() <= 1e-6 * FLIP_MARGIN);
+        // 3D: more roundings and larger vectors, still tiny against a cell.
+        assert!(flip_margin_3d() > FLIP_MARGIN && flip_margin_3d() < 1e-5);
+        assert!(Dims::THREE.distance_error(F2_MAX_3D) < 1e-5);
+        assert!(Dims::THREE.border_error(0.1) < 1e-3);
+        // √3 and √6.
+        assert!((F1_MAX_3D - 3f64.sqrt()).abs() < 1e-15 && (F2_MAX_3D - 6f64.sqrt()).abs() < 1e-15);
     }
 
     #[test]

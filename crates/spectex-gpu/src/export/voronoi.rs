@@ -17,7 +17,8 @@ use super::{ExportKind, ExportNode, ExportParts, float};
 use crate::GpuError;
 
 impl ExportKind for VoronoiNoise {
-    fn export_parts(&self, _z: f64) -> Result<ExportNode, GpuError> {
+    /// A 3D diagram exports its plane `z`.
+    fn export_parts(&self, z: f64) -> Result<ExportNode, GpuError> {
         let refuse = |feature: &str| GpuError::Unsupported {
             kind: VoronoiNoise::NAME,
             feature: format!("WGSL export of {feature}"),
@@ -36,7 +37,7 @@ impl ExportKind for VoronoiNoise {
             VoronoiOutput::Palette { colours } => colours.clone(),
             _ => vec![[0.0; 3]],
         };
-        let kernel = crate::voronoi::pack(self, None);
+        let kernel = crate::voronoi::pack(self, None).at_z(z);
         let colours = palette
             .iter()
             .map(|c| {
