@@ -5,6 +5,7 @@
 //! diagram's box spans the planes of cells its search reaches around the plane `z`.
 
 use spectex_model::Period;
+use spectex_model::grid::locate_cell;
 use spectex_model::voronoi::{BlockCache, VoronoiNoise, VoronoiOutput};
 
 use crate::axis::{CellAxes, CellAxis};
