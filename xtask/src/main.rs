@@ -1152,18 +1152,20 @@ fn bench_classic(ws: &Workspace, extra: &[OsString]) -> Result<()> {
     };
     let group = criterion_dir(ws).join("grid");
     let pixels = 2048.0 * 2048.0;
+    // The best sample: the bench times by the render thread's CPU time, and on a shared
+    // machine the fastest sample is the one least disturbed (caches, frequency).
     let mpix = |id: &str| -> Result<f64> {
-        let estimates = group.join(id).join("new").join("estimates.json");
-        let stale = fs::metadata(&estimates)
+        let sample = group.join(id).join("new").join("sample.json");
+        let stale = fs::metadata(&sample)
             .and_then(|m| m.modified())
             .map_or(true, |modified| modified < started);
         if stale {
-            bail!("{} was not written by this run", estimates.display());
+            bail!("{} was not written by this run", sample.display());
         }
-        let json = fs::read_to_string(&estimates)
-            .with_context(|| format!("reading {}", estimates.display()))?;
-        let ns = parse_median_ns(&json)
-            .with_context(|| format!("no median point_estimate in {}", estimates.display()))?;
+        let json =
+            fs::read_to_string(&sample).with_context(|| format!("reading {}", sample.display()))?;
+        let ns = parse_best_ns(&json)
+            .with_context(|| format!("no iters and times in {}", sample.display()))?;
         Ok(pixels / ns * 1e3)
     };
     let mut rows = Vec::new();
@@ -1175,7 +1177,14 @@ fn bench_classic(ws: &Workspace, extra: &[OsString]) -> Result<()> {
                 Ok(None)
             }
         };
+        // Absent where the CPU has no AVX2 and FMA (the bench skips them).
+        let guarantees = ["3d", "2d"].map(|d| {
+            mpix(&format!("{case}_{d}_exact"))
+                .and_then(|exact| Ok((exact, mpix(&format!("{case}_{d}_relaxed"))?)))
+                .ok()
+        });
         rows.push(ClassicRow {
+            guarantees,
             case: case.to_string(),
             three_d: mpix(&format!("{case}_3d"))?,
             three_d_reference: reference("3d")?,
@@ -1287,6 +1296,9 @@ struct ClassicRow {
     two_d_reference: Option<f64>,
     /// FastNoiseSIMD's (3D slice) and its SIMD level, when it ran.
     fastnoise: Option<(f64, String)>,
+    /// The cost of the guarantees, 3D and 2D: spectex's evaluator exact and with the
+    /// bench-only f32 cell split and FMA (`*_exact`, `*_relaxed`), where the CPU ran them.
+    guarantees: [Option<(f64, f64)>; 2],
 }
 
 /// The classic table: spectex 3D and 2D (and their reference paths), FastNoiseSIMD, and the
@@ -1298,7 +1310,8 @@ fn classic_markdown(rows: &[ClassicRow]) -> String {
         .unwrap_or_else(|| "not run".to_string());
     let mut md = format!(
         "Classic noises, one thread, 2048² window, cell 32 px (3D: the slice z = 7 px), \
-         Mpix/s (criterion medians; FastNoiseSIMD: median of 15 grids, SIMD level {level}).\n\n\
+         Mpix/s by the render thread's CPU time, the best of criterion's samples (FastNoiseSIMD: \
+         the best of 15 grids, SIMD level {level}).\n\n\
          | noise | spectex 3D | 3D reference path | FastNoiseSIMD 3D | spectex 3D / FNS | \
          spectex 2D | 2D reference path | spectex 2D / FNS |\n\
          | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n"
@@ -1320,6 +1333,20 @@ fn classic_markdown(rows: &[ClassicRow]) -> String {
             number(r.two_d_reference),
             ratio(r.two_d, theirs),
         ));
+    }
+    md.push_str(
+        "\nWhat the guarantees (f64 cell split, no FMA) cost: the same evaluator exact and with \
+         the bench-only f32 split and FMA, Mpix/s, same run.\n\n\
+         | noise | 3D exact | 3D relaxed | 3D relaxed / exact | 2D exact | 2D relaxed | \
+         2D relaxed / exact |\n\
+         | --- | ---: | ---: | ---: | ---: | ---: | ---: |\n",
+    );
+    for r in rows {
+        let cells = r.guarantees.map(|g| match g {
+            Some((exact, relaxed)) => format!("{exact:.1} | {relaxed:.1} | {:.2}", relaxed / exact),
+            None => "– | – | –".to_string(),
+        });
+        md.push_str(&format!("| {} | {} | {} |\n", r.case, cells[0], cells[1]));
     }
     md
 }
@@ -1505,6 +1532,38 @@ fn parse_median_ns(json: &str) -> Option<f64> {
     value[..end].parse().ok()
 }
 
+/// The number array after `"key":` in `json` (criterion's `sample.json`), by string search.
+fn json_numbers(json: &str, key: &str) -> Option<Vec<f64>> {
+    let quoted = format!("\"{key}\"");
+    let rest = json[json.find(&quoted)? + quoted.len()..]
+        .trim_start()
+        .strip_prefix(':')?
+        .trim_start()
+        .strip_prefix('[')?;
+    let list = &rest[..rest.find(']')?];
+    list.split(',')
+        .filter(|v| !v.trim().is_empty())
+        .map(|v| v.trim().parse().ok())
+        .collect()
+}
+
+/// The fastest time per iteration (ns) over the samples of a criterion `sample.json`
+/// (`"iters"` and `"times"`, one entry per sample), or `None` when the arrays are missing,
+/// empty or of different lengths.
+fn parse_best_ns(json: &str) -> Option<f64> {
+    let iters = json_numbers(json, "iters")?;
+    let times = json_numbers(json, "times")?;
+    if iters.len() != times.len() {
+        return None;
+    }
+    iters
+        .iter()
+        .zip(&times)
+        .filter(|(i, _)| **i > 0.0)
+        .map(|(i, t)| t / i)
+        .min_by(f64::total_cmp)
+}
+
 /// The numbered examples of `crates/spectex-cli/examples/` (file stems, sorted).
 fn example_names(ws: &Workspace) -> Result<Vec<String>> {
     let dir = ws.root.join("crates/spectex-cli/examples");
@@ -1521,7 +1580,7 @@ fn example_names(ws: &Workspace) -> Result<Vec<String>> {
 #[cfg(test)]
 mod tests {
     use super::{
-        ClassicRow, KindSpeed, campaign_counts, classic_markdown, json_string_field,
+        ClassicRow, KindSpeed, campaign_counts, classic_markdown, json_string_field, parse_best_ns,
         parse_fastnoise_tsv, parse_kind_line, parse_median_ns, summary_markdown,
     };
 
@@ -1543,6 +1602,7 @@ mod tests {
                 two_d: 450.0,
                 two_d_reference: None,
                 fastnoise: Some((300.0, "AVX2".into())),
+                guarantees: [Some((150.0, 300.0)), None],
             },
             ClassicRow {
                 case: "simplex".into(),
@@ -1551,6 +1611,7 @@ mod tests {
                 two_d: 60.0,
                 two_d_reference: None,
                 fastnoise: None,
+                guarantees: [None, None],
             },
         ]);
         assert!(md.contains("SIMD level AVX2"), "{md}");
@@ -1560,6 +1621,11 @@ mod tests {
         );
         assert!(
             md.contains("| simplex | 50.0 | – | – | – | 60.0 | – | – |"),
+            "{md}"
+        );
+        // Relaxed at twice the exact speed: the ratio 2.00; the 2D side was not run.
+        assert!(
+            md.contains("| perlin | 150.0 | 300.0 | 2.00 | – | – | – |"),
             "{md}"
         );
     }
@@ -1628,5 +1694,20 @@ mod tests {
             Some(1.5e6)
         );
         assert_eq!(parse_median_ns(r#"{"mean":{"point_estimate":1.0}}"#), None);
+    }
+
+    #[test]
+    fn best_sample_is_read_from_criterion_samples() {
+        // Per iteration: 100, 75, 90 ns; the best is 75.
+        let json =
+            r#"{"sampling_mode":"Linear","iters":[1.0,2.0,3.0],"times":[100.0,150.0,270.0]}"#;
+        assert_eq!(parse_best_ns(json), Some(75.0));
+        assert_eq!(
+            parse_best_ns(r#"{"iters": [ 4.0 ], "times" : [ 1e3 ]}"#),
+            Some(250.0)
+        );
+        assert_eq!(parse_best_ns(r#"{"iters":[1.0,2.0],"times":[1.0]}"#), None);
+        assert_eq!(parse_best_ns(r#"{"iters":[],"times":[]}"#), None);
+        assert_eq!(parse_best_ns(r#"{"times":[1.0]}"#), None);
     }
 }

@@ -9,7 +9,12 @@
 //! The `grid` group is the grid FastNoiseSIMD is measured on (`benches/fastnoisesimd.py`): a
 //! 2048² slice of 3D noise at z = 7 pixels and the same 2048² window of 2D noise, cell 32, one
 //! thread; Perlin, value, simplex, cellular F1 and fBm of Perlin (6 octaves), each lattice
-//! noise's reference path beside it (`*_reference`, every hash in the lanes).
+//! noise's reference path beside it (`*_reference`, every hash in the lanes). Timed by the
+//! render thread's CPU time, not the wall clock, so that other work on a shared machine does
+//! not count (`cpu_time`), as FastNoiseSIMD's side is (`time.thread_time`). The cost of the
+//! guarantees (`*_exact` against `*_relaxed`, both through `ClassicEvaluator::eval_rows` over
+//! the whole window): the bench-only relaxed evaluator splits positions into cells in f32 and
+//! fuses multiply-adds, as f32 SIMD libraries do (skipped where the CPU has no AVX2 and FMA).
 //! `cargo xtask bench classic` runs it and FastNoiseSIMD in one invocation and writes the
 //! ratio table.
 //!
@@ -21,10 +26,12 @@ use fastnoise_lite::{
 };
 use noise::{Fbm, MultiFractal, NoiseFn, Perlin, Simplex, Worley};
 use rayon::prelude::*;
+use spectex_cpu::classic::ClassicEvaluator;
 use spectex_cpu::{Evaluator, Window};
 use spectex_model::Model;
 use spectex_model::classic::{Basis, ClassicNoise, FeaturePoints, Fractal, FractalKind, Metric};
 use std::hint::black_box;
+use std::time::{Duration, Instant};
 
 /// A reference library's noise at a pixel position.
 type PixelNoise<'a> = &'a (dyn Fn(f64, f64) -> f32 + Sync);
@@ -59,14 +66,73 @@ const GRID: usize = 2048;
 /// The plane of the 3D slices, pixels.
 const GRID_Z: f64 = 7.0;
 
+/// The CPU time of the calling thread, where the platform reports it (Linux:
+/// `clock_gettime(CLOCK_THREAD_CPUTIME_ID)`, exact to the nanosecond, unlike
+/// `/proc/thread-self/schedstat`, which lags by up to a scheduler tick).
+#[cfg(target_os = "linux")]
+fn thread_cpu_time() -> Option<Duration> {
+    /// `struct timespec` on 64-bit Linux.
+    #[repr(C)]
+    struct Timespec {
+        seconds: i64,
+        nanoseconds: i64,
+    }
+    #[allow(unsafe_code)]
+    // SAFETY (of the declaration): the C library's `int clock_gettime(clockid_t, struct
+    // timespec *)`, `clockid_t` being `int` on Linux.
+    unsafe extern "C" {
+        fn clock_gettime(clock: i32, time: *mut Timespec) -> i32;
+    }
+    /// `CLOCK_THREAD_CPUTIME_ID` (`<time.h>`).
+    const THREAD_CPU_TIME: i32 = 3;
+    if cfg!(not(target_pointer_width = "64")) {
+        return None;
+    }
+    let mut time = Timespec {
+        seconds: 0,
+        nanoseconds: 0,
+    };
+    #[allow(unsafe_code)]
+    // SAFETY: `clock_gettime` writes one `struct timespec` (two 64-bit fields on 64-bit Linux,
+    // the layout of `Timespec`) through a pointer to a live, writable value, and reads nothing
+    // else.
+    let status = unsafe { clock_gettime(THREAD_CPU_TIME, &raw mut time) };
+    (status == 0).then(|| {
+        Duration::from_secs(time.seconds.unsigned_abs())
+            + Duration::from_nanos(time.nanoseconds.unsigned_abs())
+    })
+}
+
+/// The CPU time of the calling thread: not reported on this platform.
+#[cfg(not(target_os = "linux"))]
+fn thread_cpu_time() -> Option<Duration> {
+    None
+}
+
+/// `iters` runs of `f` on the one thread of `pool`, timed by that thread's CPU time (wall-clock
+/// time where the platform has no per-thread clock): machines shared with other builds slow the
+/// wall clock, not the CPU time a render takes.
+fn cpu_time<T>(pool: &rayon::ThreadPool, iters: u64, mut f: impl FnMut() -> T + Send) -> Duration {
+    pool.install(|| {
+        let (cpu, wall) = (thread_cpu_time(), Instant::now());
+        for _ in 0..iters {
+            black_box(f());
+        }
+        match (cpu, thread_cpu_time()) {
+            (Some(start), Some(end)) => end.saturating_sub(start),
+            _ => wall.elapsed(),
+        }
+    })
+}
+
 /// FastNoiseSIMD's grid (see the module doc): `grid/{case}_{3d,2d}[_reference]`, 1 thread.
 fn bench_grid(c: &mut Criterion) {
     let window = Window::new(GRID, GRID);
     let mut group = c.benchmark_group("grid");
     group.throughput(Throughput::Elements((GRID * GRID) as u64));
     group.sample_size(10);
-    group.warm_up_time(std::time::Duration::from_millis(500));
-    group.measurement_time(std::time::Duration::from_secs(2));
+    group.warm_up_time(Duration::from_millis(500));
+    group.measurement_time(Duration::from_secs(2));
     let single = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
         .build()
@@ -87,18 +153,38 @@ fn bench_grid(c: &mut Criterion) {
     let mut out = vec![0.0f32; GRID * GRID];
     for dimensions in [3, 2] {
         for (case, basis, octaves, reference) in &cases {
-            let model = Model::Classic(classic(basis.clone(), *octaves, dimensions));
+            let noise = classic(basis.clone(), *octaves, dimensions);
+            let model = Model::Classic(noise.clone());
             let eval = Evaluator::new_at_z(&model, GRID_Z).expect("valid model");
             let id = format!("{case}_{dimensions}d");
             group.bench_function(id.as_str(), |b| {
-                b.iter(|| {
-                    single.install(|| eval.render_into(black_box(&window), &mut out, &|_| {}))
+                b.iter_custom(|iters| {
+                    cpu_time(&single, iters, || {
+                        eval.render_into(black_box(&window), &mut out, &|_| {})
+                    })
                 })
             });
             if *reference {
                 group.bench_function(format!("{id}_reference"), |b| {
-                    b.iter(|| single.install(|| eval.render_reference(black_box(&window))))
+                    b.iter_custom(|iters| {
+                        cpu_time(&single, iters, || eval.render_reference(black_box(&window)))
+                    })
                 });
+            }
+            // What the guarantees cost: the same noise by the kind's own evaluator, exact and
+            // with the bench-only f32 split and FMA (`ClassicEvaluator::set_relaxed`).
+            let exact = ClassicEvaluator::new(&noise, GRID_Z);
+            let mut relaxed = exact.clone();
+            if relaxed.set_relaxed(true) {
+                for (suffix, eval) in [("exact", &exact), ("relaxed", &relaxed)] {
+                    group.bench_function(format!("{id}_{suffix}"), |b| {
+                        b.iter_custom(|iters| {
+                            cpu_time(&single, iters, || {
+                                eval.eval_rows(black_box(&window), 0, &mut out);
+                            })
+                        })
+                    });
+                }
             }
         }
     }

@@ -8,8 +8,9 @@
 //! multiplied by their gains, strata faded whole skipped) against point-sampled
 //! (`Filter::Off`), 1 thread: the filtering's cost as a ratio within one run.
 //!
-//! Every kind (`kinds`): one model of each, 256², 1 thread and all threads, and the phasor and
-//! warp reference paths beside them; `cargo xtask bench` turns it into a table and a chart. With
+//! Every kind (`kinds`): one model of each, built here or read from `testdata/models/` (and
+//! classic Kensler noise in 2D and as a 3D fBm), 256², 1 thread and all threads, and the phasor,
+//! warp and classic reference paths beside them; `cargo xtask bench` turns it into a table and a chart. With
 //! `SPECTEX_BENCH_DIR` set, the group writes each kind's evaluations per pixel and pixels per
 //! render to `kinds.tsv` there.
 //!
@@ -222,6 +223,51 @@ fn kinds() -> Vec<(&'static str, Model, bool)> {
             testdata(include_str!(
                 "../../../testdata/models/texton-ellipsoids.json"
             )),
+            false,
+        ),
+        (
+            "kensler",
+            testdata(include_str!(
+                "../../../testdata/models/classic-kensler-2d.json"
+            )),
+            false,
+        ),
+        (
+            "kensler_3d_fbm",
+            testdata(include_str!(
+                "../../../testdata/models/classic-kensler-3d-fbm.json"
+            )),
+            false,
+        ),
+        (
+            "voronoi",
+            testdata(include_str!("../../../testdata/models/voronoi-f1.json")),
+            false,
+        ),
+        (
+            "islamic",
+            testdata(include_str!(
+                "../../../testdata/models/islamic-488-band.json"
+            )),
+            false,
+        ),
+        (
+            "matrix",
+            testdata(include_str!(
+                "../../../testdata/models/matrix-cat-rings.json"
+            )),
+            false,
+        ),
+        (
+            "subdivision",
+            testdata(include_str!(
+                "../../../testdata/models/subdivision-midpoint.json"
+            )),
+            false,
+        ),
+        (
+            "combine",
+            testdata(include_str!("../../../testdata/models/combine-bark.json")),
             false,
         ),
     ]

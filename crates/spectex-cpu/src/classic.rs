@@ -24,6 +24,11 @@
 //! hash in the lanes. Lane code is written as one simple loop per step over arrays of `L`
 //! lanes, so that the compiler vectorises each step at the full width.
 //!
+//! A row's tables live in buffers this thread reuses from row to row (a table of one-pixel
+//! cells is as long as the row). A bench-only relaxed evaluator
+//! ([`ClassicEvaluator::set_relaxed`], which no model selects) splits positions in f32 and
+//! fuses multiply-adds, to measure what those two guarantees cost.
+//!
 //! A minified render (a window with a [`footprint`](Window::footprint)) fades each octave as
 //! [`spectex_model::filter::classic_fade`] says (turbulence and ridged toward their expected
 //! values, fBm of Worley distances toward their mean) and skips the basis of the octaves faded
@@ -387,6 +392,55 @@ enum RowTable {
     Simplex(SimplexColumns),
 }
 
+thread_local! {
+    /// Buffers of the tables of the rows this thread evaluated before: a table of cells of
+    /// one pixel is as long as its row, and allocating it afresh for each row (zeroed pages
+    /// from the system) cost about a sixth of a 3D fBm's time.
+    static BUFFERS: std::cell::RefCell<Vec<Vec<u32>>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// Buffers [`BUFFERS`] keeps at most (a row's tables: up to 3 per octave).
+const KEPT_BUFFERS: usize = 64;
+
+/// `size` zeros in a buffer of an earlier row where this thread has one.
+fn buffer(size: usize) -> Vec<u32> {
+    let mut v = BUFFERS.with(|b| b.borrow_mut().pop()).unwrap_or_default();
+    v.clear();
+    v.resize(size, 0);
+    v
+}
+
+/// Gives `v` back for a later row's [`buffer`].
+fn recycle(v: Vec<u32>) {
+    if v.capacity() > 0 {
+        BUFFERS.with(|b| {
+            let mut b = b.borrow_mut();
+            if b.len() < KEPT_BUFFERS {
+                b.push(v);
+            }
+        });
+    }
+}
+
+impl RowTable {
+    /// Gives the table's buffers back ([`recycle`]).
+    fn recycle(self) {
+        match self {
+            Self::Lattice(c) => {
+                recycle(c.mask);
+                recycle(c.sign);
+                recycle(c.constant);
+            }
+            Self::Worley(w) => {
+                for v in w.offsets {
+                    recycle(v);
+                }
+            }
+            Self::Simplex(t) => recycle(t.keys),
+        }
+    }
+}
+
 /// `(mask, sign, constant bits)` of [`Columns`] for corner hash `h` and the row constants
 /// `y`, `z`: `f32::from_bits((x.to_bits() & mask) ^ sign) + f32::from_bits(constant)` is
 /// `gradient_dot(h, x, y, z)` for every `x`.
@@ -555,6 +609,8 @@ pub struct ClassicEvaluator {
     amplitude: f32,
     mean: f32,
     simd: Simd,
+    /// Bench only ([`set_relaxed`](Self::set_relaxed)): the f32 cell split and FMA.
+    relaxed: bool,
     /// The basis's statistics for a minified render's fade, measured on first use (a Worley
     /// basis's take milliseconds).
     statistics: std::sync::OnceLock<BasisStatistics>,
@@ -641,6 +697,7 @@ impl ClassicEvaluator {
             mean: model.mean,
             statistics: std::sync::OnceLock::new(),
             simd: Simd::detect(),
+            relaxed: false,
         }
     }
 
@@ -682,6 +739,24 @@ impl ClassicEvaluator {
         }
         self.simd = Simd::Avx2;
         true
+    }
+
+    /// Bench only, never reachable from a model (no model field or constructor sets it): gives
+    /// up two of the guarantees to measure what they cost. Positions are split into cells in
+    /// f32 (`x as f32 / side`, exact only while `x / side` keeps its fraction in 24 bits: far
+    /// from the origin the offsets lose precision) instead of f64, and the interpolations,
+    /// fades and distances use fused multiply-adds (other bits than the portable path). Lattice
+    /// and simplex octaves with per-row tables and Worley octaves with a fixed count change; the
+    /// rest keep the exact path. Needs AVX2 and FMA: returns whether the CPU has them (nothing
+    /// changes where it does not).
+    #[doc(hidden)]
+    pub fn set_relaxed(&mut self, relaxed: bool) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        let available = Simd::detect() != Simd::Portable && is_x86_feature_detected!("fma");
+        #[cfg(not(target_arch = "x86_64"))]
+        let available = false;
+        self.relaxed = relaxed && available;
+        available
     }
 
     /// Evaluates rows `first..` of `window` into `out` (a whole number of rows).
@@ -739,6 +814,15 @@ impl ClassicEvaluator {
         let y = window.y(row);
         let rows: Vec<RowOctave> = self.octaves.iter().map(|o| self.row_octave(o, y)).collect();
         #[cfg(target_arch = "x86_64")]
+        if self.relaxed {
+            #[allow(unsafe_code)]
+            // SAFETY: `relaxed` is set only when the CPU reports AVX2 and FMA at run time.
+            unsafe {
+                self.row_relaxed(window, &rows, out, w, columns);
+            }
+            return;
+        }
+        #[cfg(target_arch = "x86_64")]
         match self.simd {
             #[allow(unsafe_code)]
             // SAFETY: `Simd::Avx512` is chosen only when the CPU reports AVX-512F at run time.
@@ -746,10 +830,10 @@ impl ClassicEvaluator {
             #[allow(unsafe_code)]
             // SAFETY: `Simd::Avx2` is chosen only when the CPU reports AVX2 at run time.
             Simd::Avx2 => unsafe { self.row_avx2(window, &rows, out, w, columns) },
-            Simd::Portable => self.row::<LANES, Indexed>(window, &rows, out, w, columns),
+            Simd::Portable => self.row::<LANES, Indexed, false>(window, &rows, out, w, columns),
         }
         #[cfg(not(target_arch = "x86_64"))]
-        self.row::<LANES, Indexed>(window, &rows, out, w, columns);
+        self.row::<LANES, Indexed, false>(window, &rows, out, w, columns);
     }
 
     /// The noise at one position (the same bits as any render).
@@ -784,7 +868,21 @@ impl ClassicEvaluator {
         w: Option<&OctaveFade>,
         columns: bool,
     ) {
-        self.row::<LANES, Permute8>(window, rows, out, w, columns);
+        self.row::<LANES, Permute8, false>(window, rows, out, w, columns);
+    }
+
+    /// [`row_avx2`](Self::row_avx2) with the f32 split and FMA ([`set_relaxed`](Self::set_relaxed)).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    fn row_relaxed(
+        &self,
+        window: &Window,
+        rows: &[RowOctave],
+        out: &mut [f32],
+        w: Option<&OctaveFade>,
+        columns: bool,
+    ) {
+        self.row::<LANES, Permute8, true>(window, rows, out, w, columns);
     }
 
     #[cfg(target_arch = "x86_64")]
@@ -797,14 +895,15 @@ impl ClassicEvaluator {
         w: Option<&OctaveFade>,
         columns: bool,
     ) {
-        self.row::<WIDE_LANES, Permute16>(window, rows, out, w, columns);
+        self.row::<WIDE_LANES, Permute16, false>(window, rows, out, w, columns);
     }
 
     /// One row, `L` pixels at a time; `inline(always)` so each SIMD wrapper gets its own copy.
     /// `fade`: how a minified render takes each octave (`classic_fade`), else `None`.
     /// `columns`: read lattice hashes from per-row [`Columns`] tables where the basis allows.
+    /// `RELAXED`: the bench-only f32 split and FMA ([`set_relaxed`](Self::set_relaxed)).
     #[inline(always)]
-    fn row<const L: usize, F: Fetch<L>>(
+    fn row<const L: usize, F: Fetch<L>, const RELAXED: bool>(
         &self,
         window: &Window,
         rows: &[RowOctave],
@@ -830,10 +929,19 @@ impl ClassicEvaluator {
             // `window.x(i)` lane by lane: the integer `x0 + i` is exact in f64 either way.
             let base = (window.x0 + start as i64) as f64;
             let mut x = [0.0f64; L];
-            for l in 0..L {
-                x[l] = window.offset[0] + (base + lane_index[l]) * window.scale;
+            let mut xf = [0.0f32; L];
+            if RELAXED {
+                // In f32 from the start, as an f32 library computes positions.
+                let (offset, scale) = (window.offset[0] as f32, window.scale as f32);
+                for l in 0..L {
+                    xf[l] = offset + (base as f32 + l as f32) * scale;
+                }
+            } else {
+                for l in 0..L {
+                    x[l] = window.offset[0] + (base + lane_index[l]) * window.scale;
+                }
             }
-            let acc = self.octave_sum::<L, _, F>(&x, rows, fade, &tables);
+            let acc = self.octave_sum::<L, _, F, RELAXED>(&x, &xf, rows, fade, &tables);
             let end = (start + L).min(width);
             if let Some(full) = out[start..end].first_chunk_mut::<L>() {
                 for l in 0..L {
@@ -845,6 +953,9 @@ impl ClassicEvaluator {
                 }
             }
             start += L;
+        }
+        for t in tables.into_iter().flatten() {
+            t.recycle();
         }
     }
 
@@ -893,11 +1004,11 @@ impl ClassicEvaluator {
         let mut t = Columns {
             lo,
             len,
-            mask: vec![0; if gradient { size } else { 0 }],
-            sign: vec![0; if gradient { size } else { 0 }],
-            constant: vec![0; size],
+            mask: buffer(if gradient { size } else { 0 }),
+            sign: buffer(if gradient { size } else { 0 }),
+            constant: buffer(size),
         };
-        let mut hashes = vec![0u32; count];
+        let mut hashes = buffer(count);
         for (p, &key) in keys.iter().enumerate() {
             column_hashes(lo, o.cells[0], key, &mut hashes);
             let at = p * len;
@@ -920,6 +1031,7 @@ impl ClassicEvaluator {
                 }
             }
         }
+        recycle(hashes);
         Some(RowTable::Lattice(t))
     }
 
@@ -976,7 +1088,7 @@ impl ClassicEvaluator {
         }
         let count = count as usize;
         let len = count + WINDOW;
-        let mut keys = vec![0u32; len];
+        let mut keys = buffer(len);
         for (c, key) in keys[..count].iter_mut().enumerate() {
             let cell = lo.wrapping_add(c as i32);
             *key = if self.three_d {
@@ -1019,11 +1131,11 @@ impl ClassicEvaluator {
             }
         }
         let size = points * keys.len() * len;
-        let mut offsets = [vec![0u32; size], vec![0u32; size], Vec::new()];
+        let mut offsets = [buffer(size), buffer(size), Vec::new()];
         if self.three_d {
-            offsets[2] = vec![0u32; size];
+            offsets[2] = buffer(size);
         }
-        let mut state = vec![0u32; count];
+        let mut state = buffer(count);
         for (p, &key) in keys.iter().enumerate() {
             for (c, s) in state.iter_mut().enumerate() {
                 *s = cell_hash_in_row(lattice(lo.wrapping_add(c as i32), o.cells[0]), key);
@@ -1043,6 +1155,7 @@ impl ClassicEvaluator {
                 }
             }
         }
+        recycle(state);
         Some(WorleyColumns {
             lo,
             len,
@@ -1061,30 +1174,23 @@ impl ClassicEvaluator {
         R: RowLanes,
         const GRADIENT: bool,
         const THREE_D: bool,
+        const RELAXED: bool,
     >(
         &self,
         o: &Octave,
         r: &R,
         x: &[f64; L],
+        xf: &[f32; L],
         t: &Columns,
         n: &mut [f32; L],
     ) -> bool {
         let mut ix = [0i32; L];
         let mut ux = [0.0f32; L];
-        let mut p = [0.0f64; L];
-        match o.inv_side {
-            Some(inv) => {
-                for l in 0..L {
-                    p[l] = x[l] * inv;
-                }
-            }
-            None => {
-                for l in 0..L {
-                    p[l] = x[l] / o.side;
-                }
-            }
+        if RELAXED {
+            locate_lanes_f32(o, xf, &mut ix, &mut ux);
+        } else {
+            locate_lanes(&cell_units(o, x), &mut ix, &mut ux);
         }
-        locate_lanes(&p, &mut ix, &mut ux);
         let span = i64::from(ix[L - 1]) - i64::from(ix[0]);
         let base = i64::from(ix[0]) - i64::from(t.lo);
         if !(0..L as i64).contains(&span) || base < 0 || base as usize + WINDOW > t.len {
@@ -1096,7 +1202,8 @@ impl ClassicEvaluator {
         for l in 0..L {
             idx[l] = ix[l].wrapping_sub(ix[0]) as u32;
         }
-        let lerp = |a: f32, b: f32, t: f32| a + t * (b - a);
+        let lerp = lerp::<RELAXED>;
+        let fade = fade_with::<RELAXED>;
         if THREE_D {
             let mut c = [[[[0.0f32; L]; 2]; 2]; 2];
             for (dz, cz) in c.iter_mut().enumerate() {
@@ -1128,9 +1235,9 @@ impl ClassicEvaluator {
             for l in 0..L {
                 let sy = fade(r.uy(l));
                 let sx = fade(ux[l]);
-                let a = c[0][0][l] + sx * (c[0][1][l] - c[0][0][l]);
-                let b = c[1][0][l] + sx * (c[1][1][l] - c[1][0][l]);
-                n[l] = a + sy * (b - a);
+                let a = lerp(c[0][0][l], c[0][1][l], sx);
+                let b = lerp(c[1][0][l], c[1][1][l], sx);
+                n[l] = lerp(a, b, sy);
             }
         }
         true
@@ -1162,7 +1269,7 @@ impl ClassicEvaluator {
             for (r, o) in rows.iter_mut().zip(&self.octaves) {
                 self.point_rows(o, &y, r);
             }
-            let acc = self.octave_sum::<L, _, Indexed>(&x, &rows, None, &[]);
+            let acc = self.octave_sum::<L, _, Indexed, false>(&x, &[0.0; L], &rows, None, &[]);
             for (l, v) in values.iter_mut().enumerate() {
                 *v = self.mean + self.amplitude * acc[l];
             }
@@ -1230,9 +1337,10 @@ impl ClassicEvaluator {
     /// octave) along y; `fade`: how a minified render takes each octave, else `None`;
     /// `tables`: each octave's [`Columns`] of the row, where it has one (else empty).
     #[inline(always)]
-    fn octave_sum<const L: usize, R: RowLanes, F: Fetch<L>>(
+    fn octave_sum<const L: usize, R: RowLanes, F: Fetch<L>, const RELAXED: bool>(
         &self,
         x: &[f64; L],
+        xf: &[f32; L],
         rows: &[R],
         fade: Option<&OctaveFade>,
         tables: &[Option<RowTable>],
@@ -1268,27 +1376,30 @@ impl ClassicEvaluator {
             }
             let mut n = [0.0f32; L];
             let from_table = match tables.get(o).and_then(Option::as_ref) {
-                Some(RowTable::Worley(t)) => self.worley_table::<L, F, R>(oct, ro, x, t, &mut n),
+                Some(RowTable::Worley(t)) => {
+                    self.worley_table::<L, F, R, RELAXED>(oct, ro, x, xf, t, &mut n)
+                }
                 Some(RowTable::Simplex(t)) => {
-                    if self.three_d {
+                    if RELAXED {
+                        simplex_relaxed::<L, F, R>(oct, ro, xf, t, self.three_d, &mut n)
+                    } else if self.three_d {
                         simplex3_table::<L, F, R>(oct, ro, x, t, &mut n)
                     } else {
                         simplex2_table::<L, F, R>(oct, ro, x, t, &mut n)
                     }
                 }
                 Some(RowTable::Lattice(t)) => match (self.basis == Basis::Gradient, self.three_d) {
-                    (true, true) => {
-                        self.lattice_columns::<L, F, R, true, true>(oct, ro, x, t, &mut n)
-                    }
-                    (true, false) => {
-                        self.lattice_columns::<L, F, R, true, false>(oct, ro, x, t, &mut n)
-                    }
-                    (false, true) => {
-                        self.lattice_columns::<L, F, R, false, true>(oct, ro, x, t, &mut n)
-                    }
-                    (false, false) => {
-                        self.lattice_columns::<L, F, R, false, false>(oct, ro, x, t, &mut n)
-                    }
+                    (true, true) => self
+                        .lattice_columns::<L, F, R, true, true, RELAXED>(oct, ro, x, xf, t, &mut n),
+                    (true, false) => self.lattice_columns::<L, F, R, true, false, RELAXED>(
+                        oct, ro, x, xf, t, &mut n,
+                    ),
+                    (false, true) => self.lattice_columns::<L, F, R, false, true, RELAXED>(
+                        oct, ro, x, xf, t, &mut n,
+                    ),
+                    (false, false) => self.lattice_columns::<L, F, R, false, false, RELAXED>(
+                        oct, ro, x, xf, t, &mut n,
+                    ),
                 },
                 None => false,
             };
@@ -1475,11 +1586,12 @@ impl ClassicEvaluator {
     /// [`worley_table_lanes`](Self::worley_table_lanes); `false` (nothing written) when the
     /// lanes span too many columns for one fetch.
     #[inline(always)]
-    fn worley_table<const L: usize, F: Fetch<L>, R: RowLanes>(
+    fn worley_table<const L: usize, F: Fetch<L>, R: RowLanes, const RELAXED: bool>(
         &self,
         o: &Octave,
         r: &R,
         x: &[f64; L],
+        xf: &[f32; L],
         t: &WorleyColumns,
         n: &mut [f32; L],
     ) -> bool {
@@ -1488,22 +1600,22 @@ impl ClassicEvaluator {
         };
         match (w.metric, self.three_d) {
             (Metric::Euclidean, false) => {
-                self.worley_table_lanes::<L, F, R, false, 0>(w, o, r, x, t, n)
+                self.worley_table_lanes::<L, F, R, false, 0, RELAXED>(w, o, r, x, xf, t, n)
             }
             (Metric::Manhattan, false) => {
-                self.worley_table_lanes::<L, F, R, false, 1>(w, o, r, x, t, n)
+                self.worley_table_lanes::<L, F, R, false, 1, RELAXED>(w, o, r, x, xf, t, n)
             }
             (Metric::Chebyshev, false) => {
-                self.worley_table_lanes::<L, F, R, false, 2>(w, o, r, x, t, n)
+                self.worley_table_lanes::<L, F, R, false, 2, RELAXED>(w, o, r, x, xf, t, n)
             }
             (Metric::Euclidean, true) => {
-                self.worley_table_lanes::<L, F, R, true, 0>(w, o, r, x, t, n)
+                self.worley_table_lanes::<L, F, R, true, 0, RELAXED>(w, o, r, x, xf, t, n)
             }
             (Metric::Manhattan, true) => {
-                self.worley_table_lanes::<L, F, R, true, 1>(w, o, r, x, t, n)
+                self.worley_table_lanes::<L, F, R, true, 1, RELAXED>(w, o, r, x, xf, t, n)
             }
             (Metric::Chebyshev, true) => {
-                self.worley_table_lanes::<L, F, R, true, 2>(w, o, r, x, t, n)
+                self.worley_table_lanes::<L, F, R, true, 2, RELAXED>(w, o, r, x, xf, t, n)
             }
         }
     }
@@ -1522,12 +1634,14 @@ impl ClassicEvaluator {
         R: RowLanes,
         const THREE_D: bool,
         const METRIC: u8,
+        const RELAXED: bool,
     >(
         &self,
         w: &WorleyParams,
         o: &Octave,
         r: &R,
         x: &[f64; L],
+        xf: &[f32; L],
         t: &WorleyColumns,
         n: &mut [f32; L],
     ) -> bool {
@@ -1538,20 +1652,11 @@ impl ClassicEvaluator {
         };
         let mut ix = [0i32; L];
         let mut ux = [0.0f32; L];
-        let mut p = [0.0f64; L];
-        match o.inv_side {
-            Some(inv) => {
-                for l in 0..L {
-                    p[l] = x[l] * inv;
-                }
-            }
-            None => {
-                for l in 0..L {
-                    p[l] = x[l] / o.side;
-                }
-            }
+        if RELAXED {
+            locate_lanes_f32(o, xf, &mut ix, &mut ux);
+        } else {
+            locate_lanes(&cell_units(o, x), &mut ix, &mut ux);
         }
-        locate_lanes(&p, &mut ix, &mut ux);
         let span = i64::from(ix[L - 1]) - i64::from(ix[0]);
         // Column `ix − 1` of lane 0 is entry `base`.
         let base = i64::from(ix[0]) - 1 - i64::from(t.lo);
@@ -1595,10 +1700,16 @@ impl ClassicEvaluator {
                         for l in 0..L {
                             let ddx = ux[l] - (rx + f32::from_bits(ox[l]));
                             let ddy = ry[l] - f32::from_bits(oy[l]);
-                            let d = if THREE_D {
-                                distance3(metric, ddx, ddy, rz - f32::from_bits(oz[l]))
-                            } else {
-                                distance2(metric, ddx, ddy)
+                            let d = match (THREE_D, RELAXED && metric == Metric::Euclidean) {
+                                (true, false) => {
+                                    distance3(metric, ddx, ddy, rz - f32::from_bits(oz[l]))
+                                }
+                                (false, false) => distance2(metric, ddx, ddy),
+                                (true, true) => {
+                                    let ddz = rz - f32::from_bits(oz[l]);
+                                    fused(ddx, ddx, fused(ddy, ddy, ddz * ddz))
+                                }
+                                (false, true) => fused(ddx, ddx, ddy * ddy),
                             };
                             insert(&mut f, l, d);
                         }
@@ -1924,10 +2035,185 @@ fn kensler<const L: usize, R: RowLanes>(
     }
 }
 
+/// `a·b + c`, fused (one rounding) when `FMA`: only the bench-only relaxed path
+/// ([`ClassicEvaluator::set_relaxed`]) passes `true`.
+#[inline(always)]
+#[allow(
+    clippy::disallowed_methods,
+    reason = "the bench-only relaxed path measures what giving up the no-FMA guarantee saves"
+)]
+fn fused_if<const FMA: bool>(a: f32, b: f32, c: f32) -> f32 {
+    if FMA { a.mul_add(b, c) } else { a * b + c }
+}
+
+/// `a·b + c` with one rounding (the relaxed path only).
+#[inline(always)]
+fn fused(a: f32, b: f32, c: f32) -> f32 {
+    fused_if::<true>(a, b, c)
+}
+
+/// `a + t·(b − a)`, the product and sum fused when `FMA`.
+#[inline(always)]
+fn lerp<const FMA: bool>(a: f32, b: f32, t: f32) -> f32 {
+    if FMA {
+        fused(t, b - a, a)
+    } else {
+        a + t * (b - a)
+    }
+}
+
+/// [`fade`], its polynomial's steps fused when `FMA`.
+#[inline(always)]
+fn fade_with<const FMA: bool>(t: f32) -> f32 {
+    if FMA {
+        t * t * t * fused(t, fused(t, 6.0, -15.0), 10.0)
+    } else {
+        fade(t)
+    }
+}
+
+/// `1.5·2²³`: `(p + M) − M` rounds an f32 of magnitude below 2²² to the nearest integer (the
+/// relaxed path's split).
+const ROUND_MAGIC_F32: f32 = 12_582_912.0;
+
+/// The relaxed path's [`locate_lanes`]: `x / side` and its split in f32 (`x` already f32).
+#[inline(always)]
+fn locate_lanes_f32<const L: usize>(
+    o: &Octave,
+    x: &[f32; L],
+    ix: &mut [i32; L],
+    ux: &mut [f32; L],
+) {
+    let mut p = [0.0f32; L];
+    match o.inv_side {
+        Some(inv) => {
+            let inv = inv as f32;
+            for l in 0..L {
+                p[l] = x[l] * inv;
+            }
+        }
+        None => {
+            let side = o.side as f32;
+            for l in 0..L {
+                p[l] = x[l] / side;
+            }
+        }
+    }
+    let mut f = [0.0f32; L];
+    split_lanes_f32(&p, ix, &mut f);
+    for l in 0..L {
+        ux[l] = p[l] - f[l];
+    }
+}
+
+/// [`split_lanes`] in f32 (magnitudes below 2²²): the cells and their floors.
+#[inline(always)]
+fn split_lanes_f32<const L: usize>(p: &[f32; L], i: &mut [i32; L], f: &mut [f32; L]) {
+    for l in 0..L {
+        let r = (p[l] + ROUND_MAGIC_F32) - ROUND_MAGIC_F32;
+        f[l] = if r > p[l] { r - 1.0 } else { r };
+    }
+    let magic = ROUND_MAGIC_F32.to_bits() as i32;
+    for l in 0..L {
+        i[l] = ((f[l] + ROUND_MAGIC_F32).to_bits() as i32).wrapping_sub(magic);
+    }
+}
+
+/// The relaxed path's simplex noise with a [`SimplexColumns`] table: the skew in f32, the
+/// corner terms with FMA; `false` when one fetch cannot reach the keys.
+#[inline(always)]
+fn simplex_relaxed<const L: usize, F: Fetch<L>, R: RowLanes>(
+    o: &Octave,
+    r: &R,
+    xf: &[f32; L],
+    t: &SimplexColumns,
+    three_d: bool,
+    n: &mut [f32; L],
+) -> bool {
+    let mut px = [0.0f32; L];
+    let inv = (1.0 / o.side) as f32;
+    for l in 0..L {
+        px[l] = xf[l] * inv;
+    }
+    let mut py = [0.0f32; L];
+    for l in 0..L {
+        py[l] = r.py(l) as f32;
+    }
+    if three_d {
+        let pz = o.pz as f32;
+        let (f3, g3) = (SIMPLEX_F3 as f32, SIMPLEX_G3 as f32);
+        let (mut a, mut b, mut c) = ([0.0f32; L], [0.0f32; L], [0.0f32; L]);
+        for l in 0..L {
+            let s = ((px[l] + py[l]) + pz) * f3;
+            a[l] = px[l] + s;
+            b[l] = py[l] + s;
+            c[l] = pz + s;
+        }
+        let mut at = Simplex3At {
+            i: [0; L],
+            j: [0; L],
+            k: [0; L],
+            x0: [0.0; L],
+            y0: [0.0; L],
+            z0: [0.0; L],
+        };
+        let (mut fi, mut fj, mut fk) = ([0.0f32; L], [0.0f32; L], [0.0f32; L]);
+        split_lanes_f32(&a, &mut at.i, &mut fi);
+        split_lanes_f32(&b, &mut at.j, &mut fj);
+        split_lanes_f32(&c, &mut at.k, &mut fk);
+        for l in 0..L {
+            let t = ((fi[l] + fj[l]) + fk[l]) * g3;
+            at.x0[l] = px[l] - (fi[l] - t);
+            at.y0[l] = py[l] - (fj[l] - t);
+            at.z0[l] = pz - (fk[l] - t);
+        }
+        let Some((base, idx)) = simplex_window(t, &at.k) else {
+            return false;
+        };
+        let keys = window(&t.keys, base);
+        let (l0, l1) = (F::fetch(&keys[..L], &idx), F::fetch(&keys[1..=L], &idx));
+        simplex3_sum::<L, true>(&at, &l0, &l1, n);
+    } else {
+        let (f2, g2) = (SIMPLEX_F2 as f32, SIMPLEX_G2 as f32);
+        let (mut a, mut b) = ([0.0f32; L], [0.0f32; L]);
+        for l in 0..L {
+            let s = (px[l] + py[l]) * f2;
+            a[l] = px[l] + s;
+            b[l] = py[l] + s;
+        }
+        let mut at = Simplex2At {
+            i: [0; L],
+            j: [0; L],
+            x0: [0.0; L],
+            y0: [0.0; L],
+        };
+        let (mut fi, mut fj) = ([0.0f32; L], [0.0f32; L]);
+        split_lanes_f32(&a, &mut at.i, &mut fi);
+        split_lanes_f32(&b, &mut at.j, &mut fj);
+        for l in 0..L {
+            let t = (fi[l] + fj[l]) * g2;
+            at.x0[l] = px[l] - (fi[l] - t);
+            at.y0[l] = py[l] - (fj[l] - t);
+        }
+        let Some((base, idx)) = simplex_window(t, &at.j) else {
+            return false;
+        };
+        let keys = window(&t.keys, base);
+        let (k0, k1) = (F::fetch(&keys[..L], &idx), F::fetch(&keys[1..=L], &idx));
+        simplex2_sum::<L, true>(&at, &k0, &k1, n);
+    }
+    true
+}
+
 /// One simplex corner's term `max(0, r² − |δ|²)⁴ · (g · δ)`.
 #[inline(always)]
-fn simplex_term(h: u32, r2: f32, dx: f32, dy: f32, dz: f32) -> f32 {
-    let t = max(r2 - (dx * dx + dy * dy + dz * dz), 0.0);
+fn simplex_term<const FMA: bool>(h: u32, r2: f32, dx: f32, dy: f32, dz: f32) -> f32 {
+    let d2 = if FMA {
+        fused(dx, dx, fused(dy, dy, dz * dz))
+    } else {
+        dx * dx + dy * dy + dz * dz
+    };
+    let t = max(r2 - d2, 0.0);
     let t2 = t * t;
     t2 * t2 * gradient_dot(h, dx, dy, dz)
 }
@@ -2000,7 +2286,7 @@ fn simplex2_at<const L: usize, R: RowLanes>(r: &R, px: &[f64; L]) -> Simplex2At<
 /// 2D simplex noise's sum at `at`, from the row keys `k0`, `k1` of each lane's skewed rows
 /// `j` and `j + 1`: one simple loop per step, so that it vectorises.
 #[inline(always)]
-fn simplex2_sum<const L: usize>(
+fn simplex2_sum<const L: usize, const FMA: bool>(
     at: &Simplex2At<L>,
     k0: &[u32; L],
     k1: &[u32; L],
@@ -2011,7 +2297,7 @@ fn simplex2_sum<const L: usize>(
     // Corner 0, then the middle corner (x first where `x0 > y0`), then corner (1, 1).
     for l in 0..L {
         let h = cell_hash_in_row(at.i[l], k0[l]);
-        sum[l] = simplex_term(h, SIMPLEX2_R2, at.x0[l], at.y0[l], 0.0);
+        sum[l] = simplex_term::<FMA>(h, SIMPLEX2_R2, at.x0[l], at.y0[l], 0.0);
     }
     for l in 0..L {
         let step_x = at.x0[l] > at.y0[l];
@@ -2019,13 +2305,13 @@ fn simplex2_sum<const L: usize>(
         let x1 = (at.x0[l] - i1 as f32) + g2;
         let y1 = (at.y0[l] - j1 as f32) + g2;
         let h = cell_hash_in_row(at.i[l].wrapping_add(i1), if step_x { k0[l] } else { k1[l] });
-        sum[l] += simplex_term(h, SIMPLEX2_R2, x1, y1, 0.0);
+        sum[l] += simplex_term::<FMA>(h, SIMPLEX2_R2, x1, y1, 0.0);
     }
     for l in 0..L {
         let x2 = (at.x0[l] - 1.0) + 2.0 * g2;
         let y2 = (at.y0[l] - 1.0) + 2.0 * g2;
         let h = cell_hash_in_row(at.i[l].wrapping_add(1), k1[l]);
-        n[l] = SIMPLEX2_SCALE * (sum[l] + simplex_term(h, SIMPLEX2_R2, x2, y2, 0.0));
+        n[l] = SIMPLEX2_SCALE * (sum[l] + simplex_term::<FMA>(h, SIMPLEX2_R2, x2, y2, 0.0));
     }
 }
 
@@ -2038,7 +2324,7 @@ fn simplex2<const L: usize, R: RowLanes>(o: &Octave, r: &R, x: &[f64; L], n: &mu
         k0[l] = row_key(at.j[l], o.key2);
         k1[l] = row_key(at.j[l].wrapping_add(1), o.key2);
     }
-    simplex2_sum(&at, &k0, &k1, n);
+    simplex2_sum::<L, false>(&at, &k0, &k1, n);
 }
 
 /// `x / side` in the lanes (by the exact reciprocal where the octave has one).
@@ -2095,7 +2381,7 @@ fn simplex2_table<const L: usize, F: Fetch<L>, R: RowLanes>(
     };
     let keys = window(&t.keys, base);
     let (k0, k1) = (F::fetch(&keys[..L], &idx), F::fetch(&keys[1..=L], &idx));
-    simplex2_sum(&at, &k0, &k1, n);
+    simplex2_sum::<L, false>(&at, &k0, &k1, n);
     true
 }
 
@@ -2150,7 +2436,7 @@ fn simplex3_at<const L: usize, R: RowLanes>(o: &Octave, r: &R, px: &[f64; L]) ->
 /// 3D simplex noise's sum at `at`, from the layer keys `l0`, `l1` of each lane's skewed planes
 /// `k` and `k + 1`: one simple loop per corner, so that it vectorises.
 #[inline(always)]
-fn simplex3_sum<const L: usize>(
+fn simplex3_sum<const L: usize, const FMA: bool>(
     at: &Simplex3At<L>,
     l0: &[u32; L],
     l1: &[u32; L],
@@ -2159,26 +2445,36 @@ fn simplex3_sum<const L: usize>(
     let g3 = SIMPLEX_G3 as f32;
     // Gustavson's ranking of x0, y0, z0, written as selects: the steps `(i1, j1, k1)` and
     // `(i2, j2, k2)` of the middle corners.
+    // The comparisons as 0/1 integers and the logic as bitwise operations (`1 ^ a` is `!a`):
+    // short-circuit `&&` and `||` would compile to a branch per lane.
+    let (mut a, mut b, mut c) = ([0i32; L], [0i32; L], [0i32; L]);
+    for l in 0..L {
+        a[l] = i32::from(at.x0[l] >= at.y0[l]);
+        b[l] = i32::from(at.y0[l] >= at.z0[l]);
+        c[l] = i32::from(at.x0[l] >= at.z0[l]);
+    }
     let mut step = [[[0i32; L]; 3]; 2];
     for l in 0..L {
-        let (x0, y0, z0) = (at.x0[l], at.y0[l], at.z0[l]);
-        let (a, b, c) = (x0 >= y0, y0 >= z0, x0 >= z0);
-        step[0][0][l] = i32::from(a && (b || c));
-        step[0][1][l] = i32::from(!a && b);
-        step[0][2][l] = i32::from(!b && (!a || !c));
-        step[1][0][l] = i32::from(a || (b && c));
-        step[1][1][l] = i32::from(b || !a);
-        step[1][2][l] = i32::from(!b || (!a && !c));
+        let (a, b, c) = (a[l], b[l], c[l]);
+        let (na, nb, nc) = (1 ^ a, 1 ^ b, 1 ^ c);
+        step[0][0][l] = a & (b | c);
+        step[0][1][l] = na & b;
+        step[0][2][l] = nb & (na | nc);
+        step[1][0][l] = a | (b & c);
+        step[1][1][l] = b | na;
+        step[1][2][l] = nb | (na & nc);
     }
     // `hash3` of corner `(i + di, j + dj, k + dk)` and its term, with the offsets
     // `(x0 − di) + off`.
     let term = |l: usize, di: i32, dj: i32, dk: i32, off: f32| {
-        let layer = if dk == 0 { l0[l] } else { l1[l] };
+        // `l0` where `dk` is 0, `l1` where it is 1, by a mask: a select of two loads would
+        // compile to a scalar load per lane.
+        let layer = l0[l] ^ ((l0[l] ^ l1[l]) & 0u32.wrapping_sub(dk as u32));
         let h = cell_hash_in_row(
             at.i[l].wrapping_add(di),
             row_key(at.j[l].wrapping_add(dj), layer),
         );
-        simplex_term(
+        simplex_term::<FMA>(
             h,
             SIMPLEX3_R2,
             (at.x0[l] - di as f32) + off,
@@ -2218,7 +2514,7 @@ fn simplex3_table<const L: usize, F: Fetch<L>, R: RowLanes>(
     };
     let keys = window(&t.keys, base);
     let (l0, l1) = (F::fetch(&keys[..L], &idx), F::fetch(&keys[1..=L], &idx));
-    simplex3_sum(&at, &l0, &l1, n);
+    simplex3_sum::<L, false>(&at, &l0, &l1, n);
     true
 }
 
@@ -2232,7 +2528,7 @@ fn simplex3<const L: usize, R: RowLanes>(o: &Octave, r: &R, x: &[f64; L], n: &mu
         l0[l] = layer_key(o.layer, cell_hash_in_row(at.k[l], o.key0));
         l1[l] = layer_key(o.layer, cell_hash_in_row(at.k[l].wrapping_add(1), o.key0));
     }
-    simplex3_sum(&at, &l0, &l1, n);
+    simplex3_sum::<L, false>(&at, &l0, &l1, n);
 }
 
 impl crate::CpuKind for ClassicNoise {

@@ -625,3 +625,44 @@ fn simplex3_matches_gustavson_at_the_origin_and_far_away() {
         assert!(worst < 1e-5, "offset {offset}, z {z}: error {worst}");
     }
 }
+
+/// The bench-only relaxed evaluator (`set_relaxed`: f32 cell split, FMA) computes the same
+/// noises, near the origin where an f32 position keeps its fraction: against the f64
+/// references, within the exact path's bounds plus the f32 position's rounding (at most
+/// 2⁻²⁴·|p| ≤ 2⁻²⁴·4 cells here, times a slope of at most 4 per cell: under 1e-6).
+#[test]
+fn relaxed_bench_variant_computes_the_same_noises_near_the_origin() {
+    let window = Window::new(40, 30).at([-3.3, 1.9], 0.77);
+    let z = 21.7;
+    let cases: [(Basis, u32, f64); 6] = [
+        (Basis::Gradient, 2, 2e-6 + 1e-6),
+        (Basis::Gradient, 3, 2e-6 + 1e-6),
+        (Basis::Value, 2, 2e-6 + 1e-6),
+        (Basis::Value, 3, 2e-6 + 1e-6),
+        (Basis::Simplex, 2, 1e-5 + 1e-6),
+        (Basis::Simplex, 3, 1e-5 + 1e-6),
+    ];
+    for (basis, dims, bound) in cases {
+        let m = noise(basis.clone(), dims, None);
+        let mut e = ClassicEvaluator::new(&m, z);
+        if !e.set_relaxed(true) {
+            println!("no AVX2 and FMA: the relaxed variant is not available, nothing to check");
+            return;
+        }
+        let mut got = vec![0.0f32; window.width * window.height];
+        e.eval_rows(&window, 0, &mut got);
+        let mut worst = 0.0f64;
+        for j in 0..window.height {
+            for i in 0..window.width {
+                let p = [window.x(i) / 16.0, window.y(j) / 16.0, z / 16.0];
+                let r = match (&basis, dims) {
+                    (Basis::Simplex, 2) => simplex2_reference(p[0], p[1], 0, m.seed),
+                    (Basis::Simplex, _) => simplex3_reference(p, m.seed),
+                    (b, _) => lattice_reference(*b == Basis::Gradient, p, dims == 3, 0, m.seed),
+                };
+                worst = worst.max((f64::from(got[j * window.width + i]) - r).abs());
+            }
+        }
+        assert!(worst < bound, "{basis:?} {dims}D relaxed: error {worst}");
+    }
+}
