@@ -546,18 +546,13 @@ fn ci(ws: &Workspace) -> Result<()> {
         }
         // Every target but the examples, which are built once as programs below: with
         // `--all-targets` they would also be linked a second time as test harnesses.
+        // `--tests` is every target with `test = true`: the libraries' and binaries' unit tests
+        // and the integration tests; `--lib --bins` would also build a harness for the targets
+        // that say `test = false` (spectex-cli's, whose unit tests are in its `it` binary).
         // `--bench '*'` is the [[bench]]es only (`--benches` adds the libraries again).
         TestRunner::Cargo => steps.push(step(
-            "cargo test --lib --bins --tests --bench '*' (clippy -D warnings; GPU tests and cross-check on lavapipe)",
-            &[
-                "test",
-                "--workspace",
-                "--lib",
-                "--bins",
-                "--tests",
-                "--bench",
-                "*",
-            ],
+            "cargo test --tests --bench '*' (clippy -D warnings; GPU tests and cross-check on lavapipe)",
+            &["test", "--workspace", "--tests", "--bench", "*"],
         )),
     }
     steps.push(step("cargo test --doc", &["test", "--workspace", "--doc"]));

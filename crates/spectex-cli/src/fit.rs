@@ -54,7 +54,7 @@ enum FitArg {
 }
 
 impl FitArgs {
-    fn options(&self) -> FitOptions {
+    pub fn options(&self) -> FitOptions {
         FitOptions {
             budget: self.budget,
             strata: self.strata,
@@ -79,7 +79,7 @@ impl FitArgs {
         }
     }
 
-    fn texture_options(&self) -> TextureOptions {
+    pub fn texture_options(&self) -> TextureOptions {
         TextureOptions {
             fit: self.options(),
             structure: self.structure,
@@ -91,7 +91,7 @@ impl FitArgs {
     }
 
     /// Whether the texture model (rather than plain LRP noise) is asked for.
-    fn wants_texture(&self) -> bool {
+    pub fn wants_texture(&self) -> bool {
         self.structure > 0.0 || self.turbulence > 0.0 || self.random_placement
     }
 }
@@ -235,26 +235,4 @@ pub fn synth(cmd: &SynthCommand) -> Result<()> {
     io::check_output(&cmd.render.output, cmd.render.bit_depth)?;
     let (fitted, size) = fit_example(cmd.input.as_deref(), &cmd.fit)?;
     render_to_file(&fitted.to_model(), &cmd.render, size)
-}
-
-#[cfg(test)]
-mod tests {
-    use clap::Parser;
-
-    use super::*;
-
-    /// `spectex fit`'s flags alone.
-    #[derive(Debug, Parser)]
-    struct Fit {
-        #[command(flatten)]
-        fit: FitArgs,
-    }
-
-    #[test]
-    fn fit_defaults_are_the_library_defaults() {
-        let args = Fit::try_parse_from(["fit"]).expect("no flag is required");
-        assert_eq!(args.fit.options(), FitOptions::default());
-        assert_eq!(args.fit.texture_options(), TextureOptions::default());
-        assert!(!args.fit.wants_texture());
-    }
 }

@@ -3,17 +3,17 @@
 //! warping, textons, Voronoi diagrams, matrix transformation, stochastic subdivision, combinations), each building its model through `spectex_model`'s builders, writing it if asked
 //! (`--model`) and rendering it.
 
-mod classic;
+pub mod classic;
 mod combine;
-mod gabor;
+pub mod gabor;
 mod islamic;
 mod matrix;
-mod spectral;
+pub mod spectral;
 mod subdivision;
 mod texton;
 mod voronoi;
-mod warp;
-mod wavelet;
+pub mod warp;
+pub mod wavelet;
 
 use std::path::PathBuf;
 
@@ -87,7 +87,7 @@ enum NoiseKind {
 
 /// What the noises of a spectrum (and Gabor noise) share.
 #[derive(Debug, Args)]
-struct NoiseArgs {
+pub struct NoiseArgs {
     /// Cosine budget J of the LRP model (ignored by gabor) [default: 10; fractal: 48].
     #[arg(long)]
     budget: Option<u32>,

@@ -11,7 +11,7 @@ use crate::render::{RenderArgs, render_to_file};
 
 /// What every classic noise kind shares.
 #[derive(Debug, Args)]
-pub(crate) struct ClassicArgs {
+pub struct ClassicArgs {
     /// Side of a lattice cell (of the first octave), pixels (1 to 1e6).
     #[arg(long, default_value_t = ClassicNoise::DEFAULT_CELL_SIZE)]
     cell: f32,
@@ -36,7 +36,7 @@ pub(crate) struct ClassicArgs {
 
 /// Worley's options.
 #[derive(Debug, Args)]
-pub(crate) struct WorleyArgs {
+pub struct WorleyArgs {
     /// Distance between a point and the feature points.
     #[arg(long, value_enum, default_value = "euclidean")]
     metric: MetricArg,
@@ -90,7 +90,7 @@ pub(crate) enum SumArg {
 
 /// The fractal options.
 #[derive(Debug, Args)]
-pub(crate) struct FractalArgs {
+pub struct FractalArgs {
     /// The basis summed over octaves.
     #[arg(long, value_enum, default_value = "perlin")]
     basis: BasisArg,
@@ -130,22 +130,22 @@ impl FractalArgs {
 
 /// The options of `spectex noise fbm`.
 #[derive(Debug, Args)]
-pub(crate) struct FbmArgs {
+pub struct FbmArgs {
     #[command(flatten)]
-    fractal: FractalArgs,
+    pub fractal: FractalArgs,
     #[command(flatten)]
-    worley: WorleyArgs,
+    pub worley: WorleyArgs,
     #[command(flatten)]
-    classic: ClassicArgs,
+    pub classic: ClassicArgs,
 }
 
 /// The options of `spectex noise worley`.
 #[derive(Debug, Args)]
-pub(crate) struct WorleyNoiseArgs {
+pub struct WorleyNoiseArgs {
     #[command(flatten)]
-    worley: WorleyArgs,
+    pub worley: WorleyArgs,
     #[command(flatten)]
-    classic: ClassicArgs,
+    pub classic: ClassicArgs,
 }
 
 fn parse_coefficients(s: &str) -> Result<[f32; 4], String> {
@@ -158,7 +158,7 @@ fn parse_coefficients(s: &str) -> Result<[f32; 4], String> {
     v.try_into().map_err(|_| err())
 }
 
-fn worley_basis(args: &WorleyArgs) -> Basis {
+pub fn worley_basis(args: &WorleyArgs) -> Basis {
     Basis::Worley(Worley {
         metric: match args.metric {
             MetricArg::Euclidean => Metric::Euclidean,
@@ -211,7 +211,7 @@ pub(crate) fn run(basis: Basis, fractal: Option<&FractalArgs>, args: &ClassicArg
 
 /// The noise the flags describe, through `ClassicNoise`'s builders: the mean and amplitude
 /// default to `ClassicNoise::default_levels` of the basis and the sum.
-fn build(
+pub fn build(
     basis: Basis,
     fractal: Option<&FractalArgs>,
     args: &ClassicArgs,
@@ -243,7 +243,7 @@ pub(crate) fn fbm(args: &FbmArgs) -> Result<()> {
 }
 
 /// The basis `--basis` names (Worley with the Worley options).
-fn fbm_basis(args: &FbmArgs) -> Basis {
+pub fn fbm_basis(args: &FbmArgs) -> Basis {
     match args.fractal.basis {
         BasisArg::Perlin => Basis::Gradient,
         BasisArg::Simplex => Basis::Simplex,
@@ -256,101 +256,4 @@ fn fbm_basis(args: &FbmArgs) -> Basis {
 /// `spectex noise worley`.
 pub(crate) fn worley(args: &WorleyNoiseArgs) -> Result<()> {
     run(worley_basis(&args.worley), None, &args.classic)
-}
-
-#[cfg(test)]
-mod tests {
-    use clap::Parser;
-
-    use super::*;
-
-    #[derive(Debug, Parser)]
-    enum Noise {
-        Perlin(ClassicArgs),
-        Fbm(FbmArgs),
-        Worley(WorleyNoiseArgs),
-    }
-
-    /// The model `spectex noise <flags> -o x.png` builds.
-    fn model(flags: &[&str]) -> ClassicNoise {
-        let argv = ["noise"].iter().chain(flags).chain(&["-o", "x.png"]);
-        let built = match Noise::try_parse_from(argv).expect("valid flags") {
-            Noise::Perlin(args) => build(Basis::Gradient, None, &args),
-            Noise::Fbm(args) => build(fbm_basis(&args), Some(&args.fractal), &args.classic),
-            Noise::Worley(args) => build(worley_basis(&args.worley), None, &args.classic),
-        };
-        built.expect("the defaults are valid")
-    }
-
-    fn built(builder: Result<ClassicNoise, ModelError>) -> ClassicNoise {
-        builder.expect("the defaults are valid")
-    }
-
-    #[test]
-    fn defaults_are_the_builders() {
-        assert_eq!(model(&["perlin"]), built(ClassicNoise::perlin().build()));
-        assert_eq!(model(&["fbm"]), built(ClassicNoise::fbm().build()));
-        assert_eq!(
-            model(&["fbm", "--sum", "turbulence"]),
-            built(ClassicNoise::turbulence().build())
-        );
-        assert_eq!(
-            model(&["fbm", "--sum", "ridged"]),
-            built(ClassicNoise::ridged().build())
-        );
-        assert_eq!(
-            model(&["fbm", "--basis", "worley"]),
-            built(ClassicNoise::fbm().worley(Worley::default()).build())
-        );
-        assert_eq!(model(&["worley"]), built(ClassicNoise::worley().build()));
-    }
-
-    #[test]
-    fn flags_reach_the_model() {
-        let noise = model(&[
-            "fbm",
-            "--basis",
-            "simplex",
-            "--octaves",
-            "4",
-            "--gain",
-            "0.6",
-            "--lacunarity",
-            "2.5",
-            "--seed",
-            "3",
-            "--dims",
-            "3",
-            "--cell",
-            "40",
-            "--mean",
-            "0.1",
-        ]);
-        let expected = ClassicNoise::fbm()
-            .basis(Basis::Simplex)
-            .octaves(4)
-            .gain(0.6)
-            .lacunarity(2.5)
-            .seed(3)
-            .dimensions(3)
-            .cell_size(40.0)
-            .mean(0.1)
-            .build();
-        assert_eq!(noise, built(expected));
-        let cells = model(&[
-            "worley",
-            "--coefficients",
-            "-1,1,0,0",
-            "--metric",
-            "manhattan",
-            "--poisson",
-            "2",
-        ]);
-        let expected = ClassicNoise::worley().worley(Worley {
-            metric: Metric::Manhattan,
-            coefficients: [-1.0, 1.0, 0.0, 0.0],
-            points: FeaturePoints::Poisson(2.0),
-        });
-        assert_eq!(cells, built(expected.build()));
-    }
 }

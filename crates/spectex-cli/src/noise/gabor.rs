@@ -12,7 +12,7 @@ use crate::render::render_to_file;
 
 /// The options of `spectex noise gabor`.
 #[derive(Debug, Args)]
-pub(super) struct GaborArgs {
+pub struct GaborArgs {
     /// Kernel frequency F₀, cycles per pixel.
     #[arg(long, default_value_t = GaborNoise::DEFAULT_FREQUENCY)]
     frequency: f32,
@@ -45,7 +45,7 @@ pub(super) fn run(args: &GaborArgs) -> Result<()> {
 }
 
 /// The flags as a builder (isotropic directions without `--angle`).
-fn builder(args: &GaborArgs) -> GaborNoiseBuilder {
+pub fn builder(args: &GaborArgs) -> GaborNoiseBuilder {
     let builder = GaborNoise::builder()
         .seed(args.common.seed)
         .mean(args.common.mean)
@@ -56,58 +56,5 @@ fn builder(args: &GaborArgs) -> GaborNoiseBuilder {
     match args.angle {
         Some(degrees) => builder.angle(degrees.to_radians()),
         None => builder,
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use clap::Parser;
-    use spectex_model::Orientation;
-
-    use super::*;
-
-    #[derive(Debug, Parser)]
-    struct Gabor {
-        #[command(flatten)]
-        args: GaborArgs,
-    }
-
-    fn parse(flags: &[&str]) -> GaborArgs {
-        let argv = ["gabor", "-o", "x.png"].iter().chain(flags);
-        Gabor::try_parse_from(argv).expect("valid flags").args
-    }
-
-    #[test]
-    fn defaults_are_the_builders() {
-        assert_eq!(builder(&parse(&[])), GaborNoise::builder());
-    }
-
-    #[test]
-    fn flags_reach_the_model() {
-        let noise = builder(&parse(&[
-            "--angle",
-            "30",
-            "--frequency",
-            "0.1",
-            "--impulses",
-            "16",
-            "--contrast",
-            "0.1",
-            "--seed",
-            "5",
-        ]))
-        .build()
-        .expect("valid");
-        assert_eq!(
-            noise.orientation,
-            Orientation::Anisotropic {
-                angle: 30f32.to_radians()
-            }
-        );
-        assert_eq!(
-            (noise.frequency, noise.impulses_per_kernel, noise.seed),
-            (0.1, 16.0, 5)
-        );
-        assert!((f64::from(noise.amplitude) * noise.unit_std_dev() - 0.1).abs() < 1e-6);
     }
 }

@@ -14,7 +14,7 @@ use crate::render::render_to_file;
 
 /// The options of `spectex noise ring`.
 #[derive(Debug, Args)]
-pub(super) struct RingArgs {
+pub struct RingArgs {
     /// Ring radius, cycles per pixel.
     #[arg(long, default_value_t = 0.0625)]
     radius: f32,
@@ -22,7 +22,7 @@ pub(super) struct RingArgs {
     #[arg(long, default_value_t = 0.005)]
     width: f32,
     #[command(flatten)]
-    common: NoiseArgs,
+    pub common: NoiseArgs,
 }
 
 /// The options of `spectex noise lobe`.
@@ -56,7 +56,7 @@ pub(super) struct BandArgs {
 
 /// The options of `spectex noise fractal`.
 #[derive(Debug, Args)]
-pub(super) struct FractalArgs {
+pub struct FractalArgs {
     /// β, the roll-off of the magnitude spectrum (0 to 4): the power falls as f^(−2β).
     #[arg(long, default_value_t = 1.5)]
     beta: f32,
@@ -70,7 +70,7 @@ pub(super) struct FractalArgs {
     #[arg(long, default_value_t = 1.0 / 128.0)]
     min_frequency: f32,
     #[command(flatten)]
-    common: NoiseArgs,
+    pub common: NoiseArgs,
 }
 
 /// `spectex noise ring`.
@@ -131,7 +131,7 @@ fn run(target: SpectralTarget, common: &NoiseArgs) -> Result<()> {
 }
 
 /// The flags as a builder: the target's defaults where `--budget` or `--strata` is omitted.
-fn builder(target: SpectralTarget, common: &NoiseArgs) -> LrpFromTarget {
+pub fn builder(target: SpectralTarget, common: &NoiseArgs) -> LrpFromTarget {
     let mut builder = LrpFromTarget::new(target)
         .seed(common.seed)
         .std_dev(common.contrast)
@@ -143,55 +143,4 @@ fn builder(target: SpectralTarget, common: &NoiseArgs) -> LrpFromTarget {
         builder = builder.strata(strata);
     }
     builder
-}
-
-#[cfg(test)]
-mod tests {
-    use clap::Parser;
-    use spectex_sampling::{FitOptions, Partition};
-
-    use super::*;
-
-    #[derive(Debug, Parser)]
-    enum Noise {
-        Ring(RingArgs),
-        Fractal(FractalArgs),
-    }
-
-    #[test]
-    fn defaults_are_the_builders() {
-        let Ok(Noise::Ring(ring)) = Noise::try_parse_from(["noise", "ring", "-o", "x.png"]) else {
-            panic!("ring parses");
-        };
-        let target = SpectralTarget::Ring {
-            radius: 0.0625,
-            width: 0.005,
-        };
-        assert_eq!(
-            builder(target.clone(), &ring.common),
-            LrpFromTarget::new(target)
-        );
-        let Ok(Noise::Fractal(fractal)) =
-            Noise::try_parse_from(["noise", "fractal", "-o", "x.png"])
-        else {
-            panic!("fractal parses");
-        };
-        let target = SpectralTarget::Fractal {
-            beta: 1.5,
-            angle: 0.0,
-            spread: None,
-            min_frequency: 1.0 / 128.0,
-        };
-        let options = builder(target, &fractal.common).options();
-        assert_eq!(
-            options,
-            FitOptions {
-                budget: 48,
-                strata: 12,
-                seed: 0,
-                partition: Partition::LogPower,
-                ..FitOptions::default()
-            }
-        );
-    }
 }

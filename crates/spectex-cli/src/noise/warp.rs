@@ -13,7 +13,7 @@ use crate::render::{RenderArgs, render_to_file};
 
 /// The options of `spectex noise warp`.
 #[derive(Debug, Args)]
-pub(crate) struct WarpArgs {
+pub struct WarpArgs {
     /// The model to warp (.json, any kind; written by `spectex fit`, `noise … --model`, …);
     /// default: a Perlin fBm in [0, 1] with 64-pixel cells.
     #[arg(long, value_name = "MODEL")]
@@ -64,7 +64,7 @@ pub(crate) fn run(args: &WarpArgs) -> Result<()> {
 
 /// The flags as a builder, with the model files read in the order base, x, y: the built-in
 /// fBms where a file is not given, and y = x with every seed plus one without `--by-y`.
-fn builder(args: &WarpArgs) -> Result<WarpBuilder> {
+pub fn builder(args: &WarpArgs) -> Result<WarpBuilder> {
     let mut builder = Warp::builder().seed(args.seed).strength(args.strength);
     if let Some(path) = &args.base {
         builder = builder.base(read_model(path)?);
@@ -76,29 +76,4 @@ fn builder(args: &WarpArgs) -> Result<WarpBuilder> {
         builder = builder.by_y(read_model(path)?);
     }
     Ok(builder)
-}
-
-#[cfg(test)]
-mod tests {
-    use clap::Parser;
-
-    use super::*;
-
-    #[derive(Debug, Parser)]
-    struct WarpCommand {
-        #[command(flatten)]
-        args: WarpArgs,
-    }
-
-    #[test]
-    fn defaults_are_the_builders() {
-        let args = WarpCommand::try_parse_from(["warp", "-o", "x.png", "--seed", "4"]);
-        let args = args.expect("valid flags").args;
-        let warp = builder(&args).expect("no file to read").build();
-        let expected = Warp::builder().seed(4).build();
-        assert_eq!(warp.expect("valid"), expected.expect("valid"));
-        let plain = WarpCommand::try_parse_from(["warp", "-o", "x.png"]).expect("valid flags");
-        let plain = builder(&plain.args).expect("no file to read");
-        assert_eq!(plain, Warp::builder());
-    }
 }

@@ -10,7 +10,7 @@ use crate::render::{RenderArgs, render_to_file};
 
 /// The options of `spectex noise wavelet`.
 #[derive(Debug, Args)]
-pub(crate) struct WaveletArgs {
+pub struct WaveletArgs {
     /// Side of the periodic noise tile, samples: even, 16 to 256 in 2D, 16 to 64 in 3D
     /// (default 128 in 2D, 32 in 3D).
     #[arg(long, value_name = "N")]
@@ -87,7 +87,7 @@ pub(crate) fn run(args: &WaveletArgs) -> Result<()> {
 }
 
 /// The flags as a builder (the tile side of the dimensions without `--tile`).
-fn builder(args: &WaveletArgs) -> WaveletNoiseBuilder {
+pub fn builder(args: &WaveletArgs) -> WaveletNoiseBuilder {
     let builder = WaveletNoise::builder()
         .seed(args.seed)
         .dimensions(args.dims)
@@ -98,31 +98,5 @@ fn builder(args: &WaveletArgs) -> WaveletNoiseBuilder {
     match args.tile {
         Some(tile) => builder.tile_size(tile),
         None => builder,
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use clap::Parser;
-
-    use super::*;
-
-    #[derive(Debug, Parser)]
-    struct Wavelet {
-        #[command(flatten)]
-        args: WaveletArgs,
-    }
-
-    fn parse(flags: &[&str]) -> WaveletArgs {
-        let argv = ["wavelet", "-o", "x.png"].iter().chain(flags);
-        Wavelet::try_parse_from(argv).expect("valid flags").args
-    }
-
-    #[test]
-    fn defaults_are_the_builders() {
-        assert_eq!(builder(&parse(&[])), WaveletNoise::builder());
-        let volume = builder(&parse(&["--dims", "3"])).build();
-        let expected = WaveletNoise::builder().dimensions(3).build();
-        assert_eq!(volume.expect("valid"), expected.expect("valid"));
     }
 }

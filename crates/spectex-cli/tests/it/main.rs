@@ -15,5 +15,6 @@ mod phasor_fidelity;
 mod simulate;
 mod stream;
 mod texture;
+mod unit;
 mod warp_reseed;
 mod wavelet;

@@ -4,3 +4,4 @@
 //! the dependencies.
 
 mod rpn_properties;
+mod unit;

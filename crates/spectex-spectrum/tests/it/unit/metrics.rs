@@ -1,0 +1,60 @@
+//! Distances between spectra, log-log fits, quantiles and moments (`src/metrics.rs`).
+
+use ndarray::Array2;
+use spectex_spectrum::Fft2;
+use spectex_spectrum::metrics::*;
+use spectex_spectrum::signed_frequency;
+
+#[test]
+fn shape_distance_is_zero_for_one_shape_and_two_for_disjoint_ones() {
+    let a = Array2::from_shape_fn((16, 16), |(y, x)| if (y, x) == (3, 3) { 1.0 } else { 0.0 });
+    let b = Array2::from_shape_fn(
+        (16, 16),
+        |(y, x)| if (y, x) == (10, 10) { 5.0 } else { 0.0 },
+    );
+    assert!(shape_distance(a.view(), (a.clone() * 7.0).view()) < 1e-12);
+    assert!((shape_distance(a.view(), b.view()) - 2.0).abs() < 1e-12);
+}
+
+#[test]
+fn log_log_fit_recovers_a_power_law() {
+    let n = 64;
+    let psd = Array2::from_shape_fn((n, n), |(y, x)| {
+        let f = signed_frequency(x, n).hypot(signed_frequency(y, n));
+        if f == 0.0 { 0.0 } else { 3.0 * f.powf(-1.5) }
+    });
+    let (slope, _, bins) = log_log_fit(psd.view(), 0.05, 0.4);
+    assert!(bins.len() > 10);
+    // Ring means of f^(−1.5) over rings of finite width: close to, not exactly, −1.5.
+    assert!((slope + 1.5).abs() < 0.02, "slope {slope}");
+}
+
+#[test]
+fn normal_quantiles() {
+    assert!(standard_normal_quantile(0.5).abs() < 1e-12);
+    assert!((standard_normal_quantile(0.75) - 0.674_489_750).abs() < 1e-8);
+    assert!((standard_normal_quantile(0.975) - 1.959_963_985).abs() < 1e-8);
+}
+
+#[test]
+fn moments_of_a_two_level_signal() {
+    let a = Array2::from_shape_fn((4, 4), |(y, _)| if y < 2 { -1.0 } else { 1.0 });
+    assert_eq!(mean_variance(a.view()), (0.0, 1.0));
+    assert!((excess_kurtosis(a.view()) + 2.0).abs() < 1e-12);
+}
+
+#[test]
+fn a_constant_contrast_cosine_has_no_low_variance_energy() {
+    let n = 64;
+    let mut fft = Fft2::new();
+    let cosine = Array2::from_shape_fn((n, n), |(_, x)| {
+        (std::f64::consts::TAU * x as f64 / 8.0).cos()
+    });
+    let beat = Array2::from_shape_fn((n, n), |(_, x)| {
+        (std::f64::consts::TAU * x as f64 / 8.0).cos()
+            * (std::f64::consts::TAU * x as f64 / 64.0).cos()
+    });
+    assert!(variance_low_fraction(cosine.view(), 1.0 / 16.0, &mut fft) < 1e-12);
+    assert!(variance_low_fraction(beat.view(), 1.0 / 16.0, &mut fft) > 0.3);
+    assert!((ring_power_peak(cosine.view(), &mut fft) - 0.125).abs() < 1e-12);
+}
