@@ -484,6 +484,7 @@ fn spectex_sample(p: vec2<f32>) -> {ret} {{
 }}
 "
     );
+    let out = composable_members(&out);
     // Little-endian words, whatever the host's order.
     let tables = emitter
         .buffer
@@ -1246,6 +1247,67 @@ pub(crate) fn top_level_names(source: &str) -> Vec<String> {
     names
 }
 
+/// `source` with every struct member name that naga's namer would change on writing the
+/// module back (one ending in a digit or `_`, or holding `__`: `proc::Namer` appends `_`)
+/// given a letter suffix, `_m`, everywhere it appears (member accesses too; comments are
+/// left alone). Bevy composes a material's imports with naga_oil, which writes each module
+/// back through naga and refuses one whose struct members come back renamed ("Composable module
+/// identifiers must not require substitution"), as the compute shaders' `_pad0` and `a00`
+/// would; top-level names are suffixed by naga_oil itself and need nothing. Renaming an
+/// identifier everywhere is a pure renaming: no value changes.
+fn composable_members(source: &str) -> String {
+    let unsafe_name =
+        |n: &str| n.ends_with(|c: char| c.is_ascii_digit() || c == '_') || n.contains("__");
+    let mut map: HashMap<String, String> = HashMap::new();
+    let mut in_struct = false;
+    for line in source.lines() {
+        let line = line.trim();
+        if line.starts_with("struct ") {
+            in_struct = true;
+        } else if in_struct && line.starts_with('}') {
+            in_struct = false;
+        } else if in_struct {
+            // A member line is `[@attr(..) ]name: type,`: the identifier before `:`.
+            let code = line.split_once("//").map_or(line, |(code, _)| code);
+            let decl = code
+                .rsplit_once(')')
+                .map_or(code, |(_, after)| after.trim());
+            if let Some((field, _)) = decl.split_once(':') {
+                let field = field.trim();
+                if !field.is_empty()
+                    && field.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+                    && unsafe_name(field)
+                {
+                    map.insert(
+                        field.to_owned(),
+                        format!("{}_m", field.trim_end_matches('_')),
+                    );
+                }
+            }
+        }
+    }
+    if map.is_empty() {
+        return source.to_owned();
+    }
+    let mut out = String::with_capacity(source.len() + 64);
+    for line in source.split_inclusive('\n') {
+        let (code, comment) = line.find("//").map_or((line, ""), |k| line.split_at(k));
+        let mut word = String::new();
+        for c in code.chars() {
+            if c.is_ascii_alphanumeric() || c == '_' {
+                word.push(c);
+                continue;
+            }
+            out.push_str(map.get(&word).map_or(&word, |n| n));
+            word.clear();
+            out.push(c);
+        }
+        out.push_str(map.get(&word).map_or(&word, |n| n));
+        out.push_str(comment);
+    }
+    out
+}
+
 /// `source` with every identifier in `map` replaced, except member names: after a `.`, and
 /// field declarations (an identifier followed by `:` inside a struct's braces); and every
 /// indexing `name[i]` of a name in `calls` (tables in the storage buffer) turned into the
@@ -1383,6 +1445,17 @@ mod tests {
             assert_eq!(f64::from(r[k]), want_r, "bit {k}");
             assert!((0.0..9.5).contains(&want_r));
         }
+    }
+
+    #[test]
+    fn members_naga_would_rename_get_a_letter_suffix_everywhere() {
+        let src = "struct P {\n    a00: f32,\n    @align(16) _pad0: u32,\n    key: u32, // key2\n}\n\
+                   fn f(p: P) -> f32 { let a00 = p.a00; return a00 + f32(p.key); } // a00\n";
+        assert_eq!(
+            composable_members(src),
+            "struct P {\n    a00_m: f32,\n    @align(16) _pad0_m: u32,\n    key: u32, // key2\n}\n\
+             fn f(p: P) -> f32 { let a00_m = p.a00_m; return a00_m + f32(p.key); } // a00\n"
+        );
     }
 
     #[test]
