@@ -876,8 +876,11 @@ fn bevy_check(ws: &Workspace) -> Result<()> {
     let module = out.join("model.wgsl");
     let frame = out.join("frame.f32");
     let _ = fs::remove_file(&frame);
+    // The test profile, as the comparison's `cargo test` builds: one build of the workspace.
     let mut export = ws.cargo(&[
         "run",
+        "--profile",
+        "test",
         "-p",
         "spectex-cli",
         "--",
@@ -895,6 +898,7 @@ fn bevy_check(ws: &Workspace) -> Result<()> {
         env::var_os("BEVY_TARGET_DIR").map_or_else(|| target_dir(ws).join("bevy"), PathBuf::from),
     );
     lavapipe_env(&mut bevy, &icd);
+    private_runtime_dir(ws, &mut bevy)?;
     let mut compare = ws.cargo(&[
         "test",
         "-p",
@@ -925,6 +929,22 @@ fn bevy_check(ws: &Workspace) -> Result<()> {
     )
 }
 
+/// Mesa's Vulkan loader prints "error: XDG_RUNTIME_DIR is invalid or not set" once per
+/// adapter query when the variable is unset (as in CI and containers); the GPU works either
+/// way. A private runtime directory under the target dir keeps the output to real errors.
+fn private_runtime_dir(ws: &Workspace, command: &mut Command) -> Result<()> {
+    #[cfg(unix)]
+    if env::var_os("XDG_RUNTIME_DIR").is_none() {
+        use std::os::unix::fs::PermissionsExt;
+        let runtime = target_dir(ws).join("xtask-runtime");
+        fs::create_dir_all(&runtime)
+            .and_then(|()| fs::set_permissions(&runtime, fs::Permissions::from_mode(0o700)))
+            .with_context(|| format!("creating {}", runtime.display()))?;
+        command.env("XDG_RUNTIME_DIR", &runtime);
+    }
+    Ok(())
+}
+
 fn reproduce(ws: &Workspace, args: &[OsString]) -> Result<()> {
     for arg in args {
         let arg = arg.to_string_lossy();
@@ -941,18 +961,7 @@ fn reproduce(ws: &Workspace, args: &[OsString]) -> Result<()> {
     let out = target_dir(ws).join("reproduce");
     let mut command = ws.cargo(&["run", "--release", "-p", "spectex-reproduce", "--"]);
     command.arg("--out").arg(&out).args(args);
-    // Mesa's Vulkan loader prints "error: XDG_RUNTIME_DIR is invalid or not set" once per
-    // adapter query when the variable is unset (as in CI and containers); the GPU works either
-    // way. A private runtime directory under the target dir keeps the output to real errors.
-    #[cfg(unix)]
-    if env::var_os("XDG_RUNTIME_DIR").is_none() {
-        use std::os::unix::fs::PermissionsExt;
-        let runtime = target_dir(ws).join("reproduce-runtime");
-        fs::create_dir_all(&runtime)
-            .and_then(|()| fs::set_permissions(&runtime, fs::Permissions::from_mode(0o700)))
-            .with_context(|| format!("creating {}", runtime.display()))?;
-        command.env("XDG_RUNTIME_DIR", &runtime);
-    }
+    private_runtime_dir(ws, &mut command)?;
     run_steps(
         "reproduce",
         vec![Step {

@@ -13,11 +13,11 @@
 use std::time::Duration;
 
 use bevy::app::ScheduleRunnerPlugin;
+use bevy::camera::Hdr;
 use bevy::camera::RenderTarget;
 use bevy::core_pipeline::tonemapping::{DebandDither, Tonemapping};
 use bevy::prelude::*;
 use bevy::render::render_resource::{AsBindGroup, TextureFormat};
-use bevy::camera::Hdr;
 use bevy::render::view::screenshot::{Screenshot, ScreenshotCaptured};
 use bevy::shader::ShaderRef;
 use bevy::sprite_render::{Material2d, Material2dPlugin};
@@ -52,9 +52,17 @@ struct Settings {
 #[allow(dead_code)]
 struct ModelShader(Handle<Shader>);
 
-/// Frames since start-up: the screenshot is requested once the pipeline had time to compile.
+/// Frames since start-up, and whether a screenshot is in flight.
 #[derive(Resource, Default)]
-struct Frames(u32);
+struct Frames {
+    count: u32,
+    pending: bool,
+}
+
+/// Frames to wait for the material's pipeline before giving up: Bevy compiles pipelines in
+/// the background, and on lavapipe (an LLVM compile per shader) the first frames show only
+/// the clear colour.
+const MAX_FRAMES: u32 = 6000;
 
 fn parse() -> Result<Settings, String> {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -64,7 +72,11 @@ fn parse() -> Result<Settings, String> {
                 .into(),
         );
     }
-    let num = |i: usize| args[i].parse::<f32>().map_err(|e| format!("{}: {e}", args[i]));
+    let num = |i: usize| {
+        args[i]
+            .parse::<f32>()
+            .map_err(|e| format!("{}: {e}", args[i]))
+    };
     let module = std::fs::read_to_string(&args[0]).map_err(|e| format!("{}: {e}", args[0]))?;
     Ok(Settings {
         module,
@@ -94,6 +106,7 @@ fn main() -> std::process::ExitCode {
             Material2dPlugin::<SpectexMaterial>::default(),
         ))
         .insert_resource(settings)
+        .insert_resource(ClearColor(Color::NONE))
         .init_resource::<Frames>()
         .add_systems(Startup, setup)
         .add_systems(Update, capture)
@@ -147,41 +160,59 @@ fn setup(
 #[derive(Resource)]
 struct Target(Handle<Image>);
 
+/// Requests a screenshot every few frames until one shows the material over the whole target:
+/// the clear colour is transparent and the material writes alpha 1, so a frame with alpha 1
+/// everywhere is one the material drew (its pipeline had compiled); that one is written.
 fn capture(
     mut commands: Commands,
     mut frames: ResMut<Frames>,
     target: Option<Res<Target>>,
     settings: Res<Settings>,
+    mut exit: MessageWriter<AppExit>,
 ) {
-    frames.0 += 1;
+    frames.count += 1;
     let Some(target) = target else { return };
-    // A few frames for the asset loads and the pipeline compilation, then one capture.
-    if frames.0 != 30 {
+    if frames.count > MAX_FRAMES {
+        eprintln!("error: the material did not draw within {MAX_FRAMES} frames");
+        exit.write(AppExit::error());
         return;
     }
+    if frames.pending || !frames.count.is_multiple_of(10) {
+        return;
+    }
+    frames.pending = true;
     let settings = settings.clone();
-    commands
-        .spawn(Screenshot::image(target.0.clone()))
-        .observe(
-            move |captured: On<ScreenshotCaptured>, mut exit: MessageWriter<AppExit>| {
-                let result = write_frame(&captured.image, &settings);
-                if let Err(e) = &result {
-                    eprintln!("error: {e}");
+    commands.spawn(Screenshot::image(target.0.clone())).observe(
+        move |captured: On<ScreenshotCaptured>,
+              mut frames: ResMut<Frames>,
+              mut exit: MessageWriter<AppExit>| {
+            frames.pending = false;
+            match drawn(&captured.image, &settings) {
+                Ok(false) => {}
+                Ok(true) => {
+                    let result = write_frame(&captured.image, &settings);
+                    if let Err(e) = &result {
+                        eprintln!("error: {e}");
+                    }
+                    exit.write(match result {
+                        Ok(()) => AppExit::Success,
+                        Err(_) => AppExit::error(),
+                    });
                 }
-                exit.write(match result {
-                    Ok(()) => AppExit::Success,
-                    Err(_) => AppExit::error(),
-                });
-            },
-        );
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    exit.write(AppExit::error());
+                }
+            }
+        },
+    );
 }
 
-/// Writes the frame's RGB as little-endian f32, row-major.
-fn write_frame(image: &Image, settings: &Settings) -> Result<(), String> {
+/// The screenshot's bytes, bytes per texel and bytes per row, checked against the settings.
+fn texels<'a>(image: &'a Image, settings: &Settings) -> Result<(&'a [u8], usize, usize), String> {
     let data = image.data.as_ref().ok_or("the screenshot has no data")?;
     let (w, h) = (settings.width as usize, settings.height as usize);
-    let format = image.texture_descriptor.format;
-    let texel = match format {
+    let texel = match image.texture_descriptor.format {
         TextureFormat::Rgba16Float => 8,
         TextureFormat::Rgba32Float => 16,
         other => return Err(format!("unexpected screenshot format {other:?}")),
@@ -189,25 +220,45 @@ fn write_frame(image: &Image, settings: &Settings) -> Result<(), String> {
     if data.len() < w * h * texel {
         return Err(format!("screenshot holds {} bytes for {w}x{h}", data.len()));
     }
-    let row = data.len() / h;
+    Ok((data, texel, data.len() / h))
+}
+
+/// Channel `c` of the texel at byte `at`.
+fn channel(data: &[u8], texel: usize, at: usize, c: usize) -> f32 {
+    if texel == 8 {
+        let b = &data[at + 2 * c..at + 2 * c + 2];
+        f16_to_f32(u16::from_le_bytes([b[0], b[1]]))
+    } else {
+        let b = &data[at + 4 * c..at + 4 * c + 4];
+        f32::from_le_bytes([b[0], b[1], b[2], b[3]])
+    }
+}
+
+/// Whether every pixel has alpha 1 (the material drew it; the clear colour has alpha 0).
+fn drawn(image: &Image, settings: &Settings) -> Result<bool, String> {
+    let (data, texel, row) = texels(image, settings)?;
+    Ok((0..settings.height as usize).all(|j| {
+        (0..settings.width as usize).all(|i| channel(data, texel, j * row + i * texel, 3) == 1.0)
+    }))
+}
+
+/// Writes the frame's RGB as little-endian f32, row-major.
+fn write_frame(image: &Image, settings: &Settings) -> Result<(), String> {
+    let (data, texel, row) = texels(image, settings)?;
+    let (w, h) = (settings.width as usize, settings.height as usize);
     let mut out = Vec::with_capacity(w * h * 12);
     for j in 0..h {
         for i in 0..w {
-            let at = j * row + i * texel;
             for c in 0..3 {
-                let v = if texel == 8 {
-                    let b = &data[at + 2 * c..at + 2 * c + 2];
-                    f16_to_f32(u16::from_le_bytes([b[0], b[1]]))
-                } else {
-                    let b = &data[at + 4 * c..at + 4 * c + 4];
-                    f32::from_le_bytes([b[0], b[1], b[2], b[3]])
-                };
-                out.extend_from_slice(&v.to_le_bytes());
+                out.extend_from_slice(&channel(data, texel, j * row + i * texel, c).to_le_bytes());
             }
         }
     }
     std::fs::write(&settings.output, out).map_err(|e| format!("{}: {e}", settings.output))?;
-    println!("wrote {} ({w}x{h}, {format:?})", settings.output);
+    println!(
+        "wrote {} ({w}x{h}, {:?})",
+        settings.output, image.texture_descriptor.format
+    );
     Ok(())
 }
 
