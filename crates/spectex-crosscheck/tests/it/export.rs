@@ -54,7 +54,7 @@
 
 mod fields;
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use spectex_crosscheck::tolerance::combine::composed_verdict;
 use spectex_crosscheck::tolerance::phasor::{complex_bound, judge_with_pixel_bounds};
@@ -91,8 +91,11 @@ const REFUSED: &[(&str, &str)] = &[
 /// render test leaves them out unless `SPECTEX_EXPORT_ALL=1` (`cargo xtask export-check`), so
 /// that CI stays in its time budget. Each kind keeps a model in the CI run
 /// (`texture-synthetic-grey`, `warp-lrp-by-gabor`, `combine-mix-product`; `combine-bark`, a
-/// ramp of a fold of a warp, compiled in 84 s).
+/// ramp of a fold of a warp, compiled in 84 s). `classic-simplex-3d` compiled in 48 s of the
+/// test's 185 (the other seven classic models in 30 s together); its kernel is the compute
+/// shader's, cross-checked in every CI run, and the export's glue is the other classic models'.
 const SLOW_ON_LAVAPIPE: &[&str] = &[
+    "classic-simplex-3d",
     "combine-bark",
     "texture-fitted-colour",
     "texture-synthetic-colour",
@@ -895,156 +898,58 @@ fn bevy_frame_matches_the_cpu() {
     );
 }
 
+/// What [`check_file`] did with one model file.
+enum Outcome {
+    /// Not rendered: not selected by `SPECTEX_EXPORT_ONLY`, or slow and not `SPECTEX_EXPORT_ALL`.
+    Skipped,
+    /// The exporter refused it for a feature `REFUSED` names.
+    Refused,
+    /// Rendered and judged: the failures (none when it passed).
+    Rendered(Vec<String>),
+}
+
 #[test]
 fn exported_modules_render_the_cpu_values_in_a_fragment_shader() {
     let Some(context) = gpu_or_skip("export render test") else {
         return;
     };
-    let mut failures = Vec::new();
-    let (mut rendered, mut refused) = (0, 0);
     let all = std::env::var("SPECTEX_EXPORT_ALL").is_ok_and(|v| v == "1");
     // `SPECTEX_EXPORT_ONLY=a,b`: only the models whose names start with `a` or `b` (a
     // developer's shortcut; the counts are then not checked).
     let only: Option<Vec<String>> = std::env::var("SPECTEX_EXPORT_ONLY")
         .ok()
         .map(|v| v.split(',').map(str::to_owned).collect());
-    for file in model_files() {
-        let case = file.file_stem().unwrap().to_string_lossy().into_owned();
-        if only
-            .as_ref()
-            .is_some_and(|o| !o.iter().any(|p| case.starts_with(p.as_str())))
-        {
-            continue;
-        }
-        if !all && SLOW_ON_LAVAPIPE.contains(&case.as_str()) {
-            println!("export: {case}: left out (SPECTEX_EXPORT_ALL=1 renders it)");
-            continue;
-        }
-        let model: Model = spectex_model::from_json(&std::fs::read_to_string(&file).unwrap())
-            .unwrap_or_else(|e| panic!("{case}: {e}"));
-        // Islamic patterns render through the storage buffer: their segment table (thousands
-        // of f32 read at a loop index) as a `var<private>` array is lowered by lavapipe into
-        // branch trees that LLVM compiled for over 8 minutes (islamic-31212-filled, 3024
-        // floats); the buffer export is the same module reading the same bytes from memory.
-        // The constant form is validated by spectex-gpu's export test.
-        let islamic_buffer = ExportOptions {
-            tables: TableStorage::Buffer {
-                group: TABLES_GROUP,
-                binding: TABLES_BINDING,
-            },
-            ..ExportOptions::default()
-        };
-        let first = if matches!(model, Model::Islamic(_)) {
-            export(&model, &islamic_buffer)
-        } else {
-            export(&model, &ExportOptions::default())
-        };
-        let exported = match first {
-            Err(GpuError::Unsupported { feature, .. })
-                if REFUSED
-                    .iter()
-                    .any(|(m, word)| *m == case && feature.contains(word)) =>
-            {
-                println!("export: {case}: refused ({feature})");
-                refused += 1;
-                continue;
-            }
-            // Models over MAX_TABLE_BYTES (spectex-gpu's export test lists them): their tables
-            // in a storage buffer.
-            Err(GpuError::LimitsExceeded { .. }) => {
-                let options = ExportOptions {
-                    tables: TableStorage::Buffer {
-                        group: TABLES_GROUP,
-                        binding: TABLES_BINDING,
-                    },
-                    ..ExportOptions::default()
-                };
-                export(&model, &options).unwrap_or_else(|e| panic!("{case}: {e}"))
-            }
-            other => other.unwrap_or_else(|e| panic!("{case}: {e}")),
-        };
-        if let Model::Voronoi(m) = &model
-            && regularity(&model).is_none()
-        {
-            failures.extend(check_voronoi_discrete(&context, &case, &model, m));
-            rendered += 1;
-            continue;
-        }
-        if let Model::Phasor(m) = &model {
-            let started = std::time::Instant::now();
-            failures.extend(check_phasor(&context, &case, &model, m));
-            println!(
-                "export: {case}: 4 modules (the model and its companions) compiled and \
-                 rendered in {:.1} s",
-                started.elapsed().as_secs_f64()
-            );
-            rendered += 1;
-            continue;
-        }
-        // A combination over operands judged by their own criteria (crossed phasor waves) has
-        // no pointwise bound: judged by composing its operands' verdicts, as its compute
-        // cross-check is.
-        if let Model::Combine(m) = &model
-            && check_kind(&model).value_bound().is_none()
-        {
-            let started = std::time::Instant::now();
-            failures.extend(check_combination(&context, &case, &model, m));
-            println!(
-                "export: {case}: the combination and its operands' modules compiled and \
-                 rendered in {:.1} s",
-                started.elapsed().as_secs_f64()
-            );
-            rendered += 1;
-            continue;
-        }
-        let module = exported.wgsl;
-        let channels = model.output_channels();
-        let started = std::time::Instant::now();
-        let cpu = spectex_cpu::Evaluator::new(&model).unwrap();
-        let (max_allowed, mean_allowed) = export_tolerance(&case, &model);
-        let cases = cases();
-        let all = render(
-            &context,
-            &shader(&module, &cases, channels),
-            channels,
-            cases.len() as u32,
-            &exported.tables,
-        )
-        .unwrap_or_else(|e| panic!("{case}: {e}"));
-        let per_case = all.len() / cases.len();
-        for (c, got) in cases.iter().zip(all.chunks_exact(per_case)) {
-            let want = cpu.render(&c.window).unwrap();
-            assert_eq!(got.len(), want.len());
-            let errors: Vec<f64> = want
-                .iter()
-                .zip(got)
-                .map(|(a, b)| (f64::from(*a) - f64::from(*b)).abs())
-                .collect();
-            let (worst, at) = errors.iter().enumerate().fold((0.0, 0), |(m, i), (k, &e)| {
-                if e > m || e.is_nan() { (e, k) } else { (m, i) }
+    // Two workers take the models in turn: lavapipe compiles a pipeline on the thread that
+    // creates it, one core per compile, and the compiles are most of this test's time. (Error
+    // scopes are per thread in wgpu, so each worker's `render` sees its own errors.)
+    let files = model_files();
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let outcomes = std::sync::Mutex::new(Vec::new());
+    let workers = std::thread::available_parallelism().map_or(1, |n| n.get().min(2));
+    std::thread::scope(|scope| {
+        for _ in 0..workers {
+            scope.spawn(|| {
+                while let Some(file) =
+                    files.get(next.fetch_add(1, std::sync::atomic::Ordering::Relaxed))
+                {
+                    let outcome = check_file(&context, file, all, only.as_deref());
+                    outcomes.lock().unwrap().push(outcome);
+                }
             });
-            let mean = errors.iter().sum::<f64>() / errors.len() as f64;
-            println!(
-                "export: {case} {}: max {worst:.3e} (allowed {max_allowed:.3e}), mean {mean:.3e} \
-                 (allowed {mean_allowed:.3e})",
-                c.name
-            );
-            if !(worst <= max_allowed && mean <= mean_allowed) {
-                failures.push(format!(
-                    "{case} {}: max {worst:.3e} at value {at} (cpu {}, export {}) vs {max_allowed:.3e}, \
-                     mean {mean:.3e} vs {mean_allowed:.3e}",
-                    c.name, want[at], got[at]
-                ));
+        }
+    });
+    let (mut failures, mut rendered, mut refused) = (Vec::new(), 0, 0);
+    for outcome in outcomes.into_inner().unwrap() {
+        match outcome {
+            Outcome::Skipped => {}
+            Outcome::Refused => refused += 1,
+            Outcome::Rendered(f) => {
+                rendered += 1;
+                failures.extend(f);
             }
         }
-        println!(
-            "export: {case}: {} bytes of WGSL, {} bytes of buffer, compiled and rendered in {:.1} s",
-            module.len(),
-            exported.tables.len(),
-            started.elapsed().as_secs_f64()
-        );
-        rendered += 1;
     }
+    failures.sort();
     assert!(failures.is_empty(), "{}", failures.join("\n"));
     if only.is_some() {
         println!("SPECTEX_EXPORT_ONLY is set: {rendered} models rendered, counts not checked");
@@ -1059,4 +964,136 @@ fn exported_modules_render_the_cpu_values_in_a_fragment_shader() {
          combinations 3 (crossed waves among them), warp-lrp-by-gabor, warp-phasor-by-lrp, and with SPECTEX_EXPORT_ALL=1 \
          textures 3 and warps 4; else one of each)"
     );
+}
+
+/// Exports, renders and judges one model file (the test's module docs), printing its lines.
+fn check_file(context: &GpuContext, file: &Path, all: bool, only: Option<&[String]>) -> Outcome {
+    let case = file.file_stem().unwrap().to_string_lossy().into_owned();
+    if only.is_some_and(|o| !o.iter().any(|p| case.starts_with(p.as_str()))) {
+        return Outcome::Skipped;
+    }
+    if !all && SLOW_ON_LAVAPIPE.contains(&case.as_str()) {
+        println!("export: {case}: left out (SPECTEX_EXPORT_ALL=1 renders it)");
+        return Outcome::Skipped;
+    }
+    let model: Model = spectex_model::from_json(&std::fs::read_to_string(file).unwrap())
+        .unwrap_or_else(|e| panic!("{case}: {e}"));
+    // Islamic patterns render through the storage buffer: their segment table (thousands
+    // of f32 read at a loop index) as a `var<private>` array is lowered by lavapipe into
+    // branch trees that LLVM compiled for over 8 minutes (islamic-31212-filled, 3024
+    // floats); the buffer export is the same module reading the same bytes from memory.
+    // The constant form is validated by spectex-gpu's export test.
+    let islamic_buffer = ExportOptions {
+        tables: TableStorage::Buffer {
+            group: TABLES_GROUP,
+            binding: TABLES_BINDING,
+        },
+        ..ExportOptions::default()
+    };
+    let first = if matches!(model, Model::Islamic(_)) {
+        export(&model, &islamic_buffer)
+    } else {
+        export(&model, &ExportOptions::default())
+    };
+    let exported = match first {
+        Err(GpuError::Unsupported { feature, .. })
+            if REFUSED
+                .iter()
+                .any(|(m, word)| *m == case && feature.contains(word)) =>
+        {
+            println!("export: {case}: refused ({feature})");
+            return Outcome::Refused;
+        }
+        // Models over MAX_TABLE_BYTES (spectex-gpu's export test lists them): their tables
+        // in a storage buffer.
+        Err(GpuError::LimitsExceeded { .. }) => {
+            let options = ExportOptions {
+                tables: TableStorage::Buffer {
+                    group: TABLES_GROUP,
+                    binding: TABLES_BINDING,
+                },
+                ..ExportOptions::default()
+            };
+            export(&model, &options).unwrap_or_else(|e| panic!("{case}: {e}"))
+        }
+        other => other.unwrap_or_else(|e| panic!("{case}: {e}")),
+    };
+    if let Model::Voronoi(m) = &model
+        && regularity(&model).is_none()
+    {
+        return Outcome::Rendered(check_voronoi_discrete(context, &case, &model, m));
+    }
+    if let Model::Phasor(m) = &model {
+        let started = std::time::Instant::now();
+        let failures = check_phasor(context, &case, &model, m);
+        println!(
+            "export: {case}: 4 modules (the model and its companions) compiled and \
+             rendered in {:.1} s",
+            started.elapsed().as_secs_f64()
+        );
+        return Outcome::Rendered(failures);
+    }
+    // A combination over operands judged by their own criteria (crossed phasor waves) has
+    // no pointwise bound: judged by composing its operands' verdicts, as its compute
+    // cross-check is.
+    if let Model::Combine(m) = &model
+        && check_kind(&model).value_bound().is_none()
+    {
+        let started = std::time::Instant::now();
+        let failures = check_combination(context, &case, &model, m);
+        println!(
+            "export: {case}: the combination and its operands' modules compiled and \
+             rendered in {:.1} s",
+            started.elapsed().as_secs_f64()
+        );
+        return Outcome::Rendered(failures);
+    }
+    let module = exported.wgsl;
+    let channels = model.output_channels();
+    let started = std::time::Instant::now();
+    let cpu = spectex_cpu::Evaluator::new(&model).unwrap();
+    let (max_allowed, mean_allowed) = export_tolerance(&case, &model);
+    let cases = cases();
+    let pixels = render(
+        context,
+        &shader(&module, &cases, channels),
+        channels,
+        cases.len() as u32,
+        &exported.tables,
+    )
+    .unwrap_or_else(|e| panic!("{case}: {e}"));
+    let per_case = pixels.len() / cases.len();
+    let mut failures = Vec::new();
+    for (c, got) in cases.iter().zip(pixels.chunks_exact(per_case)) {
+        let want = cpu.render(&c.window).unwrap();
+        assert_eq!(got.len(), want.len());
+        let errors: Vec<f64> = want
+            .iter()
+            .zip(got)
+            .map(|(a, b)| (f64::from(*a) - f64::from(*b)).abs())
+            .collect();
+        let (worst, at) = errors.iter().enumerate().fold((0.0, 0), |(m, i), (k, &e)| {
+            if e > m || e.is_nan() { (e, k) } else { (m, i) }
+        });
+        let mean = errors.iter().sum::<f64>() / errors.len() as f64;
+        println!(
+            "export: {case} {}: max {worst:.3e} (allowed {max_allowed:.3e}), mean {mean:.3e} \
+             (allowed {mean_allowed:.3e})",
+            c.name
+        );
+        if !(worst <= max_allowed && mean <= mean_allowed) {
+            failures.push(format!(
+                "{case} {}: max {worst:.3e} at value {at} (cpu {}, export {}) vs {max_allowed:.3e}, \
+                 mean {mean:.3e} vs {mean_allowed:.3e}",
+                c.name, want[at], got[at]
+            ));
+        }
+    }
+    println!(
+        "export: {case}: {} bytes of WGSL, {} bytes of buffer, compiled and rendered in {:.1} s",
+        module.len(),
+        exported.tables.len(),
+        started.elapsed().as_secs_f64()
+    );
+    Outcome::Rendered(failures)
 }
