@@ -305,7 +305,15 @@ fn corners<const L: usize, F: Fetch<L>, const GRADIENT: bool>(
     ux: &[f32; L],
     narrow: bool,
 ) -> [[f32; L]; 2] {
-    let fetch = if narrow { F::fetch_narrow } else { F::fetch };
+    // A closure, not a function pointer: each fetch inlines into the SIMD copy of the row
+    // (a pointer was a call per fetch, the permute's target feature lost behind it).
+    let fetch = |w: &[u32], i: &[u32; L]| {
+        if narrow {
+            F::fetch_narrow(w, i)
+        } else {
+            F::fetch(w, i)
+        }
+    };
     // The entries the two fetches read (`L + 1 ≤ WINDOW`), as arrays: one bounds check each.
     let at = p * t.len + base;
     let constant = window(&t.constant, at);
@@ -485,6 +493,14 @@ trait Fetch<const L: usize> {
     fn fetch_narrow(window: &[u32], idx: &[u32; L]) -> [u32; L] {
         Self::fetch(window, idx)
     }
+
+    /// `acc[l] += w * n[l]`: a product, then a sum (never fused), in every copy.
+    #[inline(always)]
+    fn accumulate(acc: &mut [f32; L], w: f32, n: &[f32; L]) {
+        for l in 0..L {
+            acc[l] += w * n[l];
+        }
+    }
 }
 
 /// [`Fetch`] by indexing.
@@ -517,6 +533,7 @@ impl Fetch<LANES> for Permute8 {
 /// `window[idx[l] % 8]` by one `vpermd`.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
+#[inline]
 fn permute8(window: &[u32], idx: &[u32; LANES]) -> [u32; LANES] {
     use std::arch::x86_64::{__m256i, _mm256_loadu_si256, _mm256_permutevar8x32_epi32};
     let window = &window[..LANES];
@@ -541,7 +558,7 @@ impl Fetch<WIDE_LANES> for Permute16 {
     fn fetch(window: &[u32], idx: &[u32; WIDE_LANES]) -> [u32; WIDE_LANES] {
         #[allow(unsafe_code)]
         // SAFETY: `Permute16` is used only by `row_avx512`, which runs only when the CPU
-        // reports AVX-512F at run time, and AVX-512F implies AVX2.
+        // reports AVX-512F at run time.
         unsafe {
             permute16(window, idx)
         }
@@ -549,51 +566,58 @@ impl Fetch<WIDE_LANES> for Permute16 {
 
     #[inline(always)]
     fn fetch_narrow(window: &[u32], idx: &[u32; WIDE_LANES]) -> [u32; WIDE_LANES] {
+        Self::fetch(window, idx)
+    }
+
+    #[inline(always)]
+    fn accumulate(acc: &mut [f32; WIDE_LANES], w: f32, n: &[f32; WIDE_LANES]) {
         #[allow(unsafe_code)]
         // SAFETY: as for `fetch`.
         unsafe {
-            permute16_narrow(window, idx)
+            accumulate16(acc, w, n);
         }
     }
 }
 
-/// `window[idx[l] % 8]` for 16 lanes: one `vpermd` per half of the lanes.
+/// [`Fetch::accumulate`] as one 16-lane multiply and one add (AVX-512F): LLVM's own
+/// vectorisation of the loop split it into 8-, 4- and 1-lane pieces that reread `n` from the
+/// stack, a quarter of a Perlin row's time.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn permute16_narrow(window: &[u32], idx: &[u32; WIDE_LANES]) -> [u32; WIDE_LANES] {
-    let low = &window[..LANES];
-    let mut out = [0u32; WIDE_LANES];
-    for (half, lanes) in out.chunks_exact_mut(LANES).enumerate() {
-        let mut i = [0u32; LANES];
-        i.copy_from_slice(&idx[half * LANES..(half + 1) * LANES]);
-        lanes.copy_from_slice(&permute8(low, &i));
+#[target_feature(enable = "avx512f")]
+#[inline]
+fn accumulate16(acc: &mut [f32; WIDE_LANES], w: f32, n: &[f32; WIDE_LANES]) {
+    use std::arch::x86_64::{
+        __m512, _mm512_add_ps, _mm512_loadu_ps, _mm512_mul_ps, _mm512_set1_ps, _mm512_storeu_ps,
+    };
+    #[allow(unsafe_code)]
+    // SAFETY: the loads and the store touch 16 `f32` of arrays of 16.
+    unsafe {
+        let a: __m512 = _mm512_loadu_ps(acc.as_ptr());
+        let v = _mm512_loadu_ps(n.as_ptr());
+        _mm512_storeu_ps(
+            acc.as_mut_ptr(),
+            _mm512_add_ps(a, _mm512_mul_ps(_mm512_set1_ps(w), v)),
+        );
     }
-    out
 }
 
-/// `window[idx[l] % 16]`: each half of the lanes permutes both halves of the window with
-/// `vpermd` (AVX2) and keeps the one its index points into. (The one-instruction AVX-512
-/// permute is stable only from Rust 1.89, above the workspace's MSRV.)
+/// `window[idx[l] % 16]` by one 16-lane `vpermd` (AVX-512F). With every `idx[l] < 8` it is
+/// also the narrow fetch: the same instruction reads the first 8 entries.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
+#[target_feature(enable = "avx512f")]
+#[inline]
 fn permute16(window: &[u32], idx: &[u32; WIDE_LANES]) -> [u32; WIDE_LANES] {
+    use std::arch::x86_64::{__m512i, _mm512_loadu_si512, _mm512_permutexvar_epi32};
     let window = &window[..WIDE_LANES];
-    let (low, high) = window.split_at(LANES);
-    let mut out = [0u32; WIDE_LANES];
-    for (half, lanes) in out.chunks_exact_mut(LANES).enumerate() {
-        let mut i = [0u32; LANES];
-        i.copy_from_slice(&idx[half * LANES..(half + 1) * LANES]);
-        let from_low = permute8(low, &i);
-        let from_high = permute8(high, &i);
-        for l in 0..LANES {
-            lanes[l] = if i[l] & 8 == 0 {
-                from_low[l]
-            } else {
-                from_high[l]
-            };
-        }
+    #[allow(unsafe_code)]
+    // SAFETY: both loads read 16 `u32` (64 bytes) from slices of at least that length
+    // (unaligned loads), and `__m512i` and `[u32; 16]` have the same size, every bit pattern
+    // valid for both.
+    unsafe {
+        let t = _mm512_loadu_si512(window.as_ptr().cast::<__m512i>());
+        let i = _mm512_loadu_si512(idx.as_ptr().cast::<__m512i>());
+        std::mem::transmute::<__m512i, [u32; WIDE_LANES]>(_mm512_permutexvar_epi32(i, t))
     }
-    out
 }
 
 /// A classic noise ready to evaluate.
@@ -1407,11 +1431,7 @@ impl ClassicEvaluator {
                 n = self.basis_lanes::<L, R>(oct, ro, x);
             }
             match (self.kind, faded) {
-                (None | Some(FractalKind::Fbm), None) => {
-                    for l in 0..L {
-                        acc[l] += w * n[l];
-                    }
-                }
+                (None | Some(FractalKind::Fbm), None) => F::accumulate(&mut acc, w, &n),
                 (None | Some(FractalKind::Fbm), Some((scale, constant))) => {
                     for l in 0..L {
                         acc[l] += scale * n[l] + constant;
@@ -1665,7 +1685,15 @@ impl ClassicEvaluator {
         }
         let base = base as usize;
         let narrow = span < 8;
-        let fetch = if narrow { F::fetch_narrow } else { F::fetch };
+        // A closure, not a function pointer: each fetch inlines into the SIMD copy of the row
+        // (a pointer was a call per fetch, the permute's target feature lost behind it).
+        let fetch = |w: &[u32], i: &[u32; L]| {
+            if narrow {
+                F::fetch_narrow(w, i)
+            } else {
+                F::fetch(w, i)
+            }
+        };
         let mut idx = [0u32; L];
         for l in 0..L {
             idx[l] = ix[l].wrapping_sub(ix[0]) as u32;
