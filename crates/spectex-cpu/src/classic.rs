@@ -840,9 +840,14 @@ impl ClassicEvaluator {
         #[cfg(target_arch = "x86_64")]
         if self.relaxed {
             #[allow(unsafe_code)]
-            // SAFETY: `relaxed` is set only when the CPU reports AVX2 and FMA at run time.
+            // SAFETY: `relaxed` is set only when the CPU reports AVX2 and FMA at run time, and
+            // `Simd::Avx512` only when it reports AVX-512F.
             unsafe {
-                self.row_relaxed(window, &rows, out, w, columns);
+                if self.simd == Simd::Avx512 {
+                    self.row_relaxed_avx512(window, &rows, out, w, columns);
+                } else {
+                    self.row_relaxed(window, &rows, out, w, columns);
+                }
             }
             return;
         }
@@ -907,6 +912,21 @@ impl ClassicEvaluator {
         columns: bool,
     ) {
         self.row::<LANES, Permute8, true>(window, rows, out, w, columns);
+    }
+
+    /// [`row_avx512`](Self::row_avx512) with the f32 split and FMA, so that the guarantees'
+    /// cost is measured at the exact path's width.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f,fma")]
+    fn row_relaxed_avx512(
+        &self,
+        window: &Window,
+        rows: &[RowOctave],
+        out: &mut [f32],
+        w: Option<&OctaveFade>,
+        columns: bool,
+    ) {
+        self.row::<WIDE_LANES, Permute16, true>(window, rows, out, w, columns);
     }
 
     #[cfg(target_arch = "x86_64")]
