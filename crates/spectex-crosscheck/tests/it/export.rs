@@ -90,13 +90,18 @@ const REFUSED: &[(&str, &str)] = &[
 /// model and LRP part into the fragment shader), measured on the 2-core CI machine's kind: the
 /// render test leaves them out unless `SPECTEX_EXPORT_ALL=1` (`cargo xtask export-check`), so
 /// that CI stays in its time budget. Each kind keeps a model in the CI run
-/// (`texture-synthetic-grey`, `warp-lrp-by-gabor`, `combine-mix-product`; `combine-bark`, a
+/// (`texture-synthetic-grey`, `warp-lrp-by-gabor`, `combine-crossed-waves`; `combine-bark`, a
 /// ramp of a fold of a warp, compiled in 84 s). `classic-simplex-3d` compiled in 48 s of the
 /// test's 185 (the other seven classic models in 30 s together); its kernel is the compute
 /// shader's, cross-checked in every CI run, and the export's glue is the other classic models'.
+/// So do `combine-mix-product` (22 s: a combination's glue is also crossed waves', whose
+/// operands and sum CI renders) and `lrp-fractal-anisotropic` (16 s; CI renders three other
+/// LRP models through the same glue).
 const SLOW_ON_LAVAPIPE: &[&str] = &[
     "classic-simplex-3d",
     "combine-bark",
+    "combine-mix-product",
+    "lrp-fractal-anisotropic",
     "texture-fitted-colour",
     "texture-synthetic-colour",
     "warp-classic-fbm",
