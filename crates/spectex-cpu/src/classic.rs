@@ -298,7 +298,7 @@ struct Columns {
 
 /// The lattice corners of row key `p` at columns `ix` and `ix + 1` of each lane (`ix` is the
 /// column `lo + base + idx[l]`) from the [`Columns`] `t`; `ux`: the lanes' offsets in their
-/// cells. `GRADIENT`: gradient noise, else value noise; `narrow`: every `idx[l] < 8`.
+/// cells. `GRADIENT`: gradient noise, else value noise.
 #[inline(always)]
 fn corners<const L: usize, F: Fetch<L>, const GRADIENT: bool>(
     t: &Columns,
@@ -306,17 +306,10 @@ fn corners<const L: usize, F: Fetch<L>, const GRADIENT: bool>(
     base: usize,
     idx: &[u32; L],
     ux: &[f32; L],
-    narrow: bool,
 ) -> [[f32; L]; 2] {
-    // A closure, not a function pointer: each fetch inlines into the SIMD copy of the row
-    // (a pointer was a call per fetch, the permute's target feature lost behind it).
-    let fetch = |w: &[u32], i: &[u32; L]| {
-        if narrow {
-            F::fetch_narrow(w, i)
-        } else {
-            F::fetch(w, i)
-        }
-    };
+    // Called by name, not through a function pointer: each fetch inlines into the SIMD copy
+    // of the row (a pointer was a call per fetch, the permute's target feature lost behind it).
+    let fetch = F::fetch;
     // The entries the two fetches read (`L + 1 ≤ WINDOW`), as arrays: one bounds check each.
     let at = p * t.len + base;
     let constant = window(&t.constant, at);
@@ -491,12 +484,6 @@ fn gradient_terms(h: u32, y: f32, z: f32) -> (u32, u32, u32) {
 trait Fetch<const L: usize> {
     fn fetch(window: &[u32], idx: &[u32; L]) -> [u32; L];
 
-    /// [`fetch`](Self::fetch) when every `idx[l] < 8` (the lanes span at most 8 columns).
-    #[inline(always)]
-    fn fetch_narrow(window: &[u32], idx: &[u32; L]) -> [u32; L] {
-        Self::fetch(window, idx)
-    }
-
     /// `acc[l] += w * n[l]`: a product, then a sum (never fused), in every copy.
     #[inline(always)]
     fn accumulate(acc: &mut [f32; L], w: f32, n: &[f32; L]) {
@@ -568,39 +555,38 @@ impl Fetch<WIDE_LANES> for Permute16 {
     }
 
     #[inline(always)]
-    fn fetch_narrow(window: &[u32], idx: &[u32; WIDE_LANES]) -> [u32; WIDE_LANES] {
-        Self::fetch(window, idx)
-    }
-
-    #[inline(always)]
     fn accumulate(acc: &mut [f32; WIDE_LANES], w: f32, n: &[f32; WIDE_LANES]) {
         #[allow(unsafe_code)]
         // SAFETY: as for `fetch`.
         unsafe {
-            accumulate16(acc, w, n);
+            accumulate512(acc, w, n);
         }
     }
 }
 
-/// [`Fetch::accumulate`] as one 16-lane multiply and one add (AVX-512F): LLVM's own
-/// vectorisation of the loop split it into 8-, 4- and 1-lane pieces that reread `n` from the
-/// stack, a quarter of a Perlin row's time.
+/// [`Fetch::accumulate`] as one multiply and one add per 16 lanes (AVX-512F; `L` a multiple
+/// of 16): LLVM's own vectorisation of the loop split it into 8-, 4- and 1-lane pieces that
+/// reread `n` from the stack, a quarter of a Perlin row's time.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f")]
 #[inline]
-fn accumulate16(acc: &mut [f32; WIDE_LANES], w: f32, n: &[f32; WIDE_LANES]) {
+fn accumulate512<const L: usize>(acc: &mut [f32; L], w: f32, n: &[f32; L]) {
     use std::arch::x86_64::{
-        __m512, _mm512_add_ps, _mm512_loadu_ps, _mm512_mul_ps, _mm512_set1_ps, _mm512_storeu_ps,
+        _mm512_add_ps, _mm512_loadu_ps, _mm512_mul_ps, _mm512_set1_ps, _mm512_storeu_ps,
     };
-    #[allow(unsafe_code)]
-    // SAFETY: the loads and the store touch 16 `f32` of arrays of 16.
-    unsafe {
-        let a: __m512 = _mm512_loadu_ps(acc.as_ptr());
-        let v = _mm512_loadu_ps(n.as_ptr());
-        _mm512_storeu_ps(
-            acc.as_mut_ptr(),
-            _mm512_add_ps(a, _mm512_mul_ps(_mm512_set1_ps(w), v)),
-        );
+    for (a, v) in acc
+        .chunks_exact_mut(WIDE_LANES)
+        .zip(n.chunks_exact(WIDE_LANES))
+    {
+        #[allow(unsafe_code)]
+        // SAFETY: the loads and the store touch the 16 `f32` of a chunk of 16.
+        unsafe {
+            let sum = _mm512_add_ps(
+                _mm512_loadu_ps(a.as_ptr()),
+                _mm512_mul_ps(_mm512_set1_ps(w), _mm512_loadu_ps(v.as_ptr())),
+            );
+            _mm512_storeu_ps(a.as_mut_ptr(), sum);
+        }
     }
 }
 
@@ -621,22 +607,11 @@ impl Fetch<WIDER_LANES> for Permute32 {
     }
 
     #[inline(always)]
-    fn fetch_narrow(window: &[u32], idx: &[u32; WIDER_LANES]) -> [u32; WIDER_LANES] {
-        Self::fetch(window, idx)
-    }
-
-    #[inline(always)]
     fn accumulate(acc: &mut [f32; WIDER_LANES], w: f32, n: &[f32; WIDER_LANES]) {
-        let (acc_lo, acc_hi) = acc.split_at_mut(WIDE_LANES);
-        let (n_lo, n_hi) = n.split_at(WIDE_LANES);
-        for (a, v) in [(acc_lo, n_lo), (acc_hi, n_hi)] {
-            let a: &mut [f32; WIDE_LANES] = a.try_into().expect("16 lanes");
-            let v: &[f32; WIDE_LANES] = v.try_into().expect("16 lanes");
-            #[allow(unsafe_code)]
-            // SAFETY: as for `fetch`.
-            unsafe {
-                accumulate16(a, w, v);
-            }
+        #[allow(unsafe_code)]
+        // SAFETY: as for `fetch`.
+        unsafe {
+            accumulate512(acc, w, n);
         }
     }
 }
@@ -665,8 +640,7 @@ fn permute32(window: &[u32], idx: &[u32; WIDER_LANES]) -> [u32; WIDER_LANES] {
     }
 }
 
-/// `window[idx[l] % 16]` by one 16-lane `vpermd` (AVX-512F). With every `idx[l] < 8` it is
-/// also the narrow fetch: the same instruction reads the first 8 entries.
+/// `window[idx[l] % 16]` by one 16-lane `vpermd` (AVX-512F).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f")]
 #[inline]
@@ -1002,11 +976,7 @@ impl ClassicEvaluator {
         w: Option<&OctaveFade>,
         columns: bool,
     ) {
-        if self.three_d {
-            self.row::<WIDE_LANES, Permute16, true>(window, rows, out, w, columns);
-        } else {
-            self.row::<WIDER_LANES, Permute32, true>(window, rows, out, w, columns);
-        }
+        self.row_wide::<true>(window, rows, out, w, columns);
     }
 
     #[cfg(target_arch = "x86_64")]
@@ -1019,10 +989,25 @@ impl ClassicEvaluator {
         w: Option<&OctaveFade>,
         columns: bool,
     ) {
-        if self.three_d {
-            self.row::<WIDE_LANES, Permute16, false>(window, rows, out, w, columns);
+        self.row_wide::<false>(window, rows, out, w, columns);
+    }
+
+    /// The AVX-512 row at [`avx512_lanes`](Self::avx512_lanes)' width; `inline(always)` into
+    /// each AVX-512 wrapper.
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    fn row_wide<const RELAXED: bool>(
+        &self,
+        window: &Window,
+        rows: &[RowOctave],
+        out: &mut [f32],
+        w: Option<&OctaveFade>,
+        columns: bool,
+    ) {
+        if self.avx512_lanes() == WIDE_LANES {
+            self.row::<WIDE_LANES, Permute16, RELAXED>(window, rows, out, w, columns);
         } else {
-            self.row::<WIDER_LANES, Permute32, false>(window, rows, out, w, columns);
+            self.row::<WIDER_LANES, Permute32, RELAXED>(window, rows, out, w, columns);
         }
     }
 
@@ -1325,7 +1310,6 @@ impl ClassicEvaluator {
             return false;
         }
         let base = base as usize;
-        let narrow = span < 8;
         let mut idx = [0u32; L];
         for l in 0..L {
             idx[l] = ix[l].wrapping_sub(ix[0]) as u32;
@@ -1336,7 +1320,7 @@ impl ClassicEvaluator {
             let mut c = [[[[0.0f32; L]; 2]; 2]; 2];
             for (dz, cz) in c.iter_mut().enumerate() {
                 for (dy, cy) in cz.iter_mut().enumerate() {
-                    *cy = corners::<L, F, GRADIENT>(t, 2 * dz + dy, base, &idx, &ux, narrow);
+                    *cy = corners::<L, F, GRADIENT>(t, 2 * dz + dy, base, &idx, &ux);
                 }
             }
             let sz = fade(o.uz);
@@ -1358,7 +1342,7 @@ impl ClassicEvaluator {
         } else {
             let mut c = [[[0.0f32; L]; 2]; 2];
             for (dy, cy) in c.iter_mut().enumerate() {
-                *cy = corners::<L, F, GRADIENT>(t, dy, base, &idx, &ux, narrow);
+                *cy = corners::<L, F, GRADIENT>(t, dy, base, &idx, &ux);
             }
             for l in 0..L {
                 let sy = fade(r.uy(l));
@@ -1788,16 +1772,7 @@ impl ClassicEvaluator {
             return false;
         }
         let base = base as usize;
-        let narrow = span < 8;
-        // A closure, not a function pointer: each fetch inlines into the SIMD copy of the row
-        // (a pointer was a call per fetch, the permute's target feature lost behind it).
-        let fetch = |w: &[u32], i: &[u32; L]| {
-            if narrow {
-                F::fetch_narrow(w, i)
-            } else {
-                F::fetch(w, i)
-            }
-        };
+        let fetch = F::fetch;
         let mut idx = [0u32; L];
         for l in 0..L {
             idx[l] = ix[l].wrapping_sub(ix[0]) as u32;
