@@ -1289,23 +1289,7 @@ fn composable_members(source: &str) -> String {
     if map.is_empty() {
         return source.to_owned();
     }
-    let mut out = String::with_capacity(source.len() + 64);
-    for line in source.split_inclusive('\n') {
-        let (code, comment) = line.find("//").map_or((line, ""), |k| line.split_at(k));
-        let mut word = String::new();
-        for c in code.chars() {
-            if c.is_ascii_alphanumeric() || c == '_' {
-                word.push(c);
-                continue;
-            }
-            out.push_str(map.get(&word).map_or(&word, |n| n));
-            word.clear();
-            out.push(c);
-        }
-        out.push_str(map.get(&word).map_or(&word, |n| n));
-        out.push_str(comment);
-    }
-    out
+    replace_identifiers(source, &map, &HashSet::new(), true)
 }
 
 /// `source` with every identifier in `map` replaced, except member names: after a `.`, and
@@ -1316,6 +1300,17 @@ pub(crate) fn rename(
     source: &str,
     map: &HashMap<String, String>,
     calls: &HashSet<String>,
+) -> String {
+    replace_identifiers(source, map, calls, false)
+}
+
+/// [`rename`], member names included where `members` (accesses after a `.` and field
+/// declarations are then replaced too).
+fn replace_identifiers(
+    source: &str,
+    map: &HashMap<String, String>,
+    calls: &HashSet<String>,
+    members: bool,
 ) -> String {
     let chars: Vec<char> = source.chars().collect();
     let mut out = String::with_capacity(source.len() + source.len() / 4);
@@ -1372,7 +1367,9 @@ pub(crate) fn rename(
                 pending_struct = true;
             }
             match map.get(&word) {
-                Some(new) if last_significant != '.' && !is_field => out.push_str(new),
+                Some(new) if members || (last_significant != '.' && !is_field) => {
+                    out.push_str(new);
+                }
                 _ => out.push_str(&word),
             }
             call_pending =
