@@ -538,31 +538,50 @@ fn permute8(window: &[u32], idx: &[u32; LANES]) -> [u32; LANES] {
     }
 }
 
-/// [`Fetch`] by `vpermd` (AVX-512 row, 16 lanes).
-#[cfg(target_arch = "x86_64")]
-struct Permute16;
+/// A [`Fetch`] of the AVX-512 row: `$name` reads `$lanes` lanes with `$permute` and accumulates
+/// with [`accumulate512`]; used only by `row_avx512` and `row_relaxed_avx512`, which run only
+/// when the CPU reports AVX-512F at run time.
+macro_rules! avx512_fetch {
+    ($(#[$doc:meta])* $name:ident, $lanes:ident, $permute:ident) => {
+        $(#[$doc])*
+        #[cfg(target_arch = "x86_64")]
+        struct $name;
 
-#[cfg(target_arch = "x86_64")]
-impl Fetch<WIDE_LANES> for Permute16 {
-    #[inline(always)]
-    fn fetch(window: &[u32], idx: &[u32; WIDE_LANES]) -> [u32; WIDE_LANES] {
-        #[allow(unsafe_code)]
-        // SAFETY: `Permute16` is used only by `row_avx512`, which runs only when the CPU
-        // reports AVX-512F at run time.
-        unsafe {
-            permute16(window, idx)
-        }
-    }
+        #[cfg(target_arch = "x86_64")]
+        impl Fetch<$lanes> for $name {
+            #[inline(always)]
+            fn fetch(window: &[u32], idx: &[u32; $lanes]) -> [u32; $lanes] {
+                #[allow(unsafe_code)]
+                // SAFETY: used only by the AVX-512 row (the macro's doc).
+                unsafe {
+                    $permute(window, idx)
+                }
+            }
 
-    #[inline(always)]
-    fn accumulate(acc: &mut [f32; WIDE_LANES], w: f32, n: &[f32; WIDE_LANES]) {
-        #[allow(unsafe_code)]
-        // SAFETY: as for `fetch`.
-        unsafe {
-            accumulate512(acc, w, n);
+            #[inline(always)]
+            fn accumulate(acc: &mut [f32; $lanes], w: f32, n: &[f32; $lanes]) {
+                #[allow(unsafe_code)]
+                // SAFETY: as for `fetch`.
+                unsafe {
+                    accumulate512(acc, w, n);
+                }
+            }
         }
-    }
+    };
 }
+
+avx512_fetch!(
+    /// [`Fetch`] by `vpermd` (AVX-512 row of 3D noise, 16 lanes).
+    Permute16,
+    WIDE_LANES,
+    permute16
+);
+avx512_fetch!(
+    /// [`Fetch`] by two-source `vpermt2d` (AVX-512 row of 2D noise, 32 lanes: two registers).
+    Permute32,
+    WIDER_LANES,
+    permute32
+);
 
 /// [`Fetch::accumulate`] as one multiply and one add per 16 lanes (AVX-512F; `L` a multiple
 /// of 16): LLVM's own vectorisation of the loop split it into 8-, 4- and 1-lane pieces that
@@ -586,32 +605,6 @@ fn accumulate512<const L: usize>(acc: &mut [f32; L], w: f32, n: &[f32; L]) {
                 _mm512_mul_ps(_mm512_set1_ps(w), _mm512_loadu_ps(v.as_ptr())),
             );
             _mm512_storeu_ps(a.as_mut_ptr(), sum);
-        }
-    }
-}
-
-/// [`Fetch`] by two-source `vpermt2d` (AVX-512 row, 32 lanes: two registers).
-#[cfg(target_arch = "x86_64")]
-struct Permute32;
-
-#[cfg(target_arch = "x86_64")]
-impl Fetch<WIDER_LANES> for Permute32 {
-    #[inline(always)]
-    fn fetch(window: &[u32], idx: &[u32; WIDER_LANES]) -> [u32; WIDER_LANES] {
-        #[allow(unsafe_code)]
-        // SAFETY: `Permute32` is used only by `row_avx512` and `row_relaxed_avx512`, which run
-        // only when the CPU reports AVX-512F at run time.
-        unsafe {
-            permute32(window, idx)
-        }
-    }
-
-    #[inline(always)]
-    fn accumulate(acc: &mut [f32; WIDER_LANES], w: f32, n: &[f32; WIDER_LANES]) {
-        #[allow(unsafe_code)]
-        // SAFETY: as for `fetch`.
-        unsafe {
-            accumulate512(acc, w, n);
         }
     }
 }
