@@ -74,6 +74,9 @@ use spectex_model::{Period, Window};
 
 use crate::lrp::Simd;
 
+#[cfg(target_arch = "x86_64")]
+mod avx512;
+
 /// Pixels evaluated together by the portable and AVX2 paths.
 const LANES: usize = 8;
 /// Pixels of one AVX-512 register.
@@ -491,6 +494,23 @@ trait Fetch<const L: usize> {
             acc[l] += w * n[l];
         }
     }
+
+    /// 3D simplex noise of the lanes: [`simplex3_table`] where the row has a table `t` and
+    /// one fetch reaches the lanes' planes, else [`simplex3`].
+    #[inline(always)]
+    fn simplex3<R: RowLanes>(
+        o: &Octave,
+        r: &R,
+        x: &[f64; L],
+        t: Option<&SimplexColumns>,
+        n: &mut [f32; L],
+    ) where
+        Self: Sized,
+    {
+        if !t.is_some_and(|t| simplex3_table::<L, Self, R>(o, r, x, t, n)) {
+            simplex3(o, r, x, n);
+        }
+    }
 }
 
 /// [`Fetch`] by indexing.
@@ -542,7 +562,7 @@ fn permute8(window: &[u32], idx: &[u32; LANES]) -> [u32; LANES] {
 /// with [`accumulate512`]; used only by `row_avx512` and `row_relaxed_avx512`, which run only
 /// when the CPU reports AVX-512F at run time.
 macro_rules! avx512_fetch {
-    ($(#[$doc:meta])* $name:ident, $lanes:ident, $permute:ident) => {
+    ($(#[$doc:meta])* $name:ident, $lanes:ident, $permute:ident $(, $kernels:item)*) => {
         $(#[$doc])*
         #[cfg(target_arch = "x86_64")]
         struct $name;
@@ -566,6 +586,8 @@ macro_rules! avx512_fetch {
                     accumulate512(acc, w, n);
                 }
             }
+
+            $($kernels)*
         }
     };
 }
@@ -574,13 +596,47 @@ avx512_fetch!(
     /// [`Fetch`] by `vpermd` (AVX-512 row of 3D noise, 16 lanes).
     Permute16,
     WIDE_LANES,
-    permute16
+    permute16,
+    #[inline(always)]
+    fn simplex3<R: RowLanes>(
+        o: &Octave,
+        r: &R,
+        x: &[f64; WIDE_LANES],
+        t: Option<&SimplexColumns>,
+        n: &mut [f32; WIDE_LANES],
+    ) {
+        #[allow(unsafe_code)]
+        // SAFETY: as for `fetch`.
+        unsafe {
+            avx512::simplex3::<1, R>(o, r, std::array::from_ref(x), t, std::array::from_mut(n));
+        }
+    }
 );
 avx512_fetch!(
     /// [`Fetch`] by two-source `vpermt2d` (AVX-512 row of 2D noise, 32 lanes: two registers).
     Permute32,
     WIDER_LANES,
-    permute32
+    permute32,
+    #[inline(always)]
+    fn simplex3<R: RowLanes>(
+        o: &Octave,
+        r: &R,
+        x: &[f64; WIDER_LANES],
+        t: Option<&SimplexColumns>,
+        n: &mut [f32; WIDER_LANES],
+    ) {
+        let (Ok(x), Ok(n)) = (
+            <&[[f64; WIDE_LANES]; 2]>::try_from(x.as_chunks().0),
+            <&mut [[f32; WIDE_LANES]; 2]>::try_from(n.as_chunks_mut().0),
+        ) else {
+            unreachable!("32 lanes are two registers of 16")
+        };
+        #[allow(unsafe_code)]
+        // SAFETY: as for `fetch`.
+        unsafe {
+            avx512::simplex3::<2, R>(o, r, x, t, n);
+        }
+    }
 );
 
 /// [`Fetch::accumulate`] as one multiply and one add per 16 lanes (AVX-512F; `L` a multiple
@@ -649,6 +705,36 @@ fn permute16(window: &[u32], idx: &[u32; WIDE_LANES]) -> [u32; WIDE_LANES] {
         let i = _mm512_loadu_si512(idx.as_ptr().cast::<__m512i>());
         std::mem::transmute::<__m512i, [u32; WIDE_LANES]>(_mm512_permutexvar_epi32(i, t))
     }
+}
+
+/// The basis as a const parameter of the row loop (`B`), beside its dimension (`D3`): each
+/// basis and dimension gets its own loop, so that LLVM allocates its registers for that basis
+/// alone (one loop holding every basis kept the lane arrays of each on the stack, and a kernel
+/// added for one basis slowed the others).
+const GRADIENT: u8 = 0;
+const VALUE: u8 = 1;
+const SIMPLEX: u8 = 2;
+const KENSLER: u8 = 3;
+const WORLEY: u8 = 4;
+
+/// `$self.$method::<$g…, B, D3>($arg…)` with the evaluator's basis and dimension as the
+/// constants `B` and `D3`: `$g3` are the leading generic arguments of 3D bases, `$simplex3`
+/// those of 3D simplex noise, `$g2` those of 2D ones.
+macro_rules! by_basis {
+    ($self:ident.$method:ident, [$($g2:tt),*], [$($g3:tt),*], [$($simplex3:tt),*], ($($arg:expr),*)) => {
+        match (&$self.basis, $self.three_d) {
+            (Basis::Gradient, false) => $self.$method::<$($g2,)* GRADIENT, false>($($arg),*),
+            (Basis::Gradient, true) => $self.$method::<$($g3,)* GRADIENT, true>($($arg),*),
+            (Basis::Value, false) => $self.$method::<$($g2,)* VALUE, false>($($arg),*),
+            (Basis::Value, true) => $self.$method::<$($g3,)* VALUE, true>($($arg),*),
+            (Basis::Simplex, false) => $self.$method::<$($g2,)* SIMPLEX, false>($($arg),*),
+            (Basis::Simplex, true) => $self.$method::<$($simplex3,)* SIMPLEX, true>($($arg),*),
+            (Basis::Kensler, false) => $self.$method::<$($g2,)* KENSLER, false>($($arg),*),
+            (Basis::Kensler, true) => $self.$method::<$($g3,)* KENSLER, true>($($arg),*),
+            (Basis::Worley(_), false) => $self.$method::<$($g2,)* WORLEY, false>($($arg),*),
+            (Basis::Worley(_), true) => $self.$method::<$($g3,)* WORLEY, true>($($arg),*),
+        }
+    };
 }
 
 /// A classic noise ready to evaluate.
@@ -775,7 +861,7 @@ impl ClassicEvaluator {
     /// bench: 2D Perlin 455 -> 515, simplex 248 -> 297 Mpix/s; 3D value 380 -> 348, cellular
     /// 60 -> 50 at 32). Lanes are independent, so the bits are the same at either width.
     fn avx512_lanes(&self) -> usize {
-        if self.three_d {
+        if self.three_d && self.basis != Basis::Simplex {
             WIDE_LANES
         } else {
             WIDER_LANES
@@ -902,10 +988,22 @@ impl ClassicEvaluator {
             #[allow(unsafe_code)]
             // SAFETY: `Simd::Avx2` is chosen only when the CPU reports AVX2 at run time.
             Simd::Avx2 => unsafe { self.row_avx2(window, &rows, out, w, columns) },
-            Simd::Portable => self.row::<LANES, Indexed, false>(window, &rows, out, w, columns),
+            Simd::Portable => by_basis!(
+                self.row,
+                [LANES, Indexed, false],
+                [LANES, Indexed, false],
+                [LANES, Indexed, false],
+                (window, &rows, out, w, columns)
+            ),
         }
         #[cfg(not(target_arch = "x86_64"))]
-        self.row::<LANES, Indexed, false>(window, &rows, out, w, columns);
+        by_basis!(
+            self.row,
+            [LANES, Indexed, false],
+            [LANES, Indexed, false],
+            [LANES, Indexed, false],
+            (window, &rows, out, w, columns)
+        );
     }
 
     /// The noise at one position (the same bits as any render).
@@ -940,7 +1038,13 @@ impl ClassicEvaluator {
         w: Option<&OctaveFade>,
         columns: bool,
     ) {
-        self.row::<LANES, Permute8, false>(window, rows, out, w, columns);
+        by_basis!(
+            self.row,
+            [LANES, Permute8, false],
+            [LANES, Permute8, false],
+            [LANES, Permute8, false],
+            (window, rows, out, w, columns)
+        );
     }
 
     /// [`row_avx2`](Self::row_avx2) with the f32 split and FMA ([`set_relaxed`](Self::set_relaxed)).
@@ -954,7 +1058,13 @@ impl ClassicEvaluator {
         w: Option<&OctaveFade>,
         columns: bool,
     ) {
-        self.row::<LANES, Permute8, true>(window, rows, out, w, columns);
+        by_basis!(
+            self.row,
+            [LANES, Permute8, true],
+            [LANES, Permute8, true],
+            [LANES, Permute8, true],
+            (window, rows, out, w, columns)
+        );
     }
 
     /// [`row_avx512`](Self::row_avx512) with the f32 split and FMA, so that the guarantees'
@@ -997,11 +1107,14 @@ impl ClassicEvaluator {
         w: Option<&OctaveFade>,
         columns: bool,
     ) {
-        if self.avx512_lanes() == WIDE_LANES {
-            self.row::<WIDE_LANES, Permute16, RELAXED>(window, rows, out, w, columns);
-        } else {
-            self.row::<WIDER_LANES, Permute32, RELAXED>(window, rows, out, w, columns);
-        }
+        // The widths of `avx512_lanes`.
+        by_basis!(
+            self.row,
+            [WIDER_LANES, Permute32, RELAXED],
+            [WIDE_LANES, Permute16, RELAXED],
+            [WIDER_LANES, Permute32, RELAXED],
+            (window, rows, out, w, columns)
+        );
     }
 
     /// One row, `L` pixels at a time; `inline(always)` so each SIMD wrapper gets its own copy.
@@ -1009,7 +1122,7 @@ impl ClassicEvaluator {
     /// `columns`: read lattice hashes from per-row [`Columns`] tables where the basis allows.
     /// `RELAXED`: the bench-only f32 split and FMA ([`set_relaxed`](Self::set_relaxed)).
     #[inline(always)]
-    fn row<const L: usize, F: Fetch<L>, const RELAXED: bool>(
+    fn row<const L: usize, F: Fetch<L>, const RELAXED: bool, const B: u8, const D3: bool>(
         &self,
         window: &Window,
         rows: &[RowOctave],
@@ -1047,7 +1160,7 @@ impl ClassicEvaluator {
                     x[l] = window.offset[0] + (base + lane_index[l]) * window.scale;
                 }
             }
-            let acc = self.octave_sum::<L, _, F, RELAXED>(&x, &xf, rows, fade, &tables);
+            let acc = self.octave_sum::<L, _, F, RELAXED, B, D3>(&x, &xf, rows, fade, &tables);
             let end = (start + L).min(width);
             if let Some(full) = out[start..end].first_chunk_mut::<L>() {
                 for l in 0..L {
@@ -1374,7 +1487,13 @@ impl ClassicEvaluator {
             for (r, o) in rows.iter_mut().zip(&self.octaves) {
                 self.point_rows(o, &y, r);
             }
-            let acc = self.octave_sum::<L, _, Indexed, false>(&x, &[0.0; L], &rows, None, &[]);
+            let acc = by_basis!(
+                self.octave_sum,
+                [L, _, Indexed, false],
+                [L, _, Indexed, false],
+                [L, _, Indexed, false],
+                (&x, &[0.0; L], &rows, None, &[])
+            );
             for (l, v) in values.iter_mut().enumerate() {
                 *v = self.mean + self.amplitude * acc[l];
             }
@@ -1442,7 +1561,14 @@ impl ClassicEvaluator {
     /// octave) along y; `fade`: how a minified render takes each octave, else `None`;
     /// `tables`: each octave's [`Columns`] of the row, where it has one (else empty).
     #[inline(always)]
-    fn octave_sum<const L: usize, R: RowLanes, F: Fetch<L>, const RELAXED: bool>(
+    fn octave_sum<
+        const L: usize,
+        R: RowLanes,
+        F: Fetch<L>,
+        const RELAXED: bool,
+        const B: u8,
+        const D3: bool,
+    >(
         &self,
         x: &[f64; L],
         xf: &[f32; L],
@@ -1480,36 +1606,33 @@ impl ClassicEvaluator {
                 continue;
             }
             let mut n = [0.0f32; L];
-            let from_table = match tables.get(o).and_then(Option::as_ref) {
-                Some(RowTable::Worley(t)) => {
-                    self.worley_table::<L, F, R, RELAXED>(oct, ro, x, xf, t, &mut n)
-                }
-                Some(RowTable::Simplex(t)) => {
-                    if RELAXED {
-                        simplex_relaxed::<L, F, R>(oct, ro, xf, t, self.three_d, &mut n)
-                    } else if self.three_d {
-                        simplex3_table::<L, F, R>(oct, ro, x, t, &mut n)
-                    } else {
-                        simplex2_table::<L, F, R>(oct, ro, x, t, &mut n)
+            let from_table =
+                match tables.get(o).and_then(Option::as_ref) {
+                    Some(RowTable::Worley(t)) if B == WORLEY => {
+                        self.worley_table::<L, F, R, RELAXED>(oct, ro, x, xf, t, &mut n)
                     }
-                }
-                Some(RowTable::Lattice(t)) => match (self.basis == Basis::Gradient, self.three_d) {
-                    (true, true) => self
-                        .lattice_columns::<L, F, R, true, true, RELAXED>(oct, ro, x, xf, t, &mut n),
-                    (true, false) => self.lattice_columns::<L, F, R, true, false, RELAXED>(
-                        oct, ro, x, xf, t, &mut n,
-                    ),
-                    (false, true) => self.lattice_columns::<L, F, R, false, true, RELAXED>(
-                        oct, ro, x, xf, t, &mut n,
-                    ),
-                    (false, false) => self.lattice_columns::<L, F, R, false, false, RELAXED>(
-                        oct, ro, x, xf, t, &mut n,
-                    ),
-                },
-                None => false,
-            };
+                    Some(RowTable::Simplex(t)) if B == SIMPLEX => {
+                        if RELAXED {
+                            simplex_relaxed::<L, F, R>(oct, ro, xf, t, D3, &mut n)
+                        } else if D3 {
+                            F::simplex3(oct, ro, x, Some(t), &mut n);
+                            true
+                        } else {
+                            simplex2_table::<L, F, R>(oct, ro, x, t, &mut n)
+                        }
+                    }
+                    Some(RowTable::Lattice(t)) if B == GRADIENT => self
+                        .lattice_columns::<L, F, R, true, D3, RELAXED>(oct, ro, x, xf, t, &mut n),
+                    Some(RowTable::Lattice(t)) if B == VALUE => self
+                        .lattice_columns::<L, F, R, false, D3, RELAXED>(oct, ro, x, xf, t, &mut n),
+                    None if !RELAXED && D3 && B == SIMPLEX => {
+                        F::simplex3(oct, ro, x, None, &mut n);
+                        true
+                    }
+                    _ => false,
+                };
             if !from_table {
-                n = self.basis_lanes::<L, R>(oct, ro, x);
+                n = self.basis_lanes::<L, R, B, D3>(oct, ro, x);
             }
             match (self.kind, faded) {
                 (None | Some(FractalKind::Fbm), None) => F::accumulate(&mut acc, w, &n),
@@ -1554,22 +1677,22 @@ impl ClassicEvaluator {
     }
 
     #[inline(always)]
-    fn basis_lanes<const L: usize, R: RowLanes>(
+    fn basis_lanes<const L: usize, R: RowLanes, const B: u8, const D3: bool>(
         &self,
         o: &Octave,
         r: &R,
         x: &[f64; L],
     ) -> [f32; L] {
         let mut n = [0.0f32; L];
-        match (&self.basis, self.three_d) {
-            (Basis::Gradient, false) => gradient2(o, r, x, &mut n, true),
-            (Basis::Value, false) => gradient2(o, r, x, &mut n, false),
-            (Basis::Gradient, true) => gradient3(o, r, x, &mut n, true),
-            (Basis::Value, true) => gradient3(o, r, x, &mut n, false),
-            (Basis::Simplex, false) => simplex2(o, r, x, &mut n),
-            (Basis::Simplex, true) => simplex3(o, r, x, &mut n),
-            (Basis::Kensler, three_d) => kensler(o, r, x, &mut n, three_d),
-            (Basis::Worley(_), three_d) => {
+        match (B, D3) {
+            (GRADIENT, false) => gradient2(o, r, x, &mut n, true),
+            (VALUE, false) => gradient2(o, r, x, &mut n, false),
+            (GRADIENT, true) => gradient3(o, r, x, &mut n, true),
+            (VALUE, true) => gradient3(o, r, x, &mut n, false),
+            (SIMPLEX, false) => simplex2(o, r, x, &mut n),
+            (SIMPLEX, true) => simplex3(o, r, x, &mut n),
+            (KENSLER, three_d) => kensler(o, r, x, &mut n, three_d),
+            (_, three_d) => {
                 if let Some(w) = &self.worley {
                     // Metric and dimension as constants, so each inner loop is one straight
                     // vectorisable body.

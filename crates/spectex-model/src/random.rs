@@ -49,7 +49,7 @@ pub const LCG_MULTIPLIER: u32 = 747_796_405;
 /// Increment of the 32-bit LCG step.
 pub const LCG_INCREMENT: u32 = 2_891_336_453;
 /// Multiplier of PCG's RXS-M-XS output permutation.
-const RXS_M_XS_MULTIPLIER: u32 = 277_803_737;
+pub const RXS_M_XS_MULTIPLIER: u32 = 277_803_737;
 
 /// PCG's RXS-M-XS output permutation: a bijection of `u32` with good avalanche.
 #[inline]

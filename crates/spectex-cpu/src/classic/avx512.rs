@@ -1,0 +1,337 @@
+//! Hand-written AVX-512 kernels of the classic row, for the bases where LLVM's vectorisation of
+//! the lane loops lost most of the machine: 3D simplex noise (16 lanes).
+//!
+//! Written with the lane loops' arrays, 3D simplex kept its skew's halves (16 f64 lanes are two
+//! registers) and its offsets on the stack, and read them back as whole registers: a load
+//! spanning several narrower stores cannot be forwarded from them, so it waited for them to
+//! retire, and every group of lanes waited for the one before. Here every value stays in a
+//! register from the position to the sum.
+//!
+//! Each function computes the very operations of its generic twin in the same order (`max` as
+//! `_mm512_max_ps(0, t)`, which returns `t` wherever `t < 0` is false, as `super::max` does;
+//! selects as masked operations), so the bits are the same; `fast_paths` and the classic tests
+//! compare this path with the portable and reference ones.
+
+use std::arch::x86_64::{
+    __m256, __m256i, __m512, __m512d, __m512i, __mmask16, _CMP_GE_OQ, _CMP_GT_OQ,
+    _mm_cvtsi128_si32, _mm_extract_epi32, _mm256_castps_pd, _mm512_add_epi32, _mm512_add_pd,
+    _mm512_add_ps, _mm512_and_si512, _mm512_castpd_ps, _mm512_castpd_si512, _mm512_castps_pd,
+    _mm512_castps_si512, _mm512_castps256_ps512, _mm512_castsi256_si512, _mm512_castsi512_ps,
+    _mm512_castsi512_si128, _mm512_cmp_pd_mask, _mm512_cmp_ps_mask, _mm512_cmpeq_epi32_mask,
+    _mm512_cmplt_epu32_mask, _mm512_cvtepi64_epi32, _mm512_cvtpd_ps, _mm512_div_pd,
+    _mm512_extracti32x4_epi32, _mm512_insertf64x4, _mm512_inserti64x4, _mm512_loadu_pd,
+    _mm512_loadu_si512, _mm512_mask_add_epi32, _mm512_mask_blend_epi32, _mm512_mask_blend_ps,
+    _mm512_mask_sub_pd, _mm512_mask_sub_ps, _mm512_max_ps, _mm512_mul_pd, _mm512_mul_ps,
+    _mm512_mullo_epi32, _mm512_permutex2var_epi32, _mm512_set1_epi32, _mm512_set1_pd,
+    _mm512_set1_ps, _mm512_setzero_ps, _mm512_setzero_si512, _mm512_slli_epi32, _mm512_srli_epi32,
+    _mm512_srlv_epi32, _mm512_storeu_ps, _mm512_sub_epi32, _mm512_sub_pd, _mm512_sub_ps,
+    _mm512_xor_si512,
+};
+
+use spectex_model::classic::{SIMPLEX_F3, SIMPLEX_G3, SIMPLEX3_R2, SIMPLEX3_SCALE};
+use spectex_model::random::{LCG_INCREMENT, LCG_MULTIPLIER, RXS_M_XS_MULTIPLIER};
+
+use super::{Octave, ROUND_MAGIC, RowLanes, SimplexColumns, WIDE_LANES, WINDOW, window};
+
+/// The lanes of one register of f32.
+const L: usize = WIDE_LANES;
+
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn splat(v: u32) -> __m512i {
+    _mm512_set1_epi32(v as i32)
+}
+
+/// [`spectex_model::random::hash`] in 16 lanes.
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn hash(v: __m512i) -> __m512i {
+    let state = _mm512_add_epi32(
+        _mm512_mullo_epi32(v, splat(LCG_MULTIPLIER)),
+        splat(LCG_INCREMENT),
+    );
+    let shift = _mm512_add_epi32(_mm512_srli_epi32::<28>(state), splat(4));
+    let word = _mm512_mullo_epi32(
+        _mm512_xor_si512(_mm512_srlv_epi32(state, shift), state),
+        splat(RXS_M_XS_MULTIPLIER),
+    );
+    _mm512_xor_si512(_mm512_srli_epi32::<22>(word), word)
+}
+
+/// `super::split_lanes` of 8 f64 lanes: the floors' `i32` cells and the floors.
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn split(p: __m512d) -> (__m256i, __m512d) {
+    let magic = _mm512_set1_pd(ROUND_MAGIC);
+    let r = _mm512_sub_pd(_mm512_add_pd(p, magic), magic);
+    let up = _mm512_cmp_pd_mask::<_CMP_GT_OQ>(r, p);
+    let f = _mm512_mask_sub_pd(r, up, r, _mm512_set1_pd(1.0));
+    let cell = _mm512_cvtepi64_epi32(_mm512_castpd_si512(_mm512_add_pd(f, magic)));
+    (cell, f)
+}
+
+/// 16 lanes of `i32` from two halves of 8.
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn join_epi32(lo: __m256i, hi: __m256i) -> __m512i {
+    _mm512_inserti64x4::<1>(_mm512_castsi256_si512(lo), hi)
+}
+
+/// 16 lanes of f32 from two halves of 8.
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn join_ps(lo: __m256, hi: __m256) -> __m512 {
+    _mm512_castpd_ps(_mm512_insertf64x4::<1>(
+        _mm512_castps_pd(_mm512_castps256_ps512(lo)),
+        _mm256_castps_pd(hi),
+    ))
+}
+
+/// The skew of 8 lanes (`super::simplex3_at`): cells `(i, j, k)` and offsets `(x0, y0, z0)`.
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn skew3(px: __m512d, py: __m512d, pz: f64) -> ([__m256i; 3], [__m256; 3]) {
+    let pz = _mm512_set1_pd(pz);
+    let s = _mm512_mul_pd(
+        _mm512_add_pd(_mm512_add_pd(px, py), pz),
+        _mm512_set1_pd(SIMPLEX_F3),
+    );
+    let (i, fi) = split(_mm512_add_pd(px, s));
+    let (j, fj) = split(_mm512_add_pd(py, s));
+    let (k, fk) = split(_mm512_add_pd(pz, s));
+    let t = _mm512_mul_pd(
+        _mm512_add_pd(_mm512_add_pd(fi, fj), fk),
+        _mm512_set1_pd(SIMPLEX_G3),
+    );
+    (
+        [i, j, k],
+        [
+            _mm512_cvtpd_ps(_mm512_sub_pd(px, _mm512_sub_pd(fi, t))),
+            _mm512_cvtpd_ps(_mm512_sub_pd(py, _mm512_sub_pd(fj, t))),
+            _mm512_cvtpd_ps(_mm512_sub_pd(pz, _mm512_sub_pd(fk, t))),
+        ],
+    )
+}
+
+/// [`spectex_model::classic::gradient_dot`] in 16 lanes.
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn gradient_dot(h: __m512i, x: __m512, y: __m512, z: __m512) -> __m512 {
+    let g = _mm512_srli_epi32::<28>(h);
+    let u = _mm512_mask_blend_ps(_mm512_cmplt_epu32_mask(g, splat(8)), y, x);
+    // `g == 12 || g == 14`: bits 3 and 2 set, bit 0 clear.
+    let x_second = _mm512_cmpeq_epi32_mask(_mm512_and_si512(g, splat(0b1101)), splat(0b1100));
+    let v = _mm512_mask_blend_ps(
+        _mm512_cmplt_epu32_mask(g, splat(4)),
+        _mm512_mask_blend_ps(x_second, z, x),
+        y,
+    );
+    // Bit 28 of `h` (`g & 1`) to the sign of `u`, bit 29 (`g & 2`) to the sign of `v`.
+    _mm512_add_ps(
+        flip(u, _mm512_slli_epi32::<3>(h)),
+        flip(v, _mm512_slli_epi32::<2>(h)),
+    )
+}
+
+/// `v` with its sign flipped where `bits` has bit 31.
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn flip(v: __m512, bits: __m512i) -> __m512 {
+    _mm512_castsi512_ps(_mm512_xor_si512(
+        _mm512_castps_si512(v),
+        _mm512_and_si512(bits, splat(1 << 31)),
+    ))
+}
+
+/// `super::simplex_term` (no FMA) in 16 lanes.
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn term(h: __m512i, dx: __m512, dy: __m512, dz: __m512) -> __m512 {
+    let d2 = _mm512_add_ps(
+        _mm512_add_ps(_mm512_mul_ps(dx, dx), _mm512_mul_ps(dy, dy)),
+        _mm512_mul_ps(dz, dz),
+    );
+    let t = _mm512_max_ps(
+        _mm512_setzero_ps(),
+        _mm512_sub_ps(_mm512_set1_ps(SIMPLEX3_R2), d2),
+    );
+    let t2 = _mm512_mul_ps(t, t);
+    _mm512_mul_ps(_mm512_mul_ps(t2, t2), gradient_dot(h, dx, dy, dz))
+}
+
+/// 3D simplex noise of `S` registers of 16 lanes (`super::simplex3_table`, else
+/// `super::simplex3`): positions `x` (pixels) on the rows of `r` and the octave's plane, the
+/// layer keys of the skewed planes read from the row's table `t` where one permute reaches
+/// them, else hashed. Each step runs over the `S` registers before the next, so that `S`
+/// independent chains of latency (the f64 skew, two hashes per corner) overlap. Plain loops
+/// and functions, no closures: a closure does not inherit the `target_feature`, and its
+/// register arguments went through memory.
+#[inline]
+#[target_feature(enable = "avx512f")]
+pub(super) fn simplex3<const S: usize, R: RowLanes>(
+    o: &Octave,
+    r: &R,
+    x: &[[f64; L]; S],
+    t: Option<&SimplexColumns>,
+    n: &mut [[f32; L]; S],
+) {
+    let zero = _mm512_setzero_si512();
+    let mut cells = [[zero; 3]; S];
+    let mut offsets = [[_mm512_setzero_ps(); 3]; S];
+    for s in 0..S {
+        let (lo, hi) = (skew_half(o, r, x, s, 0), skew_half(o, r, x, s, 1));
+        for a in 0..3 {
+            cells[s][a] = join_epi32(lo.0[a], hi.0[a]);
+            offsets[s][a] = join_ps(lo.1[a], hi.1[a]);
+        }
+    }
+
+    let one = splat(1);
+    let mut layers = [[zero; 2]; S];
+    if let Some((keys, first)) = t.and_then(|t| reach::<S>(t, &cells)) {
+        #[allow(unsafe_code)]
+        // SAFETY: `reach` checked that `keys` holds `WINDOW` (≥ 33) entries.
+        let (a0, b0, a1, b1) = unsafe {
+            (
+                _mm512_loadu_si512(keys.as_ptr().cast()),
+                _mm512_loadu_si512(keys[L..].as_ptr().cast()),
+                _mm512_loadu_si512(keys[1..].as_ptr().cast()),
+                _mm512_loadu_si512(keys[L + 1..].as_ptr().cast()),
+            )
+        };
+        for s in 0..S {
+            let idx = _mm512_sub_epi32(cells[s][2], _mm512_set1_epi32(first));
+            layers[s] = [
+                _mm512_permutex2var_epi32(a0, idx, b0),
+                _mm512_permutex2var_epi32(a1, idx, b1),
+            ];
+        }
+    } else {
+        for s in 0..S {
+            let k = cells[s][2];
+            layers[s] = [layer_key(o, k), layer_key(o, _mm512_add_epi32(k, one))];
+        }
+    }
+
+    // Gustavson's ranking as masks: the steps of the middle corners.
+    let mut steps = [[[0; 3]; 2]; S];
+    for s in 0..S {
+        let [x0, y0, z0] = offsets[s];
+        let a: __mmask16 = _mm512_cmp_ps_mask::<_CMP_GE_OQ>(x0, y0);
+        let b: __mmask16 = _mm512_cmp_ps_mask::<_CMP_GE_OQ>(y0, z0);
+        let c: __mmask16 = _mm512_cmp_ps_mask::<_CMP_GE_OQ>(x0, z0);
+        steps[s] = [
+            [a & (b | c), !a & b, !b & (!a | !c)],
+            [a | (b & c), b | !a, !b | (!a & !c)],
+        ];
+    }
+    let g3 = SIMPLEX_G3 as f32;
+    let mut sum = [_mm512_setzero_ps(); S];
+    for s in 0..S {
+        sum[s] = corner(&cells[s], &layers[s], &offsets[s], [0; 3], 0.0);
+    }
+    for step in 0..2 {
+        let off = (step + 1) as f32 * g3;
+        for s in 0..S {
+            let c = corner(&cells[s], &layers[s], &offsets[s], steps[s][step], off);
+            sum[s] = _mm512_add_ps(sum[s], c);
+        }
+    }
+    for s in 0..S {
+        let last = corner(&cells[s], &layers[s], &offsets[s], [u16::MAX; 3], 3.0 * g3);
+        let v = _mm512_mul_ps(_mm512_set1_ps(SIMPLEX3_SCALE), _mm512_add_ps(sum[s], last));
+        #[allow(unsafe_code)]
+        // SAFETY: the store writes 16 f32 (64 bytes) into a 16-lane array.
+        unsafe {
+            _mm512_storeu_ps(n[s].as_mut_ptr(), v);
+        }
+    }
+}
+
+/// The skew of lanes `8h..8h + 8` of register `s` (`x` in pixels) on the rows of `r`.
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn skew_half<const S: usize, R: RowLanes>(
+    o: &Octave,
+    r: &R,
+    x: &[[f64; L]; S],
+    s: usize,
+    h: usize,
+) -> ([__m256i; 3], [__m256; 3]) {
+    let mut py = [0.0f64; 8];
+    for (l, p) in py.iter_mut().enumerate() {
+        *p = r.py(L * s + 8 * h + l);
+    }
+    #[allow(unsafe_code)]
+    // SAFETY: each load reads 8 f64 (64 bytes): an array of 8, and lanes `8h..8h + 8` of one
+    // of 16, `h` ≤ 1.
+    let (x, py) = unsafe {
+        (
+            _mm512_loadu_pd(x[s][8 * h..].as_ptr()),
+            _mm512_loadu_pd(py.as_ptr()),
+        )
+    };
+    let px = match o.inv_side {
+        Some(inv) => _mm512_mul_pd(x, _mm512_set1_pd(inv)),
+        None => _mm512_div_pd(x, _mm512_set1_pd(o.side)),
+    };
+    skew3(px, py, o.pz)
+}
+
+/// `layer_key(o.layer, cell_hash_in_row(k, o.key0))` of the planes `k`.
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn layer_key(o: &Octave, k: __m512i) -> __m512i {
+    let seed = hash(_mm512_add_epi32(k, splat(o.key0)));
+    hash(_mm512_add_epi32(splat(o.layer), hash(seed)))
+}
+
+/// One corner's term of 16 lanes: corner `(i + di, j + dj, k + dk)` of the cells, its hash from
+/// the layer keys `[l0, l1]` of planes `k`, `k + 1`, its offsets `(x0 − di) + off`.
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn corner(
+    [i, j, _]: &[__m512i; 3],
+    [l0, l1]: &[__m512i; 2],
+    [x0, y0, z0]: &[__m512; 3],
+    [di, dj, dk]: [__mmask16; 3],
+    off: f32,
+) -> __m512 {
+    let one = splat(1);
+    let layer = _mm512_mask_blend_epi32(dk, *l0, *l1);
+    let row = hash(_mm512_add_epi32(
+        _mm512_mask_add_epi32(*j, dj, *j, one),
+        layer,
+    ));
+    let h = hash(_mm512_add_epi32(
+        _mm512_mask_add_epi32(*i, di, *i, one),
+        row,
+    ));
+    let off = _mm512_set1_ps(off);
+    let onef = _mm512_set1_ps(1.0);
+    term(
+        h,
+        _mm512_add_ps(_mm512_mask_sub_ps(*x0, di, *x0, onef), off),
+        _mm512_add_ps(_mm512_mask_sub_ps(*y0, dj, *y0, onef), off),
+        _mm512_add_ps(_mm512_mask_sub_ps(*z0, dk, *z0, onef), off),
+    )
+}
+
+/// `super::simplex_window` for the planes `cells[s][2]` of `S` registers: the table's entries
+/// from the first lane's plane (at least [`WINDOW`]) and that plane, or `None` when one
+/// permute of 32 entries cannot reach them.
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn reach<'t, const S: usize>(
+    t: &'t SimplexColumns,
+    cells: &[[__m512i; 3]; S],
+) -> Option<(&'t [u32], i32)> {
+    let first = _mm_cvtsi128_si32(_mm512_castsi512_si128(cells[0][2]));
+    let last = _mm_extract_epi32::<3>(_mm512_extracti32x4_epi32::<3>(cells[S - 1][2]));
+    let span = i64::from(last) - i64::from(first);
+    let base = i64::from(first) - i64::from(t.lo);
+    if !(0..(S * L) as i64).contains(&span) || base < 0 || base as usize + WINDOW > t.len {
+        return None;
+    }
+    Some((&window(&t.keys, base as usize)[..], first))
+}
