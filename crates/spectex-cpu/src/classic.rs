@@ -511,6 +511,25 @@ trait Fetch<const L: usize> {
             simplex3(o, r, x, n);
         }
     }
+
+    /// 3D gradient (`GRADIENT`) or value noise of the lanes from the row's table `t`
+    /// ([`ClassicEvaluator::lattice_columns`]); `false` (nothing written) where one fetch
+    /// cannot reach the lanes' columns.
+    #[inline(always)]
+    fn lattice3<R: RowLanes, const GRADIENT: bool>(
+        o: &Octave,
+        r: &R,
+        x: &[f64; L],
+        t: &Columns,
+        n: &mut [f32; L],
+    ) -> bool
+    where
+        Self: Sized,
+    {
+        ClassicEvaluator::lattice_columns::<L, Self, R, GRADIENT, true, false>(
+            o, r, x, &[0.0; L], t, n,
+        )
+    }
 }
 
 /// [`Fetch`] by indexing.
@@ -593,27 +612,14 @@ macro_rules! avx512_fetch {
 }
 
 avx512_fetch!(
-    /// [`Fetch`] by `vpermd` (AVX-512 row of 3D noise, 16 lanes).
+    /// [`Fetch`] by `vpermd` (AVX-512 row of 3D Kensler and Worley noise, 16 lanes).
     Permute16,
     WIDE_LANES,
-    permute16,
-    #[inline(always)]
-    fn simplex3<R: RowLanes>(
-        o: &Octave,
-        r: &R,
-        x: &[f64; WIDE_LANES],
-        t: Option<&SimplexColumns>,
-        n: &mut [f32; WIDE_LANES],
-    ) {
-        #[allow(unsafe_code)]
-        // SAFETY: as for `fetch`.
-        unsafe {
-            avx512::simplex3::<1, R>(o, r, std::array::from_ref(x), t, std::array::from_mut(n));
-        }
-    }
+    permute16
 );
 avx512_fetch!(
-    /// [`Fetch`] by two-source `vpermt2d` (AVX-512 row of 2D noise, 32 lanes: two registers).
+    /// [`Fetch`] by two-source `vpermt2d` (AVX-512 row of 2D noise and of the 3D kernels of
+    /// `avx512`, 32 lanes: two registers).
     Permute32,
     WIDER_LANES,
     permute32,
@@ -635,6 +641,26 @@ avx512_fetch!(
         // SAFETY: as for `fetch`.
         unsafe {
             avx512::simplex3::<2, R>(o, r, x, t, n);
+        }
+    },
+    #[inline(always)]
+    fn lattice3<R: RowLanes, const GRADIENT: bool>(
+        o: &Octave,
+        r: &R,
+        x: &[f64; WIDER_LANES],
+        t: &Columns,
+        n: &mut [f32; WIDER_LANES],
+    ) -> bool {
+        let (Ok(x), Ok(n)) = (
+            <&[[f64; WIDE_LANES]; 2]>::try_from(x.as_chunks().0),
+            <&mut [[f32; WIDE_LANES]; 2]>::try_from(n.as_chunks_mut().0),
+        ) else {
+            unreachable!("32 lanes are two registers of 16")
+        };
+        #[allow(unsafe_code)]
+        // SAFETY: as for `fetch`.
+        unsafe {
+            avx512::lattice3::<2, R, GRADIENT>(o, r, x, t, n)
         }
     }
 );
@@ -718,17 +744,18 @@ const KENSLER: u8 = 3;
 const WORLEY: u8 = 4;
 
 /// `$self.$method::<$g…, B, D3>($arg…)` with the evaluator's basis and dimension as the
-/// constants `B` and `D3`: `$g3` are the leading generic arguments of 3D bases, `$simplex3`
-/// those of 3D simplex noise, `$g2` those of 2D ones.
+/// constants `B` and `D3`: `$g2` are the leading generic arguments of 2D bases, `$wide3` those
+/// of 3D gradient, value and simplex noise (the AVX-512 row's two-register kernels), `$g3`
+/// those of the other 3D bases.
 macro_rules! by_basis {
-    ($self:ident.$method:ident, [$($g2:tt),*], [$($g3:tt),*], [$($simplex3:tt),*], ($($arg:expr),*)) => {
+    ($self:ident.$method:ident, [$($g2:tt),*], [$($g3:tt),*], [$($wide3:tt),*], ($($arg:expr),*)) => {
         match (&$self.basis, $self.three_d) {
             (Basis::Gradient, false) => $self.$method::<$($g2,)* GRADIENT, false>($($arg),*),
-            (Basis::Gradient, true) => $self.$method::<$($g3,)* GRADIENT, true>($($arg),*),
+            (Basis::Gradient, true) => $self.$method::<$($wide3,)* GRADIENT, true>($($arg),*),
             (Basis::Value, false) => $self.$method::<$($g2,)* VALUE, false>($($arg),*),
-            (Basis::Value, true) => $self.$method::<$($g3,)* VALUE, true>($($arg),*),
+            (Basis::Value, true) => $self.$method::<$($wide3,)* VALUE, true>($($arg),*),
             (Basis::Simplex, false) => $self.$method::<$($g2,)* SIMPLEX, false>($($arg),*),
-            (Basis::Simplex, true) => $self.$method::<$($simplex3,)* SIMPLEX, true>($($arg),*),
+            (Basis::Simplex, true) => $self.$method::<$($wide3,)* SIMPLEX, true>($($arg),*),
             (Basis::Kensler, false) => $self.$method::<$($g2,)* KENSLER, false>($($arg),*),
             (Basis::Kensler, true) => $self.$method::<$($g3,)* KENSLER, true>($($arg),*),
             (Basis::Worley(_), false) => $self.$method::<$($g2,)* WORLEY, false>($($arg),*),
@@ -857,11 +884,12 @@ impl ClassicEvaluator {
     }
 
     /// Pixels the AVX-512 row evaluates together: 32 (two registers, two independent chains)
-    /// for 2D noise, 16 for 3D, whose larger lane state spilled at 32 (measured on the grid
-    /// bench: 2D Perlin 455 -> 515, simplex 248 -> 297 Mpix/s; 3D value 380 -> 348, cellular
-    /// 60 -> 50 at 32). Lanes are independent, so the bits are the same at either width.
+    /// for 2D noise and for the hand-written 3D kernels (gradient, value, simplex: `avx512`),
+    /// 16 for 3D Kensler and Worley noise, whose larger lane state spilled at 32 (measured on
+    /// the grid bench: 2D Perlin 455 -> 515, simplex 248 -> 297 Mpix/s; 3D cellular 60 -> 50 at
+    /// 32). Lanes are independent, so the bits are the same at either width.
     fn avx512_lanes(&self) -> usize {
-        if self.three_d && self.basis != Basis::Simplex {
+        if self.three_d && matches!(self.basis, Basis::Kensler | Basis::Worley(_)) {
             WIDE_LANES
         } else {
             WIDER_LANES
@@ -1395,7 +1423,6 @@ impl ClassicEvaluator {
         const THREE_D: bool,
         const RELAXED: bool,
     >(
-        &self,
         o: &Octave,
         r: &R,
         x: &[f64; L],
@@ -1606,31 +1633,38 @@ impl ClassicEvaluator {
                 continue;
             }
             let mut n = [0.0f32; L];
-            let from_table =
-                match tables.get(o).and_then(Option::as_ref) {
-                    Some(RowTable::Worley(t)) if B == WORLEY => {
-                        self.worley_table::<L, F, R, RELAXED>(oct, ro, x, xf, t, &mut n)
-                    }
-                    Some(RowTable::Simplex(t)) if B == SIMPLEX => {
-                        if RELAXED {
-                            simplex_relaxed::<L, F, R>(oct, ro, xf, t, D3, &mut n)
-                        } else if D3 {
-                            F::simplex3(oct, ro, x, Some(t), &mut n);
-                            true
-                        } else {
-                            simplex2_table::<L, F, R>(oct, ro, x, t, &mut n)
-                        }
-                    }
-                    Some(RowTable::Lattice(t)) if B == GRADIENT => self
-                        .lattice_columns::<L, F, R, true, D3, RELAXED>(oct, ro, x, xf, t, &mut n),
-                    Some(RowTable::Lattice(t)) if B == VALUE => self
-                        .lattice_columns::<L, F, R, false, D3, RELAXED>(oct, ro, x, xf, t, &mut n),
-                    None if !RELAXED && D3 && B == SIMPLEX => {
-                        F::simplex3(oct, ro, x, None, &mut n);
+            let from_table = match tables.get(o).and_then(Option::as_ref) {
+                Some(RowTable::Worley(t)) if B == WORLEY => {
+                    self.worley_table::<L, F, R, RELAXED>(oct, ro, x, xf, t, &mut n)
+                }
+                Some(RowTable::Simplex(t)) if B == SIMPLEX => {
+                    if RELAXED {
+                        simplex_relaxed::<L, F, R>(oct, ro, xf, t, D3, &mut n)
+                    } else if D3 {
+                        F::simplex3(oct, ro, x, Some(t), &mut n);
                         true
+                    } else {
+                        simplex2_table::<L, F, R>(oct, ro, x, t, &mut n)
                     }
-                    _ => false,
-                };
+                }
+                Some(RowTable::Lattice(t)) if B == GRADIENT && D3 && !RELAXED => {
+                    F::lattice3::<R, true>(oct, ro, x, t, &mut n)
+                }
+                Some(RowTable::Lattice(t)) if B == VALUE && D3 && !RELAXED => {
+                    F::lattice3::<R, false>(oct, ro, x, t, &mut n)
+                }
+                Some(RowTable::Lattice(t)) if B == GRADIENT => {
+                    Self::lattice_columns::<L, F, R, true, D3, RELAXED>(oct, ro, x, xf, t, &mut n)
+                }
+                Some(RowTable::Lattice(t)) if B == VALUE => {
+                    Self::lattice_columns::<L, F, R, false, D3, RELAXED>(oct, ro, x, xf, t, &mut n)
+                }
+                None if !RELAXED && D3 && B == SIMPLEX => {
+                    F::simplex3(oct, ro, x, None, &mut n);
+                    true
+                }
+                _ => false,
+            };
             if !from_table {
                 n = self.basis_lanes::<L, R, B, D3>(oct, ro, x);
             }

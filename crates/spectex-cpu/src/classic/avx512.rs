@@ -20,18 +20,18 @@ use std::arch::x86_64::{
     _mm512_castsi512_si128, _mm512_cmp_pd_mask, _mm512_cmp_ps_mask, _mm512_cmpeq_epi32_mask,
     _mm512_cmplt_epu32_mask, _mm512_cvtepi64_epi32, _mm512_cvtpd_ps, _mm512_div_pd,
     _mm512_extracti32x4_epi32, _mm512_insertf64x4, _mm512_inserti64x4, _mm512_loadu_pd,
-    _mm512_loadu_si512, _mm512_mask_add_epi32, _mm512_mask_blend_epi32, _mm512_mask_blend_ps,
-    _mm512_mask_sub_pd, _mm512_mask_sub_ps, _mm512_max_ps, _mm512_mul_pd, _mm512_mul_ps,
-    _mm512_mullo_epi32, _mm512_permutex2var_epi32, _mm512_set1_epi32, _mm512_set1_pd,
-    _mm512_set1_ps, _mm512_setzero_ps, _mm512_setzero_si512, _mm512_slli_epi32, _mm512_srli_epi32,
-    _mm512_srlv_epi32, _mm512_storeu_ps, _mm512_sub_epi32, _mm512_sub_pd, _mm512_sub_ps,
-    _mm512_xor_si512,
+    _mm512_loadu_ps, _mm512_loadu_si512, _mm512_mask_add_epi32, _mm512_mask_blend_epi32,
+    _mm512_mask_blend_ps, _mm512_mask_sub_pd, _mm512_mask_sub_ps, _mm512_max_ps, _mm512_mul_pd,
+    _mm512_mul_ps, _mm512_mullo_epi32, _mm512_permutex2var_epi32, _mm512_set1_epi32,
+    _mm512_set1_pd, _mm512_set1_ps, _mm512_setzero_ps, _mm512_setzero_si512, _mm512_slli_epi32,
+    _mm512_srli_epi32, _mm512_srlv_epi32, _mm512_storeu_ps, _mm512_sub_epi32, _mm512_sub_pd,
+    _mm512_sub_ps, _mm512_ternarylogic_epi32, _mm512_xor_si512,
 };
 
 use spectex_model::classic::{SIMPLEX_F3, SIMPLEX_G3, SIMPLEX3_R2, SIMPLEX3_SCALE};
 use spectex_model::random::{LCG_INCREMENT, LCG_MULTIPLIER, RXS_M_XS_MULTIPLIER};
 
-use super::{Octave, ROUND_MAGIC, RowLanes, SimplexColumns, WIDE_LANES, WINDOW, window};
+use super::{Columns, Octave, ROUND_MAGIC, RowLanes, SimplexColumns, WIDE_LANES, WINDOW, window};
 
 /// The lanes of one register of f32.
 const L: usize = WIDE_LANES;
@@ -334,4 +334,168 @@ fn reach<'t, const S: usize>(
         return None;
     }
     Some((&window(&t.keys, base as usize)[..], first))
+}
+
+/// [`spectex_model::classic::fade`] in 16 lanes: `t·t·t·(t·(t·6 − 15) + 10)`.
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn fade(t: __m512) -> __m512 {
+    let inner = _mm512_add_ps(
+        _mm512_mul_ps(
+            t,
+            _mm512_sub_ps(_mm512_mul_ps(t, _mm512_set1_ps(6.0)), _mm512_set1_ps(15.0)),
+        ),
+        _mm512_set1_ps(10.0),
+    );
+    _mm512_mul_ps(_mm512_mul_ps(_mm512_mul_ps(t, t), t), inner)
+}
+
+/// `a + t·(b − a)` in 16 lanes.
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn lerp(a: __m512, b: __m512, t: __m512) -> __m512 {
+    _mm512_add_ps(a, _mm512_mul_ps(t, _mm512_sub_ps(b, a)))
+}
+
+/// `super::locate_lanes` of lanes `8h..8h + 8` of register `s` (`x` in pixels): their cells and
+/// f32 offsets in them.
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn locate_half<const S: usize>(
+    o: &Octave,
+    x: &[[f64; L]; S],
+    s: usize,
+    h: usize,
+) -> (__m256i, __m256) {
+    #[allow(unsafe_code)]
+    // SAFETY: the load reads lanes `8h..8h + 8` of an array of 16 f64, `h` ≤ 1.
+    let x = unsafe { _mm512_loadu_pd(x[s][8 * h..].as_ptr()) };
+    let p = match o.inv_side {
+        Some(inv) => _mm512_mul_pd(x, _mm512_set1_pd(inv)),
+        None => _mm512_div_pd(x, _mm512_set1_pd(o.side)),
+    };
+    let (cell, f) = split(p);
+    (cell, _mm512_cvtpd_ps(_mm512_sub_pd(p, f)))
+}
+
+/// 3D gradient (`GRADIENT`) or value noise of `S` registers of 16 lanes with the corners read
+/// from the row's [`Columns`] `t` (`super::ClassicEvaluator::lattice_columns`); `false`
+/// (nothing written) when the lanes span 32 or more lattice columns, which one two-register
+/// permute cannot reach. Each step runs over the `S` registers before the next, so that their
+/// chains of lerps overlap.
+#[inline]
+#[target_feature(enable = "avx512f")]
+pub(super) fn lattice3<const S: usize, R: RowLanes, const GRADIENT: bool>(
+    o: &Octave,
+    r: &R,
+    x: &[[f64; L]; S],
+    t: &Columns,
+    n: &mut [[f32; L]; S],
+) -> bool {
+    let mut cells = [_mm512_setzero_si512(); S];
+    let mut ux = [_mm512_setzero_ps(); S];
+    for s in 0..S {
+        let (c0, u0) = locate_half(o, x, s, 0);
+        let (c1, u1) = locate_half(o, x, s, 1);
+        cells[s] = join_epi32(c0, c1);
+        ux[s] = join_ps(u0, u1);
+    }
+    let first = _mm_cvtsi128_si32(_mm512_castsi512_si128(cells[0]));
+    let last = _mm_extract_epi32::<3>(_mm512_extracti32x4_epi32::<3>(cells[S - 1]));
+    let span = i64::from(last) - i64::from(first);
+    let base = i64::from(first) - i64::from(t.lo);
+    if !(0..(S * L) as i64).contains(&span) || base < 0 || base as usize + WINDOW > t.len {
+        return false;
+    }
+    let base = base as usize;
+    let mut idx = [_mm512_setzero_si512(); S];
+    let mut sx = [_mm512_setzero_ps(); S];
+    let mut sy = [_mm512_setzero_ps(); S];
+    for s in 0..S {
+        idx[s] = _mm512_sub_epi32(cells[s], _mm512_set1_epi32(first));
+        sx[s] = fade(ux[s]);
+        let mut uy = [0.0f32; L];
+        for (l, u) in uy.iter_mut().enumerate() {
+            *u = r.uy(L * s + l);
+        }
+        #[allow(unsafe_code)]
+        // SAFETY: the load reads an array of 16 f32.
+        let uy = unsafe { _mm512_loadu_ps(uy.as_ptr()) };
+        sy[s] = fade(uy);
+    }
+    let sz = _mm512_set1_ps(spectex_model::classic::fade(o.uz));
+    let onef = _mm512_set1_ps(1.0);
+    // Row key `p = 2·dz + dy` at a time, its corners lerped along x at once, so that few
+    // registers are live (the corners of all four held at once spilled).
+    let mut y = [[_mm512_setzero_ps(); S]; 2];
+    for (dz, yz) in y.iter_mut().enumerate() {
+        let mut ex = [[_mm512_setzero_ps(); S]; 2];
+        for (dy, ey) in ex.iter_mut().enumerate() {
+            let at = (2 * dz + dy) * t.len + base;
+            let mut c = [[_mm512_setzero_ps(); S]; 2];
+            for (dx, cx) in c.iter_mut().enumerate() {
+                let constant = load_pair(window(&t.constant, at), dx);
+                for s in 0..S {
+                    let k = _mm512_castsi512_ps(pick(&constant, idx[s]));
+                    cx[s] = if GRADIENT {
+                        let (mask, sign) = (
+                            load_pair(window(&t.mask, at), dx),
+                            load_pair(window(&t.sign, at), dx),
+                        );
+                        let u = if dx == 0 {
+                            ux[s]
+                        } else {
+                            _mm512_sub_ps(ux[s], onef)
+                        };
+                        // `((u & mask) ^ sign) + constant`.
+                        let bits = _mm512_ternarylogic_epi32::<0x6A>(
+                            _mm512_castps_si512(u),
+                            pick(&mask, idx[s]),
+                            pick(&sign, idx[s]),
+                        );
+                        _mm512_add_ps(_mm512_castsi512_ps(bits), k)
+                    } else {
+                        k
+                    };
+                }
+            }
+            for s in 0..S {
+                ey[s] = lerp(c[0][s], c[1][s], sx[s]);
+            }
+        }
+        for s in 0..S {
+            yz[s] = lerp(ex[0][s], ex[1][s], sy[s]);
+        }
+    }
+    for s in 0..S {
+        #[allow(unsafe_code)]
+        // SAFETY: the store writes 16 f32 (64 bytes) into a 16-lane array.
+        unsafe {
+            _mm512_storeu_ps(n[s].as_mut_ptr(), lerp(y[0][s], y[1][s], sz));
+        }
+    }
+    true
+}
+
+/// Entries `dx..dx + 16` and `dx + 16..dx + 32` of a table window: the two sources of a
+/// 32-entry permute.
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn load_pair(w: &[u32; WINDOW], dx: usize) -> [__m512i; 2] {
+    #[allow(unsafe_code)]
+    // SAFETY: each load reads 16 `u32` from an offset of at most 17 in a window of 64
+    // (`dx` ≤ 1).
+    unsafe {
+        [
+            _mm512_loadu_si512(w[dx..].as_ptr().cast()),
+            _mm512_loadu_si512(w[dx + L..].as_ptr().cast()),
+        ]
+    }
+}
+
+/// Entry `idx[l]` (< 32) of the 32 entries `v` in each lane.
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn pick(v: &[__m512i; 2], idx: __m512i) -> __m512i {
+    _mm512_permutex2var_epi32(v[0], idx, v[1])
 }
