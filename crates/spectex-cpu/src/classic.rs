@@ -1168,7 +1168,7 @@ impl ClassicEvaluator {
         let mut tables: Vec<Option<RowTable>> = Vec::with_capacity(rows.len());
         if columns {
             for (o, r) in self.octaves.iter().zip(rows) {
-                tables.push(self.columns::<L>(o, r, window, width));
+                tables.push(self.columns::<L, B>(o, r, window, width));
             }
         }
         let mut start = 0;
@@ -1210,24 +1210,25 @@ impl ClassicEvaluator {
     /// at a time), or `None` where the basis hashes in the lanes (simplex, Worley) or the row
     /// visits more lattice columns than it has pixels (a minified render of small cells).
     #[inline(always)]
-    fn columns<const L: usize>(
+    fn columns<const L: usize, const B: u8>(
         &self,
         o: &Octave,
         r: &RowOctave,
         window: &Window,
         width: usize,
     ) -> Option<RowTable> {
-        if let Basis::Worley(_) = self.basis {
+        // The basis as the constant `B`: each row loop builds only its own basis's tables.
+        if B == WORLEY {
             return self
                 .worley_columns::<L>(o, r, window, width)
                 .map(RowTable::Worley);
         }
-        if let Basis::Simplex = self.basis {
+        if B == SIMPLEX {
             return self
                 .simplex_columns::<L>(o, r, window, width)
                 .map(RowTable::Simplex);
         }
-        if !matches!(self.basis, Basis::Gradient | Basis::Value) || width == 0 {
+        if !(B == GRADIENT || B == VALUE) || width == 0 {
             return None;
         }
         // Cells under a pixel: the table would hold more columns than the row has pixels.
@@ -1635,7 +1636,7 @@ impl ClassicEvaluator {
             let mut n = [0.0f32; L];
             let from_table = match tables.get(o).and_then(Option::as_ref) {
                 Some(RowTable::Worley(t)) if B == WORLEY => {
-                    self.worley_table::<L, F, R, RELAXED>(oct, ro, x, xf, t, &mut n)
+                    self.worley_table::<L, F, R, RELAXED, D3>(oct, ro, x, xf, t, &mut n)
                 }
                 Some(RowTable::Simplex(t)) if B == SIMPLEX => {
                     if RELAXED {
@@ -1831,7 +1832,7 @@ impl ClassicEvaluator {
                             if p >= count[l] {
                                 d = w.cap;
                             }
-                            insert(&mut f, l, d);
+                            insert::<L, 4>(&mut f, l, d);
                         }
                     }
                 }
@@ -1844,7 +1845,13 @@ impl ClassicEvaluator {
     /// [`worley_table_lanes`](Self::worley_table_lanes); `false` (nothing written) when the
     /// lanes span too many columns for one fetch.
     #[inline(always)]
-    fn worley_table<const L: usize, F: Fetch<L>, R: RowLanes, const RELAXED: bool>(
+    fn worley_table<
+        const L: usize,
+        F: Fetch<L>,
+        R: RowLanes,
+        const RELAXED: bool,
+        const D3: bool,
+    >(
         &self,
         o: &Octave,
         r: &R,
@@ -1856,31 +1863,56 @@ impl ClassicEvaluator {
         let Some(w) = &self.worley else {
             return false;
         };
-        match (w.metric, self.three_d) {
+        match (w.metric, D3) {
             (Metric::Euclidean, false) => {
-                self.worley_table_lanes::<L, F, R, false, 0, RELAXED>(w, o, r, x, xf, t, n)
+                if w.needed == 0 {
+                    self.worley_table_lanes::<L, F, R, false, 0, RELAXED, 1>(w, o, r, x, xf, t, n)
+                } else {
+                    self.worley_table_lanes::<L, F, R, false, 0, RELAXED, 4>(w, o, r, x, xf, t, n)
+                }
             }
             (Metric::Manhattan, false) => {
-                self.worley_table_lanes::<L, F, R, false, 1, RELAXED>(w, o, r, x, xf, t, n)
+                if w.needed == 0 {
+                    self.worley_table_lanes::<L, F, R, false, 1, RELAXED, 1>(w, o, r, x, xf, t, n)
+                } else {
+                    self.worley_table_lanes::<L, F, R, false, 1, RELAXED, 4>(w, o, r, x, xf, t, n)
+                }
             }
             (Metric::Chebyshev, false) => {
-                self.worley_table_lanes::<L, F, R, false, 2, RELAXED>(w, o, r, x, xf, t, n)
+                if w.needed == 0 {
+                    self.worley_table_lanes::<L, F, R, false, 2, RELAXED, 1>(w, o, r, x, xf, t, n)
+                } else {
+                    self.worley_table_lanes::<L, F, R, false, 2, RELAXED, 4>(w, o, r, x, xf, t, n)
+                }
             }
             (Metric::Euclidean, true) => {
-                self.worley_table_lanes::<L, F, R, true, 0, RELAXED>(w, o, r, x, xf, t, n)
+                if w.needed == 0 {
+                    self.worley_table_lanes::<L, F, R, true, 0, RELAXED, 1>(w, o, r, x, xf, t, n)
+                } else {
+                    self.worley_table_lanes::<L, F, R, true, 0, RELAXED, 4>(w, o, r, x, xf, t, n)
+                }
             }
             (Metric::Manhattan, true) => {
-                self.worley_table_lanes::<L, F, R, true, 1, RELAXED>(w, o, r, x, xf, t, n)
+                if w.needed == 0 {
+                    self.worley_table_lanes::<L, F, R, true, 1, RELAXED, 1>(w, o, r, x, xf, t, n)
+                } else {
+                    self.worley_table_lanes::<L, F, R, true, 1, RELAXED, 4>(w, o, r, x, xf, t, n)
+                }
             }
             (Metric::Chebyshev, true) => {
-                self.worley_table_lanes::<L, F, R, true, 2, RELAXED>(w, o, r, x, xf, t, n)
+                if w.needed == 0 {
+                    self.worley_table_lanes::<L, F, R, true, 2, RELAXED, 1>(w, o, r, x, xf, t, n)
+                } else {
+                    self.worley_table_lanes::<L, F, R, true, 2, RELAXED, 4>(w, o, r, x, xf, t, n)
+                }
             }
         }
     }
 
     /// [`worley_lanes`](Self::worley_lanes) with the feature points read from the row's
     /// [`WorleyColumns`] `t` (a fixed count): the same cells, points and arithmetic in the same
-    /// order.
+    /// order. `K`: the smallest distances kept, 1 where only `F₁` is needed (one `min` per
+    /// point instead of the insertion network), else 4 ([`insert`]).
     #[inline(always)]
     #[allow(
         clippy::too_many_arguments,
@@ -1893,6 +1925,7 @@ impl ClassicEvaluator {
         const THREE_D: bool,
         const METRIC: u8,
         const RELAXED: bool,
+        const K: usize,
     >(
         &self,
         w: &WorleyParams,
@@ -1968,7 +2001,7 @@ impl ClassicEvaluator {
                                 }
                                 (false, true) => fused(ddx, ddx, ddy * ddy),
                             };
-                            insert(&mut f, l, d);
+                            insert::<L, K>(&mut f, l, d);
                         }
                     }
                 }
@@ -2048,11 +2081,15 @@ fn distance3(metric: Metric, dx: f32, dy: f32, dz: f32) -> f32 {
     }
 }
 
-/// Inserts `d` into lane `l` of the ascending list `f` (the four smallest so far).
+/// Inserts `d` into lane `l` of the ascending list `f` (the four smallest so far), or of its
+/// first `K`: the `K` smallest are the same either way, and the entries after them keep their
+/// start, `cap`. Where only `F₁` is needed (`K` = 1) that is one `min`; the combination's zero
+/// coefficients take `+0` from `cap` as from a distance, and the exact search finds the same
+/// `F₁` from either list.
 #[inline(always)]
-fn insert<const L: usize>(f: &mut [[f32; L]; 4], l: usize, d: f32) {
+fn insert<const L: usize, const K: usize>(f: &mut [[f32; L]; 4], l: usize, d: f32) {
     let mut d = d;
-    for fk in f.iter_mut() {
+    for fk in f.iter_mut().take(K) {
         let a = min(fk[l], d);
         d = max(fk[l], d);
         fk[l] = a;
@@ -2129,7 +2166,7 @@ fn worley_search(
                         } else {
                             distance2(w.metric, ddx, ddy)
                         };
-                        insert(&mut list, 0, d);
+                        insert::<1, 4>(&mut list, 0, d);
                     }
                 }
             }
