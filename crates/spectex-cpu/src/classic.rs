@@ -513,22 +513,21 @@ trait Fetch<const L: usize> {
     }
 
     /// 3D gradient (`GRADIENT`) or value noise of the lanes from the row's table `t`
-    /// ([`ClassicEvaluator::lattice_columns`]); `false` (nothing written) where one fetch
-    /// cannot reach the lanes' columns.
+    /// ([`ClassicEvaluator::lattice_columns`], `RELAXED` as there); `false` (nothing written)
+    /// where one fetch cannot reach the lanes' columns.
     #[inline(always)]
-    fn lattice3<R: RowLanes, const GRADIENT: bool>(
+    fn lattice3<R: RowLanes, const GRADIENT: bool, const RELAXED: bool>(
         o: &Octave,
         r: &R,
         x: &[f64; L],
+        xf: &[f32; L],
         t: &Columns,
         n: &mut [f32; L],
     ) -> bool
     where
         Self: Sized,
     {
-        ClassicEvaluator::lattice_columns::<L, Self, R, GRADIENT, true, false>(
-            o, r, x, &[0.0; L], t, n,
-        )
+        ClassicEvaluator::lattice_columns::<L, Self, R, GRADIENT, true, RELAXED>(o, r, x, xf, t, n)
     }
 }
 
@@ -644,15 +643,17 @@ avx512_fetch!(
         }
     },
     #[inline(always)]
-    fn lattice3<R: RowLanes, const GRADIENT: bool>(
+    fn lattice3<R: RowLanes, const GRADIENT: bool, const RELAXED: bool>(
         o: &Octave,
         r: &R,
         x: &[f64; WIDER_LANES],
+        xf: &[f32; WIDER_LANES],
         t: &Columns,
         n: &mut [f32; WIDER_LANES],
     ) -> bool {
-        let (Ok(x), Ok(n)) = (
+        let (Ok(x), Ok(xf), Ok(n)) = (
             <&[[f64; WIDE_LANES]; 2]>::try_from(x.as_chunks().0),
+            <&[[f32; WIDE_LANES]; 2]>::try_from(xf.as_chunks().0),
             <&mut [[f32; WIDE_LANES]; 2]>::try_from(n.as_chunks_mut().0),
         ) else {
             unreachable!("32 lanes are two registers of 16")
@@ -660,7 +661,7 @@ avx512_fetch!(
         #[allow(unsafe_code)]
         // SAFETY: as for `fetch`.
         unsafe {
-            avx512::lattice3::<2, R, GRADIENT>(o, r, x, t, n)
+            avx512::lattice3::<2, R, GRADIENT, RELAXED>(o, r, x, xf, t, n)
         }
     }
 );
@@ -1648,11 +1649,11 @@ impl ClassicEvaluator {
                         simplex2_table::<L, F, R>(oct, ro, x, t, &mut n)
                     }
                 }
-                Some(RowTable::Lattice(t)) if B == GRADIENT && D3 && !RELAXED => {
-                    F::lattice3::<R, true>(oct, ro, x, t, &mut n)
+                Some(RowTable::Lattice(t)) if B == GRADIENT && D3 => {
+                    F::lattice3::<R, true, RELAXED>(oct, ro, x, xf, t, &mut n)
                 }
-                Some(RowTable::Lattice(t)) if B == VALUE && D3 && !RELAXED => {
-                    F::lattice3::<R, false>(oct, ro, x, t, &mut n)
+                Some(RowTable::Lattice(t)) if B == VALUE && D3 => {
+                    F::lattice3::<R, false, RELAXED>(oct, ro, x, xf, t, &mut n)
                 }
                 Some(RowTable::Lattice(t)) if B == GRADIENT => {
                     Self::lattice_columns::<L, F, R, true, D3, RELAXED>(oct, ro, x, xf, t, &mut n)

@@ -18,20 +18,23 @@ use std::arch::x86_64::{
     _mm512_add_ps, _mm512_and_si512, _mm512_castpd_ps, _mm512_castpd_si512, _mm512_castps_pd,
     _mm512_castps_si512, _mm512_castps256_ps512, _mm512_castsi256_si512, _mm512_castsi512_ps,
     _mm512_castsi512_si128, _mm512_cmp_pd_mask, _mm512_cmp_ps_mask, _mm512_cmpeq_epi32_mask,
-    _mm512_cmplt_epu32_mask, _mm512_cvtepi64_epi32, _mm512_cvtpd_ps, _mm512_div_pd,
-    _mm512_extracti32x4_epi32, _mm512_insertf64x4, _mm512_inserti64x4, _mm512_loadu_pd,
-    _mm512_loadu_ps, _mm512_loadu_si512, _mm512_mask_add_epi32, _mm512_mask_blend_epi32,
-    _mm512_mask_blend_ps, _mm512_mask_sub_pd, _mm512_mask_sub_ps, _mm512_max_ps, _mm512_mul_pd,
-    _mm512_mul_ps, _mm512_mullo_epi32, _mm512_permutex2var_epi32, _mm512_set1_epi32,
-    _mm512_set1_pd, _mm512_set1_ps, _mm512_setzero_ps, _mm512_setzero_si512, _mm512_slli_epi32,
-    _mm512_srli_epi32, _mm512_srlv_epi32, _mm512_storeu_ps, _mm512_sub_epi32, _mm512_sub_pd,
-    _mm512_sub_ps, _mm512_ternarylogic_epi32, _mm512_xor_si512,
+    _mm512_cmplt_epu32_mask, _mm512_cvtepi64_epi32, _mm512_cvtpd_ps, _mm512_div_pd, _mm512_div_ps,
+    _mm512_extracti32x4_epi32, _mm512_fmadd_ps, _mm512_insertf64x4, _mm512_inserti64x4,
+    _mm512_loadu_pd, _mm512_loadu_ps, _mm512_loadu_si512, _mm512_mask_add_epi32,
+    _mm512_mask_blend_epi32, _mm512_mask_blend_ps, _mm512_mask_sub_pd, _mm512_mask_sub_ps,
+    _mm512_max_ps, _mm512_mul_pd, _mm512_mul_ps, _mm512_mullo_epi32, _mm512_permutex2var_epi32,
+    _mm512_set1_epi32, _mm512_set1_pd, _mm512_set1_ps, _mm512_setzero_ps, _mm512_setzero_si512,
+    _mm512_slli_epi32, _mm512_srli_epi32, _mm512_srlv_epi32, _mm512_storeu_ps, _mm512_sub_epi32,
+    _mm512_sub_pd, _mm512_sub_ps, _mm512_ternarylogic_epi32, _mm512_xor_si512,
 };
 
 use spectex_model::classic::{SIMPLEX_F3, SIMPLEX_G3, SIMPLEX3_R2, SIMPLEX3_SCALE};
 use spectex_model::random::{LCG_INCREMENT, LCG_MULTIPLIER, RXS_M_XS_MULTIPLIER};
 
-use super::{Columns, Octave, ROUND_MAGIC, RowLanes, SimplexColumns, WIDE_LANES, WINDOW, window};
+use super::{
+    Columns, Octave, ROUND_MAGIC, ROUND_MAGIC_F32, RowLanes, SimplexColumns, WIDE_LANES, WINDOW,
+    window,
+};
 
 /// The lanes of one register of f32.
 const L: usize = WIDE_LANES;
@@ -336,25 +339,61 @@ fn reach<'t, const S: usize>(
     Some((&window(&t.keys, base as usize)[..], first))
 }
 
-/// [`spectex_model::classic::fade`] in 16 lanes: `t·t·t·(t·(t·6 − 15) + 10)`.
+/// [`spectex_model::classic::fade`] in 16 lanes: `t·t·t·(t·(t·6 − 15) + 10)`, the
+/// polynomial's steps fused when `FMA` (`super::fade_with`).
 #[inline]
 #[target_feature(enable = "avx512f")]
-fn fade(t: __m512) -> __m512 {
-    let inner = _mm512_add_ps(
-        _mm512_mul_ps(
+fn fade<const FMA: bool>(t: __m512) -> __m512 {
+    let inner = if FMA {
+        _mm512_fmadd_ps(
             t,
-            _mm512_sub_ps(_mm512_mul_ps(t, _mm512_set1_ps(6.0)), _mm512_set1_ps(15.0)),
-        ),
-        _mm512_set1_ps(10.0),
-    );
+            _mm512_fmadd_ps(t, _mm512_set1_ps(6.0), _mm512_set1_ps(-15.0)),
+            _mm512_set1_ps(10.0),
+        )
+    } else {
+        _mm512_add_ps(
+            _mm512_mul_ps(
+                t,
+                _mm512_sub_ps(_mm512_mul_ps(t, _mm512_set1_ps(6.0)), _mm512_set1_ps(15.0)),
+            ),
+            _mm512_set1_ps(10.0),
+        )
+    };
     _mm512_mul_ps(_mm512_mul_ps(_mm512_mul_ps(t, t), t), inner)
 }
 
-/// `a + t·(b − a)` in 16 lanes.
+/// `a + t·(b − a)` in 16 lanes (`super::lerp`), the product and sum fused when `FMA`.
 #[inline]
 #[target_feature(enable = "avx512f")]
-fn lerp(a: __m512, b: __m512, t: __m512) -> __m512 {
-    _mm512_add_ps(a, _mm512_mul_ps(t, _mm512_sub_ps(b, a)))
+fn lerp<const FMA: bool>(a: __m512, b: __m512, t: __m512) -> __m512 {
+    if FMA {
+        _mm512_fmadd_ps(t, _mm512_sub_ps(b, a), a)
+    } else {
+        _mm512_add_ps(a, _mm512_mul_ps(t, _mm512_sub_ps(b, a)))
+    }
+}
+
+/// `super::locate_lanes_f32` of 16 lanes: the relaxed path's cells and offsets from the f32
+/// positions `xf`.
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn locate_f32(o: &Octave, xf: &[f32; L]) -> (__m512i, __m512) {
+    #[allow(unsafe_code)]
+    // SAFETY: the load reads an array of 16 f32.
+    let x = unsafe { _mm512_loadu_ps(xf.as_ptr()) };
+    let p = match o.inv_side {
+        Some(inv) => _mm512_mul_ps(x, _mm512_set1_ps(inv as f32)),
+        None => _mm512_div_ps(x, _mm512_set1_ps(o.side as f32)),
+    };
+    let magic = _mm512_set1_ps(ROUND_MAGIC_F32);
+    let r = _mm512_sub_ps(_mm512_add_ps(p, magic), magic);
+    let up = _mm512_cmp_ps_mask::<_CMP_GT_OQ>(r, p);
+    let f = _mm512_mask_sub_ps(r, up, r, _mm512_set1_ps(1.0));
+    let cell = _mm512_sub_epi32(
+        _mm512_castps_si512(_mm512_add_ps(f, magic)),
+        _mm512_set1_epi32(ROUND_MAGIC_F32.to_bits() as i32),
+    );
+    (cell, _mm512_sub_ps(p, f))
 }
 
 /// `super::locate_lanes` of lanes `8h..8h + 8` of register `s` (`x` in pixels): their cells and
@@ -383,22 +422,31 @@ fn locate_half<const S: usize>(
 /// (nothing written) when the lanes span 32 or more lattice columns, which one two-register
 /// permute cannot reach. Each step runs over the `S` registers before the next, so that their
 /// chains of lerps overlap.
+///
+/// `RELAXED`: the bench-only relaxed evaluator's arithmetic (`super::locate_lanes_f32` from the
+/// f32 positions `xf`, fused fades and lerps), so that what the guarantees cost is measured
+/// against the same kernel.
 #[inline]
 #[target_feature(enable = "avx512f")]
-pub(super) fn lattice3<const S: usize, R: RowLanes, const GRADIENT: bool>(
+pub(super) fn lattice3<const S: usize, R: RowLanes, const GRADIENT: bool, const RELAXED: bool>(
     o: &Octave,
     r: &R,
     x: &[[f64; L]; S],
+    xf: &[[f32; L]; S],
     t: &Columns,
     n: &mut [[f32; L]; S],
 ) -> bool {
     let mut cells = [_mm512_setzero_si512(); S];
     let mut ux = [_mm512_setzero_ps(); S];
     for s in 0..S {
-        let (c0, u0) = locate_half(o, x, s, 0);
-        let (c1, u1) = locate_half(o, x, s, 1);
-        cells[s] = join_epi32(c0, c1);
-        ux[s] = join_ps(u0, u1);
+        if RELAXED {
+            (cells[s], ux[s]) = locate_f32(o, &xf[s]);
+        } else {
+            let (c0, u0) = locate_half(o, x, s, 0);
+            let (c1, u1) = locate_half(o, x, s, 1);
+            cells[s] = join_epi32(c0, c1);
+            ux[s] = join_ps(u0, u1);
+        }
     }
     let first = _mm_cvtsi128_si32(_mm512_castsi512_si128(cells[0]));
     let last = _mm_extract_epi32::<3>(_mm512_extracti32x4_epi32::<3>(cells[S - 1]));
@@ -413,7 +461,7 @@ pub(super) fn lattice3<const S: usize, R: RowLanes, const GRADIENT: bool>(
     let mut sy = [_mm512_setzero_ps(); S];
     for s in 0..S {
         idx[s] = _mm512_sub_epi32(cells[s], _mm512_set1_epi32(first));
-        sx[s] = fade(ux[s]);
+        sx[s] = fade::<RELAXED>(ux[s]);
         let mut uy = [0.0f32; L];
         for (l, u) in uy.iter_mut().enumerate() {
             *u = r.uy(L * s + l);
@@ -421,9 +469,9 @@ pub(super) fn lattice3<const S: usize, R: RowLanes, const GRADIENT: bool>(
         #[allow(unsafe_code)]
         // SAFETY: the load reads an array of 16 f32.
         let uy = unsafe { _mm512_loadu_ps(uy.as_ptr()) };
-        sy[s] = fade(uy);
+        sy[s] = fade::<RELAXED>(uy);
     }
-    let sz = _mm512_set1_ps(spectex_model::classic::fade(o.uz));
+    let sz = fade::<RELAXED>(_mm512_set1_ps(o.uz));
     let onef = _mm512_set1_ps(1.0);
     // Row key `p = 2·dz + dy` at a time, its corners lerped along x at once, so that few
     // registers are live (the corners of all four held at once spilled).
@@ -460,18 +508,18 @@ pub(super) fn lattice3<const S: usize, R: RowLanes, const GRADIENT: bool>(
                 }
             }
             for s in 0..S {
-                ey[s] = lerp(c[0][s], c[1][s], sx[s]);
+                ey[s] = lerp::<RELAXED>(c[0][s], c[1][s], sx[s]);
             }
         }
         for s in 0..S {
-            yz[s] = lerp(ex[0][s], ex[1][s], sy[s]);
+            yz[s] = lerp::<RELAXED>(ex[0][s], ex[1][s], sy[s]);
         }
     }
     for s in 0..S {
         #[allow(unsafe_code)]
         // SAFETY: the store writes 16 f32 (64 bytes) into a 16-lane array.
         unsafe {
-            _mm512_storeu_ps(n[s].as_mut_ptr(), lerp(y[0][s], y[1][s], sz));
+            _mm512_storeu_ps(n[s].as_mut_ptr(), lerp::<RELAXED>(y[0][s], y[1][s], sz));
         }
     }
     true
