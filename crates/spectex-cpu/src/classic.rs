@@ -630,16 +630,10 @@ avx512_fetch!(
         t: Option<&SimplexColumns>,
         n: &mut [f32; WIDER_LANES],
     ) {
-        let (Ok(x), Ok(n)) = (
-            <&[[f64; WIDE_LANES]; 2]>::try_from(x.as_chunks().0),
-            <&mut [[f32; WIDE_LANES]; 2]>::try_from(n.as_chunks_mut().0),
-        ) else {
-            unreachable!("32 lanes are two registers of 16")
-        };
         #[allow(unsafe_code)]
         // SAFETY: as for `fetch`.
         unsafe {
-            avx512::simplex3::<2, R>(o, r, x, t, n);
+            avx512::simplex3::<2, R>(o, r, registers(x), t, registers_mut(n));
         }
     },
     #[inline(always)]
@@ -651,20 +645,36 @@ avx512_fetch!(
         t: &Columns,
         n: &mut [f32; WIDER_LANES],
     ) -> bool {
-        let (Ok(x), Ok(xf), Ok(n)) = (
-            <&[[f64; WIDE_LANES]; 2]>::try_from(x.as_chunks().0),
-            <&[[f32; WIDE_LANES]; 2]>::try_from(xf.as_chunks().0),
-            <&mut [[f32; WIDE_LANES]; 2]>::try_from(n.as_chunks_mut().0),
-        ) else {
-            unreachable!("32 lanes are two registers of 16")
-        };
         #[allow(unsafe_code)]
         // SAFETY: as for `fetch`.
         unsafe {
-            avx512::lattice3::<2, R, GRADIENT, RELAXED>(o, r, x, xf, t, n)
+            avx512::lattice3::<2, R, GRADIENT, RELAXED>(
+                o,
+                r,
+                registers(x),
+                registers(xf),
+                t,
+                registers_mut(n),
+            )
         }
     }
 );
+
+/// 32 lanes as the two registers of 16 the `avx512` kernels take.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn registers<T>(lanes: &[T; WIDER_LANES]) -> &[[T; WIDE_LANES]; 2] {
+    <&[[T; WIDE_LANES]; 2]>::try_from(lanes.as_chunks().0)
+        .unwrap_or_else(|_| unreachable!("32 lanes are two chunks of 16"))
+}
+
+/// [`registers`] of lanes to write.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn registers_mut<T>(lanes: &mut [T; WIDER_LANES]) -> &mut [[T; WIDE_LANES]; 2] {
+    <&mut [[T; WIDE_LANES]; 2]>::try_from(lanes.as_chunks_mut().0)
+        .unwrap_or_else(|_| unreachable!("32 lanes are two chunks of 16"))
+}
 
 /// [`Fetch::accumulate`] as one multiply and one add per 16 lanes (AVX-512F; `L` a multiple
 /// of 16): LLVM's own vectorisation of the loop split it into 8-, 4- and 1-lane pieces that
