@@ -757,8 +757,11 @@ const WORLEY: u8 = 4;
 /// `$self.$method::<$g…, B, D3>($arg…)` with the evaluator's basis and dimension as the
 /// constants `B` and `D3`: `$g2` are the leading generic arguments of 2D bases, `$wide3` those
 /// of 3D gradient, value and simplex noise (the AVX-512 row's two-register kernels), `$g3`
-/// those of the other 3D bases.
+/// those of the other 3D bases; one list `$g` serves all three.
 macro_rules! by_basis {
+    ($self:ident.$method:ident, [$($g:tt),*], ($($arg:expr),*)) => {
+        by_basis!($self.$method, [$($g),*], [$($g),*], [$($g),*], ($($arg),*))
+    };
     ($self:ident.$method:ident, [$($g2:tt),*], [$($g3:tt),*], [$($wide3:tt),*], ($($arg:expr),*)) => {
         match (&$self.basis, $self.three_d) {
             (Basis::Gradient, false) => $self.$method::<$($g2,)* GRADIENT, false>($($arg),*),
@@ -1030,16 +1033,12 @@ impl ClassicEvaluator {
             Simd::Portable => by_basis!(
                 self.row,
                 [LANES, Indexed, false],
-                [LANES, Indexed, false],
-                [LANES, Indexed, false],
                 (window, &rows, out, w, columns)
             ),
         }
         #[cfg(not(target_arch = "x86_64"))]
         by_basis!(
             self.row,
-            [LANES, Indexed, false],
-            [LANES, Indexed, false],
             [LANES, Indexed, false],
             (window, &rows, out, w, columns)
         );
@@ -1080,8 +1079,6 @@ impl ClassicEvaluator {
         by_basis!(
             self.row,
             [LANES, Permute8, false],
-            [LANES, Permute8, false],
-            [LANES, Permute8, false],
             (window, rows, out, w, columns)
         );
     }
@@ -1099,8 +1096,6 @@ impl ClassicEvaluator {
     ) {
         by_basis!(
             self.row,
-            [LANES, Permute8, true],
-            [LANES, Permute8, true],
             [LANES, Permute8, true],
             (window, rows, out, w, columns)
         );
@@ -1529,8 +1524,6 @@ impl ClassicEvaluator {
             let acc = by_basis!(
                 self.octave_sum,
                 [L, _, Indexed, false],
-                [L, _, Indexed, false],
-                [L, _, Indexed, false],
                 (&x, &[0.0; L], &rows, None, &[])
             );
             for (l, v) in values.iter_mut().enumerate() {
@@ -1874,49 +1867,24 @@ impl ClassicEvaluator {
         let Some(w) = &self.worley else {
             return false;
         };
-        match (w.metric, D3) {
-            (Metric::Euclidean, false) => {
+        // Metric and kept distances as constants: one distance where only `F₁` is needed.
+        macro_rules! lanes {
+            ($metric:literal) => {
                 if w.needed == 0 {
-                    self.worley_table_lanes::<L, F, R, false, 0, RELAXED, 1>(w, o, r, x, xf, t, n)
+                    self.worley_table_lanes::<L, F, R, D3, $metric, RELAXED, 1>(
+                        w, o, r, x, xf, t, n,
+                    )
                 } else {
-                    self.worley_table_lanes::<L, F, R, false, 0, RELAXED, 4>(w, o, r, x, xf, t, n)
+                    self.worley_table_lanes::<L, F, R, D3, $metric, RELAXED, 4>(
+                        w, o, r, x, xf, t, n,
+                    )
                 }
-            }
-            (Metric::Manhattan, false) => {
-                if w.needed == 0 {
-                    self.worley_table_lanes::<L, F, R, false, 1, RELAXED, 1>(w, o, r, x, xf, t, n)
-                } else {
-                    self.worley_table_lanes::<L, F, R, false, 1, RELAXED, 4>(w, o, r, x, xf, t, n)
-                }
-            }
-            (Metric::Chebyshev, false) => {
-                if w.needed == 0 {
-                    self.worley_table_lanes::<L, F, R, false, 2, RELAXED, 1>(w, o, r, x, xf, t, n)
-                } else {
-                    self.worley_table_lanes::<L, F, R, false, 2, RELAXED, 4>(w, o, r, x, xf, t, n)
-                }
-            }
-            (Metric::Euclidean, true) => {
-                if w.needed == 0 {
-                    self.worley_table_lanes::<L, F, R, true, 0, RELAXED, 1>(w, o, r, x, xf, t, n)
-                } else {
-                    self.worley_table_lanes::<L, F, R, true, 0, RELAXED, 4>(w, o, r, x, xf, t, n)
-                }
-            }
-            (Metric::Manhattan, true) => {
-                if w.needed == 0 {
-                    self.worley_table_lanes::<L, F, R, true, 1, RELAXED, 1>(w, o, r, x, xf, t, n)
-                } else {
-                    self.worley_table_lanes::<L, F, R, true, 1, RELAXED, 4>(w, o, r, x, xf, t, n)
-                }
-            }
-            (Metric::Chebyshev, true) => {
-                if w.needed == 0 {
-                    self.worley_table_lanes::<L, F, R, true, 2, RELAXED, 1>(w, o, r, x, xf, t, n)
-                } else {
-                    self.worley_table_lanes::<L, F, R, true, 2, RELAXED, 4>(w, o, r, x, xf, t, n)
-                }
-            }
+            };
+        }
+        match w.metric {
+            Metric::Euclidean => lanes!(0),
+            Metric::Manhattan => lanes!(1),
+            Metric::Chebyshev => lanes!(2),
         }
     }
 
