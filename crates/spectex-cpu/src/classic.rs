@@ -3,7 +3,9 @@
 //! Kensler noise's 4×4 (4×4×4) stencil runs one lane at a time (`kensler`: no per-row tables).
 //!
 //! Every pixel is independent: a row is evaluated `L` consecutive pixels at a time (8 lanes, or
-//! 16 with AVX-512), every octave of a group of lanes before the next group, with the lattice
+//! 16 or 32 with AVX-512: `ClassicEvaluator::avx512_lanes`; 3D gradient, value and simplex
+//! noise through the hand-written kernels of `avx512`), the basis and dimension as constants of
+//! the row loop, every octave of a group of lanes before the next group, with the lattice
 //! hashes computed in the lanes (wrapping `u32` arithmetic vectorises). Positions are built per
 //! lane in f64 exactly as [`Window::x`] builds them, divided by the octave's cell side and split
 //! into an `i32` cell and an f32 offset by the round-to-nearest magic constant (two exact IEEE
