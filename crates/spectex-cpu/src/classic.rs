@@ -391,6 +391,135 @@ struct SimplexColumns {
     /// Entries: the rows, then [`WINDOW`] of padding.
     len: usize,
     keys: Vec<u32>,
+    /// 3D, cells wide enough: every corner's hash, read instead of the two hashes per corner
+    /// that remain with the layer keys.
+    corners: Option<SimplexCorners>,
+}
+
+/// The hashes `hash3(i', j', k')` of the 3D simplex corners one row of one octave visits, so
+/// that the lanes read a corner's hash instead of computing `row_key` and `cell_hash_in_row`.
+///
+/// Along a row (`py`, `pz` fixed) the skewed coordinates are `a = px + s`, `b = py + s`,
+/// `c = pz + s` with `s = (px + py + pz)/3`, so `a − 4b = −5py − pz` and `c − b = pz − py` are
+/// constants: a lane's `e = i − 4j` takes 5 values (`⌊a⌋ − 4⌊b⌋ = ⌊(a − 4b) + 4·frac b⌋`) and
+/// `d = k − j` two, while `j` grows slowly with `x`. The table is laid out by `(j', d', e')`:
+/// entry `((j' − j_lo)·D + (d' − d_lo))·E + (e' − e_lo)` with `D` = [`CORNER_D`] and `E` =
+/// [`CORNER_E`] (a register of entries per `(j', d')`, so a row builds a register at a time),
+/// which is `i' + 44j' + 16k' − origin`: a corner step `(di, dj, dk)` adds
+/// [`CORNER_STEP`]` · (di, dj, dk)`. A lane uses the table when its corners all fall inside
+/// ([`SimplexCorners::entries`]): `j − j_lo < rows − 1`, `d − d_lo ∈ {1, 2}` and
+/// `e − e_lo ∈ 4..=14` (a corner moves `d` by −1..=1 and `e` by −4..=1).
+#[derive(Debug, Clone)]
+struct SimplexCorners {
+    /// The first skewed row `j_lo`, the lowest `d_lo = k − j` and `e_lo = i − 4j`.
+    j_lo: i32,
+    d_lo: i32,
+    e_lo: i32,
+    /// Skewed rows `j_lo..j_lo + rows` of entries.
+    rows: u32,
+    /// `64·j_lo + 16·d_lo + e_lo` (wrapping): entry `i' + 44j' + 16k' − origin`.
+    origin: u32,
+    hashes: Vec<u32>,
+}
+
+/// Values of `e = i − 4j` per `(j', d')` in [`SimplexCorners`]: one register of 16.
+const CORNER_E: u32 = 16;
+/// Values of `d = k − j` per `j'` in [`SimplexCorners`].
+const CORNER_D: u32 = 4;
+/// What a step of `i`, `j`, `k` adds to a [`SimplexCorners`] entry: `e + 1`; `j + 1`, `d − 1`,
+/// `e − 4`; `d + 1`.
+const CORNER_STEP: [u32; 3] = [1, CORNER_D * CORNER_E - CORNER_E - 4, CORNER_E];
+
+impl SimplexCorners {
+    /// The table of row `py` of octave `o` for the skewed rows `j_lo..=j_hi` (those of the
+    /// lanes and the next), or `None` when it would hold more than `most` entries.
+    #[inline(always)]
+    fn new(o: &Octave, py: f64, j_lo: i32, j_hi: i32, most: usize) -> Option<Self> {
+        let rows = i64::from(j_hi) - i64::from(j_lo) + 1;
+        if rows < 2 || rows as u64 * u64::from(CORNER_D * CORNER_E) > most as u64 {
+            return None;
+        }
+        let rows = rows as usize;
+        // `d ∈ {⌊pz − py⌋, ⌊pz − py⌋ + 1}` and `e ∈ ⌊−5py − pz⌋ + 0..=4` on the whole row (the
+        // margins of `entries` take the roundings of the lanes' f64 sums).
+        let d = (o.pz - py).floor();
+        let e = (-5.0 * py - o.pz).floor();
+        if !(d.abs() < 2.0e9 && e.abs() < 2.0e9) {
+            return None;
+        }
+        let d_lo = (d as i32).wrapping_sub(1);
+        let e_lo = (e as i32).wrapping_sub(7);
+        // The layer keys of the planes `k' = j' + d'`: `j_lo + d_lo + m`.
+        let k0 = j_lo.wrapping_add(d_lo);
+        let mut layers = buffer(rows + CORNER_D as usize);
+        for (m, key) in layers.iter_mut().enumerate() {
+            *key = layer_key(o.layer, cell_hash_in_row(k0.wrapping_add(m as i32), o.key0));
+        }
+        // Row keys by `d'`, then `j'`: `rk[d'·rows + w] = row_key(j_lo + w, layers[w + d'])`.
+        let mut rk = buffer(rows * CORNER_D as usize);
+        for d in 0..CORNER_D as usize {
+            let (keys, layers) = (&mut rk[d * rows..(d + 1) * rows], &layers[d..d + rows]);
+            for (w, (key, &layer)) in keys.iter_mut().zip(layers).enumerate() {
+                *key = row_key(j_lo.wrapping_add(w as i32), layer);
+            }
+        }
+        recycle(layers);
+        let e_count = CORNER_E as usize;
+        let mut hashes = buffer(rows * (CORNER_D * CORNER_E) as usize);
+        for (w, block) in hashes
+            .chunks_exact_mut((CORNER_D * CORNER_E) as usize)
+            .enumerate()
+        {
+            // `i' = e' + 4j'`.
+            let i0 = e_lo.wrapping_add(j_lo.wrapping_add(w as i32).wrapping_mul(4));
+            for (d, entries) in block.chunks_exact_mut(e_count).enumerate() {
+                let key = rk[d * rows + w];
+                let entries: &mut [u32; 16] = entries.try_into().expect("CORNER_E entries");
+                for (e, h) in entries.iter_mut().enumerate() {
+                    *h = cell_hash_in_row(i0.wrapping_add(e as i32), key);
+                }
+            }
+        }
+        recycle(rk);
+        let origin = (j_lo as u32)
+            .wrapping_mul(CORNER_D * CORNER_E)
+            .wrapping_add((d_lo as u32).wrapping_mul(CORNER_E))
+            .wrapping_add(e_lo as u32);
+        Some(Self {
+            j_lo,
+            d_lo,
+            e_lo,
+            rows: rows as u32,
+            origin,
+            hashes,
+        })
+    }
+
+    /// The entries of the lanes' corners `(i, j, k)`, or `None` when a corner of a lane falls
+    /// outside the table.
+    #[inline(always)]
+    fn entries<const L: usize>(
+        &self,
+        i: &[i32; L],
+        j: &[i32; L],
+        k: &[i32; L],
+    ) -> Option<[u32; L]> {
+        let mut inside = [false; L];
+        let mut entry = [0u32; L];
+        let (j_lo, d_lo, e_lo) = (self.j_lo as u32, self.d_lo as u32, self.e_lo as u32);
+        for l in 0..L {
+            let (i, j, k) = (i[l] as u32, j[l] as u32, k[l] as u32);
+            let w = j.wrapping_sub(j_lo);
+            let d = k.wrapping_sub(j).wrapping_sub(d_lo.wrapping_add(1));
+            let e = i.wrapping_sub(j << 2).wrapping_sub(e_lo.wrapping_add(4));
+            inside[l] = (w < self.rows - 1) & (d < 2) & (e < 11);
+            entry[l] = i
+                .wrapping_add(j.wrapping_mul(CORNER_STEP[1]))
+                .wrapping_add(k.wrapping_mul(CORNER_STEP[2]))
+                .wrapping_sub(self.origin);
+        }
+        inside.iter().all(|&v| v).then_some(entry)
+    }
 }
 
 /// A row's table for one octave: lattice corners, Worley feature points or simplex keys.
@@ -445,7 +574,12 @@ impl RowTable {
                     recycle(v);
                 }
             }
-            Self::Simplex(t) => recycle(t.keys),
+            Self::Simplex(t) => {
+                recycle(t.keys);
+                if let Some(c) = t.corners {
+                    recycle(c.hashes);
+                }
+            }
         }
     }
 }
@@ -488,6 +622,11 @@ fn gradient_terms(h: u32, y: f32, z: f32) -> (u32, u32, u32) {
 /// the same integers; only the instructions differ.
 trait Fetch<const L: usize> {
     fn fetch(window: &[u32], idx: &[u32; L]) -> [u32; L];
+
+    /// Whether 3D simplex noise's lanes read their corners' hashes from the row's
+    /// [`SimplexCorners`] (a gather) rather than hash them from the layer keys: not with AVX2,
+    /// whose 8-lane gathers lost to the hashes (49.9 against 80.6 Mpix/s).
+    const CORNERS: bool = true;
 
     /// `acc[l] += w * n[l]`: a product, then a sum (never fused), in every copy.
     #[inline(always)]
@@ -549,6 +688,8 @@ struct Permute8;
 
 #[cfg(target_arch = "x86_64")]
 impl Fetch<LANES> for Permute8 {
+    const CORNERS: bool = false;
+
     #[inline(always)]
     fn fetch(window: &[u32], idx: &[u32; LANES]) -> [u32; LANES] {
         #[allow(unsafe_code)]
@@ -1176,7 +1317,7 @@ impl ClassicEvaluator {
         let mut tables: Vec<Option<RowTable>> = Vec::with_capacity(rows.len());
         if columns {
             for (o, r) in self.octaves.iter().zip(rows) {
-                tables.push(self.columns::<L, B>(o, r, window, width));
+                tables.push(self.columns::<L, B>(o, r, window, width, F::CORNERS));
             }
         }
         let mut start = 0;
@@ -1216,7 +1357,8 @@ impl ClassicEvaluator {
 
     /// The [`Columns`] of octave `o` on the row `r` of `window` (`width` pixels, evaluated `L`
     /// at a time), or `None` where the basis hashes in the lanes (simplex, Worley) or the row
-    /// visits more lattice columns than it has pixels (a minified render of small cells).
+    /// visits more lattice columns than it has pixels (a minified render of small cells);
+    /// `corners`: with 3D simplex noise's [`SimplexCorners`] ([`Fetch::CORNERS`]).
     #[inline(always)]
     fn columns<const L: usize, const B: u8>(
         &self,
@@ -1224,6 +1366,7 @@ impl ClassicEvaluator {
         r: &RowOctave,
         window: &Window,
         width: usize,
+        corners: bool,
     ) -> Option<RowTable> {
         // The basis as the constant `B`: each row loop builds only its own basis's tables.
         if B == WORLEY {
@@ -1233,7 +1376,7 @@ impl ClassicEvaluator {
         }
         if B == SIMPLEX {
             return self
-                .simplex_columns::<L>(o, r, window, width)
+                .simplex_columns::<L>(o, r, window, width, corners)
                 .map(RowTable::Simplex);
         }
         if !(B == GRADIENT || B == VALUE) || width == 0 {
@@ -1317,7 +1460,8 @@ impl ClassicEvaluator {
     }
 
     /// The [`SimplexColumns`] of octave `o` on the row `r`, or `None`: cells under 2 pixels or
-    /// more skewed rows than pixels.
+    /// more skewed rows than pixels; with the 3D [`SimplexCorners`] where `corners` asks for
+    /// them ([`Fetch::CORNERS`]) and they fit.
     #[inline(always)]
     fn simplex_columns<const L: usize>(
         &self,
@@ -1325,6 +1469,7 @@ impl ClassicEvaluator {
         r: &RowOctave,
         window: &Window,
         width: usize,
+        corners: bool,
     ) -> Option<SimplexColumns> {
         if width == 0 || o.side < 2.0 * window.scale {
             return None;
@@ -1353,7 +1498,32 @@ impl ClassicEvaluator {
                 row_key(cell, o.key2)
             };
         }
-        Some(SimplexColumns { lo, len, keys })
+        // The corners' table where it holds at most two entries per pixel (it saves the lanes
+        // eight hashes per pixel): the skewed rows of the first and last lanes, one more on
+        // each side for the rounding of the lanes' `x / side`, and the corners' `j + 1`.
+        let corners = if self.three_d && corners {
+            let row = |x: f64| {
+                let px = x / o.side;
+                let s = ((px + r.py) + o.pz) * SIMPLEX_F3;
+                split(r.py + s).0
+            };
+            let (j_lo, j_hi) = (row(first), row(last));
+            SimplexCorners::new(
+                o,
+                r.py,
+                j_lo.saturating_sub(1),
+                j_hi.saturating_add(2),
+                2 * (width + L),
+            )
+        } else {
+            None
+        };
+        Some(SimplexColumns {
+            lo,
+            len,
+            keys,
+            corners,
+        })
     }
 
     /// The [`WorleyColumns`] of octave `o` on the row `r`, or `None`: a Poisson count, cells
@@ -2442,12 +2612,10 @@ fn simplex_relaxed<const L: usize, F: Fetch<L>, R: RowLanes>(
             at.y0[l] = py[l] - (fj[l] - t);
             at.z0[l] = pz - (fk[l] - t);
         }
-        let Some((base, idx)) = simplex_window(t, &at.k) else {
+        let Some(corners) = simplex3_corners::<L, F>(t, &at) else {
             return false;
         };
-        let keys = window(&t.keys, base);
-        let (l0, l1) = (F::fetch(&keys[..L], &idx), F::fetch(&keys[1..=L], &idx));
-        simplex3_sum::<L, true>(&at, &l0, &l1, n);
+        simplex3_sum::<L, true>(&at, &corners, n);
     } else {
         let (f2, g2) = (SIMPLEX_F2 as f32, SIMPLEX_G2 as f32);
         let (mut a, mut b) = ([0.0f32; L], [0.0f32; L]);
@@ -2708,18 +2876,18 @@ fn simplex3_at<const L: usize, R: RowLanes>(o: &Octave, r: &R, px: &[f64; L]) ->
     at
 }
 
-/// 3D simplex noise's sum at `at`, from the layer keys `l0`, `l1` of each lane's skewed planes
-/// `k` and `k + 1`: one simple loop per corner, so that it vectorises.
+/// Where 3D simplex noise's lanes find their corners' hashes.
+enum Corners3<'a, const L: usize> {
+    /// The layer keys of each lane's skewed planes `k` and `k + 1`.
+    Layers([u32; L], [u32; L]),
+    /// The row's [`SimplexCorners`] hashes and each lane's entry ([`SimplexCorners::entries`]).
+    Table(&'a [u32], [u32; L]),
+}
+
+/// Gustavson's ranking of the lanes' `x0, y0, z0`, written as selects: the steps
+/// `(i1, j1, k1)` and `(i2, j2, k2)` of the middle corners of 3D simplex noise.
 #[inline(always)]
-fn simplex3_sum<const L: usize, const FMA: bool>(
-    at: &Simplex3At<L>,
-    l0: &[u32; L],
-    l1: &[u32; L],
-    n: &mut [f32; L],
-) {
-    let g3 = SIMPLEX_G3 as f32;
-    // Gustavson's ranking of x0, y0, z0, written as selects: the steps `(i1, j1, k1)` and
-    // `(i2, j2, k2)` of the middle corners.
+fn simplex3_steps<const L: usize>(at: &Simplex3At<L>) -> [[[i32; L]; 3]; 2] {
     // The comparisons as 0/1 integers and the logic as bitwise operations (`1 ^ a` is `!a`):
     // short-circuit `&&` and `||` would compile to a branch per lane.
     let (mut a, mut b, mut c) = ([0i32; L], [0i32; L], [0i32; L]);
@@ -2739,18 +2907,74 @@ fn simplex3_sum<const L: usize, const FMA: bool>(
         step[1][1][l] = b | na;
         step[1][2][l] = nb | (na & nc);
     }
-    // `hash3` of corner `(i + di, j + dj, k + dk)` and its term, with the offsets
-    // `(x0 − di) + off`.
-    let term = |l: usize, di: i32, dj: i32, dk: i32, off: f32| {
-        // `l0` where `dk` is 0, `l1` where it is 1, by a mask: a select of two loads would
-        // compile to a scalar load per lane.
-        let layer = l0[l] ^ ((l0[l] ^ l1[l]) & 0u32.wrapping_sub(dk as u32));
-        let h = cell_hash_in_row(
-            at.i[l].wrapping_add(di),
-            row_key(at.j[l].wrapping_add(dj), layer),
-        );
+    step
+}
+
+/// 3D simplex noise's sum at `at`, from each lane's corner hashes `corners`: one simple loop
+/// per corner, so that it vectorises.
+#[inline(always)]
+fn simplex3_sum<const L: usize, const FMA: bool>(
+    at: &Simplex3At<L>,
+    corners: &Corners3<'_, L>,
+    n: &mut [f32; L],
+) {
+    let step = simplex3_steps(at);
+    match corners {
+        Corners3::Layers(l0, l1) => {
+            // `hash3` of corner `(i + di, j + dj, k + dk)` from the layer keys, in the lanes.
+            let hash = |l: usize, _: usize, di: i32, dj: i32, dk: i32| {
+                // `l0` where `dk` is 0, `l1` where it is 1, by a mask: a select of two loads
+                // would compile to a scalar load per lane.
+                let layer = l0[l] ^ ((l0[l] ^ l1[l]) & 0u32.wrapping_sub(dk as u32));
+                cell_hash_in_row(
+                    at.i[l].wrapping_add(di),
+                    row_key(at.j[l].wrapping_add(dj), layer),
+                )
+            };
+            simplex3_terms::<L, FMA>(at, &step, hash, n);
+        }
+        Corners3::Table(hashes, entry) => {
+            // Read ahead, one loop per corner: read in the term's loop, the reads kept it scalar.
+            let mut h = [[0u32; L]; 4];
+            for (c, h) in h.iter_mut().enumerate() {
+                for l in 0..L {
+                    let [di, dj, dk] = match c {
+                        0 => [0; 3],
+                        3 => [1; 3],
+                        _ => [step[c - 1][0][l], step[c - 1][1][l], step[c - 1][2][l]],
+                    };
+                    let e = entry[l]
+                        + di as u32 * CORNER_STEP[0]
+                        + dj as u32 * CORNER_STEP[1]
+                        + dk as u32 * CORNER_STEP[2];
+                    #[allow(unsafe_code)]
+                    // SAFETY: `SimplexCorners::entries` checked that every corner of every
+                    // lane is an entry of the table (a checked index keeps the loop scalar).
+                    unsafe {
+                        h[l] = *hashes.get_unchecked(e as usize);
+                    }
+                }
+            }
+            let hash = |l: usize, c: usize, _, _, _| h[c][l];
+            simplex3_terms::<L, FMA>(at, &step, hash, n);
+        }
+    }
+}
+
+/// The terms of the four corners of 3D simplex noise summed in the lanes, corner
+/// `c = 0..4`, `(i + di, j + dj, k + dk)`, with hash `hash(l, c, di, dj, dk)` and offsets
+/// `(x0 − di) + off`.
+#[inline(always)]
+fn simplex3_terms<const L: usize, const FMA: bool>(
+    at: &Simplex3At<L>,
+    step: &[[[i32; L]; 3]; 2],
+    hash: impl Fn(usize, usize, i32, i32, i32) -> u32,
+    n: &mut [f32; L],
+) {
+    let g3 = SIMPLEX_G3 as f32;
+    let term = |l: usize, c: usize, di: i32, dj: i32, dk: i32, off: f32| {
         simplex_term::<FMA>(
-            h,
+            hash(l, c, di, dj, dk),
             SIMPLEX3_R2,
             (at.x0[l] - di as f32) + off,
             (at.y0[l] - dj as f32) + off,
@@ -2760,16 +2984,16 @@ fn simplex3_sum<const L: usize, const FMA: bool>(
     // `((c0 + c1) + c2) + c3`.
     let mut sum = [0.0f32; L];
     for l in 0..L {
-        sum[l] = term(l, 0, 0, 0, 0.0);
+        sum[l] = term(l, 0, 0, 0, 0, 0.0);
     }
     for (corner, s) in step.iter().enumerate() {
         let off = (corner + 1) as f32 * g3;
         for l in 0..L {
-            sum[l] += term(l, s[0][l], s[1][l], s[2][l], off);
+            sum[l] += term(l, corner + 1, s[0][l], s[1][l], s[2][l], off);
         }
     }
     for l in 0..L {
-        n[l] = SIMPLEX3_SCALE * (sum[l] + term(l, 1, 1, 1, 3.0 * g3));
+        n[l] = SIMPLEX3_SCALE * (sum[l] + term(l, 3, 1, 1, 1, 3.0 * g3));
     }
 }
 
@@ -2784,13 +3008,33 @@ fn simplex3_table<const L: usize, F: Fetch<L>, R: RowLanes>(
     n: &mut [f32; L],
 ) -> bool {
     let at = simplex3_at(o, r, &cell_units(o, x));
-    let Some((base, idx)) = simplex_window(t, &at.k) else {
+    let Some(corners) = simplex3_corners::<L, F>(t, &at) else {
         return false;
     };
-    let keys = window(&t.keys, base);
-    let (l0, l1) = (F::fetch(&keys[..L], &idx), F::fetch(&keys[1..=L], &idx));
-    simplex3_sum::<L, false>(&at, &l0, &l1, n);
+    simplex3_sum::<L, false>(&at, &corners, n);
     true
+}
+
+/// The corner hashes of lanes `at` from the row's table `t`: its [`SimplexCorners`] where
+/// every lane's corners are in it, else the layer keys where one fetch reaches them, else
+/// `None`.
+#[inline(always)]
+fn simplex3_corners<'t, const L: usize, F: Fetch<L>>(
+    t: &'t SimplexColumns,
+    at: &Simplex3At<L>,
+) -> Option<Corners3<'t, L>> {
+    if F::CORNERS
+        && let Some(c) = &t.corners
+        && let Some(entry) = c.entries(&at.i, &at.j, &at.k)
+    {
+        return Some(Corners3::Table(&c.hashes, entry));
+    }
+    let (base, idx) = simplex_window(t, &at.k)?;
+    let keys = window(&t.keys, base);
+    Some(Corners3::Layers(
+        F::fetch(&keys[..L], &idx),
+        F::fetch(&keys[1..=L], &idx),
+    ))
 }
 
 /// 3D simplex noise on the plane of the octave's `z`, in the lanes: corner `(i, j, k)`'s hash
@@ -2803,7 +3047,7 @@ fn simplex3<const L: usize, R: RowLanes>(o: &Octave, r: &R, x: &[f64; L], n: &mu
         l0[l] = layer_key(o.layer, cell_hash_in_row(at.k[l], o.key0));
         l1[l] = layer_key(o.layer, cell_hash_in_row(at.k[l].wrapping_add(1), o.key0));
     }
-    simplex3_sum::<L, false>(&at, &l0, &l1, n);
+    simplex3_sum::<L, false>(&at, &Corners3::Layers(l0, l1), n);
 }
 
 impl crate::CpuKind for ClassicNoise {

@@ -19,21 +19,22 @@ use std::arch::x86_64::{
     _mm512_castps_si512, _mm512_castps256_ps512, _mm512_castsi256_si512, _mm512_castsi512_ps,
     _mm512_castsi512_si128, _mm512_cmp_pd_mask, _mm512_cmp_ps_mask, _mm512_cmpeq_epi32_mask,
     _mm512_cmplt_epu32_mask, _mm512_cvtepi64_epi32, _mm512_cvtpd_ps, _mm512_div_pd, _mm512_div_ps,
-    _mm512_extracti32x4_epi32, _mm512_fmadd_ps, _mm512_insertf64x4, _mm512_inserti64x4,
-    _mm512_loadu_pd, _mm512_loadu_ps, _mm512_loadu_si512, _mm512_mask_add_epi32,
-    _mm512_mask_blend_epi32, _mm512_mask_blend_ps, _mm512_mask_sub_pd, _mm512_mask_sub_ps,
-    _mm512_max_ps, _mm512_mul_pd, _mm512_mul_ps, _mm512_mullo_epi32, _mm512_permutex2var_epi32,
-    _mm512_set1_epi32, _mm512_set1_pd, _mm512_set1_ps, _mm512_setzero_ps, _mm512_setzero_si512,
-    _mm512_slli_epi32, _mm512_srli_epi32, _mm512_srlv_epi32, _mm512_storeu_ps, _mm512_sub_epi32,
-    _mm512_sub_pd, _mm512_sub_ps, _mm512_ternarylogic_epi32, _mm512_xor_si512,
+    _mm512_extracti32x4_epi32, _mm512_fmadd_ps, _mm512_i32gather_epi32, _mm512_insertf64x4,
+    _mm512_inserti64x4, _mm512_loadu_pd, _mm512_loadu_ps, _mm512_loadu_si512,
+    _mm512_mask_add_epi32, _mm512_mask_blend_epi32, _mm512_mask_blend_ps,
+    _mm512_mask_cmplt_epu32_mask, _mm512_mask_sub_pd, _mm512_mask_sub_ps, _mm512_max_ps,
+    _mm512_mul_pd, _mm512_mul_ps, _mm512_mullo_epi32, _mm512_permutex2var_epi32, _mm512_set1_epi32,
+    _mm512_set1_pd, _mm512_set1_ps, _mm512_setzero_ps, _mm512_setzero_si512, _mm512_slli_epi32,
+    _mm512_srli_epi32, _mm512_srlv_epi32, _mm512_storeu_ps, _mm512_sub_epi32, _mm512_sub_pd,
+    _mm512_sub_ps, _mm512_ternarylogic_epi32, _mm512_xor_si512,
 };
 
 use spectex_model::classic::{SIMPLEX_F3, SIMPLEX_G3, SIMPLEX3_R2, SIMPLEX3_SCALE};
 use spectex_model::random::{LCG_INCREMENT, LCG_MULTIPLIER, RXS_M_XS_MULTIPLIER};
 
 use super::{
-    Columns, Octave, ROUND_MAGIC, ROUND_MAGIC_F32, RowLanes, SimplexColumns, WIDE_LANES, WINDOW,
-    window,
+    CORNER_STEP, Columns, Octave, ROUND_MAGIC, ROUND_MAGIC_F32, RowLanes, SimplexColumns,
+    SimplexCorners, WIDE_LANES, WINDOW, window,
 };
 
 /// The lanes of one register of f32.
@@ -189,6 +190,14 @@ pub(super) fn simplex3<const S: usize, R: RowLanes>(
         }
     }
 
+    // The corners' hashes: read from the row's corner table where every lane's corners are
+    // in it, else hashed from the layer keys of the planes `k`, `k + 1`.
+    if let Some(c) = t.and_then(|t| t.corners.as_ref())
+        && let Some(entry) = entries::<S>(c, &cells)
+    {
+        let layers = [[zero; 2]; S];
+        return sum::<S, true>(&c.hashes, &entry, &cells, &layers, &offsets, n);
+    }
     let one = splat(1);
     let mut layers = [[zero; 2]; S];
     if let Some((keys, first)) = t.and_then(|t| reach::<S>(t, &cells)) {
@@ -215,7 +224,22 @@ pub(super) fn simplex3<const S: usize, R: RowLanes>(
             layers[s] = [layer_key(o, k), layer_key(o, _mm512_add_epi32(k, one))];
         }
     }
+    sum::<S, false>(&[], &[zero; S], &cells, &layers, &offsets, n);
+}
 
+/// The sum of the four corners' terms of `S` registers of 16 lanes, scaled, into `n`: the
+/// corners' hashes from the row's corner table `hashes` at the lanes' `entry` (`TABLE`), else
+/// from the layer keys `layers`.
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn sum<const S: usize, const TABLE: bool>(
+    hashes: &[u32],
+    entry: &[__m512i; S],
+    cells: &[[__m512i; 3]; S],
+    layers: &[[__m512i; 2]; S],
+    offsets: &[[__m512; 3]; S],
+    n: &mut [[f32; L]; S],
+) {
     // Gustavson's ranking as masks: the steps of the middle corners.
     let mut steps = [[[0; 3]; 2]; S];
     for s in 0..S {
@@ -229,25 +253,50 @@ pub(super) fn simplex3<const S: usize, R: RowLanes>(
         ];
     }
     let g3 = SIMPLEX_G3 as f32;
-    let mut sum = [_mm512_setzero_ps(); S];
+    let mut total = [_mm512_setzero_ps(); S];
     for s in 0..S {
-        sum[s] = corner(&cells[s], &layers[s], &offsets[s], [0; 3], 0.0);
+        let h = corner_hash::<TABLE>(hashes, entry[s], &cells[s], &layers[s], [0; 3]);
+        total[s] = corner_term(h, &offsets[s], [0; 3], 0.0);
     }
     for step in 0..2 {
         let off = (step + 1) as f32 * g3;
         for s in 0..S {
-            let c = corner(&cells[s], &layers[s], &offsets[s], steps[s][step], off);
-            sum[s] = _mm512_add_ps(sum[s], c);
+            let st = steps[s][step];
+            let h = corner_hash::<TABLE>(hashes, entry[s], &cells[s], &layers[s], st);
+            total[s] = _mm512_add_ps(total[s], corner_term(h, &offsets[s], st, off));
         }
     }
     for s in 0..S {
-        let last = corner(&cells[s], &layers[s], &offsets[s], [u16::MAX; 3], 3.0 * g3);
-        let v = _mm512_mul_ps(_mm512_set1_ps(SIMPLEX3_SCALE), _mm512_add_ps(sum[s], last));
+        let all = [u16::MAX; 3];
+        let h = corner_hash::<TABLE>(hashes, entry[s], &cells[s], &layers[s], all);
+        let last = corner_term(h, &offsets[s], all, 3.0 * g3);
+        let v = _mm512_mul_ps(
+            _mm512_set1_ps(SIMPLEX3_SCALE),
+            _mm512_add_ps(total[s], last),
+        );
         #[allow(unsafe_code)]
         // SAFETY: the store writes 16 f32 (64 bytes) into a 16-lane array.
         unsafe {
             _mm512_storeu_ps(n[s].as_mut_ptr(), v);
         }
+    }
+}
+
+/// The hash of corner `(i + di, j + dj, k + dk)` of 16 lanes: from the row's corner table
+/// `hashes` at the lanes' `entry` (`TABLE`), else from the layer keys of planes `k`, `k + 1`.
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn corner_hash<const TABLE: bool>(
+    hashes: &[u32],
+    entry: __m512i,
+    cells: &[__m512i; 3],
+    layers: &[__m512i; 2],
+    step: [__mmask16; 3],
+) -> __m512i {
+    if TABLE {
+        table_hash(hashes, entry, step)
+    } else {
+        layer_hash(cells, layers, step)
     }
 }
 
@@ -289,27 +338,81 @@ fn layer_key(o: &Octave, k: __m512i) -> __m512i {
     hash(_mm512_add_epi32(splat(o.layer), hash(seed)))
 }
 
-/// One corner's term of 16 lanes: corner `(i + di, j + dj, k + dk)` of the cells, its hash from
-/// the layer keys `[l0, l1]` of planes `k`, `k + 1`, its offsets `(x0 − di) + off`.
+/// The hash of corner `(i + di, j + dj, k + dk)` of the cells of 16 lanes, from the layer keys
+/// `[l0, l1]` of planes `k`, `k + 1`.
 #[inline]
 #[target_feature(enable = "avx512f")]
-fn corner(
+fn layer_hash(
     [i, j, _]: &[__m512i; 3],
     [l0, l1]: &[__m512i; 2],
-    [x0, y0, z0]: &[__m512; 3],
     [di, dj, dk]: [__mmask16; 3],
-    off: f32,
-) -> __m512 {
+) -> __m512i {
     let one = splat(1);
     let layer = _mm512_mask_blend_epi32(dk, *l0, *l1);
     let row = hash(_mm512_add_epi32(
         _mm512_mask_add_epi32(*j, dj, *j, one),
         layer,
     ));
-    let h = hash(_mm512_add_epi32(
+    hash(_mm512_add_epi32(
         _mm512_mask_add_epi32(*i, di, *i, one),
         row,
-    ));
+    ))
+}
+
+/// `SimplexCorners::entries` of 16 lanes of each of `S` registers, or `None` when a corner of a
+/// lane falls outside the table.
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn entries<const S: usize>(c: &SimplexCorners, cells: &[[__m512i; 3]; S]) -> Option<[__m512i; S]> {
+    let mut inside: __mmask16 = u16::MAX;
+    let mut entry = [_mm512_setzero_si512(); S];
+    for s in 0..S {
+        let [i, j, k] = cells[s];
+        let w = _mm512_sub_epi32(j, splat(c.j_lo as u32));
+        let d = _mm512_sub_epi32(_mm512_sub_epi32(k, j), splat(c.d_lo.wrapping_add(1) as u32));
+        let e = _mm512_sub_epi32(
+            _mm512_sub_epi32(i, _mm512_slli_epi32::<2>(j)),
+            splat(c.e_lo.wrapping_add(4) as u32),
+        );
+        inside = _mm512_mask_cmplt_epu32_mask(inside, w, splat(c.rows - 1));
+        inside = _mm512_mask_cmplt_epu32_mask(inside, d, splat(2));
+        inside = _mm512_mask_cmplt_epu32_mask(inside, e, splat(11));
+        entry[s] = _mm512_add_epi32(
+            _mm512_add_epi32(i, _mm512_mullo_epi32(j, splat(CORNER_STEP[1]))),
+            _mm512_sub_epi32(
+                _mm512_mullo_epi32(k, splat(CORNER_STEP[2])),
+                splat(c.origin),
+            ),
+        );
+    }
+    (inside == u16::MAX).then_some(entry)
+}
+
+/// The hash of corner `(i + di, j + dj, k + dk)` of 16 lanes from the row's corner table, the
+/// lanes' corners `(i, j, k)` at `entry` (checked by [`entries`]).
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn table_hash(hashes: &[u32], entry: __m512i, [di, dj, dk]: [__mmask16; 3]) -> __m512i {
+    let e = _mm512_mask_add_epi32(entry, di, entry, splat(CORNER_STEP[0]));
+    let e = _mm512_mask_add_epi32(e, dj, e, splat(CORNER_STEP[1]));
+    let e = _mm512_mask_add_epi32(e, dk, e, splat(CORNER_STEP[2]));
+    #[allow(unsafe_code)]
+    // SAFETY: `entries` checked that every corner's entry is below the table's length.
+    unsafe {
+        _mm512_i32gather_epi32::<4>(e, hashes.as_ptr().cast())
+    }
+}
+
+/// One corner's term of 16 lanes: corner `(i + di, j + dj, k + dk)` of hash `h`, its offsets
+/// `(x0 − di) + off`.
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn corner_term(
+    h: __m512i,
+    [x0, y0, z0]: &[__m512; 3],
+    [di, dj, dk]: [__mmask16; 3],
+    off: f32,
+) -> __m512 {
     let off = _mm512_set1_ps(off);
     let onef = _mm512_set1_ps(1.0);
     term(

@@ -114,7 +114,8 @@ fn phasor_rows_match_the_per_pixel_sum_at_every_simd_level() {
 
 /// Noises whose rows read per-row column tables: gradient, value and simplex noise in 2D and
 /// 3D, cells that are and are not powers of two (the exact reciprocal and the division), octaves
-/// down to cells of one pixel (gradient and value: tables; simplex: hashed in the lanes), and
+/// down to cells of one pixel (gradient and value: tables; simplex: hashed in the lanes, and in 3D
+/// read from the row's corner table where the cells are wide), and
 /// under a pixel in the coarse windows (hashed in the lanes), ridged, at z near and far; and Worley
 /// noise with fixed counts of 1 and 3 points, every metric, F1 and F2 − F1, 2D and 3D (the exact
 /// search beyond the 3×3 block included).
