@@ -14,19 +14,21 @@
 
 use std::arch::x86_64::{
     __m256, __m256i, __m512, __m512d, __m512i, __mmask16, _CMP_GE_OQ, _CMP_GT_OQ,
-    _mm_cvtsi128_si32, _mm_extract_epi32, _mm256_castps_pd, _mm512_add_epi32, _mm512_add_pd,
-    _mm512_add_ps, _mm512_and_si512, _mm512_castpd_ps, _mm512_castpd_si512, _mm512_castps_pd,
-    _mm512_castps_si512, _mm512_castps256_ps512, _mm512_castsi256_si512, _mm512_castsi512_ps,
-    _mm512_castsi512_si128, _mm512_cmp_pd_mask, _mm512_cmp_ps_mask, _mm512_cmpeq_epi32_mask,
-    _mm512_cmplt_epu32_mask, _mm512_cvtepi64_epi32, _mm512_cvtpd_ps, _mm512_div_pd, _mm512_div_ps,
-    _mm512_extracti32x4_epi32, _mm512_fmadd_ps, _mm512_i32gather_epi32, _mm512_insertf64x4,
-    _mm512_inserti64x4, _mm512_loadu_pd, _mm512_loadu_ps, _mm512_loadu_si512,
-    _mm512_mask_add_epi32, _mm512_mask_blend_epi32, _mm512_mask_blend_ps,
-    _mm512_mask_cmplt_epu32_mask, _mm512_mask_sub_pd, _mm512_mask_sub_ps, _mm512_max_ps,
-    _mm512_mul_pd, _mm512_mul_ps, _mm512_mullo_epi32, _mm512_permutex2var_epi32, _mm512_set1_epi32,
-    _mm512_set1_pd, _mm512_set1_ps, _mm512_setzero_ps, _mm512_setzero_si512, _mm512_slli_epi32,
-    _mm512_srli_epi32, _mm512_srlv_epi32, _mm512_storeu_ps, _mm512_sub_epi32, _mm512_sub_pd,
-    _mm512_sub_ps, _mm512_ternarylogic_epi32, _mm512_xor_si512,
+    _mm_cvtsi128_si32, _mm_extract_epi32, _mm256_castps_pd, _mm256_setzero_ps, _mm512_add_epi32,
+    _mm512_add_pd, _mm512_add_ps, _mm512_and_si512, _mm512_castpd_ps, _mm512_castpd_si512,
+    _mm512_castps_pd, _mm512_castps_si512, _mm512_castps256_ps512, _mm512_castsi256_si512,
+    _mm512_castsi512_ps, _mm512_castsi512_si128, _mm512_cmp_pd_mask, _mm512_cmp_ps_mask,
+    _mm512_cmpeq_epi32_mask, _mm512_cmplt_epi32_mask, _mm512_cvtepi64_epi32, _mm512_cvtpd_ps,
+    _mm512_div_pd, _mm512_div_ps, _mm512_extracti32x4_epi32, _mm512_fmadd_ps,
+    _mm512_i32gather_epi32, _mm512_insertf64x4, _mm512_inserti64x4, _mm512_loadu_pd,
+    _mm512_loadu_ps, _mm512_loadu_si512, _mm512_mask_add_epi32, _mm512_mask_blend_epi32,
+    _mm512_mask_blend_ps, _mm512_mask_cmplt_epu32_mask, _mm512_mask_sub_epi32, _mm512_mask_sub_pd,
+    _mm512_mask_sub_ps, _mm512_max_ps, _mm512_mul_pd, _mm512_mul_ps, _mm512_mullo_epi32,
+    _mm512_permutex2var_epi32, _mm512_set1_epi32, _mm512_set1_pd, _mm512_set1_ps,
+    _mm512_setr_epi32, _mm512_setzero_pd, _mm512_setzero_ps, _mm512_setzero_si512,
+    _mm512_slli_epi32, _mm512_srli_epi32, _mm512_srlv_epi32, _mm512_storeu_ps, _mm512_sub_epi32,
+    _mm512_sub_pd, _mm512_sub_ps, _mm512_ternarylogic_epi32, _mm512_testn_epi32_mask,
+    _mm512_xor_si512,
 };
 
 use spectex_model::classic::{SIMPLEX_F3, SIMPLEX_G3, SIMPLEX3_R2, SIMPLEX3_SCALE};
@@ -91,42 +93,82 @@ fn join_ps(lo: __m256, hi: __m256) -> __m512 {
     ))
 }
 
-/// The skew of 8 lanes (`super::simplex3_at`): cells `(i, j, k)` and offsets `(x0, y0, z0)`.
+/// `super::split_lanes` of 16 f64 lanes in two halves of 8: the floors' `i32` cells (the low
+/// words of `p + magic`, one less where that rounded up, as `super::split` takes them) and the
+/// floors of each half.
 #[inline]
 #[target_feature(enable = "avx512f")]
-fn skew3(px: __m512d, py: __m512d, pz: f64) -> ([__m256i; 3], [__m256; 3]) {
+fn split_pair(p: [__m512d; 2]) -> (__m512i, [__m512d; 2]) {
+    let magic = _mm512_set1_pd(ROUND_MAGIC);
+    let m = [_mm512_add_pd(p[0], magic), _mm512_add_pd(p[1], magic)];
+    let mut up = [0u8; 2];
+    let mut f = [_mm512_setzero_pd(); 2];
+    for h in 0..2 {
+        let r = _mm512_sub_pd(m[h], magic);
+        up[h] = _mm512_cmp_pd_mask::<_CMP_GT_OQ>(r, p[h]);
+        f[h] = _mm512_mask_sub_pd(r, up[h], r, _mm512_set1_pd(1.0));
+    }
+    // The even 32-bit words of both halves: the low words of the 16 lanes.
+    let low = _mm512_permutex2var_epi32(
+        _mm512_castpd_si512(m[0]),
+        _mm512_setr_epi32(0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30),
+        _mm512_castpd_si512(m[1]),
+    );
+    let up = u16::from(up[0]) | (u16::from(up[1]) << 8);
+    (_mm512_mask_sub_epi32(low, up, low, splat(1)), f)
+}
+
+/// The skew of 16 lanes in two halves of 8 (`super::simplex3_at`): cells `(i, j, k)` and
+/// offsets `(x0, y0, z0)`.
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn skew3(px: [__m512d; 2], py: [__m512d; 2], pz: f64) -> ([__m512i; 3], [__m512; 3]) {
     let pz = _mm512_set1_pd(pz);
-    let s = _mm512_mul_pd(
-        _mm512_add_pd(_mm512_add_pd(px, py), pz),
-        _mm512_set1_pd(SIMPLEX_F3),
-    );
-    let (i, fi) = split(_mm512_add_pd(px, s));
-    let (j, fj) = split(_mm512_add_pd(py, s));
-    let (k, fk) = split(_mm512_add_pd(pz, s));
-    let t = _mm512_mul_pd(
-        _mm512_add_pd(_mm512_add_pd(fi, fj), fk),
-        _mm512_set1_pd(SIMPLEX_G3),
-    );
+    let mut s = [_mm512_setzero_pd(); 2];
+    for h in 0..2 {
+        s[h] = _mm512_mul_pd(
+            _mm512_add_pd(_mm512_add_pd(px[h], py[h]), pz),
+            _mm512_set1_pd(SIMPLEX_F3),
+        );
+    }
+    let (i, fi) = split_pair([_mm512_add_pd(px[0], s[0]), _mm512_add_pd(px[1], s[1])]);
+    let (j, fj) = split_pair([_mm512_add_pd(py[0], s[0]), _mm512_add_pd(py[1], s[1])]);
+    let (k, fk) = split_pair([_mm512_add_pd(pz, s[0]), _mm512_add_pd(pz, s[1])]);
+    let mut offsets = [[_mm256_setzero_ps(); 2]; 3];
+    for h in 0..2 {
+        let t = _mm512_mul_pd(
+            _mm512_add_pd(_mm512_add_pd(fi[h], fj[h]), fk[h]),
+            _mm512_set1_pd(SIMPLEX_G3),
+        );
+        offsets[0][h] = _mm512_cvtpd_ps(_mm512_sub_pd(px[h], _mm512_sub_pd(fi[h], t)));
+        offsets[1][h] = _mm512_cvtpd_ps(_mm512_sub_pd(py[h], _mm512_sub_pd(fj[h], t)));
+        offsets[2][h] = _mm512_cvtpd_ps(_mm512_sub_pd(pz, _mm512_sub_pd(fk[h], t)));
+    }
     (
         [i, j, k],
         [
-            _mm512_cvtpd_ps(_mm512_sub_pd(px, _mm512_sub_pd(fi, t))),
-            _mm512_cvtpd_ps(_mm512_sub_pd(py, _mm512_sub_pd(fj, t))),
-            _mm512_cvtpd_ps(_mm512_sub_pd(pz, _mm512_sub_pd(fk, t))),
+            join_ps(offsets[0][0], offsets[0][1]),
+            join_ps(offsets[1][0], offsets[1][1]),
+            join_ps(offsets[2][0], offsets[2][1]),
         ],
     )
 }
 
-/// [`spectex_model::classic::gradient_dot`] in 16 lanes.
+/// [`spectex_model::classic::gradient_dot`] in 16 lanes, the index `g = h >> 28` read from the
+/// top bits of `h` where it is compared.
 #[inline]
 #[target_feature(enable = "avx512f")]
 fn gradient_dot(h: __m512i, x: __m512, y: __m512, z: __m512) -> __m512 {
-    let g = _mm512_srli_epi32::<28>(h);
-    let u = _mm512_mask_blend_ps(_mm512_cmplt_epu32_mask(g, splat(8)), y, x);
+    // `g ≥ 8`: bit 31.
+    let u = _mm512_mask_blend_ps(_mm512_cmplt_epi32_mask(h, _mm512_setzero_si512()), x, y);
     // `g == 12 || g == 14`: bits 3 and 2 set, bit 0 clear.
-    let x_second = _mm512_cmpeq_epi32_mask(_mm512_and_si512(g, splat(0b1101)), splat(0b1100));
+    let x_second = _mm512_cmpeq_epi32_mask(
+        _mm512_and_si512(h, splat(0b1101 << 28)),
+        splat(0b1100 << 28),
+    );
+    // `g < 4`: bits 3 and 2 clear.
     let v = _mm512_mask_blend_ps(
-        _mm512_cmplt_epu32_mask(g, splat(4)),
+        _mm512_testn_epi32_mask(h, splat(0b1100 << 28)),
         _mm512_mask_blend_ps(x_second, z, x),
         y,
     );
@@ -141,9 +183,11 @@ fn gradient_dot(h: __m512i, x: __m512, y: __m512, z: __m512) -> __m512 {
 #[inline]
 #[target_feature(enable = "avx512f")]
 fn flip(v: __m512, bits: __m512i) -> __m512 {
-    _mm512_castsi512_ps(_mm512_xor_si512(
+    // `v ^ (bits & sign)` in one instruction (truth table `A ^ (B & C)`).
+    _mm512_castsi512_ps(_mm512_ternarylogic_epi32::<0x78>(
         _mm512_castps_si512(v),
-        _mm512_and_si512(bits, splat(1 << 31)),
+        bits,
+        splat(1 << 31),
     ))
 }
 
@@ -184,10 +228,7 @@ pub(super) fn simplex3<const S: usize, R: RowLanes>(
     let mut offsets = [[_mm512_setzero_ps(); 3]; S];
     for s in 0..S {
         let (lo, hi) = (skew_half(o, r, x, s, 0), skew_half(o, r, x, s, 1));
-        for a in 0..3 {
-            cells[s][a] = join_epi32(lo.0[a], hi.0[a]);
-            offsets[s][a] = join_ps(lo.1[a], hi.1[a]);
-        }
+        (cells[s], offsets[s]) = skew3([lo.0, hi.0], [lo.1, hi.1], o.pz);
     }
 
     // The corners' hashes: read from the row's corner table where every lane's corners are
@@ -300,7 +341,8 @@ fn corner_hash<const TABLE: bool>(
     }
 }
 
-/// The skew of lanes `8h..8h + 8` of register `s` (`x` in pixels) on the rows of `r`.
+/// The positions of lanes `8h..8h + 8` of register `s` in cell units (`x` in pixels) and their
+/// rows' `py`, for the skew.
 #[inline]
 #[target_feature(enable = "avx512f")]
 fn skew_half<const S: usize, R: RowLanes>(
@@ -309,7 +351,7 @@ fn skew_half<const S: usize, R: RowLanes>(
     x: &[[f64; L]; S],
     s: usize,
     h: usize,
-) -> ([__m256i; 3], [__m256; 3]) {
+) -> (__m512d, __m512d) {
     let mut py = [0.0f64; 8];
     for (l, p) in py.iter_mut().enumerate() {
         *p = r.py(L * s + 8 * h + l);
@@ -327,7 +369,7 @@ fn skew_half<const S: usize, R: RowLanes>(
         Some(inv) => _mm512_mul_pd(x, _mm512_set1_pd(inv)),
         None => _mm512_div_pd(x, _mm512_set1_pd(o.side)),
     };
-    skew3(px, py, o.pz)
+    (px, py)
 }
 
 /// `layer_key(o.layer, cell_hash_in_row(k, o.key0))` of the planes `k`.
