@@ -297,9 +297,19 @@ struct Columns {
     mask: Vec<u32>,
     /// Gradient noise: the sign bit flipping `X` (or the zero's sign, see above).
     sign: Vec<u32>,
-    /// The f32 bits of the constant term (value noise: the lattice value).
+    /// The f32 bits of the constant term (value noise: the lattice value); with `terms`, the
+    /// corner's gradient index `g = h >> 28` instead.
     constant: Vec<u32>,
+    /// 3D gradient noise read by gradient index ([`Fetch::GRADIENT_INDEX`]): `[mask, sign,
+    /// constant]` of each `g` for each row key, `mask` and `sign` empty. A row's entries then
+    /// are the kept hashes shifted (no `gradient_terms` per column, 22% of a 3D fBm's time
+    /// with cells down to a pixel), and the lanes read their terms by a second permute.
+    terms: Option<Box<GradientTerms>>,
 }
+
+/// `[mask, sign, constant]` of [`gradient_terms`] for each gradient index `g < 16`, of each of
+/// the four row keys of a 3D row.
+type GradientTerms = [[[u32; 16]; 3]; 4];
 
 /// The lattice corners of row key `p` at columns `ix` and `ix + 1` of each lane (`ix` is the
 /// column `lo + base + idx[l]`) from the [`Columns`] `t`; `ux`: the lanes' offsets in their
@@ -451,12 +461,12 @@ impl SimplexCorners {
         let e_lo = (e as i32).wrapping_sub(7);
         // The layer keys of the planes `k' = j' + d'`: `j_lo + d_lo + m`.
         let k0 = j_lo.wrapping_add(d_lo);
-        let mut layers = buffer(rows + CORNER_D as usize);
+        let mut layers = scratch(rows + CORNER_D as usize);
         for (m, key) in layers.iter_mut().enumerate() {
             *key = layer_key(o.layer, cell_hash_in_row(k0.wrapping_add(m as i32), o.key0));
         }
         // Row keys by `d'`, then `j'`: `rk[d'·rows + w] = row_key(j_lo + w, layers[w + d'])`.
-        let mut rk = buffer(rows * CORNER_D as usize);
+        let mut rk = scratch(rows * CORNER_D as usize);
         for d in 0..CORNER_D as usize {
             let (keys, layers) = (&mut rk[d * rows..(d + 1) * rows], &layers[d..d + rows]);
             for (w, (key, &layer)) in keys.iter_mut().zip(layers).enumerate() {
@@ -465,7 +475,7 @@ impl SimplexCorners {
         }
         recycle(layers);
         let e_count = CORNER_E as usize;
-        let mut hashes = buffer(rows * (CORNER_D * CORNER_E) as usize);
+        let mut hashes = scratch(rows * (CORNER_D * CORNER_E) as usize);
         for (w, block) in hashes
             .chunks_exact_mut((CORNER_D * CORNER_E) as usize)
             .enumerate()
@@ -548,6 +558,97 @@ fn buffer(size: usize) -> Vec<u32> {
     v
 }
 
+/// `size` entries of unspecified values (an earlier row's, or zeros) in a buffer of an earlier
+/// row where this thread has one, for a table whose builder writes every entry it reads:
+/// zeroing a row's tables first cost 8% of a 3D fBm's time.
+fn scratch(size: usize) -> Vec<u32> {
+    // The shortest kept buffer that holds `size` entries, else the longest: a row's tables
+    // differ in length by octave, and growing a buffer zeroes its new entries.
+    let mut v = BUFFERS
+        .with(|b| {
+            let mut b = b.borrow_mut();
+            let mut best: Option<usize> = None;
+            for (i, v) in b.iter().enumerate() {
+                best = match best {
+                    None => Some(i),
+                    Some(j) => {
+                        let (n, m) = (v.len(), b[j].len());
+                        let better = if m >= size { n >= size && n < m } else { n > m };
+                        Some(if better { i } else { j })
+                    }
+                };
+            }
+            best.map(|i| b.swap_remove(i))
+        })
+        .unwrap_or_default();
+    if v.len() >= size {
+        v.truncate(size);
+    } else {
+        v.resize(size, 0);
+    }
+    v
+}
+
+thread_local! {
+    /// The column hashes of the row keys this thread's last rows used ([`KeptHashes`]).
+    static KEPT: std::cell::RefCell<KeptHashes> = std::cell::RefCell::new(KeptHashes::default());
+}
+
+/// Row keys whose column hashes [`KEPT`] keeps at most: two rows of a 3D fBm of 8 octaves.
+const KEPT_KEYS: usize = 64;
+
+/// The [`column_hashes`] of the row keys of this thread's last rows, by row key, first column
+/// and period: rows in one cell share their row keys, and a row's `j + 1` (`k + 1`) is the next
+/// cell's `j` (`k`), so a 3D fBm's rows hashed most of their columns again (a pure function of
+/// the three, so a kept entry is the very hashes).
+#[derive(Debug, Default)]
+struct KeptHashes {
+    /// `(key, lo, cells)` of each entry.
+    ids: Vec<(u32, i32, i32)>,
+    hashes: Vec<Vec<u32>>,
+    /// The entry the next new key replaces once all [`KEPT_KEYS`] are used.
+    next: usize,
+}
+
+impl KeptHashes {
+    /// `column_hashes(lo, cells, key)` of `count` columns, kept or computed.
+    #[inline(always)]
+    fn get(&mut self, lo: i32, cells: i32, key: u32, count: usize) -> &[u32] {
+        let id = (key, lo, cells);
+        let mut found = None;
+        for (e, kept) in self.ids.iter().enumerate() {
+            if *kept == id && self.hashes[e].len() >= count {
+                found = Some(e);
+                break;
+            }
+        }
+        let e = match found {
+            Some(e) => e,
+            None => {
+                let e = if self.ids.len() < KEPT_KEYS {
+                    self.ids.push(id);
+                    self.hashes.push(Vec::new());
+                    self.ids.len() - 1
+                } else {
+                    let e = self.next;
+                    self.next = (e + 1) % KEPT_KEYS;
+                    self.ids[e] = id;
+                    e
+                };
+                let v = &mut self.hashes[e];
+                if v.len() >= count {
+                    v.truncate(count);
+                } else {
+                    v.resize(count, 0);
+                }
+                column_hashes(lo, cells, key, v);
+                e
+            }
+        };
+        &self.hashes[e][..count]
+    }
+}
+
 /// Gives `v` back for a later row's [`buffer`].
 fn recycle(v: Vec<u32>) {
     if v.capacity() > 0 {
@@ -627,6 +728,10 @@ trait Fetch<const L: usize> {
     /// [`SimplexCorners`] (a gather) rather than hash them from the layer keys: not with AVX2,
     /// whose 8-lane gathers lost to the hashes (49.9 against 80.6 Mpix/s).
     const CORNERS: bool = true;
+
+    /// Whether 3D gradient noise's [`Columns`] hold gradient indices and their
+    /// [`GradientTerms`] (read by the AVX-512 kernel) rather than each column's terms.
+    const GRADIENT_INDEX: bool = false;
 
     /// `acc[l] += w * n[l]`: a product, then a sum (never fused), in every copy.
     #[inline(always)]
@@ -765,6 +870,7 @@ avx512_fetch!(
     Permute32,
     WIDER_LANES,
     permute32,
+    const GRADIENT_INDEX: bool = true;,
     #[inline(always)]
     fn simplex3<R: RowLanes>(
         o: &Octave,
@@ -791,14 +897,21 @@ avx512_fetch!(
         #[allow(unsafe_code)]
         // SAFETY: as for `fetch`.
         unsafe {
-            avx512::lattice3::<2, R, GRADIENT, RELAXED>(
-                o,
-                r,
-                registers(x),
-                registers(xf),
-                t,
-                registers_mut(n),
-            )
+            let (x, xf, n) = (registers(x), registers(xf), registers_mut(n));
+            match &t.terms {
+                Some(terms) if GRADIENT => {
+                    avx512::lattice3::<2, R, true, RELAXED, true>(o, r, x, xf, t, terms, n)
+                }
+                _ => avx512::lattice3::<2, R, GRADIENT, RELAXED, false>(
+                    o,
+                    r,
+                    x,
+                    xf,
+                    t,
+                    &[[[0; 16]; 3]; 4],
+                    n,
+                ),
+            }
         }
     }
 );
@@ -1317,7 +1430,14 @@ impl ClassicEvaluator {
         let mut tables: Vec<Option<RowTable>> = Vec::with_capacity(rows.len());
         if columns {
             for (o, r) in self.octaves.iter().zip(rows) {
-                tables.push(self.columns::<L, B>(o, r, window, width, F::CORNERS));
+                tables.push(self.columns::<L, B>(
+                    o,
+                    r,
+                    window,
+                    width,
+                    F::CORNERS,
+                    F::GRADIENT_INDEX,
+                ));
             }
         }
         let mut start = 0;
@@ -1358,7 +1478,8 @@ impl ClassicEvaluator {
     /// The [`Columns`] of octave `o` on the row `r` of `window` (`width` pixels, evaluated `L`
     /// at a time), or `None` where the basis hashes in the lanes (simplex, Worley) or the row
     /// visits more lattice columns than it has pixels (a minified render of small cells);
-    /// `corners`: with 3D simplex noise's [`SimplexCorners`] ([`Fetch::CORNERS`]).
+    /// `corners`: with 3D simplex noise's [`SimplexCorners`] ([`Fetch::CORNERS`]);
+    /// `gradient_index`: 3D gradient noise by gradient index ([`Fetch::GRADIENT_INDEX`]).
     #[inline(always)]
     fn columns<const L: usize, const B: u8>(
         &self,
@@ -1367,6 +1488,7 @@ impl ClassicEvaluator {
         window: &Window,
         width: usize,
         corners: bool,
+        gradient_index: bool,
     ) -> Option<RowTable> {
         // The basis as the constant `B`: each row loop builds only its own basis's tables.
         if B == WORLEY {
@@ -1399,22 +1521,50 @@ impl ClassicEvaluator {
             &[r.keys[1][1], r.keys[1][2]]
         };
         let gradient = self.basis == Basis::Gradient;
+        let by_index = gradient && self.three_d && gradient_index;
         let size = keys.len() * len;
+        let per_column = gradient && !by_index;
         let mut t = Columns {
             lo,
             len,
-            mask: buffer(if gradient { size } else { 0 }),
-            sign: buffer(if gradient { size } else { 0 }),
-            constant: buffer(size),
+            mask: scratch(if per_column { size } else { 0 }),
+            sign: scratch(if per_column { size } else { 0 }),
+            constant: scratch(size),
+            terms: None,
         };
-        let mut hashes = buffer(count);
+        if by_index {
+            let mut terms = Box::new([[[0u32; 16]; 3]; 4]);
+            for (p, terms) in terms.iter_mut().enumerate() {
+                // As the lanes compute them: `uy − dy`, `uz − dz`.
+                let (dz, dy) = (p / 2, p % 2);
+                let (y, z) = (r.uy - dy as f32, o.uz - dz as f32);
+                for g in 0..16 {
+                    let (m, s, k) = gradient_terms((g as u32) << 28, y, z);
+                    (terms[0][g], terms[1][g], terms[2][g]) = (m, s, k);
+                }
+            }
+            t.terms = Some(terms);
+        }
+        // Plain `take` and `set`, not `with`: a closure's loops would be compiled apart from
+        // this function's instruction set.
+        let mut kept = KEPT.take();
         for (p, &key) in keys.iter().enumerate() {
-            column_hashes(lo, o.cells[0], key, &mut hashes);
+            let hashes = kept.get(lo, o.cells[0], key, count);
             let at = p * len;
+            // The padding after the columns: zeros, as the lanes may load (not use) it.
+            for table in [&mut t.mask, &mut t.sign, &mut t.constant] {
+                if let Some(padding) = table.get_mut(at + count..at + len) {
+                    padding.fill(0);
+                }
+            }
             // One loop per table over slices of one length, so that each vectorises (a row
             // of cells of one pixel builds as many entries as it has pixels).
             let constant = &mut t.constant[at..at + count];
-            if gradient {
+            if by_index {
+                for (&h, k) in hashes.iter().zip(constant) {
+                    *k = h >> 28;
+                }
+            } else if gradient {
                 // As the lanes compute them: `uy − dy`, `uz − dz` (2D: `uy`, `uy − 1`, 0).
                 let (dz, dy) = (p / 2, p % 2);
                 let y = r.uy - dy as f32;
@@ -1430,7 +1580,7 @@ impl ClassicEvaluator {
                 }
             }
         }
-        recycle(hashes);
+        KEPT.set(kept);
         Some(RowTable::Lattice(t))
     }
 

@@ -24,8 +24,8 @@ use std::arch::x86_64::{
     _mm512_loadu_ps, _mm512_loadu_si512, _mm512_mask_add_epi32, _mm512_mask_blend_epi32,
     _mm512_mask_blend_ps, _mm512_mask_cmplt_epu32_mask, _mm512_mask_sub_epi32, _mm512_mask_sub_pd,
     _mm512_mask_sub_ps, _mm512_max_ps, _mm512_mul_pd, _mm512_mul_ps, _mm512_mullo_epi32,
-    _mm512_permutex2var_epi32, _mm512_set1_epi32, _mm512_set1_pd, _mm512_set1_ps,
-    _mm512_setr_epi32, _mm512_setzero_pd, _mm512_setzero_ps, _mm512_setzero_si512,
+    _mm512_permutex2var_epi32, _mm512_permutexvar_epi32, _mm512_set1_epi32, _mm512_set1_pd,
+    _mm512_set1_ps, _mm512_setr_epi32, _mm512_setzero_pd, _mm512_setzero_ps, _mm512_setzero_si512,
     _mm512_slli_epi32, _mm512_srli_epi32, _mm512_srlv_epi32, _mm512_storeu_ps, _mm512_sub_epi32,
     _mm512_sub_pd, _mm512_sub_ps, _mm512_ternarylogic_epi32, _mm512_testn_epi32_mask,
     _mm512_xor_si512,
@@ -35,8 +35,8 @@ use spectex_model::classic::{SIMPLEX_F3, SIMPLEX_G3, SIMPLEX3_R2, SIMPLEX3_SCALE
 use spectex_model::random::{LCG_INCREMENT, LCG_MULTIPLIER, RXS_M_XS_MULTIPLIER};
 
 use super::{
-    CORNER_STEP, Columns, Octave, ROUND_MAGIC, ROUND_MAGIC_F32, RowLanes, SimplexColumns,
-    SimplexCorners, WIDE_LANES, WINDOW, window,
+    CORNER_STEP, Columns, GradientTerms, Octave, ROUND_MAGIC, ROUND_MAGIC_F32, RowLanes,
+    SimplexColumns, SimplexCorners, WIDE_LANES, WINDOW, window,
 };
 
 /// The lanes of one register of f32.
@@ -573,12 +573,19 @@ fn locate_half<const S: usize>(
 /// against the same kernel.
 #[inline]
 #[target_feature(enable = "avx512f")]
-pub(super) fn lattice3<const S: usize, R: RowLanes, const GRADIENT: bool, const RELAXED: bool>(
+pub(super) fn lattice3<
+    const S: usize,
+    R: RowLanes,
+    const GRADIENT: bool,
+    const RELAXED: bool,
+    const BY_INDEX: bool,
+>(
     o: &Octave,
     r: &R,
     x: &[[f64; L]; S],
     xf: &[[f32; L]; S],
     t: &Columns,
+    terms: &GradientTerms,
     n: &mut [[f32; L]; S],
 ) -> bool {
     let mut cells = [_mm512_setzero_si512(); S];
@@ -624,31 +631,48 @@ pub(super) fn lattice3<const S: usize, R: RowLanes, const GRADIENT: bool, const 
     for (dz, yz) in y.iter_mut().enumerate() {
         let mut ex = [[_mm512_setzero_ps(); S]; 2];
         for (dy, ey) in ex.iter_mut().enumerate() {
-            let at = (2 * dz + dy) * t.len + base;
+            let p = 2 * dz + dy;
+            let at = p * t.len + base;
+            // By gradient index: row key `p`'s terms of each `g`, read by a second permute.
+            let by_index = if BY_INDEX {
+                #[allow(unsafe_code)]
+                // SAFETY: each load reads 16 `u32`, an array of 16.
+                unsafe {
+                    terms[p].map(|v| _mm512_loadu_si512(v.as_ptr().cast()))
+                }
+            } else {
+                [_mm512_setzero_si512(); 3]
+            };
             let mut c = [[_mm512_setzero_ps(); S]; 2];
             for (dx, cx) in c.iter_mut().enumerate() {
                 let constant = load_pair(window(&t.constant, at), dx);
                 for s in 0..S {
-                    let k = _mm512_castsi512_ps(pick(&constant, idx[s]));
+                    let entry = pick(&constant, idx[s]);
                     cx[s] = if GRADIENT {
-                        let (mask, sign) = (
-                            load_pair(window(&t.mask, at), dx),
-                            load_pair(window(&t.sign, at), dx),
-                        );
+                        let (mask, sign, k) = if BY_INDEX {
+                            (
+                                _mm512_permutexvar_epi32(entry, by_index[0]),
+                                _mm512_permutexvar_epi32(entry, by_index[1]),
+                                _mm512_permutexvar_epi32(entry, by_index[2]),
+                            )
+                        } else {
+                            let (mask, sign) = (
+                                load_pair(window(&t.mask, at), dx),
+                                load_pair(window(&t.sign, at), dx),
+                            );
+                            (pick(&mask, idx[s]), pick(&sign, idx[s]), entry)
+                        };
                         let u = if dx == 0 {
                             ux[s]
                         } else {
                             _mm512_sub_ps(ux[s], onef)
                         };
                         // `((u & mask) ^ sign) + constant`.
-                        let bits = _mm512_ternarylogic_epi32::<0x6A>(
-                            _mm512_castps_si512(u),
-                            pick(&mask, idx[s]),
-                            pick(&sign, idx[s]),
-                        );
-                        _mm512_add_ps(_mm512_castsi512_ps(bits), k)
+                        let bits =
+                            _mm512_ternarylogic_epi32::<0x6A>(_mm512_castps_si512(u), mask, sign);
+                        _mm512_add_ps(_mm512_castsi512_ps(bits), _mm512_castsi512_ps(k))
                     } else {
-                        k
+                        _mm512_castsi512_ps(entry)
                     };
                 }
             }
