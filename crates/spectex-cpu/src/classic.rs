@@ -758,6 +758,22 @@ trait Fetch<const L: usize> {
         }
     }
 
+    /// The relaxed path's 3D simplex noise of the lanes ([`simplex_relaxed`]); `false`
+    /// (nothing written) where the row's table cannot serve them.
+    #[inline(always)]
+    fn simplex3_relaxed<R: RowLanes>(
+        o: &Octave,
+        r: &R,
+        xf: &[f32; L],
+        t: &SimplexColumns,
+        n: &mut [f32; L],
+    ) -> bool
+    where
+        Self: Sized,
+    {
+        simplex_relaxed::<L, Self, R>(o, r, xf, t, true, n)
+    }
+
     /// 3D gradient (`GRADIENT`) or value noise of the lanes from the row's table `t`
     /// ([`ClassicEvaluator::lattice_columns`], `RELAXED` as there); `false` (nothing written)
     /// where one fetch cannot reach the lanes' columns.
@@ -882,8 +898,23 @@ avx512_fetch!(
         #[allow(unsafe_code)]
         // SAFETY: as for `fetch`.
         unsafe {
-            avx512::simplex3::<2, R>(o, r, registers(x), t, registers_mut(n));
+            avx512::simplex3::<2, R, false>(o, r, registers(x), &[[0.0; 16]; 2], t, registers_mut(n));
         }
+    },
+    #[inline(always)]
+    fn simplex3_relaxed<R: RowLanes>(
+        o: &Octave,
+        r: &R,
+        xf: &[f32; WIDER_LANES],
+        t: &SimplexColumns,
+        n: &mut [f32; WIDER_LANES],
+    ) -> bool {
+        #[allow(unsafe_code)]
+        // SAFETY: as for `fetch`.
+        unsafe {
+            avx512::simplex3::<2, R, true>(o, r, &[[0.0; 16]; 2], registers(xf), Some(t), registers_mut(n));
+        }
+        true
     },
     #[inline(always)]
     fn lattice3<R: RowLanes, const GRADIENT: bool, const RELAXED: bool>(
@@ -1965,8 +1996,10 @@ impl ClassicEvaluator {
                     self.worley_table::<L, F, R, RELAXED, D3>(oct, ro, x, xf, t, &mut n)
                 }
                 Some(RowTable::Simplex(t)) if B == SIMPLEX => {
-                    if RELAXED {
-                        simplex_relaxed::<L, F, R>(oct, ro, xf, t, D3, &mut n)
+                    if RELAXED && D3 {
+                        F::simplex3_relaxed(oct, ro, xf, t, &mut n)
+                    } else if RELAXED {
+                        simplex_relaxed::<L, F, R>(oct, ro, xf, t, false, &mut n)
                     } else if D3 {
                         F::simplex3(oct, ro, x, Some(t), &mut n);
                         true

@@ -154,6 +154,61 @@ fn skew3(px: [__m512d; 2], py: [__m512d; 2], pz: f64) -> ([__m512i; 3], [__m512;
     )
 }
 
+/// The relaxed path's skew of 16 lanes (`super::simplex_relaxed`): in f32 from the f32
+/// positions `xf` (pixels) of register `s` on the rows of `r`, cells `(i, j, k)` and offsets.
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn skew3_f32<R: RowLanes>(
+    o: &Octave,
+    r: &R,
+    xf: &[f32; L],
+    s: usize,
+) -> ([__m512i; 3], [__m512; 3]) {
+    let mut py = [0.0f32; L];
+    for (l, p) in py.iter_mut().enumerate() {
+        *p = r.py(L * s + l) as f32;
+    }
+    #[allow(unsafe_code)]
+    // SAFETY: each load reads an array of 16 f32.
+    let (x, py) = unsafe { (_mm512_loadu_ps(xf.as_ptr()), _mm512_loadu_ps(py.as_ptr())) };
+    let px = _mm512_mul_ps(x, _mm512_set1_ps((1.0 / o.side) as f32));
+    let pz = _mm512_set1_ps(o.pz as f32);
+    let sk = _mm512_mul_ps(
+        _mm512_add_ps(_mm512_add_ps(px, py), pz),
+        _mm512_set1_ps(SIMPLEX_F3 as f32),
+    );
+    let (i, fi) = split_f32(_mm512_add_ps(px, sk));
+    let (j, fj) = split_f32(_mm512_add_ps(py, sk));
+    let (k, fk) = split_f32(_mm512_add_ps(pz, sk));
+    let t = _mm512_mul_ps(
+        _mm512_add_ps(_mm512_add_ps(fi, fj), fk),
+        _mm512_set1_ps(SIMPLEX_G3 as f32),
+    );
+    (
+        [i, j, k],
+        [
+            _mm512_sub_ps(px, _mm512_sub_ps(fi, t)),
+            _mm512_sub_ps(py, _mm512_sub_ps(fj, t)),
+            _mm512_sub_ps(pz, _mm512_sub_ps(fk, t)),
+        ],
+    )
+}
+
+/// `super::split_lanes_f32` in 16 lanes: the floors' cells and the floors.
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn split_f32(p: __m512) -> (__m512i, __m512) {
+    let magic = _mm512_set1_ps(ROUND_MAGIC_F32);
+    let r = _mm512_sub_ps(_mm512_add_ps(p, magic), magic);
+    let up = _mm512_cmp_ps_mask::<_CMP_GT_OQ>(r, p);
+    let f = _mm512_mask_sub_ps(r, up, r, _mm512_set1_ps(1.0));
+    let cell = _mm512_sub_epi32(
+        _mm512_castps_si512(_mm512_add_ps(f, magic)),
+        _mm512_set1_epi32(ROUND_MAGIC_F32.to_bits() as i32),
+    );
+    (cell, f)
+}
+
 /// [`spectex_model::classic::gradient_dot`] in 16 lanes, the index `g = h >> 28` read from the
 /// top bits of `h` where it is compared.
 #[inline]
@@ -191,14 +246,18 @@ fn flip(v: __m512, bits: __m512i) -> __m512 {
     ))
 }
 
-/// `super::simplex_term` (no FMA) in 16 lanes.
+/// `super::simplex_term` in 16 lanes, `d²` fused when `FMA` (the relaxed path).
 #[inline]
 #[target_feature(enable = "avx512f")]
-fn term(h: __m512i, dx: __m512, dy: __m512, dz: __m512) -> __m512 {
-    let d2 = _mm512_add_ps(
-        _mm512_add_ps(_mm512_mul_ps(dx, dx), _mm512_mul_ps(dy, dy)),
-        _mm512_mul_ps(dz, dz),
-    );
+fn term<const FMA: bool>(h: __m512i, dx: __m512, dy: __m512, dz: __m512) -> __m512 {
+    let d2 = if FMA {
+        _mm512_fmadd_ps(dx, dx, _mm512_fmadd_ps(dy, dy, _mm512_mul_ps(dz, dz)))
+    } else {
+        _mm512_add_ps(
+            _mm512_add_ps(_mm512_mul_ps(dx, dx), _mm512_mul_ps(dy, dy)),
+            _mm512_mul_ps(dz, dz),
+        )
+    };
     let t = _mm512_max_ps(
         _mm512_setzero_ps(),
         _mm512_sub_ps(_mm512_set1_ps(SIMPLEX3_R2), d2),
@@ -216,10 +275,11 @@ fn term(h: __m512i, dx: __m512, dy: __m512, dz: __m512) -> __m512 {
 /// register arguments went through memory.
 #[inline]
 #[target_feature(enable = "avx512f")]
-pub(super) fn simplex3<const S: usize, R: RowLanes>(
+pub(super) fn simplex3<const S: usize, R: RowLanes, const RELAXED: bool>(
     o: &Octave,
     r: &R,
     x: &[[f64; L]; S],
+    xf: &[[f32; L]; S],
     t: Option<&SimplexColumns>,
     n: &mut [[f32; L]; S],
 ) {
@@ -227,8 +287,12 @@ pub(super) fn simplex3<const S: usize, R: RowLanes>(
     let mut cells = [[zero; 3]; S];
     let mut offsets = [[_mm512_setzero_ps(); 3]; S];
     for s in 0..S {
-        let (lo, hi) = (skew_half(o, r, x, s, 0), skew_half(o, r, x, s, 1));
-        (cells[s], offsets[s]) = skew3([lo.0, hi.0], [lo.1, hi.1], o.pz);
+        (cells[s], offsets[s]) = if RELAXED {
+            skew3_f32(o, r, &xf[s], s)
+        } else {
+            let (lo, hi) = (skew_half(o, r, x, s, 0), skew_half(o, r, x, s, 1));
+            skew3([lo.0, hi.0], [lo.1, hi.1], o.pz)
+        };
     }
 
     // The corners' hashes: read from the row's corner table where every lane's corners are
@@ -237,7 +301,7 @@ pub(super) fn simplex3<const S: usize, R: RowLanes>(
         && let Some(entry) = entries::<S>(c, &cells)
     {
         let layers = [[zero; 2]; S];
-        return sum::<S, true>(&c.hashes, &entry, &cells, &layers, &offsets, n);
+        return sum::<S, true, RELAXED>(&c.hashes, &entry, &cells, &layers, &offsets, n);
     }
     let one = splat(1);
     let mut layers = [[zero; 2]; S];
@@ -265,7 +329,7 @@ pub(super) fn simplex3<const S: usize, R: RowLanes>(
             layers[s] = [layer_key(o, k), layer_key(o, _mm512_add_epi32(k, one))];
         }
     }
-    sum::<S, false>(&[], &[zero; S], &cells, &layers, &offsets, n);
+    sum::<S, false, RELAXED>(&[], &[zero; S], &cells, &layers, &offsets, n);
 }
 
 /// The sum of the four corners' terms of `S` registers of 16 lanes, scaled, into `n`: the
@@ -273,7 +337,7 @@ pub(super) fn simplex3<const S: usize, R: RowLanes>(
 /// from the layer keys `layers`.
 #[inline]
 #[target_feature(enable = "avx512f")]
-fn sum<const S: usize, const TABLE: bool>(
+fn sum<const S: usize, const TABLE: bool, const FMA: bool>(
     hashes: &[u32],
     entry: &[__m512i; S],
     cells: &[[__m512i; 3]; S],
@@ -297,20 +361,20 @@ fn sum<const S: usize, const TABLE: bool>(
     let mut total = [_mm512_setzero_ps(); S];
     for s in 0..S {
         let h = corner_hash::<TABLE>(hashes, entry[s], &cells[s], &layers[s], [0; 3]);
-        total[s] = corner_term(h, &offsets[s], [0; 3], 0.0);
+        total[s] = corner_term::<FMA>(h, &offsets[s], [0; 3], 0.0);
     }
     for step in 0..2 {
         let off = (step + 1) as f32 * g3;
         for s in 0..S {
             let st = steps[s][step];
             let h = corner_hash::<TABLE>(hashes, entry[s], &cells[s], &layers[s], st);
-            total[s] = _mm512_add_ps(total[s], corner_term(h, &offsets[s], st, off));
+            total[s] = _mm512_add_ps(total[s], corner_term::<FMA>(h, &offsets[s], st, off));
         }
     }
     for s in 0..S {
         let all = [u16::MAX; 3];
         let h = corner_hash::<TABLE>(hashes, entry[s], &cells[s], &layers[s], all);
-        let last = corner_term(h, &offsets[s], all, 3.0 * g3);
+        let last = corner_term::<FMA>(h, &offsets[s], all, 3.0 * g3);
         let v = _mm512_mul_ps(
             _mm512_set1_ps(SIMPLEX3_SCALE),
             _mm512_add_ps(total[s], last),
@@ -449,7 +513,7 @@ fn table_hash(hashes: &[u32], entry: __m512i, [di, dj, dk]: [__mmask16; 3]) -> _
 /// `(x0 − di) + off`.
 #[inline]
 #[target_feature(enable = "avx512f")]
-fn corner_term(
+fn corner_term<const FMA: bool>(
     h: __m512i,
     [x0, y0, z0]: &[__m512; 3],
     [di, dj, dk]: [__mmask16; 3],
@@ -457,7 +521,7 @@ fn corner_term(
 ) -> __m512 {
     let off = _mm512_set1_ps(off);
     let onef = _mm512_set1_ps(1.0);
-    term(
+    term::<FMA>(
         h,
         _mm512_add_ps(_mm512_mask_sub_ps(*x0, di, *x0, onef), off),
         _mm512_add_ps(_mm512_mask_sub_ps(*y0, dj, *y0, onef), off),
@@ -530,14 +594,7 @@ fn locate_f32(o: &Octave, xf: &[f32; L]) -> (__m512i, __m512) {
         Some(inv) => _mm512_mul_ps(x, _mm512_set1_ps(inv as f32)),
         None => _mm512_div_ps(x, _mm512_set1_ps(o.side as f32)),
     };
-    let magic = _mm512_set1_ps(ROUND_MAGIC_F32);
-    let r = _mm512_sub_ps(_mm512_add_ps(p, magic), magic);
-    let up = _mm512_cmp_ps_mask::<_CMP_GT_OQ>(r, p);
-    let f = _mm512_mask_sub_ps(r, up, r, _mm512_set1_ps(1.0));
-    let cell = _mm512_sub_epi32(
-        _mm512_castps_si512(_mm512_add_ps(f, magic)),
-        _mm512_set1_epi32(ROUND_MAGIC_F32.to_bits() as i32),
-    );
+    let (cell, f) = split_f32(p);
     (cell, _mm512_sub_ps(p, f))
 }
 
