@@ -1,5 +1,8 @@
 //! Hand-written AVX-512 kernels of the classic row, for the bases where LLVM's vectorisation of
-//! the lane loops lost most of the machine: 3D simplex noise (16 lanes).
+//! the lane loops lost most of the machine: 3D simplex noise and 3D gradient and value noise,
+//! two registers of 16 lanes at a time. Simplex reads its corners' hashes from the row's
+//! `SimplexCorners` by a gather where every lane's corners are in it; gradient noise reads a
+//! row's gradient indices and each row key's 16 terms (`GradientTerms`) by two permutes.
 //!
 //! Written with the lane loops' arrays, 3D simplex kept its skew's halves (16 f64 lanes are two
 //! registers) and its offsets on the stack, and read them back as whole registers: a load
