@@ -596,6 +596,9 @@ thread_local! {
 
 /// Row keys whose column hashes [`KEPT`] keeps at most: two rows of a 3D fBm of 8 octaves.
 const KEPT_KEYS: usize = 64;
+/// Columns of the rows whose hashes [`KEPT`] keeps at most (a thread keeps at most 4 MiB);
+/// longer rows hash their columns for each row.
+const KEPT_COLUMNS: usize = 1 << 14;
 
 /// The [`column_hashes`] of the row keys of this thread's last rows, by row key, first column
 /// and period: rows in one cell share their row keys, and a row's `j + 1` (`k + 1`) is the next
@@ -608,12 +611,19 @@ struct KeptHashes {
     hashes: Vec<Vec<u32>>,
     /// The entry the next new key replaces once all [`KEPT_KEYS`] are used.
     next: usize,
+    /// The hashes of a row longer than [`KEPT_COLUMNS`], not kept.
+    spare: Vec<u32>,
 }
 
 impl KeptHashes {
     /// `column_hashes(lo, cells, key)` of `count` columns, kept or computed.
     #[inline(always)]
     fn get(&mut self, lo: i32, cells: i32, key: u32, count: usize) -> &[u32] {
+        if count > KEPT_COLUMNS {
+            self.spare.resize(count, 0);
+            column_hashes(lo, cells, key, &mut self.spare);
+            return &self.spare;
+        }
         let id = (key, lo, cells);
         let mut found = None;
         for (e, kept) in self.ids.iter().enumerate() {

@@ -246,6 +246,62 @@ fn classic_rows_match_the_reference_at_every_simd_level() {
     assert!(compared >= 80 * 8, "{compared} renders compared");
 }
 
+/// Rows longer than the classic row keeps column hashes for (16384 columns: those rows hash
+/// theirs afresh) and rows sharing their keys with the row before: 3D gradient and simplex
+/// fBm down to cells of a pixel, at every SIMD level, against the reference path.
+#[test]
+fn classic_long_rows_match_the_reference_at_every_simd_level() {
+    let windows = [
+        ("long", Window::new(16_500, 2).at([-8000.25, 3.0], 1.0)),
+        ("tall", Window::new(40, 70).at([5.5, -35.0], 1.0)),
+    ];
+    for basis in [Basis::Gradient, Basis::Simplex] {
+        let m = ClassicNoise {
+            seed: 3,
+            dimensions: 3,
+            cell_size: 16.0,
+            basis: basis.clone(),
+            fractal: Some(Fractal {
+                kind: FractalKind::Fbm,
+                octaves: 5,
+                lacunarity: 2.0,
+                gain: 0.5,
+            }),
+            amplitude: 1.0,
+            mean: 0.0,
+        };
+        m.validate().unwrap();
+        let mut eval = ClassicEvaluator::new(&m, 2.5);
+        let levels: [SimdLevel<ClassicEvaluator>; 3] = [
+            ("portable", |e| {
+                e.set_simd(false);
+                true
+            }),
+            ("avx2", |e| e.set_avx2()),
+            ("widest", |e| {
+                e.set_simd(true);
+                true
+            }),
+        ];
+        for (level, set) in levels {
+            if !set(&mut eval) {
+                continue;
+            }
+            for (name, window) in &windows {
+                let mut fast = vec![0.0f32; window.width * window.height];
+                let mut reference = fast.clone();
+                eval.eval_rows(window, 0, &mut fast);
+                eval.eval_rows_reference(window, 0, &mut reference);
+                if let Some((i, a, b)) = first_difference(&fast, &reference) {
+                    panic!(
+                        "{basis:?} on {level}, {name}: value {i} is {a:e}, the reference's {b:e}"
+                    );
+                }
+            }
+        }
+    }
+}
+
 /// Positions a warp may hand its base: fractional, negative, far, and a negative zero (which
 /// a one-pixel window turns into a positive one).
 fn points() -> Vec<[f64; 2]> {
