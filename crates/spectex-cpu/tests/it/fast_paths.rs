@@ -194,6 +194,47 @@ fn table_models() -> Vec<(String, ClassicNoise, f64)> {
     models
 }
 
+/// The classic evaluator's SIMD levels: portable, AVX2 (where the CPU has it) and the widest.
+fn classic_levels() -> [SimdLevel<ClassicEvaluator>; 3] {
+    [
+        ("portable", |e| {
+            e.set_simd(false);
+            true
+        }),
+        ("avx2", |e| e.set_avx2()),
+        ("widest", |e| {
+            e.set_simd(true);
+            true
+        }),
+    ]
+}
+
+/// Renders `m` on the plane `z` over `windows` at every SIMD level the CPU has and panics at
+/// the first value that differs in bits from the reference path; the number of renders compared.
+fn compare_classic_rows(name: &str, m: &ClassicNoise, z: f64, windows: &[(&str, Window)]) -> usize {
+    let mut eval = ClassicEvaluator::new(m, z);
+    let levels = classic_levels();
+    let mut compared = 0;
+    for (level, set) in levels {
+        if !set(&mut eval) {
+            continue;
+        }
+        for (window_name, window) in windows {
+            let mut fast = vec![0.0f32; window.width * window.height];
+            let mut reference = fast.clone();
+            eval.eval_rows(window, 0, &mut fast);
+            eval.eval_rows_reference(window, 0, &mut reference);
+            if let Some((i, a, b)) = first_difference(&fast, &reference) {
+                panic!(
+                    "{name} on {level}, {window_name}: value {i} is {a:e}, the reference's {b:e}"
+                );
+            }
+            compared += 1;
+        }
+    }
+    compared
+}
+
 /// The classic row kernel (lattice hashes from per-row column tables, fetched by register
 /// permutes with AVX2 and AVX-512) on every SIMD level the CPU has, against the reference path
 /// that hashes every corner in the lanes, for the testdata models and [`table_models`].
@@ -213,35 +254,7 @@ fn classic_rows_match_the_reference_at_every_simd_level() {
     windows.push(("origin", Window::new(100, 8).at([-50.0, -4.0], 1.0)));
     let mut compared = 0;
     for (name, m, z) in &models {
-        let mut eval = ClassicEvaluator::new(m, *z);
-        let levels: [SimdLevel<ClassicEvaluator>; 3] = [
-            ("portable", |e| {
-                e.set_simd(false);
-                true
-            }),
-            ("avx2", |e| e.set_avx2()),
-            ("widest", |e| {
-                e.set_simd(true);
-                true
-            }),
-        ];
-        for (level, set) in levels {
-            if !set(&mut eval) {
-                continue;
-            }
-            for (window_name, window) in &windows {
-                let mut fast = vec![0.0f32; window.width * window.height];
-                let mut reference = fast.clone();
-                eval.eval_rows(window, 0, &mut fast);
-                eval.eval_rows_reference(window, 0, &mut reference);
-                if let Some((i, a, b)) = first_difference(&fast, &reference) {
-                    panic!(
-                        "{name} on {level}, {window_name}: value {i} is {a:e}, the reference's {b:e}"
-                    );
-                }
-                compared += 1;
-            }
-        }
+        compared += compare_classic_rows(name, m, *z, &windows);
     }
     assert!(compared >= 80 * 8, "{compared} renders compared");
 }
@@ -271,34 +284,7 @@ fn classic_long_rows_match_the_reference_at_every_simd_level() {
             mean: 0.0,
         };
         m.validate().unwrap();
-        let mut eval = ClassicEvaluator::new(&m, 2.5);
-        let levels: [SimdLevel<ClassicEvaluator>; 3] = [
-            ("portable", |e| {
-                e.set_simd(false);
-                true
-            }),
-            ("avx2", |e| e.set_avx2()),
-            ("widest", |e| {
-                e.set_simd(true);
-                true
-            }),
-        ];
-        for (level, set) in levels {
-            if !set(&mut eval) {
-                continue;
-            }
-            for (name, window) in &windows {
-                let mut fast = vec![0.0f32; window.width * window.height];
-                let mut reference = fast.clone();
-                eval.eval_rows(window, 0, &mut fast);
-                eval.eval_rows_reference(window, 0, &mut reference);
-                if let Some((i, a, b)) = first_difference(&fast, &reference) {
-                    panic!(
-                        "{basis:?} on {level}, {name}: value {i} is {a:e}, the reference's {b:e}"
-                    );
-                }
-            }
-        }
+        assert!(compare_classic_rows(&format!("{basis:?}"), &m, 2.5, &windows) > 0);
     }
 }
 
@@ -353,17 +339,7 @@ fn classic_points_match_at_every_simd_level() {
         let mut eval = ClassicEvaluator::new(m, case.z);
         let alone: Vec<f32> = points.iter().map(|p| eval.eval(p[0], p[1])).collect();
         let widest = eval.set_simd(true);
-        let levels: [SimdLevel<ClassicEvaluator>; 3] = [
-            ("portable", |e| {
-                e.set_simd(false);
-                true
-            }),
-            ("avx2", |e| e.set_avx2()),
-            ("widest", |e| {
-                e.set_simd(true);
-                true
-            }),
-        ];
+        let levels = classic_levels();
         for (level, set) in levels {
             if !set(&mut eval) {
                 continue;
