@@ -421,6 +421,10 @@ struct SimplexColumns {
 /// `e − e_lo ∈ 4..=14` (a corner moves `d` by −1..=1 and `e` by −4..=1).
 #[derive(Debug, Clone)]
 struct SimplexCorners {
+    /// The octave's layer and `key0`: the table's hashes are a function of them and the
+    /// origin.
+    layer: u32,
+    key0: u32,
     /// The first skewed row `j_lo`, the lowest `d_lo = k − j` and `e_lo = i − 4j`.
     j_lo: i32,
     d_lo: i32,
@@ -432,6 +436,16 @@ struct SimplexCorners {
     hashes: Vec<u32>,
 }
 
+thread_local! {
+    /// The [`SimplexCorners`] of this thread's last rows: rows a few pixels apart share their
+    /// skewed rows and origin, and building the table cost about 3–6% of a 3D simplex row.
+    static KEPT_CORNERS: std::cell::RefCell<Vec<SimplexCorners>> =
+        const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// [`SimplexCorners`] tables [`KEPT_CORNERS`] keeps at most.
+const KEPT_CORNER_TABLES: usize = 16;
+
 /// Values of `e = i − 4j` per `(j', d')` in [`SimplexCorners`]: one register of 16.
 const CORNER_E: u32 = 16;
 /// Values of `d = k − j` per `j'` in [`SimplexCorners`].
@@ -442,23 +456,71 @@ const CORNER_STEP: [u32; 3] = [1, CORNER_D * CORNER_E - CORNER_E - 4, CORNER_E];
 
 impl SimplexCorners {
     /// The table of row `py` of octave `o` for the skewed rows `j_lo..=j_hi` (those of the
-    /// lanes and the next), or `None` when it would hold more than `most` entries.
+    /// lanes and the next): one an earlier row of this thread kept ([`keep`](Self::keep))
+    /// where it covers them with the same origin, else a new one, two skewed rows longer where
+    /// that fits, so that the next rows find it; `None` when it would hold more than `most`
+    /// entries.
     #[inline(always)]
-    fn new(o: &Octave, py: f64, j_lo: i32, j_hi: i32, most: usize) -> Option<Self> {
-        let rows = i64::from(j_hi) - i64::from(j_lo) + 1;
-        if rows < 2 || rows as u64 * u64::from(CORNER_D * CORNER_E) > most as u64 {
-            return None;
-        }
-        let rows = rows as usize;
+    fn for_row(o: &Octave, py: f64, j_lo: i32, j_hi: i32, most: usize) -> Option<Self> {
         // `d ∈ {⌊pz − py⌋, ⌊pz − py⌋ + 1}` and `e ∈ ⌊−5py − pz⌋ + 0..=4` on the whole row (the
-        // margins of `entries` take the roundings of the lanes' f64 sums).
+        // margins of `entries` take the roundings of the lanes' f64 sums); `e_lo` a multiple of
+        // 4 in `e − 7..=e − 4`, so that rows whose `e` differs by a little share it.
         let d = (o.pz - py).floor();
         let e = (-5.0 * py - o.pz).floor();
         if !(d.abs() < 2.0e9 && e.abs() < 2.0e9) {
             return None;
         }
-        let d_lo = (d as i32).wrapping_sub(1);
-        let e_lo = (e as i32).wrapping_sub(7);
+        let d_lo = d as i64 - 1;
+        let e_lo = (e as i64 - 4).div_euclid(4) * 4;
+        let (d_lo, e_lo) = (i32::try_from(d_lo).ok()?, i32::try_from(e_lo).ok()?);
+        let covers = |c: &Self| {
+            c.layer == o.layer
+                && c.key0 == o.key0
+                && c.d_lo == d_lo
+                && c.e_lo == e_lo
+                && c.j_lo <= j_lo
+                && i64::from(j_hi) < i64::from(c.j_lo) + i64::from(c.rows)
+        };
+        let kept = KEPT_CORNERS.with(|k| {
+            let mut k = k.borrow_mut();
+            let found = k.iter().position(covers);
+            found.map(|i| k.swap_remove(i))
+        });
+        if kept.is_some() {
+            return kept;
+        }
+        let per_row = u64::from(CORNER_D * CORNER_E);
+        let rows = |hi: i32| (i64::from(hi) - i64::from(j_lo) + 1) as u64;
+        let longer = j_hi.saturating_add(2);
+        let j_hi = if rows(longer) * per_row <= most as u64 {
+            longer
+        } else {
+            j_hi
+        };
+        Self::new(o, d_lo, e_lo, j_lo, j_hi, most)
+    }
+
+    /// Keeps the table for this thread's next rows ([`for_row`](Self::for_row)); the oldest
+    /// kept goes back to the buffers.
+    fn keep(self) {
+        KEPT_CORNERS.with(|k| {
+            let mut k = k.borrow_mut();
+            if k.len() >= KEPT_CORNER_TABLES {
+                recycle(k.remove(0).hashes);
+            }
+            k.push(self);
+        });
+    }
+
+    /// The table of octave `o` with origin `(d_lo, e_lo)` for the skewed rows `j_lo..=j_hi`,
+    /// or `None` when it would hold more than `most` entries.
+    #[inline(always)]
+    fn new(o: &Octave, d_lo: i32, e_lo: i32, j_lo: i32, j_hi: i32, most: usize) -> Option<Self> {
+        let rows = i64::from(j_hi) - i64::from(j_lo) + 1;
+        if rows < 2 || rows as u64 * u64::from(CORNER_D * CORNER_E) > most as u64 {
+            return None;
+        }
+        let rows = rows as usize;
         // The layer keys of the planes `k' = j' + d'`: `j_lo + d_lo + m`.
         let k0 = j_lo.wrapping_add(d_lo);
         let mut layers = scratch(rows + CORNER_D as usize);
@@ -496,6 +558,8 @@ impl SimplexCorners {
             .wrapping_add((d_lo as u32).wrapping_mul(CORNER_E))
             .wrapping_add(e_lo as u32);
         Some(Self {
+            layer: o.layer,
+            key0: o.key0,
             j_lo,
             d_lo,
             e_lo,
@@ -656,7 +720,7 @@ impl RowTable {
             }
             Self::Simplex(t) => {
                 if let Some(c) = t.corners {
-                    recycle(c.hashes);
+                    c.keep();
                 }
                 recycle(t.keys);
             }
@@ -1670,7 +1734,7 @@ impl ClassicEvaluator {
                 split(r.py + s).0
             };
             let (j_lo, j_hi) = (row(first), row(last));
-            SimplexCorners::new(
+            SimplexCorners::for_row(
                 o,
                 r.py,
                 j_lo.saturating_sub(1),

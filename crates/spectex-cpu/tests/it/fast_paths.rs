@@ -260,17 +260,25 @@ fn classic_rows_match_the_reference_at_every_simd_level() {
 }
 
 /// Rows longer than the classic row keeps column hashes for (16384 columns: those rows hash
-/// theirs afresh) and rows sharing their keys with the row before: 3D gradient and simplex
-/// fBm down to cells of a pixel, at every SIMD level, against the reference path.
+/// theirs afresh) and rows sharing their keys and corner tables with the rows before: 3D
+/// gradient and simplex fBm down to cells of a pixel, two seeds, at every SIMD level, against
+/// the reference path.
 #[test]
 fn classic_long_rows_match_the_reference_at_every_simd_level() {
     let windows = [
         ("long", Window::new(16_500, 2).at([-8000.25, 3.0], 1.0)),
         ("tall", Window::new(40, 70).at([5.5, -35.0], 1.0)),
     ];
-    for basis in [Basis::Gradient, Basis::Simplex] {
+    // Two seeds one after the other on this thread: a row must not read the tables the other
+    // seed's rows kept.
+    for (basis, seed) in [
+        (Basis::Gradient, 3),
+        (Basis::Gradient, 4),
+        (Basis::Simplex, 3),
+        (Basis::Simplex, 4),
+    ] {
         let m = ClassicNoise {
-            seed: 3,
+            seed,
             dimensions: 3,
             cell_size: 16.0,
             basis: basis.clone(),
@@ -284,7 +292,8 @@ fn classic_long_rows_match_the_reference_at_every_simd_level() {
             mean: 0.0,
         };
         m.validate().unwrap();
-        assert!(compare_classic_rows(&format!("{basis:?}"), &m, 2.5, &windows) > 0);
+        let name = format!("{basis:?} seed {seed}");
+        assert!(compare_classic_rows(&name, &m, 2.5, &windows) > 0);
     }
 }
 
