@@ -402,7 +402,7 @@ struct SimplexColumns {
     len: usize,
     keys: Vec<u32>,
     /// 3D, cells wide enough: every corner's hash, read instead of the two hashes per corner
-    /// that remain with the layer keys.
+    /// that remain with the layer keys (`keys` is then empty, `len` 0).
     corners: Option<SimplexCorners>,
 }
 
@@ -445,6 +445,13 @@ thread_local! {
 
 /// [`SimplexCorners`] tables [`KEPT_CORNERS`] keeps at most.
 const KEPT_CORNER_TABLES: usize = 16;
+
+/// The layer key of 3D simplex noise's skewed plane `k` in octave `o`, from which its rows'
+/// keys and corners' hashes follow (`avx512::layer_key` in the lanes).
+#[inline(always)]
+fn plane_key(o: &Octave, k: i32) -> u32 {
+    layer_key(o.layer, cell_hash_in_row(k, o.key0))
+}
 
 /// Values of `e = i − 4j` per `(j', d')` in [`SimplexCorners`]: one register of 16.
 const CORNER_E: u32 = 16;
@@ -489,15 +496,8 @@ impl SimplexCorners {
         if kept.is_some() {
             return kept;
         }
-        let per_row = u64::from(CORNER_D * CORNER_E);
-        let rows = |hi: i32| (i64::from(hi) - i64::from(j_lo) + 1) as u64;
-        let longer = j_hi.saturating_add(2);
-        let j_hi = if rows(longer) * per_row <= most as u64 {
-            longer
-        } else {
-            j_hi
-        };
-        Self::new(o, d_lo, e_lo, j_lo, j_hi, most)
+        Self::new(o, d_lo, e_lo, j_lo, j_hi.saturating_add(2), most)
+            .or_else(|| Self::new(o, d_lo, e_lo, j_lo, j_hi, most))
     }
 
     /// Keeps the table for this thread's next rows ([`for_row`](Self::for_row)); the oldest
@@ -525,7 +525,7 @@ impl SimplexCorners {
         let k0 = j_lo.wrapping_add(d_lo);
         let mut layers = scratch(rows + CORNER_D as usize);
         for (m, key) in layers.iter_mut().enumerate() {
-            *key = layer_key(o.layer, cell_hash_in_row(k0.wrapping_add(m as i32), o.key0));
+            *key = plane_key(o, k0.wrapping_add(m as i32));
         }
         // Row keys by `d'`, then `j'`: `rk[d'·rows + w] = row_key(j_lo + w, layers[w + d'])`.
         let mut rk = scratch(rows * CORNER_D as usize);
@@ -616,9 +616,8 @@ const KEPT_BUFFERS: usize = 64;
 
 /// `size` zeros in a buffer of an earlier row where this thread has one.
 fn buffer(size: usize) -> Vec<u32> {
-    let mut v = BUFFERS.with(|b| b.borrow_mut().pop()).unwrap_or_default();
-    v.clear();
-    v.resize(size, 0);
+    let mut v = scratch(size);
+    v.fill(0);
     v
 }
 
@@ -629,11 +628,7 @@ fn scratch(size: usize) -> Vec<u32> {
     // Growing a buffer zeroes its new entries only; a row gives its buffers back in reverse,
     // so the next row's tables get the buffers of the same sizes.
     let mut v = BUFFERS.with(|b| b.borrow_mut().pop()).unwrap_or_default();
-    if v.len() >= size {
-        v.truncate(size);
-    } else {
-        v.resize(size, 0);
-    }
+    v.resize(size, 0);
     v
 }
 
@@ -681,11 +676,7 @@ impl KeptHashes {
         let v = &mut self.hashes[e];
         if self.ids[e] != Some(id) || v.len() < count {
             self.ids[e] = Some(id);
-            if v.len() >= count {
-                v.truncate(count);
-            } else {
-                v.resize(count, 0);
-            }
+            v.resize(count, 0);
             column_hashes(lo, cells, key, v);
         }
         &v[..count]
@@ -1671,23 +1662,21 @@ impl ClassicEvaluator {
         (locate(first / o.side).0, locate(last / o.side).0)
     }
 
-    /// The skewed row (2D) or plane (3D) of simplex noise at `x` on the row `r`, as
-    /// [`simplex2`] and [`simplex3`] compute it.
+    /// The skew `s` of simplex noise at `x` on the row `r`, as [`simplex2`] and [`simplex3`]
+    /// compute it: the skewed row is `⌊py + s⌋`, in 3D the plane `⌊pz + s⌋`.
     #[inline(always)]
-    fn simplex_cell(&self, o: &Octave, r: &RowOctave, x: f64) -> i32 {
+    fn simplex_skew(&self, o: &Octave, r: &RowOctave, x: f64) -> f64 {
         let px = x / o.side;
         if self.three_d {
-            let s = ((px + r.py) + o.pz) * SIMPLEX_F3;
-            split(o.pz + s).0
+            ((px + r.py) + o.pz) * SIMPLEX_F3
         } else {
-            let s = (px + r.py) * SIMPLEX_F2;
-            split(r.py + s).0
+            (px + r.py) * SIMPLEX_F2
         }
     }
 
     /// The [`SimplexColumns`] of octave `o` on the row `r`, or `None`: cells under 2 pixels or
-    /// more skewed rows than pixels; with the 3D [`SimplexCorners`] where `corners` asks for
-    /// them ([`Fetch::CORNERS`]) and they fit.
+    /// more skewed rows than pixels. In 3D, where `corners` asks for them ([`Fetch::CORNERS`])
+    /// and they fit, the [`SimplexCorners`] alone: the lanes then need no plane keys.
     #[inline(always)]
     fn simplex_columns<const L: usize>(
         &self,
@@ -1705,10 +1694,34 @@ impl ClassicEvaluator {
         let first = window.offset[0] + (window.x0 as f64) * window.scale;
         let last = window.offset[0]
             + ((window.x0 + last_start as i64) as f64 + (L - 1) as f64) * window.scale;
-        let (lo, hi) = (
-            self.simplex_cell(o, r, first),
-            self.simplex_cell(o, r, last),
+        let (s_first, s_last) = (
+            self.simplex_skew(o, r, first),
+            self.simplex_skew(o, r, last),
         );
+        // The corners' table where it holds at most two entries per pixel (it saves the lanes
+        // eight hashes per pixel): the skewed rows of the first and last lanes, one more on
+        // each side for the rounding of the lanes' `x / side`, and the corners' `j + 1`.
+        if self.three_d && corners {
+            let (j_lo, j_hi) = (split(r.py + s_first).0, split(r.py + s_last).0);
+            let most = 2 * (width + L);
+            let corners = SimplexCorners::for_row(
+                o,
+                r.py,
+                j_lo.saturating_sub(1),
+                j_hi.saturating_add(2),
+                most,
+            );
+            if corners.is_some() {
+                return Some(SimplexColumns {
+                    lo: 0,
+                    len: 0,
+                    keys: Vec::new(),
+                    corners,
+                });
+            }
+        }
+        let along = if self.three_d { o.pz } else { r.py };
+        let (lo, hi) = (split(along + s_first).0, split(along + s_last).0);
         let count = i64::from(hi) - i64::from(lo) + 2;
         if count > (width + L) as i64 + 2 {
             return None;
@@ -1719,36 +1732,16 @@ impl ClassicEvaluator {
         for (c, key) in keys[..count].iter_mut().enumerate() {
             let cell = lo.wrapping_add(c as i32);
             *key = if self.three_d {
-                layer_key(o.layer, cell_hash_in_row(cell, o.key0))
+                plane_key(o, cell)
             } else {
                 row_key(cell, o.key2)
             };
         }
-        // The corners' table where it holds at most two entries per pixel (it saves the lanes
-        // eight hashes per pixel): the skewed rows of the first and last lanes, one more on
-        // each side for the rounding of the lanes' `x / side`, and the corners' `j + 1`.
-        let corners = if self.three_d && corners {
-            let row = |x: f64| {
-                let px = x / o.side;
-                let s = ((px + r.py) + o.pz) * SIMPLEX_F3;
-                split(r.py + s).0
-            };
-            let (j_lo, j_hi) = (row(first), row(last));
-            SimplexCorners::for_row(
-                o,
-                r.py,
-                j_lo.saturating_sub(1),
-                j_hi.saturating_add(2),
-                2 * (width + L),
-            )
-        } else {
-            None
-        };
         Some(SimplexColumns {
             lo,
             len,
             keys,
-            corners,
+            corners: None,
         })
     }
 
@@ -3272,8 +3265,8 @@ fn simplex3<const L: usize, R: RowLanes>(o: &Octave, r: &R, x: &[f64; L], n: &mu
     let at = simplex3_at(o, r, &cell_units(o, x));
     let (mut l0, mut l1) = ([0u32; L], [0u32; L]);
     for l in 0..L {
-        l0[l] = layer_key(o.layer, cell_hash_in_row(at.k[l], o.key0));
-        l1[l] = layer_key(o.layer, cell_hash_in_row(at.k[l].wrapping_add(1), o.key0));
+        l0[l] = plane_key(o, at.k[l]);
+        l1[l] = plane_key(o, at.k[l].wrapping_add(1));
     }
     simplex3_sum::<L, false>(&at, &Corners3::Layers(l0, l1), n);
 }

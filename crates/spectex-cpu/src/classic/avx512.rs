@@ -16,22 +16,20 @@
 //! compare this path with the portable and reference ones.
 
 use std::arch::x86_64::{
-    __m256, __m256i, __m512, __m512d, __m512i, __mmask16, _CMP_GE_OQ, _CMP_GT_OQ,
-    _mm_cvtsi128_si32, _mm_extract_epi32, _mm256_castps_pd, _mm256_setzero_ps, _mm512_add_epi32,
-    _mm512_add_pd, _mm512_add_ps, _mm512_and_si512, _mm512_castpd_ps, _mm512_castpd_si512,
-    _mm512_castps_pd, _mm512_castps_si512, _mm512_castps256_ps512, _mm512_castsi256_si512,
-    _mm512_castsi512_ps, _mm512_castsi512_si128, _mm512_cmp_pd_mask, _mm512_cmp_ps_mask,
-    _mm512_cmpeq_epi32_mask, _mm512_cmplt_epi32_mask, _mm512_cvtepi64_epi32, _mm512_cvtpd_ps,
-    _mm512_div_pd, _mm512_div_ps, _mm512_extracti32x4_epi32, _mm512_fmadd_ps,
-    _mm512_i32gather_epi32, _mm512_insertf64x4, _mm512_inserti64x4, _mm512_loadu_pd,
-    _mm512_loadu_ps, _mm512_loadu_si512, _mm512_mask_add_epi32, _mm512_mask_blend_epi32,
-    _mm512_mask_blend_ps, _mm512_mask_cmplt_epu32_mask, _mm512_mask_sub_epi32, _mm512_mask_sub_pd,
-    _mm512_mask_sub_ps, _mm512_max_ps, _mm512_mul_pd, _mm512_mul_ps, _mm512_mullo_epi32,
-    _mm512_permutex2var_epi32, _mm512_permutexvar_epi32, _mm512_set1_epi32, _mm512_set1_pd,
-    _mm512_set1_ps, _mm512_setr_epi32, _mm512_setzero_pd, _mm512_setzero_ps, _mm512_setzero_si512,
-    _mm512_slli_epi32, _mm512_srli_epi32, _mm512_srlv_epi32, _mm512_storeu_ps, _mm512_sub_epi32,
-    _mm512_sub_pd, _mm512_sub_ps, _mm512_ternarylogic_epi32, _mm512_testn_epi32_mask,
-    _mm512_xor_si512,
+    __m256, __m512, __m512d, __m512i, __mmask16, _CMP_GE_OQ, _CMP_GT_OQ, _mm_cvtsi128_si32,
+    _mm_extract_epi32, _mm256_castps_pd, _mm256_setzero_ps, _mm512_add_epi32, _mm512_add_pd,
+    _mm512_add_ps, _mm512_and_si512, _mm512_castpd_ps, _mm512_castpd_si512, _mm512_castps_pd,
+    _mm512_castps_si512, _mm512_castps256_ps512, _mm512_castsi512_ps, _mm512_castsi512_si128,
+    _mm512_cmp_pd_mask, _mm512_cmp_ps_mask, _mm512_cmpeq_epi32_mask, _mm512_cmplt_epi32_mask,
+    _mm512_cvtpd_ps, _mm512_div_pd, _mm512_div_ps, _mm512_extracti32x4_epi32, _mm512_fmadd_ps,
+    _mm512_i32gather_epi32, _mm512_insertf64x4, _mm512_loadu_pd, _mm512_loadu_ps,
+    _mm512_loadu_si512, _mm512_mask_add_epi32, _mm512_mask_blend_epi32, _mm512_mask_blend_ps,
+    _mm512_mask_cmplt_epu32_mask, _mm512_mask_sub_epi32, _mm512_mask_sub_pd, _mm512_mask_sub_ps,
+    _mm512_max_ps, _mm512_mul_pd, _mm512_mul_ps, _mm512_mullo_epi32, _mm512_permutex2var_epi32,
+    _mm512_permutexvar_epi32, _mm512_set1_epi32, _mm512_set1_pd, _mm512_set1_ps, _mm512_setr_epi32,
+    _mm512_setzero_pd, _mm512_setzero_ps, _mm512_setzero_si512, _mm512_slli_epi32,
+    _mm512_srli_epi32, _mm512_srlv_epi32, _mm512_storeu_ps, _mm512_sub_epi32, _mm512_sub_pd,
+    _mm512_sub_ps, _mm512_ternarylogic_epi32, _mm512_testn_epi32_mask, _mm512_xor_si512,
 };
 
 use spectex_model::classic::{SIMPLEX_F3, SIMPLEX_G3, SIMPLEX3_R2, SIMPLEX3_SCALE};
@@ -65,25 +63,6 @@ fn hash(v: __m512i) -> __m512i {
         splat(RXS_M_XS_MULTIPLIER),
     );
     _mm512_xor_si512(_mm512_srli_epi32::<22>(word), word)
-}
-
-/// `super::split_lanes` of 8 f64 lanes: the floors' `i32` cells and the floors.
-#[inline]
-#[target_feature(enable = "avx512f")]
-fn split(p: __m512d) -> (__m256i, __m512d) {
-    let magic = _mm512_set1_pd(ROUND_MAGIC);
-    let r = _mm512_sub_pd(_mm512_add_pd(p, magic), magic);
-    let up = _mm512_cmp_pd_mask::<_CMP_GT_OQ>(r, p);
-    let f = _mm512_mask_sub_pd(r, up, r, _mm512_set1_pd(1.0));
-    let cell = _mm512_cvtepi64_epi32(_mm512_castpd_si512(_mm512_add_pd(f, magic)));
-    (cell, f)
-}
-
-/// 16 lanes of `i32` from two halves of 8.
-#[inline]
-#[target_feature(enable = "avx512f")]
-fn join_epi32(lo: __m256i, hi: __m256i) -> __m512i {
-    _mm512_inserti64x4::<1>(_mm512_castsi256_si512(lo), hi)
 }
 
 /// 16 lanes of f32 from two halves of 8.
@@ -293,8 +272,8 @@ pub(super) fn simplex3<const S: usize, R: RowLanes, const RELAXED: bool>(
         (cells[s], offsets[s]) = if RELAXED {
             skew3_f32(o, r, &xf[s], s)
         } else {
-            let (lo, hi) = (skew_half(o, r, x, s, 0), skew_half(o, r, x, s, 1));
-            skew3([lo.0, hi.0], [lo.1, hi.1], o.pz)
+            let px = [cell_units(o, x, s, 0), cell_units(o, x, s, 1)];
+            skew3(px, [rows_py(r, s, 0), rows_py(r, s, 1)], o.pz)
         };
     }
 
@@ -408,35 +387,33 @@ fn corner_hash<const TABLE: bool>(
     }
 }
 
-/// The positions of lanes `8h..8h + 8` of register `s` in cell units (`x` in pixels) and their
-/// rows' `py`, for the skew.
+/// The rows' `py` of lanes `8h..8h + 8` of register `s`.
 #[inline]
 #[target_feature(enable = "avx512f")]
-fn skew_half<const S: usize, R: RowLanes>(
-    o: &Octave,
-    r: &R,
-    x: &[[f64; L]; S],
-    s: usize,
-    h: usize,
-) -> (__m512d, __m512d) {
+fn rows_py<R: RowLanes>(r: &R, s: usize, h: usize) -> __m512d {
     let mut py = [0.0f64; 8];
     for (l, p) in py.iter_mut().enumerate() {
         *p = r.py(L * s + 8 * h + l);
     }
     #[allow(unsafe_code)]
-    // SAFETY: each load reads 8 f64 (64 bytes): an array of 8, and lanes `8h..8h + 8` of one
-    // of 16, `h` ≤ 1.
-    let (x, py) = unsafe {
-        (
-            _mm512_loadu_pd(x[s][8 * h..].as_ptr()),
-            _mm512_loadu_pd(py.as_ptr()),
-        )
-    };
-    let px = match o.inv_side {
+    // SAFETY: the load reads an array of 8 f64.
+    unsafe {
+        _mm512_loadu_pd(py.as_ptr())
+    }
+}
+
+/// The positions of lanes `8h..8h + 8` of register `s` (`x` in pixels) in cell units
+/// (`super::cell_units`).
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn cell_units<const S: usize>(o: &Octave, x: &[[f64; L]; S], s: usize, h: usize) -> __m512d {
+    #[allow(unsafe_code)]
+    // SAFETY: the load reads lanes `8h..8h + 8` of an array of 16 f64, `h` ≤ 1.
+    let x = unsafe { _mm512_loadu_pd(x[s][8 * h..].as_ptr()) };
+    match o.inv_side {
         Some(inv) => _mm512_mul_pd(x, _mm512_set1_pd(inv)),
         None => _mm512_div_pd(x, _mm512_set1_pd(o.side)),
-    };
-    (px, py)
+    }
 }
 
 /// `layer_key(o.layer, cell_hash_in_row(k, o.key0))` of the planes `k`.
@@ -601,25 +578,18 @@ fn locate_f32(o: &Octave, xf: &[f32; L]) -> (__m512i, __m512) {
     (cell, _mm512_sub_ps(p, f))
 }
 
-/// `super::locate_lanes` of lanes `8h..8h + 8` of register `s` (`x` in pixels): their cells and
-/// f32 offsets in them.
+/// `super::locate_lanes` of the 16 lanes of register `s` (`x` in pixels): their cells and f32
+/// offsets in them.
 #[inline]
 #[target_feature(enable = "avx512f")]
-fn locate_half<const S: usize>(
-    o: &Octave,
-    x: &[[f64; L]; S],
-    s: usize,
-    h: usize,
-) -> (__m256i, __m256) {
-    #[allow(unsafe_code)]
-    // SAFETY: the load reads lanes `8h..8h + 8` of an array of 16 f64, `h` ≤ 1.
-    let x = unsafe { _mm512_loadu_pd(x[s][8 * h..].as_ptr()) };
-    let p = match o.inv_side {
-        Some(inv) => _mm512_mul_pd(x, _mm512_set1_pd(inv)),
-        None => _mm512_div_pd(x, _mm512_set1_pd(o.side)),
-    };
-    let (cell, f) = split(p);
-    (cell, _mm512_cvtpd_ps(_mm512_sub_pd(p, f)))
+fn locate<const S: usize>(o: &Octave, x: &[[f64; L]; S], s: usize) -> (__m512i, __m512) {
+    let p = [cell_units(o, x, s, 0), cell_units(o, x, s, 1)];
+    let (cell, f) = split_pair(p);
+    let u = [
+        _mm512_cvtpd_ps(_mm512_sub_pd(p[0], f[0])),
+        _mm512_cvtpd_ps(_mm512_sub_pd(p[1], f[1])),
+    ];
+    (cell, join_ps(u[0], u[1]))
 }
 
 /// 3D gradient (`GRADIENT`) or value noise of `S` registers of 16 lanes with the corners read
@@ -654,10 +624,7 @@ pub(super) fn lattice3<
         if RELAXED {
             (cells[s], ux[s]) = locate_f32(o, &xf[s]);
         } else {
-            let (c0, u0) = locate_half(o, x, s, 0);
-            let (c1, u1) = locate_half(o, x, s, 1);
-            cells[s] = join_epi32(c0, c1);
-            ux[s] = join_ps(u0, u1);
+            (cells[s], ux[s]) = locate(o, x, s);
         }
     }
     let first = _mm_cvtsi128_si32(_mm512_castsi512_si128(cells[0]));
