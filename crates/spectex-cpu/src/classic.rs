@@ -548,7 +548,7 @@ impl SimplexCorners {
                 let key = rk[d * rows + w];
                 let entries: &mut [u32; 16] = entries.try_into().expect("CORNER_E entries");
                 for (e, h) in entries.iter_mut().enumerate() {
-                    *h = cell_hash_in_row(i0.wrapping_add(e as i32), key);
+                    *h = gradient_code(cell_hash_in_row(i0.wrapping_add(e as i32), key));
                 }
             }
         }
@@ -750,6 +750,34 @@ fn gradient_terms(h: u32, y: f32, z: f32) -> (u32, u32, u32) {
         k
     };
     (mask, sign, constant)
+}
+
+/// The gradient of 3D simplex corner hash `h` as [`SimplexCorners`] keeps it, so that the
+/// lanes select it in fewer steps: `gradient_dot(h, x, y, z)` is `±u ± v` with `(u, v)` one of
+/// `(x, y)`, `(x, z)`, `(y, z)` (`g = h >> 28` of 12 and 14 give `±y ± x`, the same sum: IEEE
+/// addition commutes, signed zeros included). Bit 29: `u` is `y`; bit 28: `v` is `z`; bit 31:
+/// `u`'s sign flips; bit 30: `v`'s ([`coded_gradient_dot`]).
+#[inline(always)]
+fn gradient_code(h: u32) -> u32 {
+    let g = h >> 28;
+    let (s1, s2) = ((g & 1) << 31, (g & 2) << 29);
+    if g == 12 || g == 14 {
+        // `flip(y, g & 1) + flip(x, g & 2)` as `flip(x, g & 2) + flip(y, g & 1)`.
+        return ((g & 2) << 30) | ((g & 1) << 30);
+    }
+    let u_is_y = u32::from(g >= 8) << 29;
+    let v_is_z = u32::from(g >= 4) << 28;
+    s1 | s2 | u_is_y | v_is_z
+}
+
+/// `gradient_dot(h, x, y, z)` from `gradient_code(h)`.
+#[inline(always)]
+fn coded_gradient_dot(c: u32, x: f32, y: f32, z: f32) -> f32 {
+    let u = if c & (1 << 29) != 0 { y } else { x };
+    let v = if c & (1 << 28) != 0 { z } else { y };
+    let u = f32::from_bits(u.to_bits() ^ (c & (1 << 31)));
+    let v = f32::from_bits(v.to_bits() ^ ((c << 1) & (1 << 31)));
+    u + v
 }
 
 /// How a group of `L` lanes reads `window[idx[l]]` (`idx[l] < L`, `window.len() ≥ L`): by
@@ -2869,9 +2897,16 @@ fn simplex_relaxed<const L: usize, F: Fetch<L>, R: RowLanes>(
     true
 }
 
-/// One simplex corner's term `max(0, r² − |δ|²)⁴ · (g · δ)`.
+/// One simplex corner's term `max(0, r² − |δ|²)⁴ · (g · δ)`, `h` a hash or, `CODED`, its
+/// [`gradient_code`].
 #[inline(always)]
-fn simplex_term<const FMA: bool>(h: u32, r2: f32, dx: f32, dy: f32, dz: f32) -> f32 {
+fn simplex_term<const FMA: bool, const CODED: bool>(
+    h: u32,
+    r2: f32,
+    dx: f32,
+    dy: f32,
+    dz: f32,
+) -> f32 {
     let d2 = if FMA {
         fused(dx, dx, fused(dy, dy, dz * dz))
     } else {
@@ -2879,7 +2914,12 @@ fn simplex_term<const FMA: bool>(h: u32, r2: f32, dx: f32, dy: f32, dz: f32) -> 
     };
     let t = max(r2 - d2, 0.0);
     let t2 = t * t;
-    t2 * t2 * gradient_dot(h, dx, dy, dz)
+    let dot = if CODED {
+        coded_gradient_dot(h, dx, dy, dz)
+    } else {
+        gradient_dot(h, dx, dy, dz)
+    };
+    t2 * t2 * dot
 }
 
 /// [`split`] in the lanes, one simple loop per step so that it vectorises (the same
@@ -2961,7 +3001,7 @@ fn simplex2_sum<const L: usize, const FMA: bool>(
     // Corner 0, then the middle corner (x first where `x0 > y0`), then corner (1, 1).
     for l in 0..L {
         let h = cell_hash_in_row(at.i[l], k0[l]);
-        sum[l] = simplex_term::<FMA>(h, SIMPLEX2_R2, at.x0[l], at.y0[l], 0.0);
+        sum[l] = simplex_term::<FMA, false>(h, SIMPLEX2_R2, at.x0[l], at.y0[l], 0.0);
     }
     for l in 0..L {
         let step_x = at.x0[l] > at.y0[l];
@@ -2969,13 +3009,13 @@ fn simplex2_sum<const L: usize, const FMA: bool>(
         let x1 = (at.x0[l] - i1 as f32) + g2;
         let y1 = (at.y0[l] - j1 as f32) + g2;
         let h = cell_hash_in_row(at.i[l].wrapping_add(i1), if step_x { k0[l] } else { k1[l] });
-        sum[l] += simplex_term::<FMA>(h, SIMPLEX2_R2, x1, y1, 0.0);
+        sum[l] += simplex_term::<FMA, false>(h, SIMPLEX2_R2, x1, y1, 0.0);
     }
     for l in 0..L {
         let x2 = (at.x0[l] - 1.0) + 2.0 * g2;
         let y2 = (at.y0[l] - 1.0) + 2.0 * g2;
         let h = cell_hash_in_row(at.i[l].wrapping_add(1), k1[l]);
-        n[l] = SIMPLEX2_SCALE * (sum[l] + simplex_term::<FMA>(h, SIMPLEX2_R2, x2, y2, 0.0));
+        n[l] = SIMPLEX2_SCALE * (sum[l] + simplex_term::<FMA, false>(h, SIMPLEX2_R2, x2, y2, 0.0));
     }
 }
 
@@ -3152,7 +3192,7 @@ fn simplex3_sum<const L: usize, const FMA: bool>(
                     row_key(at.j[l].wrapping_add(dj), layer),
                 )
             };
-            simplex3_terms::<L, FMA>(at, &step, hash, n);
+            simplex3_terms::<L, FMA, false>(at, &step, hash, n);
         }
         Corners3::Table(hashes, entry) => {
             // Read ahead, one loop per corner: read in the term's loop, the reads kept it scalar.
@@ -3177,7 +3217,7 @@ fn simplex3_sum<const L: usize, const FMA: bool>(
                 }
             }
             let hash = |l: usize, c: usize, _, _, _| h[c][l];
-            simplex3_terms::<L, FMA>(at, &step, hash, n);
+            simplex3_terms::<L, FMA, true>(at, &step, hash, n);
         }
     }
 }
@@ -3186,7 +3226,7 @@ fn simplex3_sum<const L: usize, const FMA: bool>(
 /// `c = 0..4`, `(i + di, j + dj, k + dk)`, with hash `hash(l, c, di, dj, dk)` and offsets
 /// `(x0 − di) + off`.
 #[inline(always)]
-fn simplex3_terms<const L: usize, const FMA: bool>(
+fn simplex3_terms<const L: usize, const FMA: bool, const CODED: bool>(
     at: &Simplex3At<L>,
     step: &[[[i32; L]; 3]; 2],
     hash: impl Fn(usize, usize, i32, i32, i32) -> u32,
@@ -3194,7 +3234,7 @@ fn simplex3_terms<const L: usize, const FMA: bool>(
 ) {
     let g3 = SIMPLEX_G3 as f32;
     let term = |l: usize, c: usize, di: i32, dj: i32, dk: i32, off: f32| {
-        simplex_term::<FMA>(
+        simplex_term::<FMA, CODED>(
             hash(l, c, di, dj, dk),
             SIMPLEX3_R2,
             (at.x0[l] - di as f32) + off,
@@ -3305,7 +3345,7 @@ impl crate::RowKernel for ClassicEvaluator {
 
 #[cfg(test)]
 mod tests {
-    use super::{gradient_dot, gradient_terms};
+    use super::{coded_gradient_dot, gradient_code, gradient_dot, gradient_terms};
 
     /// The folded corner `((x & mask) ^ sign) + constant` is `gradient_dot` bit for bit, for
     /// every gradient index and signed zeros among the coordinates (the case `−0 + −0`).
@@ -3326,6 +3366,40 @@ mod tests {
                             folded.to_bits(),
                             direct.to_bits(),
                             "g {g}, (x, y, z) = ({x:e}, {y:e}, {z:e}): {folded:e} vs {direct:e}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    /// The coded gradient of the simplex corner tables is `gradient_dot` bit for bit, for every
+    /// gradient index and signed zeros among the coordinates.
+    #[test]
+    fn coded_gradient_dot_is_gradient_dot_exactly() {
+        let values = [
+            0.0f32,
+            -0.0,
+            0.375,
+            -0.625,
+            1.0,
+            -1.0,
+            0.999_999_9,
+            1.0e-30,
+            -3.5e-38,
+        ];
+        for g in 0..16u32 {
+            let h = (g << 28) | 0x0765_4321;
+            let c = gradient_code(h);
+            for &x in &values {
+                for &y in &values {
+                    for &z in &values {
+                        let coded = coded_gradient_dot(c, x, y, z);
+                        let direct = gradient_dot(h, x, y, z);
+                        assert_eq!(
+                            coded.to_bits(),
+                            direct.to_bits(),
+                            "g {g}, (x, y, z) = ({x:e}, {y:e}, {z:e}): {coded:e} vs {direct:e}"
                         );
                     }
                 }

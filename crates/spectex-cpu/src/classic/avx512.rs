@@ -29,7 +29,8 @@ use std::arch::x86_64::{
     _mm512_permutexvar_epi32, _mm512_set1_epi32, _mm512_set1_pd, _mm512_set1_ps, _mm512_setr_epi32,
     _mm512_setzero_pd, _mm512_setzero_ps, _mm512_setzero_si512, _mm512_slli_epi32,
     _mm512_srli_epi32, _mm512_srlv_epi32, _mm512_storeu_ps, _mm512_sub_epi32, _mm512_sub_pd,
-    _mm512_sub_ps, _mm512_ternarylogic_epi32, _mm512_testn_epi32_mask, _mm512_xor_si512,
+    _mm512_sub_ps, _mm512_ternarylogic_epi32, _mm512_test_epi32_mask, _mm512_testn_epi32_mask,
+    _mm512_xor_si512,
 };
 
 use spectex_model::classic::{SIMPLEX_F3, SIMPLEX_G3, SIMPLEX3_R2, SIMPLEX3_SCALE};
@@ -216,6 +217,17 @@ fn gradient_dot(h: __m512i, x: __m512, y: __m512, z: __m512) -> __m512 {
     )
 }
 
+/// `super::coded_gradient_dot` in 16 lanes: the gradient of a corner of the row's
+/// `SimplexCorners`, two selects instead of [`gradient_dot`]'s three and its index tests.
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn coded_gradient_dot(c: __m512i, x: __m512, y: __m512, z: __m512) -> __m512 {
+    let u = _mm512_mask_blend_ps(_mm512_test_epi32_mask(c, splat(1 << 29)), x, y);
+    let v = _mm512_mask_blend_ps(_mm512_test_epi32_mask(c, splat(1 << 28)), y, z);
+    // Bit 31 of `c` to the sign of `u`, bit 30 to the sign of `v`.
+    _mm512_add_ps(flip(u, c), flip(v, _mm512_slli_epi32::<1>(c)))
+}
+
 /// `v` with its sign flipped where `bits` has bit 31.
 #[inline]
 #[target_feature(enable = "avx512f")]
@@ -228,10 +240,16 @@ fn flip(v: __m512, bits: __m512i) -> __m512 {
     ))
 }
 
-/// `super::simplex_term` in 16 lanes, `d²` fused when `FMA` (the relaxed path).
+/// `super::simplex_term` in 16 lanes, `d²` fused when `FMA` (the relaxed path), `h` a hash
+/// or, `CODED`, its `gradient_code`.
 #[inline]
 #[target_feature(enable = "avx512f")]
-fn term<const FMA: bool>(h: __m512i, dx: __m512, dy: __m512, dz: __m512) -> __m512 {
+fn term<const FMA: bool, const CODED: bool>(
+    h: __m512i,
+    dx: __m512,
+    dy: __m512,
+    dz: __m512,
+) -> __m512 {
     let d2 = if FMA {
         _mm512_fmadd_ps(dx, dx, _mm512_fmadd_ps(dy, dy, _mm512_mul_ps(dz, dz)))
     } else {
@@ -245,7 +263,12 @@ fn term<const FMA: bool>(h: __m512i, dx: __m512, dy: __m512, dz: __m512) -> __m5
         _mm512_sub_ps(_mm512_set1_ps(SIMPLEX3_R2), d2),
     );
     let t2 = _mm512_mul_ps(t, t);
-    _mm512_mul_ps(_mm512_mul_ps(t2, t2), gradient_dot(h, dx, dy, dz))
+    let dot = if CODED {
+        coded_gradient_dot(h, dx, dy, dz)
+    } else {
+        gradient_dot(h, dx, dy, dz)
+    };
+    _mm512_mul_ps(_mm512_mul_ps(t2, t2), dot)
 }
 
 /// 3D simplex noise of `S` registers of 16 lanes (`super::simplex3_table`, else
@@ -285,9 +308,25 @@ pub(super) fn simplex3<const S: usize, R: RowLanes, const RELAXED: bool>(
         let layers = [[zero; 2]; S];
         return sum::<S, true, RELAXED>(&c.hashes, &entry, &cells, &layers, &offsets, n);
     }
+    hashed::<S, RELAXED>(o, t, &cells, &offsets, n);
+}
+
+/// The corners of [`simplex3`] hashed from the layer keys of the planes `k`, `k + 1`: read from
+/// the row's plane keys where one permute reaches them, else hashed. Not inlined: merged into
+/// [`simplex3`], LLVM shared the two paths' corner code behind a flag tested at every corner.
+#[inline(never)]
+#[target_feature(enable = "avx512f")]
+fn hashed<const S: usize, const RELAXED: bool>(
+    o: &Octave,
+    t: Option<&SimplexColumns>,
+    cells: &[[__m512i; 3]; S],
+    offsets: &[[__m512; 3]; S],
+    n: &mut [[f32; L]; S],
+) {
+    let zero = _mm512_setzero_si512();
     let one = splat(1);
     let mut layers = [[zero; 2]; S];
-    if let Some((keys, first)) = t.and_then(|t| reach::<S>(t, &cells)) {
+    if let Some((keys, first)) = t.and_then(|t| reach::<S>(t, cells)) {
         #[allow(unsafe_code)]
         // SAFETY: `reach` checked that `keys` holds `WINDOW` (≥ 33) entries.
         let (a0, b0, a1, b1) = unsafe {
@@ -311,7 +350,7 @@ pub(super) fn simplex3<const S: usize, R: RowLanes, const RELAXED: bool>(
             layers[s] = [layer_key(o, k), layer_key(o, _mm512_add_epi32(k, one))];
         }
     }
-    sum::<S, false, RELAXED>(&[], &[zero; S], &cells, &layers, &offsets, n);
+    sum::<S, false, RELAXED>(&[], &[zero; S], cells, &layers, offsets, n);
 }
 
 /// The sum of the four corners' terms of `S` registers of 16 lanes, scaled, into `n`: the
@@ -343,20 +382,20 @@ fn sum<const S: usize, const TABLE: bool, const FMA: bool>(
     let mut total = [_mm512_setzero_ps(); S];
     for s in 0..S {
         let h = corner_hash::<TABLE>(hashes, entry[s], &cells[s], &layers[s], [0; 3]);
-        total[s] = corner_term::<FMA>(h, &offsets[s], [0; 3], 0.0);
+        total[s] = corner_term::<FMA, TABLE>(h, &offsets[s], [0; 3], 0.0);
     }
     for step in 0..2 {
         let off = (step + 1) as f32 * g3;
         for s in 0..S {
             let st = steps[s][step];
             let h = corner_hash::<TABLE>(hashes, entry[s], &cells[s], &layers[s], st);
-            total[s] = _mm512_add_ps(total[s], corner_term::<FMA>(h, &offsets[s], st, off));
+            total[s] = _mm512_add_ps(total[s], corner_term::<FMA, TABLE>(h, &offsets[s], st, off));
         }
     }
     for s in 0..S {
         let all = [u16::MAX; 3];
         let h = corner_hash::<TABLE>(hashes, entry[s], &cells[s], &layers[s], all);
-        let last = corner_term::<FMA>(h, &offsets[s], all, 3.0 * g3);
+        let last = corner_term::<FMA, TABLE>(h, &offsets[s], all, 3.0 * g3);
         let v = _mm512_mul_ps(
             _mm512_set1_ps(SIMPLEX3_SCALE),
             _mm512_add_ps(total[s], last),
@@ -489,11 +528,11 @@ fn table_hash(hashes: &[u32], entry: __m512i, [di, dj, dk]: [__mmask16; 3]) -> _
     }
 }
 
-/// One corner's term of 16 lanes: corner `(i + di, j + dj, k + dk)` of hash `h`, its offsets
-/// `(x0 − di) + off`.
+/// One corner's term of 16 lanes: corner `(i + di, j + dj, k + dk)` of hash `h` (`CODED`:
+/// its `gradient_code`, read from the row's table), its offsets `(x0 − di) + off`.
 #[inline]
 #[target_feature(enable = "avx512f")]
-fn corner_term<const FMA: bool>(
+fn corner_term<const FMA: bool, const CODED: bool>(
     h: __m512i,
     [x0, y0, z0]: &[__m512; 3],
     [di, dj, dk]: [__mmask16; 3],
@@ -501,7 +540,7 @@ fn corner_term<const FMA: bool>(
 ) -> __m512 {
     let off = _mm512_set1_ps(off);
     let onef = _mm512_set1_ps(1.0);
-    term::<FMA>(
+    term::<FMA, CODED>(
         h,
         _mm512_add_ps(_mm512_mask_sub_ps(*x0, di, *x0, onef), off),
         _mm512_add_ps(_mm512_mask_sub_ps(*y0, dj, *y0, onef), off),
