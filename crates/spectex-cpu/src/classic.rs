@@ -404,6 +404,9 @@ struct SimplexColumns {
     /// 3D, cells wide enough: every corner's hash, read instead of the two hashes per corner
     /// that remain with the layer keys (`keys` is then empty, `len` 0).
     corners: Option<SimplexCorners>,
+    /// Whether every skewed coordinate of the row's lanes is below 2⁴⁸ in magnitude, where a
+    /// floor instruction gives [`split`]'s floors (the AVX-512 kernel's `floor_pair`).
+    bounded: bool,
 }
 
 /// The hashes `hash3(i', j', k')` of the 3D simplex corners one row of one octave visits, so
@@ -1726,6 +1729,10 @@ impl ClassicEvaluator {
             self.simplex_skew(o, r, first),
             self.simplex_skew(o, r, last),
         );
+        // `|px + s|` and the others are at most `2·(|px| + |py| + |pz|)`, `px` at its largest at
+        // an end of the row (an affine function of the lane); false for NaN and infinities.
+        let bounded = 2.0 * (first.abs().max(last.abs()) / o.side + r.py.abs() + o.pz.abs())
+            < (1u64 << 48) as f64;
         // The corners' table where it holds at most two entries per pixel (it saves the lanes
         // eight hashes per pixel): the skewed rows of the first and last lanes, one more on
         // each side for the rounding of the lanes' `x / side`, and the corners' `j + 1`.
@@ -1745,6 +1752,7 @@ impl ClassicEvaluator {
                     len: 0,
                     keys: Vec::new(),
                     corners,
+                    bounded,
                 });
             }
         }
@@ -1770,6 +1778,7 @@ impl ClassicEvaluator {
             len,
             keys,
             corners: None,
+            bounded,
         })
     }
 

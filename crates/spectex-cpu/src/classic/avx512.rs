@@ -26,23 +26,26 @@ use std::arch::x86_64::{
     _mm512_loadu_si512, _mm512_mask_add_epi32, _mm512_mask_blend_epi32, _mm512_mask_blend_ps,
     _mm512_mask_cmplt_epu32_mask, _mm512_mask_sub_epi32, _mm512_mask_sub_pd, _mm512_mask_sub_ps,
     _mm512_max_ps, _mm512_mul_pd, _mm512_mul_ps, _mm512_mullo_epi32, _mm512_permutex2var_epi32,
-    _mm512_permutexvar_epi32, _mm512_set1_epi32, _mm512_set1_pd, _mm512_set1_ps, _mm512_setr_epi32,
-    _mm512_setzero_pd, _mm512_setzero_ps, _mm512_setzero_si512, _mm512_slli_epi32,
-    _mm512_srli_epi32, _mm512_srlv_epi32, _mm512_storeu_ps, _mm512_sub_epi32, _mm512_sub_pd,
-    _mm512_sub_ps, _mm512_ternarylogic_epi32, _mm512_test_epi32_mask, _mm512_testn_epi32_mask,
-    _mm512_xor_si512,
+    _mm512_permutexvar_epi32, _mm512_roundscale_pd, _mm512_set1_epi32, _mm512_set1_pd,
+    _mm512_set1_ps, _mm512_setr_epi32, _mm512_setzero_pd, _mm512_setzero_ps, _mm512_setzero_si512,
+    _mm512_slli_epi32, _mm512_srli_epi32, _mm512_srlv_epi32, _mm512_storeu_ps, _mm512_sub_epi32,
+    _mm512_sub_pd, _mm512_sub_ps, _mm512_ternarylogic_epi32, _mm512_test_epi32_mask,
+    _mm512_testn_epi32_mask, _mm512_xor_si512,
 };
 
 use spectex_model::classic::{SIMPLEX_F3, SIMPLEX_G3, SIMPLEX3_R2, SIMPLEX3_SCALE};
 use spectex_model::random::{LCG_INCREMENT, LCG_MULTIPLIER, RXS_M_XS_MULTIPLIER};
 
 use super::{
-    CORNER_STEP, Columns, GradientTerms, Octave, ROUND_MAGIC, ROUND_MAGIC_F32, RowLanes,
-    SimplexColumns, SimplexCorners, WIDE_LANES, WINDOW, window,
+    CORNER_D, CORNER_E, CORNER_STEP, Columns, GradientTerms, Octave, ROUND_MAGIC, ROUND_MAGIC_F32,
+    RowLanes, SimplexColumns, SimplexCorners, WIDE_LANES, WINDOW, window,
 };
 
 /// The lanes of one register of f32.
 const L: usize = WIDE_LANES;
+
+// [`entries`] multiplies by the corner table's sizes as shifts.
+const _: () = assert!(CORNER_E.is_power_of_two() && CORNER_D.is_power_of_two());
 
 #[inline]
 #[target_feature(enable = "avx512f")]
@@ -101,11 +104,43 @@ fn split_pair(p: [__m512d; 2]) -> (__m512i, [__m512d; 2]) {
     (_mm512_mask_sub_epi32(low, up, low, splat(1)), f)
 }
 
-/// The skew of 16 lanes in two halves of 8 (`super::simplex3_at`): cells `(i, j, k)` and
-/// offsets `(x0, y0, z0)`.
+/// [`split_pair`] by `vrndscalepd`, for `|p| < 2⁵¹` (`SimplexColumns::bounded`): two
+/// instructions and a shorter chain than the magic number's four; the cells are the low words
+/// of `f + magic`. The floors are `split`'s except at `p = −0` (−0 here, +0 there), which
+/// never changes a cell or an offset of the simplex skew, `x0 = px − (fi − t)` with
+/// `t = (fi + fj + fk)·G3`: `a = px + s` is −0 only where `px` and `s` are. Where `fj + fk`
+/// is not zero, `fi − t = −t` for either floor. Where `fj = fk = 0`, `s = ((px + py) + pz)·F3`
+/// is −0 only if `py + pz` is −0 (then all three floors are −0 and `fi − t` is
+/// `−0 − (−0) = +0`, as `+0 − +0`) or a negative that small (`py`, `pz` tiny, one negative, so
+/// its floor is −1, not 0). `fj = −fk ≠ 0` with `py + pz` tiny cannot be. Likewise for `fj`
+/// and `fk`. (A valid window's `px` is never −0 anyway: `offset + (x0 + i)·scale`, `scale > 0`.)
 #[inline]
 #[target_feature(enable = "avx512f")]
-fn skew3(px: [__m512d; 2], py: [__m512d; 2], pz: f64) -> ([__m512i; 3], [__m512; 3]) {
+fn floor_pair(p: [__m512d; 2]) -> (__m512i, [__m512d; 2]) {
+    let magic = _mm512_set1_pd(ROUND_MAGIC);
+    // Round down (1), no precision exception (8).
+    let f = [
+        _mm512_roundscale_pd::<0x09>(p[0]),
+        _mm512_roundscale_pd::<0x09>(p[1]),
+    ];
+    // The even 32-bit words of both halves: the low words of the 16 lanes' `f + magic`.
+    let low = _mm512_permutex2var_epi32(
+        _mm512_castpd_si512(_mm512_add_pd(f[0], magic)),
+        _mm512_setr_epi32(0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30),
+        _mm512_castpd_si512(_mm512_add_pd(f[1], magic)),
+    );
+    (low, f)
+}
+
+/// The skew of 16 lanes in two halves of 8 (`super::simplex3_at`): cells `(i, j, k)` and
+/// offsets `(x0, y0, z0)`; `BOUNDED`: the floors by [`floor_pair`].
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn skew3<const BOUNDED: bool>(
+    px: [__m512d; 2],
+    py: [__m512d; 2],
+    pz: f64,
+) -> ([__m512i; 3], [__m512; 3]) {
     let pz = _mm512_set1_pd(pz);
     let mut s = [_mm512_setzero_pd(); 2];
     for h in 0..2 {
@@ -114,9 +149,10 @@ fn skew3(px: [__m512d; 2], py: [__m512d; 2], pz: f64) -> ([__m512i; 3], [__m512;
             _mm512_set1_pd(SIMPLEX_F3),
         );
     }
-    let (i, fi) = split_pair([_mm512_add_pd(px[0], s[0]), _mm512_add_pd(px[1], s[1])]);
-    let (j, fj) = split_pair([_mm512_add_pd(py[0], s[0]), _mm512_add_pd(py[1], s[1])]);
-    let (k, fk) = split_pair([_mm512_add_pd(pz, s[0]), _mm512_add_pd(pz, s[1])]);
+    let split = if BOUNDED { floor_pair } else { split_pair };
+    let (i, fi) = split([_mm512_add_pd(px[0], s[0]), _mm512_add_pd(px[1], s[1])]);
+    let (j, fj) = split([_mm512_add_pd(py[0], s[0]), _mm512_add_pd(py[1], s[1])]);
+    let (k, fk) = split([_mm512_add_pd(pz, s[0]), _mm512_add_pd(pz, s[1])]);
     let mut offsets = [[_mm256_setzero_ps(); 2]; 3];
     for h in 0..2 {
         let t = _mm512_mul_pd(
@@ -297,7 +333,12 @@ pub(super) fn simplex3<const S: usize, R: RowLanes, const RELAXED: bool>(
             skew3_f32(o, r, &xf[s], s)
         } else {
             let px = [cell_units(o, x, s, 0), cell_units(o, x, s, 1)];
-            skew3(px, [rows_py(r, s, 0), rows_py(r, s, 1)], o.pz)
+            let py = [rows_py(r, s, 0), rows_py(r, s, 1)];
+            if t.is_some_and(|t| t.bounded) {
+                skew3::<true>(px, py, o.pz)
+            } else {
+                skew3::<false>(px, py, o.pz)
+            }
         };
     }
 
@@ -499,11 +540,13 @@ fn entries<const S: usize>(c: &SimplexCorners, cells: &[[__m512i; 3]; S]) -> Opt
         inside = _mm512_mask_cmplt_epu32_mask(inside, w, splat(c.rows - 1));
         inside = _mm512_mask_cmplt_epu32_mask(inside, d, splat(2));
         inside = _mm512_mask_cmplt_epu32_mask(inside, e, splat(11));
+        // `i + 44j + 16k − origin` is `e + 4 + (d + 1)·E + w·D·E` from the table's corner
+        // (`SimplexCorners::entries`): shifts instead of two multiplies of 10 cycles.
         entry[s] = _mm512_add_epi32(
-            _mm512_add_epi32(i, _mm512_mullo_epi32(j, splat(CORNER_STEP[1]))),
-            _mm512_sub_epi32(
-                _mm512_mullo_epi32(k, splat(CORNER_STEP[2])),
-                splat(c.origin),
+            _mm512_add_epi32(e, splat(4 + CORNER_E)),
+            _mm512_add_epi32(
+                _mm512_slli_epi32::<{ CORNER_E.trailing_zeros() }>(d),
+                _mm512_slli_epi32::<{ (CORNER_D * CORNER_E).trailing_zeros() }>(w),
             ),
         );
     }
