@@ -113,7 +113,8 @@ fn split_pair(p: [__m512d; 2]) -> (__m512i, [__m512d; 2]) {
 /// is −0 only if `py + pz` is −0 (then all three floors are −0 and `fi − t` is
 /// `−0 − (−0) = +0`, as `+0 − +0`) or a negative that small (`py`, `pz` tiny, one negative, so
 /// its floor is −1, not 0). `fj = −fk ≠ 0` with `py + pz` tiny cannot be. Likewise for `fj`
-/// and `fk`. (A valid window's `px` is never −0 anyway: `offset + (x0 + i)·scale`, `scale > 0`.)
+/// and `fk`. (A valid window's `px` is never −0 anyway: `offset + (x0 + i)·scale`, `scale`
+/// positive.)
 #[inline]
 #[target_feature(enable = "avx512f")]
 fn floor_pair(p: [__m512d; 2]) -> (__m512i, [__m512d; 2]) {
