@@ -409,8 +409,13 @@ struct SimplexColumns {
     bounded: bool,
 }
 
-/// The hashes `hash3(i', j', k')` of the 3D simplex corners one row of one octave visits, so
-/// that the lanes read a corner's hash instead of computing `row_key` and `cell_hash_in_row`.
+/// The gradients of the 3D simplex corners one row of one octave visits, so that the lanes read
+/// a corner's gradient instead of computing `row_key` and `cell_hash_in_row` and its hash.
+///
+/// Each entry `(i', j', k')` packs the top four bits of the [`gradient_code`]s of the eight
+/// corners of the cube there, corner `(i' + di, j' + dj, k' + dk)` at bits `4c..4c + 4` with
+/// `c = di + 2dj + 4dk`: a lane reads its cell's entry once, and a corner's code is that word
+/// shifted left by `28 − 4c` (the bits below the code's four are ignored).
 ///
 /// Along a row (`py`, `pz` fixed) the skewed coordinates are `a = px + s`, `b = py + s`,
 /// `c = pz + s` with `s = (px + py + pz)/3`, so `a − 4b = −5py − pz` and `c − b = pz − py` are
@@ -436,7 +441,8 @@ struct SimplexCorners {
     rows: u32,
     /// `64·j_lo + 16·d_lo + e_lo` (wrapping): entry `i' + 44j' + 16k' − origin`.
     origin: u32,
-    hashes: Vec<u32>,
+    /// The cubes' packed codes, by entry (those a lane can read: see above).
+    cubes: Vec<u32>,
 }
 
 thread_local! {
@@ -509,7 +515,7 @@ impl SimplexCorners {
         KEPT_CORNERS.with(|k| {
             let mut k = k.borrow_mut();
             if k.len() >= KEPT_CORNER_TABLES {
-                recycle(k.remove(0).hashes);
+                recycle(k.remove(0).cubes);
             }
             k.push(self);
         });
@@ -556,6 +562,21 @@ impl SimplexCorners {
             }
         }
         recycle(rk);
+        // Each entry's cube: its corners' codes, corner `c` at `CORNER_STEP · (di, dj, dk)`
+        // (the last entries, whose cubes leave the table, are never read).
+        let mut cubes = scratch(hashes.len());
+        let last = CORNER_STEP.iter().sum::<u32>() as usize;
+        let (inner, outer) = cubes.split_at_mut(hashes.len() - last);
+        for (at, cube) in inner.iter_mut().enumerate() {
+            let mut word = 0;
+            for c in 0..8 {
+                let step: u32 = (0..3).map(|a| CORNER_STEP[a] * ((c >> a) & 1)).sum();
+                word |= (hashes[at + step as usize] >> 28) << (4 * c);
+            }
+            *cube = word;
+        }
+        outer.fill(0);
+        recycle(hashes);
         let origin = (j_lo as u32)
             .wrapping_mul(CORNER_D * CORNER_E)
             .wrapping_add((d_lo as u32).wrapping_mul(CORNER_E))
@@ -568,7 +589,7 @@ impl SimplexCorners {
             e_lo,
             rows: rows as u32,
             origin,
-            hashes,
+            cubes,
         })
     }
 
@@ -3150,7 +3171,7 @@ fn simplex3_at<const L: usize, R: RowLanes>(o: &Octave, r: &R, px: &[f64; L]) ->
 enum Corners3<'a, const L: usize> {
     /// The layer keys of each lane's skewed planes `k` and `k + 1`.
     Layers([u32; L], [u32; L]),
-    /// The row's [`SimplexCorners`] hashes and each lane's entry ([`SimplexCorners::entries`]).
+    /// The row's [`SimplexCorners`] cubes and each lane's entry ([`SimplexCorners::entries`]).
     Table(&'a [u32], [u32; L]),
 }
 
@@ -3203,8 +3224,18 @@ fn simplex3_sum<const L: usize, const FMA: bool>(
             };
             simplex3_terms::<L, FMA, false>(at, &step, hash, n);
         }
-        Corners3::Table(hashes, entry) => {
-            // Read ahead, one loop per corner: read in the term's loop, the reads kept it scalar.
+        Corners3::Table(cubes, entry) => {
+            // Each lane's cube, then one loop per corner: read in the term's loop, the reads
+            // kept it scalar.
+            let mut cube = [0u32; L];
+            for l in 0..L {
+                #[allow(unsafe_code)]
+                // SAFETY: `SimplexCorners::entries` checked that every lane's cube is an entry
+                // of the table (a checked index keeps the loop scalar).
+                unsafe {
+                    cube[l] = *cubes.get_unchecked(entry[l] as usize);
+                }
+            }
             let mut h = [[0u32; L]; 4];
             for (c, h) in h.iter_mut().enumerate() {
                 for l in 0..L {
@@ -3213,16 +3244,8 @@ fn simplex3_sum<const L: usize, const FMA: bool>(
                         3 => [1; 3],
                         _ => [step[c - 1][0][l], step[c - 1][1][l], step[c - 1][2][l]],
                     };
-                    let e = entry[l]
-                        + di as u32 * CORNER_STEP[0]
-                        + dj as u32 * CORNER_STEP[1]
-                        + dk as u32 * CORNER_STEP[2];
-                    #[allow(unsafe_code)]
-                    // SAFETY: `SimplexCorners::entries` checked that every corner of every
-                    // lane is an entry of the table (a checked index keeps the loop scalar).
-                    unsafe {
-                        h[l] = *hashes.get_unchecked(e as usize);
-                    }
+                    // The corner's code at the top of the word (`SimplexCorners`).
+                    h[l] = cube[l] << (28 - 4 * (di + 2 * dj + 4 * dk)) as u32;
                 }
             }
             let hash = |l: usize, c: usize, _, _, _| h[c][l];
@@ -3297,7 +3320,7 @@ fn simplex3_corners<'t, const L: usize, F: Fetch<L>>(
         && let Some(c) = &t.corners
         && let Some(entry) = c.entries(&at.i, &at.j, &at.k)
     {
-        return Some(Corners3::Table(&c.hashes, entry));
+        return Some(Corners3::Table(&c.cubes, entry));
     }
     let (base, idx) = simplex_window(t, &at.k)?;
     let keys = window(&t.keys, base);
@@ -3383,7 +3406,8 @@ mod tests {
     }
 
     /// The coded gradient of the simplex corner tables is `gradient_dot` bit for bit, for every
-    /// gradient index and signed zeros among the coordinates.
+    /// gradient index and signed zeros among the coordinates, whatever the bits below the code
+    /// (a cube's other corners).
     #[test]
     fn coded_gradient_dot_is_gradient_dot_exactly() {
         let values = [
@@ -3397,9 +3421,10 @@ mod tests {
             1.0e-30,
             -3.5e-38,
         ];
-        for g in 0..16u32 {
+        let below = [0, 0x0FFF_FFFF, 0x0765_4321, 0x0800_0001];
+        for (g, below) in (0..16u32).flat_map(|g| below.map(|b| (g, b))) {
             let h = (g << 28) | 0x0765_4321;
-            let c = gradient_code(h);
+            let c = (gradient_code(h) & 0xF000_0000) | below;
             for &x in &values {
                 for &y in &values {
                     for &z in &values {
@@ -3408,7 +3433,8 @@ mod tests {
                         assert_eq!(
                             coded.to_bits(),
                             direct.to_bits(),
-                            "g {g}, (x, y, z) = ({x:e}, {y:e}, {z:e}): {coded:e} vs {direct:e}"
+                            "g {g}, below {below:#x}, (x, y, z) = ({x:e}, {y:e}, {z:e}): \
+                             {coded:e} vs {direct:e}"
                         );
                     }
                 }

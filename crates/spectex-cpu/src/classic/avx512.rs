@@ -28,17 +28,17 @@ use std::arch::x86_64::{
     _mm512_max_ps, _mm512_mul_pd, _mm512_mul_ps, _mm512_mullo_epi32, _mm512_permutex2var_epi32,
     _mm512_permutexvar_epi32, _mm512_roundscale_pd, _mm512_set1_epi32, _mm512_set1_pd,
     _mm512_set1_ps, _mm512_setr_epi32, _mm512_setzero_pd, _mm512_setzero_ps, _mm512_setzero_si512,
-    _mm512_slli_epi32, _mm512_srli_epi32, _mm512_srlv_epi32, _mm512_storeu_ps, _mm512_sub_epi32,
-    _mm512_sub_pd, _mm512_sub_ps, _mm512_ternarylogic_epi32, _mm512_test_epi32_mask,
-    _mm512_testn_epi32_mask, _mm512_xor_si512,
+    _mm512_slli_epi32, _mm512_sllv_epi32, _mm512_srli_epi32, _mm512_srlv_epi32, _mm512_storeu_ps,
+    _mm512_sub_epi32, _mm512_sub_pd, _mm512_sub_ps, _mm512_ternarylogic_epi32,
+    _mm512_test_epi32_mask, _mm512_testn_epi32_mask, _mm512_xor_si512,
 };
 
 use spectex_model::classic::{SIMPLEX_F3, SIMPLEX_G3, SIMPLEX3_R2, SIMPLEX3_SCALE};
 use spectex_model::random::{LCG_INCREMENT, LCG_MULTIPLIER, RXS_M_XS_MULTIPLIER};
 
 use super::{
-    CORNER_D, CORNER_E, CORNER_STEP, Columns, GradientTerms, Octave, ROUND_MAGIC, ROUND_MAGIC_F32,
-    RowLanes, SimplexColumns, SimplexCorners, WIDE_LANES, WINDOW, window,
+    CORNER_D, CORNER_E, Columns, GradientTerms, Octave, ROUND_MAGIC, ROUND_MAGIC_F32, RowLanes,
+    SimplexColumns, SimplexCorners, WIDE_LANES, WINDOW, window,
 };
 
 /// The lanes of one register of f32.
@@ -349,7 +349,7 @@ pub(super) fn simplex3<const S: usize, R: RowLanes, const RELAXED: bool>(
         && let Some(entry) = entries::<S>(c, &cells)
     {
         let layers = [[zero; 2]; S];
-        return sum::<S, true, RELAXED>(&c.hashes, &entry, &cells, &layers, &offsets, n);
+        return sum::<S, true, RELAXED>(&c.cubes, &entry, &cells, &layers, &offsets, n);
     }
     hashed::<S, RELAXED>(o, t, &cells, &offsets, n);
 }
@@ -397,12 +397,12 @@ fn hashed<const S: usize, const RELAXED: bool>(
 }
 
 /// The sum of the four corners' terms of `S` registers of 16 lanes, scaled, into `n`: the
-/// corners' hashes from the row's corner table `hashes` at the lanes' `entry` (`TABLE`), else
-/// from the layer keys `layers`.
+/// corners' codes from the row's corner table `cubes` at the lanes' `entry` (`TABLE`), else
+/// their hashes from the layer keys `layers`.
 #[inline]
 #[target_feature(enable = "avx512f")]
 fn sum<const S: usize, const TABLE: bool, const FMA: bool>(
-    hashes: &[u32],
+    cubes: &[u32],
     entry: &[__m512i; S],
     cells: &[[__m512i; 3]; S],
     layers: &[[__m512i; 2]; S],
@@ -427,16 +427,26 @@ fn sum<const S: usize, const TABLE: bool, const FMA: bool>(
     // row). The rankings of both come first: ranking each register just before its corners
     // lost as much.
     for s in 0..S {
-        let h = corner_hash::<TABLE>(hashes, entry[s], &cells[s], &layers[s], [0; 3]);
+        // The lanes' cubes, read once for the four corners.
+        let cube = if TABLE {
+            #[allow(unsafe_code)]
+            // SAFETY: `entries` checked that every lane's entry is below the table's length.
+            unsafe {
+                _mm512_i32gather_epi32::<4>(entry[s], cubes.as_ptr().cast())
+            }
+        } else {
+            entry[s]
+        };
+        let h = corner_hash::<TABLE>(cube, &cells[s], &layers[s], [0; 3]);
         let mut total = corner_term::<FMA, TABLE>(h, &offsets[s], [0; 3], 0.0);
         for step in 0..2 {
             let off = (step + 1) as f32 * g3;
             let st = steps[s][step];
-            let h = corner_hash::<TABLE>(hashes, entry[s], &cells[s], &layers[s], st);
+            let h = corner_hash::<TABLE>(cube, &cells[s], &layers[s], st);
             total = _mm512_add_ps(total, corner_term::<FMA, TABLE>(h, &offsets[s], st, off));
         }
         let all = [u16::MAX; 3];
-        let h = corner_hash::<TABLE>(hashes, entry[s], &cells[s], &layers[s], all);
+        let h = corner_hash::<TABLE>(cube, &cells[s], &layers[s], all);
         let last = corner_term::<FMA, TABLE>(h, &offsets[s], all, 3.0 * g3);
         let v = _mm512_mul_ps(_mm512_set1_ps(SIMPLEX3_SCALE), _mm512_add_ps(total, last));
         #[allow(unsafe_code)]
@@ -447,19 +457,19 @@ fn sum<const S: usize, const TABLE: bool, const FMA: bool>(
     }
 }
 
-/// The hash of corner `(i + di, j + dj, k + dk)` of 16 lanes: from the row's corner table
-/// `hashes` at the lanes' `entry` (`TABLE`), else from the layer keys of planes `k`, `k + 1`.
+/// The hash of corner `(i + di, j + dj, k + dk)` of 16 lanes: its code from the lanes' `cube`
+/// of the row's corner table (`TABLE`), else its hash from the layer keys of planes `k`,
+/// `k + 1`.
 #[inline]
 #[target_feature(enable = "avx512f")]
 fn corner_hash<const TABLE: bool>(
-    hashes: &[u32],
-    entry: __m512i,
+    cube: __m512i,
     cells: &[__m512i; 3],
     layers: &[__m512i; 2],
     step: [__mmask16; 3],
 ) -> __m512i {
     if TABLE {
-        table_hash(hashes, entry, step)
+        table_code(cube, step)
     } else {
         layer_hash(cells, layers, step)
     }
@@ -554,19 +564,15 @@ fn entries<const S: usize>(c: &SimplexCorners, cells: &[[__m512i; 3]; S]) -> Opt
     (inside == u16::MAX).then_some(entry)
 }
 
-/// The hash of corner `(i + di, j + dj, k + dk)` of 16 lanes from the row's corner table, the
-/// lanes' corners `(i, j, k)` at `entry` (checked by [`entries`]).
+/// The code of corner `(i + di, j + dj, k + dk)` of 16 lanes from their `cube` of the row's
+/// corner table: the cube shifted left by `28 − 4·(di + 2dj + 4dk)` (`SimplexCorners`).
 #[inline]
 #[target_feature(enable = "avx512f")]
-fn table_hash(hashes: &[u32], entry: __m512i, [di, dj, dk]: [__mmask16; 3]) -> __m512i {
-    let e = _mm512_mask_add_epi32(entry, di, entry, splat(CORNER_STEP[0]));
-    let e = _mm512_mask_add_epi32(e, dj, e, splat(CORNER_STEP[1]));
-    let e = _mm512_mask_add_epi32(e, dk, e, splat(CORNER_STEP[2]));
-    #[allow(unsafe_code)]
-    // SAFETY: `entries` checked that every corner's entry is below the table's length.
-    unsafe {
-        _mm512_i32gather_epi32::<4>(e, hashes.as_ptr().cast())
-    }
+fn table_code(cube: __m512i, [di, dj, dk]: [__mmask16; 3]) -> __m512i {
+    let shift = _mm512_mask_sub_epi32(splat(28), di, splat(28), splat(4));
+    let shift = _mm512_mask_sub_epi32(shift, dj, shift, splat(8));
+    let shift = _mm512_mask_sub_epi32(shift, dk, shift, splat(16));
+    _mm512_sllv_epi32(cube, shift)
 }
 
 /// One corner's term of 16 lanes: corner `(i + di, j + dj, k + dk)` of hash `h` (`CODED`:
