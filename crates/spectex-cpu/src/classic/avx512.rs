@@ -1,8 +1,9 @@
 //! Hand-written AVX-512 kernels of the classic row, for the bases where LLVM's vectorisation of
 //! the lane loops lost most of the machine: 3D simplex noise and 3D gradient and value noise,
-//! two registers of 16 lanes at a time. Simplex reads its corners' hashes from the row's
-//! `SimplexCorners` by a gather where every lane's corners are in it; gradient noise reads a
-//! row's gradient indices and each row key's 16 terms (`GradientTerms`) by two permutes.
+//! two registers of 16 lanes at a time. Simplex gathers each lane's cube from the row's
+//! `SimplexCorners` where every lane's corners are in it (one word, the gradient codes of its
+//! eight corners) and shifts each corner's code out of it; gradient noise reads a row's gradient
+//! indices and each row key's 16 terms (`GradientTerms`) by two permutes.
 //!
 //! Written with the lane loops' arrays, 3D simplex kept its skew's halves (16 f64 lanes are two
 //! registers) and its offsets on the stack, and read them back as whole registers: a load
@@ -343,8 +344,8 @@ pub(super) fn simplex3<const S: usize, R: RowLanes, const RELAXED: bool>(
         };
     }
 
-    // The corners' hashes: read from the row's corner table where every lane's corners are
-    // in it, else hashed from the layer keys of the planes `k`, `k + 1`.
+    // The corners' gradients: read from the row's corner table where every lane's corners
+    // are in it, else hashed from the layer keys of the planes `k`, `k + 1`.
     if let Some(c) = t.and_then(|t| t.corners.as_ref())
         && let Some(entry) = entries::<S>(c, &cells)
     {
