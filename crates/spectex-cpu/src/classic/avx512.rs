@@ -438,16 +438,16 @@ fn sum<const S: usize, const TABLE: bool, const FMA: bool>(
         } else {
             entry[s]
         };
-        let h = corner_hash::<TABLE>(cube, &cells[s], &layers[s], [0; 3]);
+        let h = corner_hash::<TABLE>(cube, &cells[s], &layers[s], [0; 3], 0);
         let mut total = corner_term::<FMA, TABLE>(h, &offsets[s], [0; 3], 0.0);
         for step in 0..2 {
             let off = (step + 1) as f32 * g3;
             let st = steps[s][step];
-            let h = corner_hash::<TABLE>(cube, &cells[s], &layers[s], st);
+            let h = corner_hash::<TABLE>(cube, &cells[s], &layers[s], st, step as u32 + 1);
             total = _mm512_add_ps(total, corner_term::<FMA, TABLE>(h, &offsets[s], st, off));
         }
         let all = [u16::MAX; 3];
-        let h = corner_hash::<TABLE>(cube, &cells[s], &layers[s], all);
+        let h = corner_hash::<TABLE>(cube, &cells[s], &layers[s], all, 3);
         let last = corner_term::<FMA, TABLE>(h, &offsets[s], all, 3.0 * g3);
         let v = _mm512_mul_ps(_mm512_set1_ps(SIMPLEX3_SCALE), _mm512_add_ps(total, last));
         #[allow(unsafe_code)]
@@ -458,9 +458,9 @@ fn sum<const S: usize, const TABLE: bool, const FMA: bool>(
     }
 }
 
-/// The hash of corner `(i + di, j + dj, k + dk)` of 16 lanes: its code from the lanes' `cube`
-/// of the row's corner table (`TABLE`), else its hash from the layer keys of planes `k`,
-/// `k + 1`.
+/// The hash of corner `(i + di, j + dj, k + dk)` of 16 lanes, `steps` of `di, dj, dk` set in
+/// every lane: its code from the lanes' `cube` of the row's corner table (`TABLE`), else its
+/// hash from the layer keys of planes `k`, `k + 1`.
 #[inline]
 #[target_feature(enable = "avx512f")]
 fn corner_hash<const TABLE: bool>(
@@ -468,9 +468,10 @@ fn corner_hash<const TABLE: bool>(
     cells: &[__m512i; 3],
     layers: &[__m512i; 2],
     step: [__mmask16; 3],
+    steps: u32,
 ) -> __m512i {
     if TABLE {
-        table_code(cube, step)
+        table_code(cube, step, steps)
     } else {
         layer_hash(cells, layers, step)
     }
@@ -566,13 +567,16 @@ fn entries<const S: usize>(c: &SimplexCorners, cells: &[[__m512i; 3]; S]) -> Opt
 }
 
 /// The code of corner `(i + di, j + dj, k + dk)` of 16 lanes from their `cube` of the row's
-/// corner table: the cube shifted left by `28 − 4·(di + 2dj + 4dk)` (`SimplexCorners`).
+/// corner table: the cube shifted left by `28 − 4·(di + 2dj + 4dk)` (`SimplexCorners`). Each
+/// lane steps along `steps` of the three axes (Gustavson's ranking steps along exactly one,
+/// then exactly two, whatever the comparisons), so `dk = steps − di − dj` and the shift is
+/// `28 − 16·steps + 12di + 8dj`: two masked adds.
 #[inline]
 #[target_feature(enable = "avx512f")]
-fn table_code(cube: __m512i, [di, dj, dk]: [__mmask16; 3]) -> __m512i {
-    let shift = _mm512_mask_sub_epi32(splat(28), di, splat(28), splat(4));
-    let shift = _mm512_mask_sub_epi32(shift, dj, shift, splat(8));
-    let shift = _mm512_mask_sub_epi32(shift, dk, shift, splat(16));
+fn table_code(cube: __m512i, [di, dj, _]: [__mmask16; 3], steps: u32) -> __m512i {
+    let base = splat(28u32.wrapping_sub(16 * steps));
+    let shift = _mm512_mask_add_epi32(base, di, base, splat(12));
+    let shift = _mm512_mask_add_epi32(shift, dj, shift, splat(8));
     _mm512_sllv_epi32(cube, shift)
 }
 
