@@ -13,7 +13,9 @@
 //!
 //! Each function computes the very operations of its generic twin in the same order (`max` as
 //! `_mm512_max_ps(0, t)`, which returns `t` wherever `t < 0` is false, as `super::max` does;
-//! selects as masked operations), so the bits are the same; `fast_paths` and the classic tests
+//! selects as masked operations), so the bits are the same, with two departures whose comments
+//! show them exact: [`floor_pair`]'s floor instruction, and the coded gradient's `±x ± y` for
+//! the reference's `±y ± x` (`super::gradient_code`). `fast_paths` and the classic tests
 //! compare this path with the portable and reference ones.
 
 use std::arch::x86_64::{
