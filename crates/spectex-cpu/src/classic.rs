@@ -422,15 +422,15 @@ struct SimplexColumns {
 /// constants: a lane's `e = i − 4j` takes 5 values (`⌊a⌋ − 4⌊b⌋ = ⌊(a − 4b) + 4·frac b⌋`) and
 /// `d = k − j` two, while `j` grows slowly with `x`. The table is laid out by `(j', d', e')`:
 /// entry `((j' − j_lo)·D + (d' − d_lo))·E + (e' − e_lo)` with `D` = [`CORNER_D`] and `E` =
-/// [`CORNER_E`] (a register of entries per `(j', d')`, so a row builds a register at a time),
-/// which is `i' + 44j' + 16k' − origin`: a corner step `(di, dj, dk)` adds
-/// [`CORNER_STEP`]` · (di, dj, dk)`. A lane uses the table when its corners all fall inside
+/// [`CORNER_E`] (a register of entries per `(j', d')`, so a row builds a register at a time):
+/// a corner step `(di, dj, dk)` adds [`CORNER_STEP`]` · (di, dj, dk)` (its cube's corners are
+/// [`CUBE_CORNERS`] after it). A lane uses the table when its corners all fall inside
 /// ([`SimplexCorners::entries`]): `j − j_lo < rows − 1`, `d − d_lo ∈ {1, 2}` and
 /// `e − e_lo ∈ 4..=14` (a corner moves `d` by −1..=1 and `e` by −4..=1).
 #[derive(Debug, Clone)]
 struct SimplexCorners {
-    /// The octave's layer and `key0`: the table's hashes are a function of them and the
-    /// origin.
+    /// The octave's layer and `key0`: the table's hashes are a function of them and of
+    /// `j_lo`, `d_lo`, `e_lo`.
     layer: u32,
     key0: u32,
     /// The first skewed row `j_lo`, the lowest `d_lo = k − j` and `e_lo = i − 4j`.
@@ -439,15 +439,14 @@ struct SimplexCorners {
     e_lo: i32,
     /// Skewed rows `j_lo..j_lo + rows` of entries.
     rows: u32,
-    /// `64·j_lo + 16·d_lo + e_lo` (wrapping): entry `i' + 44j' + 16k' − origin`.
-    origin: u32,
     /// The cubes' packed codes, by entry (those a lane can read: see above).
     cubes: Vec<u32>,
 }
 
 thread_local! {
     /// The [`SimplexCorners`] of this thread's last rows: rows a few pixels apart share their
-    /// skewed rows and origin, and building the table cost about 3–6% of a 3D simplex row.
+    /// skewed rows, `d_lo` and `e_lo`, and building the table cost about 3–6% of a 3D simplex
+    /// row.
     static KEPT_CORNERS: std::cell::RefCell<Vec<SimplexCorners>> =
         const { std::cell::RefCell::new(Vec::new()) };
 }
@@ -470,12 +469,28 @@ const CORNER_D: u32 = 4;
 /// `e − 4`; `d + 1`.
 const CORNER_STEP: [u32; 3] = [1, CORNER_D * CORNER_E - CORNER_E - 4, CORNER_E];
 
+/// How far corner `c = di + 2dj + 4dk` of a [`SimplexCorners`] entry's cube is from the entry:
+/// [`CORNER_STEP`]` · (di, dj, dk)`.
+const CUBE_CORNERS: [usize; 8] = {
+    let mut at = [0; 8];
+    let mut c = 0;
+    while c < 8 {
+        let mut a = 0;
+        while a < 3 {
+            at[c] += (CORNER_STEP[a] as usize) * ((c >> a) & 1);
+            a += 1;
+        }
+        c += 1;
+    }
+    at
+};
+
 impl SimplexCorners {
     /// The table of row `py` of octave `o` for the skewed rows `j_lo..=j_hi` (those of the
     /// lanes and the next): one an earlier row of this thread kept ([`keep`](Self::keep))
-    /// where it covers them with the same origin, else a new one, two skewed rows longer where
-    /// that fits, so that the next rows find it; `None` when it would hold more than `most`
-    /// entries.
+    /// where it covers them with the same `d_lo` and `e_lo`, else a new one, two skewed rows
+    /// longer where that fits, so that the next rows find it; `None` when it would hold more
+    /// than `most` entries.
     #[inline(always)]
     fn for_row(o: &Octave, py: f64, j_lo: i32, j_hi: i32, most: usize) -> Option<Self> {
         // `d ∈ {⌊pz − py⌋, ⌊pz − py⌋ + 1}` and `e ∈ ⌊−5py − pz⌋ + 0..=4` on the whole row (the
@@ -521,8 +536,8 @@ impl SimplexCorners {
         });
     }
 
-    /// The table of octave `o` with origin `(d_lo, e_lo)` for the skewed rows `j_lo..=j_hi`,
-    /// or `None` when it would hold more than `most` entries.
+    /// The table of octave `o` with its lowest `d_lo` and `e_lo` for the skewed rows
+    /// `j_lo..=j_hi`, or `None` when it would hold more than `most` entries.
     #[inline(always)]
     fn new(o: &Octave, d_lo: i32, e_lo: i32, j_lo: i32, j_hi: i32, most: usize) -> Option<Self> {
         let rows = i64::from(j_hi) - i64::from(j_lo) + 1;
@@ -562,25 +577,19 @@ impl SimplexCorners {
             }
         }
         recycle(rk);
-        // Each entry's cube: its corners' codes, corner `c` at `CORNER_STEP · (di, dj, dk)`
-        // (the last entries, whose cubes leave the table, are never read).
+        // Each entry's cube: its corners' codes (the last entries, whose cubes leave the table,
+        // are never read).
         let mut cubes = scratch(hashes.len());
-        let last = CORNER_STEP.iter().sum::<u32>() as usize;
-        let (inner, outer) = cubes.split_at_mut(hashes.len() - last);
+        let (inner, outer) = cubes.split_at_mut(hashes.len() - CUBE_CORNERS[7]);
         for (at, cube) in inner.iter_mut().enumerate() {
             let mut word = 0;
-            for c in 0..8 {
-                let step: u32 = (0..3).map(|a| CORNER_STEP[a] * ((c >> a) & 1)).sum();
-                word |= (hashes[at + step as usize] >> 28) << (4 * c);
+            for (c, corner) in CUBE_CORNERS.iter().enumerate() {
+                word |= (hashes[at + corner] >> 28) << (4 * c);
             }
             *cube = word;
         }
         outer.fill(0);
         recycle(hashes);
-        let origin = (j_lo as u32)
-            .wrapping_mul(CORNER_D * CORNER_E)
-            .wrapping_add((d_lo as u32).wrapping_mul(CORNER_E))
-            .wrapping_add(e_lo as u32);
         Some(Self {
             layer: o.layer,
             key0: o.key0,
@@ -588,13 +597,14 @@ impl SimplexCorners {
             d_lo,
             e_lo,
             rows: rows as u32,
-            origin,
             cubes,
         })
     }
 
     /// The entries of the lanes' corners `(i, j, k)`, or `None` when a corner of a lane falls
-    /// outside the table.
+    /// outside the table: with `w = j − j_lo`, `d = k − j − d_lo − 1`, `e = i − 4j − e_lo − 4`
+    /// (those the range check compares), the layout's `(w·D + d + 1)·E + e + 4`
+    /// (`avx512::entries` in the lanes).
     #[inline(always)]
     fn entries<const L: usize>(
         &self,
@@ -611,10 +621,10 @@ impl SimplexCorners {
             let d = k.wrapping_sub(j).wrapping_sub(d_lo.wrapping_add(1));
             let e = i.wrapping_sub(j << 2).wrapping_sub(e_lo.wrapping_add(4));
             inside[l] = (w < self.rows - 1) & (d < 2) & (e < 11);
-            entry[l] = i
-                .wrapping_add(j.wrapping_mul(CORNER_STEP[1]))
-                .wrapping_add(k.wrapping_mul(CORNER_STEP[2]))
-                .wrapping_sub(self.origin);
+            entry[l] = (w.wrapping_mul(CORNER_D).wrapping_add(d).wrapping_add(1))
+                .wrapping_mul(CORNER_E)
+                .wrapping_add(e)
+                .wrapping_add(4);
         }
         inside.iter().all(|&v| v).then_some(entry)
     }

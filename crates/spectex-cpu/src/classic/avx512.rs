@@ -430,7 +430,7 @@ fn sum<const S: usize, const TABLE: bool, const FMA: bool>(
     // row). The rankings of both come first: ranking each register just before its corners
     // lost as much.
     for s in 0..S {
-        // The lanes' cubes, read once for the four corners.
+        // The lanes' cubes, read once for the four corners (the hashed path has none).
         let cube = if TABLE {
             #[allow(unsafe_code)]
             // SAFETY: `entries` checked that every lane's entry is below the table's length.
@@ -438,7 +438,7 @@ fn sum<const S: usize, const TABLE: bool, const FMA: bool>(
                 _mm512_i32gather_epi32::<4>(entry[s], cubes.as_ptr().cast())
             }
         } else {
-            entry[s]
+            _mm512_setzero_si512()
         };
         let h = corner_hash::<TABLE>(cube, &cells[s], &layers[s], [0; 3], 0);
         let mut total = corner_term::<FMA, TABLE>(h, &offsets[s], [0; 3], 0.0);
@@ -555,8 +555,7 @@ fn entries<const S: usize>(c: &SimplexCorners, cells: &[[__m512i; 3]; S]) -> Opt
         inside = _mm512_mask_cmplt_epu32_mask(inside, w, splat(c.rows - 1));
         inside = _mm512_mask_cmplt_epu32_mask(inside, d, splat(2));
         inside = _mm512_mask_cmplt_epu32_mask(inside, e, splat(11));
-        // `i + 44j + 16k − origin` is `e + 4 + (d + 1)·E + w·D·E` from the table's corner
-        // (`SimplexCorners::entries`): shifts instead of two multiplies of 10 cycles.
+        // `(w·D + d + 1)·E + e + 4` (`SimplexCorners::entries`), by shifts.
         entry[s] = _mm512_add_epi32(
             _mm512_add_epi32(e, splat(4 + CORNER_E)),
             _mm512_add_epi32(
