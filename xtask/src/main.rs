@@ -12,6 +12,8 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode, Stdio};
 use std::time::{Instant, SystemTime};
 
+mod gpu;
+
 /// Every command with the one line `cargo xtask help` prints for it.
 const COMMANDS: &[(&str, &str)] = &[
     (
@@ -33,7 +35,22 @@ const COMMANDS: &[(&str, &str)] = &[
          (`cargo xtask bench -- --quick`); then the texture-by-example Table 1 (CPU and GPU). \
          `cargo xtask bench classic`: the classic noises on one thread against FastNoiseSIMD \
          (pyfastnoisesimd, installed in target/bench/fastnoisesimd-venv; skipped with a \
-         message where it cannot be) on the same grid, ratios in target/bench/classic.md",
+         message where it cannot be) on the same grid, ratios in target/bench/classic.md. \
+         `cargo xtask bench gpu [--size N]`: every testdata model on the GPU (kernel-only by \
+         timestamps, end to end) against the CPU on all threads, and the LRP Table 1 texture \
+         frame, into target/bench/gpu.md and gpu.svg (lavapipe unless WGPU_ADAPTER_NAME is set)",
+    ),
+    (
+        "gpu-report",
+        "builds what a GPU machine without Rust needs to measure spectex there into \
+         target/gpu-report/ (release CLI, models bench and xtask stripped and compressed, the \
+         Vulkan loader's .deb files, run.sh): `bash target/gpu-report/run.sh [SIDE]` there prints \
+         every testdata model's GPU kernel-only, GPU end-to-end (bench and CLI) and CPU Mpix/s",
+    ),
+    (
+        "gpu-table",
+        "`gpu-table FILE… [--size N]`: the models bench's and run.sh's figures as one Markdown \
+         table (what run.sh calls on the GPU machine)",
     ),
     (
         "fuzz",
@@ -104,6 +121,13 @@ fn run() -> Result<()> {
         }
         Some("bench") => bench(&Workspace::locate()?, rest),
         Some("fuzz") => fuzz(&Workspace::locate()?, &rest),
+        Some("gpu-report") => {
+            if !rest.is_empty() {
+                bail!("`cargo xtask gpu-report` takes no arguments (got {rest:?})");
+            }
+            gpu::gpu_report(&Workspace::locate()?)
+        }
+        Some("gpu-table") => gpu::gpu_table(&rest),
         Some("reproduce") => reproduce(&Workspace::locate()?, &rest),
         Some("export-check") => {
             if !rest.is_empty() {
@@ -979,6 +1003,9 @@ fn reproduce(ws: &Workspace, args: &[OsString]) -> Result<()> {
 
 fn bench(ws: &Workspace, mut extra: Vec<OsString>) -> Result<()> {
     // `cargo xtask bench classic`: the classic noises against FastNoiseSIMD.
+    if extra.first().is_some_and(|a| a == "gpu") {
+        return gpu::bench_gpu(ws, &extra[1..]);
+    }
     if extra.first().is_some_and(|a| a == "classic") {
         extra.remove(0);
         if extra.first().is_some_and(|a| a == "--") {

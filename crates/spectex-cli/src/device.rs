@@ -26,6 +26,24 @@ pub(crate) struct Rendered {
     pub device: String,
     /// Seconds of evaluation: device start-up and shader compilation are not evaluation.
     pub seconds: f64,
+    /// Seconds the GPU spent in the render's dispatches (timestamp queries), where measured.
+    pub kernel_seconds: Option<f64>,
+}
+
+impl Rendered {
+    /// The speed the command reports: `N Mpix/s`, and on a GPU with timestamps also the
+    /// kernel-only figure, `N Mpix/s end to end, M Mpix/s in the kernels`.
+    pub(crate) fn speed(&self, pixels: usize) -> String {
+        let mpix = |seconds: f64| pixels as f64 / seconds.max(1e-9) / 1e6;
+        match self.kernel_seconds {
+            None => format!("{:.2} Mpix/s", mpix(self.seconds)),
+            Some(kernel) => format!(
+                "{:.2} Mpix/s end to end, {:.2} Mpix/s in the kernels",
+                mpix(self.seconds),
+                mpix(kernel)
+            ),
+        }
+    }
 }
 
 /// Renders `window` of `model` on the plane `z` on the device `device` asks for; `cpu` is the
@@ -46,14 +64,15 @@ pub(crate) fn render(
             }
             .map_err(|e| anyhow!("{e}; try --device cpu"))?;
             let start = std::time::Instant::now();
-            let pixels = gpu
-                .render(window)
+            let mut pixels = vec![0.0f32; window.width * window.height * gpu.output_channels()];
+            let stats = gpu
+                .render_into(window, &mut pixels)
                 .map_err(|e| anyhow!("{e}; try --device cpu"))?;
-            let seconds = start.elapsed().as_secs_f64();
             Ok(Rendered {
                 pixels,
                 device: format!("GPU {}", context.adapter_name()),
-                seconds,
+                seconds: start.elapsed().as_secs_f64(),
+                kernel_seconds: stats.kernel_seconds,
             })
         }
         None => {
@@ -67,6 +86,7 @@ pub(crate) fn render(
                 pixels,
                 device: "CPU".to_owned(),
                 seconds: start.elapsed().as_secs_f64(),
+                kernel_seconds: None,
             })
         }
     }

@@ -155,11 +155,11 @@ pub(crate) fn render_to_file_with_period(
     #[allow(clippy::print_stdout)] // reason: the command's result summary
     {
         println!(
-            "wrote {} ({width}×{height} on the {}, {:.1} evaluations per pixel, {:.2} Mpix/s)",
+            "wrote {} ({width}×{height} on the {}, {:.1} evaluations per pixel, {})",
             args.output.display(),
             rendered.device,
             eval.cost_per_pixel(),
-            (width * height) as f64 / rendered.seconds.max(1e-9) / 1e6
+            rendered.speed(width * height)
         );
     }
     crate::note_clipping(report);

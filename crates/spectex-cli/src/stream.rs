@@ -280,8 +280,9 @@ pub(crate) fn render(
     let render_band = |band: &Window, out: &mut Vec<f32>| -> Result<()> {
         match &gpu {
             Some((gpu, _)) => {
-                *out = gpu
-                    .render(band)
+                // Every band reuses the evaluator's render ring.
+                out.resize(band.width * band.height * channels, 0.0);
+                gpu.render_into(band, out)
                     .map_err(|e| anyhow!("{e}; try --device cpu"))?;
             }
             None => {

@@ -1,27 +1,31 @@
 //! Finding an adapter and opening a device: [`GpuContext`].
 
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 
 use crate::GpuError;
-use crate::pipeline::PipelineCache;
+use crate::cache::{LostFlag, PipelineCache};
 
 /// Environment variable naming the adapter to use: the first adapter whose name contains it
 /// (ignoring case) is chosen, e.g. `WGPU_ADAPTER_NAME=llvmpipe` for lavapipe.
 pub const ADAPTER_NAME_ENV: &str = "WGPU_ADAPTER_NAME";
 
-/// Why the device was lost, written by wgpu's device-lost callback.
-pub(crate) type LostFlag = Arc<Mutex<Option<String>>>;
-
-/// A wgpu device and queue on the chosen adapter. Cheap to share by reference; evaluators keep
-/// their own handles to the device, so the context may be dropped after building them.
+/// A wgpu device and queue: spectex's own on the chosen adapter ([`new`](Self::new)), or a
+/// caller's ([`from_device`](Self::from_device)), so a wgpu or Bevy renderer renders spectex
+/// into its own buffers and textures. Cheap to share by reference; evaluators keep their own
+/// handles to the device, so the context may be dropped after building them.
 #[derive(Debug)]
 pub struct GpuContext {
-    adapter: wgpu::Adapter,
+    info: wgpu::AdapterInfo,
     device: wgpu::Device,
     queue: wgpu::Queue,
     lost: LostFlag,
     /// The compute pipelines built on this device, by shader and entry point.
     pipelines: PipelineCache,
+    /// Nanoseconds of every timestamped dispatch on this device so far ([`kernel_nanos`]).
+    ///
+    /// [`kernel_nanos`]: Self::kernel_nanos
+    kernel_ns: Arc<AtomicU64>,
 }
 
 impl GpuContext {
@@ -57,9 +61,12 @@ impl GpuContext {
         let Some(adapter) = adapter else {
             return Err(GpuError::NoAdapter { found, wanted });
         };
+        // Timestamp queries where the adapter has them: kernel-only time beside end-to-end.
+        let required_features = adapter.features() & wgpu::Features::TIMESTAMP_QUERY;
         let (device, queue) =
             pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
                 label: Some("spectex-gpu"),
+                required_features,
                 required_limits: adapter.limits(),
                 memory_hints: wgpu::MemoryHints::Performance,
                 ..Default::default()
@@ -72,24 +79,62 @@ impl GpuContext {
             }
         });
         Ok(Self {
-            adapter,
+            info: adapter.get_info(),
             device,
             queue,
             lost,
             pipelines: PipelineCache::default(),
+            kernel_ns: Arc::default(),
         })
+    }
+
+    /// A context on a caller's device and queue (a wgpu or Bevy renderer's own), so evaluators
+    /// render into the caller's buffers and textures with no read-back
+    /// ([`GpuEvaluator::render_to_buffer`](crate::GpuEvaluator::render_to_buffer)). The
+    /// caller's device-lost callback is left as it is: a lost device then shows as a failed
+    /// wait ([`GpuError::DeviceLost`]). Kernel timing needs the device to have been created
+    /// with [`wgpu::Features::TIMESTAMP_QUERY`]; without it renders report end-to-end time only.
+    #[must_use]
+    pub fn from_device(device: wgpu::Device, queue: wgpu::Queue) -> Self {
+        Self {
+            info: device.adapter_info(),
+            device,
+            queue,
+            lost: Arc::new(Mutex::new(None)),
+            pipelines: PipelineCache::default(),
+            kernel_ns: Arc::default(),
+        }
     }
 
     /// The adapter's name, e.g. `llvmpipe (LLVM 15.0.6, 256 bits)`.
     #[must_use]
     pub fn adapter_name(&self) -> String {
-        self.adapter.get_info().name
+        self.info.name.clone()
     }
 
     /// Everything wgpu knows about the adapter (name, vendor, device type, driver, backend).
     #[must_use]
     pub fn adapter_info(&self) -> wgpu::AdapterInfo {
-        self.adapter.get_info()
+        self.info.clone()
+    }
+
+    /// Whether dispatches on this device are timed by timestamp queries (the device has
+    /// [`wgpu::Features::TIMESTAMP_QUERY`]).
+    #[must_use]
+    pub fn has_timestamps(&self) -> bool {
+        self.device
+            .features()
+            .contains(wgpu::Features::TIMESTAMP_QUERY)
+    }
+
+    /// Nanoseconds the device spent in spectex's timestamped dispatches on this context so far
+    /// (every evaluator and every pass of a composite kind), or `None` without timestamp
+    /// queries. The difference across a render is its kernel-only time when no other render
+    /// runs on the context meanwhile.
+    #[must_use]
+    pub fn kernel_nanos(&self) -> Option<u64> {
+        self.has_timestamps()
+            .then(|| self.kernel_ns.load(Ordering::Relaxed))
     }
 
     /// The device's limits (the adapter's, as requested).
@@ -116,6 +161,10 @@ impl GpuContext {
 
     pub(crate) fn pipeline_cache(&self) -> &PipelineCache {
         &self.pipelines
+    }
+
+    pub(crate) fn kernel_clock(&self) -> Arc<AtomicU64> {
+        Arc::clone(&self.kernel_ns)
     }
 }
 

@@ -39,6 +39,16 @@ pub enum GpuError {
         /// The device's limit.
         limit: u64,
     },
+    /// A caller's output (a slice, a device buffer) does not fit the render.
+    #[error("output {what} = {value}: expected {expected}")]
+    Output {
+        /// What was measured, with its unit.
+        what: &'static str,
+        /// The value found.
+        value: u64,
+        /// What the render needs.
+        expected: String,
+    },
     /// wgpu reported a validation or out-of-memory error (caught by an error scope).
     #[error("GPU validation error: {0}")]
     Validation(String),

@@ -1,14 +1,24 @@
 //! [`GpuEvaluator`]: a model prepared on the device once (its kind's [`GpuKernel`]), and tiled
-//! rendering of any window with read-back.
+//! rendering of any window through the render ring (`render.rs`): into a host slice in any
+//! [`OutputFormat`], or into a caller's device buffer with no read-back.
+
+use std::sync::Mutex;
 
 use spectex_model::{Model, Period};
 
 use crate::kernel::{GpuKernel, GpuKind};
+use crate::pipeline::Gpu;
+use crate::render::{self, OutputFormat, Packers, RenderStats, Ring, Sink, Tile};
 use crate::{GpuContext, GpuError, GpuWindow};
 
-/// Default largest tile, in pixels per side: a dispatch short enough for desktop watchdogs
-/// (about 0.1 s on a discrete GPU at J = 50) and a 16 MiB output buffer.
+/// Default largest tile, as pixels per side of a square: tiles hold at most
+/// `DEFAULT_MAX_TILE²` pixels, a dispatch short enough for desktop watchdogs (about 0.1 s on a
+/// discrete GPU at J = 50) and a 16 MiB output buffer. Tiles are as wide as the window where
+/// that fits ([`DEFAULT_MAX_TILE_WIDTH`]), so each one is a contiguous band of the output.
 pub const DEFAULT_MAX_TILE: usize = 2048;
+
+/// Default largest tile width, in pixels: windows up to this wide render in full-width bands.
+pub const DEFAULT_MAX_TILE_WIDTH: usize = 16_384;
 
 /// A model prepared on the device: validated, packed into storage buffers, with its pipeline.
 /// Rendering can then fail only on a bad window or a device problem.
@@ -16,7 +26,13 @@ pub const DEFAULT_MAX_TILE: usize = 2048;
 pub struct GpuEvaluator {
     adapter_info: wgpu::AdapterInfo,
     kernel: Box<dyn GpuKernel>,
-    max_tile: [usize; 2],
+    /// A cap on the tile's sides set by [`set_max_tile`](Self::set_max_tile), else the default
+    /// band policy.
+    max_tile: Option<[usize; 2]>,
+    gpu: Gpu,
+    packers: Packers,
+    /// The render ring, made on the first render and kept while large enough.
+    ring: Mutex<Option<Ring>>,
 }
 
 impl GpuEvaluator {
@@ -100,7 +116,10 @@ impl GpuEvaluator {
         Ok(Self {
             adapter_info: context.adapter_info(),
             kernel,
-            max_tile: [DEFAULT_MAX_TILE, DEFAULT_MAX_TILE],
+            max_tile: None,
+            gpu: Gpu::new(context),
+            packers: Packers::new(context)?,
+            ring: Mutex::new(None),
         })
     }
 
@@ -123,51 +142,216 @@ impl GpuEvaluator {
         &self.adapter_info
     }
 
-    /// Caps the tile size (pixels per side) used by [`render`](Self::render): smaller tiles
-    /// bound the device memory and the length of one dispatch. The device's limits cap it
-    /// further. Values are the same for any tile size (tests force several tiles this way).
+    /// Caps the tile size (pixels per side) used by the renders: smaller tiles bound the
+    /// device memory and the length of one dispatch. The device's limits cap it further.
+    /// Values are the same for any tile size (tests force several tiles this way).
     pub fn set_max_tile(&mut self, width: usize, height: usize) {
-        self.max_tile = [width.max(1), height.max(1)];
+        self.max_tile = Some([width.max(1), height.max(1)]);
     }
 
-    /// The tile size `render` would use for `window`: the requested cap, then the device's
-    /// storage-binding and buffer-size limits (output and per-axis tables) and its dispatch limit.
+    /// The tile size the renders use for `window`: full-width bands of at most
+    /// [`DEFAULT_MAX_TILE`]² pixels (or the cap of [`set_max_tile`](Self::set_max_tile)), then
+    /// the device's storage-binding and buffer-size limits (output and per-axis tables) and
+    /// its dispatch limit.
     ///
     /// # Errors
     /// [`GpuError::LimitsExceeded`] if not even a one-pixel-wide tile fits.
     pub fn tile_size(&self, window: &GpuWindow) -> Result<[usize; 2], GpuError> {
-        self.kernel.tile_size(window, self.max_tile)
+        let cap = self.max_tile.unwrap_or_else(|| {
+            let width = window.width.clamp(1, DEFAULT_MAX_TILE_WIDTH);
+            let height = (DEFAULT_MAX_TILE * DEFAULT_MAX_TILE / width).max(1);
+            [width, height]
+        });
+        self.kernel.tile_size(window, cap)
     }
 
     /// Renders `window` row-major (`width × height × output_channels` values, channels
-    /// interleaved per pixel as on the CPU), tile by tile, reading each tile back; the size is
-    /// bounded only by host memory. Tiling does not change any value.
+    /// interleaved per pixel as on the CPU), tile by tile; the size is bounded only by host
+    /// memory. Tiling does not change any value.
     ///
     /// # Errors
     /// [`GpuError::Window`] for a window out of range; [`GpuError::Validation`],
     /// [`GpuError::DeviceLost`] for device problems.
     pub fn render(&self, window: &GpuWindow) -> Result<Vec<f32>, GpuError> {
+        let mut out = vec![0.0f32; self.values(window)?];
+        self.render_into(window, &mut out)?;
+        Ok(out)
+    }
+
+    /// As [`render`](Self::render), into `out` (exactly `width × height × output_channels`
+    /// values): each tile is written straight from the mapped device memory while the next
+    /// computes.
+    ///
+    /// # Errors
+    /// As [`render`](Self::render), and [`GpuError::Output`] for a slice of another length.
+    pub fn render_into(
+        &self,
+        window: &GpuWindow,
+        out: &mut [f32],
+    ) -> Result<RenderStats, GpuError> {
+        self.render_bytes_into(window, OutputFormat::F32, bytemuck::cast_slice_mut(out))
+    }
+
+    /// `window` in `format`, row-major, channels interleaved (`f32` and `f16` values and unorm
+    /// levels as little-endian bytes): a render for an 8-bit PNG reads back a quarter of the
+    /// bytes of an `f32` one.
+    ///
+    /// # Errors
+    /// As [`render`](Self::render).
+    pub fn render_bytes(
+        &self,
+        window: &GpuWindow,
+        format: OutputFormat,
+    ) -> Result<Vec<u8>, GpuError> {
+        let mut out = vec![0u8; self.values(window)? * format.bytes_per_value()];
+        self.render_bytes_into(window, format, &mut out)?;
+        Ok(out)
+    }
+
+    /// As [`render_bytes`](Self::render_bytes), into `out` (exactly the window's bytes).
+    ///
+    /// # Errors
+    /// As [`render`](Self::render), and [`GpuError::Output`] for a slice of another length.
+    pub fn render_bytes_into(
+        &self,
+        window: &GpuWindow,
+        format: OutputFormat,
+        out: &mut [u8],
+    ) -> Result<RenderStats, GpuError> {
+        let expected = self.values(window)? * format.bytes_per_value();
+        if out.len() != expected {
+            return Err(GpuError::Output {
+                what: "bytes of the output slice",
+                value: out.len() as u64,
+                expected: format!("{expected} (width × height × channels × bytes per value)"),
+            });
+        }
+        let pixel = self.output_channels() * format.bytes_per_value();
+        let row = window.width * pixel;
+        let mut write = |[tx, ty]: [usize; 2], tile: &GpuWindow, bytes: &[u8]| {
+            let line = tile.width * pixel;
+            if line == row {
+                let start = ty * row;
+                out[start..start + bytes.len()].copy_from_slice(bytes);
+            } else {
+                for (r, chunk) in bytes.chunks_exact(line).enumerate() {
+                    let start = (ty + r) * row + tx * pixel;
+                    out[start..start + line].copy_from_slice(chunk);
+                }
+            }
+        };
+        self.render_with(window, format, Sink::Host(&mut write))
+    }
+
+    /// Renders `window` in `format` into a caller's device `buffer` from byte `offset`,
+    /// row-major, with nothing read back: a wgpu or Bevy renderer on the same device
+    /// ([`GpuContext::from_device`]) fills its own storage buffer, then copies it into a
+    /// texture or reads it in its shaders. The buffer needs [`wgpu::BufferUsages::COPY_DST`];
+    /// the copies move 4-byte words, so `offset` and, for tiles narrower than the window, each
+    /// row's bytes must be whole words, and the buffer must hold the window's bytes rounded up
+    /// to a whole word. The work is submitted to the device's queue when this returns (the
+    /// stats' kernel time waits for it where the device has timestamps).
+    ///
+    /// # Errors
+    /// [`GpuError::Output`] for a buffer too small, without `COPY_DST`, or misaligned;
+    /// [`GpuError::Validation`] for a buffer of another device; otherwise as
+    /// [`render`](Self::render).
+    pub fn render_to_buffer(
+        &self,
+        window: &GpuWindow,
+        format: OutputFormat,
+        buffer: &wgpu::Buffer,
+        offset: u64,
+    ) -> Result<RenderStats, GpuError> {
+        let bytes = (self.values(window)? * format.bytes_per_value()) as u64;
+        if !buffer.usage().contains(wgpu::BufferUsages::COPY_DST) {
+            return Err(GpuError::Output {
+                what: "usage bits of the target buffer",
+                value: u64::from(buffer.usage().bits()),
+                expected: "a buffer created with wgpu::BufferUsages::COPY_DST".to_owned(),
+            });
+        }
+        if !offset.is_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT) {
+            return Err(GpuError::Output {
+                what: "byte offset into the target buffer",
+                value: offset,
+                expected: "a multiple of 4".to_owned(),
+            });
+        }
+        let needed = offset + bytes.next_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT);
+        if buffer.size() < needed {
+            return Err(GpuError::Output {
+                what: "bytes of the target buffer",
+                value: buffer.size(),
+                expected: format!(
+                    "at least {needed} (offset {offset} + the window's {bytes} bytes, rounded up \
+                     to a whole word)"
+                ),
+            });
+        }
+        self.render_with(window, format, Sink::Device { buffer, offset })
+    }
+
+    /// Values of a render of `window`, after checking the window.
+    fn values(&self, window: &GpuWindow) -> Result<usize, GpuError> {
+        window.validate()?;
+        self.kernel.check_window(window)?;
+        Ok(window.width * window.height * self.output_channels())
+    }
+
+    /// The tiles of `window`, through the ring, into `sink`.
+    fn render_with(
+        &self,
+        window: &GpuWindow,
+        format: OutputFormat,
+        sink: Sink<'_>,
+    ) -> Result<RenderStats, GpuError> {
         window.validate()?;
         self.kernel.check_window(window)?;
         let [tile_width, tile_height] = self.tile_size(window)?;
-        let channels = self.output_channels();
-        let mut out = vec![0.0f32; window.width * window.height * channels];
+        let mut tiles = Vec::new();
         for ty in (0..window.height).step_by(tile_height) {
             for tx in (0..window.width).step_by(tile_width) {
-                let tile = window.tile(
-                    tx,
-                    ty,
-                    tile_width.min(window.width - tx),
-                    tile_height.min(window.height - ty),
-                );
-                let values = self.render_tile_displaced(&tile, None)?;
-                for (row, line) in values.chunks_exact(tile.width * channels).enumerate() {
-                    let start = ((ty + row) * window.width + tx) * channels;
-                    out[start..start + line.len()].copy_from_slice(line);
-                }
+                tiles.push(Tile {
+                    at: [tx, ty],
+                    window: window.tile(
+                        tx,
+                        ty,
+                        tile_width.min(window.width - tx),
+                        tile_height.min(window.height - ty),
+                    ),
+                });
             }
         }
-        Ok(out)
+        let capacity = (tile_width * tile_height * self.output_channels()) as u64;
+        // A poisoned lock (a panic during another render) only loses the ring.
+        let mut guard = self.ring.lock().unwrap_or_else(|poisoned| {
+            let mut guard = poisoned.into_inner();
+            *guard = None;
+            guard
+        });
+        if guard
+            .as_ref()
+            .is_some_and(|ring| ring.capacity() < capacity)
+        {
+            *guard = None;
+        }
+        let ring = guard.get_or_insert_with(|| Ring::new(&self.gpu, capacity));
+        let result = render::run(
+            &self.gpu,
+            self.kernel.as_ref(),
+            &self.packers,
+            ring,
+            window,
+            &tiles,
+            format,
+            sink,
+        );
+        if result.is_err() {
+            // A failed render may leave a slot mapped or its map pending: start afresh.
+            *guard = None;
+        }
+        result
     }
 
     /// One tile (which fits [`tile_size`](Self::tile_size)) at positions displaced by

@@ -113,6 +113,25 @@ pub(crate) trait GpuKernel: fmt::Debug + Send + Sync {
         tile: &GpuWindow,
         displacement: Option<&[f32]>,
     ) -> Result<Vec<f32>, GpuError>;
+
+    /// Records the undisplaced dispatch of `tile` into `encoder`, writing its values (`f32`,
+    /// row-major, channels interleaved) from the start of `output`, with `timer` writing the
+    /// pass's timestamps: the render ring's path, which reads nothing back itself. `Ok(false)`
+    /// (the default) for a kernel that composes host values (a warp, a combination): the ring
+    /// then renders the tile through [`render_tile`](Self::render_tile) and uploads it.
+    ///
+    /// # Errors
+    /// As [`render_tile`](Self::render_tile).
+    fn encode_tile(
+        &self,
+        tile: &GpuWindow,
+        encoder: &mut wgpu::CommandEncoder,
+        output: &wgpu::Buffer,
+        timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) -> Result<bool, GpuError> {
+        let _ = (tile, encoder, output, timer);
+        Ok(false)
+    }
 }
 
 /// A kind rendered by a compute shader of its own: everything kind-specific about it, and

@@ -70,6 +70,7 @@
 // Infrastructure: the device, the public evaluator, the kernel traits, the shared pipeline
 // code, the records' layout check and the shader registry.
 mod axis;
+mod cache;
 mod context;
 mod error;
 mod evaluator;
@@ -77,6 +78,7 @@ pub mod export;
 mod kernel;
 mod layout;
 mod pipeline;
+mod render;
 pub mod shaders;
 pub mod simulate;
 
@@ -97,7 +99,8 @@ mod wavelet;
 
 pub use context::{ADAPTER_NAME_ENV, GpuContext};
 pub use error::{GpuError, LAVAPIPE_HINT};
-pub use evaluator::{DEFAULT_MAX_TILE, GpuEvaluator};
+pub use evaluator::{DEFAULT_MAX_TILE, DEFAULT_MAX_TILE_WIDTH, GpuEvaluator};
+pub use render::{OutputFormat, RenderStats};
 pub use shaders::{SHADERS, wgsl_source};
 /// The window type is `spectex-model`'s, shared with the CPU evaluator (so both map pixels to
 /// positions by one expression); `GpuWindow` is its name here.

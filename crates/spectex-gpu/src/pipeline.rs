@@ -1,20 +1,24 @@
 //! The wgpu side every shader kind shares: [`Shaded`] builds a kind's compute pipeline (once per
-//! device: [`PipelineCache`]) with the layout derived from its WGSL (`layout: None`, then
-//! `get_bind_group_layout`, as wgpu's examples do: the shader is the one place the layout is
-//! written), uploads its tables, dispatches a tile and reads it back; [`Gpu`] holds the device
-//! handles, and [`ErrorScopes`] turns wgpu's validation and out-of-memory errors into
-//! [`GpuError`]s.
+//! device, through the context's pipeline cache) with the layout derived from its WGSL
+//! (`layout: None`, then `get_bind_group_layout`, as wgpu's examples do: the shader is the one
+//! place the layout is written), uploads its tables and records the dispatch of a tile into an
+//! output buffer it is given (the render ring of `render.rs`), or renders a tile with read-back
+//! for the kinds that compose tiles on the host; [`Gpu`] holds the device handles, and
+//! [`ErrorScopes`] turns wgpu's validation and out-of-memory errors into [`GpuError`]s.
 
-use std::collections::HashMap;
-use std::sync::{Mutex, mpsc};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, mpsc};
 
-use crate::context::LostFlag;
+use crate::cache::{CachedPipeline, LostFlag};
 use crate::kernel::{GpuKernel, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
 use crate::{GpuContext, GpuError, GpuWindow, wgsl_source};
 
 /// Side of the compute workgroups of every model shader (`@workgroup_size(8, 8, 1)`).
 pub(crate) const WORKGROUP_SIDE: usize = 8;
+
+/// Bytes of one timestamp pair (start and end of a pass), as resolved by the device.
+pub(crate) const TIMESTAMP_PAIR_BYTES: u64 = 2 * wgpu::QUERY_SIZE as u64;
 
 wgsl_struct! {
     /// `WarpParams` of `common.wgsl` (bind group 1, binding 0): whether this dispatch is
@@ -42,7 +46,11 @@ pub(crate) struct Gpu {
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,
     pub limits: wgpu::Limits,
-    lost: LostFlag,
+    pub lost: LostFlag,
+    /// Whether the device takes timestamp queries.
+    pub timestamps: bool,
+    /// The context's count of timestamped nanoseconds.
+    clock: Arc<AtomicU64>,
 }
 
 impl Gpu {
@@ -51,8 +59,10 @@ impl Gpu {
         Self {
             limits: device.limits(),
             queue: context.queue().clone(),
+            timestamps: context.has_timestamps(),
             device,
             lost: context.lost_flag(),
+            clock: context.kernel_clock(),
         }
     }
 
@@ -62,7 +72,12 @@ impl Gpu {
     }
 
     /// A buffer of `usage` holding `bytes`.
-    fn buffer(&self, label: &str, bytes: &[u8], usage: wgpu::BufferUsages) -> wgpu::Buffer {
+    pub(crate) fn buffer(
+        &self,
+        label: &str,
+        bytes: &[u8],
+        usage: wgpu::BufferUsages,
+    ) -> wgpu::Buffer {
         use wgpu::util::DeviceExt;
         self.device
             .create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -72,49 +87,100 @@ impl Gpu {
             })
     }
 
+    /// An uninitialised buffer of `size` bytes and `usage` (wgpu zeroes it before first use).
+    pub(crate) fn empty(&self, label: &str, size: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {
+        self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size,
+            usage,
+            mapped_at_creation: false,
+        })
+    }
+
     /// A read-only storage buffer holding `table`.
     fn storage(&self, table: &Table) -> wgpu::Buffer {
         self.buffer(table.label, &table.bytes, wgpu::BufferUsages::STORAGE)
     }
-}
 
-/// A compute pipeline and the two bind group layouts derived from its shader.
-#[derive(Debug, Clone)]
-struct CachedPipeline {
-    pipeline: wgpu::ComputePipeline,
-    model_layout: wgpu::BindGroupLayout,
-    warp_layout: wgpu::BindGroupLayout,
-}
+    /// A query set of `pairs` timestamp pairs, where the device has timestamps.
+    pub(crate) fn query_set(&self, pairs: u32) -> Option<wgpu::QuerySet> {
+        self.timestamps.then(|| {
+            self.device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("spectex timestamps"),
+                ty: wgpu::QueryType::Timestamp,
+                count: 2 * pairs,
+            })
+        })
+    }
 
-/// The compute pipelines a [`GpuContext`] has built, by `(shader, entry point)`. A kind's shader
-/// source is fixed by its name ([`wgsl_source`]), so every evaluator of that kind on the device
-/// shares one pipeline: building a pipeline compiles the shader (on lavapipe, LLVM: 0.1 s to
-/// seconds per shader), where a model's own data lives in its uniform and tables.
-#[derive(Debug, Default)]
-pub(crate) struct PipelineCache(Mutex<HashMap<(&'static str, &'static str), CachedPipeline>>);
+    /// The context's count of timestamped nanoseconds so far.
+    pub(crate) fn clock_nanos(&self) -> u64 {
+        self.clock.load(Ordering::Relaxed)
+    }
 
-impl PipelineCache {
-    /// The cached pipeline of `(shader, entry)`, or the one `build` makes (then cached). A
-    /// poisoned lock (a panic while another thread held it) only loses the cache: the pipeline
-    /// is built again.
-    fn get_or_build(
-        &self,
-        key: (&'static str, &'static str),
-        build: impl FnOnce() -> Result<CachedPipeline, GpuError>,
-    ) -> Result<CachedPipeline, GpuError> {
-        if let Some(hit) = self.0.lock().ok().and_then(|m| m.get(&key).cloned()) {
-            return Ok(hit);
-        }
-        let built = build()?;
-        if let Ok(mut map) = self.0.lock() {
-            map.insert(key, built.clone());
-        }
-        Ok(built)
+    /// Adds the dispatch time of resolved timestamp pairs (`bytes`: start, end, start, end …
+    /// as `u64` ticks) to the context's clock, and returns it in nanoseconds. A pair whose end
+    /// precedes its start (a device that reset its counter) counts nothing.
+    pub(crate) fn clock_pairs(&self, bytes: &[u8]) -> u64 {
+        let period = f64::from(self.queue.get_timestamp_period());
+        let nanos: f64 = bytes
+            .chunks_exact(TIMESTAMP_PAIR_BYTES as usize)
+            .map(|pair| {
+                let start = u64::from_le_bytes(pair[..8].try_into().unwrap_or_default());
+                let end = u64::from_le_bytes(pair[8..].try_into().unwrap_or_default());
+                end.saturating_sub(start) as f64 * period
+            })
+            .sum();
+        let nanos = nanos.round() as u64;
+        self.clock.fetch_add(nanos, Ordering::Relaxed);
+        nanos
     }
 }
 
+/// The compute pipeline of `(shader, entry)` on the context's device, from the cache or built
+/// from `source` (then cached), with the layouts of its first `groups` bind groups.
+///
+/// # Errors
+/// [`GpuError::Validation`] if the device rejects the shader.
+pub(crate) fn compute_pipeline(
+    context: &GpuContext,
+    key: (&'static str, &'static str),
+    groups: u32,
+    source: impl FnOnce() -> Option<String>,
+) -> Result<CachedPipeline, GpuError> {
+    let device = context.device();
+    context.pipeline_cache().get_or_build(key, || {
+        let (shader, entry) = key;
+        let source = source().ok_or_else(|| {
+            GpuError::Validation(format!("shader {shader} missing from the registry"))
+        })?;
+        let scope = ErrorScopes::push(device);
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(shader),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
+        });
+        // The layout is the shader's own. A derived layout leaves out bindings the entry point
+        // does not use; the shader test `model_shaders_use_every_binding_in_the_host_order`
+        // keeps every declared binding used, so the host may bind them all.
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(shader),
+            layout: None,
+            module: &module,
+            entry_point: Some(entry),
+            compilation_options: wgpu::PipelineCompilationOptions::default(),
+            cache: None,
+        });
+        let layouts = (0..groups)
+            .map(|g| pipeline.get_bind_group_layout(g))
+            .collect();
+        scope.pop()?;
+        Ok(CachedPipeline { pipeline, layouts })
+    })
+}
+
 /// A [`ShaderKernel`] on the device: its pipeline (layouts derived from the shader), its tables
-/// packed once, and the dispatch of a tile. The [`GpuKernel`] of every kind with a shader.
+/// packed once, the bind group of an undisplaced dispatch made once, and the dispatch of a
+/// tile. The [`GpuKernel`] of every kind with a shader.
 #[derive(Debug)]
 pub(crate) struct Shaded<K> {
     gpu: Gpu,
@@ -123,15 +189,18 @@ pub(crate) struct Shaded<K> {
     model_layout: wgpu::BindGroupLayout,
     /// Group 1: the displacement of `common.wgsl`.
     warp_layout: wgpu::BindGroupLayout,
+    /// Group 1 of an undisplaced dispatch (every tile of a direct render).
+    still: wgpu::BindGroup,
     /// The tables packed once, bound after the uniform.
     resident: Vec<wgpu::Buffer>,
+    /// One timestamp pair for [`render_tile`](GpuKernel::render_tile)'s dispatches.
+    queries: Option<wgpu::QuerySet>,
     kind: K,
 }
 
 impl<K: ShaderKernel> Shaded<K> {
     /// Uploads `resident` (the kind's tables packed once, in binding order after the uniform)
-    /// and takes the kind's pipeline from the context's [`PipelineCache`], building it the
-    /// first time.
+    /// and takes the kind's pipeline from the context's cache, building it the first time.
     ///
     /// # Errors
     /// [`GpuError::Validation`] if the device rejects the shader or a buffer.
@@ -141,55 +210,123 @@ impl<K: ShaderKernel> Shaded<K> {
         resident: &[Table],
     ) -> Result<Box<dyn GpuKernel>, GpuError> {
         let gpu = Gpu::new(context);
-        let device = &gpu.device;
-        let cached = context
-            .pipeline_cache()
-            .get_or_build((K::SHADER, K::ENTRY_POINT), || {
-                let source = wgsl_source(K::SHADER).ok_or_else(|| {
-                    GpuError::Validation(format!("shader {} missing from the registry", K::SHADER))
-                })?;
-                let scope = ErrorScopes::push(device);
-                let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                    label: Some(K::SHADER),
-                    source: wgpu::ShaderSource::Wgsl(source.into()),
-                });
-                // The layout is the shader's own. A derived layout leaves out bindings the entry
-                // point does not use; the shader test `every_binding_is_used_by_its_entry_point`
-                // keeps every declared binding used, so the host may bind them all.
-                let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                    label: Some(K::SHADER),
-                    layout: None,
-                    module: &module,
-                    entry_point: Some(K::ENTRY_POINT),
-                    compilation_options: wgpu::PipelineCompilationOptions::default(),
-                    cache: None,
-                });
-                let model_layout = pipeline.get_bind_group_layout(0);
-                let warp_layout = pipeline.get_bind_group_layout(1);
-                scope.pop()?;
-                Ok(CachedPipeline {
-                    pipeline,
-                    model_layout,
-                    warp_layout,
-                })
+        let CachedPipeline { pipeline, layouts } =
+            compute_pipeline(context, (K::SHADER, K::ENTRY_POINT), 2, || {
+                wgsl_source(K::SHADER)
             })?;
-        let CachedPipeline {
-            pipeline,
-            model_layout,
-            warp_layout,
-        } = cached;
-        let scope = ErrorScopes::push(device);
+        let [model_layout, warp_layout]: [wgpu::BindGroupLayout; 2] =
+            layouts.try_into().map_err(|_| {
+                GpuError::Validation(format!("shader {} lacks bind group 1", K::SHADER))
+            })?;
+        let scope = ErrorScopes::push(&gpu.device);
         let resident = resident.iter().map(|t| gpu.storage(t)).collect();
+        let still = warp_group(&gpu, &warp_layout, None);
+        let queries = gpu.query_set(1);
         scope.pop()?;
         Ok(Box::new(Self {
             pipeline,
             model_layout,
             warp_layout,
+            still,
             resident,
+            queries,
             kind,
             gpu,
         }))
     }
+
+    /// Records the dispatch of `tile` (displaced by `displacement` when given) writing the
+    /// first `tile`-many values of `output`, with `timer` writing its timestamps.
+    fn record(
+        &self,
+        tile: &GpuWindow,
+        displacement: Option<&[f32]>,
+        encoder: &mut wgpu::CommandEncoder,
+        output: &wgpu::Buffer,
+        timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) -> Result<(), GpuError> {
+        // Built first: a texture runs its LRP passes here, each in its own error scope.
+        let TileTables { uniform, tables } =
+            self.kind
+                .tile_tables(tile, displacement, self.gpu.binding_limit())?;
+        let gpu = &self.gpu;
+        let (width, height) = (tile.width, tile.height);
+        let output_bytes = 4 * (width * height * self.kind.output_channels()) as u64;
+        let uniform = gpu.buffer("params", &uniform, wgpu::BufferUsages::UNIFORM);
+        let per_tile: Vec<wgpu::Buffer> = tables.iter().map(|t| gpu.storage(t)).collect();
+        let mut entries: Vec<wgpu::BindGroupEntry<'_>> = std::iter::once(&uniform)
+            .chain(&self.resident)
+            .chain(&per_tile)
+            .enumerate()
+            .map(|(binding, buffer)| wgpu::BindGroupEntry {
+                binding: binding as u32,
+                resource: buffer.as_entire_binding(),
+            })
+            .collect();
+        entries.push(wgpu::BindGroupEntry {
+            binding: entries.len() as u32,
+            resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                buffer: output,
+                offset: 0,
+                size: wgpu::BufferSize::new(output_bytes),
+            }),
+        });
+        let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("spectex tile"),
+            layout: &self.model_layout,
+            entries: &entries,
+        });
+        let displaced = displacement.map(|d| warp_group(gpu, &self.warp_layout, Some(d)));
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("spectex tile"),
+            timestamp_writes: timer,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &bind_group, &[]);
+        pass.set_bind_group(1, displaced.as_ref().unwrap_or(&self.still), &[]);
+        pass.dispatch_workgroups(
+            width.div_ceil(WORKGROUP_SIDE) as u32,
+            height.div_ceil(WORKGROUP_SIDE) as u32,
+            1,
+        );
+        Ok(())
+    }
+}
+
+/// Bind group 1 of a dispatch: displaced by `displacement` (pixels, `(dx, dy)` per pixel) or
+/// not, where the displacement is one unused (0, 0) (a binding holds at least one element).
+fn warp_group(
+    gpu: &Gpu,
+    layout: &wgpu::BindGroupLayout,
+    displacement: Option<&[f32]>,
+) -> wgpu::BindGroup {
+    let params = WarpParams {
+        enabled: u32::from(displacement.is_some()),
+        ..bytemuck::Zeroable::zeroed()
+    };
+    let uniform = gpu.buffer(
+        "warp params",
+        bytemuck::bytes_of(&params),
+        wgpu::BufferUsages::UNIFORM,
+    );
+    let values = gpu.storage(&Table::new(
+        "warp displacement",
+        displacement.unwrap_or(&[0.0f32, 0.0][..]),
+    ));
+    gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("spectex warp"),
+        layout,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: uniform.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: values.as_entire_binding(),
+            },
+        ],
+    })
 }
 
 impl<K: ShaderKernel> GpuKernel for Shaded<K> {
@@ -224,103 +361,73 @@ impl<K: ShaderKernel> GpuKernel for Shaded<K> {
         Ok([width, height])
     }
 
+    fn encode_tile(
+        &self,
+        tile: &GpuWindow,
+        encoder: &mut wgpu::CommandEncoder,
+        output: &wgpu::Buffer,
+        timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) -> Result<bool, GpuError> {
+        self.record(tile, None, encoder, output, timer)?;
+        Ok(true)
+    }
+
+    /// One dispatch read back at once (the passes of a texture, the operands of a warp or a
+    /// combination), timed into the context's clock where the device has timestamps.
     fn render_tile(
         &self,
         tile: &GpuWindow,
         displacement: Option<&[f32]>,
     ) -> Result<Vec<f32>, GpuError> {
-        // Built first: a texture runs its LRP passes here, each in its own error scope.
-        let TileTables { uniform, tables } =
-            self.kind
-                .tile_tables(tile, displacement, self.gpu.binding_limit())?;
         let gpu = &self.gpu;
-        let device = &gpu.device;
-        let scope = ErrorScopes::push(device);
-        let (width, height) = (tile.width, tile.height);
-        let output_bytes = 4 * (width * height * self.kind.output_channels()) as u64;
-        let output = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("spectex output"),
-            size: output_bytes,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
-        let readback = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("spectex readback"),
-            size: output_bytes,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let uniform = gpu.buffer("params", &uniform, wgpu::BufferUsages::UNIFORM);
-        let per_tile: Vec<wgpu::Buffer> = tables.iter().map(|t| gpu.storage(t)).collect();
-        let buffers = std::iter::once(&uniform)
-            .chain(&self.resident)
-            .chain(&per_tile)
-            .chain([&output]);
-        let entries: Vec<wgpu::BindGroupEntry<'_>> = buffers
-            .enumerate()
-            .map(|(binding, buffer)| wgpu::BindGroupEntry {
-                binding: binding as u32,
-                resource: buffer.as_entire_binding(),
-            })
-            .collect();
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("spectex tile"),
-            layout: &self.model_layout,
-            entries: &entries,
-        });
-        let warp_params = WarpParams {
-            enabled: u32::from(displacement.is_some()),
-            ..bytemuck::Zeroable::zeroed()
-        };
-        let warp_uniform = gpu.buffer(
-            "warp params",
-            bytemuck::bytes_of(&warp_params),
-            wgpu::BufferUsages::UNIFORM,
+        let values = tile.width * tile.height * self.kind.output_channels();
+        let output_bytes = 4 * values as u64;
+        let output = gpu.empty(
+            "spectex output",
+            output_bytes,
+            wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
         );
-        // Disabled, the displacement is one unused (0, 0): a binding holds at least one element.
-        let warp_buffer = gpu.storage(&Table::new(
-            "warp displacement",
-            displacement.map_or(&[0.0f32, 0.0][..], |d| d),
-        ));
-        let warp_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("spectex warp"),
-            layout: &self.warp_layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: warp_uniform.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: warp_buffer.as_entire_binding(),
-                },
-            ],
-        });
-        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("spectex tile"),
-        });
-        {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+        let timed = self.queries.is_some();
+        let readback = gpu.empty(
+            "spectex readback",
+            output_bytes + if timed { TIMESTAMP_PAIR_BYTES } else { 0 },
+            wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        );
+        let mut encoder = gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("spectex tile"),
-                timestamp_writes: None,
             });
-            pass.set_pipeline(&self.pipeline);
-            pass.set_bind_group(0, &bind_group, &[]);
-            pass.set_bind_group(1, &warp_group, &[]);
-            pass.dispatch_workgroups(
-                width.div_ceil(WORKGROUP_SIDE) as u32,
-                height.div_ceil(WORKGROUP_SIDE) as u32,
-                1,
+        let timer = self
+            .queries
+            .as_ref()
+            .map(|set| wgpu::ComputePassTimestampWrites {
+                query_set: set,
+                beginning_of_pass_write_index: Some(0),
+                end_of_pass_write_index: Some(1),
+            });
+        self.record(tile, displacement, &mut encoder, &output, timer)?;
+        encoder.copy_buffer_to_buffer(&output, 0, &readback, 0, output_bytes);
+        if let Some(set) = &self.queries {
+            let resolved = gpu.empty(
+                "spectex timestamps",
+                TIMESTAMP_PAIR_BYTES,
+                wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+            );
+            encoder.resolve_query_set(set, 0..2, &resolved, 0);
+            encoder.copy_buffer_to_buffer(
+                &resolved,
+                0,
+                &readback,
+                output_bytes,
+                TIMESTAMP_PAIR_BYTES,
             );
         }
-        encoder.copy_buffer_to_buffer(&output, 0, &readback, 0, output_bytes);
-        gpu.queue.submit([encoder.finish()]);
-        scope.pop()?;
-        let bytes = read_buffer(device, &readback, &gpu.lost)?;
-        Ok(bytes
-            .chunks_exact(4)
-            .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
-            .collect())
+        let index = gpu.queue.submit([encoder.finish()]);
+        let bytes = read_buffer(&gpu.device, &readback, &gpu.lost, Some(index))?;
+        let (data, stamps) = bytes.split_at(output_bytes as usize);
+        gpu.clock_pairs(stamps);
+        Ok(bytemuck::pod_collect_to_vec(data))
     }
 }
 
@@ -352,34 +459,61 @@ impl ErrorScopes {
     }
 }
 
-/// Maps `buffer`, waits for the device, and copies its bytes out.
+/// A map of a whole buffer for reading, asked for and not yet waited on ([`Mapping::wait`]).
+pub(crate) struct Mapping {
+    receiver: mpsc::Receiver<Result<(), wgpu::BufferAsyncError>>,
+}
+
+impl Mapping {
+    /// Asks for `buffer` to be mapped for reading once the device is done with it.
+    pub(crate) fn ask(buffer: &wgpu::Buffer) -> Self {
+        let (sender, receiver) = mpsc::channel();
+        buffer
+            .slice(..)
+            .map_async(wgpu::MapMode::Read, move |result| {
+                // The receiver waits in `wait`; a send error only means it is gone already.
+                let _ = sender.send(result);
+            });
+        Self { receiver }
+    }
+
+    /// Waits for the device to finish `submission` (the latest one when `None`) and for the
+    /// map; the buffer may then be read through `get_mapped_range` and must be unmapped.
+    pub(crate) fn wait(
+        self,
+        device: &wgpu::Device,
+        lost: &LostFlag,
+        submission: Option<wgpu::SubmissionIndex>,
+    ) -> Result<(), GpuError> {
+        let polled = device.poll(wgpu::PollType::Wait {
+            submission_index: submission,
+            timeout: None,
+        });
+        let lost_reason = lost.lock().ok().and_then(|g| g.clone());
+        if let Some(reason) = lost_reason {
+            return Err(GpuError::DeviceLost(reason));
+        }
+        polled.map_err(|e| GpuError::DeviceLost(format!("waiting for the device: {e}")))?;
+        match self.receiver.recv() {
+            Ok(Ok(())) => Ok(()),
+            Ok(Err(e)) => Err(GpuError::DeviceLost(format!("mapping the output: {e}"))),
+            Err(_) => Err(GpuError::DeviceLost(
+                "the output was never mapped".to_owned(),
+            )),
+        }
+    }
+}
+
+/// Maps `buffer` once `submission` (the latest when `None`) is done, and copies its bytes out.
 pub(crate) fn read_buffer(
     device: &wgpu::Device,
     buffer: &wgpu::Buffer,
     lost: &LostFlag,
+    submission: Option<wgpu::SubmissionIndex>,
 ) -> Result<Vec<u8>, GpuError> {
-    let slice = buffer.slice(..);
-    let (sender, receiver) = mpsc::channel();
-    slice.map_async(wgpu::MapMode::Read, move |result| {
-        // The receiver waits below; a send error only means it is gone already.
-        let _ = sender.send(result);
-    });
-    let polled = device.poll(wgpu::PollType::wait_indefinitely());
-    let lost_reason = lost.lock().ok().and_then(|g| g.clone());
-    if let Some(reason) = lost_reason {
-        return Err(GpuError::DeviceLost(reason));
-    }
-    polled.map_err(|e| GpuError::DeviceLost(format!("waiting for the device: {e}")))?;
-    match receiver.recv() {
-        Ok(Ok(())) => {}
-        Ok(Err(e)) => return Err(GpuError::DeviceLost(format!("mapping the output: {e}"))),
-        Err(_) => {
-            return Err(GpuError::DeviceLost(
-                "the output was never mapped".to_owned(),
-            ));
-        }
-    }
-    let bytes = slice
+    Mapping::ask(buffer).wait(device, lost, submission)?;
+    let bytes = buffer
+        .slice(..)
         .get_mapped_range()
         .map_err(|e| GpuError::DeviceLost(format!("reading the output: {e}")))?
         .to_vec();

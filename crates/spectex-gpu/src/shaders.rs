@@ -107,6 +107,12 @@ pub const SHADERS: &[ShaderFile] = &[
         entry_points: &["subdivision_main"],
     },
     ShaderFile {
+        name: "output",
+        source: include_str!("../../../shaders/output.wgsl"),
+        needs_common: false,
+        entry_points: &["pack_unorm8", "pack_unorm16", "pack_f16"],
+    },
+    ShaderFile {
         name: "probe",
         source: include_str!("../../../shaders/probe.wgsl"),
         needs_common: true,

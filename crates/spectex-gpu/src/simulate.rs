@@ -14,7 +14,8 @@ use spectex_model::simulation::{
 };
 
 use crate::GpuError;
-use crate::context::{GpuContext, LostFlag};
+use crate::cache::LostFlag;
+use crate::context::GpuContext;
 use crate::layout::wgsl_struct;
 use crate::pipeline::ErrorScopes;
 
@@ -379,7 +380,7 @@ impl GpuSimulator {
             });
         encoder.copy_buffer_to_buffer(buffer, 0, &staging, 0, size);
         self.queue.submit([encoder.finish()]);
-        crate::pipeline::read_buffer(&self.device, &staging, &self.lost)
+        crate::pipeline::read_buffer(&self.device, &staging, &self.lost, None)
     }
 
     /// The current buffer set (the one the last step wrote).

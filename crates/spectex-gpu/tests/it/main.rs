@@ -15,6 +15,7 @@ mod lrp;
 mod matrix;
 mod periodic;
 mod phasor;
+mod render;
 mod shaders;
 mod subdivision;
 mod texture;

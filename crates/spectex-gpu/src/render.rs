@@ -1,0 +1,533 @@
+//! The render loop of [`GpuEvaluator`](crate::GpuEvaluator): a window cut into tiles, each
+//! dispatched into one slot of a [`Ring`] of device buffers made once per evaluator, packed to
+//! its [`OutputFormat`] on the device, and copied either back to the host (mapped while the next
+//! tile computes, then written straight into the caller's slice) or into a caller's
+//! `wgpu::Buffer` with no read-back at all. Error scopes are pushed once per render; timestamp
+//! queries (where the device has them) time every dispatch, so a render reports its kernel-only
+//! time beside its end-to-end time ([`RenderStats`]).
+
+use std::collections::VecDeque;
+use std::time::Instant;
+
+use crate::cache::CachedPipeline;
+use crate::kernel::GpuKernel;
+use crate::layout::wgsl_struct;
+use crate::pipeline::{ErrorScopes, Gpu, Mapping, TIMESTAMP_PAIR_BYTES, compute_pipeline};
+use crate::{GpuContext, GpuError, GpuWindow, wgsl_source};
+
+/// Tiles in flight: tile k + 1 (and k + 2) compute while tile k is mapped and copied out.
+pub(crate) const RING_SLOTS: usize = 3;
+
+/// Workgroup size of `output.wgsl`'s packing entry points.
+const PACK_WORKGROUP: u32 = 64;
+
+/// How a render's values reach the caller.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[non_exhaustive]
+pub enum OutputFormat {
+    /// `f32`, the evaluator's own values (4 bytes each).
+    #[default]
+    F32,
+    /// IEEE binary16 (2 bytes each), round to nearest; magnitudes past 65504 clamped to it.
+    F16,
+    /// 8-bit unorm (1 byte each), the CPU's PNG quantisation `round(clamp(v, 0, 1) · 255)`,
+    /// within one level of the CPU's bytes (the device rounds in f32, the CPU in f64).
+    Unorm8,
+    /// 16-bit unorm (2 bytes each), `round(clamp(v, 0, 1) · 65535)`, within one level.
+    Unorm16,
+}
+
+impl OutputFormat {
+    /// Bytes of one value in this format.
+    #[must_use]
+    pub fn bytes_per_value(self) -> usize {
+        match self {
+            Self::F32 => 4,
+            Self::F16 | Self::Unorm16 => 2,
+            Self::Unorm8 => 1,
+        }
+    }
+
+    /// The packing entry point of `output.wgsl`, `None` for `f32` (no packing).
+    fn entry_point(self) -> Option<&'static str> {
+        match self {
+            Self::F32 => None,
+            Self::F16 => Some("pack_f16"),
+            Self::Unorm8 => Some("pack_unorm8"),
+            Self::Unorm16 => Some("pack_unorm16"),
+        }
+    }
+}
+
+/// What a render cost, end to end and on the device.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
+pub struct RenderStats {
+    /// Wall-clock seconds of the render call: tables, dispatches, waits and copies.
+    pub seconds: f64,
+    /// Seconds the device spent in the render's dispatches (model kernels, the passes of a
+    /// composite kind, packing), from timestamp queries; `None` where the device has none.
+    pub kernel_seconds: Option<f64>,
+    /// Tiles dispatched.
+    pub tiles: usize,
+    /// Bytes copied from the device to the host (0 for a render into a device buffer, but
+    /// for the timestamps).
+    pub bytes_read_back: u64,
+}
+
+impl RenderStats {
+    /// Millions of pixels per second of `pixels` end to end.
+    #[must_use]
+    pub fn mpix_per_second(&self, pixels: usize) -> f64 {
+        pixels as f64 / self.seconds.max(f64::MIN_POSITIVE) / 1e6
+    }
+
+    /// Millions of pixels per second of `pixels` on the device alone, where timed.
+    #[must_use]
+    pub fn kernel_mpix_per_second(&self, pixels: usize) -> Option<f64> {
+        self.kernel_seconds
+            .map(|s| pixels as f64 / s.max(f64::MIN_POSITIVE) / 1e6)
+    }
+}
+
+wgsl_struct! {
+    /// `PackParams` of `output.wgsl` (binding 0).
+    pub(crate) struct PackParams {
+        count: u32,
+        words_per_row: u32,
+        _pad0: u32,
+        _pad1: u32,
+    }
+}
+
+/// The packing pipelines of `output.wgsl`, by format.
+#[derive(Debug)]
+pub(crate) struct Packers {
+    f16: CachedPipeline,
+    unorm8: CachedPipeline,
+    unorm16: CachedPipeline,
+}
+
+impl Packers {
+    /// The three packing pipelines, from the context's cache (built once per device).
+    pub(crate) fn new(context: &GpuContext) -> Result<Self, GpuError> {
+        let get = |entry| compute_pipeline(context, ("output", entry), 1, || wgsl_source("output"));
+        Ok(Self {
+            f16: get("pack_f16")?,
+            unorm8: get("pack_unorm8")?,
+            unorm16: get("pack_unorm16")?,
+        })
+    }
+
+    fn get(&self, format: OutputFormat) -> Option<&CachedPipeline> {
+        match format.entry_point()? {
+            "pack_f16" => Some(&self.f16),
+            "pack_unorm8" => Some(&self.unorm8),
+            _ => Some(&self.unorm16),
+        }
+    }
+}
+
+/// One slot of the ring: a tile's values, its packed words, and the host-visible copy.
+#[derive(Debug)]
+struct Slot {
+    /// `f32` values of a tile (the model kernel's output binding, or the upload of a composite
+    /// kind's host values).
+    values: wgpu::Buffer,
+    /// The tile packed by `output.wgsl` (half the values' size, enough for every packing).
+    packed: wgpu::Buffer,
+    /// What comes back to the host: a tile's bytes, then a timestamp pair.
+    readback: wgpu::Buffer,
+    /// Where the slot's timestamp pair is resolved.
+    stamps: Option<wgpu::Buffer>,
+}
+
+/// The device buffers of a render, made once per evaluator and kept for the next render while
+/// large enough. A ring of [`RING_SLOTS`] slots of `capacity` values each.
+#[derive(Debug)]
+pub(crate) struct Ring {
+    /// Values (`f32`) one slot holds.
+    capacity: u64,
+    slots: Vec<Slot>,
+    /// Two timestamps per slot, where the device has them.
+    queries: Option<wgpu::QuerySet>,
+}
+
+impl Ring {
+    /// A ring whose slots hold `capacity` values each.
+    pub(crate) fn new(gpu: &Gpu, capacity: u64) -> Self {
+        use wgpu::BufferUsages as U;
+        let bytes = 4 * capacity.max(1);
+        let slots = (0..RING_SLOTS)
+            .map(|_| Slot {
+                values: gpu.empty(
+                    "spectex tile values",
+                    bytes,
+                    U::STORAGE | U::COPY_SRC | U::COPY_DST,
+                ),
+                packed: gpu.empty(
+                    "spectex tile packed",
+                    bytes.div_ceil(2).next_multiple_of(4),
+                    U::STORAGE | U::COPY_SRC,
+                ),
+                readback: gpu.empty(
+                    "spectex tile readback",
+                    bytes + TIMESTAMP_PAIR_BYTES,
+                    U::MAP_READ | U::COPY_DST,
+                ),
+                stamps: gpu.timestamps.then(|| {
+                    gpu.empty(
+                        "spectex tile timestamps",
+                        TIMESTAMP_PAIR_BYTES,
+                        U::QUERY_RESOLVE | U::COPY_SRC,
+                    )
+                }),
+            })
+            .collect();
+        Self {
+            capacity,
+            slots,
+            queries: gpu.query_set(RING_SLOTS as u32),
+        }
+    }
+
+    /// Values one slot holds.
+    pub(crate) fn capacity(&self) -> u64 {
+        self.capacity
+    }
+}
+
+/// What takes a tile's bytes on the host: the tile's column and row in the window, the tile,
+/// and its bytes (row-major over the tile).
+pub(crate) type HostWrite<'a> = dyn FnMut([usize; 2], &GpuWindow, &[u8]) + 'a;
+
+/// Where a render's bytes go.
+pub(crate) enum Sink<'a> {
+    /// The host, tile by tile.
+    Host(&'a mut HostWrite<'a>),
+    /// A caller's device buffer, row-major over the window from byte `offset`.
+    Device {
+        buffer: &'a wgpu::Buffer,
+        offset: u64,
+    },
+}
+
+/// One tile of a window: its column and row in the window, and its own window.
+pub(crate) struct Tile {
+    pub at: [usize; 2],
+    pub window: GpuWindow,
+}
+
+/// A tile submitted and not yet copied out.
+struct Pending {
+    tile: usize,
+    slot: usize,
+    submission: wgpu::SubmissionIndex,
+    mapping: Option<Mapping>,
+    /// Bytes of the tile's values in the output format.
+    bytes: usize,
+    /// Where the timestamp pair sits in the readback, when the dispatch was timed here.
+    stamps_at: Option<usize>,
+}
+
+/// Renders `tiles` of `window` through `kernel` into `sink`, in `format`, on `ring`.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn run(
+    gpu: &Gpu,
+    kernel: &dyn GpuKernel,
+    packers: &Packers,
+    ring: &Ring,
+    window: &GpuWindow,
+    tiles: &[Tile],
+    format: OutputFormat,
+    mut sink: Sink<'_>,
+) -> Result<RenderStats, GpuError> {
+    let start = Instant::now();
+    let clock = gpu.clock_nanos();
+    let scope = ErrorScopes::push(&gpu.device);
+    let result = run_scoped(gpu, kernel, packers, ring, window, tiles, format, &mut sink);
+    // A failed submission shows as a failed map: the scope then says what failed.
+    let popped = scope.pop();
+    let bytes_read_back = match (result, popped) {
+        (_, Err(scoped)) => return Err(scoped),
+        (Err(e), Ok(())) => return Err(e),
+        (Ok(bytes), Ok(())) => bytes,
+    };
+    Ok(RenderStats {
+        seconds: start.elapsed().as_secs_f64(),
+        kernel_seconds: gpu
+            .timestamps
+            .then(|| gpu.clock_nanos().saturating_sub(clock) as f64 * 1e-9),
+        tiles: tiles.len(),
+        bytes_read_back,
+    })
+}
+
+/// [`run`] inside its error scope: the bytes read back.
+#[allow(clippy::too_many_arguments)]
+fn run_scoped(
+    gpu: &Gpu,
+    kernel: &dyn GpuKernel,
+    packers: &Packers,
+    ring: &Ring,
+    window: &GpuWindow,
+    tiles: &[Tile],
+    format: OutputFormat,
+    sink: &mut Sink<'_>,
+) -> Result<u64, GpuError> {
+    let channels = kernel.output_channels();
+    let per_value = format.bytes_per_value();
+    let mut pending: VecDeque<Pending> = VecDeque::with_capacity(RING_SLOTS);
+    let mut read_back = 0u64;
+    for (k, tile) in tiles.iter().enumerate() {
+        if pending.len() == RING_SLOTS
+            && let Some(done) = pending.pop_front()
+        {
+            read_back += finish(gpu, ring, tiles, done, sink)?;
+        }
+        let slot_index = k % RING_SLOTS;
+        let slot = &ring.slots[slot_index];
+        let values = tile.window.width * tile.window.height * channels;
+        let mut encoder = gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("spectex render"),
+            });
+        let pair = 2 * slot_index as u32;
+        let timer = ring
+            .queries
+            .as_ref()
+            .map(|set| wgpu::ComputePassTimestampWrites {
+                query_set: set,
+                beginning_of_pass_write_index: Some(pair),
+                end_of_pass_write_index: Some(pair + 1),
+            });
+        let direct = kernel.encode_tile(&tile.window, &mut encoder, &slot.values, timer)?;
+        if !direct {
+            // A composite kind: its passes ran (and were timed) inside render_tile; the host
+            // values go up, ordered before this submission, and take the same way out.
+            let host = kernel.render_tile(&tile.window, None)?;
+            gpu.queue
+                .write_buffer(&slot.values, 0, bytemuck::cast_slice(&host));
+        }
+        let bytes = values * per_value;
+        let source = match packers.get(format) {
+            None => &slot.values,
+            Some(pipeline) => {
+                encode_pack(gpu, &mut encoder, pipeline, slot, values as u32);
+                &slot.packed
+            }
+        };
+        let copied = (bytes as u64).next_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT);
+        let mut stamps_at = None;
+        match sink {
+            Sink::Host(_) => {
+                encoder.copy_buffer_to_buffer(source, 0, &slot.readback, 0, copied);
+            }
+            Sink::Device { buffer, offset } => {
+                copy_to_device(
+                    &mut encoder,
+                    source,
+                    buffer,
+                    *offset,
+                    window,
+                    tile,
+                    channels,
+                    per_value,
+                )?;
+            }
+        }
+        let readback_at = if matches!(sink, Sink::Host(_)) {
+            copied
+        } else {
+            0
+        };
+        if direct && let (Some(set), Some(stamps)) = (&ring.queries, &slot.stamps) {
+            encoder.resolve_query_set(set, pair..pair + 2, stamps, 0);
+            encoder.copy_buffer_to_buffer(
+                stamps,
+                0,
+                &slot.readback,
+                readback_at,
+                TIMESTAMP_PAIR_BYTES,
+            );
+            stamps_at = Some(readback_at as usize);
+        }
+        let submission = gpu.queue.submit([encoder.finish()]);
+        let mapping = (matches!(sink, Sink::Host(_)) || stamps_at.is_some())
+            .then(|| Mapping::ask(&slot.readback));
+        pending.push_back(Pending {
+            tile: k,
+            slot: slot_index,
+            submission,
+            mapping,
+            bytes,
+            stamps_at,
+        });
+    }
+    while let Some(done) = pending.pop_front() {
+        read_back += finish(gpu, ring, tiles, done, sink)?;
+    }
+    Ok(read_back)
+}
+
+/// Waits for a pending tile, hands its bytes to a host sink and clocks its timestamps; the
+/// bytes read back.
+fn finish(
+    gpu: &Gpu,
+    ring: &Ring,
+    tiles: &[Tile],
+    done: Pending,
+    sink: &mut Sink<'_>,
+) -> Result<u64, GpuError> {
+    let Some(mapping) = done.mapping else {
+        return Ok(0);
+    };
+    let readback = &ring.slots[done.slot].readback;
+    mapping.wait(&gpu.device, &gpu.lost, Some(done.submission))?;
+    let mut read = 0;
+    {
+        let view = readback
+            .slice(..)
+            .get_mapped_range()
+            .map_err(|e| GpuError::DeviceLost(format!("reading the output: {e}")))?;
+        if let Sink::Host(write) = sink {
+            let tile = &tiles[done.tile];
+            write(tile.at, &tile.window, &view[..done.bytes]);
+            read += done.bytes as u64;
+        }
+        if let Some(at) = done.stamps_at {
+            gpu.clock_pairs(&view[at..at + TIMESTAMP_PAIR_BYTES as usize]);
+            read += TIMESTAMP_PAIR_BYTES;
+        }
+    }
+    readback.unmap();
+    Ok(read)
+}
+
+/// Records the packing of a slot's first `count` values into its packed buffer.
+fn encode_pack(
+    gpu: &Gpu,
+    encoder: &mut wgpu::CommandEncoder,
+    pipeline: &CachedPipeline,
+    slot: &Slot,
+    count: u32,
+) {
+    // Every packing puts at most 4 and at least 2 values in a word; the pipeline's entry point
+    // knows which, so size the grid for the larger count of words (extra invocations return).
+    let words = count.div_ceil(2);
+    let groups = words.div_ceil(PACK_WORKGROUP).max(1);
+    let max = gpu.limits.max_compute_workgroups_per_dimension.max(1);
+    let across = groups.min(max);
+    let rows = groups.div_ceil(across);
+    let params = PackParams {
+        count,
+        words_per_row: across * PACK_WORKGROUP,
+        ..bytemuck::Zeroable::zeroed()
+    };
+    let uniform = gpu.buffer(
+        "pack params",
+        bytemuck::bytes_of(&params),
+        wgpu::BufferUsages::UNIFORM,
+    );
+    let Some(layout) = pipeline.layouts.first() else {
+        return;
+    };
+    let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("spectex pack"),
+        layout,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: uniform.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                    buffer: &slot.values,
+                    offset: 0,
+                    size: wgpu::BufferSize::new(4 * u64::from(count.max(1))),
+                }),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: slot.packed.as_entire_binding(),
+            },
+        ],
+    });
+    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+        label: Some("spectex pack"),
+        timestamp_writes: None,
+    });
+    pass.set_pipeline(&pipeline.pipeline);
+    pass.set_bind_group(0, &group, &[]);
+    pass.dispatch_workgroups(across, rows, 1);
+}
+
+/// Records the copy of a tile's bytes from `source` into a caller's `buffer`, row-major over
+/// the window from byte `offset`: one copy for a tile as wide as the window, one per row
+/// otherwise. Device copies move whole 4-byte words, which the caller's layout must allow.
+#[allow(clippy::too_many_arguments)]
+fn copy_to_device(
+    encoder: &mut wgpu::CommandEncoder,
+    source: &wgpu::Buffer,
+    buffer: &wgpu::Buffer,
+    offset: u64,
+    window: &GpuWindow,
+    tile: &Tile,
+    channels: usize,
+    per_value: usize,
+) -> Result<(), GpuError> {
+    let pixel = (channels * per_value) as u64;
+    let window_row = window.width as u64 * pixel;
+    let tile_row = tile.window.width as u64 * pixel;
+    let at = offset + (tile.at[1] as u64 * window_row) + tile.at[0] as u64 * pixel;
+    let align = wgpu::COPY_BUFFER_ALIGNMENT;
+    if tile.window.width == window.width {
+        let bytes = tile_row * tile.window.height as u64;
+        let size = bytes.next_multiple_of(align);
+        check_aligned(at, "byte offset of a tile in the buffer")?;
+        encoder.copy_buffer_to_buffer(source, 0, buffer, at, size);
+        return Ok(());
+    }
+    check_aligned(window_row, "bytes of one window row")?;
+    check_aligned(at, "byte offset of a tile in the buffer")?;
+    check_aligned(tile_row, "bytes of one tile row")?;
+    for row in 0..tile.window.height as u64 {
+        encoder.copy_buffer_to_buffer(
+            source,
+            row * tile_row,
+            buffer,
+            at + row * window_row,
+            tile_row,
+        );
+    }
+    Ok(())
+}
+
+/// A device copy's offset or size must be a whole number of 4-byte words.
+fn check_aligned(value: u64, what: &'static str) -> Result<(), GpuError> {
+    if value.is_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT) {
+        Ok(())
+    } else {
+        Err(GpuError::Output {
+            what,
+            value,
+            expected: format!(
+                "a multiple of {} (device copies move 4-byte words): render a width whose rows \
+                 are whole words, or use OutputFormat::F32",
+                wgpu::COPY_BUFFER_ALIGNMENT
+            ),
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::layout::check::assert_matches_wgsl;
+
+    #[test]
+    fn pack_params_match_the_wgsl() {
+        assert_matches_wgsl::<super::PackParams>("output", "PackParams");
+    }
+}
