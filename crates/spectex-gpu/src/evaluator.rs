@@ -150,7 +150,8 @@ impl GpuEvaluator {
     }
 
     /// The tile size the renders use for `window`: full-width bands of at most
-    /// [`DEFAULT_MAX_TILE`]² pixels (or the cap of [`set_max_tile`](Self::set_max_tile)), then
+    /// [`DEFAULT_MAX_TILE`]² pixels (fewer for a kind whose host part grows with the tile), or
+    /// the cap of [`set_max_tile`](Self::set_max_tile)), then
     /// the device's storage-binding and buffer-size limits (output and per-axis tables) and
     /// its dispatch limit.
     ///
@@ -158,9 +159,12 @@ impl GpuEvaluator {
     /// [`GpuError::LimitsExceeded`] if not even a one-pixel-wide tile fits.
     pub fn tile_size(&self, window: &GpuWindow) -> Result<[usize; 2], GpuError> {
         let cap = self.max_tile.unwrap_or_else(|| {
+            let pixels = self
+                .kernel
+                .tile_pixels()
+                .unwrap_or(DEFAULT_MAX_TILE * DEFAULT_MAX_TILE);
             let width = window.width.clamp(1, DEFAULT_MAX_TILE_WIDTH);
-            let height = (DEFAULT_MAX_TILE * DEFAULT_MAX_TILE / width).max(1);
-            [width, height]
+            [width, (pixels / width).max(1)]
         });
         self.kernel.tile_size(window, cap)
     }

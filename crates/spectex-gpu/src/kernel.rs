@@ -114,23 +114,44 @@ pub(crate) trait GpuKernel: fmt::Debug + Send + Sync {
         displacement: Option<&[f32]>,
     ) -> Result<Vec<f32>, GpuError>;
 
-    /// Records the undisplaced dispatch of `tile` into `encoder`, writing its values (`f32`,
-    /// row-major, channels interleaved) from the start of `output`, with `timer` writing the
-    /// pass's timestamps: the render ring's path, which reads nothing back itself. `Ok(false)`
-    /// (the default) for a kernel that composes host values (a warp, a combination): the ring
-    /// then renders the tile through [`render_tile`](Self::render_tile) and uploads it.
+    /// The host's part of `tile`'s undisplaced dispatch (its uniform and tables), which a
+    /// render prepares on worker threads ahead of the dispatch; `Ok(None)` (the default) for a
+    /// kernel that composes host values (a warp, a combination): the render then takes the
+    /// tile through [`render_tile`](Self::render_tile) and uploads it.
     ///
     /// # Errors
     /// As [`render_tile`](Self::render_tile).
+    fn prepare_tile(&self, tile: &GpuWindow) -> Result<Option<TileTables>, GpuError> {
+        let _ = tile;
+        Ok(None)
+    }
+
+    /// Records the undisplaced dispatch of `tile`, whose host part `tables`
+    /// [`prepare_tile`](Self::prepare_tile) made, into `encoder`, writing its values (`f32`,
+    /// row-major, channels interleaved) from the start of `output`, with `timer` writing the
+    /// pass's timestamps. Only called with tables `prepare_tile` returned.
+    ///
+    /// # Errors
+    /// [`GpuError::Validation`] for a kernel without a dispatch of its own.
     fn encode_tile(
         &self,
         tile: &GpuWindow,
+        tables: TileTables,
         encoder: &mut wgpu::CommandEncoder,
         output: &wgpu::Buffer,
         timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
-    ) -> Result<bool, GpuError> {
-        let _ = (tile, encoder, output, timer);
-        Ok(false)
+    ) -> Result<(), GpuError> {
+        let _ = (tile, tables, encoder, output, timer);
+        Err(GpuError::Validation(
+            "a composite kernel has no dispatch of its own to record".to_owned(),
+        ))
+    }
+
+    /// Pixels per tile a render aims at, where the kind wants smaller tiles than the default:
+    /// a kind whose host part grows with the tile (a phasor's drawn kernels) gets more tiles,
+    /// prepared in parallel.
+    fn tile_pixels(&self) -> Option<usize> {
+        None
     }
 }
 
@@ -161,6 +182,12 @@ pub(crate) trait ShaderKernel: fmt::Debug + Send + Sync + 'static {
     /// (two `f32`) unless the kind uploads more per pixel.
     fn pixel_bytes(&self) -> u64 {
         8
+    }
+
+    /// Pixels per tile for a render ([`GpuKernel::tile_pixels`]): `Some` for a kind whose host
+    /// part grows with the tile.
+    fn tile_pixels(&self) -> Option<usize> {
+        None
     }
 
     /// Shrinks a tile that fits the generic limits for what the kind adds (a phasor's box of

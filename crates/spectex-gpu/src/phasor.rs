@@ -238,6 +238,11 @@ impl ShaderKernel for PhasorKernel {
     const SHADER: &'static str = "phasor";
     const ENTRY_POINT: &'static str = "phasor_main";
 
+    /// Quarter-megapixel tiles: its kernel cells are drawn on the host per tile, so a render prepares many tiles in parallel.
+    fn tile_pixels(&self) -> Option<usize> {
+        Some(1 << 18)
+    }
+
     fn axis_bytes(&self) -> u64 {
         size_of::<CellAxis>() as u64
     }

@@ -235,20 +235,18 @@ impl<K: ShaderKernel> Shaded<K> {
         }))
     }
 
-    /// Records the dispatch of `tile` (displaced by `displacement` when given) writing the
-    /// first `tile`-many values of `output`, with `timer` writing its timestamps.
+    /// Records the dispatch of `tile` (displaced by `displacement` when given, with the
+    /// kind's `tables` for it) writing the first `tile`-many values of `output`, with `timer`
+    /// writing its timestamps.
     fn record(
         &self,
         tile: &GpuWindow,
+        TileTables { uniform, tables }: TileTables,
         displacement: Option<&[f32]>,
         encoder: &mut wgpu::CommandEncoder,
         output: &wgpu::Buffer,
         timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) -> Result<(), GpuError> {
-        // Built first: a texture runs its LRP passes here, each in its own error scope.
-        let TileTables { uniform, tables } =
-            self.kind
-                .tile_tables(tile, displacement, self.gpu.binding_limit())?;
         let gpu = &self.gpu;
         let (width, height) = (tile.width, tile.height);
         let output_bytes = 4 * (width * height * self.kind.output_channels()) as u64;
@@ -361,15 +359,25 @@ impl<K: ShaderKernel> GpuKernel for Shaded<K> {
         Ok([width, height])
     }
 
+    fn prepare_tile(&self, tile: &GpuWindow) -> Result<Option<TileTables>, GpuError> {
+        self.kind
+            .tile_tables(tile, None, self.gpu.binding_limit())
+            .map(Some)
+    }
+
     fn encode_tile(
         &self,
         tile: &GpuWindow,
+        tables: TileTables,
         encoder: &mut wgpu::CommandEncoder,
         output: &wgpu::Buffer,
         timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
-    ) -> Result<bool, GpuError> {
-        self.record(tile, None, encoder, output, timer)?;
-        Ok(true)
+    ) -> Result<(), GpuError> {
+        self.record(tile, tables, None, encoder, output, timer)
+    }
+
+    fn tile_pixels(&self) -> Option<usize> {
+        self.kind.tile_pixels()
     }
 
     /// One dispatch read back at once (the passes of a texture, the operands of a warp or a
@@ -406,7 +414,11 @@ impl<K: ShaderKernel> GpuKernel for Shaded<K> {
                 beginning_of_pass_write_index: Some(0),
                 end_of_pass_write_index: Some(1),
             });
-        self.record(tile, displacement, &mut encoder, &output, timer)?;
+        // Built first: a texture runs its LRP passes here, each in its own error scope.
+        let tables = self
+            .kind
+            .tile_tables(tile, displacement, gpu.binding_limit())?;
+        self.record(tile, tables, displacement, &mut encoder, &output, timer)?;
         encoder.copy_buffer_to_buffer(&output, 0, &readback, 0, output_bytes);
         if let Some(set) = &self.queries {
             let resolved = gpu.empty(

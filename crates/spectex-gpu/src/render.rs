@@ -6,11 +6,13 @@
 //! queries (where the device has them) time every dispatch, so a render reports its kernel-only
 //! time beside its end-to-end time ([`RenderStats`]).
 
-use std::collections::VecDeque;
+use std::collections::{BTreeMap, VecDeque};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Condvar, Mutex, MutexGuard, PoisonError};
 use std::time::Instant;
 
 use crate::cache::CachedPipeline;
-use crate::kernel::GpuKernel;
+use crate::kernel::{GpuKernel, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::{ErrorScopes, Gpu, Mapping, TIMESTAMP_PAIR_BYTES, compute_pipeline};
 use crate::{GpuContext, GpuError, GpuWindow, wgsl_source};
@@ -263,7 +265,79 @@ pub(crate) fn run(
     })
 }
 
-/// [`run`] inside its error scope: the bytes read back.
+/// Tiles' host parts ([`GpuKernel::prepare_tile`]) made on worker threads ahead of the
+/// dispatches, at most `lookahead` tiles ahead of the one being recorded, and taken in order.
+struct Prepared<'a> {
+    kernel: &'a dyn GpuKernel,
+    tiles: &'a [Tile],
+    lookahead: usize,
+    next: AtomicUsize,
+    state: Mutex<PreparedState>,
+    changed: Condvar,
+}
+
+#[derive(Default)]
+struct PreparedState {
+    ready: BTreeMap<usize, Result<Option<TileTables>, GpuError>>,
+    /// Tiles taken by the recording thread.
+    taken: usize,
+    stop: bool,
+}
+
+impl Prepared<'_> {
+    fn lock(&self) -> MutexGuard<'_, PreparedState> {
+        self.state.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+
+    /// A worker: prepares the next tile nobody has taken, while within the lookahead.
+    fn work(&self) {
+        loop {
+            let k = self.next.fetch_add(1, Ordering::Relaxed);
+            if k >= self.tiles.len() {
+                return;
+            }
+            let mut state = self.lock();
+            while !state.stop && k >= state.taken + self.lookahead {
+                state = self
+                    .changed
+                    .wait(state)
+                    .unwrap_or_else(PoisonError::into_inner);
+            }
+            if state.stop {
+                return;
+            }
+            drop(state);
+            let tables = self.kernel.prepare_tile(&self.tiles[k].window);
+            self.lock().ready.insert(k, tables);
+            self.changed.notify_all();
+        }
+    }
+
+    /// Tile `k`'s host part, once a worker made it (tiles are taken in order).
+    fn take(&self, k: usize) -> Result<Option<TileTables>, GpuError> {
+        let mut state = self.lock();
+        loop {
+            if let Some(tables) = state.ready.remove(&k) {
+                state.taken = k + 1;
+                self.changed.notify_all();
+                return tables;
+            }
+            state = self
+                .changed
+                .wait(state)
+                .unwrap_or_else(PoisonError::into_inner);
+        }
+    }
+
+    fn stop(&self) {
+        self.lock().stop = true;
+        self.changed.notify_all();
+    }
+}
+
+/// [`run`] inside its error scope: the bytes read back. The tiles' host parts are prepared on
+/// up to one worker thread per core (less one for this thread), so a kind whose tables cost
+/// the host (a phasor's drawn kernels, a texture's passes) keeps the device busy.
 #[allow(clippy::too_many_arguments)]
 fn run_scoped(
     gpu: &Gpu,
@@ -275,11 +349,47 @@ fn run_scoped(
     format: OutputFormat,
     sink: &mut Sink<'_>,
 ) -> Result<u64, GpuError> {
+    let cores = std::thread::available_parallelism().map_or(1, usize::from);
+    let workers = cores.saturating_sub(1).clamp(1, 16).min(tiles.len());
+    let prepared = Prepared {
+        kernel,
+        tiles,
+        lookahead: workers + RING_SLOTS,
+        next: AtomicUsize::new(0),
+        state: Mutex::new(PreparedState::default()),
+        changed: Condvar::new(),
+    };
+    std::thread::scope(|scope| {
+        for _ in 0..workers {
+            scope.spawn(|| prepared.work());
+        }
+        let result = record_all(
+            gpu, kernel, packers, ring, window, tiles, format, sink, &prepared,
+        );
+        prepared.stop();
+        result
+    })
+}
+
+/// Records, submits and drains every tile in order, its host part from `prepared`.
+#[allow(clippy::too_many_arguments)]
+fn record_all(
+    gpu: &Gpu,
+    kernel: &dyn GpuKernel,
+    packers: &Packers,
+    ring: &Ring,
+    window: &GpuWindow,
+    tiles: &[Tile],
+    format: OutputFormat,
+    sink: &mut Sink<'_>,
+    prepared: &Prepared<'_>,
+) -> Result<u64, GpuError> {
     let channels = kernel.output_channels();
     let per_value = format.bytes_per_value();
     let mut pending: VecDeque<Pending> = VecDeque::with_capacity(RING_SLOTS);
     let mut read_back = 0u64;
     for (k, tile) in tiles.iter().enumerate() {
+        let tables = prepared.take(k)?;
         if pending.len() == RING_SLOTS
             && let Some(done) = pending.pop_front()
         {
@@ -294,21 +404,26 @@ fn run_scoped(
                 label: Some("spectex render"),
             });
         let pair = 2 * slot_index as u32;
-        let timer = ring
-            .queries
-            .as_ref()
-            .map(|set| wgpu::ComputePassTimestampWrites {
-                query_set: set,
-                beginning_of_pass_write_index: Some(pair),
-                end_of_pass_write_index: Some(pair + 1),
-            });
-        let direct = kernel.encode_tile(&tile.window, &mut encoder, &slot.values, timer)?;
-        if !direct {
-            // A composite kind: its passes ran (and were timed) inside render_tile; the host
-            // values go up, ordered before this submission, and take the same way out.
-            let host = kernel.render_tile(&tile.window, None)?;
-            gpu.queue
-                .write_buffer(&slot.values, 0, bytemuck::cast_slice(&host));
+        let direct = tables.is_some();
+        match tables {
+            Some(tables) => {
+                let timer = ring
+                    .queries
+                    .as_ref()
+                    .map(|set| wgpu::ComputePassTimestampWrites {
+                        query_set: set,
+                        beginning_of_pass_write_index: Some(pair),
+                        end_of_pass_write_index: Some(pair + 1),
+                    });
+                kernel.encode_tile(&tile.window, tables, &mut encoder, &slot.values, timer)?;
+            }
+            None => {
+                // A composite kind: its passes ran (and were timed) inside render_tile; the
+                // host values go up, ordered before this submission, and take the same way out.
+                let host = kernel.render_tile(&tile.window, None)?;
+                gpu.queue
+                    .write_buffer(&slot.values, 0, bytemuck::cast_slice(&host));
+            }
         }
         let bytes = values * per_value;
         let source = match packers.get(format) {

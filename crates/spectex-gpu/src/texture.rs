@@ -351,6 +351,11 @@ impl ShaderKernel for TextureKernel {
         self.channels()
     }
 
+    /// Quarter-megapixel tiles: the host sums its passes and scales its displacement per pixel, so a render prepares many tiles in parallel.
+    fn tile_pixels(&self) -> Option<usize> {
+        Some(1 << 18)
+    }
+
     fn axis_bytes(&self) -> u64 {
         size_of::<PlacementAxis>() as u64
     }

@@ -105,7 +105,8 @@ fn packed_formats_are_the_f32_render_quantised() {
 }
 
 /// More tiles than ring slots, a second render on the kept ring, a larger window that grows
-/// it, and the default full-width bands: the same bits everywhere, composite kinds included.
+/// it, and the default full-width bands: the same bits everywhere, composite kinds and tiles
+/// prepared on worker threads included.
 #[test]
 fn tiles_and_ring_reuse_change_no_bit() {
     let Some(context) = common::gpu_or_skip("tiles_and_ring_reuse") else {
