@@ -21,7 +21,7 @@ pub struct GpuContext {
     queue: wgpu::Queue,
     lost: LostFlag,
     /// The compute pipelines built on this device, by shader and entry point.
-    pipelines: PipelineCache,
+    pipelines: Arc<PipelineCache>,
     /// Nanoseconds of every timestamped dispatch on this device so far ([`kernel_nanos`]).
     ///
     /// [`kernel_nanos`]: Self::kernel_nanos
@@ -83,7 +83,7 @@ impl GpuContext {
             device,
             queue,
             lost,
-            pipelines: PipelineCache::default(),
+            pipelines: Arc::default(),
             kernel_ns: Arc::default(),
         })
     }
@@ -101,7 +101,7 @@ impl GpuContext {
             device,
             queue,
             lost: Arc::new(Mutex::new(None)),
-            pipelines: PipelineCache::default(),
+            pipelines: Arc::default(),
             kernel_ns: Arc::default(),
         }
     }
@@ -159,8 +159,8 @@ impl GpuContext {
         Arc::clone(&self.lost)
     }
 
-    pub(crate) fn pipeline_cache(&self) -> &PipelineCache {
-        &self.pipelines
+    pub(crate) fn pipeline_cache(&self) -> Arc<PipelineCache> {
+        Arc::clone(&self.pipelines)
     }
 
     pub(crate) fn kernel_clock(&self) -> Arc<AtomicU64> {

@@ -49,6 +49,14 @@ pub enum GpuError {
         /// What the render needs.
         expected: String,
     },
+    /// A caller's texture of a format the renders do not write.
+    #[error("target texture format {found}: expected one of {expected}")]
+    TextureFormat {
+        /// The texture's format.
+        found: String,
+        /// The formats a render writes.
+        expected: String,
+    },
     /// wgpu reported a validation or out-of-memory error (caught by an error scope).
     #[error("GPU validation error: {0}")]
     Validation(String),

@@ -118,7 +118,7 @@ impl GpuEvaluator {
             kernel,
             max_tile: None,
             gpu: Gpu::new(context),
-            packers: Packers::new(context)?,
+            packers: Packers::default(),
             ring: Mutex::new(None),
         })
     }
@@ -294,6 +294,64 @@ impl GpuEvaluator {
             });
         }
         self.render_with(window, format, Sink::Device { buffer, offset })
+    }
+
+    /// Renders `window` into a caller's storage `texture` (its first mip level and layer),
+    /// pixel (x, y) at texel (x, y), with nothing read back: grey values in every colour
+    /// channel, colour in R, G, B, alpha 1. The texture is one of [`TEXTURE_FORMATS`], has
+    /// [`wgpu::TextureUsages::STORAGE_BINDING`] and is at least as large as the window.
+    ///
+    /// # Errors
+    /// [`GpuError::TextureFormat`] for another format, [`GpuError::Output`] for a missing usage
+    /// or a texture too small;
+    /// otherwise as [`render`](Self::render).
+    ///
+    /// [`TEXTURE_FORMATS`]: crate::TEXTURE_FORMATS
+    pub fn render_to_texture(
+        &self,
+        window: &GpuWindow,
+        texture: &wgpu::Texture,
+    ) -> Result<RenderStats, GpuError> {
+        self.values(window)?;
+        let Some(name) = render::texture_format_name(texture.format()) else {
+            return Err(GpuError::TextureFormat {
+                found: format!("{:?}", texture.format()),
+                expected: format!("{:?}", render::TEXTURE_FORMATS),
+            });
+        };
+        if !texture
+            .usage()
+            .contains(wgpu::TextureUsages::STORAGE_BINDING)
+            || texture.dimension() != wgpu::TextureDimension::D2
+        {
+            return Err(GpuError::Output {
+                what: "usage bits of the target texture",
+                value: u64::from(texture.usage().bits()),
+                expected: "a 2D texture created with wgpu::TextureUsages::STORAGE_BINDING"
+                    .to_owned(),
+            });
+        }
+        let size = texture.size();
+        for (side, window_side) in [(size.width, window.width), (size.height, window.height)] {
+            if (side as usize) < window_side {
+                return Err(GpuError::Output {
+                    what: "texels along a side of the target texture",
+                    value: u64::from(side),
+                    expected: format!("at least the window's {window_side}"),
+                });
+            }
+        }
+        let pipeline = self.packers.store(&self.gpu, name)?;
+        let view = texture.create_view(&wgpu::TextureViewDescriptor {
+            label: Some("spectex target"),
+            dimension: Some(wgpu::TextureViewDimension::D2),
+            base_mip_level: 0,
+            mip_level_count: Some(1),
+            base_array_layer: 0,
+            array_layer_count: Some(1),
+            ..Default::default()
+        });
+        self.render_with(window, OutputFormat::F32, Sink::Texture { view, pipeline })
     }
 
     /// Values of a render of `window`, after checking the window.

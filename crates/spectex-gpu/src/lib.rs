@@ -100,7 +100,7 @@ mod wavelet;
 pub use context::{ADAPTER_NAME_ENV, GpuContext};
 pub use error::{GpuError, LAVAPIPE_HINT};
 pub use evaluator::{DEFAULT_MAX_TILE, DEFAULT_MAX_TILE_WIDTH, GpuEvaluator};
-pub use render::{OutputFormat, RenderStats};
+pub use render::{OutputFormat, RenderStats, TEXTURE_FORMATS};
 pub use shaders::{SHADERS, wgsl_source};
 /// The window type is `spectex-model`'s, shared with the CPU evaluator (so both map pixels to
 /// positions by one expression); `GpuWindow` is its name here.

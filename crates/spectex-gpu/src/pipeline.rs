@@ -9,7 +9,7 @@
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, mpsc};
 
-use crate::cache::{CachedPipeline, LostFlag};
+use crate::cache::{CachedPipeline, LostFlag, PipelineCache};
 use crate::kernel::{GpuKernel, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
 use crate::{GpuContext, GpuError, GpuWindow, wgsl_source};
@@ -51,6 +51,8 @@ pub(crate) struct Gpu {
     pub timestamps: bool,
     /// The context's count of timestamped nanoseconds.
     clock: Arc<AtomicU64>,
+    /// The context's pipelines.
+    pipelines: Arc<PipelineCache>,
 }
 
 impl Gpu {
@@ -63,6 +65,7 @@ impl Gpu {
             device,
             lost: context.lost_flag(),
             clock: context.kernel_clock(),
+            pipelines: context.pipeline_cache(),
         }
     }
 
@@ -137,19 +140,19 @@ impl Gpu {
     }
 }
 
-/// The compute pipeline of `(shader, entry)` on the context's device, from the cache or built
+/// The compute pipeline of `(shader, entry)` on the device, from the context's cache or built
 /// from `source` (then cached), with the layouts of its first `groups` bind groups.
 ///
 /// # Errors
 /// [`GpuError::Validation`] if the device rejects the shader.
 pub(crate) fn compute_pipeline(
-    context: &GpuContext,
+    gpu: &Gpu,
     key: (&'static str, &'static str),
     groups: u32,
     source: impl FnOnce() -> Option<String>,
 ) -> Result<CachedPipeline, GpuError> {
-    let device = context.device();
-    context.pipeline_cache().get_or_build(key, || {
+    let device = &gpu.device;
+    gpu.pipelines.get_or_build(key, || {
         let (shader, entry) = key;
         let source = source().ok_or_else(|| {
             GpuError::Validation(format!("shader {shader} missing from the registry"))
@@ -211,7 +214,7 @@ impl<K: ShaderKernel> Shaded<K> {
     ) -> Result<Box<dyn GpuKernel>, GpuError> {
         let gpu = Gpu::new(context);
         let CachedPipeline { pipeline, layouts } =
-            compute_pipeline(context, (K::SHADER, K::ENTRY_POINT), 2, || {
+            compute_pipeline(&gpu, (K::SHADER, K::ENTRY_POINT), 2, || {
                 wgsl_source(K::SHADER)
             })?;
         let [model_layout, warp_layout]: [wgpu::BindGroupLayout; 2] =

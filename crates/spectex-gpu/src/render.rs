@@ -15,7 +15,7 @@ use crate::cache::CachedPipeline;
 use crate::kernel::{GpuKernel, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::{ErrorScopes, Gpu, Mapping, TIMESTAMP_PAIR_BYTES, compute_pipeline};
-use crate::{GpuContext, GpuError, GpuWindow, wgsl_source};
+use crate::{GpuError, GpuWindow, wgsl_source};
 
 /// Tiles in flight: tile k + 1 (and k + 2) compute while tile k is mapped and copied out.
 pub(crate) const RING_SLOTS: usize = 3;
@@ -102,31 +102,43 @@ wgsl_struct! {
     }
 }
 
-/// The packing pipelines of `output.wgsl`, by format.
-#[derive(Debug)]
-pub(crate) struct Packers {
-    f16: CachedPipeline,
-    unorm8: CachedPipeline,
-    unorm16: CachedPipeline,
-}
+/// The packing pipelines of `output.wgsl` (built on first use, once per device through the
+/// context's cache) and the store pipelines of the texture formats.
+#[derive(Debug, Default)]
+pub(crate) struct Packers(Mutex<Vec<((&'static str, &'static str), CachedPipeline)>>);
 
 impl Packers {
-    /// The three packing pipelines, from the context's cache (built once per device).
-    pub(crate) fn new(context: &GpuContext) -> Result<Self, GpuError> {
-        let get = |entry| compute_pipeline(context, ("output", entry), 1, || wgsl_source("output"));
-        Ok(Self {
-            f16: get("pack_f16")?,
-            unorm8: get("pack_unorm8")?,
-            unorm16: get("pack_unorm16")?,
-        })
+    /// The pipeline of `key`, from this evaluator's list or the context's cache.
+    fn get(
+        &self,
+        gpu: &Gpu,
+        key: (&'static str, &'static str),
+        source: impl FnOnce() -> Option<String>,
+    ) -> Result<CachedPipeline, GpuError> {
+        let mut list = self.0.lock().unwrap_or_else(PoisonError::into_inner);
+        if let Some((_, hit)) = list.iter().find(|(k, _)| *k == key) {
+            return Ok(hit.clone());
+        }
+        let built = compute_pipeline(gpu, key, 1, source)?;
+        list.push((key, built.clone()));
+        Ok(built)
     }
 
-    fn get(&self, format: OutputFormat) -> Option<&CachedPipeline> {
-        match format.entry_point()? {
-            "pack_f16" => Some(&self.f16),
-            "pack_unorm8" => Some(&self.unorm8),
-            _ => Some(&self.unorm16),
-        }
+    /// The packing pipeline of `format`, `None` for `f32`.
+    pub(crate) fn pack(
+        &self,
+        gpu: &Gpu,
+        format: OutputFormat,
+    ) -> Result<Option<CachedPipeline>, GpuError> {
+        format
+            .entry_point()
+            .map(|entry| self.get(gpu, ("output", entry), || wgsl_source("output")))
+            .transpose()
+    }
+
+    /// The store pipeline of a storage texture format of [`TEXTURE_FORMATS`].
+    pub(crate) fn store(&self, gpu: &Gpu, name: &'static str) -> Result<CachedPipeline, GpuError> {
+        self.get(gpu, (name, "store_main"), || Some(store_wgsl(name)))
     }
 }
 
@@ -212,6 +224,83 @@ pub(crate) enum Sink<'a> {
         buffer: &'a wgpu::Buffer,
         offset: u64,
     },
+    /// A caller's storage texture (its first mip level), pixel (x, y) of the window at texel
+    /// (x, y), written by `pipeline` (`store_wgsl` of the texture's format).
+    Texture {
+        view: wgpu::TextureView,
+        pipeline: CachedPipeline,
+    },
+}
+
+/// The storage texture formats [`GpuEvaluator::render_to_texture`] writes: grey values go to
+/// every colour channel, colour to R, G, B; alpha is 1.
+///
+/// [`GpuEvaluator::render_to_texture`]: crate::GpuEvaluator::render_to_texture
+pub const TEXTURE_FORMATS: &[wgpu::TextureFormat] = &[
+    wgpu::TextureFormat::R32Float,
+    wgpu::TextureFormat::Rgba32Float,
+    wgpu::TextureFormat::Rgba16Float,
+    wgpu::TextureFormat::Rgba8Unorm,
+];
+
+/// The WGSL name and pipeline key of a storage format in [`TEXTURE_FORMATS`].
+pub(crate) fn texture_format_name(format: wgpu::TextureFormat) -> Option<&'static str> {
+    match format {
+        wgpu::TextureFormat::R32Float => Some("r32float"),
+        wgpu::TextureFormat::Rgba32Float => Some("rgba32float"),
+        wgpu::TextureFormat::Rgba16Float => Some("rgba16float"),
+        wgpu::TextureFormat::Rgba8Unorm => Some("rgba8unorm"),
+        _ => None,
+    }
+}
+
+/// The store shader for a storage texture of WGSL format `format`: a tile's values to texels.
+pub(crate) fn store_wgsl(format: &str) -> String {
+    format!(
+        "// A tile's f32 values (1 or 3 per pixel) stored into a caller's {format} texture.
+struct StoreParams {{
+    origin_x: u32,
+    origin_y: u32,
+    width: u32,
+    height: u32,
+    channels: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
+}}
+
+@group(0) @binding(0) var<uniform> store: StoreParams;
+@group(0) @binding(1) var<storage, read> values: array<f32>;
+@group(0) @binding(2) var target_texture: texture_storage_2d<{format}, write>;
+
+@compute @workgroup_size(8, 8, 1)
+fn store_main(@builtin(global_invocation_id) gid: vec3<u32>) {{
+    if (gid.x >= store.width || gid.y >= store.height) {{
+        return;
+    }}
+    let i = (gid.y * store.width + gid.x) * store.channels;
+    var texel = vec4<f32>(values[i], values[i], values[i], 1.0);
+    if (store.channels == 3u) {{
+        texel = vec4<f32>(values[i], values[i + 1u], values[i + 2u], 1.0);
+    }}
+    textureStore(target_texture, vec2<u32>(store.origin_x + gid.x, store.origin_y + gid.y), texel);
+}}
+"
+    )
+}
+
+wgsl_struct! {
+    /// `StoreParams` of the store shader (binding 0).
+    pub(crate) struct StoreParams {
+        origin_x: u32,
+        origin_y: u32,
+        width: u32,
+        height: u32,
+        channels: u32,
+        _pad0: u32,
+        _pad1: u32,
+        _pad2: u32,
+    }
 }
 
 /// One tile of a window: its column and row in the window, and its own window.
@@ -386,6 +475,7 @@ fn record_all(
 ) -> Result<u64, GpuError> {
     let channels = kernel.output_channels();
     let per_value = format.bytes_per_value();
+    let pack = packers.pack(gpu, format)?;
     let mut pending: VecDeque<Pending> = VecDeque::with_capacity(RING_SLOTS);
     let mut read_back = 0u64;
     for (k, tile) in tiles.iter().enumerate() {
@@ -426,7 +516,7 @@ fn record_all(
             }
         }
         let bytes = values * per_value;
-        let source = match packers.get(format) {
+        let source = match &pack {
             None => &slot.values,
             Some(pipeline) => {
                 encode_pack(gpu, &mut encoder, pipeline, slot, values as u32);
@@ -450,6 +540,9 @@ fn record_all(
                     channels,
                     per_value,
                 )?;
+            }
+            Sink::Texture { view, pipeline } => {
+                encode_store(gpu, &mut encoder, pipeline, view, slot, tile, channels);
             }
         }
         let readback_at = if matches!(sink, Sink::Host(_)) {
@@ -579,6 +672,65 @@ fn encode_pack(
     pass.dispatch_workgroups(across, rows, 1);
 }
 
+/// Records the store of a slot's tile values into a caller's storage texture.
+fn encode_store(
+    gpu: &Gpu,
+    encoder: &mut wgpu::CommandEncoder,
+    pipeline: &CachedPipeline,
+    view: &wgpu::TextureView,
+    slot: &Slot,
+    tile: &Tile,
+    channels: usize,
+) {
+    let (width, height) = (tile.window.width as u32, tile.window.height as u32);
+    let params = StoreParams {
+        origin_x: tile.at[0] as u32,
+        origin_y: tile.at[1] as u32,
+        width,
+        height,
+        channels: channels as u32,
+        ..bytemuck::Zeroable::zeroed()
+    };
+    let uniform = gpu.buffer(
+        "store params",
+        bytemuck::bytes_of(&params),
+        wgpu::BufferUsages::UNIFORM,
+    );
+    let Some(layout) = pipeline.layouts.first() else {
+        return;
+    };
+    let values = u64::from(width) * u64::from(height) * channels as u64;
+    let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("spectex store"),
+        layout,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: uniform.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                    buffer: &slot.values,
+                    offset: 0,
+                    size: wgpu::BufferSize::new(4 * values.max(1)),
+                }),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: wgpu::BindingResource::TextureView(view),
+            },
+        ],
+    });
+    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+        label: Some("spectex store"),
+        timestamp_writes: None,
+    });
+    pass.set_pipeline(&pipeline.pipeline);
+    pass.set_bind_group(0, &group, &[]);
+    pass.dispatch_workgroups(width.div_ceil(8), height.div_ceil(8), 1);
+}
+
 /// Records the copy of a tile's bytes from `source` into a caller's `buffer`, row-major over
 /// the window from byte `offset`: one copy for a tile as wide as the window, one per row
 /// otherwise. Device copies move whole 4-byte words, which the caller's layout must allow.
@@ -644,5 +796,33 @@ mod tests {
     #[test]
     fn pack_params_match_the_wgsl() {
         assert_matches_wgsl::<super::PackParams>("output", "PackParams");
+    }
+
+    /// The store shader of every texture format parses and validates, and its uniform has the
+    /// layout of the Rust record.
+    #[test]
+    fn store_shaders_validate_with_the_record_layout() {
+        for &format in super::TEXTURE_FORMATS {
+            let name = super::texture_format_name(format).unwrap_or("?");
+            let source = super::store_wgsl(name);
+            let module = naga::front::wgsl::parse_str(&source)
+                .unwrap_or_else(|e| panic!("{name}:\n{}", e.emit_to_string(&source)));
+            naga::valid::Validator::new(
+                naga::valid::ValidationFlags::all(),
+                naga::valid::Capabilities::default(),
+            )
+            .validate(&module)
+            .unwrap_or_else(|e| panic!("{name}:\n{}", e.emit_to_string(&source)));
+            let params = module
+                .types
+                .iter()
+                .find(|(_, t)| t.name.as_deref() == Some("StoreParams"))
+                .map(|(_, t)| t.inner.size(module.to_ctx()));
+            assert_eq!(
+                params,
+                Some(size_of::<super::StoreParams>() as u32),
+                "{name}"
+            );
+        }
     }
 }

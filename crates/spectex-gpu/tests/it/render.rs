@@ -270,3 +270,151 @@ fn timestamps_time_the_kernels_within_the_render() {
         }
     }
 }
+
+/// A render into a caller's storage texture, read back here, holds the host render: `f32`
+/// texels bit for bit, `rgba8unorm` within one level of the CPU's quantisation; colour in R, G,
+/// B, alpha 1; a texture of another format, without storage usage or too small is refused.
+#[test]
+fn render_to_a_callers_storage_texture() {
+    let Some(context) = common::gpu_or_skip("render_to_texture") else {
+        return;
+    };
+    let device = context.device();
+    let texture = |format, width, usage| {
+        device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("caller's texture"),
+            size: wgpu::Extent3d {
+                width,
+                height: 20,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage,
+            view_formats: &[],
+        })
+    };
+    let usage = wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::COPY_SRC;
+    let window = GpuWindow::new(24, 20).at([3.0e6, -1.0], 1.0);
+    for (name, format, texel_bytes) in [
+        ("lrp-ring.json", wgpu::TextureFormat::R32Float, 4),
+        (
+            "texture-synthetic-colour.json",
+            wgpu::TextureFormat::Rgba32Float,
+            16,
+        ),
+        ("lrp-ring.json", wgpu::TextureFormat::Rgba8Unorm, 4),
+    ] {
+        let mut gpu = GpuEvaluator::new(&context, &model(name)).unwrap();
+        gpu.set_max_tile(16, 8);
+        let values = gpu.render(&window).unwrap();
+        let c = gpu.output_channels();
+        // 64 texels a row: a whole number of 256-byte rows for every format here.
+        let target = texture(format, 64, usage);
+        let stats = gpu.render_to_texture(&window, &target).unwrap();
+        assert!(
+            stats.bytes_read_back <= 16 * stats.tiles as u64,
+            "{stats:?}"
+        );
+        let bytes = read_texture(device, context.queue(), &target, 64 * texel_bytes);
+        for y in 0..20 {
+            for x in 0..24 {
+                let texel = &bytes[(y * 64 + x) * texel_bytes..][..texel_bytes];
+                let v = &values[(y * 24 + x) * c..][..c];
+                match format {
+                    wgpu::TextureFormat::R32Float => {
+                        assert_eq!(texel, v[0].to_le_bytes(), "{name} ({x}, {y})");
+                    }
+                    wgpu::TextureFormat::Rgba32Float => {
+                        let rgba: Vec<f32> = bytemuck::pod_collect_to_vec(texel);
+                        assert_eq!(&rgba[..3], v, "{name} ({x}, {y})");
+                        assert_eq!(rgba[3], 1.0);
+                    }
+                    _ => {
+                        for channel in 0..3 {
+                            let level = f64::from(texel[channel]);
+                            let want = quantise(v[0], 255.0);
+                            assert!(
+                                (level - want).abs() <= 1.0,
+                                "{name} ({x}, {y}) {level} {want}"
+                            );
+                        }
+                        assert_eq!(texel[3], 255);
+                    }
+                }
+            }
+        }
+    }
+    let gpu = GpuEvaluator::new(&context, &model("lrp-ring.json")).unwrap();
+    match gpu.render_to_texture(
+        &window,
+        &texture(
+            wgpu::TextureFormat::Rgba8UnormSrgb,
+            64,
+            wgpu::TextureUsages::COPY_SRC,
+        ),
+    ) {
+        Err(e @ GpuError::TextureFormat { .. }) => {
+            assert!(e.to_string().contains("Rgba8UnormSrgb"), "{e}")
+        }
+        other => panic!("expected a format error, got {other:?}"),
+    }
+    for (target, needle) in [
+        (
+            texture(
+                wgpu::TextureFormat::R32Float,
+                64,
+                wgpu::TextureUsages::COPY_SRC,
+            ),
+            "usage bits",
+        ),
+        (
+            texture(wgpu::TextureFormat::R32Float, 16, usage),
+            "texels along a side",
+        ),
+    ] {
+        match gpu.render_to_texture(&window, &target) {
+            Err(e @ GpuError::Output { .. }) => assert!(e.to_string().contains(needle), "{e}"),
+            other => panic!("{needle}: expected an output error, got {other:?}"),
+        }
+    }
+}
+
+/// The texels of `texture` (rows of `row` bytes, a multiple of 256).
+fn read_texture(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    texture: &wgpu::Texture,
+    row: usize,
+) -> Vec<u8> {
+    let size = texture.size();
+    let staging = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("staging"),
+        size: (row * size.height as usize) as u64,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+    encoder.copy_texture_to_buffer(
+        texture.as_image_copy(),
+        wgpu::TexelCopyBufferInfo {
+            buffer: &staging,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(row as u32),
+                rows_per_image: Some(size.height),
+            },
+        },
+        size,
+    );
+    queue.submit([encoder.finish()]);
+    staging
+        .slice(..)
+        .map_async(wgpu::MapMode::Read, |r| r.unwrap());
+    device.poll(wgpu::PollType::wait_indefinitely()).unwrap();
+    let bytes = staging.slice(..).get_mapped_range().unwrap().to_vec();
+    staging.unmap();
+    bytes
+}
