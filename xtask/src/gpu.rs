@@ -24,6 +24,8 @@ pub(crate) struct ModelSpeed {
     pub kernel: Option<f64>,
     pub gpu: f64,
     pub cpu: f64,
+    /// Tiles of the GPU render and bytes it read back per pixel, where printed.
+    pub tiles: Option<(usize, f64)>,
     /// The CLI's own figures on the GPU (end to end, kernels), where measured.
     pub cli: Option<(f64, Option<f64>)>,
 }
@@ -62,7 +64,7 @@ pub(crate) fn parse_figures(text: &str) -> Figures {
         let fields: Vec<&str> = line.split('\t').collect();
         match fields.as_slice() {
             ["adapter", name, ..] => figures.adapter = Some((*name).to_owned()),
-            ["model", name, evaluations, kernel, gpu, cpu] => {
+            ["model", name, evaluations, kernel, gpu, cpu, rest @ ..] if rest.len() <= 2 => {
                 let parsed = (|| {
                     Some(ModelSpeed {
                         name: (*name).to_owned(),
@@ -70,6 +72,12 @@ pub(crate) fn parse_figures(text: &str) -> Figures {
                         kernel: number(Some(kernel))?,
                         gpu: number(Some(gpu))??,
                         cpu: number(Some(cpu))??,
+                        tiles: match rest {
+                            [tiles, bytes] => {
+                                Some((tiles.trim().parse().ok()?, bytes.trim().parse().ok()?))
+                            }
+                            _ => None,
+                        },
                         cli: None,
                     })
                 })();
@@ -114,15 +122,22 @@ pub(crate) fn markdown(figures: &Figures, side: Option<usize>) -> String {
     }
     let size = side.map_or_else(String::new, |s| format!(", {s}² windows"));
     let with_cli = figures.models.iter().any(|m| m.cli.is_some());
+    let with_tiles = figures.models.iter().any(|m| m.tiles.is_some());
     let _ = writeln!(
         md,
         "Mpix/s{size}; GPU / CPU is end to end against end to end.\n"
     );
     md.push_str("| model | evaluations/px | GPU kernel-only | GPU end to end | CPU all threads | GPU / CPU |");
+    if with_tiles {
+        md.push_str(" kernel share | tiles | bytes read back / px |");
+    }
     if with_cli {
         md.push_str(" CLI GPU end to end | CLI GPU kernels |");
     }
     md.push_str("\n| --- | ---: | ---: | ---: | ---: | ---: |");
+    if with_tiles {
+        md.push_str(" ---: | ---: | ---: |");
+    }
     if with_cli {
         md.push_str(" ---: | ---: |");
     }
@@ -138,6 +153,18 @@ pub(crate) fn markdown(figures: &Figures, side: Option<usize>) -> String {
             m.cpu,
             m.gpu / m.cpu.max(f64::MIN_POSITIVE)
         );
+        if with_tiles {
+            // Kernel-only time over end-to-end time: the share of the render the device computes.
+            let share = m.kernel.map(|k| m.gpu / k.max(f64::MIN_POSITIVE));
+            let (tiles, bytes) = m.tiles.map_or((None, None), |(t, b)| (Some(t), Some(b)));
+            let _ = write!(
+                md,
+                " {} | {} | {} |",
+                cell(share),
+                tiles.map_or_else(|| "—".to_owned(), |t| t.to_string()),
+                cell(bytes)
+            );
+        }
         if with_cli {
             let (e, k) = m.cli.map_or((None, None), |(e, k)| (Some(e), k));
             let _ = write!(md, " {} | {} |", cell(e), cell(k));
@@ -472,7 +499,7 @@ mod tests {
     #[test]
     fn bench_and_cli_lines_make_one_table() {
         let text = "adapter\tNVIDIA H200\tkernel-only\t16 CPU threads\n\
-                    model\tlrp-ring\t45.0\t2000.50\t1000.25\t200.00\n\
+                    model\tlrp-ring\t45.0\t2000.50\t1000.25\t200.00\t4\t4.00\n\
                     model\tclassic-perlin-fbm\t5.0\t-\t94.00\t907.00\n\
                     model\tbroken\tx\t1\t2\t3\n\
                     frame\ttexture-synthetic-grey\t128\t0.050\t0.400\n\
@@ -486,15 +513,18 @@ mod tests {
         assert_eq!(figures.models[1].kernel, None);
         assert_eq!(figures.models[1].cli, Some((90.0, None)));
         assert_eq!(figures.frames[0].kernel, Some(0.05));
+        assert_eq!(figures.models[0].tiles, Some((4, 4.0)));
         let md = markdown(&figures, Some(4096));
         assert!(
             md.contains(
-                "| lrp-ring | 45.0 | 2000.50 | 1000.25 | 200.00 | 5.00 | 900.50 | 1900.00 |"
+                "| lrp-ring | 45.0 | 2000.50 | 1000.25 | 200.00 | 5.00 | 0.50 | 4 | 4.00 | 900.50 | 1900.00 |"
             ),
             "{md}"
         );
         assert!(
-            md.contains("| classic-perlin-fbm | 5.0 | — | 94.00 | 907.00 | 0.10 | 90.00 | — |"),
+            md.contains(
+                "| classic-perlin-fbm | 5.0 | — | 94.00 | 907.00 | 0.10 | — | — | — | 90.00 | — |"
+            ),
             "{md}"
         );
         assert!(

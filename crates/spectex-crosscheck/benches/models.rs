@@ -5,7 +5,8 @@
 //! tab-separated line per figure for `cargo xtask bench gpu`, which writes the Markdown table
 //! and the chart:
 //!
-//! `model, name, evaluations/px, GPU kernel Mpix/s (or -), GPU end-to-end Mpix/s, CPU Mpix/s`
+//! `model, name, evaluations/px, GPU kernel Mpix/s (or -), GPU end-to-end Mpix/s, CPU Mpix/s,
+//! tiles, bytes read back per pixel`
 //! and `frame, name, side, GPU kernel ms (or -), GPU end-to-end ms`, fields separated by tabs.
 //!
 //! `cargo bench -p spectex-crosscheck --bench models -- --bench [--size N] [--repeat R]
@@ -128,6 +129,8 @@ struct Measured {
     kernel: Option<f64>,
     gpu: f64,
     cpu: f64,
+    tiles: usize,
+    bytes_per_pixel: f64,
 }
 
 /// Mpix/s of one model: the best of `repeat` renders after a warm-up, on each evaluator.
@@ -157,6 +160,8 @@ fn measure(context: &GpuContext, model: &Model, side: usize, repeat: usize) -> R
         kernel: best.kernel_mpix_per_second(pixels),
         gpu: best.mpix_per_second(pixels),
         cpu: pixels as f64 / cpu_best / 1e6,
+        tiles: best.tiles,
+        bytes_per_pixel: best.bytes_read_back as f64 / pixels as f64,
     })
 }
 
