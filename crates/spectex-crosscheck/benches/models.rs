@@ -91,12 +91,14 @@ fn main() -> Result<()> {
         let stem = name.trim_end_matches(".json");
         match measure(&context, &model, side, options.repeat) {
             Ok(m) => println!(
-                "model\t{stem}\t{:.1}\t{}\t{:.2}\t{:.2}",
+                "model\t{stem}\t{:.1}\t{}\t{:.2}\t{:.2}\t{}\t{:.2}",
                 m.evaluations,
                 m.kernel
                     .map_or_else(|| "-".to_owned(), |k| format!("{k:.2}")),
                 m.gpu,
-                m.cpu
+                m.cpu,
+                m.tiles,
+                m.bytes_per_pixel
             ),
             Err(e) => eprintln!("{stem}: skipped: {e:#}"),
         }
