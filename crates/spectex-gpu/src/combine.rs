@@ -57,6 +57,12 @@ impl GpuKernel for CombineKernel {
         Ok(size)
     }
 
+    /// Quarter-megapixel tiles: the host composes every tile, so a render spreads them over
+    /// the cores.
+    fn tile_pixels(&self) -> Option<usize> {
+        Some(1 << 18)
+    }
+
     /// A periodic combination's positions are reduced into the period.
     fn check_window(&self, window: &GpuWindow) -> Result<(), GpuError> {
         if self.period.is_some() {

@@ -114,16 +114,15 @@ pub(crate) trait GpuKernel: fmt::Debug + Send + Sync {
         displacement: Option<&[f32]>,
     ) -> Result<Vec<f32>, GpuError>;
 
-    /// The host's part of `tile`'s undisplaced dispatch (its uniform and tables), which a
-    /// render prepares on worker threads ahead of the dispatch; `Ok(None)` (the default) for a
-    /// kernel that composes host values (a warp, a combination): the render then takes the
-    /// tile through [`render_tile`](Self::render_tile) and uploads it.
+    /// The host's part of `tile`'s undisplaced render, which a render prepares on worker
+    /// threads ahead of the dispatches: a shader kind's uniform and tables, or (the default)
+    /// a composite kind's values, rendered through [`render_tile`](Self::render_tile) (its
+    /// operands' dispatches and its host arithmetic), which the render uploads.
     ///
     /// # Errors
     /// As [`render_tile`](Self::render_tile).
-    fn prepare_tile(&self, tile: &GpuWindow) -> Result<Option<TileTables>, GpuError> {
-        let _ = tile;
-        Ok(None)
+    fn prepare_tile(&self, tile: &GpuWindow) -> Result<PreparedTile, GpuError> {
+        self.render_tile(tile, None).map(PreparedTile::Values)
     }
 
     /// Records the undisplaced dispatch of `tile`, whose host part `tables`
@@ -217,6 +216,15 @@ pub(crate) trait ShaderKernel: fmt::Debug + Send + Sync + 'static {
         displacement: Option<&[f32]>,
         limit: u64,
     ) -> Result<TileTables, GpuError>;
+}
+
+/// What [`GpuKernel::prepare_tile`] makes of a tile on the host.
+#[derive(Debug)]
+pub(crate) enum PreparedTile {
+    /// A shader kind's uniform and tables, for [`GpuKernel::encode_tile`].
+    Tables(TileTables),
+    /// A composite kind's values (`f32`, row-major, channels interleaved).
+    Values(Vec<f32>),
 }
 
 /// One storage table as the device receives it.

@@ -10,7 +10,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, mpsc};
 
 use crate::cache::{CachedPipeline, LostFlag, PipelineCache};
-use crate::kernel::{GpuKernel, ShaderKernel, Table, TileTables};
+use crate::kernel::{GpuKernel, PreparedTile, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
 use crate::{GpuContext, GpuError, GpuWindow, wgsl_source};
 
@@ -362,10 +362,10 @@ impl<K: ShaderKernel> GpuKernel for Shaded<K> {
         Ok([width, height])
     }
 
-    fn prepare_tile(&self, tile: &GpuWindow) -> Result<Option<TileTables>, GpuError> {
+    fn prepare_tile(&self, tile: &GpuWindow) -> Result<PreparedTile, GpuError> {
         self.kind
             .tile_tables(tile, None, self.gpu.binding_limit())
-            .map(Some)
+            .map(PreparedTile::Tables)
     }
 
     fn encode_tile(

@@ -12,7 +12,7 @@ use std::sync::{Condvar, Mutex, MutexGuard, PoisonError};
 use std::time::Instant;
 
 use crate::cache::CachedPipeline;
-use crate::kernel::{GpuKernel, TileTables};
+use crate::kernel::{GpuKernel, PreparedTile};
 use crate::layout::wgsl_struct;
 use crate::pipeline::{ErrorScopes, Gpu, Mapping, TIMESTAMP_PAIR_BYTES, compute_pipeline};
 use crate::{GpuError, GpuWindow, wgsl_source};
@@ -367,7 +367,7 @@ struct Prepared<'a> {
 
 #[derive(Default)]
 struct PreparedState {
-    ready: BTreeMap<usize, Result<Option<TileTables>, GpuError>>,
+    ready: BTreeMap<usize, Result<PreparedTile, GpuError>>,
     /// Tiles taken by the recording thread.
     taken: usize,
     stop: bool,
@@ -403,7 +403,7 @@ impl Prepared<'_> {
     }
 
     /// Tile `k`'s host part, once a worker made it (tiles are taken in order).
-    fn take(&self, k: usize) -> Result<Option<TileTables>, GpuError> {
+    fn take(&self, k: usize) -> Result<PreparedTile, GpuError> {
         let mut state = self.lock();
         loop {
             if let Some(tables) = state.ready.remove(&k) {
@@ -426,7 +426,8 @@ impl Prepared<'_> {
 
 /// [`run`] inside its error scope: the bytes read back. The tiles' host parts are prepared on
 /// up to one worker thread per core (less one for this thread), so a kind whose tables cost
-/// the host (a phasor's drawn kernels, a texture's passes) keeps the device busy.
+/// the host (a phasor's drawn kernels, a texture's passes) keeps the device busy, and a
+/// composite kind's tiles (a warp's, a combination's) render side by side.
 #[allow(clippy::too_many_arguments)]
 fn run_scoped(
     gpu: &Gpu,
@@ -494,9 +495,9 @@ fn record_all(
                 label: Some("spectex render"),
             });
         let pair = 2 * slot_index as u32;
-        let direct = tables.is_some();
+        let direct = matches!(tables, PreparedTile::Tables(_));
         match tables {
-            Some(tables) => {
+            PreparedTile::Tables(tables) => {
                 let timer = ring
                     .queries
                     .as_ref()
@@ -507,10 +508,9 @@ fn record_all(
                     });
                 kernel.encode_tile(&tile.window, tables, &mut encoder, &slot.values, timer)?;
             }
-            None => {
-                // A composite kind: its passes ran (and were timed) inside render_tile; the
-                // host values go up, ordered before this submission, and take the same way out.
-                let host = kernel.render_tile(&tile.window, None)?;
+            PreparedTile::Values(host) => {
+                // A composite kind: its operands' passes ran (and were timed) on a worker; the
+                // values go up, ordered before this submission, and take the same way out.
                 gpu.queue
                     .write_buffer(&slot.values, 0, bytemuck::cast_slice(&host));
             }

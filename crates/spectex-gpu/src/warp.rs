@@ -58,6 +58,12 @@ impl GpuKernel for WarpKernel {
         Ok(size)
     }
 
+    /// Quarter-megapixel tiles: the host composes every tile, so a render spreads them over
+    /// the cores.
+    fn tile_pixels(&self) -> Option<usize> {
+        Some(1 << 18)
+    }
+
     /// A periodic warp's positions are reduced into the period (the CPU's `PeriodicKernel`
     /// checks nothing either).
     fn check_window(&self, window: &GpuWindow) -> Result<(), GpuError> {
