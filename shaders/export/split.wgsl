@@ -26,7 +26,10 @@ struct ExportSplit {
     rem: f32,
 }
 
-/// `n` on lattice `lattice`: `n = cell·Δ + rem` (see the header).
+/// `n` on lattice `lattice`: `n = cell·Δ + rem` (see the header). A loop of 32 steps with
+/// the bit index as its counter: a driver that unrolls it (and inlines a constant `lattice`)
+/// reads the tables at constant indices and keeps them out of memory, which a data-dependent
+/// index (iterating the set bits only, say) would not.
 fn export_split(n: i32, lattice: u32) -> ExportSplit {
     let side = export_sides[lattice];
     let bits = bitcast<u32>(n);
@@ -54,7 +57,12 @@ fn export_split(n: i32, lattice: u32) -> ExportSplit {
 /// (the carry of `u` into the next cells is taken here, exactly: `Δ − rem` and `rem − Δ` are
 /// exact where `rem` is).
 fn export_locate(n: i32, u: f32, lattice: u32) -> ExportSplit {
-    var at = export_split(n, lattice);
+    return export_carry(export_split(n, lattice), u, lattice);
+}
+
+/// [`export_locate`] of a point whose integer part's split on `lattice` is `at`.
+fn export_carry(split: ExportSplit, u: f32, lattice: u32) -> ExportSplit {
+    var at = split;
     let side = export_sides[lattice];
     // At most ⌈1/Δ⌉ + 1 carries for u < 1; the bound only guards against a non-finite u.
     for (var guard = 0u; guard < 4096u; guard++) {
@@ -65,6 +73,20 @@ fn export_locate(n: i32, u: f32, lattice: u32) -> ExportSplit {
         at.cell = bitcast<i32>(bitcast<u32>(at.cell) + 1u);
     }
     return at;
+}
+
+/// The split on `lattice` from the split `at` on a lattice of twice its side (the exporter
+/// checks that the f64 sides, hence the f32 ones, halve exactly): the cell doubles and takes
+/// one more where `at.rem` reaches the half side, whence `rem − Δ` is exact (Sterbenz). Where
+/// both sides are f32 this is exactly `export_split(n, lattice)`; elsewhere `at`'s error,
+/// carried over (not grown: no rounding).
+fn export_halve(at: ExportSplit, lattice: u32) -> ExportSplit {
+    let side = export_sides[lattice];
+    let doubled = bitcast<u32>(at.cell) * 2u;
+    if (at.rem >= side) {
+        return ExportSplit(bitcast<i32>(doubled + 1u), at.rem - side);
+    }
+    return ExportSplit(bitcast<i32>(doubled), at.rem);
 }
 
 /// The point `n + u` on lattice `lattice` as the compute shaders' `GridAxis` (common.wgsl): its
