@@ -9,6 +9,8 @@
 //     export_inv_sides[l]              1/Δ_l rounded to f32 (for offsets in lattice units),
 //     export_quotients[32·l + k]       ⌊w_k / Δ_l⌋ mod 2³² (u32, wrapping),
 //     export_remainders[32·l + k]      w_k − ⌊w_k / Δ_l⌋·Δ_l in [0, Δ_l), rounded to f32,
+//     export_whole[l / 32] bit l % 32  Δ_l is a whole number of pixels up to 2²⁴ (then the
+//                                      split is an integer division instead),
 // with w_k = 2^k the weight of bit k of n's two's complement (w_31 = −2^31). Summing the terms
 // of n's set bits, the remainder reduced by Δ at each step, gives n = q·Δ + r with q wrapped to
 // 32 bits like the CPU's i32 cells.
@@ -32,6 +34,19 @@ struct ExportSplit {
 /// index (iterating the set bits only, say) would not.
 fn export_split(n: i32, lattice: u32) -> ExportSplit {
     let side = export_sides[lattice];
+    if (((export_whole[lattice >> 5u] >> (lattice & 31u)) & 1u) == 1u) {
+        // Δ a whole number of pixels (1 to 2²⁴, exactly): floor division in integers, the
+        // exact `n mod Δ` the tables would sum, in a few operations (and, where `lattice` is
+        // a constant, a division by a constant).
+        let d = i32(side);
+        var q = n / d;
+        var r = n - q * d;
+        if (r < 0i) {
+            q -= 1i;
+            r += d;
+        }
+        return ExportSplit(q, f32(r));
+    }
     let bits = bitcast<u32>(n);
     var q = 0u;
     var r = 0.0f;

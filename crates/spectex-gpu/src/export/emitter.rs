@@ -248,8 +248,15 @@ impl Emitter<'_> {
         }
         let (sides, quotients, remainders) = lattice_tables(&parts.lattices);
         let inverses: Vec<f32> = parts.lattices.iter().map(|s| (1.0 / s) as f32).collect();
+        let whole = whole_sides(&parts.lattices);
         self.constant_bytes +=
-            4 * (sides.len() + inverses.len() + quotients.len() + remainders.len());
+            4 * (sides.len() + inverses.len() + quotients.len() + remainders.len() + whole.len());
+        let _ = writeln!(
+            tables,
+            "var<private> export_whole: array<u32, {n}> = array<u32, {n}>({});",
+            join(whole.iter().map(|v| format!("{v}u"))),
+            n = whole.len()
+        );
         for (name, ty, values) in [
             (
                 "export_inv_sides",
@@ -300,6 +307,7 @@ impl Emitter<'_> {
                 [
                     "export_sides",
                     "export_inv_sides",
+                    "export_whole",
                     "export_quotients",
                     "export_remainders",
                 ]
@@ -542,6 +550,19 @@ fn lattice_tables(sides: &[f64]) -> (Vec<f32>, Vec<u32>, Vec<f32>) {
     (sides, quotients, remainders)
 }
 
+/// `export/split.wgsl`'s `export_whole`: bit `l % 32` of word `l / 32` set where lattice `l`'s
+/// side is a whole number of pixels from 1 to 2²⁴ (exactly, in f64), which `export_split` then
+/// divides in integers: `n mod Δ` is exact there, as the tables make it. One word at least.
+fn whole_sides(sides: &[f64]) -> Vec<u32> {
+    let mut words = vec![0u32; sides.len().div_ceil(32).max(1)];
+    for (l, &side) in sides.iter().enumerate() {
+        if side.fract() == 0.0 && (1.0..=16_777_216.0).contains(&side) {
+            words[l / 32] |= 1 << (l % 32);
+        }
+    }
+    words
+}
+
 /// `(⌊w/side⌋ mod 2³² as i64, w − ⌊w/side⌋·side rounded to f32 in [0, side))`.
 fn floor_div(w: f64, side: f64) -> (i64, f32) {
     let mut q = (w / side).floor();
@@ -571,6 +592,18 @@ fn join(items: impl Iterator<Item = String>) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn whole_sides_are_integers_up_to_2_pow_24() {
+        assert_eq!(whole_sides(&[]), [0]);
+        assert_eq!(
+            whole_sides(&[32.0, 9.5, 1.0, 0.5, 16_777_216.0, 16_777_218.0]),
+            [0b10101]
+        );
+        let mut many = vec![2.5; 33];
+        many[32] = 7.0;
+        assert_eq!(whole_sides(&many), [0, 1]);
+    }
 
     #[test]
     fn lattice_tables_decompose_every_bit_weight() {
