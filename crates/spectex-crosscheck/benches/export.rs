@@ -30,8 +30,10 @@
 //!   to its first dot);
 //! - `SPECTEX_BENCH_DUMP=dir`: write each timed module to `dir/NAME.wgsl` (to read or edit
 //!   and time again with `SPECTEX_BENCH_FILE`);
-//! - `SPECTEX_BENCH_RENDER=1`: also time each shader as a full-screen fragment shader writing an
-//!   `R32Float` target (what a game pays), with its own calibration.
+//! - `SPECTEX_BENCH_RENDER=1`: time every shader (calibrations included) as a full-screen
+//!   fragment shader writing an `R32Float` target instead (what a game pays). One stage per
+//!   run: timing both from one module in one run gave lavapipe's compute passes timestamps
+//!   of ~0 ms.
 //!
 //! Skips with a message when no adapter exists.
 
@@ -215,13 +217,8 @@ fn fastest(v: Vec<f64>) -> f64 {
 }
 
 /// Compiles `body` (defining `bench_value`) with the harness and times it: as a compute
-/// dispatch, and as a full-screen draw when `setup.render`.
-fn time_shader(
-    gpu: &Gpu,
-    setup: Setup,
-    body: &str,
-    tables: &[u8],
-) -> Result<(Timing, Option<Timing>), String> {
+/// dispatch, or as a full-screen draw when `setup.render`.
+fn time_shader(gpu: &Gpu, setup: Setup, body: &str, tables: &[u8]) -> Result<Timing, String> {
     let device = &gpu.device;
     let source = format!("{body}\n{HARNESS}");
     let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
@@ -229,13 +226,15 @@ fn time_shader(
         label: Some("export bench"),
         source: wgpu::ShaderSource::Wgsl(source.into()),
     });
-    let compute = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some("export bench"),
-        layout: None,
-        module: &module,
-        entry_point: Some("bench_main"),
-        compilation_options: wgpu::PipelineCompilationOptions::default(),
-        cache: None,
+    let compute = (!setup.render).then(|| {
+        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("export bench"),
+            layout: None,
+            module: &module,
+            entry_point: Some("bench_main"),
+            compilation_options: wgpu::PipelineCompilationOptions::default(),
+            cache: None,
+        })
     });
     let render = setup.render.then(|| {
         device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -379,25 +378,30 @@ fn time_shader(
         }
     };
 
-    let (g0, g1) = groups(&|i| compute.get_bind_group_layout(i), true);
-    let compute_time = run(&|encoder, set| {
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: None,
-            timestamp_writes: set.map(|query_set| wgpu::ComputePassTimestampWrites {
-                query_set,
-                beginning_of_pass_write_index: Some(0),
-                end_of_pass_write_index: Some(1),
-            }),
-        });
-        pass.set_pipeline(&compute);
-        pass.set_bind_group(0, &g0, &[]);
-        if let Some(g) = &g1 {
-            pass.set_bind_group(1, g, &[]);
-        }
-        pass.dispatch_workgroups(setup.width.div_ceil(8), setup.height.div_ceil(8), 1);
-    });
+    if let Some(compute) = compute {
+        let (g0, g1) = groups(&|i| compute.get_bind_group_layout(i), true);
+        return Ok(run(&|encoder, set| {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: None,
+                timestamp_writes: set.map(|query_set| wgpu::ComputePassTimestampWrites {
+                    query_set,
+                    beginning_of_pass_write_index: Some(0),
+                    end_of_pass_write_index: Some(1),
+                }),
+            });
+            pass.set_pipeline(&compute);
+            pass.set_bind_group(0, &g0, &[]);
+            if let Some(g) = &g1 {
+                pass.set_bind_group(1, g, &[]);
+            }
+            pass.dispatch_workgroups(setup.width.div_ceil(8), setup.height.div_ceil(8), 1);
+        }));
+    }
 
-    let render_time = render.map(|pipeline| {
+    let Some(pipeline) = render else {
+        return Err("no pipeline".into());
+    };
+    {
         let target = device.create_texture(&wgpu::TextureDescriptor {
             label: None,
             size: wgpu::Extent3d {
@@ -414,7 +418,7 @@ fn time_shader(
         });
         let view = target.create_view(&wgpu::TextureViewDescriptor::default());
         let (g0, g1) = groups(&|i| pipeline.get_bind_group_layout(i), false);
-        run(&|encoder, set| {
+        Ok(run(&|encoder, set| {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: None,
                 color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -441,9 +445,8 @@ fn time_shader(
                 pass.set_bind_group(1, g, &[]);
             }
             pass.draw(0..3, 0..1);
-        })
-    });
-    Ok((compute_time, render_time))
+        }))
+    }
 }
 
 fn buffer(gpu: &Gpu, bytes: &[u8], usage: wgpu::BufferUsages) -> wgpu::Buffer {
@@ -535,8 +538,9 @@ fn main() {
         time_shader(&gpu, setup, body, &[])
             .unwrap_or_else(|e| panic!("the {what} calibration shader failed: {e}"))
     };
-    let (empty, empty_r) = calibrate(EMPTY, "empty");
-    let (cal, cal_r) = calibrate(CALIBRATION, "cosine");
+    let empty = calibrate(EMPTY, "empty");
+    let cal = calibrate(CALIBRATION, "cosine");
+    let stage = if setup.render { "fragment" } else { "compute" };
     let timing = |t: Timing| match t.gpu {
         Some(g) => format!("{g:.3} (wall {:.3})", t.wall),
         None => format!("wall {:.3}", t.wall),
@@ -546,7 +550,7 @@ fn main() {
         md,
         "Export cost per evaluation on {} ({width}×{height}, first pixel at cell ({cx}, {cy}), \
          fastest of {} repetitions; ms from {}).\n\n\
-         Calibration, compute: empty {}, 450 polynomial cosines {} ms.",
+         Calibration, {stage}: empty {}, 450 polynomial cosines {} ms.",
         gpu.name,
         setup.reps,
         if gpu.timestamps {
@@ -557,25 +561,9 @@ fn main() {
         timing(empty),
         timing(cal),
     );
-    if let (Some(e), Some(c)) = (empty_r, cal_r) {
-        let _ = writeln!(
-            md,
-            "Calibration, fragment: empty {}, 450 polynomial cosines {} ms.",
-            timing(e),
-            timing(c)
-        );
-    }
-    let _ = writeln!(md);
-    let render_cols = if setup.render {
-        " fragment ms | fragment cal-cos/eval |"
-    } else {
-        ""
-    };
     let _ = writeln!(
         md,
-        "| model | evaluations/px | compute ms | cal-cos/eval |{render_cols}\n\
-         |---|---:|---:|---:|{}",
-        if setup.render { "---:|---:|" } else { "" }
+        "\n| model | evaluations/px | {stage} ms | cal-cos/eval |\n|---|---:|---:|---:|"
     );
     print!("{md}");
 
@@ -645,22 +633,11 @@ fn main() {
             .map(|e| e.cost_per_pixel())
             .unwrap_or(f64::NAN);
         let row = match time_shader(&gpu, setup, &body, &tables) {
-            Ok((c, r)) => {
-                let mut row = format!(
-                    "| {case} | {evaluations:.1} | {:.3} | {:.2} |",
-                    c.ms(),
-                    cosines(c.ms(), evaluations, empty.ms(), cal.ms())
-                );
-                if let (Some(r), Some(e), Some(k)) = (r, empty_r, cal_r) {
-                    let _ = write!(
-                        row,
-                        " {:.3} | {:.2} |",
-                        r.ms(),
-                        cosines(r.ms(), evaluations, e.ms(), k.ms())
-                    );
-                }
-                row
-            }
+            Ok(t) => format!(
+                "| {case} | {evaluations:.1} | {:.3} | {:.2} |",
+                t.ms(),
+                cosines(t.ms(), evaluations, empty.ms(), cal.ms())
+            ),
             Err(e) => format!(
                 "| {case} | {evaluations:.1} | failed: {} | |",
                 e.lines().next().unwrap_or("")
