@@ -32,7 +32,9 @@
 // (`width·pixel_size` along x, `height·pixel_size` along y: n = q·R + rem exactly where R is
 // an f32) and interpolates its grey samples (after the profile data in `profile_data`) at
 // `(rem + r)/pixel_size − ½` as the CPU does at `x/pixel_size − ½`, so a point at 10⁷ pixels
-// reads its texel as precisely as one at the origin. Fields are read where the CPU reads them:
+// reads its texel as precisely as one at the origin. The pixel's splits on the fields' lattices (and on the
+// coherent direction grid) are taken once per pixel, `phasor_export_locate_fields`, not per
+// impulse. Fields are read where the CPU reads them:
 // kernel parameters at the impulse `((i, j) + o)·r`, which is `n + (s + o)·r − rem` for the
 // pixel's cell split `n = cell·r + rem − u`; profile parameters at the pixel. They are f32
 // here and f64 on the CPU: the export test bounds the difference and leaves out the pixels
@@ -83,8 +85,9 @@ fn phasor_export_gradient(n: vec2<i32>, r: vec2<f32>) -> vec3<f32> {
 /// direction process's kernels around it (lattice 1, DIRECTION_LAYER), as
 /// `PhasorKernels::coherent_direction` sums them in f32.
 fn phasor_export_coherent(n: vec2<i32>, r: vec2<f32>) -> vec3<f32> {
-    let ax = export_split(n.x, 1u);
-    let ay = export_split(n.y, 1u);
+    // `n` (the pixel's) split on lattice 1, once per pixel by `phasor_sample_cell`.
+    let ax = phasor_export_dir_x;
+    let ay = phasor_export_dir_y;
     let wx = (ax.rem + r.x) * export_inv_sides[1];
     let wy = (ay.rem + r.y) * export_inv_sides[1];
     let fx = floor(wx);
@@ -134,6 +137,12 @@ fn phasor_export_coherent(n: vec2<i32>, r: vec2<f32>) -> vec3<f32> {
     }
     return vec3<f32>(1.0f, 0.0f, 0.0f);
 }
+
+/// The pixel's integer position split on the direction grid (lattice 1), set by
+/// `phasor_sample_cell` where the orientation is coherent: every impulse's direction sum reads
+/// it, instead of splitting the same position again (a 32-step table loop per axis).
+var<private> phasor_export_dir_x: ExportSplit;
+var<private> phasor_export_dir_y: ExportSplit;
 
 /// The PRNG of kernel cell `c` (spectex_model::phasor_kernels, layer 0): a 3D model hashes
 /// the layer k into the seed first.
@@ -212,6 +221,12 @@ const PHASOR_EXPORT_INV_TAU: f32 = 0.15915494f;
 /// in its order (layers, rows, columns ascending; impulses in draw order), then its output.
 fn phasor_sample_cell(cell: vec2<i32>, offset: vec2<f32>) -> f32 {
     let at = export_normalise(cell, offset);
+    // Per-pixel splits that the fields and directions read per impulse.
+    phasor_export_locate_fields(at.n);
+    if (phasor_export_mode == 5u) {
+        phasor_export_dir_x = export_split(at.n.x, 1u);
+        phasor_export_dir_y = export_split(at.n.y, 1u);
+    }
     let cx = export_locate(at.n.x, at.u.x, 0u);
     let cy = export_locate(at.n.y, at.u.y, 0u);
     // The CPU's offsets in cell units, `x/r − ⌊x/r⌋` rounded once from f64.

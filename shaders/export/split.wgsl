@@ -9,6 +9,8 @@
 //     export_inv_sides[l]              1/Δ_l rounded to f32 (for offsets in lattice units),
 //     export_quotients[32·l + k]       ⌊w_k / Δ_l⌋ mod 2³² (u32, wrapping),
 //     export_remainders[32·l + k]      w_k − ⌊w_k / Δ_l⌋·Δ_l in [0, Δ_l), rounded to f32,
+//     export_whole[l / 32] bit l % 32  Δ_l is a whole number of pixels up to 2²⁴ (then the
+//                                      split is an integer division instead),
 // with w_k = 2^k the weight of bit k of n's two's complement (w_31 = −2^31). Summing the terms
 // of n's set bits, the remainder reduced by Δ at each step, gives n = q·Δ + r with q wrapped to
 // 32 bits like the CPU's i32 cells.
@@ -26,9 +28,25 @@ struct ExportSplit {
     rem: f32,
 }
 
-/// `n` on lattice `lattice`: `n = cell·Δ + rem` (see the header).
+/// `n` on lattice `lattice`: `n = cell·Δ + rem` (see the header). A loop of 32 steps with
+/// the bit index as its counter: a driver that unrolls it (and inlines a constant `lattice`)
+/// reads the tables at constant indices and keeps them out of memory, which a data-dependent
+/// index (iterating the set bits only, say) would not.
 fn export_split(n: i32, lattice: u32) -> ExportSplit {
     let side = export_sides[lattice];
+    if (((export_whole[lattice >> 5u] >> (lattice & 31u)) & 1u) == 1u) {
+        // Δ a whole number of pixels (1 to 2²⁴, exactly): floor division in integers, the
+        // exact `n mod Δ` the tables would sum, in a few operations (and, where `lattice` is
+        // a constant, a division by a constant).
+        let d = i32(side);
+        var q = n / d;
+        var r = n - q * d;
+        if (r < 0i) {
+            q -= 1i;
+            r += d;
+        }
+        return ExportSplit(q, f32(r));
+    }
     let bits = bitcast<u32>(n);
     var q = 0u;
     var r = 0.0f;
@@ -54,7 +72,12 @@ fn export_split(n: i32, lattice: u32) -> ExportSplit {
 /// (the carry of `u` into the next cells is taken here, exactly: `Δ − rem` and `rem − Δ` are
 /// exact where `rem` is).
 fn export_locate(n: i32, u: f32, lattice: u32) -> ExportSplit {
-    var at = export_split(n, lattice);
+    return export_carry(export_split(n, lattice), u, lattice);
+}
+
+/// [`export_locate`] of a point whose integer part's split on `lattice` is `at`.
+fn export_carry(split: ExportSplit, u: f32, lattice: u32) -> ExportSplit {
+    var at = split;
     let side = export_sides[lattice];
     // At most ⌈1/Δ⌉ + 1 carries for u < 1; the bound only guards against a non-finite u.
     for (var guard = 0u; guard < 4096u; guard++) {
@@ -65,6 +88,20 @@ fn export_locate(n: i32, u: f32, lattice: u32) -> ExportSplit {
         at.cell = bitcast<i32>(bitcast<u32>(at.cell) + 1u);
     }
     return at;
+}
+
+/// The split on `lattice` from the split `at` on a lattice of twice its side (the exporter
+/// checks that the f64 sides, hence the f32 ones, halve exactly): the cell doubles and takes
+/// one more where `at.rem` reaches the half side, whence `rem − Δ` is exact (Sterbenz). Where
+/// both sides are f32 this is exactly `export_split(n, lattice)`; elsewhere `at`'s error,
+/// carried over (not grown: no rounding).
+fn export_halve(at: ExportSplit, lattice: u32) -> ExportSplit {
+    let side = export_sides[lattice];
+    let doubled = bitcast<u32>(at.cell) * 2u;
+    if (at.rem >= side) {
+        return ExportSplit(bitcast<i32>(doubled + 1u), at.rem - side);
+    }
+    return ExportSplit(bitcast<i32>(doubled), at.rem);
 }
 
 /// The point `n + u` on lattice `lattice` as the compute shaders' `GridAxis` (common.wgsl): its

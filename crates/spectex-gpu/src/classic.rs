@@ -10,7 +10,6 @@ use spectex_model::classic::{
 use spectex_model::random::layer_key;
 
 use crate::axis::{periodic_columns, periodic_rows};
-use crate::export::{ExportKind, ExportNode, ExportParts};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
@@ -103,9 +102,9 @@ pub(crate) struct ClassicKernel {
     model: ClassicNoise,
     params: ClassicParams,
     /// Cell side of each octave, pixels (f64, as the CPU divides by it).
-    sides: Vec<f64>,
+    pub(crate) sides: Vec<f64>,
     /// The simplex skew factor `F` of the model's dimension.
-    skew: f64,
+    pub(crate) skew: f64,
     /// The basis's statistics for a minified render's fade, measured on first use, as the CPU
     /// measures them.
     statistics: std::sync::OnceLock<spectex_model::filter::BasisStatistics>,
@@ -122,7 +121,7 @@ fn split(p: f64) -> (i32, f32) {
 }
 
 /// Packs a validated model for the plane `z` (ignored in 2D): the kernel and the octave table.
-fn pack(model: &ClassicNoise, z: f64) -> (ClassicKernel, Vec<ClassicOctave>) {
+pub(crate) fn pack(model: &ClassicNoise, z: f64) -> (ClassicKernel, Vec<ClassicOctave>) {
     pack_periodic(model, z, None)
 }
 
@@ -262,32 +261,6 @@ impl GpuKind for ClassicNoise {
     ) -> Result<Box<dyn GpuKernel>, GpuError> {
         let (kernel, octaves) = pack_periodic(self, z, period);
         Shaded::boxed(context, kernel, &[Table::new("classic octaves", &octaves)])
-    }
-}
-
-impl ExportKind for ClassicNoise {
-    fn export_parts(&self, z: f64) -> Result<ExportNode, GpuError> {
-        let (kernel, octaves) = pack(self, z);
-        // Octave o: lattices 3o (c_o), 3o + 1 (c_o/(1 + F)) and 3o + 2 (c_o/F) of
-        // export/classic.wgsl; the skew lattices only matter to simplex noise (F > 0).
-        let lattices = kernel
-            .sides
-            .iter()
-            .flat_map(|&c| {
-                let f = kernel.skew;
-                if f > 0.0 {
-                    [c, c / (1.0 + f), c / f]
-                } else {
-                    [c, c, c]
-                }
-            })
-            .collect();
-        ExportParts::of(
-            &kernel,
-            &[Table::new("classic octaves", &octaves)],
-            lattices,
-            "classic",
-        )
     }
 }
 

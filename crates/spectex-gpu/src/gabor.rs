@@ -5,7 +5,6 @@
 use spectex_model::{GaborNoise, Orientation, Period};
 
 use crate::axis::{CellAxes, CellAxis};
-use crate::export::{ExportKind, ExportNode, ExportParts};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
@@ -55,7 +54,7 @@ wgsl_struct! {
 #[derive(Debug, Clone)]
 pub(crate) struct GaborKernel {
     /// Kernel radius `r` = grid cell side, pixels.
-    radius: f64,
+    pub(crate) radius: f64,
     params: GaborParams,
     /// The period of a periodic noise: positions reduced modulo it.
     period: Option<Period>,
@@ -64,7 +63,7 @@ pub(crate) struct GaborKernel {
 /// Packs a validated Gabor model, periodic with `period` when given (a period it accepts): the
 /// CPU's `GaborEvaluator::new_periodic`, square cells of the fitted radius hashed modulo the
 /// period.
-fn pack(model: &GaborNoise, period: Option<Period>) -> GaborKernel {
+pub(crate) fn pack(model: &GaborNoise, period: Option<Period>) -> GaborKernel {
     let radius = period
         .and_then(|p| model.periodic_radius(p))
         .unwrap_or_else(|| model.kernel_radius());
@@ -126,15 +125,6 @@ impl GpuKind for GaborNoise {
         period: Option<Period>,
     ) -> Result<Box<dyn GpuKernel>, GpuError> {
         Shaded::boxed(context, pack(self, period), &[])
-    }
-}
-
-impl ExportKind for GaborNoise {
-    fn export_parts(&self, _z: f64) -> Result<ExportNode, GpuError> {
-        let kernel = pack(self, None);
-        // The kernel grid is the export's lattice 0 (export/gabor.wgsl).
-        let lattices = vec![kernel.radius];
-        ExportParts::of(&kernel, &[], lattices, "gabor")
     }
 }
 

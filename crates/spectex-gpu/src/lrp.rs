@@ -6,7 +6,6 @@
 use spectex_model::{LrpNoise, Period};
 
 use crate::axis::{periodic_columns, periodic_rows};
-use crate::export::{ExportKind, ExportNode, ExportParts};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::{Shaded, binding_limit};
@@ -67,7 +66,7 @@ pub(crate) struct LrpKernel {
     seed: u32,
     mean: f32,
     /// `Δ_s` in f64 (from the model's f32, or fitted to the period along x), per stratum.
-    deltas: Vec<f64>,
+    pub(crate) deltas: Vec<f64>,
     /// The lattice periods along y, per stratum (`deltas` unless periodic).
     deltas_y: Vec<f64>,
     /// The period of a periodic model: positions reduced modulo it.
@@ -149,7 +148,7 @@ pub(crate) fn lattice_axis(
 /// The kernel of a validated model (periodic with `period` when given) and the tables it keeps
 /// on the device, in binding order, with the frequency tables' size in bytes: what the device
 /// evaluator uploads and what the WGSL export writes as constants.
-fn host(model: &LrpNoise, period: Option<Period>) -> (LrpKernel, Vec<Table>, u64) {
+pub(crate) fn host(model: &LrpNoise, period: Option<Period>) -> (LrpKernel, Vec<Table>, u64) {
     let packed = pack(model, period);
     let frequency_bytes = size_of_val(packed.frequencies.as_slice()) as u64;
     let sides: Vec<[f64; 2]> = model
@@ -190,15 +189,6 @@ impl GpuKind for LrpNoise {
             });
         }
         Shaded::boxed(context, kernel, &tables)
-    }
-}
-
-impl ExportKind for LrpNoise {
-    fn export_parts(&self, _z: f64) -> Result<ExportNode, GpuError> {
-        let (kernel, tables, _) = host(self, None);
-        // Stratum s's lattice is the export's lattice s (export/lrp.wgsl).
-        let lattices = kernel.deltas.clone();
-        ExportParts::of(&kernel, &tables, lattices, "lrp")
     }
 }
 

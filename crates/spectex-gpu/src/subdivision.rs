@@ -7,7 +7,6 @@ use spectex_model::subdivision::{Stencil, StochasticSubdivision};
 use spectex_model::{ModelKind, Period};
 
 use crate::axis::{CellAxes, CellAxis};
-use crate::export::{ExportKind, ExportNode, ExportParts};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
@@ -32,12 +31,12 @@ wgsl_struct! {
 #[derive(Debug, Clone)]
 pub(crate) struct SubdivisionKernel {
     params: SubdivisionParams,
-    side: f64,
+    pub(crate) side: f64,
 }
 
 /// The kernel of a validated model and its level scales (f32 of the f64 values): what the
 /// device evaluator uploads and what the WGSL export writes.
-fn host(model: &StochasticSubdivision) -> (SubdivisionKernel, Vec<f32>) {
+pub(crate) fn host(model: &StochasticSubdivision) -> (SubdivisionKernel, Vec<f32>) {
     let side = f64::from(model.cell_size);
     let scales: Vec<f32> = model.level_scales().iter().map(|&s| s as f32).collect();
     let kernel = SubdivisionKernel {
@@ -77,20 +76,6 @@ impl GpuKind for StochasticSubdivision {
             context,
             kernel,
             &[Table::new("subdivision scales", &scales)],
-        )
-    }
-}
-
-impl ExportKind for StochasticSubdivision {
-    fn export_parts(&self, _z: f64) -> Result<ExportNode, GpuError> {
-        let (kernel, scales) = host(self);
-        // The coarse lattice is the export's lattice 0 (export/subdivision.wgsl).
-        let lattices = vec![kernel.side];
-        ExportParts::of(
-            &kernel,
-            &[Table::new("subdivision scales", &scales)],
-            lattices,
-            "subdivision",
         )
     }
 }

@@ -6,7 +6,6 @@ use spectex_model::texton::{Combine, MAX_TEXTONS_PER_CELL, Placement, Spot};
 use spectex_model::{Period, TextonNoise};
 
 use crate::axis::{CellAxes, CellAxis};
-use crate::export::{ExportKind, ExportNode, ExportParts};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
@@ -56,7 +55,7 @@ wgsl_struct! {
 /// A texton model on the device.
 #[derive(Debug, Clone)]
 pub(crate) struct TextonKernel {
-    cell_size: f64,
+    pub(crate) cell_size: f64,
     params: TextonParams,
     /// The period of a periodic model: positions reduced modulo it.
     period: Option<Period>,
@@ -82,23 +81,9 @@ impl GpuKind for TextonNoise {
     }
 }
 
-impl ExportKind for TextonNoise {
-    fn export_parts(&self, _z: f64) -> Result<ExportNode, GpuError> {
-        let (kernel, data) = host(self);
-        // The texton grid is the export's lattice 0 (export/texton.wgsl).
-        let lattices = vec![kernel.cell_size];
-        ExportParts::of(
-            &kernel,
-            &[Table::new("texton model data", &data)],
-            lattices,
-            "texton",
-        )
-    }
-}
-
 /// The kernel of a validated model and its model data (the Poisson CDF, then the image's
 /// texels): what the device evaluator uploads and what the WGSL export writes.
-fn host(model: &TextonNoise) -> (TextonKernel, Vec<f32>) {
+pub(crate) fn host(model: &TextonNoise) -> (TextonKernel, Vec<f32>) {
     let this = model;
     {
         let (jitter, placement) = match this.placement {

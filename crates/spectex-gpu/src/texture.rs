@@ -8,7 +8,6 @@ use spectex_model::texture::PLACEMENT_LAYER;
 use spectex_model::{LrpNoise, Model, Period, TextureModel};
 
 use crate::axis::{periodic_columns, periodic_rows};
-use crate::export::{ExportKind, ExportNode, ExportNodeOf, ExportParts, TextureExport};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::{Shaded, binding_limit};
@@ -93,16 +92,16 @@ pub(crate) struct TextureKernel {
 
 /// The structure tables of a texture: a [`ChannelStructure`] per channel, the `(start, count)`
 /// of every block of every structure, and `(k_x, k_y, A, φ)` of every fixed cosine.
-struct Structures {
+pub(crate) struct Structures {
     /// Every channel's `Structure::mean_mipmap`, concatenated.
-    means: Vec<f32>,
-    channels: Vec<ChannelStructure>,
-    blocks: Vec<[u32; 2]>,
-    cosines: Vec<[f32; 4]>,
+    pub(crate) means: Vec<f32>,
+    pub(crate) channels: Vec<ChannelStructure>,
+    pub(crate) blocks: Vec<[u32; 2]>,
+    pub(crate) cosines: Vec<[f32; 4]>,
 }
 
 /// Packs the structures of a validated texture model.
-fn pack_structures(model: &TextureModel) -> Structures {
+pub(crate) fn pack_structures(model: &TextureModel) -> Structures {
     let mut channels = Vec::with_capacity(model.channels.len());
     let mut blocks: Vec<[u32; 2]> = Vec::new();
     let mut cosines: Vec<[f32; 4]> = Vec::new();
@@ -235,96 +234,6 @@ fn lrp_evaluator(
     match period {
         None => GpuEvaluator::new(context, &model),
         Some(p) => GpuEvaluator::periodic_at_z(context, &model, 0.0, p),
-    }
-}
-
-impl ExportKind for TextureModel {
-    fn export_parts(&self, z: f64) -> Result<ExportNode, GpuError> {
-        let lrp = |seed, mean, strata| Model::Lrp(LrpNoise { seed, mean, strata });
-        let strata = self
-            .channels
-            .iter()
-            .map(|ch| {
-                if ch.strata.is_empty() {
-                    Ok(Err(ch.mean))
-                } else {
-                    lrp(ch.seed, ch.mean, ch.strata.clone())
-                        .export_node(z)
-                        .map(Ok)
-                }
-            })
-            .collect::<Result<Vec<_>, GpuError>>()?;
-        let turbulence = match &self.turbulence {
-            Some(t) => {
-                let mut axes: [Vec<ExportNode>; 2] = [Vec::new(), Vec::new()];
-                for (axis, nodes) in axes.iter_mut().enumerate() {
-                    for (s, stratum) in t.strata.iter().enumerate() {
-                        nodes
-                            .push(lrp(t.seed(axis, s), 0.0, vec![stratum.clone()]).export_node(z)?);
-                    }
-                }
-                Some((t.sigma, t.centre, axes))
-            }
-            None => None,
-        };
-        let structures = pack_structures(self);
-        let nc = self.channels.len();
-        let mut params = TextureParams {
-            width: 1,
-            height: 1,
-            channels: nc as u32,
-            period: self.period,
-            seed: self.seed,
-            random_placement: u32::from(self.random_placement),
-            colour: u32::from(self.colour.is_some()),
-            placement_layer: PLACEMENT_LAYER,
-            ..bytemuck::Zeroable::zeroed()
-        };
-        if let Some(c) = &self.colour {
-            for i in 0..3 {
-                params.colour_mean[i] = c.mean[i];
-                params.basis[i][..3].copy_from_slice(&c.basis[i]);
-            }
-        }
-        // The uniform, the resident tables, then the per-tile tables of a one-pixel tile
-        // (unused by the glue, which computes their values itself).
-        let bindings = vec![
-            bytemuck::bytes_of(&params).to_vec(),
-            Table::new("texture structures", &structures.channels).bytes,
-            Table::new("texture blocks", &structures.blocks).bytes,
-            Table::new("texture cosines", &structures.cosines).bytes,
-            Table::new("texture block means", &structures.means).bytes,
-            Table::new("texture values", &vec![0.0f32; nc + 2]).bytes,
-            Table::new(
-                "texture columns",
-                &[PlacementAxis {
-                    cell: 0,
-                    offset: 0.0,
-                }],
-            )
-            .bytes,
-            Table::new(
-                "texture rows",
-                &[PlacementAxis {
-                    cell: 0,
-                    offset: 0.0,
-                }],
-            )
-            .bytes,
-        ];
-        // The placement cell P = T/2 is the export's lattice 0 (export/texture.wgsl).
-        let leaf = ExportParts::new(
-            "texture",
-            "texture",
-            nc,
-            bindings,
-            vec![self.placement_cell()],
-        );
-        Ok(ExportNode::Texture(Box::new(TextureExport {
-            leaf,
-            strata,
-            turbulence,
-        })))
     }
 }
 

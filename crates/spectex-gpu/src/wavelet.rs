@@ -6,7 +6,6 @@ use spectex_model::wavelet::{Band, locate_sample};
 use spectex_model::{Period, WaveletNoise};
 
 use crate::axis::{periodic_columns, periodic_rows};
-use crate::export::{ExportKind, ExportNode, ExportParts};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
@@ -54,7 +53,7 @@ pub(crate) struct WaveletKernel {
     n: u32,
     dimensions: u32,
     mean: f32,
-    bands: Vec<Band>,
+    pub(crate) bands: Vec<Band>,
     /// The period of a periodic model: positions reduced modulo it (the tile repeats within
     /// it, so nothing else changes).
     period: Option<Period>,
@@ -106,32 +105,14 @@ impl GpuKind for WaveletNoise {
     }
 }
 
-impl ExportKind for WaveletNoise {
-    fn export_parts(&self, z: f64) -> Result<ExportNode, GpuError> {
-        let (kernel, tables) = host(self, z, None);
-        // Band b's sample grid is the export's lattice b (export/wavelet.wgsl), its tile
-        // offsets along x and y the constant `wavelet_export_offsets`.
-        let lattices = kernel.bands.iter().map(|b| b.side).collect();
-        let offsets: Vec<String> = kernel
-            .bands
-            .iter()
-            .flat_map(|b| [b.offset[0], b.offset[1]])
-            .map(|o| format!("{o}u"))
-            .collect();
-        let constants = format!(
-            "/// Per band, the tile offsets o_b along x and y (spectex_model::wavelet::Band).\n\
-             const wavelet_export_offsets: array<u32, {n}> = array<u32, {n}>({});\n",
-            offsets.join(", "),
-            n = offsets.len()
-        );
-        Ok(ExportParts::of(&kernel, &tables, lattices, "wavelet")?.with_constants(constants))
-    }
-}
-
 /// The kernel of a validated wavelet noise on the plane `z`, periodic with `period` when
 /// given, and its resident tables (the tile, the bands): what the device evaluator uploads
 /// and what the WGSL export writes.
-fn host(model: &WaveletNoise, z: f64, period: Option<Period>) -> (WaveletKernel, Vec<Table>) {
+pub(crate) fn host(
+    model: &WaveletNoise,
+    z: f64,
+    period: Option<Period>,
+) -> (WaveletKernel, Vec<Table>) {
     let bands = model.bands();
     let band_records = band_records(model, &bands, z);
     let kernel = WaveletKernel {

@@ -16,6 +16,8 @@
 //! refused ([`GpuError::Unsupported`] naming the feature): its fields' z and the 3D coherent
 //! cap are not exported.
 
+use std::fmt::Write as _;
+
 use spectex_model::math::{cos_turns, sin_turns};
 use spectex_model::phasor_kernels::DIRECTION_LAYER;
 use spectex_model::{Field, ModelKind, PhasorNoise, PhasorOrientation, Profile};
@@ -39,7 +41,9 @@ fn varies(field: &Field) -> bool {
 /// The WGSL function `phasor_export_<name>(n, r)`: `field` at the pixel position `n + r`
 /// (header of `export/phasor.wgsl`), an image's grey samples appended to `data` and its
 /// repeat's lattices to `lattices`. With `grey_only`, an image's grey level (unmapped) at
-/// `n + r` moved by `shift` samples (`phasor_export_steer`).
+/// `n + r` moved by `shift` samples (`phasor_export_steer`). An image field reads `n`'s
+/// remainders on its repeat's lattices from the private `phasor_export_rem<l>_at` that
+/// [`locate_fields`] declares and sets once per pixel.
 fn field_function(
     name: &str,
     field: &Field,
@@ -77,9 +81,11 @@ fn field_function(
             lattices.push(*height as f64 * size);
             let shift = if grey_only { " + shift.x" } else { "" };
             let shift_y = if grey_only { " + shift.y" } else { "" };
+            // `n`'s remainders on the repeat's lattices: the pixel's, split once per pixel by
+            // `phasor_export_locate_fields` (every caller passes the pixel's `n`).
             let sample = format!(
-                "let x = export_split(n.x, {lx}u).rem + r.x;\n    \
-                 let y = export_split(n.y, {}u).rem + r.y;\n    \
+                "let x = phasor_export_rem{lx}_at + r.x;\n    \
+                 let y = phasor_export_rem{}_at + r.y;\n    \
                  let g = phasor_export_bilinear({start}u, {width}i, {height}i, \
                  (x * {} - 0.5f){shift}, (y * {} - 0.5f){shift_y});",
                 lx + 1,
@@ -99,6 +105,34 @@ fn field_function(
         }
     };
     format!("{signature} {{\n    {body}\n}}\n")
+}
+
+/// The declarations of `phasor_export_rem<l>_at` for the image fields' repeat lattices (from
+/// lattice 2 on: every lattice after the kernel and direction grids), and
+/// `phasor_export_locate_fields(n)`, which `phasor_sample_cell` calls first: it splits the
+/// pixel's integer position on each of them once, where the fields, read per impulse and per
+/// steering sample, would otherwise split the same `n` every time (a 32-step table loop each).
+fn locate_fields(lattices: usize) -> String {
+    let mut out = String::new();
+    let mut body = String::new();
+    for l in 2..lattices {
+        let axis = if l % 2 == 0 { "x" } else { "y" };
+        let _ = writeln!(
+            out,
+            "/// The pixel's `n.{axis}` split on lattice {l}: its remainder (set per pixel).\n\
+             var<private> phasor_export_rem{l}_at: f32;"
+        );
+        let _ = write!(
+            body,
+            "\n    phasor_export_rem{l}_at = export_split(n.{axis}, {l}u).rem;"
+        );
+    }
+    let _ = writeln!(
+        out,
+        "/// Splits the pixel's integer position `n` on the image fields' lattices, once per pixel.\n\
+         fn phasor_export_locate_fields(n: vec2<i32>) {{{body}\n}}"
+    );
+    out
 }
 
 impl ExportKind for PhasorNoise {
@@ -234,6 +268,7 @@ impl ExportKind for PhasorNoise {
                 float(d[2])
             )
         };
+        functions.push_str(&locate_fields(lattices.len()));
         let constants = format!(
             "const phasor_export_seed: u32 = {}u;\n\
              const phasor_export_threshold: f32 = {};\n\
