@@ -5,6 +5,7 @@ use anyhow::{Result, anyhow};
 use spectex_cpu::{Evaluator, Window};
 use spectex_model::Model;
 
+use crate::io;
 use crate::render::progress_bar;
 
 /// Which evaluator renders.
@@ -18,16 +19,18 @@ pub enum Device {
     Auto,
 }
 
-/// A window's values and where and how fast they were computed.
+/// Where and how fast a window was rendered.
 pub(crate) struct Rendered {
-    /// The values, interleaved per pixel (`Evaluator::output_channels` of them), row-major.
-    pub pixels: Vec<f32>,
     /// "CPU" or "GPU <adapter>".
     pub device: String,
-    /// Seconds of evaluation: device start-up and shader compilation are not evaluation.
+    /// Seconds of evaluation: device start-up and shader compilation are not evaluation, nor
+    /// is storing the values as the output's samples (clamping, quantising, first touch of
+    /// their memory) on the CPU (see [`render`]).
     pub seconds: f64,
     /// Seconds the GPU spent in the render's dispatches (timestamp queries), where measured.
     pub kernel_seconds: Option<f64>,
+    /// Values a PNG output clamped ([`io::Band::store`]).
+    pub clipped: usize,
 }
 
 impl Rendered {
@@ -46,8 +49,25 @@ impl Rendered {
     }
 }
 
-/// Renders `window` of `model` on the plane `z` on the device `device` asks for; `cpu` is the
-/// CPU evaluator of the same model, already built (it has validated the model and the plane).
+/// Rows the CPU evaluates (and stores) at a time: the evaluator's own band (`spectex_cpu`'s
+/// `BAND_ROWS`), whose rows share their lattice rows.
+const BAND_ROWS: usize = 16;
+
+thread_local! {
+    /// A render thread's values of one band, kept from band to band: its pages stay in the
+    /// cache, where a whole image of f32 values took a page fault every 1024 values (as long as
+    /// the evaluation itself on one thread, 2048² Perlin noise).
+    static BAND_VALUES: std::cell::RefCell<Vec<f32>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// Renders `window` of `model` on the plane `z` on the device `device` asks for into `out`
+/// (the output's samples, of `cpu.output_channels()` values per pixel); `cpu` is the CPU
+/// evaluator of the same model, already built (it has validated the model and the plane).
+///
+/// The CPU evaluates band by band into a buffer of its thread's, which each band's samples are
+/// then stored from, and reports the evaluation's share of the wall time: the time the render
+/// took, scaled by the evaluation's share of the render threads' time (on one thread, the time
+/// spent in the evaluator), as the classic bench times the evaluator alone.
 pub(crate) fn render(
     model: &Model,
     z: f64,
@@ -55,6 +75,7 @@ pub(crate) fn render(
     device: Device,
     cpu: &Evaluator,
     period: Option<spectex_model::Period>,
+    out: &mut io::Samples,
 ) -> Result<Rendered> {
     match gpu_for(device)? {
         Some(context) => {
@@ -68,27 +89,87 @@ pub(crate) fn render(
             let stats = gpu
                 .render_into(window, &mut pixels)
                 .map_err(|e| anyhow!("{e}; try --device cpu"))?;
+            let seconds = start.elapsed().as_secs_f64();
+            if pixels.len() != out.row_len() * window.height {
+                return Err(anyhow!(
+                    "internal: the GPU rendered {} values for {} samples",
+                    pixels.len(),
+                    out.row_len() * window.height
+                ));
+            }
+            let clipped = out.fill(window.height.max(1), |_, band| band.store(&pixels));
             Ok(Rendered {
-                pixels,
                 device: format!("GPU {}", context.adapter_name()),
-                seconds: start.elapsed().as_secs_f64(),
+                seconds,
                 kernel_seconds: stats.kernel_seconds,
+                clipped,
             })
         }
         None => {
-            let start = std::time::Instant::now();
-            let mut pixels = vec![0.0f32; window.width * window.height * cpu.output_channels()];
+            cpu.check_window(window).map_err(|e| anyhow!("{e}"))?;
+            // Start the thread pool first: its start-up is not evaluation.
+            let _ = rayon::current_num_threads();
+            let row_len = out.row_len();
             let bar = progress_bar(window.height as u64, "rendering");
-            cpu.render_into(window, &mut pixels, &|_| bar.inc(1))
-                .map_err(|e| anyhow!("{e}"))?;
+            let start = std::time::Instant::now();
+            let bands: Bands = out.fill(BAND_ROWS, |first, band| {
+                BAND_VALUES.with(|values| {
+                    let mut values = values.borrow_mut();
+                    values.resize(band.len(), 0.0);
+                    let evaluating = std::time::Instant::now();
+                    cpu.eval_rows(window, first, &mut values);
+                    let evaluated = evaluating.elapsed();
+                    let clipped = band.store(&values);
+                    bar.inc((values.len() / row_len.max(1)) as u64);
+                    Bands {
+                        clipped,
+                        evaluating: evaluated,
+                        all: evaluating.elapsed(),
+                    }
+                })
+            });
+            let wall = start.elapsed().as_secs_f64();
             bar.finish_and_clear();
             Ok(Rendered {
-                pixels,
                 device: "CPU".to_owned(),
-                seconds: start.elapsed().as_secs_f64(),
+                seconds: wall * bands.evaluation_share(),
                 kernel_seconds: None,
+                clipped: bands.clipped,
             })
         }
+    }
+}
+
+/// What bands of a CPU render report, summed over bands.
+#[derive(Debug, Default, Clone, Copy)]
+struct Bands {
+    /// Values a PNG clamped.
+    clipped: usize,
+    /// Time spent evaluating.
+    evaluating: std::time::Duration,
+    /// Time spent evaluating and storing the samples.
+    all: std::time::Duration,
+}
+
+impl Bands {
+    /// The evaluation's share of the bands' time (1 when there was none).
+    fn evaluation_share(self) -> f64 {
+        let all = self.all.as_secs_f64();
+        if all > 0.0 {
+            self.evaluating.as_secs_f64() / all
+        } else {
+            1.0
+        }
+    }
+}
+
+impl std::iter::Sum for Bands {
+    fn sum<I: Iterator<Item = Self>>(iter: I) -> Self {
+        iter.fold(Self::default(), |a, b| Self {
+            clipped: a.clipped + b.clipped,
+            evaluating: a.evaluating + b.evaluating,
+            all: a.all + b.all,
+        })
     }
 }
 

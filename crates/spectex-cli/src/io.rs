@@ -247,6 +247,255 @@ pub fn save(path: &Path, pixels: &Array3<f64>, format: Format) -> Result<WriteRe
     Ok(report)
 }
 
+/// A rendered image in the samples its file stores: 8- or 16-bit PNG levels (clamped to
+/// `[0, 1]` and quantised by [`quantise`]) or the f32 values of an OpenEXR, interleaved per
+/// pixel, row-major. Filled band by band as a render goes ([`Samples::fill`]), so a render
+/// never holds its f32 values and its file's samples at once (but for an OpenEXR, whose samples
+/// are the values).
+#[derive(Debug)]
+pub(crate) struct Samples {
+    /// Pixels per row.
+    pub width: usize,
+    /// Rows.
+    pub height: usize,
+    /// Values per pixel: 1 (grey) or 3 (RGB).
+    pub channels: usize,
+    /// The samples.
+    pub data: SampleData,
+}
+
+/// The samples of a [`Samples`], as the format stores them.
+#[derive(Debug)]
+pub(crate) enum SampleData {
+    /// 8-bit PNG levels.
+    U8(Vec<u8>),
+    /// 16-bit PNG levels.
+    U16(Vec<u16>),
+    /// OpenEXR values.
+    F32(Vec<f32>),
+}
+
+impl Samples {
+    /// Zeroed samples of a `width × height` image of `channels` values per pixel in `format`.
+    ///
+    /// # Errors
+    /// A channel count other than 1 or 3.
+    pub(crate) fn new(
+        format: Format,
+        width: usize,
+        height: usize,
+        channels: usize,
+    ) -> Result<Self> {
+        if channels != 1 && channels != 3 {
+            bail!("internal: cannot write an image of {channels} channels");
+        }
+        let n = width * height * channels;
+        let data = match format {
+            Format::Png(BitDepth::Eight) => SampleData::U8(vec![0; n]),
+            Format::Png(BitDepth::Sixteen) => SampleData::U16(vec![0; n]),
+            Format::Exr => SampleData::F32(vec![0.0; n]),
+        };
+        Ok(Self {
+            width,
+            height,
+            channels,
+            data,
+        })
+    }
+
+    /// Values per row.
+    pub(crate) fn row_len(&self) -> usize {
+        self.width * self.channels
+    }
+
+    /// Calls `band(first_row, samples)` for each band of `rows` whole rows (the last one
+    /// shorter), in parallel, and sums what the calls return.
+    pub(crate) fn fill<R: Send + std::iter::Sum>(
+        &mut self,
+        rows: usize,
+        band: impl Fn(usize, Band<'_>) -> R + Sync + Send,
+    ) -> R {
+        use rayon::prelude::*;
+        let chunk = (self.row_len() * rows).max(1);
+        match &mut self.data {
+            SampleData::U8(v) => v
+                .par_chunks_mut(chunk)
+                .enumerate()
+                .map(|(i, s)| band(i * rows, Band::U8(s)))
+                .sum(),
+            SampleData::U16(v) => v
+                .par_chunks_mut(chunk)
+                .enumerate()
+                .map(|(i, s)| band(i * rows, Band::U16(s)))
+                .sum(),
+            SampleData::F32(v) => v
+                .par_chunks_mut(chunk)
+                .enumerate()
+                .map(|(i, s)| band(i * rows, Band::F32(s)))
+                .sum(),
+        }
+    }
+}
+
+/// The samples of one band of rows of a [`Samples`].
+#[derive(Debug)]
+pub(crate) enum Band<'a> {
+    /// 8-bit PNG levels.
+    U8(&'a mut [u8]),
+    /// 16-bit PNG levels.
+    U16(&'a mut [u16]),
+    /// OpenEXR values.
+    F32(&'a mut [f32]),
+}
+
+impl Band<'_> {
+    /// Samples in the band.
+    pub(crate) fn len(&self) -> usize {
+        match self {
+            Band::U8(s) => s.len(),
+            Band::U16(s) => s.len(),
+            Band::F32(s) => s.len(),
+        }
+    }
+
+    /// Stores `values` (as many as the band has samples) as the format does: the values
+    /// themselves for an OpenEXR, clamped to `[0, 1]` and quantised ([`quantise`], the same
+    /// levels as [`save`] of the values as f64) for a PNG. Returns how many values a PNG
+    /// clamped (outside `[0, 1]`, or NaN).
+    pub(crate) fn store(self, values: &[f32]) -> usize {
+        let mut clipped = 0;
+        match self {
+            Band::U8(s) => {
+                for (s, &v) in s.iter_mut().zip(values) {
+                    clipped += usize::from(!(0.0..=1.0).contains(&v));
+                    *s = level8(v);
+                }
+            }
+            Band::U16(s) => {
+                for (s, &v) in s.iter_mut().zip(values) {
+                    clipped += usize::from(!(0.0..=1.0).contains(&v));
+                    *s = level16(v);
+                }
+            }
+            Band::F32(s) => s.copy_from_slice(values),
+        }
+        clipped
+    }
+}
+
+/// The 8-bit PNG level of `v`: `quantise(f64::from(v), 255.0) as u8`, without the call to
+/// `round` (none of x86-64's baseline instructions rounds half away from zero; the call took
+/// as long as the evaluation of 2048² Perlin noise). `v · 255` is exact in f64 (a 24-bit
+/// significand times an 8-bit one) and not negative, so adding ½ is exact wherever the sum
+/// reaches 1 (below, both levels are 0), and truncating the sum (`as`) rounds half up, as
+/// `round` does for values ≥ 0; NaN gives 0 both ways.
+#[doc(hidden)]
+#[inline]
+#[must_use]
+pub fn level8(v: f32) -> u8 {
+    (f64::from(v).clamp(0.0, 1.0) * 255.0 + 0.5) as u8
+}
+
+/// The 16-bit PNG level of `v`: `quantise(f64::from(v), 65535.0) as u16`, exactly as
+/// [`level8`] (`v · 65535` has at most 40 significant bits).
+#[doc(hidden)]
+#[inline]
+#[must_use]
+pub fn level16(v: f32) -> u16 {
+    (f64::from(v).clamp(0.0, 1.0) * 65535.0 + 0.5) as u16
+}
+
+/// Writes `samples` to `path` atomically as [`save`] does, in `format` (the one they were made
+/// for); `clipped` is what [`Band::store`] counted. The same bytes as [`save`] of the values.
+pub(crate) fn save_samples(
+    path: &Path,
+    samples: Samples,
+    format: Format,
+    clipped: usize,
+) -> Result<WriteReport> {
+    let Samples {
+        width: w,
+        height: h,
+        channels,
+        data,
+    } = samples;
+    let dir = parent_dir(path);
+    let tmp = tempfile::Builder::new()
+        .prefix(".spectex-")
+        .suffix(".tmp")
+        .tempfile_in(&dir)
+        .map_err(|e| anyhow!("cannot write into '{}': {e}", dir.display()))?;
+    let report = WriteReport {
+        clipped,
+        total: w * h * channels,
+    };
+    {
+        let mut out = BufWriter::new(tmp.as_file());
+        let (w32, h32) = (w as u32, h as u32);
+        let wrong = || anyhow!("internal: {w}×{h}×{channels} samples of the wrong length");
+        let img = match (data, channels) {
+            (SampleData::U8(v), 1) => Some(DynamicImage::ImageLuma8(
+                ImageBuffer::from_raw(w32, h32, v).ok_or_else(wrong)?,
+            )),
+            (SampleData::U8(v), _) => Some(DynamicImage::ImageRgb8(
+                ImageBuffer::from_raw(w32, h32, v).ok_or_else(wrong)?,
+            )),
+            (SampleData::U16(v), 1) => Some(DynamicImage::ImageLuma16(
+                ImageBuffer::from_raw(w32, h32, v).ok_or_else(wrong)?,
+            )),
+            (SampleData::U16(v), _) => Some(DynamicImage::ImageRgb16(
+                ImageBuffer::from_raw(w32, h32, v).ok_or_else(wrong)?,
+            )),
+            (SampleData::F32(v), _) => {
+                if v.len() != w * h * channels {
+                    return Err(wrong());
+                }
+                write_exr(&mut out, &v, w, h, channels)
+                    .with_context(|| format!("cannot encode '{}'", path.display()))?;
+                None
+            }
+        };
+        if let Some(img) = img {
+            if !matches!(format, Format::Png(_)) {
+                bail!("internal: PNG samples for a {format:?} output");
+            }
+            img.write_with_encoder(image::codecs::png::PngEncoder::new(&mut out))
+                .with_context(|| format!("cannot encode '{}'", path.display()))?;
+        }
+        out.flush()
+            .with_context(|| format!("cannot write '{}'", path.display()))?;
+    }
+    finish(tmp, path)?;
+    Ok(report)
+}
+
+/// Writes `values` (`channels` = 1 or 3 per pixel, row-major) as the RGB f32 OpenEXR that
+/// `image`'s `OpenExrEncoder` writes of them (grey as equal R, G, B): its very calls of `exr`,
+/// reading the values where it would read a copy of them as R, G, B bytes.
+fn write_exr<W: Write + std::io::Seek>(
+    out: W,
+    values: &[f32],
+    width: usize,
+    height: usize,
+    channels: usize,
+) -> Result<()> {
+    use exr::prelude::{Image, SpecificChannels, Vec2, WritableImage};
+    Image::from_channels(
+        (width, height),
+        SpecificChannels::rgb(|pixel: Vec2<usize>| {
+            let i = pixel.flat_index_for_size(Vec2(width, height)) * channels;
+            if channels == 1 {
+                (values[i], values[i], values[i])
+            } else {
+                (values[i], values[i + 1], values[i + 2])
+            }
+        }),
+    )
+    .write()
+    .to_buffered(out)
+    .map_err(|e| anyhow!("{e}"))
+}
+
 /// Writes a text file atomically (temporary file in the same directory, then rename).
 pub fn write_text_atomically(path: &Path, text: &str) -> Result<()> {
     write_bytes_atomically(path, text.as_bytes())
@@ -294,7 +543,10 @@ pub fn finish(tmp: tempfile::NamedTempFile, path: &Path) -> Result<()> {
     Ok(())
 }
 
-pub(crate) fn quantise(v: f64, max: f64) -> f64 {
+/// `v` clamped to `[0, 1]`, times `max`, rounded half away from zero: a PNG level.
+#[doc(hidden)]
+#[must_use]
+pub fn quantise(v: f64, max: f64) -> f64 {
     (v.clamp(0.0, 1.0) * max).round()
 }
 

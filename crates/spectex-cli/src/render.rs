@@ -6,7 +6,6 @@ use std::path::PathBuf;
 
 use anyhow::{Result, anyhow};
 use clap::Args;
-use ndarray::Array3;
 use spectex_cpu::{Evaluator, Filter, Window};
 use spectex_model::{Model, Period};
 
@@ -145,13 +144,17 @@ pub(crate) fn render_to_file_with_period(
         Some(p) => Evaluator::periodic_at_z(model, args.z, p)
             .map_err(|e| anyhow!("--periodic: {e}; check --periodic and --z"))?,
     };
-    let rendered = device::render(model, args.z, &window, args.device, &eval, period)?;
-    let pixels = &rendered.pixels;
-    let channels = pixels.len() / (width * height).max(1);
-    let image = Array3::from_shape_fn((channels, height, width), |(c, y, x)| {
-        f64::from(pixels[(y * width + x) * channels + c])
-    });
-    let report = io::save(&args.output, &image, format)?;
+    let mut samples = io::Samples::new(format, width, height, eval.output_channels())?;
+    let rendered = device::render(
+        model,
+        args.z,
+        &window,
+        args.device,
+        &eval,
+        period,
+        &mut samples,
+    )?;
+    let report = io::save_samples(&args.output, samples, format, rendered.clipped)?;
     #[allow(clippy::print_stdout)] // reason: the command's result summary
     {
         println!(

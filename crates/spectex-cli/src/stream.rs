@@ -553,14 +553,11 @@ fn write_png_rows<W: Write>(
         bytes.clear();
         for plane in &band.planes {
             for &v in plane {
-                let v = f64::from(v);
                 report.clipped += usize::from(!(0.0..=1.0).contains(&v));
                 report.total += 1;
                 match depth {
-                    BitDepth::Eight => bytes.push(io::quantise(v, 255.0) as u8),
-                    BitDepth::Sixteen => {
-                        bytes.extend_from_slice(&(io::quantise(v, 65535.0) as u16).to_be_bytes());
-                    }
+                    BitDepth::Eight => bytes.push(io::level8(v)),
+                    BitDepth::Sixteen => bytes.extend_from_slice(&io::level16(v).to_be_bytes()),
                 }
             }
         }

@@ -448,8 +448,7 @@ impl Evaluator {
         progress: &(dyn Fn(usize) + Sync),
         reference: bool,
     ) -> Result<(), CpuError> {
-        window.validate()?;
-        self.kernel.check_window(window)?;
+        self.check_window(window)?;
         let channels = self.output_channels();
         let needed = window.width * window.height * channels;
         if out.len() != needed {
@@ -475,6 +474,19 @@ impl Evaluator {
                 progress(n);
             });
         Ok(())
+    }
+
+    /// Checks what [`render_into`](Self::render_into) checks of `window` before it evaluates
+    /// its rows: its range, and what the kind needs of it (a warp's displaced positions in
+    /// range). For callers that evaluate a window's rows themselves
+    /// ([`eval_rows`](Self::eval_rows)).
+    ///
+    /// # Errors
+    /// [`CpuError::Window`] for a window out of range, or whose displaced positions (a warp's)
+    /// would be.
+    pub fn check_window(&self, window: &Window) -> Result<(), CpuError> {
+        window.validate()?;
+        self.kernel.check_window(window)
     }
 
     /// Kernel or cosine evaluations per pixel, for reports.

@@ -6,6 +6,7 @@ mod classic;
 mod exemplar;
 mod fit;
 mod gabor;
+mod io;
 mod phasor;
 mod spectral;
 mod stream;
