@@ -53,7 +53,7 @@ fn packed_formats_are_the_f32_render_quantised() {
             GpuWindow::new(37, 23).at([1.0e7 + 0.25, -3.0e6], 1.0),
         ),
         (
-            "texture-synthetic-colour.json",
+            "combine-bark.json",
             GpuWindow::new(19, 11).at([5.0, 7.0], 1.0),
         ),
     ] {
@@ -300,11 +300,7 @@ fn render_to_a_callers_storage_texture() {
     let window = GpuWindow::new(24, 20).at([3.0e6, -1.0], 1.0);
     for (name, format, texel_bytes) in [
         ("lrp-ring.json", wgpu::TextureFormat::R32Float, 4),
-        (
-            "texture-synthetic-colour.json",
-            wgpu::TextureFormat::Rgba32Float,
-            16,
-        ),
+        ("combine-bark.json", wgpu::TextureFormat::Rgba32Float, 16),
         ("lrp-ring.json", wgpu::TextureFormat::Rgba8Unorm, 4),
     ] {
         let mut gpu = GpuEvaluator::new(&context, &model(name)).unwrap();
