@@ -396,7 +396,16 @@ impl Prepared<'_> {
                 return;
             }
             drop(state);
-            let tables = self.kernel.prepare_tile(&self.tiles[k].window);
+            // A panic in a worker would leave the recording thread waiting for this tile: it
+            // becomes the tile's error instead.
+            let tables = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                self.kernel.prepare_tile(&self.tiles[k].window)
+            }))
+            .unwrap_or_else(|_| {
+                Err(GpuError::Validation(format!(
+                    "preparing tile {k} on a worker thread panicked"
+                )))
+            });
             self.lock().ready.insert(k, tables);
             self.changed.notify_all();
         }
