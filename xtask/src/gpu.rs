@@ -14,7 +14,7 @@ use std::process::{Command, Stdio};
 
 use anyhow::{Context, Result, bail};
 
-use super::{Workspace, ensure_lavapipe, lavapipe_env, run_command, target_dir};
+use super::{Workspace, ensure_lavapipe, json_string_field, lavapipe_env, run_command, target_dir};
 
 /// One model's figures, in Mpix/s.
 #[derive(Debug, Clone, PartialEq)]
@@ -483,12 +483,8 @@ fn bench_executable(ws: &Workspace) -> Result<PathBuf> {
     }
     String::from_utf8_lossy(&output.stdout)
         .lines()
-        .filter(|l| l.contains("\"name\":\"models\"") && l.contains("\"executable\":\""))
-        .find_map(|l| {
-            let start = l.find("\"executable\":\"")? + "\"executable\":\"".len();
-            let end = start + l[start..].find('"')?;
-            Some(PathBuf::from(&l[start..end]))
-        })
+        .filter(|l| l.contains("\"name\":\"models\""))
+        .find_map(|l| json_string_field(l, "executable").map(PathBuf::from))
         .context("cargo did not name the models bench's executable")
 }
 

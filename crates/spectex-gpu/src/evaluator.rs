@@ -361,15 +361,14 @@ impl GpuEvaluator {
         Ok(window.width * window.height * self.output_channels())
     }
 
-    /// The tiles of `window`, through the ring, into `sink`.
+    /// The tiles of `window` (checked by [`values`](Self::values) first), through the ring,
+    /// into `sink`.
     fn render_with(
         &self,
         window: &GpuWindow,
         format: OutputFormat,
         sink: Sink<'_>,
     ) -> Result<RenderStats, GpuError> {
-        window.validate()?;
-        self.kernel.check_window(window)?;
         let [tile_width, tile_height] = self.tile_size(window)?;
         let mut tiles = Vec::new();
         for ty in (0..window.height).step_by(tile_height) {

@@ -140,6 +140,16 @@ impl Gpu {
     }
 }
 
+/// The first `bytes` bytes of `buffer` as a binding: a tile's values in a ring slot sized for
+/// the largest tile.
+pub(crate) fn leading(buffer: &wgpu::Buffer, bytes: u64) -> wgpu::BindingResource<'_> {
+    wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+        buffer,
+        offset: 0,
+        size: wgpu::BufferSize::new(bytes),
+    })
+}
+
 /// The compute pipeline of `(shader, entry)` on the device, from the context's cache or built
 /// from `source` (then cached), with the layouts of its first `groups` bind groups.
 ///
@@ -266,11 +276,7 @@ impl<K: ShaderKernel> Shaded<K> {
             .collect();
         entries.push(wgpu::BindGroupEntry {
             binding: entries.len() as u32,
-            resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                buffer: output,
-                offset: 0,
-                size: wgpu::BufferSize::new(output_bytes),
-            }),
+            resource: leading(output, output_bytes),
         });
         let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("spectex tile"),

@@ -14,7 +14,7 @@ use std::time::Instant;
 use crate::cache::CachedPipeline;
 use crate::kernel::{GpuKernel, PreparedTile};
 use crate::layout::wgsl_struct;
-use crate::pipeline::{ErrorScopes, Gpu, Mapping, TIMESTAMP_PAIR_BYTES, compute_pipeline};
+use crate::pipeline::{ErrorScopes, Gpu, Mapping, TIMESTAMP_PAIR_BYTES, compute_pipeline, leading};
 use crate::{GpuError, GpuWindow, wgsl_source};
 
 /// Tiles in flight: tile k + 1 (and k + 2) compute while tile k is mapped and copied out.
@@ -528,7 +528,7 @@ fn record_all(
         let source = match &pack {
             None => &slot.values,
             Some(pipeline) => {
-                encode_pack(gpu, &mut encoder, pipeline, slot, values as u32);
+                encode_pack(gpu, &mut encoder, pipeline, slot, values as u32)?;
                 &slot.packed
             }
         };
@@ -551,7 +551,7 @@ fn record_all(
                 )?;
             }
             Sink::Texture { view, pipeline } => {
-                encode_store(gpu, &mut encoder, pipeline, view, slot, tile, channels);
+                encode_store(gpu, &mut encoder, pipeline, view, slot, tile, channels)?;
             }
         }
         let readback_at = if matches!(sink, Sink::Host(_)) {
@@ -629,56 +629,21 @@ fn encode_pack(
     pipeline: &CachedPipeline,
     slot: &Slot,
     count: u32,
-) {
+) -> Result<(), GpuError> {
     // Every packing puts at most 4 and at least 2 values in a word; the pipeline's entry point
     // knows which, so size the grid for the larger count of words (extra invocations return).
     let words = count.div_ceil(2);
     let groups = words.div_ceil(PACK_WORKGROUP).max(1);
     let max = gpu.limits.max_compute_workgroups_per_dimension.max(1);
     let across = groups.min(max);
-    let rows = groups.div_ceil(across);
     let params = PackParams {
         count,
         words_per_row: across * PACK_WORKGROUP,
         ..bytemuck::Zeroable::zeroed()
     };
-    let uniform = gpu.buffer(
-        "pack params",
-        bytemuck::bytes_of(&params),
-        wgpu::BufferUsages::UNIFORM,
-    );
-    let Some(layout) = pipeline.layouts.first() else {
-        return;
-    };
-    let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("spectex pack"),
-        layout,
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: uniform.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                    buffer: &slot.values,
-                    offset: 0,
-                    size: wgpu::BufferSize::new(4 * u64::from(count.max(1))),
-                }),
-            },
-            wgpu::BindGroupEntry {
-                binding: 2,
-                resource: slot.packed.as_entire_binding(),
-            },
-        ],
-    });
-    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-        label: Some("spectex pack"),
-        timestamp_writes: None,
-    });
-    pass.set_pipeline(&pipeline.pipeline);
-    pass.set_bind_group(0, &group, &[]);
-    pass.dispatch_workgroups(across, rows, 1);
+    let target = slot.packed.as_entire_binding();
+    let tile = (u64::from(count), target, [across, groups.div_ceil(across)]);
+    encode_output_pass(gpu, encoder, "spectex pack", pipeline, &params, slot, tile)
 }
 
 /// Records the store of a slot's tile values into a caller's storage texture.
@@ -690,7 +655,7 @@ fn encode_store(
     slot: &Slot,
     tile: &Tile,
     channels: usize,
-) {
+) -> Result<(), GpuError> {
     let (width, height) = (tile.window.width as u32, tile.window.height as u32);
     let params = StoreParams {
         origin_x: tile.at[0] as u32,
@@ -700,17 +665,35 @@ fn encode_store(
         channels: channels as u32,
         ..bytemuck::Zeroable::zeroed()
     };
+    let values = u64::from(width) * u64::from(height) * channels as u64;
+    let target = wgpu::BindingResource::TextureView(view);
+    let tile = (values, target, [width.div_ceil(8), height.div_ceil(8)]);
+    encode_output_pass(gpu, encoder, "spectex store", pipeline, &params, slot, tile)
+}
+
+/// Records one dispatch of an output pass (a packing of `output.wgsl` or a texture store):
+/// `params` at binding 0, the slot's first `values` values at binding 1, `target` at binding 2,
+/// over `groups` workgroups; `tile` is `(values, target, groups)`.
+fn encode_output_pass<P: bytemuck::Pod>(
+    gpu: &Gpu,
+    encoder: &mut wgpu::CommandEncoder,
+    label: &'static str,
+    pipeline: &CachedPipeline,
+    params: &P,
+    slot: &Slot,
+    (values, target, groups): (u64, wgpu::BindingResource<'_>, [u32; 2]),
+) -> Result<(), GpuError> {
+    let layout = pipeline
+        .layouts
+        .first()
+        .ok_or_else(|| GpuError::Validation(format!("{label}: its pipeline has no bind group")))?;
     let uniform = gpu.buffer(
-        "store params",
-        bytemuck::bytes_of(&params),
+        label,
+        bytemuck::bytes_of(params),
         wgpu::BufferUsages::UNIFORM,
     );
-    let Some(layout) = pipeline.layouts.first() else {
-        return;
-    };
-    let values = u64::from(width) * u64::from(height) * channels as u64;
     let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("spectex store"),
+        label: Some(label),
         layout,
         entries: &[
             wgpu::BindGroupEntry {
@@ -719,25 +702,22 @@ fn encode_store(
             },
             wgpu::BindGroupEntry {
                 binding: 1,
-                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                    buffer: &slot.values,
-                    offset: 0,
-                    size: wgpu::BufferSize::new(4 * values.max(1)),
-                }),
+                resource: leading(&slot.values, 4 * values.max(1)),
             },
             wgpu::BindGroupEntry {
                 binding: 2,
-                resource: wgpu::BindingResource::TextureView(view),
+                resource: target,
             },
         ],
     });
     let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-        label: Some("spectex store"),
+        label: Some(label),
         timestamp_writes: None,
     });
     pass.set_pipeline(&pipeline.pipeline);
     pass.set_bind_group(0, &group, &[]);
-    pass.dispatch_workgroups(width.div_ceil(8), height.div_ceil(8), 1);
+    pass.dispatch_workgroups(groups[0], groups[1], 1);
+    Ok(())
 }
 
 /// Records the copy of a tile's bytes from `source` into a caller's `buffer`, row-major over
