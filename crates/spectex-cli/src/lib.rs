@@ -30,6 +30,7 @@ mod sheet;
 mod simulate;
 #[doc(hidden)]
 pub mod stream;
+mod view;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -120,6 +121,11 @@ enum Command {
         after_help = "Examples:\n  spectex simulate gray-scott -o maze.png\n  spectex simulate gray-scott --preset spots --size 512x512 -o spots.png --frames frames/ --every 500\n  spectex simulate gray-scott --feed 0.03 --kill 0.06 --steps 20000 -o custom.png --save-params gs.json\n  spectex simulate file gs.json -o again.png --seed 2\n  spectex simulate swift-hohenberg --wavelength 16 -o stripes.png\n  spectex simulate life --rule B36/S23 -o highlife.png\n  spectex simulate elementary --rule 110 --single -o rule110.png\n  spectex simulate cyclic --states 14 --threshold 1 --neighbourhood von-neumann --steps 1000 -o cca.png\n\nAll grids wrap around (torus). --gpu steps on the GPU (Gray-Scott and the automata):\nautomata give the same cells as the CPU; Gray-Scott the same equations in f32, equal to the\nCPU within rounding for the first steps and statistically after many."
     )]
     Simulate(simulate::SimulateCommand),
+    /// Show a model (or the fit of an image) in the browser: pan, zoom, tweak, download.
+    #[command(
+        after_help = "Examples:\n  spectex view testdata/models/lrp-ring.json --open\n  spectex view gravel.png --port 8081\n\nServes one page on 127.0.0.1 (--host to change): an infinite, zoomable view whose tiles are\nthe bytes `spectex render` writes for the same window, a panel of the model's parameters,\nand for an image its fit, the exemplar and both spectra. Offline: nothing is fetched."
+    )]
+    View(view::ViewCommand),
 }
 
 #[derive(Debug, Args)]
@@ -263,6 +269,7 @@ fn run(cli: Cli) -> Result<()> {
         Command::Relight(cmd) => relight::relight(&cmd),
         Command::Assemble(cmd) => assemble::assemble(&cmd),
         Command::Simulate(cmd) => simulate::simulate(&cmd),
+        Command::View(cmd) => view::view(&cmd),
     }
 }
 

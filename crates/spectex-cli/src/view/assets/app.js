@@ -1,0 +1,390 @@
+// spectex view: the page. Leaflet (CRS.Simple) shows the model as tiles the server renders;
+// map point (x, y) at zoom 0 is model pixel (x, y) (Leaflet's latitude is -y). The panel is
+// built from the model's JSON and the ranges the server found in the model's validation.
+'use strict';
+(function () {
+  const $ = (id) => document.getElementById(id);
+  const session = (Math.random().toString(36).slice(2) + Date.now().toString(36)).slice(0, 32);
+  const opts = { filter: true, periodic: '', z: 0, seams: true };
+  let state = null;
+  let version = 0;
+  let map = null, fine = null, coarse = null, seams = null;
+  // What the browser test reads: the last redraw's times and the number of tiles loaded.
+  window.spectex = { redraws: [], tilesLoaded: 0, ready: false };
+
+  async function api(path, body) {
+    const init = body === undefined ? {} : {
+      method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(body),
+    };
+    const r = await fetch(path, init);
+    const text = await r.text();
+    if (!r.ok) throw new Error(text.trim());
+    return text ? JSON.parse(text) : null;
+  }
+
+  function tileQuery(q) {
+    const p = new URLSearchParams({ v: version, filter: opts.filter ? 1 : 0, z: opts.z, s: session, q });
+    if (opts.periodic) p.set('periodic', opts.periodic);
+    return p.toString();
+  }
+
+  function windowQuery(extra) {
+    const v = viewWindow();
+    const p = new URLSearchParams({
+      x: v.x, y: v.y, scale: v.scale, w: v.w, h: v.h, filter: opts.filter ? 1 : 0, z: opts.z, ...extra,
+    });
+    if (opts.periodic) p.set('periodic', opts.periodic);
+    return p.toString();
+  }
+
+  const Layer = L.TileLayer.extend({
+    getTileUrl(c) {
+      return `/tile/${this._getZoomForUrl()}/${c.x}/${c.y}.png?${tileQuery(this.options.q)}`;
+    },
+  });
+
+  // The window the view shows, as `spectex render` takes it: whole screen pixels at the
+  // current zoom, so its pixels are the tiles' pixels.
+  function viewWindow() {
+    const b = map.getPixelBounds();
+    const size = map.getSize();
+    const scale = Math.pow(2, -map.getZoom());
+    const px = Math.round(b.min.x), py = Math.round(b.min.y);
+    return { x: px * scale, y: py * scale, scale, w: size.x, h: size.y, px, py };
+  }
+
+  function fmt(v) {
+    if (Math.abs(v) >= 1e6) return v.toExponential(6).replace(/\.?0+e/, 'e').replace('e+', 'e');
+    return String(Math.round(v * 1e6) / 1e6);
+  }
+
+  function showWhere() {
+    const v = viewWindow();
+    const c = map.getCenter();
+    $('where').textContent = `centre ${fmt(c.lng)}, ${fmt(-c.lat)} · scale ${fmt(v.scale)} model px per pixel (zoom ${map.getZoom()})`;
+    let cmd = `spectex render ${state.name} -o view.png --size ${v.w}x${v.h} --offset ${v.x},${v.y} --scale ${v.scale}`;
+    if (!opts.filter) cmd += ' --no-filter';
+    if (opts.z) cmd += ` --z ${opts.z}`;
+    if (opts.periodic) cmd += ` --periodic ${opts.periodic}`;
+    $('command').textContent = cmd + (state.version > 1 ? '   (with the model JSON below)' : '');
+    $('dl-view').href = '/render?' + windowQuery({ download: 1 });
+    $('dl-view-exr').href = '/render?' + windowQuery({
+      download: 1, format: 'exr', w: Math.min(v.w, 2048), h: Math.min(v.h, 2048),
+    });
+    $('dl-wgsl').href = '/api/model.wgsl?z=' + opts.z;
+  }
+
+  function postView() {
+    if (!map) return;
+    const b = map.getPixelBounds();
+    const s = Math.pow(2, -map.getZoom());
+    const q = new URLSearchParams({ s: session, x0: b.min.x * s, y0: b.min.y * s, x1: b.max.x * s, y1: b.max.y * s });
+    fetch('/api/view?' + q, { method: 'POST' }).catch(() => {});
+  }
+
+  function drawSeams() {
+    seams.clearLayers();
+    if (!opts.periodic || !opts.seams) return;
+    const [pw, ph] = opts.periodic.split('x').map(Number);
+    const b = map.getBounds();
+    const x0 = b.getWest(), x1 = b.getEast(), y0 = -b.getNorth(), y1 = -b.getSouth();
+    if ((x1 - x0) / pw + (y1 - y0) / ph > 400) return;
+    const style = { color: '#ff3060', weight: 1, opacity: 0.8, interactive: false };
+    for (let x = Math.ceil(x0 / pw) * pw; x <= x1; x += pw) L.polyline([[-y0, x], [-y1, x]], style).addTo(seams);
+    for (let y = Math.ceil(y0 / ph) * ph; y <= y1; y += ph) L.polyline([[-y, x0], [-y, x1]], style).addTo(seams);
+  }
+
+  // Coarse tiles (a quarter of the resolution, 1/16 of the work) first, then the fine ones.
+  function redraw() {
+    const t0 = performance.now();
+    const record = { coarse: null, fine: null };
+    window.spectex.redraws.push(record);
+    $('timing').textContent = 'drawing…';
+    let fineStarted = false;
+    const startFine = () => {
+      if (fineStarted) return;
+      fineStarted = true;
+      fine.once('load', () => {
+        record.fine = performance.now() - t0;
+        $('timing').textContent = `redrawn in ${Math.round(record.fine)} ms (coarse ${Math.round(record.coarse ?? 0)} ms)`;
+      });
+      fine.redraw();
+    };
+    if (map.hasLayer(coarse)) {
+      coarse.once('load', () => { record.coarse = performance.now() - t0; startFine(); });
+      coarse.redraw();
+      setTimeout(startFine, 1500);
+    } else {
+      startFine();
+    }
+    showWhere();
+    drawSeams();
+  }
+
+  function setStatus(text) { $('status').textContent = text; }
+  function showError(text) { $('error').textContent = text || ''; }
+
+  // ---- the parameter panel -------------------------------------------------------------
+  function sliderRange(desc, v) {
+    let lo = desc && desc.min != null ? desc.min : -Infinity;
+    let hi = desc && desc.max != null ? desc.max : Infinity;
+    if (!(isFinite(lo) && isFinite(hi) && hi - lo <= 1000)) {
+      const span = 2 * Math.abs(v) + 1;
+      lo = Math.max(lo, v - span);
+      hi = Math.min(hi, v + span);
+    }
+    return [lo, hi];
+  }
+
+  function numberField(label, pointer, v, desc) {
+    const row = document.createElement('div');
+    row.className = 'field';
+    row.dataset.pointer = pointer;
+    const name = document.createElement('span');
+    name.textContent = label;
+    name.title = `${pointer}: ${desc ? desc.range : 'no range found'}`;
+    const slider = document.createElement('input');
+    slider.type = 'range';
+    const [lo, hi] = sliderRange(desc, v);
+    const integer = desc ? desc.integer : Number.isInteger(v);
+    slider.min = lo; slider.max = hi; slider.step = integer ? 1 : (hi - lo) / 1000 || 'any';
+    slider.value = v;
+    slider.setAttribute('aria-label', pointer);
+    const num = document.createElement('input');
+    num.type = 'number';
+    num.step = integer ? 1 : 'any';
+    num.value = v;
+    num.title = name.title;
+    const send = (x) => setField(pointer, integer ? Math.round(x) : x, row);
+    slider.addEventListener('input', () => { num.value = slider.value; send(Number(slider.value)); });
+    num.addEventListener('change', () => { slider.value = num.value; send(Number(num.value)); });
+    row.append(name, slider, num);
+    return row;
+  }
+
+  function build(container, value, pointer, label) {
+    const fields = state.panel.fields || {};
+    const esc = (k) => String(k).replace(/~/g, '~0').replace(/\//g, '~1');
+    if (value === null) {
+      const p = document.createElement('div'); p.className = 'note'; p.textContent = `${label}: none`;
+      container.append(p);
+    } else if (Array.isArray(value)) {
+      if (value.length > 16) {
+        const p = document.createElement('div'); p.className = 'note';
+        p.textContent = `${label}: ${value.length} entries (in the model JSON)`;
+        container.append(p);
+        return;
+      }
+      const d = document.createElement('details');
+      d.open = value.length <= 4 && value.every((x) => typeof x !== 'object');
+      const s = document.createElement('summary'); s.textContent = `${label} [${value.length}]`;
+      d.append(s);
+      value.forEach((x, k) => build(d, x, `${pointer}/${k}`, `${label}[${k}]`));
+      container.append(d);
+    } else if (typeof value === 'object') {
+      const f = document.createElement('fieldset');
+      const lg = document.createElement('legend'); lg.textContent = label; f.append(lg);
+      for (const [k, x] of Object.entries(value)) build(f, x, `${pointer}/${esc(k)}`, k);
+      container.append(f);
+    } else if (typeof value === 'number') {
+      container.append(numberField(label, pointer, value, fields[pointer]));
+    } else if (typeof value === 'boolean') {
+      const l = document.createElement('label');
+      const c = document.createElement('input'); c.type = 'checkbox'; c.checked = value;
+      c.setAttribute('aria-label', pointer);
+      c.addEventListener('change', () => setField(pointer, c.checked, l));
+      l.append(c, ' ' + label);
+      container.append(l);
+    } else if (typeof value === 'string') {
+      const row = document.createElement('div'); row.className = 'field';
+      const name = document.createElement('span'); name.textContent = label;
+      const desc = fields[pointer];
+      let input;
+      if (desc && desc.options) {
+        input = document.createElement('select');
+        for (const o of desc.options) {
+          const opt = document.createElement('option'); opt.textContent = o; opt.selected = o === value;
+          input.append(opt);
+        }
+      } else {
+        input = document.createElement('input'); input.value = value;
+      }
+      input.setAttribute('aria-label', pointer);
+      input.addEventListener('change', () => setField(pointer, input.value, row));
+      row.append(name, input);
+      container.append(row);
+    }
+  }
+
+  function buildPanel() {
+    const panel = $('panel');
+    panel.textContent = '';
+    if (state.model) {
+      const [kind] = Object.keys(state.model);
+      build(panel, state.model[kind], '/' + kind, kind);
+    }
+    $('kind').textContent = state.kind ? `· ${state.kind}` : '';
+    $('z-row').hidden = !state.three_d;
+  }
+
+  // One edit in flight at a time; the latest waiting edit replaces older ones.
+  let pending = null, sending = false;
+  function setField(pointer, value, row) {
+    pending = { pointer, value, row };
+    if (!sending) flush();
+  }
+  async function flush() {
+    if (!pending) return;
+    sending = true;
+    const { pointer, value, row } = pending;
+    pending = null;
+    try {
+      const s = await api('/api/set', { pointer, value });
+      row.classList.remove('bad');
+      showError('');
+      applyState(s, false);
+    } catch (e) {
+      row.classList.add('bad');
+      showError(e.message);
+    }
+    sending = false;
+    if (pending) flush();
+  }
+
+  function applyState(s, rebuild) {
+    const changed = s.version !== version;
+    state = s;
+    version = s.version;
+    if (rebuild) buildPanel();
+    if (s.image) showImage(s);
+    if (changed && map) redraw();
+  }
+
+  // ---- an image: exemplar, fit controls, spectra ---------------------------------------
+  let fitBuilt = false;
+  function showImage(s) {
+    const im = s.image;
+    $('image').hidden = false;
+    $('exemplar').src = '/api/exemplar.png';
+    $('exemplar-name').textContent = `${im.name} (${im.width}×${im.height})`;
+    $('spectrum-exemplar').src = '/api/spectrum/exemplar.png';
+    if (s.version > 0) {
+      $('spectrum-synthesis').src = `/api/spectrum/synthesis.png?v=${s.version}`;
+      $('synthesis').src = `/render?w=${Math.min(im.width, 4096)}&h=${Math.min(im.height, 4096)}&v=${s.version}`;
+    }
+    if (!fitBuilt) {
+      fitBuilt = true;
+      const c = $('fit-controls');
+      const controls = [
+        ['budget', 'J (cosines per point)', 1, 200, 1],
+        ['structure', 'structure share r', 0, 1, 0.01],
+        ['turbulence', 'turbulence σ (px)', 0, 32, 0.5],
+      ];
+      for (const [key, label, lo, hi, step] of controls) {
+        const row = document.createElement('div'); row.className = 'field';
+        const name = document.createElement('span'); name.textContent = label;
+        const slider = document.createElement('input');
+        Object.assign(slider, { type: 'range', min: lo, max: hi, step, value: im.params[key] });
+        slider.setAttribute('aria-label', 'fit ' + key);
+        const num = document.createElement('input');
+        Object.assign(num, { type: 'number', step, value: im.params[key] });
+        slider.addEventListener('input', () => { num.value = slider.value; });
+        slider.addEventListener('change', () => refit({ [key]: Number(slider.value) }));
+        num.addEventListener('change', () => { slider.value = num.value; refit({ [key]: Number(num.value) }); });
+        row.append(name, slider, num);
+        c.append(row);
+      }
+      const l = document.createElement('label');
+      const cb = document.createElement('input'); cb.type = 'checkbox'; cb.checked = im.params.random_placement;
+      cb.addEventListener('change', () => refit({ random_placement: cb.checked }));
+      l.append(cb, ' random placement');
+      c.append(l);
+    }
+    $('fit-status').textContent = im.fitting != null
+      ? `fitting… ${im.fitting.toFixed(1)} s`
+      : im.error ? `fit failed: ${im.error}` : im.seconds != null ? `fitted in ${im.seconds.toFixed(2)} s` : '';
+  }
+
+  async function refit(change) {
+    try {
+      const s = await api('/api/fit', change);
+      showError('');
+      applyState(s, false);
+      waitForFit();
+    } catch (e) { showError(e.message); }
+  }
+
+  async function waitForFit() {
+    for (;;) {
+      const s = await api('/api/state');
+      if (s.image && s.image.fitting == null) { applyState(s, true); return s; }
+      showImage(s);
+      setStatus(`fitting ${s.image.name}… ${s.image.fitting.toFixed(1)} s`);
+      await new Promise((r) => setTimeout(r, 250));
+    }
+  }
+
+  // ---- start --------------------------------------------------------------------------
+  async function start() {
+    state = await api('/api/state');
+    if (state.image) state = await waitForFit();
+    version = state.version;
+    buildPanel();
+    if (state.image) showImage(state);
+    if (state.period) { opts.periodic = state.period; $('periodic').checked = true; $('period').value = state.period; }
+    const [minZoom, maxZoom] = state.zoom;
+    map = L.map('map', {
+      crs: L.CRS.Simple, minZoom, maxZoom, zoomSnap: 1, zoomDelta: 1, attributionControl: false,
+      fadeAnimation: false, keyboardPanDelta: 128,
+    });
+    const size = map.getSize();
+    map.setView([-size.y / 2, size.x / 2], 0, { animate: false });
+    coarse = new Layer('', { tileSize: 1024, zoomOffset: -2, q: 'c', minZoom: minZoom + 2, maxZoom, keepBuffer: 0 });
+    fine = new Layer('', { tileSize: state.tile, q: 'f', minZoom, maxZoom, keepBuffer: 1 });
+    fine.on('tileload', () => { window.spectex.tilesLoaded += 1; });
+    coarse.addTo(map);
+    fine.addTo(map);
+    seams = L.layerGroup().addTo(map);
+    fine.once('load', () => { window.spectex.ready = true; });
+    map.on('moveend', () => { showWhere(); drawSeams(); postView(); });
+    map.on('mousemove', (e) => {
+      setStatus(`pointer at ${fmt(e.latlng.lng)}, ${fmt(-e.latlng.lat)}`);
+    });
+    setStatus(`${state.kind} model · tiles on the ${state.device} (${state.workers} workers)`);
+    showWhere();
+    postView();
+    setInterval(postView, 5000);
+    addEventListener('pagehide', () => navigator.sendBeacon('/api/close?s=' + session));
+    $('goto').addEventListener('submit', (e) => {
+      e.preventDefault();
+      const m = $('goto-text').value.split(/[ ,]+/).map(Number);
+      if (m.length !== 2 || !m.every(isFinite)) { showError('go to: write x,y, for example 1e7,1e7'); return; }
+      showError('');
+      // The point goes to the view's top-left corner, as `--offset` puts it.
+      const z = map.getZoom(), s = map.getSize(), k = Math.pow(2, -z);
+      map.setView([-(m[1] + (s.y / 2) * k), m[0] + (s.x / 2) * k], z, { animate: false });
+    });
+    $('filter').addEventListener('change', (e) => { opts.filter = e.target.checked; redraw(); });
+    const periodic = () => {
+      const text = $('period').value.trim();
+      opts.periodic = $('periodic').checked && /^\d+x\d+$/.test(text) ? text : '';
+      redraw();
+    };
+    $('periodic').addEventListener('change', periodic);
+    $('period').addEventListener('change', periodic);
+    $('seams').addEventListener('change', (e) => { opts.seams = e.target.checked; drawSeams(); });
+    const setZ = (v) => { opts.z = Number(v); $('z').value = v; $('z-num').value = v; redraw(); };
+    $('z').addEventListener('change', (e) => setZ(e.target.value));
+    $('z-num').addEventListener('change', (e) => setZ(e.target.value));
+    $('seed').addEventListener('click', async () => {
+      try { applyState(await api('/api/seed', {}), true); } catch (e) { showError(e.message); }
+    });
+    $('dl-size').addEventListener('submit', (e) => {
+      e.preventDefault();
+      const q = windowQuery({ download: 1, w: $('dl-w').value, h: $('dl-h').value, format: $('dl-format').value });
+      location.href = '/render?' + q;
+    });
+  }
+
+  start().catch((e) => { setStatus('error: ' + e.message); });
+})();

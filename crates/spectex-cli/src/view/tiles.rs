@@ -1,0 +1,254 @@
+//! Windows rendered into the bytes `spectex render` writes: PNG tiles and views (the same
+//! samples, encoded by the same encoder), OpenEXR, streamed PNG downloads of large sizes, and
+//! the display of a power spectrum.
+
+use std::io::Write;
+use std::sync::mpsc::{Receiver, SyncSender};
+
+use anyhow::{Result, anyhow};
+use image::{DynamicImage, ImageBuffer, ImageEncoder};
+use ndarray::Array2;
+use spectex_cpu::{Evaluator, Window};
+
+use crate::io::{self, BitDepth, Format, SampleData, Samples};
+
+/// Rows evaluated at a time: the evaluator's band (as `device::render`).
+const BAND_ROWS: usize = 16;
+
+/// What renders a model's windows: its CPU evaluator, and the GPU's when the view asked for it.
+pub(crate) struct Renderer {
+    /// The CPU evaluator (also the validation of the model, plane and period).
+    pub cpu: Evaluator,
+    /// The GPU evaluator, one render at a time.
+    pub gpu: Option<std::sync::Mutex<spectex_gpu::GpuEvaluator>>,
+}
+
+impl Renderer {
+    /// Values per pixel.
+    pub(crate) fn channels(&self) -> usize {
+        self.cpu.output_channels()
+    }
+
+    /// The f32 values of `window` (`channels()` per pixel, row-major), on the GPU when there
+    /// is one, else the CPU (in parallel bands).
+    fn values_into(&self, window: &Window, first_row: usize, out: &mut [f32]) -> Result<()> {
+        if let Some(gpu) = &self.gpu {
+            let rows = out.len() / (window.width * self.channels()).max(1);
+            let band = window.tile(0, first_row, window.width, rows);
+            let gpu = gpu
+                .lock()
+                .map_err(|_| anyhow!("internal: a GPU render panicked"))?;
+            gpu.render_into(&band, out)
+                .map_err(|e| anyhow!("{e}; start the view with --device cpu"))?;
+            return Ok(());
+        }
+        self.cpu.eval_rows(window, first_row, out);
+        Ok(())
+    }
+
+    /// `window` as the samples of `format` (PNG levels or EXR values), as `spectex render` stores
+    /// them.
+    pub(crate) fn samples(&self, window: &Window, format: Format) -> Result<Samples> {
+        self.cpu.check_window(window).map_err(|e| anyhow!("{e}"))?;
+        let mut samples = Samples::new(format, window.width, window.height, self.channels())?;
+        if self.gpu.is_some() {
+            let mut values = vec![0.0f32; samples.row_len() * window.height];
+            self.values_into(window, 0, &mut values)?;
+            samples.fill(window.height.max(1), |_, band| band.store(&values));
+            return Ok(samples);
+        }
+        samples.fill(BAND_ROWS, |first, band| {
+            let mut values = vec![0.0f32; band.len()];
+            self.cpu.eval_rows(window, first, &mut values);
+            band.store(&values)
+        });
+        Ok(samples)
+    }
+
+    /// `window` as the PNG (8 bits per channel) `spectex render -o out.png` writes of it.
+    pub(crate) fn png(&self, window: &Window) -> Result<Vec<u8>> {
+        encode(self.samples(window, Format::Png(BitDepth::Eight))?)
+    }
+
+    /// `window` as the OpenEXR (32-bit float RGB) `spectex render -o out.exr` writes of it.
+    pub(crate) fn exr(&self, window: &Window) -> Result<Vec<u8>> {
+        encode(self.samples(window, Format::Exr)?)
+    }
+
+    /// `window` as an 8-bit PNG written band by band into `out` (memory: one band), for large
+    /// downloads. Stops at the first failed write (the browser went away).
+    pub(crate) fn stream_png(&self, window: &Window, out: impl Write + 'static) -> Result<()> {
+        self.cpu.check_window(window).map_err(|e| anyhow!("{e}"))?;
+        let channels = self.channels();
+        let mut encoder = png::Encoder::new(out, window.width as u32, window.height as u32);
+        encoder.set_color(if channels == 1 {
+            png::ColorType::Grayscale
+        } else {
+            png::ColorType::Rgb
+        });
+        encoder.set_depth(png::BitDepth::Eight);
+        let mut writer = encoder.write_header()?.into_stream_writer()?;
+        let row_len = window.width * channels;
+        let mut values = vec![0.0f32; row_len * BAND_ROWS];
+        let mut levels = vec![0u8; row_len * BAND_ROWS];
+        let mut first = 0;
+        while first < window.height {
+            let rows = BAND_ROWS.min(window.height - first);
+            let n = rows * row_len;
+            self.values_into(window, first, &mut values[..n])?;
+            for (l, &v) in levels[..n].iter_mut().zip(&values[..n]) {
+                *l = io::level8(v);
+            }
+            writer.write_all(&levels[..n])?;
+            first += rows;
+        }
+        writer.finish()?;
+        Ok(())
+    }
+}
+
+/// The file bytes of `samples`, encoded as `io::save_samples` encodes them.
+fn encode(samples: Samples) -> Result<Vec<u8>> {
+    let Samples {
+        width: w,
+        height: h,
+        channels,
+        data,
+    } = samples;
+    let (w32, h32) = (w as u32, h as u32);
+    let wrong = || anyhow!("internal: {w}×{h}×{channels} samples of the wrong length");
+    let mut out = Vec::new();
+    let img = match (data, channels) {
+        (SampleData::U8(v), 1) => {
+            DynamicImage::ImageLuma8(ImageBuffer::from_raw(w32, h32, v).ok_or_else(wrong)?)
+        }
+        (SampleData::U8(v), _) => {
+            DynamicImage::ImageRgb8(ImageBuffer::from_raw(w32, h32, v).ok_or_else(wrong)?)
+        }
+        (SampleData::U16(v), 1) => {
+            DynamicImage::ImageLuma16(ImageBuffer::from_raw(w32, h32, v).ok_or_else(wrong)?)
+        }
+        (SampleData::U16(v), _) => {
+            DynamicImage::ImageRgb16(ImageBuffer::from_raw(w32, h32, v).ok_or_else(wrong)?)
+        }
+        (SampleData::F32(v), _) => {
+            // What `image`'s OpenEXR encoder writes (grey as equal R, G, B), as `io::save`.
+            let mut bytes = Vec::with_capacity(w * h * 12);
+            for px in v.chunks_exact(channels) {
+                for c in 0..3 {
+                    bytes.extend_from_slice(&px[c.min(channels - 1)].to_ne_bytes());
+                }
+            }
+            image::codecs::openexr::OpenExrEncoder::new(std::io::Cursor::new(&mut out))
+                .write_image(&bytes, w32, h32, image::ExtendedColorType::Rgb32F)?;
+            return Ok(out);
+        }
+    };
+    img.write_with_encoder(image::codecs::png::PngEncoder::new(&mut out))?;
+    Ok(out)
+}
+
+/// A grey image of values in `[0, 1]` as an 8-bit PNG.
+pub(crate) fn grey_png(values: &Array2<f64>) -> Result<Vec<u8>> {
+    let (h, w) = values.dim();
+    let levels: Vec<u8> = values.iter().map(|&v| io::level8(v as f32)).collect();
+    let img = DynamicImage::ImageLuma8(
+        ImageBuffer::from_raw(w as u32, h as u32, levels)
+            .ok_or_else(|| anyhow!("internal: spectrum of the wrong length"))?,
+    );
+    let mut out = Vec::new();
+    img.write_with_encoder(image::codecs::png::PngEncoder::new(&mut out))?;
+    Ok(out)
+}
+
+/// The centred log-magnitude spectrum of the luminance of `pixels` (`(channel, row, column)`),
+/// scaled to `[0, 1]` for display, as an 8-bit PNG (`spectex analyze`'s `log_spectrum.png`).
+pub(crate) fn spectrum_png(pixels: &ndarray::Array3<f64>) -> Result<Vec<u8>> {
+    let luma = io::luminance(pixels);
+    let mut fft = spectex_spectrum::Fft2::new();
+    let periodic = spectex_spectrum::periodic_smooth(luma.view(), &mut fft).periodic;
+    let log = spectex_spectrum::log_magnitude_spectrum(periodic.view(), &mut fft);
+    let (lo, hi) = log
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| {
+            (l.min(v), h.max(v))
+        });
+    let span = if hi > lo { hi - lo } else { 1.0 };
+    grey_png(&log.mapv(|v| (v - lo) / span))
+}
+
+/// A [`Write`] whose bytes go, in chunks, to a [`ChannelReader`] on another thread: a streamed
+/// response body. A write fails once the reader is gone (the response was dropped).
+pub(crate) struct ChannelWriter {
+    /// Where full chunks go.
+    sender: SyncSender<Vec<u8>>,
+    /// The chunk being filled.
+    chunk: Vec<u8>,
+}
+
+/// Bytes per chunk of a streamed body.
+const CHUNK: usize = 1 << 16;
+
+impl Write for ChannelWriter {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.chunk.extend_from_slice(buf);
+        if self.chunk.len() >= CHUNK {
+            self.flush()?;
+        }
+        Ok(buf.len())
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        if self.chunk.is_empty() {
+            return Ok(());
+        }
+        let chunk = std::mem::take(&mut self.chunk);
+        self.sender
+            .send(chunk)
+            .map_err(|_| std::io::Error::new(std::io::ErrorKind::BrokenPipe, "the browser left"))
+    }
+}
+
+/// The reading end of a [`ChannelWriter`]: ends when the writer is dropped.
+pub(crate) struct ChannelReader {
+    /// Chunks from the writer.
+    receiver: Receiver<Vec<u8>>,
+    /// The chunk being read, and how far.
+    chunk: Vec<u8>,
+    /// Bytes of `chunk` already read.
+    at: usize,
+}
+
+impl std::io::Read for ChannelReader {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        while self.at >= self.chunk.len() {
+            match self.receiver.recv() {
+                Ok(chunk) => {
+                    self.chunk = chunk;
+                    self.at = 0;
+                }
+                Err(_) => return Ok(0),
+            }
+        }
+        let n = buf.len().min(self.chunk.len() - self.at);
+        buf[..n].copy_from_slice(&self.chunk[self.at..self.at + n]);
+        self.at += n;
+        Ok(n)
+    }
+}
+
+/// A writer and reader joined by a channel of at most two chunks in flight.
+pub(crate) fn channel() -> (ChannelWriter, ChannelReader) {
+    let (sender, receiver) = std::sync::mpsc::sync_channel(2);
+    (
+        ChannelWriter {
+            sender,
+            chunk: Vec::with_capacity(CHUNK),
+        },
+        ChannelReader {
+            receiver,
+            chunk: Vec::new(),
+            at: 0,
+        },
+    )
+}
