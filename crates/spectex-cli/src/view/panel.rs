@@ -111,8 +111,10 @@ fn describe_number(json: &mut Value, pointer: &str, segment: &str, float: bool) 
                 return Some(numeric(range, false));
             }
         }
-        return Some(json!({ "min": null, "max": null, "range": "any finite number",
-                            "integer": false, "min_open": false, "max_open": false }));
+        return Some(
+            json!({ "min": null, "max": null, "range": "any finite number",
+                            "integer": false, "min_open": false, "max_open": false }),
+        );
     }
     // Whole numbers: the type's bounds (serde refuses a value out of them), then validation's.
     let mut bounds = [None, None];

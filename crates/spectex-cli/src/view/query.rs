@@ -100,7 +100,10 @@ impl Query {
         let v = parse_f64(name, text)?;
         if !(min..=max).contains(&v) {
             return Err(HttpError::bad(format!(
-                "{name} = {v} is outside its valid range [{min}, {max}]"
+                "{name} = {} is outside its valid range [{}, {}]",
+                num(v),
+                num(min),
+                num(max)
             )));
         }
         Ok(v)
@@ -187,6 +190,15 @@ impl Query {
     }
 }
 
+/// `v` as the page and messages write it: short (`1e300`, not 300 digits).
+pub(crate) fn num(v: f64) -> String {
+    if v != 0.0 && !(1e-4..1e7).contains(&v.abs()) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
+}
+
 /// A finite number, or an error naming `name`.
 pub(crate) fn parse_f64(name: &str, text: &str) -> Result<f64, HttpError> {
     let v: f64 = text.trim().parse().map_err(|_| {
@@ -197,7 +209,8 @@ pub(crate) fn parse_f64(name: &str, text: &str) -> Result<f64, HttpError> {
     })?;
     if !v.is_finite() {
         return Err(HttpError::bad(format!(
-            "{name} = {v} is not finite; give a finite number"
+            "{name} = {} is not finite; give a finite number",
+            num(v)
         )));
     }
     Ok(v)

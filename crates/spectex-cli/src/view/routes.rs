@@ -771,10 +771,9 @@ fn start_fit(shared: &Arc<Shared>, params: FitParams) {
             return;
         };
         let started = Instant::now();
-        let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-            fitting::fit(ex, &params)
-        }))
-        .unwrap_or_else(|_| Err(anyhow!("internal: the fit panicked")));
+        let outcome =
+            std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| fitting::fit(ex, &params)))
+                .unwrap_or_else(|_| Err(anyhow!("internal: the fit panicked")));
         let seconds = started.elapsed().as_secs_f64();
         let error = match outcome {
             Ok(model) => {
@@ -1050,9 +1049,12 @@ fn stream_download(
     std::thread::scope(|scope| {
         let renderer = &renderer;
         scope.spawn(move || {
-            let _ = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
                 renderer.stream_png(window, writer)
             }));
+            if let Ok(Err(e)) = outcome {
+                eprintln!("note: a streamed download stopped: {e:#}");
+            }
         });
         let response = tiny_http::Response::new(
             tiny_http::StatusCode(200),

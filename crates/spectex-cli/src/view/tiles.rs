@@ -209,6 +209,13 @@ impl Write for ChannelWriter {
     }
 }
 
+impl Drop for ChannelWriter {
+    fn drop(&mut self) {
+        // The last, partial chunk (a reader already gone is no error here).
+        let _ = self.flush();
+    }
+}
+
 /// The reading end of a [`ChannelWriter`]: ends when the writer is dropped.
 pub(crate) struct ChannelReader {
     /// Chunks from the writer.

@@ -16,5 +16,6 @@ mod simulate;
 mod stream;
 mod texture;
 mod unit;
+mod view;
 mod warp_reseed;
 mod wavelet;
