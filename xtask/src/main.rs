@@ -12,6 +12,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode, Stdio};
 use std::time::{Instant, SystemTime};
 
+mod browser;
 mod gpu;
 
 /// Every command with the one line `cargo xtask help` prints for it.
@@ -603,6 +604,7 @@ fn ci(ws: &Workspace) -> Result<()> {
         });
     }
     run_steps("ci", steps)?;
+    browser::view_check(ws)?;
     summary.report()
 }
 

@@ -65,6 +65,9 @@ impl Source {
     }
 }
 
+/// What a renderer is for besides the model: the plane z (its bits) and the period.
+type RendererKey = (u64, Option<[u32; 2]>);
+
 /// The model being shown, and what is prepared for it.
 struct Current {
     /// Bumped by every change; tiles name the version they are for.
@@ -80,7 +83,7 @@ struct Current {
     /// Whether the model changes with z.
     three_d: bool,
     /// Renderers for this version by `(z bits, period)`, most recent last.
-    renderers: Vec<((u64, Option<[u32; 2]>), Arc<Renderer>)>,
+    renderers: Vec<(RendererKey, Arc<Renderer>)>,
 }
 
 /// What an image's fit is doing.
@@ -102,8 +105,11 @@ struct Session {
     seen: Instant,
     /// Closed (the tab said so).
     closed: bool,
-    /// The region shown, `[x0, y0, x1, y1]` in model pixels, widened by a margin.
-    view: Option<[f64; 4]>,
+    /// The zoom level shown and its region, `[x0, y0, x1, y1]` in model pixels, widened by a
+    /// margin.
+    view: Option<(i64, [f64; 4])>,
+    /// When the tab said so.
+    view_at: Instant,
 }
 
 /// Encoded tiles by key, dropped oldest first past [`CACHE_BYTES`].
@@ -173,6 +179,10 @@ enum Work {
     Tile {
         /// The window.
         window: Window,
+        /// Its zoom level.
+        zoom: i64,
+        /// When it was asked for.
+        asked: Instant,
         /// The model version it is for.
         version: u64,
         /// The plane and period.
@@ -304,8 +314,10 @@ impl Shared {
         Ok(renderer)
     }
 
-    /// Whether the tab `session` still wants a tile covering `rect` (model pixels).
-    fn wanted(&self, session: Option<&str>, rect: [f64; 4]) -> bool {
+    /// Whether the tab `session` still wants a tile of zoom level `zoom` covering `rect` (model
+    /// pixels): one of the level it shows (or its coarse level, 2 below) within its view.
+    /// A view the tab sent before `asked` says nothing of the tile: the tab may have moved.
+    fn wanted(&self, session: Option<&str>, zoom: i64, rect: [f64; 4], asked: Instant) -> bool {
         let Some(id) = session else {
             return true;
         };
@@ -315,14 +327,19 @@ impl Shared {
         match sessions.get(id) {
             None => true,
             Some(s) if s.closed || s.seen.elapsed() > SESSION_TIMEOUT => false,
-            Some(s) => s.view.is_none_or(|v| {
-                rect[0] < v[2] && rect[2] > v[0] && rect[1] < v[3] && rect[3] > v[1]
+            Some(s) if s.view_at < asked => true,
+            Some(s) => s.view.is_none_or(|(z, v)| {
+                (zoom == z || zoom == z - 2)
+                    && rect[0] < v[2]
+                    && rect[2] > v[0]
+                    && rect[1] < v[3]
+                    && rect[3] > v[1]
             }),
         }
     }
 
     /// Notes that `session` was heard from (and what it now shows, when given).
-    fn touch(&self, session: &str, view: Option<[f64; 4]>, closed: bool) {
+    fn touch(&self, session: &str, view: Option<(i64, [f64; 4])>, closed: bool) {
         let Ok(mut sessions) = self.sessions.lock() else {
             return;
         };
@@ -339,11 +356,13 @@ impl Shared {
             seen: Instant::now(),
             closed: false,
             view: None,
+            view_at: Instant::now(),
         });
         s.seen = Instant::now();
         s.closed |= closed;
         if view.is_some() {
             s.view = view;
+            s.view_at = Instant::now();
         }
     }
 }
@@ -592,7 +611,8 @@ fn route(
             reply(Reply::json(&state(shared)?))
         }
         (Post, "/api/view") => {
-            let q = Query::parse(query, &["s", "x0", "y0", "x1", "y1"])?;
+            let q = Query::parse(query, &["s", "zoom", "x0", "y0", "x1", "y1"])?;
+            let zoom = q.int_in("zoom", None, MIN_ZOOM, MAX_ZOOM)?;
             let session = q
                 .session("s")?
                 .ok_or_else(|| HttpError::bad("parameter 's' (the session) is missing"))?;
@@ -604,7 +624,7 @@ fn route(
             // A margin of half the view on each side: tiles just out of sight are still kept.
             let (mx, my) = ((view[2] - view[0]) / 2.0, (view[3] - view[1]) / 2.0);
             let view = [view[0] - mx, view[1] - my, view[2] + mx, view[3] + my];
-            shared.touch(&session, Some(view), false);
+            shared.touch(&session, Some((zoom, view)), false);
             reply(Reply::json(&json!({ "ok": true })))
         }
         (Post, "/api/close") => {
@@ -668,6 +688,12 @@ fn route(
             }
             Ok(Routed::Queue(Work::Spectrum, false))
         }
+        (Get, "/favicon.ico") => Ok(Routed::Reply(Reply {
+            status: 204,
+            content_type: "image/x-icon",
+            body: Arc::new(Vec::new()),
+            download: None,
+        })),
         (Get, "/render") => render_request(query),
         (Get, _) if path.starts_with("/tile/") => tile_request(shared, path, query),
         (Get | Post, _) => Err(HttpError::status(404, format!("no page {path}"))),
@@ -865,9 +891,12 @@ fn tile_request(shared: &Shared, path: &str, query: &str) -> Result<Routed, Http
             download: None,
         }));
     }
+    let asked = Instant::now();
     Ok(Routed::Queue(
         Work::Tile {
             window,
+            zoom,
+            asked,
             version,
             z,
             period,
@@ -939,6 +968,8 @@ fn work(shared: &Shared, job: Job) {
     let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| match work {
         Work::Tile {
             window,
+            zoom,
+            asked,
             version,
             z,
             period,
@@ -951,7 +982,7 @@ fn work(shared: &Shared, job: Job) {
                 window.x(window.width),
                 window.y(window.height),
             ];
-            if !shared.wanted(session.as_deref(), rect) {
+            if !shared.wanted(session.as_deref(), zoom, rect, asked) {
                 return Err(HttpError::status(
                     410,
                     "the tab no longer shows this tile; not rendered",

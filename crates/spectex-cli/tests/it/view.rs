@@ -477,7 +477,7 @@ fn bad_parameters_are_400_naming_the_field() {
         ),
         (
             "POST",
-            "/api/view?s=a&x0=1&y0=0&x1=0&y1=1",
+            "/api/view?s=a&zoom=0&x0=1&y0=0&x1=0&y1=1",
             None,
             400,
             "x1 and y1",

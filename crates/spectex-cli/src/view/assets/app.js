@@ -10,7 +10,7 @@
   let version = 0;
   let map = null, fine = null, coarse = null, seams = null;
   // What the browser test reads: the last redraw's times and the number of tiles loaded.
-  window.spectex = { redraws: [], tilesLoaded: 0, ready: false };
+  window.spectex = { redraws: [], tilesLoaded: 0, ready: false, view: () => viewWindow() };
 
   async function api(path, body) {
     const init = body === undefined ? {} : {
@@ -46,10 +46,12 @@
   // The window the view shows, as `spectex render` takes it: whole screen pixels at the
   // current zoom, so its pixels are the tiles' pixels.
   function viewWindow() {
-    const b = map.getPixelBounds();
+    // The model pixel at the container's top-left corner: Leaflet places tiles relative to its
+    // rounded pixel origin, so this is a whole number of screen pixels.
+    const topLeft = map.containerPointToLayerPoint([0, 0]).add(map.getPixelOrigin());
     const size = map.getSize();
     const scale = Math.pow(2, -map.getZoom());
-    const px = Math.round(b.min.x), py = Math.round(b.min.y);
+    const px = Math.round(topLeft.x), py = Math.round(topLeft.y);
     return { x: px * scale, y: py * scale, scale, w: size.x, h: size.y, px, py };
   }
 
@@ -78,7 +80,7 @@
     if (!map) return;
     const b = map.getPixelBounds();
     const s = Math.pow(2, -map.getZoom());
-    const q = new URLSearchParams({ s: session, x0: b.min.x * s, y0: b.min.y * s, x1: b.max.x * s, y1: b.max.y * s });
+    const q = new URLSearchParams({ s: session, zoom: map.getZoom(), x0: b.min.x * s, y0: b.min.y * s, x1: b.max.x * s, y1: b.max.y * s });
     fetch('/api/view?' + q, { method: 'POST' }).catch(() => {});
   }
 
@@ -149,11 +151,12 @@
     const integer = desc ? desc.integer : Number.isInteger(v);
     slider.min = lo; slider.max = hi; slider.step = integer ? 1 : (hi - lo) / 1000 || 'any';
     slider.value = v;
+    const shown = integer ? v : Number(v.toPrecision(7));
     slider.setAttribute('aria-label', pointer);
     const num = document.createElement('input');
     num.type = 'number';
     num.step = integer ? 1 : 'any';
-    num.value = v;
+    num.value = shown;
     num.title = name.title;
     const send = (x) => setField(pointer, integer ? Math.round(x) : x, row);
     slider.addEventListener('input', () => { num.value = slider.value; send(Number(slider.value)); });
@@ -266,7 +269,7 @@
     const im = s.image;
     $('image').hidden = false;
     $('exemplar').src = '/api/exemplar.png';
-    $('exemplar-name').textContent = `${im.name} (${im.width}×${im.height})`;
+    $('exemplar-name').textContent = `${im.name.replace(/^'|'$/g, '').split('/').pop()} (${im.width}×${im.height})`;
     $('spectrum-exemplar').src = '/api/spectrum/exemplar.png';
     if (s.version > 0) {
       $('spectrum-synthesis').src = `/api/spectrum/synthesis.png?v=${s.version}`;
@@ -336,15 +339,21 @@
     map = L.map('map', {
       crs: L.CRS.Simple, minZoom, maxZoom, zoomSnap: 1, zoomDelta: 1, attributionControl: false,
       fadeAnimation: false, keyboardPanDelta: 128,
+      // Under automation (the browser test) headless Chromium drew no frames for the zoom
+      // animation's CSS transitions, which then never ended: zoom without animation there.
+      zoomAnimation: !navigator.webdriver,
     });
     const size = map.getSize();
     map.setView([-size.y / 2, size.x / 2], 0, { animate: false });
     coarse = new Layer('', { tileSize: 1024, zoomOffset: -2, q: 'c', minZoom: minZoom + 2, maxZoom, keepBuffer: 0 });
     fine = new Layer('', { tileSize: state.tile, q: 'f', minZoom, maxZoom, keepBuffer: 1 });
     fine.on('tileload', () => { window.spectex.tilesLoaded += 1; });
+    fine.on('loading', () => { window.spectex.loading = true; });
+    fine.on('load', () => { window.spectex.loading = false; });
     coarse.addTo(map);
     fine.addTo(map);
     seams = L.layerGroup().addTo(map);
+    window.spectex.map = map;
     fine.once('load', () => { window.spectex.ready = true; });
     map.on('moveend', () => { showWhere(); drawSeams(); postView(); });
     map.on('mousemove', (e) => {
