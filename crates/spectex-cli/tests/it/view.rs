@@ -27,10 +27,15 @@ struct Server {
 impl Server {
     /// Starts `spectex view ARGS --port 0 --workers 2` and reads the address it prints.
     fn start(args: &[&str]) -> Self {
+        Self::with_workers(args, "2")
+    }
+
+    /// [`Server::start`] with `workers` render workers.
+    fn with_workers(args: &[&str], workers: &str) -> Self {
         let mut child = Command::new(env!("CARGO_BIN_EXE_spectex"))
             .arg("view")
             .args(args)
-            .args(["--port", "0", "--workers", "2"])
+            .args(["--port", "0", "--workers", workers])
             .stdout(Stdio::piped())
             .stderr(Stdio::inherit())
             .spawn()
@@ -609,4 +614,43 @@ fn a_burst_of_200_tile_requests_stays_within_a_memory_bound() {
     // encoded tiles (here 200 × ≈ 60 KiB), each waiting connection a thread and its request
     // line. Unbounded work would hold 200 renders at once.
     assert!(grown_mib < 96.0, "memory grew by {grown_mib:.1} MiB");
+}
+
+#[test]
+fn tiles_a_tab_no_longer_shows_are_not_rendered() {
+    // One worker, held by a streamed download the client does not read: the tabs' tiles wait.
+    let server = Server::with_workers(&[&model("classic-perlin-fbm.json")], "1");
+    let mut busy = TcpStream::connect(&server.addr).unwrap();
+    write!(
+        busy,
+        "GET /render?w=16384&h=16384&download=1 HTTP/1.1\r\nHost: x\r\n\r\n"
+    )
+    .unwrap();
+    let mut status = [0u8; 12];
+    busy.read_exact(&mut status).unwrap();
+    assert_eq!(&status, b"HTTP/1.1 200");
+    let addr = server.addr.clone();
+    let ask = |path: &'static str| {
+        let addr = addr.clone();
+        std::thread::spawn(move || request(&addr, "GET", path, None).0)
+    };
+    let outside = ask("/tile/0/50/50.png?v=1&s=tab1");
+    let inside = ask("/tile/0/1/0.png?v=1&s=tab1");
+    let other_level = ask("/tile/-3/0/0.png?v=1&s=tab1");
+    let closed = ask("/tile/0/0/0.png?v=1&s=tab2");
+    std::thread::sleep(Duration::from_millis(300));
+    // Then the tabs move (tab1 to the origin at zoom 0) and close (tab2) …
+    let view = "/api/view?s=tab1&zoom=0&x0=0&y0=0&x1=1024&y1=768";
+    assert_eq!(server.request("POST", view, None).0, 200);
+    assert_eq!(server.request("POST", "/api/close?s=tab2", None).0, 200);
+    // … and the download's browser goes away, which stops that render and frees the worker.
+    drop(busy);
+    assert_eq!(outside.join().unwrap(), 410, "a tile out of the tab's view");
+    assert_eq!(
+        other_level.join().unwrap(),
+        410,
+        "a tile of a level it left"
+    );
+    assert_eq!(closed.join().unwrap(), 410, "a tile of a closed tab");
+    assert_eq!(inside.join().unwrap(), 200, "a tile in view");
 }
