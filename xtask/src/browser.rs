@@ -3,9 +3,9 @@
 //! from npm (`browser_view.cjs`) against the `spectex` binary the test step built. Where
 //! Chromium, Node or the npm package cannot be had, it says so loudly and skips.
 //!
-//! `SPECTEX_VIEW_SHOTS=DIR` also writes the README's two screenshots into DIR (`view-model.png`,
-//! `view-image.png`, the latter of `../shared/testdata/textures/skimage_gravel.png` when present,
-//! else of the built-in exemplar).
+//! `SPECTEX_VIEW_SHOTS=DIR` also writes the README's two screenshots into DIR (`view-model.png` of
+//! `testdata/models/combine-bark.json`, `view-image.png` of
+//! `../shared/testdata/textures/skimage_gravel.png` when present, else of the built-in exemplar).
 
 use std::env;
 use std::fs;
@@ -154,18 +154,21 @@ pub(crate) fn view_check(ws: &Workspace) -> Result<()> {
     let model = ws.root.join(MODEL);
     let server = Server::start(&spectex, &[&model])?;
     let shots = env::var_os("SPECTEX_VIEW_SHOTS").map(|d| ws.root.join(d));
-    let image_server = match &shots {
+    let shot_servers = match &shots {
         None => None,
         Some(_) => {
+            let bark = ws.root.join("testdata/models/combine-bark.json");
+            let bark = Server::start(&spectex, &[&bark])?;
             let gravel = ws
                 .root
                 .join("../shared/testdata/textures/skimage_gravel.png");
-            if gravel.exists() {
-                Some(Server::start(&spectex, &[&gravel])?)
+            let image = if gravel.exists() {
+                Server::start(&spectex, &[&gravel])?
             } else {
                 eprintln!("xtask: {} absent; the built-in exemplar", gravel.display());
-                Some(Server::start(&spectex, &[])?)
-            }
+                Server::start(&spectex, &[])?
+            };
+            Some((bark, image))
         }
     };
     let out = dir.join("out");
@@ -184,9 +187,11 @@ pub(crate) fn view_check(ws: &Workspace) -> Result<()> {
         .env("MAP_W", MAP.0.to_string())
         .env("MAP_H", MAP.1.to_string())
         .env("OUT", &out);
-    if let (Some(shots), Some(image)) = (&shots, &image_server) {
+    if let (Some(shots), Some((model, image))) = (&shots, &shot_servers) {
         fs::create_dir_all(shots)?;
-        node.env("SHOTS", shots).env("IMAGE_URL", &image.url);
+        node.env("SHOTS", shots)
+            .env("MODEL_SHOT_URL", &model.url)
+            .env("IMAGE_URL", &image.url);
     }
     run_command(&mut node).with_context(|| {
         format!(

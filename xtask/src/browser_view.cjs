@@ -6,7 +6,8 @@
 // Environment: PLAYWRIGHT_CORE (the package's directory), CHROMIUM, SPECTEX (the binary),
 // VIEW_URL, MODEL (the model file the server shows), SLIDER (the JSON pointer of the field whose
 // slider moves), OUT (a scratch directory); SHOTS (a
-// directory for the README's screenshots) with IMAGE_URL (a view of an image) optionally.
+// directory for the README's screenshots) with MODEL_SHOT_URL and IMAGE_URL (views of a model
+// and of an image) optionally.
 'use strict';
 const pw = require(process.env.PLAYWRIGHT_CORE);
 const { execFileSync } = require('child_process');
@@ -204,27 +205,26 @@ async function main() {
   }
 }
 
-// The README's two screenshots: the model view, and an image with its fit and spectra.
+// The README's two screenshots: a model (MODEL_SHOT_URL) with its nested panel open, and an
+// image (IMAGE_URL) with its fit and spectra, the texture magnified 2× (smoother, smaller files).
 async function screenshots(browser) {
-  // Small files: a smaller window, the texture magnified 2× (smoother, so it compresses).
-  const ctx = await browser.newContext({ viewport: { width: 960, height: 560 }, deviceScaleFactor: 1 });
+  const ctx = await browser.newContext({ viewport: { width: 820, height: 470 }, deviceScaleFactor: 1 });
   const page = await ctx.newPage();
-  const magnify = async () => {
-    await page.evaluate(() => window.spectex.map.zoomIn());
-    await until(page, () => window.spectex.view().scale === 0.5, undefined, 10000);
+  const open = async (url) => {
+    await page.goto(url);
+    await until(page, () => window.spectex && window.spectex.ready, undefined, 120000);
     await settle(page);
   };
-  await page.goto(process.env.VIEW_URL);
-  await until(page, () => window.spectex && window.spectex.ready, undefined, 120000);
-  await magnify();
+  await open(process.env.MODEL_SHOT_URL);
+  await page.evaluate(() => { document.querySelector('#panel details').open = true; });
   await page.screenshot({ path: path.join(process.env.SHOTS, 'view-model.png') });
-  if (process.env.IMAGE_URL) {
-    await page.goto(process.env.IMAGE_URL);
-    await until(page, () => window.spectex && window.spectex.ready, undefined, 120000);
-    await magnify();
-    await until(page, () => [...document.querySelectorAll('#image img')].every((i) => i.complete && i.naturalWidth > 0), undefined, 60000);
-    await page.screenshot({ path: path.join(process.env.SHOTS, 'view-image.png') });
-  }
+  await page.setViewportSize({ width: 960, height: 560 });
+  await open(process.env.IMAGE_URL);
+  await page.evaluate(() => window.spectex.map.zoomIn());
+  await until(page, () => window.spectex.view().scale === 0.5, undefined, 10000);
+  await settle(page);
+  await until(page, () => [...document.querySelectorAll('#image img')].every((i) => i.complete && i.naturalWidth > 0), undefined, 60000);
+  await page.screenshot({ path: path.join(process.env.SHOTS, 'view-image.png') });
   console.log(`browser: screenshots written to ${process.env.SHOTS}`);
 }
 
