@@ -253,16 +253,25 @@ impl Shared {
         shared
     }
 
-    /// Shows `model` from now on (a new version).
+    /// Shows `model` from now on (a new version), with a new panel description.
     fn install(&self, model: Model) {
         let json = serde_json::to_value(&model).unwrap_or(Value::Null);
         let panel = panel::describe(&json);
         let three_d = is_three_d(&model);
+        self.install_with(model, json, Some(panel), three_d);
+    }
+
+    /// Shows `model` (its JSON `json`) from now on, with `panel` or else the panel shown now (an
+    /// edit of one value or of the seeds keeps the model's shape, and probing the validation of
+    /// a large model again on every slider move would cost more than the render).
+    fn install_with(&self, model: Model, json: Value, panel: Option<Value>, three_d: bool) {
         if let Ok(mut current) = self.current.lock() {
             current.version += 1;
             current.model = Some(model);
             current.json = json;
-            current.panel = panel;
+            if let Some(panel) = panel {
+                current.panel = panel;
+            }
             current.three_d = three_d;
             current.renderers.clear();
         }
@@ -584,12 +593,17 @@ fn route(
         }
         (Post, "/api/seed") => {
             Query::parse(query, &[])?;
-            let model = lock(&shared.current)?
-                .model
-                .as_ref()
-                .map(|m| m.reseeded(0x9E37_79B9))
-                .ok_or_else(|| HttpError::status(503, "the fit is still running"))?;
-            shared.install(model);
+            let (model, three_d) = {
+                let current = lock(&shared.current)?;
+                let model = current
+                    .model
+                    .as_ref()
+                    .map(|m| m.reseeded(0x9E37_79B9))
+                    .ok_or_else(|| HttpError::status(503, "the fit is still running"))?;
+                (model, current.three_d)
+            };
+            let json = serde_json::to_value(&model).unwrap_or(Value::Null);
+            shared.install_with(model, json, None, three_d);
             reply(Reply::json(&state(shared)?))
         }
         (Post, "/api/fit") => {
@@ -768,7 +782,10 @@ fn set_field(shared: &Shared, body: &Value) -> Result<(), HttpError> {
     {
         return Err(HttpError::bad(format!("{pointer} = {v} is not finite")));
     }
-    let mut json = lock(&shared.current)?.json.clone();
+    let (mut json, three_d) = {
+        let current = lock(&shared.current)?;
+        (current.json.clone(), current.three_d)
+    };
     let slot = json
         .pointer_mut(pointer)
         .ok_or_else(|| HttpError::bad(format!("the model has no field {pointer}")))?;
@@ -780,7 +797,10 @@ fn set_field(shared: &Shared, body: &Value) -> Result<(), HttpError> {
     *slot = value.clone();
     let model = panel::check(&json).map_err(|e| HttpError::bad(format!("{pointer}: {e}")))?;
     Evaluator::new(&model).map_err(|e| HttpError::bad(format!("{pointer}: {e}")))?;
-    shared.install(model);
+    // A changed field can make a model 3D (a classic noise's dimensions): look again only then.
+    let three_d = three_d || is_three_d(&model);
+    let json = serde_json::to_value(&model).unwrap_or(Value::Null);
+    shared.install_with(model, json, None, three_d);
     Ok(())
 }
 
@@ -1032,6 +1052,7 @@ fn work(shared: &Shared, job: Job) {
             let version = lock(&shared.current)?.version;
             let renderer = shared.renderer(version, 0.0, None)?;
             let (w, h) = ex.size();
+            let (w, h) = (w.min(tiles::MAX_SPECTRUM), h.min(tiles::MAX_SPECTRUM));
             let window = Window::new(w, h);
             let values = renderer
                 .cpu

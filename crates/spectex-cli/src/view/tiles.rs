@@ -12,6 +12,9 @@ use spectex_cpu::{Evaluator, Window};
 
 use crate::io::{self, BitDepth, Format, SampleData, Samples};
 
+/// Largest side of a displayed spectrum.
+pub(crate) const MAX_SPECTRUM: usize = 1024;
+
 /// Rows evaluated at a time: the evaluator's band (as `device::render`).
 const BAND_ROWS: usize = 16;
 
@@ -164,7 +167,15 @@ pub(crate) fn grey_png(values: &Array2<f64>) -> Result<Vec<u8>> {
 /// The centred log-magnitude spectrum of the luminance of `pixels` (`(channel, row, column)`),
 /// scaled to `[0, 1]` for display, as an 8-bit PNG (`spectex analyze`'s `log_spectrum.png`).
 pub(crate) fn spectrum_png(pixels: &ndarray::Array3<f64>) -> Result<Vec<u8>> {
-    let luma = io::luminance(pixels);
+    // At most 1024 × 1024 (the top-left corner of a larger image): the display's resolution,
+    // and a bound on the FFT's memory.
+    let (_, h, w) = pixels.dim();
+    let crop = pixels.slice(ndarray::s![
+        ..,
+        ..h.min(MAX_SPECTRUM),
+        ..w.min(MAX_SPECTRUM)
+    ]);
+    let luma = io::luminance(&crop.to_owned());
     let mut fft = spectex_spectrum::Fft2::new();
     let periodic = spectex_spectrum::periodic_smooth(luma.view(), &mut fft).periodic;
     let log = spectex_spectrum::log_magnitude_spectrum(periodic.view(), &mut fft);
