@@ -7,6 +7,7 @@
 
 use serde::Deserialize as _;
 use serde_json::{Map, Value, json};
+use spectex_model::simulation::SimulationSpec;
 use spectex_model::{Model, ModelError};
 
 /// Lists longer than this are not entered (a fitted model's frequencies): shown as a count.
@@ -21,11 +22,26 @@ pub(crate) fn check(json: &Value) -> Result<Model, ModelError> {
     Ok(model)
 }
 
+/// Whether the simulation spec in `json` deserializes and validates.
+pub(crate) fn check_simulation(json: &Value) -> Result<SimulationSpec, ModelError> {
+    let spec = SimulationSpec::deserialize(json)?;
+    spec.validate()?;
+    Ok(spec)
+}
+
+/// What the panel probes: deserialization and validation of the whole value.
+type Check<'a> = &'a dyn Fn(&Value) -> Result<(), ModelError>;
+
 /// The panel description of the model `json`: `{"fields": {pointer: field}}`, where a numeric
 /// field is `{"min", "max", "min_open", "max_open", "range", "integer"}` (`min`/`max` null where
 /// the range has no numeric bound) and a string field with a fixed set of values is
 /// `{"options": […]}`. Pointers are JSON pointers into `json`.
 pub(crate) fn describe(json: &Value) -> Value {
+    describe_with(json, &|v| check(v).map(|_| ()))
+}
+
+/// [`describe`] of a value that `check` validates (a model, a simulation spec).
+pub(crate) fn describe_with(json: &Value, check: Check<'_>) -> Value {
     let mut leaves = Vec::new();
     collect(json, String::new(), &mut leaves);
     let mut probe = json.clone();
@@ -35,8 +51,8 @@ pub(crate) fn describe(json: &Value) -> Value {
             continue;
         };
         let described = match &original {
-            Value::Number(n) => describe_number(&mut probe, &pointer, &segment, n.is_f64()),
-            Value::String(_) => describe_string(&mut probe, &pointer),
+            Value::Number(n) => describe_number(&mut probe, &pointer, &segment, n.is_f64(), check),
+            Value::String(_) => describe_string(&mut probe, &pointer, check),
             _ => None,
         };
         if let Some(slot) = probe.pointer_mut(&pointer) {
@@ -83,11 +99,16 @@ fn collect(value: &Value, pointer: String, out: &mut Vec<(String, String)>) {
 }
 
 /// What validation says of the model with the field at `pointer` set to `candidate`.
-fn probe(json: &mut Value, pointer: &str, candidate: Value) -> Result<(), ModelError> {
+fn probe(
+    json: &mut Value,
+    pointer: &str,
+    candidate: Value,
+    check: Check<'_>,
+) -> Result<(), ModelError> {
     if let Some(slot) = json.pointer_mut(pointer) {
         *slot = candidate;
     }
-    check(json).map(|_| ())
+    check(json)
 }
 
 /// The last segment of a validation error's dotted field path (`a.b[2].c (unit)` → `c`).
@@ -97,7 +118,13 @@ fn last_segment(field: &str) -> &str {
 }
 
 /// The range of the numeric field at `pointer` (last segment `segment`).
-fn describe_number(json: &mut Value, pointer: &str, segment: &str, float: bool) -> Option<Value> {
+fn describe_number(
+    json: &mut Value,
+    pointer: &str,
+    segment: &str,
+    float: bool,
+    check: Check<'_>,
+) -> Option<Value> {
     let range_of = |result: Result<(), ModelError>| match result {
         Err(ModelError::OutOfRange { field, range, .. }) if last_segment(&field) == segment => {
             Some(Ok(range))
@@ -107,7 +134,7 @@ fn describe_number(json: &mut Value, pointer: &str, segment: &str, float: bool) 
     };
     if float {
         for candidate in [1e300, -1e300] {
-            if let Some(Ok(range)) = range_of(probe(json, pointer, json!(candidate))) {
+            if let Some(Ok(range)) = range_of(probe(json, pointer, json!(candidate), check)) {
                 return Some(numeric(range, false));
             }
         }
@@ -123,7 +150,7 @@ fn describe_number(json: &mut Value, pointer: &str, segment: &str, float: bool) 
         (0, &[-2_147_483_648i64, 0][..]),
     ] {
         for &candidate in candidates {
-            match range_of(probe(json, pointer, json!(candidate))) {
+            match range_of(probe(json, pointer, json!(candidate), check)) {
                 Some(Ok(range)) => return Some(numeric(range, true)),
                 None => {
                     bounds[side] = Some(candidate);
@@ -192,8 +219,8 @@ fn bound(text: &str) -> Option<f64> {
 }
 
 /// The values a string field accepts, from serde's `unknown variant` message.
-fn describe_string(json: &mut Value, pointer: &str) -> Option<Value> {
-    let Err(ModelError::Json(e)) = probe(json, pointer, json!("\u{1}")) else {
+fn describe_string(json: &mut Value, pointer: &str, check: Check<'_>) -> Option<Value> {
+    let Err(ModelError::Json(e)) = probe(json, pointer, json!("\u{1}"), check) else {
         return None;
     };
     let text = e.to_string();

@@ -10,7 +10,9 @@ use std::time::{Duration, Instant};
 use anyhow::{Result, anyhow};
 use serde_json::{Value, json};
 use spectex_cpu::{Evaluator, Window};
+use spectex_model::simulation::SimulationSpec;
 use spectex_model::{MAX_POSITION, Model, Period};
+use spectex_simulate::Simulator;
 
 use super::fitting::{self, Exemplar, FitParams};
 use super::panel;
@@ -30,6 +32,8 @@ const MAX_ZOOM: i64 = 24;
 const MAX_RENDER_SIDE: i64 = 4096;
 /// Largest side of a streamed PNG download.
 const MAX_STREAM_SIDE: i64 = 16_384;
+/// Largest side of a simulation grid stepped live (a larger one from the file is kept as is).
+const MAX_SIM_SIDE: u32 = 2048;
 /// Bytes of encoded tiles kept.
 const CACHE_BYTES: usize = 64 << 20;
 /// Largest request body.
@@ -45,11 +49,18 @@ pub(crate) enum Source {
     Model(Box<Model>, Option<Period>, String),
     /// An image, fitted on open.
     Image(Box<Exemplar>),
+    /// A simulation spec (`spectex simulate --save-params`), stepped live.
+    Simulation(Box<SimulationSpec>),
 }
 
 impl Source {
     /// The model file at `path`, read and validated.
     pub(crate) fn model_file(path: &Path) -> Result<Self> {
+        if let Ok(text) = std::fs::read_to_string(path)
+            && let Ok(spec) = spectex_model::simulation::spec_from_json(&text)
+        {
+            return Ok(Self::Simulation(Box::new(spec)));
+        }
         let file = crate::model_file::read_model_file(path)?;
         Ok(Self::Model(
             Box::new(file.model),
@@ -163,6 +174,47 @@ pub(crate) struct Shared {
     name: String,
     /// Render workers.
     workers: usize,
+    /// The simulation stepped live, in simulation mode.
+    sim: Option<Mutex<Live>>,
+}
+
+/// A simulation being stepped, and its panel.
+struct Live {
+    /// The spec.
+    spec: SimulationSpec,
+    /// The spec as JSON, what the panel edits.
+    json: Value,
+    /// The panel's description.
+    panel: Value,
+    /// The running simulation.
+    sim: Simulator,
+}
+
+impl Live {
+    /// A fresh run of `spec`.
+    fn new(spec: SimulationSpec) -> Result<Self, HttpError> {
+        let sim = Simulator::new(&spec).map_err(|e| HttpError::bad(format!("{e}")))?;
+        let json = serde_json::to_value(&spec).unwrap_or(Value::Null);
+        let panel = panel::describe_with(&json, &|v| panel::check_simulation(v).map(|_| ()));
+        Ok(Self {
+            spec,
+            json,
+            panel,
+            sim,
+        })
+    }
+
+    /// What the page shows of it.
+    fn state(&self) -> Value {
+        json!({
+            "spec": self.json,
+            "panel": self.panel,
+            "name": self.spec.simulation.name(),
+            "width": self.spec.width,
+            "height": self.spec.height,
+            "steps_done": self.sim.steps_done(),
+        })
+    }
 }
 
 /// A render waiting for a worker, and the request it answers.
@@ -209,6 +261,8 @@ enum Work {
     },
     /// The synthesis's spectrum at the exemplar's size.
     Spectrum,
+    /// The simulation stepped this many times, then its grey frame (PNG).
+    SimFrame(u64),
 }
 
 /// Locks `m`, or answers 500 when a thread panicked holding it.
@@ -224,9 +278,14 @@ impl Shared {
         gpu: Option<spectex_gpu::GpuContext>,
         workers: usize,
     ) -> Self {
+        let mut sim = None;
         let (model, period, name, exemplar) = match source {
             Source::Model(model, period, name) => (Some(*model), period, name, None),
             Source::Image(ex) => (None, None, "model.json".to_owned(), Some(*ex)),
+            Source::Simulation(spec) => {
+                sim = Live::new(*spec).ok().map(Mutex::new);
+                (None, None, "simulation.json".to_owned(), None)
+            }
         };
         let shared = Self {
             current: Mutex::new(Current {
@@ -246,6 +305,7 @@ impl Shared {
             fit: Mutex::new(FitStatus::default()),
             name,
             workers,
+            sim,
         };
         if let Some(model) = model {
             shared.install(model);
@@ -709,6 +769,69 @@ fn route(
             download: None,
         })),
         (Get, "/render") => render_request(query),
+        (Get, "/api/sim/frame.png") => {
+            let q = Query::parse(query, &["steps", "t"])?;
+            let steps = q.int_in("steps", Some(0), 0, 10_000)? as u64;
+            live(shared)?;
+            Ok(Routed::Queue(Work::SimFrame(steps), true))
+        }
+        (Post, "/api/sim/set") => {
+            Query::parse(query, &[])?;
+            let body = read_json(request)?;
+            let mut live = lock(live(shared)?)?;
+            let pointer = body
+                .get("pointer")
+                .and_then(Value::as_str)
+                .ok_or_else(|| HttpError::bad("the body needs \"pointer\": a JSON pointer"))?;
+            let value = body
+                .get("value")
+                .ok_or_else(|| HttpError::bad("the body needs \"value\""))?;
+            let mut json = live.json.clone();
+            let slot = json
+                .pointer_mut(pointer)
+                .filter(|v| !v.is_object() && !v.is_array())
+                .ok_or_else(|| HttpError::bad(format!("the spec has no value at {pointer}")))?;
+            *slot = value.clone();
+            let spec = panel::check_simulation(&json)
+                .map_err(|e| HttpError::bad(format!("{pointer}: {e}")))?;
+            for (name, side) in [("width", spec.width), ("height", spec.height)] {
+                if side > MAX_SIM_SIDE {
+                    return Err(HttpError::bad(format!(
+                        "{name} = {side} is outside the view's range [1, {MAX_SIM_SIDE}] \
+                         (larger grids: spectex simulate)"
+                    )));
+                }
+            }
+            let panel = std::mem::take(&mut live.panel);
+            let sim = Simulator::new(&spec).map_err(|e| HttpError::bad(format!("{e}")))?;
+            *live = Live {
+                spec,
+                json,
+                panel,
+                sim,
+            };
+            drop(live);
+            reply(Reply::json(&state(shared)?))
+        }
+        (Post, "/api/sim/reset") => {
+            let q = Query::parse(query, &["reseed"])?;
+            let mut live = lock(live(shared)?)?;
+            let mut spec = live.spec.clone();
+            if q.flag("reseed", false)? {
+                spec.seed = spec.seed.wrapping_add(1);
+            }
+            let panel = std::mem::take(&mut live.panel);
+            let sim = Simulator::new(&spec).map_err(|e| HttpError::bad(format!("{e}")))?;
+            let json = serde_json::to_value(&spec).unwrap_or(Value::Null);
+            *live = Live {
+                spec,
+                json,
+                panel,
+                sim,
+            };
+            drop(live);
+            reply(Reply::json(&state(shared)?))
+        }
         (Get, _) if path.starts_with("/tile/") => tile_request(shared, path, query),
         (Get | Post, _) => Err(HttpError::status(404, format!("no page {path}"))),
         _ => Err(HttpError::status(405, "only GET and POST are served")),
@@ -764,7 +887,21 @@ fn state(shared: &Shared) -> Result<Value, HttpError> {
         "tile": TILE,
         "zoom": [MIN_ZOOM, MAX_ZOOM],
         "image": image,
+        "simulation": match &shared.sim {
+            None => Value::Null,
+            Some(live) => lock(live)?.state(),
+        },
     }))
+}
+
+/// The simulation, or 404 outside simulation mode.
+fn live(shared: &Shared) -> Result<&Mutex<Live>, HttpError> {
+    shared.sim.as_ref().ok_or_else(|| {
+        HttpError::status(
+            404,
+            "this view shows no simulation (spectex view SIMULATION.json)",
+        )
+    })
 }
 
 /// `POST /api/set {"pointer": "/lrp/mean", "value": 0.5}`: the model with that field changed,
@@ -1063,6 +1200,23 @@ fn work(shared: &Shared, job: Job) {
                 f64::from(values[(y * w + x) * c + ch])
             });
             let png = tiles::spectrum_png(&pixels).map_err(|e| HttpError::bad(format!("{e:#}")))?;
+            Ok(Some(Reply::ok("image/png", png)))
+        }
+        Work::SimFrame(steps) => {
+            let mut live = lock(live(shared)?)?;
+            // At most a second of stepping per frame, whatever was asked.
+            let started = Instant::now();
+            for _ in 0..steps {
+                live.sim.step();
+                if started.elapsed() > Duration::from_secs(1) {
+                    break;
+                }
+            }
+            let (w, h) = (live.spec.width as usize, live.spec.height as usize);
+            let grey = live.sim.grey();
+            let levels =
+                ndarray::Array2::from_shape_fn((h, w), |(y, x)| f64::from(grey[y * w + x]));
+            let png = tiles::grey_png(&levels).map_err(|e| HttpError::bad(format!("{e:#}")))?;
             Ok(Some(Reply::ok("image/png", png)))
         }
     }));

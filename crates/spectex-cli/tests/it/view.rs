@@ -654,3 +654,65 @@ fn tiles_a_tab_no_longer_shows_are_not_rendered() {
     assert_eq!(closed.join().unwrap(), 410, "a tile of a closed tab");
     assert_eq!(inside.join().unwrap(), 200, "a tile in view");
 }
+
+#[test]
+fn a_simulation_steps_live_as_spectex_simulate_runs_it() {
+    let dir = scratch("view-sim");
+    let spec = dir.join("gs.json");
+    let cli = dir.join("cli.png");
+    spectex_ok(&[
+        "simulate",
+        "gray-scott",
+        "--size",
+        "64x48",
+        "--steps",
+        "50",
+        "-o",
+        s(&cli),
+        "--save-params",
+        s(&spec),
+    ]);
+    let server = Server::start(&[s(&spec)]);
+    let state = server.state();
+    assert_eq!(state["simulation"]["name"], "gray-scott");
+    assert_eq!(
+        state["simulation"]["panel"]["fields"]["/simulation/gray_scott/feed"]["range"],
+        "[0, 0.1]"
+    );
+    // 30 steps, then 20 more: the frame `spectex simulate` writes after 50.
+    let _ = server.get_ok("/api/sim/frame.png?steps=30");
+    let frame = image::load_from_memory(&server.get_ok("/api/sim/frame.png?steps=20")).unwrap();
+    let expected = image::open(&cli).unwrap();
+    assert_eq!((frame.width(), frame.height()), (64, 48));
+    assert!(
+        frame.to_luma8().as_raw() == expected.to_luma8().as_raw(),
+        "the live frame differs from spectex simulate's"
+    );
+    for (body, text) in [
+        (
+            r#"{"pointer": "/simulation/gray_scott/feed", "value": 5}"#,
+            "feed = 5 is outside its valid range [0, 0.1]",
+        ),
+        (
+            r#"{"pointer": "/width", "value": 5000}"#,
+            "width = 5000 is outside the view's range",
+        ),
+    ] {
+        let (status, reply) = server.request("POST", "/api/sim/set", Some(body));
+        assert_eq!(status, 400);
+        assert!(String::from_utf8_lossy(&reply).contains(text), "{reply:?}");
+    }
+    let (status, _) = server.request(
+        "POST",
+        "/api/sim/set",
+        Some(r#"{"pointer": "/simulation/gray_scott/feed", "value": 0.03}"#),
+    );
+    assert_eq!(status, 200);
+    assert_eq!(server.state()["simulation"]["steps_done"], 0, "restarted");
+    assert_eq!(
+        server
+            .request("GET", "/api/sim/frame.png?steps=99999", None)
+            .0,
+        400
+    );
+}

@@ -233,6 +233,7 @@
   // One edit in flight at a time; the latest waiting edit replaces older ones.
   let pending = null, sending = false;
   function setField(pointer, value, row) {
+    if (simSet) { simSet(pointer, value, row); return; }
     pending = { pointer, value, row };
     if (!sending) flush();
   }
@@ -327,9 +328,72 @@
     }
   }
 
+  // ---- a simulation, stepped live -------------------------------------------------------
+  // The grid (a torus) as an image on the map; each frame asks the server for N more steps.
+  async function startSimulation() {
+    const sim = state.simulation;
+    $('kind').textContent = `· ${sim.name} simulation`;
+    for (const id of ['filter', 'periodic', 'seams', 'dl-view', 'dl-view-exr', 'dl-size', 'dl-wgsl', 'dl-model']) {
+      const e = $(id); (e.closest('label') || e).style.display = 'none';
+    }
+    $('command').textContent = `spectex simulate file ${state.name} -o out.png   (with the spec below)`;
+    map = L.map('map', { crs: L.CRS.Simple, minZoom: -4, maxZoom: 6, attributionControl: false });
+    const bounds = [[0, 0], [-sim.height, sim.width]];
+    const overlay = L.imageOverlay('', bounds).addTo(map);
+    overlay.on('load', () => { overlay.getElement().style.imageRendering = 'pixelated'; });
+    map.fitBounds(bounds);
+    const seed = $('seed');
+    seed.textContent = 'new seed (restart)';
+    seed.addEventListener('click', async () => {
+      try { state = await api('/api/sim/reset?reseed=1', {}); } catch (e) { showError(e.message); }
+    });
+    const controls = document.createElement('div');
+    controls.innerHTML = '<label><input type="checkbox" id="sim-run" checked> running</label>' +
+      '<div class="field"><span>steps per frame</span><input type="range" id="sim-steps" min="1" max="500" value="20" aria-label="steps per frame"><input type="number" id="sim-steps-num" value="20"></div>';
+    $('panel').before(controls);
+    $('sim-steps').addEventListener('input', (e) => { $('sim-steps-num').value = e.target.value; });
+    $('sim-steps-num').addEventListener('change', (e) => { $('sim-steps').value = e.target.value; });
+    const panel = $('panel');
+    const rebuild = () => {
+      panel.textContent = '';
+      const saved = state.panel;
+      state.panel = state.simulation.panel;
+      build(panel, state.simulation.spec, '', 'simulation');
+      state.panel = saved;
+    };
+    simSet = async (pointer, value, row) => {
+      try { state = await api('/api/sim/set', { pointer, value }); row.classList.remove('bad'); showError(''); }
+      catch (e) { row.classList.add('bad'); showError(e.message); }
+    };
+    rebuild();
+    let frames = 0, t0 = performance.now();
+    window.spectex.ready = true;
+    for (;;) {
+      if (!$('sim-run').checked) { await new Promise((r) => setTimeout(r, 200)); continue; }
+      const steps = Number($('sim-steps').value) || 1;
+      try {
+        const r = await fetch(`/api/sim/frame.png?steps=${steps}&t=${frames}`);
+        if (!r.ok) throw new Error((await r.text()).trim());
+        const url = URL.createObjectURL(await r.blob());
+        const old = overlay._url;
+        overlay.setUrl(url);
+        if (old && old.startsWith('blob:')) setTimeout(() => URL.revokeObjectURL(old), 1000);
+        frames += 1;
+        if (frames % 10 === 0) {
+          const s = await api('/api/state');
+          state = s;
+          setStatus(`${s.simulation.steps_done} steps · ${(10000 / (performance.now() - t0)).toFixed(1)} frames/s`);
+          t0 = performance.now();
+        }
+      } catch (e) { showError(e.message); await new Promise((r) => setTimeout(r, 1000)); }
+    }
+  }
+  let simSet = null;
+
   // ---- start --------------------------------------------------------------------------
   async function start() {
     state = await api('/api/state');
+    if (state.simulation) return startSimulation();
     if (state.image) state = await waitForFit();
     version = state.version;
     buildPanel();
