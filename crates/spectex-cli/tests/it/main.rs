@@ -12,6 +12,7 @@ mod fidelity;
 mod fidelity_dirt;
 mod fuzz_images;
 mod phasor_fidelity;
+mod signal;
 mod simulate;
 mod stream;
 mod texture;
