@@ -472,7 +472,7 @@ fn relight_and_normal_maps() {
         "--strength",
         &strength,
     ]);
-    let img = crate::common::read_exr(&lit);
+    let img = common::read_exr(&lit);
     assert_eq!(img.names(), ["Y"], "a grey EXR is one Y channel");
     let h = std::f64::consts::FRAC_1_SQRT_2;
     let want = (-0.5 * h + h) / 1.25f64.sqrt();
