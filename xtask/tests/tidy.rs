@@ -5,6 +5,8 @@
 //! Each check is a function from a workspace root to a list of offences, so the negative tests at
 //! the end can run it on a small fake tree and prove that it can fail.
 
+#[path = "tidy/docs.rs"]
+mod docs;
 #[path = "tidy/kinds.rs"]
 mod kinds;
 

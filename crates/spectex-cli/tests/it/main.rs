@@ -7,6 +7,7 @@
 mod classic_fidelity;
 mod cli;
 mod common;
+mod docs;
 mod export;
 mod fidelity;
 mod fidelity_dirt;
