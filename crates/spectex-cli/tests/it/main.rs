@@ -4,6 +4,7 @@
 //! One test binary for the crate, a module per file: every test binary is another link of all
 //! the dependencies.
 
+mod bad_inputs;
 mod classic_fidelity;
 mod cli;
 mod common;
