@@ -1,7 +1,7 @@
 // classic.wgsl — the classic pointwise noises (improved Perlin gradient, simplex, value, Kensler
 // and Worley noise, in 2D or on a plane z of 3D) and their fractal sums (fBm, turbulence, ridged),
-// the GPU twin of crates/spectex-cpu/src/classic.rs; the definitions and the randomness contract
-// are in crates/spectex-model/src/classic.rs. Composed after common.wgsl.
+// the GPU twin of crates/spectex-cpu/src/classic/mod.rs; the definitions and the randomness
+// contract are in crates/spectex-model/src/classic.rs. Composed after common.wgsl.
 //
 // Randomness: octave o is layer o. A 2D corner (i, j) hashes to cell_hash(i, j, o, seed), a 3D
 // corner (i, j, k) to cell_hash(i, j, o, cell_hash(k, 0, o, seed)); gradients take h >> 28,

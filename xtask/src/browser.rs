@@ -16,7 +16,8 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 
-use super::{Workspace, apt_install, run_command, runs, target_dir};
+use crate::system::apt_install;
+use crate::{Workspace, run_command, runs, target_dir};
 
 /// The driver's npm package, pinned.
 const PLAYWRIGHT: &str = "playwright-core@1.65.1";

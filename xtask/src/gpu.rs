@@ -14,7 +14,9 @@ use std::process::{Command, Stdio};
 
 use anyhow::{Context, Result, bail};
 
-use super::{Workspace, ensure_lavapipe, json_string_field, lavapipe_env, run_command, target_dir};
+use crate::json::compiler_artifacts;
+use crate::system::{ensure_lavapipe, lavapipe_env};
+use crate::{Workspace, run_command, target_dir};
 
 /// One model's figures, in Mpix/s.
 #[derive(Debug, Clone, PartialEq)]
@@ -481,10 +483,9 @@ fn bench_executable(ws: &Workspace) -> Result<PathBuf> {
     if !output.status.success() {
         bail!("building the models bench failed");
     }
-    String::from_utf8_lossy(&output.stdout)
-        .lines()
-        .filter(|l| l.contains("\"name\":\"models\""))
-        .find_map(|l| json_string_field(l, "executable").map(PathBuf::from))
+    compiler_artifacts(&String::from_utf8_lossy(&output.stdout))
+        .filter(|a| a.target.name == "models")
+        .find_map(|a| a.executable)
         .context("cargo did not name the models bench's executable")
 }
 

@@ -16,8 +16,9 @@ use exr::meta::attribute::{
 use exr::meta::header::Header;
 use exr::meta::{BlockDescription, MetaData};
 
+use crate::io::EXR_TILE;
 use crate::io::{self, BitDepth, Format};
-use crate::stream::{self, Band, EXR_TILE, RENDER_ATTRIBUTE};
+use crate::stream::{self, Band, RENDER_ATTRIBUTE};
 
 /// Arguments of `spectex assemble`.
 #[derive(Debug, Args)]
@@ -30,7 +31,7 @@ pub struct AssembleCommand {
     output: PathBuf,
     /// Rows per band, a multiple of 64 (fewer rows, less memory) [default: about 8 Mpix per
     /// band].
-    #[arg(long, value_name = "N", value_parser = stream::parse_band_rows)]
+    #[arg(long, value_name = "N", value_parser = crate::args::parse_band_rows)]
     band_rows: Option<usize>,
 }
 
@@ -302,7 +303,7 @@ pub fn assemble(cmd: &AssembleCommand) -> Result<()> {
         .tempfile_in(&dir)
         .map_err(|e| anyhow!("cannot write into '{}': {e}", dir.display()))?;
     let rows = cmd.band_rows.unwrap_or_else(|| stream::band_rows(width));
-    let bar = crate::render::progress_bar(height as u64, "assembling");
+    let bar = crate::progress::progress_bar(height as u64, "assembling");
     let mut failure = None;
     let mut y = 0;
     let spare: std::cell::RefCell<Option<Band>> = std::cell::RefCell::new(None);

@@ -5,19 +5,9 @@ use anyhow::{Result, anyhow};
 use spectex_cpu::{Evaluator, Window};
 use spectex_model::Model;
 
+pub use crate::args::Device;
 use crate::io;
-use crate::render::progress_bar;
-
-/// Which evaluator renders.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum Device {
-    /// spectex-cpu: same bytes for any thread count.
-    Cpu,
-    /// spectex-gpu: within the cross-checked tolerances of the CPU.
-    Gpu,
-    /// The GPU when an adapter exists, else the CPU.
-    Auto,
-}
+use crate::progress::progress_bar;
 
 /// Where and how fast a window was rendered.
 pub(crate) struct Rendered {
@@ -84,12 +74,14 @@ pub(crate) fn render(
                 Some(p) => spectex_gpu::GpuEvaluator::periodic_at_z(&context, model, z, p),
             }
             .map_err(|e| anyhow!("{e}; try --device cpu"))?;
+            crate::interrupt::watch();
             let start = std::time::Instant::now();
             let mut pixels = vec![0.0f32; window.width * window.height * gpu.output_channels()];
             let stats = gpu
                 .render_into(window, &mut pixels)
                 .map_err(|e| anyhow!("{e}; try --device cpu"))?;
             let seconds = start.elapsed().as_secs_f64();
+            crate::interrupt::check()?;
             if pixels.len() != out.row_len() * window.height {
                 return Err(anyhow!(
                     "internal: the GPU rendered {} values for {} samples",
@@ -111,8 +103,14 @@ pub(crate) fn render(
             let _ = rayon::current_num_threads();
             let row_len = out.row_len();
             let bar = progress_bar(window.height as u64, "rendering");
+            crate::interrupt::watch();
             let start = std::time::Instant::now();
             let bands: Bands = out.fill(BAND_ROWS, |first, band| {
+                // After a signal the remaining bands are skipped: the render stops at the
+                // bands in flight.
+                if crate::interrupt::requested().is_some() {
+                    return Bands::default();
+                }
                 BAND_VALUES.with(|values| {
                     let mut values = values.borrow_mut();
                     values.resize(band.len(), 0.0);
@@ -130,6 +128,7 @@ pub(crate) fn render(
             });
             let wall = start.elapsed().as_secs_f64();
             bar.finish_and_clear();
+            crate::interrupt::check()?;
             Ok(Rendered {
                 device: "CPU".to_owned(),
                 seconds: wall * bands.evaluation_share(),

@@ -9,9 +9,10 @@ use ndarray::Axis;
 use spectex_model::{Fit, LrpNoise, Model, TextureModel};
 use spectex_sampling::{FitMethod, FitOptions, TextureOptions};
 
+use crate::args::RenderArgs;
 use crate::io;
 use crate::model_file::write_fitted_model;
-use crate::render::{RenderArgs, render_to_file};
+use crate::render::render_to_file;
 
 /// Options shared by every command that fits an LRP model.
 #[derive(Debug, Args)]
@@ -140,7 +141,7 @@ fn fit_example(input: Option<&Path>, fit: &FitArgs) -> Result<(Fitted, (usize, u
     fit.texture_options()
         .validate()
         .map_err(|e| anyhow!("{e}; check --budget, --strata, --structure and --turbulence"))?;
-    let (loaded, name) = crate::load_input(input)?;
+    let (loaded, name) = io::load_input(input)?;
     let (channels, h, w) = loaded.pixels.dim();
     if channels == 1 && !fit.wants_texture() {
         let grey = loaded.pixels.index_axis(Axis(0), 0);

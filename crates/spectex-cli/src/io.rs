@@ -7,7 +7,7 @@ use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, anyhow, bail};
-use image::{DynamicImage, ImageBuffer, ImageEncoder, ImageReader, Limits, Luma, Rgb};
+use image::{DynamicImage, ImageBuffer, ImageReader, Limits, Luma, Rgb};
 use ndarray::{Array2, Array3, Axis};
 
 /// Largest input side accepted by the decoder (also the synthesis limit).
@@ -225,18 +225,16 @@ pub fn save(path: &Path, pixels: &Array3<f64>, format: Format) -> Result<WriteRe
                     .with_context(|| format!("cannot encode '{}'", path.display()))?;
             }
             Format::Exr => {
-                // OpenEXR through `image` takes RGB(A) f32; grey is written as equal R, G, B.
-                let mut bytes = Vec::with_capacity(h * w * 12);
+                // Interleaved f32 values, then the one EXR writer (grey as one Y channel).
+                let mut values = Vec::with_capacity(h * w * channels);
                 for y in 0..h {
                     for x in 0..w {
-                        for c in 0..3 {
-                            let v = pixels[[c.min(channels - 1), y, x]] as f32;
-                            bytes.extend_from_slice(&v.to_ne_bytes());
+                        for c in 0..channels {
+                            values.push(pixels[[c, y, x]] as f32);
                         }
                     }
                 }
-                image::codecs::openexr::OpenExrEncoder::new(&mut out)
-                    .write_image(&bytes, w as u32, h as u32, image::ExtendedColorType::Rgb32F)
+                write_exr(&mut out, &values, w, h, channels)
                     .with_context(|| format!("cannot encode '{}'", path.display()))?;
             }
         }
@@ -469,10 +467,11 @@ pub(crate) fn save_samples(
     Ok(report)
 }
 
-/// Writes `values` (`channels` = 1 or 3 per pixel, row-major) as the RGB f32 OpenEXR that
-/// `image`'s `OpenExrEncoder` writes of them (grey as equal R, G, B): its very calls of `exr`,
-/// reading the values where it would read a copy of them as R, G, B bytes.
-fn write_exr<W: Write + std::io::Seek>(
+/// Writes `values` (`channels` = 1 or 3 per pixel, row-major) as a 32-bit float OpenEXR: one
+/// `Y` channel for a grey image, `R`, `G`, `B` for a colour one, as the streamed and tiled
+/// writers (`stream.rs`) do, so that a command writes the same channels whatever its size.
+/// `exr`'s default encoding, which `image`'s `OpenExrEncoder` also uses.
+pub(crate) fn write_exr<W: Write + std::io::Seek>(
     out: W,
     values: &[f32],
     width: usize,
@@ -480,19 +479,27 @@ fn write_exr<W: Write + std::io::Seek>(
     channels: usize,
 ) -> Result<()> {
     use exr::prelude::{Image, SpecificChannels, Vec2, WritableImage};
-    Image::from_channels(
-        (width, height),
-        SpecificChannels::rgb(|pixel: Vec2<usize>| {
-            let i = pixel.flat_index_for_size(Vec2(width, height)) * channels;
-            if channels == 1 {
-                (values[i], values[i], values[i])
-            } else {
+    let index = |pixel: Vec2<usize>| pixel.flat_index_for_size(Vec2(width, height)) * channels;
+    if channels == 1 {
+        Image::from_channels(
+            (width, height),
+            SpecificChannels::build()
+                .with_channel("Y")
+                .with_pixel_fn(|pixel: Vec2<usize>| (values[index(pixel)],)),
+        )
+        .write()
+        .to_buffered(out)
+    } else {
+        Image::from_channels(
+            (width, height),
+            SpecificChannels::rgb(|pixel: Vec2<usize>| {
+                let i = index(pixel);
                 (values[i], values[i + 1], values[i + 2])
-            }
-        }),
-    )
-    .write()
-    .to_buffered(out)
+            }),
+        )
+        .write()
+        .to_buffered(out)
+    }
     .map_err(|e| anyhow!("{e}"))
 }
 
@@ -533,6 +540,8 @@ pub fn finish(tmp: tempfile::NamedTempFile, path: &Path) -> Result<()> {
     tmp.as_file()
         .sync_all()
         .with_context(|| format!("cannot write '{}'", path.display()))?;
+    // A signal that came while the file was written: it is dropped (removed), not published.
+    crate::interrupt::check()?;
     tmp.persist(path).map_err(|e| {
         anyhow!(
             "cannot move the finished file to '{}': {}",
@@ -572,4 +581,26 @@ fn to_dynamic(pixels: &Array3<f64>, depth: BitDepth) -> DynamicImage {
             }))
         }
     }
+}
+
+/// Side of the square tiles of a streamed OpenEXR: OpenEXR's customary 64, as the whole-image
+/// writer (`image`) uses.
+pub const EXR_TILE: usize = 64;
+
+/// The sample named on the command line, or the built-in exemplar.
+pub(crate) fn load_input(input: Option<&Path>) -> Result<(Loaded, String)> {
+    let loaded = match input {
+        Some(p) => (load(p)?, format!("'{}'", p.display())),
+        None => (
+            decode(
+                crate::exemplar::DEFAULT_EXEMPLAR_PNG,
+                crate::exemplar::DEFAULT_EXEMPLAR_NAME,
+            )?,
+            crate::exemplar::DEFAULT_EXEMPLAR_NAME.to_string(),
+        ),
+    };
+    if loaded.0.dropped_alpha {
+        eprintln!("note: the alpha channel of {} is ignored", loaded.1);
+    }
+    Ok(loaded)
 }

@@ -10,6 +10,8 @@
 //! and `#[doc(hidden)]`, not an API.
 
 mod analyze;
+#[doc(hidden)]
+pub mod args;
 mod assemble;
 mod device;
 #[doc(hidden)]
@@ -17,6 +19,7 @@ pub mod exemplar;
 mod export;
 #[doc(hidden)]
 pub mod fit;
+mod interrupt;
 #[doc(hidden)]
 pub mod io;
 mod model_file;
@@ -24,6 +27,7 @@ mod model_file;
 pub mod noise;
 #[doc(hidden)]
 pub mod phasor;
+mod progress;
 mod relight;
 mod render;
 mod sheet;
@@ -32,14 +36,16 @@ mod simulate;
 pub mod stream;
 mod view;
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 use anyhow::{Context, Result};
 use clap::{Args, Parser, Subcommand};
 use spectex_spectrum::{NoiseKind, Rpn, RpnOptions};
 
-use crate::io::BitDepth;
+use crate::args::parse_size;
+use crate::io::{BitDepth, load_input};
+use crate::progress::note_clipping;
 
 #[doc(hidden)]
 #[derive(Debug, Parser)]
@@ -161,34 +167,6 @@ struct AnalyzeArgs {
     format: analyze::SpectraFormat,
 }
 
-/// Parses `WIDTHxHEIGHT` (also `X` or `×` as separator).
-#[doc(hidden)]
-pub fn parse_size(s: &str) -> Result<(usize, usize), String> {
-    let err = || format!("'{s}' is not a size; write WIDTHxHEIGHT, for example 1024x768");
-    let (w, h) = s.split_once(['x', 'X', '×']).ok_or_else(err)?;
-    let w: usize = w.trim().parse().map_err(|_| err())?;
-    let h: usize = h.trim().parse().map_err(|_| err())?;
-    Ok((w, h))
-}
-
-/// The sample named on the command line, or the built-in exemplar.
-pub(crate) fn load_input(input: Option<&Path>) -> Result<(io::Loaded, String)> {
-    let loaded = match input {
-        Some(p) => (io::load(p)?, format!("'{}'", p.display())),
-        None => (
-            io::decode(
-                exemplar::DEFAULT_EXEMPLAR_PNG,
-                exemplar::DEFAULT_EXEMPLAR_NAME,
-            )?,
-            exemplar::DEFAULT_EXEMPLAR_NAME.to_string(),
-        ),
-    };
-    if loaded.0.dropped_alpha {
-        eprintln!("note: the alpha channel of {} is ignored", loaded.1);
-    }
-    Ok(loaded)
-}
-
 fn run_rpn(args: &RpnArgs) -> Result<()> {
     let format = io::check_output(&args.output, args.bit_depth)?;
     let (loaded, name) = load_input(args.input.as_deref())?;
@@ -239,15 +217,6 @@ fn with_hint(e: anyhow::Error) -> anyhow::Error {
         e
     } else {
         anyhow::anyhow!("{e:#}{hint}")
-    }
-}
-
-pub(crate) fn note_clipping(report: io::WriteReport) {
-    if report.clipped > 0 {
-        eprintln!(
-            "note: {:.2}% of the values fell outside [0, 1] and were clamped in the PNG; write .exr to keep them",
-            100.0 * report.clipped as f64 / report.total.max(1) as f64
-        );
     }
 }
 
@@ -306,6 +275,15 @@ pub fn main() -> ExitCode {
     match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
+            // A signal's stop keeps its own message and status (130, 143), whatever context
+            // the error gathered on the way up.
+            if let Some(stop) = e
+                .chain()
+                .find_map(|cause| cause.downcast_ref::<interrupt::Interrupted>())
+            {
+                eprintln!("error: {stop}");
+                return ExitCode::from(stop.exit_status());
+            }
             eprintln!("error: {}", one_line(&e));
             ExitCode::from(1)
         }

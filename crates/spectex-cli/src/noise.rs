@@ -21,7 +21,7 @@ use anyhow::{Result, bail};
 use clap::{Args, Subcommand};
 use spectex_model::classic::Basis;
 
-use crate::render::RenderArgs;
+use crate::args::RenderArgs;
 
 /// Arguments of `spectex noise`.
 #[derive(Debug, Args)]

@@ -11,9 +11,11 @@ use spectex_model::{
     Field, Harmonic, Model, PhasorNoise, PhasorOrientation, PhasorOutput, Profile,
 };
 
+use crate::args::RenderArgs;
 use crate::io;
 use crate::model_file::{read_model, write_model};
-use crate::render::{RenderArgs, progress_bar, render_to_file};
+use crate::progress::progress_bar;
+use crate::render::render_to_file;
 
 /// The oscillation profile.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -151,7 +153,7 @@ fn parse_harmonics(s: &str) -> Result<HarmonicList, String> {
 
 /// A greyscale image as a field stretched over an output of `width` pixels.
 fn image_field(path: &Path, width: usize, min: f32, max: f32) -> Result<Field> {
-    let (loaded, name) = crate::load_input(Some(path))?;
+    let (loaded, name) = io::load_input(Some(path))?;
     let grey = io::grey(&loaded.pixels, &name);
     let (h, w) = grey.dim();
     if w > spectex_model::MAX_FIELD_SIDE || h > spectex_model::MAX_FIELD_SIDE {
@@ -262,7 +264,7 @@ pub struct SlicesCommand {
     #[arg(short, long, value_name = "DIR")]
     output: PathBuf,
     /// Layer size WIDTHxHEIGHT.
-    #[arg(long, value_name = "WxH", value_parser = crate::parse_size, default_value = "512x512")]
+    #[arg(long, value_name = "WxH", value_parser = crate::args::parse_size, default_value = "512x512")]
     size: (usize, usize),
     /// Position of each layer's top-left pixel, X,Y in model pixels.
     #[arg(long, value_name = "X,Y", allow_hyphen_values = true, value_parser = parse_range)]

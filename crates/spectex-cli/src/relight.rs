@@ -54,7 +54,7 @@ fn parse_light(s: &str) -> Result<[f64; 2], String> {
 /// `spectex relight`.
 pub fn relight(cmd: &RelightCommand) -> Result<()> {
     let format = io::check_output(&cmd.output, cmd.bit_depth)?;
-    let (loaded, name) = crate::load_input(Some(&cmd.input))?;
+    let (loaded, name) = io::load_input(Some(&cmd.input))?;
     let height = io::grey(&loaded.pixels, &name);
     let edges = if cmd.periodic {
         Edges::Wrap
@@ -88,6 +88,6 @@ pub fn relight(cmd: &RelightCommand) -> Result<()> {
             if cmd.periodic { ", periodic" } else { "" }
         );
     }
-    crate::note_clipping(report);
+    crate::progress::note_clipping(report);
     Ok(())
 }

@@ -88,7 +88,7 @@ pub fn sheet(cmd: &SheetCommand) -> Result<()> {
         println!("|---|---|---|---|---|---|---|---|---|---|---|");
     }
     for input in inputs {
-        let (loaded, name) = crate::load_input(input)?;
+        let (loaded, name) = io::load_input(input)?;
         let stem = input.and_then(|p| p.file_stem()).map_or_else(
             || "builtin".to_owned(),
             |s| s.to_string_lossy().into_owned(),

@@ -46,7 +46,7 @@ struct CommonArgs {
     #[arg(short, long, value_name = "OUT")]
     output: PathBuf,
     /// Grid size WIDTHxHEIGHT (for elementary, HEIGHT generations are drawn) [default: 256x256].
-    #[arg(long, value_name = "WxH", value_parser = crate::parse_size)]
+    #[arg(long, value_name = "WxH", value_parser = crate::args::parse_size)]
     size: Option<(usize, usize)>,
     /// Steps to run (elementary: generations before the first drawn row) [default: per
     /// simulation: gray-scott 8000, swift-hohenberg 400, life 200, elementary 0, cyclic 300].
@@ -333,7 +333,7 @@ fn run(common: &CommonArgs, spec: &SimulationSpec) -> Result<()> {
         Stepper::Cpu(Box::new(Simulator::new(spec).map_err(|e| anyhow!("{e}"))?))
     };
     let total = Simulator::total_steps(spec);
-    let bar = crate::render::progress_bar(total, "simulating");
+    let bar = crate::progress::progress_bar(total, "simulating");
     let start = std::time::Instant::now();
     let write_frame = |sim: &Stepper| -> Result<()> {
         if let (Some(dir), Some(format)) = (&common.frames, frame_format) {
@@ -369,7 +369,7 @@ fn run(common: &CommonArgs, spec: &SimulationSpec) -> Result<()> {
             total as f64 / seconds.max(1e-9)
         );
     }
-    crate::note_clipping(report);
+    crate::progress::note_clipping(report);
     Ok(())
 }
 

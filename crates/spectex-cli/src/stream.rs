@@ -6,7 +6,6 @@ use std::io::{BufWriter, Seek, Write};
 use std::sync::mpsc;
 
 use anyhow::{Context, Result, anyhow, bail};
-use clap::Args;
 use exr::block::writer::ChunksWriter;
 use exr::block::{BlockIndex, UncompressedBlock};
 use exr::math::{RoundingMode, Vec2};
@@ -20,16 +19,12 @@ use rayon::prelude::*;
 use spectex_cpu::{Evaluator, Window};
 use spectex_model::{Model, Period};
 
+use crate::args::{RenderArgs, StreamArgs};
 use crate::device;
-use crate::io::{self, BitDepth, Format, WriteReport};
-use crate::render::RenderArgs;
+use crate::io::{self, BitDepth, EXR_TILE, Format, WriteReport};
 
 /// Renders with more pixels than this (4096 × 4096) stream without `--stream`.
 pub const STREAM_THRESHOLD_PIXELS: usize = 4096 * 4096;
-
-/// Side of the square tiles of a streamed OpenEXR: OpenEXR's customary 64, as the whole-image
-/// writer (`image`) uses.
-pub const EXR_TILE: usize = 64;
 
 /// Compression of a streamed OpenEXR: none. The whole-image writer's RLE saved 0.04% of a
 /// 32768² f32 Perlin render's 4.3 GB (noise has few runs) and doubled the user CPU time.
@@ -50,39 +45,6 @@ pub const RENDER_ATTRIBUTE: &str = "spectexRender";
 
 /// The EXR attribute naming a tile's place in its grid: `K of CxR`.
 pub const TILE_ATTRIBUTE: &str = "spectexTile";
-
-/// Streaming and batch tiling of a render.
-#[derive(Debug, Args)]
-pub struct StreamArgs {
-    /// Render and write band by band, holding one band of rows in memory: a tiled OpenEXR
-    /// (64×64 tiles, one Y channel for grey models) or a PNG written row band by row band.
-    /// Automatic above 4096×4096 pixels.
-    #[arg(long)]
-    pub(crate) stream: bool,
-    /// Render only one tile of a C×R grid over the --size image (batch clusters): tiles of
-    /// ceil(W/C)×ceil(H/R) pixels, the last column and row cut to the image. The output (.exr)
-    /// records its place; `spectex assemble` joins the tiles.
-    #[arg(long, value_name = "CxR", value_parser = crate::parse_size)]
-    pub(crate) tiles: Option<(usize, usize)>,
-    /// The tile --tiles renders, row-major from the top-left (0 to C·R − 1); read from
-    /// SLURM_ARRAY_TASK_ID or JOB_COMPLETION_INDEX when absent.
-    #[arg(long, value_name = "K", requires = "tiles")]
-    pub(crate) tile_index: Option<usize>,
-    /// Rows per band of a streamed render, a multiple of 64 (fewer rows, less memory) [default:
-    /// about 8 Mpix per band, 256 rows at 32768 columns].
-    #[arg(long, value_name = "N", value_parser = parse_band_rows)]
-    pub(crate) band_rows: Option<usize>,
-}
-
-/// Parses `--band-rows`: a multiple of [`EXR_TILE`] from 64 to 65536.
-pub(crate) fn parse_band_rows(s: &str) -> Result<usize, String> {
-    match s.trim().parse::<usize>() {
-        Ok(n) if (EXR_TILE..=65_536).contains(&n) && n.is_multiple_of(EXR_TILE) => Ok(n),
-        _ => Err(format!(
-            "'{s}' is not a band height; give a multiple of 64 rows from 64 to 65536"
-        )),
-    }
-}
 
 /// The rectangle of the image a streamed render writes, in the image's pixels.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -295,6 +257,7 @@ pub(crate) fn render(
     };
 
     let dir = io::parent_dir(&args.output);
+    crate::interrupt::watch();
     let tmp = tempfile::Builder::new()
         .prefix(".spectex-")
         .suffix(".tmp")
@@ -305,7 +268,7 @@ pub(crate) fn render(
         .stream
         .band_rows
         .unwrap_or_else(|| band_rows(region.width));
-    let bar = crate::render::progress_bar(region.height as u64, "rendering");
+    let bar = crate::progress::progress_bar(region.height as u64, "rendering");
     let order: Vec<usize> = if channels == 1 {
         vec![0]
     } else {
@@ -345,6 +308,10 @@ pub(crate) fn render(
         let mut rendered = Ok(());
         let mut y = 0;
         while y < region.height {
+            if let Err(stop) = crate::interrupt::check() {
+                rendered = Err(stop.into());
+                break;
+            }
             let n = rows.min(region.height - y);
             let mut values = take_back.try_recv().unwrap_or_default();
             let band = window.tile(region.x, region.y + y, region.width, n);
@@ -392,7 +359,7 @@ pub(crate) fn render(
             pixels as f64 / seconds.max(1e-9) / 1e6
         );
     }
-    crate::note_clipping(report);
+    crate::progress::note_clipping(report);
     Ok(())
 }
 

@@ -179,51 +179,30 @@ fn testdata(text: &str) -> Model {
     spectex_model::from_json(text).expect("a valid testdata model")
 }
 
-/// One model of every kind, as `cargo xtask bench` summarises them, and the reference paths of
-/// the kinds that have a faster one (`*_reference`): `(name, model, reference path)`.
+/// Every kind's bench case (`CpuKind::bench_model`, collected by `spectex_cpu::bench_models`),
+/// as `cargo xtask bench` summarises them, then the reference paths of the kinds that have a
+/// faster one (`*_reference`) and Kensler's basis: `(name, model, reference path)`.
 fn kinds() -> Vec<(&'static str, Model, bool)> {
     use spectex_model::classic::ClassicNoise;
-    let phasor = default_phasor(2, spectex_model::Profile::Sine);
-    let warp = Model::Warp(spectex_model::Warp::builder().build().expect("valid model"));
-    vec![
-        ("lrp", Model::Lrp(lrp_four_strata(50)), false),
+    let mut kinds: Vec<(&'static str, Model, bool)> = spectex_cpu::bench_models()
+        .into_iter()
+        .map(|(name, model)| (name, model, false))
+        .collect();
+    kinds.extend([
         (
-            "gabor",
-            Model::Gabor(spectex_model::fixtures::gabor_isotropic()),
-            false,
-        ),
-        ("phasor", phasor.clone(), false),
-        ("phasor_reference", phasor, true),
-        (
-            "texture",
-            testdata(include_str!(
-                "../../../testdata/models/texture-synthetic-colour.json"
-            )),
-            false,
-        ),
-        (
-            "classic",
-            Model::Classic(ClassicNoise::fbm().build().expect("valid model")),
-            false,
+            "phasor_reference",
+            default_phasor(2, spectex_model::Profile::Sine),
+            true,
         ),
         (
             "classic_reference",
             Model::Classic(ClassicNoise::fbm().build().expect("valid model")),
             true,
         ),
-        ("warp", warp.clone(), false),
-        ("warp_reference", warp, true),
         (
-            "wavelet",
-            testdata(include_str!("../../../testdata/models/wavelet-2d.json")),
-            false,
-        ),
-        (
-            "texton",
-            testdata(include_str!(
-                "../../../testdata/models/texton-ellipsoids.json"
-            )),
-            false,
+            "warp_reference",
+            Model::Warp(spectex_model::Warp::builder().build().expect("valid model")),
+            true,
         ),
         (
             "kensler",
@@ -239,38 +218,8 @@ fn kinds() -> Vec<(&'static str, Model, bool)> {
             )),
             false,
         ),
-        (
-            "voronoi",
-            testdata(include_str!("../../../testdata/models/voronoi-f1.json")),
-            false,
-        ),
-        (
-            "islamic",
-            testdata(include_str!(
-                "../../../testdata/models/islamic-488-band.json"
-            )),
-            false,
-        ),
-        (
-            "matrix",
-            testdata(include_str!(
-                "../../../testdata/models/matrix-cat-rings.json"
-            )),
-            false,
-        ),
-        (
-            "subdivision",
-            testdata(include_str!(
-                "../../../testdata/models/subdivision-midpoint.json"
-            )),
-            false,
-        ),
-        (
-            "combine",
-            testdata(include_str!("../../../testdata/models/combine-bark.json")),
-            false,
-        ),
-    ]
+    ]);
+    kinds
 }
 
 /// Every kind at 256², 1 thread and all threads (`{name}_1_thread`, `{name}_all_threads`),

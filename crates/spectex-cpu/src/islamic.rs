@@ -34,6 +34,13 @@ impl IslamicEvaluator {
 }
 
 impl CpuKind for IslamicPattern {
+    /// The bench case: `testdata/models/islamic-488-band.json`.
+    fn bench_model() -> spectex_model::Model {
+        crate::testdata_model(include_str!(
+            "../../../testdata/models/islamic-488-band.json"
+        ))
+    }
+
     fn cpu_kernel(&self, _z: f64) -> Result<Box<dyn RowKernel>, CpuError> {
         Ok(Box::new(IslamicEvaluator::new(self)))
     }

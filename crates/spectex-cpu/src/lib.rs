@@ -203,6 +203,10 @@ pub trait RowKernel: Send + Sync {
 
 /// How a model kind (a [`ModelKind`] of `spectex-model`) builds its CPU kernel.
 pub trait CpuKind: ModelKind {
+    /// The model of this kind that `cargo xtask bench kinds` and the `kinds` group of
+    /// `benches/eval.rs` measure (collected for every kind by [`bench_models`]).
+    fn bench_model() -> Model;
+
     /// The kernel of a **validated** model on the plane `z` (ignored by 2D models).
     ///
     /// # Errors
@@ -224,6 +228,25 @@ pub trait CpuKind: ModelKind {
             kind: Self::NAME,
             requirement: "the CPU evaluator has no periodic kernel for it".into(),
         }))
+    }
+}
+
+/// Every kind's bench case ([`CpuKind::bench_model`]), by kind name, in the order of
+/// `Model`'s variants.
+#[must_use]
+pub fn bench_models() -> Vec<(&'static str, Model)> {
+    let mut models = Vec::new();
+    spectex_model::for_each_kind!(types: K => {
+        models.push((<K as ModelKind>::NAME, <K as CpuKind>::bench_model()));
+    });
+    models
+}
+
+/// A model file of `testdata/models/` embedded in the library (bench cases).
+fn testdata_model(text: &str) -> Model {
+    match spectex_model::from_json(text) {
+        Ok(model) => model,
+        Err(e) => unreachable!("testdata models are valid (the cross-check loads each): {e}"),
     }
 }
 

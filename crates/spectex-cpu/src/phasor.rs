@@ -660,6 +660,15 @@ fn profile(
 }
 
 impl crate::CpuKind for PhasorNoise {
+    /// The bench case: the `spectex phasor` defaults (2D, sine profile).
+    fn bench_model() -> spectex_model::Model {
+        spectex_model::Model::Phasor(
+            PhasorNoise::builder()
+                .build()
+                .expect("the builder's defaults are valid"),
+        )
+    }
+
     fn cpu_kernel(&self, z: f64) -> Result<Box<dyn crate::RowKernel>, crate::CpuError> {
         Ok(Box::new(PhasorEvaluator::new(self, z)))
     }

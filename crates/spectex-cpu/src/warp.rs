@@ -167,6 +167,15 @@ impl WarpEvaluator {
 }
 
 impl crate::CpuKind for Warp {
+    /// The bench case: the `spectex noise warp` defaults.
+    fn bench_model() -> Model {
+        Model::Warp(
+            Warp::builder()
+                .build()
+                .expect("the builder's defaults are valid"),
+        )
+    }
+
     fn cpu_kernel(&self, z: f64) -> Result<Box<dyn crate::RowKernel>, CpuError> {
         Ok(Box::new(WarpEvaluator::new(self, z, None)?))
     }

@@ -13,6 +13,7 @@ use crate::axis::{periodic_columns, periodic_rows};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
+use crate::shaders::ShaderFile;
 use crate::{GpuContext, GpuError, GpuWindow};
 
 wgsl_struct! {
@@ -253,6 +254,13 @@ impl ClassicKernel {
 }
 
 impl GpuKind for ClassicNoise {
+    const SHADER: Option<ShaderFile> = Some(ShaderFile {
+        name: "classic",
+        source: include_str!("../../../shaders/classic.wgsl"),
+        needs_common: true,
+        entry_points: &["classic_main"],
+    });
+
     fn kernel_with_period(
         &self,
         context: &GpuContext,

@@ -6,6 +6,7 @@
 use spectex_model::{Combine, Model, ModelKind, Period};
 
 use crate::kernel::{GpuKernel, GpuKind};
+use crate::shaders::ShaderFile;
 use crate::{GpuContext, GpuError, GpuEvaluator, GpuWindow};
 
 /// A combination's operand evaluators.
@@ -21,6 +22,9 @@ pub(crate) struct CombineKernel {
 }
 
 impl GpuKind for Combine {
+    /// No shader of its own: its kernel runs its operands' kernels.
+    const SHADER: Option<ShaderFile> = None;
+
     /// Periodic: every operand periodic with `period` (the CPU's periodic combination).
     fn kernel_with_period(
         &self,

@@ -8,6 +8,7 @@ use crate::axis::{CellAxes, CellAxis};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
+use crate::shaders::ShaderFile;
 use crate::{GpuContext, GpuError, GpuWindow};
 
 /// The Poisson count's renormalisation chunk (the CPU's `POISSON_CHUNK`).
@@ -118,6 +119,13 @@ pub(crate) fn pack(model: &GaborNoise, period: Option<Period>) -> GaborKernel {
 }
 
 impl GpuKind for GaborNoise {
+    const SHADER: Option<ShaderFile> = Some(ShaderFile {
+        name: "gabor",
+        source: include_str!("../../../shaders/gabor.wgsl"),
+        needs_common: true,
+        entry_points: &["gabor_main"],
+    });
+
     fn kernel_with_period(
         &self,
         context: &GpuContext,

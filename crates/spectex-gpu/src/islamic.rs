@@ -10,6 +10,7 @@ use crate::axis::{periodic_columns, periodic_rows};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
+use crate::shaders::ShaderFile;
 use crate::{GpuContext, GpuError, GpuWindow};
 
 wgsl_struct! {
@@ -53,6 +54,13 @@ pub(crate) struct IslamicKernel {
 }
 
 impl GpuKind for IslamicPattern {
+    const SHADER: Option<ShaderFile> = Some(ShaderFile {
+        name: "islamic",
+        source: include_str!("../../../shaders/islamic.wgsl"),
+        needs_common: true,
+        entry_points: &["islamic_main"],
+    });
+
     /// Periodic: the pattern is periodic with every lattice period
     /// (`ModelKind::check_period`): only the positions are reduced, as the CPU's
     /// `PeriodicKernel` reduces them.

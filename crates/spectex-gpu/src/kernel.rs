@@ -35,6 +35,11 @@ pub(crate) fn halve_tile_to_fit(
 /// [`kernel_with_period`](Self::kernel_with_period), and the evaluator reaches it through the
 /// provided [`gpu_kernel`](Self::gpu_kernel) and [`gpu_kernel_periodic`](Self::gpu_kernel_periodic).
 pub(crate) trait GpuKind: ModelKind {
+    /// The kind's compute shader in `shaders/` (composed and validated with the others, see
+    /// [`crate::SHADERS`]), or `None` for a kind whose kernel runs other kernels (warp,
+    /// combine).
+    const SHADER: Option<crate::shaders::ShaderFile>;
+
     /// The kernel of a **validated** model on the plane `z` (ignored by 2D models): its tables
     /// packed and uploaded, its pipeline built; made exactly periodic with `period` when given,
     /// a period the model accepts ([`ModelKind::check_period`], checked by the caller): tile

@@ -9,6 +9,7 @@ use crate::axis::{periodic_columns, periodic_rows};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::{Shaded, binding_limit};
+use crate::shaders::ShaderFile;
 use crate::{GpuContext, GpuError, GpuWindow};
 
 wgsl_struct! {
@@ -173,6 +174,13 @@ pub(crate) fn host(model: &LrpNoise, period: Option<Period>) -> (LrpKernel, Vec<
 }
 
 impl GpuKind for LrpNoise {
+    const SHADER: Option<ShaderFile> = Some(ShaderFile {
+        name: "lrp",
+        source: include_str!("../../../shaders/lrp.wgsl"),
+        needs_common: true,
+        entry_points: &["lrp_main"],
+    });
+
     fn kernel_with_period(
         &self,
         context: &GpuContext,

@@ -9,6 +9,7 @@ use crate::axis::{CellAxes, CellAxis};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
+use crate::shaders::ShaderFile;
 use crate::{GpuContext, GpuError, GpuWindow};
 
 wgsl_struct! {
@@ -40,6 +41,13 @@ pub(crate) struct MatrixKernel {
 }
 
 impl GpuKind for MatrixTransform {
+    const SHADER: Option<ShaderFile> = Some(ShaderFile {
+        name: "matrix",
+        source: include_str!("../../../shaders/matrix.wgsl"),
+        needs_common: true,
+        entry_points: &["matrix_main"],
+    });
+
     /// Periodic: the texture is periodic with its torus side `N`
     /// (`ModelKind::check_period`): only the positions are reduced, as the CPU's
     /// `PeriodicKernel` reduces them.

@@ -11,6 +11,7 @@ use crate::axis::{CellAxes, CellAxis, periodic_columns, periodic_rows};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables, halve_tile_to_fit};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
+use crate::shaders::ShaderFile;
 use crate::{GpuContext, GpuError, GpuWindow};
 
 wgsl_struct! {
@@ -204,6 +205,13 @@ pub(crate) fn pack(
 }
 
 impl GpuKind for PhasorNoise {
+    const SHADER: Option<ShaderFile> = Some(ShaderFile {
+        name: "phasor",
+        source: include_str!("../../../shaders/phasor.wgsl"),
+        needs_common: true,
+        entry_points: &["phasor_main"],
+    });
+
     /// Periodic: the cells drawn on the host by `PhasorKernels::new_periodic` (fitted to the
     /// period and hashed modulo it, the CPU's), at positions reduced modulo the period.
     fn kernel_with_period(

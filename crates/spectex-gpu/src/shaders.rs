@@ -5,6 +5,10 @@
 //! every composed module parses and validates with naga.
 
 /// The WGSL twin of the randomness contract and of the CPU's scalar functions.
+use std::sync::LazyLock;
+
+use crate::kernel::GpuKind;
+
 const COMMON: &str = include_str!("../../../shaders/common.wgsl");
 
 /// One WGSL file of `shaders/`.
@@ -21,104 +25,47 @@ pub struct ShaderFile {
 }
 
 /// Every file of `shaders/`, by name.
-pub const SHADERS: &[ShaderFile] = &[
-    ShaderFile {
-        name: "common",
-        source: COMMON,
-        needs_common: false,
-        entry_points: &[],
-    },
-    ShaderFile {
-        name: "lrp",
-        source: include_str!("../../../shaders/lrp.wgsl"),
-        needs_common: true,
-        entry_points: &["lrp_main"],
-    },
-    ShaderFile {
-        name: "gabor",
-        source: include_str!("../../../shaders/gabor.wgsl"),
-        needs_common: true,
-        entry_points: &["gabor_main"],
-    },
-    ShaderFile {
-        name: "phasor",
-        source: include_str!("../../../shaders/phasor.wgsl"),
-        needs_common: true,
-        entry_points: &["phasor_main"],
-    },
-    ShaderFile {
-        name: "texture",
-        source: include_str!("../../../shaders/texture.wgsl"),
-        needs_common: true,
-        entry_points: &["texture_main"],
-    },
-    ShaderFile {
-        name: "classic",
-        source: include_str!("../../../shaders/classic.wgsl"),
-        needs_common: true,
-        entry_points: &["classic_main"],
-    },
-    ShaderFile {
-        name: "wavelet",
-        source: include_str!("../../../shaders/wavelet.wgsl"),
-        needs_common: true,
-        entry_points: &["wavelet_main"],
-    },
-    ShaderFile {
-        name: "texton",
-        source: include_str!("../../../shaders/texton.wgsl"),
-        needs_common: true,
-        entry_points: &["texton_main"],
-    },
-    ShaderFile {
-        name: "simulate",
-        source: include_str!("../../../shaders/simulate.wgsl"),
-        needs_common: false,
-        entry_points: &[
-            "gray_scott_step",
-            "life_step",
-            "cyclic_step",
-            "elementary_step",
-            "elementary_tick",
-        ],
-    },
-    ShaderFile {
-        name: "voronoi",
-        source: include_str!("../../../shaders/voronoi.wgsl"),
-        needs_common: true,
-        entry_points: &["voronoi_main"],
-    },
-    ShaderFile {
-        name: "islamic",
-        source: include_str!("../../../shaders/islamic.wgsl"),
-        needs_common: true,
-        entry_points: &["islamic_main"],
-    },
-    ShaderFile {
-        name: "matrix",
-        source: include_str!("../../../shaders/matrix.wgsl"),
-        needs_common: true,
-        entry_points: &["matrix_main"],
-    },
-    ShaderFile {
-        name: "subdivision",
-        source: include_str!("../../../shaders/subdivision.wgsl"),
-        needs_common: true,
-        entry_points: &["subdivision_main"],
-    },
-    ShaderFile {
-        name: "output",
-        source: include_str!("../../../shaders/output.wgsl"),
-        needs_common: false,
-        entry_points: &["pack_unorm8", "pack_unorm16", "pack_f16"],
-    },
-    ShaderFile {
-        name: "probe",
-        source: include_str!("../../../shaders/probe.wgsl"),
-        needs_common: true,
-        entry_points: &["probe_integers", "probe_floats"],
-    },
-];
+pub static SHADERS: LazyLock<Vec<ShaderFile>> = LazyLock::new(|| {
+    let mut files = vec![
+        ShaderFile {
+            name: "common",
+            source: COMMON,
+            needs_common: false,
+            entry_points: &[],
+        },
+        ShaderFile {
+            name: "simulate",
+            source: include_str!("../../../shaders/simulate.wgsl"),
+            needs_common: false,
+            entry_points: &[
+                "gray_scott_step",
+                "life_step",
+                "cyclic_step",
+                "elementary_step",
+                "elementary_tick",
+            ],
+        },
+        ShaderFile {
+            name: "output",
+            source: include_str!("../../../shaders/output.wgsl"),
+            needs_common: false,
+            entry_points: &["pack_unorm8", "pack_unorm16", "pack_f16"],
+        },
+        ShaderFile {
+            name: "probe",
+            source: include_str!("../../../shaders/probe.wgsl"),
+            needs_common: true,
+            entry_points: &["probe_integers", "probe_floats"],
+        },
+    ];
+    // Each kind's compute shader, as the kind declares it (`GpuKind::SHADER`).
+    spectex_model::for_each_kind!(types: K => {
+        if let Some(file) = <K as GpuKind>::SHADER {
+            files.push(file);
+        }
+    });
+    files
+});
 
 /// The complete WGSL module `name` as the device receives it (`common.wgsl` first where the
 /// file needs it), or `None` for a name not in [`SHADERS`].

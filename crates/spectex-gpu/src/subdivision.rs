@@ -10,6 +10,7 @@ use crate::axis::{CellAxes, CellAxis};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
+use crate::shaders::ShaderFile;
 use crate::{GpuContext, GpuError, GpuWindow};
 
 wgsl_struct! {
@@ -56,6 +57,13 @@ pub(crate) fn host(model: &StochasticSubdivision) -> (SubdivisionKernel, Vec<f32
 }
 
 impl GpuKind for StochasticSubdivision {
+    const SHADER: Option<ShaderFile> = Some(ShaderFile {
+        name: "subdivision",
+        source: include_str!("../../../shaders/subdivision.wgsl"),
+        needs_common: true,
+        entry_points: &["subdivision_main"],
+    });
+
     /// No periodic form (the model layer refuses every period first).
     fn kernel_with_period(
         &self,

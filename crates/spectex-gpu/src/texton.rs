@@ -9,6 +9,7 @@ use crate::axis::{CellAxes, CellAxis};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
+use crate::shaders::ShaderFile;
 use crate::{GpuContext, GpuError, GpuWindow};
 
 wgsl_struct! {
@@ -62,6 +63,13 @@ pub(crate) struct TextonKernel {
 }
 
 impl GpuKind for TextonNoise {
+    const SHADER: Option<ShaderFile> = Some(ShaderFile {
+        name: "texton",
+        source: include_str!("../../../shaders/texton.wgsl"),
+        needs_common: true,
+        entry_points: &["texton_main"],
+    });
+
     /// Periodic: the CPU's `TextonEvaluator::new_periodic`: the cell divides the period, cells
     /// hashed modulo the cells per period.
     fn kernel_with_period(

@@ -11,6 +11,7 @@ use crate::axis::{periodic_columns, periodic_rows};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::{Shaded, binding_limit};
+use crate::shaders::ShaderFile;
 use crate::{GpuContext, GpuError, GpuEvaluator, GpuWindow};
 
 wgsl_struct! {
@@ -159,6 +160,13 @@ pub(crate) fn pack_structures(model: &TextureModel) -> Structures {
 }
 
 impl GpuKind for TextureModel {
+    const SHADER: Option<ShaderFile> = Some(ShaderFile {
+        name: "texture",
+        source: include_str!("../../../shaders/texture.wgsl"),
+        needs_common: true,
+        entry_points: &["texture_main"],
+    });
+
     fn kernel_with_period(
         &self,
         context: &GpuContext,

@@ -12,6 +12,7 @@ use crate::axis::{CellAxes, CellAxis};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables, halve_tile_to_fit};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
+use crate::shaders::ShaderFile;
 use crate::{GpuContext, GpuError, GpuWindow};
 
 wgsl_struct! {
@@ -75,6 +76,13 @@ impl VoronoiKernel {
 }
 
 impl GpuKind for VoronoiNoise {
+    const SHADER: Option<ShaderFile> = Some(ShaderFile {
+        name: "voronoi",
+        source: include_str!("../../../shaders/voronoi.wgsl"),
+        needs_common: true,
+        entry_points: &["voronoi_main"],
+    });
+
     /// Periodic: the CPU's periodic Voronoi diagram: the host draws the sites with the cells
     /// and Lloyd blocks wrapped, at positions reduced modulo the period. A 3D model is cut at
     /// the plane `z`.

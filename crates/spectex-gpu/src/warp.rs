@@ -6,6 +6,7 @@
 use spectex_model::{Model, Period, Warp};
 
 use crate::kernel::{GpuKernel, GpuKind};
+use crate::shaders::ShaderFile;
 use crate::{GpuContext, GpuError, GpuEvaluator, GpuWindow};
 
 /// A warp's three sub-evaluators.
@@ -23,6 +24,9 @@ pub(crate) struct WarpKernel {
 }
 
 impl GpuKind for Warp {
+    /// No shader of its own: its kernel runs its operands' kernels.
+    const SHADER: Option<ShaderFile> = None;
+
     /// Periodic: the CPU's periodic warp: base, x and y each periodic with `period` (then `d`
     /// is, and the base at positions one period apart is too).
     fn kernel_with_period(

@@ -9,6 +9,7 @@ use crate::axis::{periodic_columns, periodic_rows};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
+use crate::shaders::ShaderFile;
 use crate::{GpuContext, GpuError, GpuWindow};
 
 wgsl_struct! {
@@ -94,6 +95,13 @@ fn band_records(model: &WaveletNoise, bands: &[Band], z: f64) -> Vec<WaveletBand
 }
 
 impl GpuKind for WaveletNoise {
+    const SHADER: Option<ShaderFile> = Some(ShaderFile {
+        name: "wavelet",
+        source: include_str!("../../../shaders/wavelet.wgsl"),
+        needs_common: true,
+        entry_points: &["wavelet_main"],
+    });
+
     fn kernel_with_period(
         &self,
         context: &GpuContext,

@@ -466,6 +466,8 @@ pub fn lattice_value(h: u32) -> f32 {
 }
 
 impl crate::ModelKind for ClassicNoise {
+    const PERIODIC: bool = true;
+
     /// Gradient, value and Worley noises whose every octave's cell divides the period (a whole
     /// number of cells per period along x and y: the lattice wraps); simplex noise's skewed
     /// lattice has no periodic form here.

@@ -408,6 +408,8 @@ impl From<Combine> for Model {
 }
 
 impl crate::ModelKind for Combine {
+    const PERIODIC: bool = true;
+
     const NAME: &'static str = "combine";
 
     /// A period every operand accepts: the operation applies pixel by pixel, so the

@@ -181,6 +181,8 @@ impl GaborNoise {
 }
 
 impl crate::ModelKind for GaborNoise {
+    const PERIODIC: bool = true;
+
     /// A period whose common side (the gcd of `W` and `H`) holds a whole number of cells of
     /// about the kernel radius ([`GaborNoise::periodic_radius`]).
     fn check_period(&self, period: crate::Period) -> Result<(), ModelError> {

@@ -570,6 +570,8 @@ impl From<IslamicPattern> for crate::Model {
 }
 
 impl crate::ModelKind for IslamicPattern {
+    const PERIODIC: bool = true;
+
     const NAME: &'static str = "islamic";
 
     /// A translation period of the pattern: a square lattice (`square` or `4.8.8` tilings)

@@ -2,9 +2,11 @@
 //! kinds ([`for_each_kind!`](crate::for_each_kind)) that [`Model`]'s methods dispatch through.
 //!
 //! A kind is a struct (its serde type, in its own module) implementing [`ModelKind`], plus its
-//! variant of [`Model`], its arm in `for_each_kind!` and its name in [`KIND_NAMES`], all three
-//! in this file. Nothing else in this crate matches over [`Model`], and the other
+//! variant of [`Model`] and its line in `for_each_kind!`, both in this file; [`KIND_NAMES`]
+//! and [`PERIODIC_KINDS`] are collected from the kinds through the macro. Nothing else in this crate matches over [`Model`], and the other
 //! crates reach a kind through their own per-kind traits with one dispatch each.
+
+use std::sync::LazyLock;
 
 use serde::{Deserialize, Serialize};
 
@@ -25,6 +27,11 @@ pub trait ModelKind {
     /// # Errors
     /// The first field found outside its range, with its dotted path.
     fn validate(&self) -> Result<(), ModelError>;
+
+    /// Whether the kind has a periodic form ([`check_period`](Self::check_period) accepts some
+    /// periods); what [`PERIODIC_KINDS`] lists. A kind that overrides `check_period` says
+    /// `true` (a test in `spectex-cpu` holds the two together).
+    const PERIODIC: bool = false;
 
     /// Values per pixel: 1 (grey) unless the kind says otherwise (a colour texture gives 3).
     fn output_channels(&self) -> usize {
@@ -52,11 +59,17 @@ pub trait ModelKind {
     }
 }
 
-/// The kinds that have a periodic form ([`ModelKind::check_period`]), for messages.
-pub const PERIODIC_KINDS: &[&str] = &[
-    "lrp", "gabor", "phasor", "texture", "classic", "warp", "wavelet", "texton", "combine",
-    "islamic", "matrix", "voronoi",
-];
+/// The kinds that have a periodic form ([`ModelKind::PERIODIC`]), in the order of [`Model`]'s
+/// variants: for messages and tests.
+pub static PERIODIC_KINDS: LazyLock<Vec<&'static str>> = LazyLock::new(|| {
+    let mut kinds = Vec::new();
+    crate::for_each_kind!(types: K => {
+        if <K as ModelKind>::PERIODIC {
+            kinds.push(<K as ModelKind>::NAME);
+        }
+    });
+    kinds
+});
 
 /// Any procedural model spectex evaluates: one variant per kind, each a [`crate::ModelKind`].
 ///
@@ -101,12 +114,68 @@ pub enum Model {
     Subdivision(StochasticSubdivision),
 }
 
-/// Calls `$body` with `$m` bound to the kind struct inside `$model` (by the reference the match
-/// gives), for every kind: the one list of kinds in this crate. `$Kind` names the struct's type,
-/// so `<$Kind as ModelKind>::NAME` is reachable.
+/// The one list of kinds. `for_each_kind!(model, m: K => body)` calls `body` with `m` bound to
+/// the kind struct inside `model` (by the reference the match gives) and `K` naming its type;
+/// `for_each_kind!(types: K => body)` runs `body` once per kind, in the order of [`Model`]'s
+/// variants, with only `K` bound: how each layer collects what its kinds declare (their
+/// names, periodic forms, shaders, test strategies) instead of keeping a list of its own.
 #[macro_export]
 #[doc(hidden)]
 macro_rules! for_each_kind {
+    (types: $Kind:ident => $body:expr) => {{
+        {
+            type $Kind = $crate::LrpNoise;
+            $body;
+        }
+        {
+            type $Kind = $crate::GaborNoise;
+            $body;
+        }
+        {
+            type $Kind = $crate::PhasorNoise;
+            $body;
+        }
+        {
+            type $Kind = $crate::TextureModel;
+            $body;
+        }
+        {
+            type $Kind = $crate::ClassicNoise;
+            $body;
+        }
+        {
+            type $Kind = $crate::Warp;
+            $body;
+        }
+        {
+            type $Kind = $crate::WaveletNoise;
+            $body;
+        }
+        {
+            type $Kind = $crate::TextonNoise;
+            $body;
+        }
+        {
+            type $Kind = $crate::VoronoiNoise;
+            $body;
+        }
+        {
+            type $Kind = $crate::Combine;
+            $body;
+        }
+        {
+            type $Kind = $crate::IslamicPattern;
+            $body;
+        }
+        {
+            type $Kind = $crate::MatrixTransform;
+            $body;
+        }
+        {
+            type $Kind = $crate::StochasticSubdivision;
+            $body;
+        }
+    }};
     ($model:expr, $m:ident : $Kind:ident => $body:expr) => {
         match $model {
             $crate::Model::Lrp($m) => {
@@ -167,21 +236,11 @@ macro_rules! for_each_kind {
 
 /// The names of every kind, in the order of [`Model`]'s variants (for registries, docs and the
 /// tidy test that keeps the docs' list of kinds true).
-pub const KIND_NAMES: &[&str] = &[
-    <LrpNoise as ModelKind>::NAME,
-    <GaborNoise as ModelKind>::NAME,
-    <PhasorNoise as ModelKind>::NAME,
-    <TextureModel as ModelKind>::NAME,
-    <ClassicNoise as ModelKind>::NAME,
-    <Warp as ModelKind>::NAME,
-    <WaveletNoise as ModelKind>::NAME,
-    <TextonNoise as ModelKind>::NAME,
-    <VoronoiNoise as ModelKind>::NAME,
-    <Combine as ModelKind>::NAME,
-    <IslamicPattern as ModelKind>::NAME,
-    <MatrixTransform as ModelKind>::NAME,
-    <StochasticSubdivision as ModelKind>::NAME,
-];
+pub static KIND_NAMES: LazyLock<Vec<&'static str>> = LazyLock::new(|| {
+    let mut names = Vec::new();
+    for_each_kind!(types: K => names.push(<K as ModelKind>::NAME));
+    names
+});
 
 impl Model {
     /// The kind's name ([`ModelKind::NAME`]): `"lrp"`, `"classic"`, … (the model file's tag).

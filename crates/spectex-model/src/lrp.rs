@@ -123,6 +123,8 @@ pub(crate) fn validate_strata(prefix: &str, strata: &[Stratum]) -> Result<(), Mo
 }
 
 impl crate::ModelKind for LrpNoise {
+    const PERIODIC: bool = true;
+
     const NAME: &'static str = "lrp";
 
     /// Any period: each stratum's lattice is fitted to it ([`crate::Period::fit_lattice`]).

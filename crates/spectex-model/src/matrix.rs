@@ -248,6 +248,8 @@ pub fn rings_value(s: [u32; 2], n: u32, rings: u32) -> f32 {
 }
 
 impl crate::ModelKind for MatrixTransform {
+    const PERIODIC: bool = true;
+
     const NAME: &'static str = "matrix";
 
     /// A period whose width and height are multiples of the torus side `N`: the texture is a

@@ -719,6 +719,8 @@ fn validate_profile(p: &Profile, name: &str, depth: usize) -> Result<(), ModelEr
 }
 
 impl crate::ModelKind for PhasorNoise {
+    const PERIODIC: bool = true;
+
     const NAME: &'static str = "phasor";
 
     /// Periodic when every field repeats with the period (constants, or images whose repeat

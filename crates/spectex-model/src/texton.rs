@@ -394,6 +394,8 @@ impl From<TextonNoise> for crate::Model {
 }
 
 impl crate::ModelKind for TextonNoise {
+    const PERIODIC: bool = true;
+
     const NAME: &'static str = "texton";
 
     /// A period that is a whole number of cells along x and y: the cells wrap.

@@ -648,6 +648,8 @@ impl TextureModel {
 }
 
 impl crate::ModelKind for TextureModel {
+    const PERIODIC: bool = true;
+
     /// A period that is a multiple of the structure's period `T` along x and y: the structure
     /// (cosines of integer frequencies over `T`) repeats within it, the placement cells (`T/2`)
     /// wrap, and the random-phase strata and turbulence are LRP lattices fitted to it.

@@ -1030,6 +1030,8 @@ impl From<VoronoiNoise> for crate::Model {
 }
 
 impl crate::ModelKind for VoronoiNoise {
+    const PERIODIC: bool = true;
+
     const NAME: &'static str = "voronoi";
 
     /// A period that is a whole number of cells along x and y (the cells wrap,

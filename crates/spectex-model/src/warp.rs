@@ -184,6 +184,8 @@ pub fn check_window(model: &Model, window: &Window) -> Result<(), WindowError> {
 }
 
 impl crate::ModelKind for Warp {
+    const PERIODIC: bool = true;
+
     const NAME: &'static str = "warp";
 
     /// A warp `base(p + d(p))` is periodic when its base and both displacements are.

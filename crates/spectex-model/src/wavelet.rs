@@ -399,6 +399,8 @@ pub fn spline_weights(f: f32) -> [f32; 3] {
 }
 
 impl crate::ModelKind for WaveletNoise {
+    const PERIODIC: bool = true;
+
     const NAME: &'static str = "wavelet";
 
     /// Wavelet noise is periodic already: band `b` repeats every `n · cell_size / 2^b` pixels

@@ -2,7 +2,7 @@
 //! and `spectex_cpu::Evaluator`, the cost bound per kind that makes "bounded time per pixel"
 //! checkable, and the CPU [`Backend`](crate::invariance::Backend) of the invariance harness.
 
-use std::sync::Arc;
+use std::sync::{Arc, LazyLock};
 use std::time::Instant;
 
 use spectex_cpu::{CpuError, Evaluator};
@@ -12,7 +12,7 @@ use spectex_model::texture::MAX_CHANNELS;
 use spectex_model::voronoi::{MAX_LLOYD_BLOCK, MAX_LLOYD_ITERATIONS};
 use spectex_model::warp::MAX_WARP_DEPTH;
 use spectex_model::wavelet::MAX_BANDS;
-use spectex_model::{MAX_COSINES, MAX_POSITION, MAX_STRATA, Model, Window};
+use spectex_model::{MAX_COSINES, MAX_POSITION, MAX_STRATA, Model, ModelKind, Window};
 
 use crate::cases::{ModelCase, check_file_round_trip};
 use crate::fuzz::{Observation, Target};
@@ -62,25 +62,64 @@ const TEXTURE_MAX_COST: f64 = MAX_CHANNELS as f64
 /// texture's).
 const WARP_MAX_COST: f64 = 6561.0 * TEXTURE_MAX_COST;
 
-/// The largest [`Evaluator::cost_per_pixel`] a valid model of each kind can have, derived from
-/// the limits `spectex-model` validates (each constant's comment gives the derivation). The
-/// units are the kind's own (cosines, kernels, lattice or tile evaluations), each a bounded
-/// amount of work, so a valid model renders in bounded time per pixel.
-pub const COST_BOUNDS: &[(&str, f64)] = &[
-    ("lrp", LRP_MAX_COST),
-    ("gabor", GABOR_MAX_COST),
-    ("phasor", PHASOR_MAX_COST),
-    ("texture", TEXTURE_MAX_COST),
-    ("classic", CLASSIC_MAX_COST),
-    ("warp", WARP_MAX_COST),
-    ("wavelet", WAVELET_MAX_COST),
-    ("texton", TEXTON_MAX_COST),
-    ("voronoi", VORONOI_MAX_COST),
-    ("combine", COMBINE_MAX_COST),
-    ("islamic", ISLAMIC_MAX_COST),
-    ("matrix", MATRIX_MAX_COST),
-    ("subdivision", SUBDIVISION_MAX_COST),
-];
+/// The largest [`Evaluator::cost_per_pixel`] a valid model of a kind can have, derived from the
+/// limits `spectex-model` validates (each constant's comment gives the derivation). The units
+/// are the kind's own (cosines, kernels, lattice or tile evaluations), each a bounded amount of
+/// work, so a valid model renders in bounded time per pixel. Every kind implements it (collected
+/// through `spectex_model::for_each_kind!`, so a kind without one does not compile).
+pub trait CostBound: ModelKind {
+    /// The bound.
+    const MAX_COST: f64;
+}
+
+impl CostBound for spectex_model::LrpNoise {
+    const MAX_COST: f64 = LRP_MAX_COST;
+}
+impl CostBound for spectex_model::GaborNoise {
+    const MAX_COST: f64 = GABOR_MAX_COST;
+}
+impl CostBound for spectex_model::PhasorNoise {
+    const MAX_COST: f64 = PHASOR_MAX_COST;
+}
+impl CostBound for spectex_model::TextureModel {
+    const MAX_COST: f64 = TEXTURE_MAX_COST;
+}
+impl CostBound for spectex_model::ClassicNoise {
+    const MAX_COST: f64 = CLASSIC_MAX_COST;
+}
+impl CostBound for spectex_model::Warp {
+    const MAX_COST: f64 = WARP_MAX_COST;
+}
+impl CostBound for spectex_model::WaveletNoise {
+    const MAX_COST: f64 = WAVELET_MAX_COST;
+}
+impl CostBound for spectex_model::TextonNoise {
+    const MAX_COST: f64 = TEXTON_MAX_COST;
+}
+impl CostBound for spectex_model::VoronoiNoise {
+    const MAX_COST: f64 = VORONOI_MAX_COST;
+}
+impl CostBound for spectex_model::Combine {
+    const MAX_COST: f64 = COMBINE_MAX_COST;
+}
+impl CostBound for spectex_model::IslamicPattern {
+    const MAX_COST: f64 = ISLAMIC_MAX_COST;
+}
+impl CostBound for spectex_model::MatrixTransform {
+    const MAX_COST: f64 = MATRIX_MAX_COST;
+}
+impl CostBound for spectex_model::StochasticSubdivision {
+    const MAX_COST: f64 = SUBDIVISION_MAX_COST;
+}
+
+/// Every kind's [`CostBound`], by name, in the order of `Model`'s variants.
+pub static COST_BOUNDS: LazyLock<Vec<(&'static str, f64)>> = LazyLock::new(|| {
+    let mut bounds = Vec::new();
+    spectex_model::for_each_kind!(types: K => {
+        bounds.push((<K as ModelKind>::NAME, <K as CostBound>::MAX_COST));
+    });
+    bounds
+});
 
 const _: () = assert!(6561 == 3usize.pow(MAX_WARP_DEPTH as u32));
 

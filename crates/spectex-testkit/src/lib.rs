@@ -39,6 +39,7 @@
 pub mod cases;
 #[cfg(feature = "cpu")]
 pub mod cpu;
+pub mod fixtures;
 pub mod fuzz;
 pub mod images;
 pub mod invariance;

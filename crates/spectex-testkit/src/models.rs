@@ -2,8 +2,10 @@
 //! its valid range ([`crate::strategy`]), lists empty, typical or one past their limit, profiles
 //! and warps nested up to and past their depth limits.
 //!
-//! [`KIND_STRATEGIES`] names one strategy per model kind; a test checks that it lists exactly
-//! [`spectex_model::KIND_NAMES`], so a new kind without a strategy fails the kit's tests.
+//! Each kind declares its strategy as its [`FuzzKind`]; [`KIND_STRATEGIES`] collects them
+//! through `spectex_model::for_each_kind!`, so a new kind without a strategy does not compile.
+
+use std::sync::LazyLock;
 
 use proptest::prelude::*;
 use spectex_model::classic::{
@@ -22,7 +24,7 @@ use spectex_model::warp::{MAX_STRENGTH, MAX_WARP_DEPTH};
 use spectex_model::wavelet::{MAX_BANDS, MAX_TILE_2D, MAX_TILE_3D, MIN_TILE};
 use spectex_model::{
     ClassicNoise, ColourBasis, Field, FixedCosine, GaborNoise, Harmonic, LrpNoise, MAX_COSINES,
-    MAX_FIELD_SIDE, MAX_PROFILE_SAMPLES, MAX_STRATA, Model, Orientation, PhasorNoise,
+    MAX_FIELD_SIDE, MAX_PROFILE_SAMPLES, MAX_STRATA, Model, ModelKind, Orientation, PhasorNoise,
     PhasorOrientation, PhasorOutput, Profile, Stratum, Structure, TextureChannel, TextureModel,
     Turbulence, Warp, WaveletNoise,
 };
@@ -33,38 +35,101 @@ use crate::strategy::{Odds, f32_in, f32_inside, list, odds, u32_from, u32_in};
 /// nest inside it.
 pub type KindStrategy = fn(Odds, usize) -> BoxedStrategy<Model>;
 
-/// One strategy per model kind, by [`spectex_model::ModelKind::NAME`].
-pub const KIND_STRATEGIES: &[(&str, KindStrategy)] = &[
-    ("lrp", |o, _| lrp(o).prop_map(Model::Lrp).boxed()),
-    ("gabor", |o, _| gabor(o).prop_map(Model::Gabor).boxed()),
-    ("phasor", |o, _| phasor(o).prop_map(Model::Phasor).boxed()),
-    ("texture", |o, _| {
+/// What the kit generates of one kind: its structure-aware strategy. Every kind implements it
+/// (the collection below goes through `spectex_model::for_each_kind!`, so a kind without one
+/// does not compile).
+pub trait FuzzKind: ModelKind {
+    /// Models of the kind, given the case's odds and how many warps may still nest inside.
+    fn strategy(o: Odds, depth: usize) -> BoxedStrategy<Model>;
+}
+
+impl FuzzKind for LrpNoise {
+    fn strategy(o: Odds, _depth: usize) -> BoxedStrategy<Model> {
+        lrp(o).prop_map(Model::Lrp).boxed()
+    }
+}
+
+impl FuzzKind for GaborNoise {
+    fn strategy(o: Odds, _depth: usize) -> BoxedStrategy<Model> {
+        gabor(o).prop_map(Model::Gabor).boxed()
+    }
+}
+
+impl FuzzKind for PhasorNoise {
+    fn strategy(o: Odds, _depth: usize) -> BoxedStrategy<Model> {
+        phasor(o).prop_map(Model::Phasor).boxed()
+    }
+}
+
+impl FuzzKind for TextureModel {
+    fn strategy(o: Odds, _depth: usize) -> BoxedStrategy<Model> {
         texture(o).prop_map(Model::Texture).boxed()
-    }),
-    ("classic", |o, _| {
+    }
+}
+
+impl FuzzKind for ClassicNoise {
+    fn strategy(o: Odds, _depth: usize) -> BoxedStrategy<Model> {
         classic(o).prop_map(Model::Classic).boxed()
-    }),
-    ("warp", |o, depth| {
+    }
+}
+
+impl FuzzKind for Warp {
+    fn strategy(o: Odds, depth: usize) -> BoxedStrategy<Model> {
         warp(o, depth).prop_map(Model::Warp).boxed()
-    }),
-    ("wavelet", |o, _| {
+    }
+}
+
+impl FuzzKind for WaveletNoise {
+    fn strategy(o: Odds, _depth: usize) -> BoxedStrategy<Model> {
         wavelet(o).prop_map(Model::Wavelet).boxed()
-    }),
-    ("texton", |o, _| texton(o).prop_map(Model::Texton).boxed()),
-    ("voronoi", |o, _| {
+    }
+}
+
+impl FuzzKind for TextonNoise {
+    fn strategy(o: Odds, _depth: usize) -> BoxedStrategy<Model> {
+        texton(o).prop_map(Model::Texton).boxed()
+    }
+}
+
+impl FuzzKind for VoronoiNoise {
+    fn strategy(o: Odds, _depth: usize) -> BoxedStrategy<Model> {
         voronoi(o).prop_map(Model::Voronoi).boxed()
-    }),
-    ("combine", |o, _| {
+    }
+}
+
+impl FuzzKind for spectex_model::Combine {
+    fn strategy(o: Odds, _depth: usize) -> BoxedStrategy<Model> {
         combine(o).prop_map(Model::Combine).boxed()
-    }),
-    ("islamic", |o, _| {
+    }
+}
+
+impl FuzzKind for IslamicPattern {
+    fn strategy(o: Odds, _depth: usize) -> BoxedStrategy<Model> {
         islamic(o).prop_map(Model::Islamic).boxed()
-    }),
-    ("matrix", |o, _| matrix(o).prop_map(Model::Matrix).boxed()),
-    ("subdivision", |o, _| {
+    }
+}
+
+impl FuzzKind for MatrixTransform {
+    fn strategy(o: Odds, _depth: usize) -> BoxedStrategy<Model> {
+        matrix(o).prop_map(Model::Matrix).boxed()
+    }
+}
+
+impl FuzzKind for StochasticSubdivision {
+    fn strategy(o: Odds, _depth: usize) -> BoxedStrategy<Model> {
         subdivision(o).prop_map(Model::Subdivision).boxed()
-    }),
-];
+    }
+}
+
+/// One strategy per model kind, by [`spectex_model::ModelKind::NAME`], in the order of
+/// [`Model`]'s variants: what each kind declares as its [`FuzzKind`].
+pub static KIND_STRATEGIES: LazyLock<Vec<(&'static str, KindStrategy)>> = LazyLock::new(|| {
+    let mut strategies: Vec<(&'static str, KindStrategy)> = Vec::new();
+    spectex_model::for_each_kind!(types: K => {
+        strategies.push((<K as ModelKind>::NAME, <K as FuzzKind>::strategy));
+    });
+    strategies
+});
 
 /// Warps nested at most in generated models: two past [`MAX_WARP_DEPTH`], so the limit itself
 /// and what lies beyond it are both drawn.

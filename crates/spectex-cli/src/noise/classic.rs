@@ -6,8 +6,9 @@ use clap::Args;
 use spectex_model::classic::{Basis, ClassicNoise, FeaturePoints, FractalKind, Metric, Worley};
 use spectex_model::{Model, ModelError};
 
+use crate::args::RenderArgs;
 use crate::model_file::write_model;
-use crate::render::{RenderArgs, render_to_file};
+use crate::render::render_to_file;
 
 /// What every classic noise kind shares.
 #[derive(Debug, Args)]

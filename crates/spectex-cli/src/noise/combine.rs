@@ -11,8 +11,9 @@ use spectex_model::combine::{Combine, CombineOp, RampStop, histogram_table};
 use spectex_model::voronoi::{VoronoiNoise, VoronoiOutput};
 use spectex_model::{ClassicNoise, Model, ModelError, Window};
 
+use crate::args::RenderArgs;
 use crate::model_file::{read_model, write_model};
-use crate::render::{RenderArgs, render_to_file};
+use crate::render::render_to_file;
 
 /// The operation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -164,7 +165,7 @@ fn operation(args: &CombineArgs, operands: &[Model]) -> Result<CombineOp> {
             }
         }
         OpArg::Histogram => {
-            let (loaded, name) = crate::load_input(args.exemplar.as_deref())?;
+            let (loaded, name) = crate::io::load_input(args.exemplar.as_deref())?;
             let grey = crate::io::grey(&loaded.pixels, &name);
             let exemplar: Vec<f32> = grey.iter().map(|&g| g as f32).collect();
             let (domain, table) = histogram_table(&sample(&operands[0])?, &exemplar, 256)

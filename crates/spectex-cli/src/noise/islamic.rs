@@ -10,8 +10,9 @@ use spectex_model::islamic::{
 };
 use spectex_model::{Model, ModelError};
 
+use crate::args::RenderArgs;
 use crate::model_file::write_model;
-use crate::render::{RenderArgs, render_to_file};
+use crate::render::render_to_file;
 
 /// The tiling.
 #[derive(Debug, Clone, Copy, ValueEnum)]

@@ -7,8 +7,9 @@ use clap::Args;
 use spectex_model::matrix::{MAX_IMAGE_SIDE, MatrixSource, MatrixTransform};
 use spectex_model::{Model, ModelError};
 
+use crate::args::RenderArgs;
 use crate::model_file::write_model;
-use crate::render::{RenderArgs, render_to_file};
+use crate::render::render_to_file;
 
 /// The options of `spectex noise matrix`.
 #[derive(Debug, Args)]
@@ -45,7 +46,7 @@ pub(crate) struct MatrixArgs {
 
 /// The image's first channel as texels, and its side.
 fn image_source(path: &std::path::Path) -> Result<(u32, MatrixSource)> {
-    let (loaded, name) = crate::load_input(Some(path))?;
+    let (loaded, name) = crate::io::load_input(Some(path))?;
     let (_, h, w) = loaded.pixels.dim();
     if w != h || w > MAX_IMAGE_SIDE as usize || w < 2 {
         bail!(

@@ -8,8 +8,9 @@ use clap::{Args, ValueEnum};
 use spectex_model::subdivision::{Stencil, StochasticSubdivision};
 use spectex_model::{Model, ModelError};
 
+use crate::args::RenderArgs;
 use crate::model_file::write_model;
-use crate::render::{RenderArgs, render_to_file};
+use crate::render::render_to_file;
 
 /// How a level interpolates its parent.
 #[derive(Debug, Clone, Copy, ValueEnum)]

@@ -6,8 +6,9 @@ use clap::{Args, ValueEnum};
 use spectex_model::texton::{Combine, MAX_IMAGE_SIDE, Placement, Spot, TextonNoise};
 use spectex_model::{Model, ModelError};
 
+use crate::args::RenderArgs;
 use crate::model_file::write_model;
-use crate::render::{RenderArgs, render_to_file};
+use crate::render::render_to_file;
 
 /// The texton's shape.
 #[derive(Debug, Clone, Copy, ValueEnum)]
@@ -113,7 +114,7 @@ fn flag(field: &str) -> &'static str {
 
 /// A grey image (its luminance) as the texton, at most [`MAX_IMAGE_SIDE`] texels per side.
 fn image_spot(path: &std::path::Path) -> Result<Spot> {
-    let (loaded, name) = crate::load_input(Some(path))?;
+    let (loaded, name) = crate::io::load_input(Some(path))?;
     let grey = crate::io::grey(&loaded.pixels, &name);
     let (h, w) = grey.dim();
     if w > MAX_IMAGE_SIDE as usize || h > MAX_IMAGE_SIDE as usize {

@@ -8,8 +8,9 @@ use clap::{Args, ValueEnum};
 use spectex_model::voronoi::{MAX_IMAGE_SIDE, VoronoiNoise, VoronoiOutput};
 use spectex_model::{Model, ModelError};
 
+use crate::args::RenderArgs;
 use crate::model_file::write_model;
-use crate::render::{RenderArgs, render_to_file};
+use crate::render::render_to_file;
 
 /// What a pixel shows.
 #[derive(Debug, Clone, Copy, ValueEnum)]
@@ -86,7 +87,7 @@ fn parse_hex(s: &str) -> Result<[f32; 3]> {
 
 /// An RGB image's texels (a grey one repeated in the three channels).
 fn image_output(path: &std::path::Path) -> Result<VoronoiOutput> {
-    let (loaded, name) = crate::load_input(Some(path))?;
+    let (loaded, name) = crate::io::load_input(Some(path))?;
     let (c, h, w) = loaded.pixels.dim();
     if w > MAX_IMAGE_SIDE as usize || h > MAX_IMAGE_SIDE as usize {
         bail!(

@@ -8,8 +8,9 @@ use anyhow::{Result, anyhow};
 use clap::Args;
 use spectex_model::{Model, ModelError, Warp, WarpBuilder};
 
+use crate::args::RenderArgs;
 use crate::model_file::{read_model, write_model};
-use crate::render::{RenderArgs, render_to_file};
+use crate::render::render_to_file;
 
 /// The options of `spectex noise warp`.
 #[derive(Debug, Args)]

@@ -5,8 +5,9 @@ use anyhow::{Result, anyhow};
 use clap::Args;
 use spectex_model::{Model, ModelError, WaveletNoise, WaveletNoiseBuilder};
 
+use crate::args::RenderArgs;
 use crate::model_file::write_model;
-use crate::render::{RenderArgs, render_to_file};
+use crate::render::render_to_file;
 
 /// The options of `spectex noise wavelet`.
 #[derive(Debug, Args)]

@@ -6,7 +6,7 @@ use std::io::Write;
 use std::sync::mpsc::{Receiver, SyncSender};
 
 use anyhow::{Result, anyhow};
-use image::{DynamicImage, ImageBuffer, ImageEncoder};
+use image::{DynamicImage, ImageBuffer};
 use ndarray::Array2;
 use spectex_cpu::{Evaluator, Window};
 
@@ -135,15 +135,8 @@ fn encode(samples: Samples) -> Result<Vec<u8>> {
             DynamicImage::ImageRgb16(ImageBuffer::from_raw(w32, h32, v).ok_or_else(wrong)?)
         }
         (SampleData::F32(v), _) => {
-            // What `image`'s OpenEXR encoder writes (grey as equal R, G, B), as `io::save`.
-            let mut bytes = Vec::with_capacity(w * h * 12);
-            for px in v.chunks_exact(channels) {
-                for c in 0..3 {
-                    bytes.extend_from_slice(&px[c.min(channels - 1)].to_ne_bytes());
-                }
-            }
-            image::codecs::openexr::OpenExrEncoder::new(std::io::Cursor::new(&mut out))
-                .write_image(&bytes, w32, h32, image::ExtendedColorType::Rgb32F)?;
+            // The OpenEXR `spectex render` writes (`io::save_samples`).
+            io::write_exr(std::io::Cursor::new(&mut out), &v, w, h, channels)?;
             return Ok(out);
         }
     };

@@ -1,6 +1,5 @@
-//! Wavelet noise's bad inputs (its end-to-end run is in `tests/it/cli.rs`, with the classic
-//! noises) and the
-//! science of Cook & DeRose 2005 measured with `spectex_spectrum::Fft2`: the tile is
+//! Wavelet noise (its end-to-end run is in `tests/it/cli.rs`, with the classic noises, and its
+//! bad inputs in `tests/it/bad_inputs.rs`): the science of Cook & DeRose 2005 measured with `spectex_spectrum::Fft2`: the tile is
 //! band-limited (little energy below half its Nyquist frequency), it has zero mean up to the
 //! analysis filter's DC gain (an identity), and the multiband sum's spectrum is the
 //! weighted sum of its bands' spectra, one octave apart.
@@ -16,62 +15,12 @@
     reason = "the measured fractions are the test's report"
 )]
 
-use crate::common;
-
-use common::{s, scratch, spectex};
 use ndarray::Array2;
 use num_complex::Complex;
 use spectex_cpu::{Evaluator, Window};
 use spectex_model::wavelet::{ANALYSIS, band_pass_tile, gaussian_tile};
 use spectex_model::{Model, WaveletNoise};
 use spectex_spectrum::Fft2;
-
-#[test]
-fn wavelet_bad_inputs_fail_cleanly() {
-    let dir = scratch("wavelet-bad");
-    let out = dir.join("out.png");
-    for (args, needles) in [
-        (
-            vec!["--tile", "33"],
-            vec!["--tile", "even number from 16 to 256"],
-        ),
-        (
-            vec!["--tile", "128", "--dims", "3"],
-            vec!["--tile", "16 to 64 (3D)"],
-        ),
-        (vec!["--cell", "0.5"], vec!["--cell", "[1, 1e6]"]),
-        (
-            vec!["--cell", "4", "--bands", "1,1,1,1"],
-            vec!["--bands", "at least 1 pixel"],
-        ),
-        (vec!["--bands", "0,0"], vec!["--bands", "not 0"]),
-        (vec!["--bands", "1,x"], vec!["--bands", "W1,W2"]),
-        (vec!["--dims", "4"], vec!["--dims", "2 or 3"]),
-        (vec!["--amplitude", "inf"], vec!["--amplitude"]),
-    ] {
-        let mut a = vec!["noise", "wavelet", "-o", s(&out)];
-        a.extend(args.iter().copied());
-        let result = spectex(&a);
-        let stderr = String::from_utf8_lossy(&result.stderr);
-        assert_eq!(result.status.code(), Some(1), "{args:?}: {stderr}");
-        let lines: Vec<&str> = stderr.lines().filter(|l| !l.trim().is_empty()).collect();
-        assert!(
-            lines.len() == 1 && lines[0].starts_with("error: "),
-            "{args:?}: {stderr}"
-        );
-        for n in needles {
-            assert!(
-                lines[0].contains(n),
-                "{args:?}: '{n}' missing from {stderr}"
-            );
-        }
-        assert_eq!(
-            std::fs::read_dir(&dir).unwrap().count(),
-            0,
-            "{args:?}: file left"
-        );
-    }
-}
 
 /// `|X(k, l)|²` of a real `n × n` image (row-major), mean removed.
 fn power(values: &[f64], n: usize) -> Array2<f64> {

@@ -12,10 +12,10 @@
 //! register from the position to the sum.
 //!
 //! Each function computes the very operations of its generic twin in the same order (`max` as
-//! `_mm512_max_ps(0, t)`, which returns `t` wherever `t < 0` is false, as `super::max` does;
+//! `_mm512_max_ps(0, t)`, which returns `t` wherever `t < 0` is false, as `lanes::max` does;
 //! selects as masked operations), so the bits are the same, with two departures whose comments
 //! show them exact: [`floor_pair`]'s floor instruction, and the coded gradient's `±x ± y` for
-//! the reference's `±y ± x` (`super::gradient_code`). `fast_paths` and the classic tests
+//! the reference's `±y ± x` (`tables::gradient_code`). `fast_paths` and the classic tests
 //! compare this path with the portable and reference ones.
 
 use std::arch::x86_64::{
@@ -39,10 +39,11 @@ use std::arch::x86_64::{
 use spectex_model::classic::{SIMPLEX_F3, SIMPLEX_G3, SIMPLEX3_R2, SIMPLEX3_SCALE};
 use spectex_model::random::{LCG_INCREMENT, LCG_MULTIPLIER, RXS_M_XS_MULTIPLIER};
 
-use super::{
-    CORNER_D, CORNER_E, Columns, GradientTerms, Octave, ROUND_MAGIC, ROUND_MAGIC_F32, RowLanes,
-    SimplexColumns, SimplexCorners, WIDE_LANES, WINDOW, window,
-};
+use super::fractal::{Octave, RowLanes};
+use super::lanes::{ROUND_MAGIC, WIDE_LANES, WINDOW};
+use super::relaxed::ROUND_MAGIC_F32;
+use super::simplex::{CORNER_D, CORNER_E, SimplexColumns, SimplexCorners};
+use super::tables::{Columns, GradientTerms, window};
 
 /// The lanes of one register of f32.
 const L: usize = WIDE_LANES;
@@ -82,8 +83,8 @@ fn join_ps(lo: __m256, hi: __m256) -> __m512 {
     ))
 }
 
-/// `super::split_lanes` of 16 f64 lanes in two halves of 8: the floors' `i32` cells (the low
-/// words of `p + magic`, one less where that rounded up, as `super::split` takes them) and the
+/// `lanes::split_lanes` of 16 f64 lanes in two halves of 8: the floors' `i32` cells (the low
+/// words of `p + magic`, one less where that rounded up, as `lanes::split` takes them) and the
 /// floors of each half.
 #[inline]
 #[target_feature(enable = "avx512f")]
@@ -136,7 +137,7 @@ fn floor_pair(p: [__m512d; 2]) -> (__m512i, [__m512d; 2]) {
     (low, f)
 }
 
-/// The skew of 16 lanes in two halves of 8 (`super::simplex3_at`): cells `(i, j, k)` and
+/// The skew of 16 lanes in two halves of 8 (`simplex::simplex3_at`): cells `(i, j, k)` and
 /// offsets `(x0, y0, z0)`; `BOUNDED`: the floors by [`floor_pair`].
 #[inline]
 #[target_feature(enable = "avx512f")]
@@ -177,7 +178,7 @@ fn skew3<const BOUNDED: bool>(
     )
 }
 
-/// The relaxed path's skew of 16 lanes (`super::simplex_relaxed`): in f32 from the f32
+/// The relaxed path's skew of 16 lanes (`relaxed::simplex_relaxed`): in f32 from the f32
 /// positions `xf` (pixels) of register `s` on the rows of `r`, cells `(i, j, k)` and offsets.
 #[inline]
 #[target_feature(enable = "avx512f")]
@@ -217,7 +218,7 @@ fn skew3_f32<R: RowLanes>(
     )
 }
 
-/// `super::split_lanes_f32` in 16 lanes: the floors' cells and the floors.
+/// `relaxed::split_lanes_f32` in 16 lanes: the floors' cells and the floors.
 #[inline]
 #[target_feature(enable = "avx512f")]
 fn split_f32(p: __m512) -> (__m512i, __m512) {
@@ -257,7 +258,7 @@ fn gradient_dot(h: __m512i, x: __m512, y: __m512, z: __m512) -> __m512 {
     )
 }
 
-/// `super::coded_gradient_dot` in 16 lanes: the gradient of a corner of the row's
+/// `tables::coded_gradient_dot` in 16 lanes: the gradient of a corner of the row's
 /// `SimplexCorners`, two selects instead of [`gradient_dot`]'s three and its index tests.
 #[inline]
 #[target_feature(enable = "avx512f")]
@@ -280,7 +281,7 @@ fn flip(v: __m512, bits: __m512i) -> __m512 {
     ))
 }
 
-/// `super::simplex_term` in 16 lanes, `d²` fused when `FMA` (the relaxed path), `h` a hash
+/// `simplex::simplex_term` in 16 lanes, `d²` fused when `FMA` (the relaxed path), `h` a hash
 /// or, `CODED`, its `gradient_code`.
 #[inline]
 #[target_feature(enable = "avx512f")]
@@ -311,8 +312,8 @@ fn term<const FMA: bool, const CODED: bool>(
     _mm512_mul_ps(_mm512_mul_ps(t2, t2), dot)
 }
 
-/// 3D simplex noise of `S` registers of 16 lanes (`super::simplex3_table`, else
-/// `super::simplex3`): positions `x` (pixels) on the rows of `r` and the octave's plane, the
+/// 3D simplex noise of `S` registers of 16 lanes (`simplex::simplex3_table`, else
+/// `simplex::simplex3`): positions `x` (pixels) on the rows of `r` and the octave's plane, the
 /// layer keys of the skewed planes read from the row's table `t` where one permute reaches
 /// them, else hashed. The skew and the ranking run over the `S` registers before the next
 /// step, so that their independent chains of latency overlap; the corners then go register by
@@ -495,7 +496,7 @@ fn rows_py<R: RowLanes>(r: &R, s: usize, h: usize) -> __m512d {
 }
 
 /// The positions of lanes `8h..8h + 8` of register `s` (`x` in pixels) in cell units
-/// (`super::cell_units`).
+/// (`lanes::cell_units`).
 #[inline]
 #[target_feature(enable = "avx512f")]
 fn cell_units<const S: usize>(o: &Octave, x: &[[f64; L]; S], s: usize, h: usize) -> __m512d {
@@ -601,7 +602,7 @@ fn corner_term<const FMA: bool, const CODED: bool>(
     )
 }
 
-/// `super::simplex_window` for the planes `cells[s][2]` of `S` registers: the table's entries
+/// `simplex::simplex_window` for the planes `cells[s][2]` of `S` registers: the table's entries
 /// from the first lane's plane (at least [`WINDOW`]) and that plane, or `None` when one
 /// permute of 32 entries cannot reach them.
 #[inline]
@@ -621,7 +622,7 @@ fn reach<'t, const S: usize>(
 }
 
 /// [`spectex_model::classic::fade`] in 16 lanes: `t·t·t·(t·(t·6 − 15) + 10)`, the
-/// polynomial's steps fused when `FMA` (`super::fade_with`).
+/// polynomial's steps fused when `FMA` (`lanes::fade_with`).
 #[inline]
 #[target_feature(enable = "avx512f")]
 fn fade<const FMA: bool>(t: __m512) -> __m512 {
@@ -643,7 +644,7 @@ fn fade<const FMA: bool>(t: __m512) -> __m512 {
     _mm512_mul_ps(_mm512_mul_ps(_mm512_mul_ps(t, t), t), inner)
 }
 
-/// `a + t·(b − a)` in 16 lanes (`super::lerp`), the product and sum fused when `FMA`.
+/// `a + t·(b − a)` in 16 lanes (`lanes::lerp`), the product and sum fused when `FMA`.
 #[inline]
 #[target_feature(enable = "avx512f")]
 fn lerp<const FMA: bool>(a: __m512, b: __m512, t: __m512) -> __m512 {
@@ -654,7 +655,7 @@ fn lerp<const FMA: bool>(a: __m512, b: __m512, t: __m512) -> __m512 {
     }
 }
 
-/// `super::locate_lanes_f32` of 16 lanes: the relaxed path's cells and offsets from the f32
+/// `relaxed::locate_lanes_f32` of 16 lanes: the relaxed path's cells and offsets from the f32
 /// positions `xf`.
 #[inline]
 #[target_feature(enable = "avx512f")]
@@ -670,7 +671,7 @@ fn locate_f32(o: &Octave, xf: &[f32; L]) -> (__m512i, __m512) {
     (cell, _mm512_sub_ps(p, f))
 }
 
-/// `super::locate_lanes` of the 16 lanes of register `s` (`x` in pixels): their cells and f32
+/// `lanes::locate_lanes` of the 16 lanes of register `s` (`x` in pixels): their cells and f32
 /// offsets in them.
 #[inline]
 #[target_feature(enable = "avx512f")]
@@ -690,7 +691,7 @@ fn locate<const S: usize>(o: &Octave, x: &[[f64; L]; S], s: usize) -> (__m512i, 
 /// permute cannot reach. Each step runs over the `S` registers before the next, so that their
 /// chains of lerps overlap.
 ///
-/// `RELAXED`: the bench-only relaxed evaluator's arithmetic (`super::locate_lanes_f32` from the
+/// `RELAXED`: the bench-only relaxed evaluator's arithmetic (`relaxed::locate_lanes_f32` from the
 /// f32 positions `xf`, fused fades and lerps), so that what the guarantees cost is measured
 /// against the same kernel.
 #[inline]

@@ -4,28 +4,9 @@
 use spectex_cpu::gabor::GaborEvaluator;
 use spectex_model::random::Prng;
 use spectex_model::{GaborNoise, Orientation};
+use spectex_testkit::fixtures::gabor as model;
 use spectex_testkit::reference::{self, GaborReference};
 use std::f64::consts::{PI, TAU};
-
-fn model(
-    seed: u32,
-    ipk: f32,
-    bandwidth: f32,
-    frequency: f32,
-    orientation: Orientation,
-) -> GaborNoise {
-    let m = GaborNoise {
-        seed,
-        mean: 0.25,
-        amplitude: 1.5,
-        bandwidth,
-        frequency,
-        orientation,
-        impulses_per_kernel: ipk,
-    };
-    m.validate().expect("test model is valid");
-    m
-}
 
 // ---------------------------------------------------------------------------------------------
 // The error bound against the slow f64 reference (`spectex_testkit::reference::gabor`, the

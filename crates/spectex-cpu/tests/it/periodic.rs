@@ -92,10 +92,19 @@ fn assert_repeats(name: &str, eval: &Evaluator, p: Period, offset: [f64; 2]) {
 fn a_window_across_the_seams_repeats_one_period_away_bit_for_bit() {
     let cases = periodic_cases();
     // Every kind with a periodic form is among the shipped cases.
-    for kind in PERIODIC_KINDS {
+    for kind in PERIODIC_KINDS.iter() {
         assert!(
             cases.iter().any(|(_, m, _)| m.kind() == *kind),
             "no testdata model of periodic kind {kind} accepts a period of {PERIODS:?}"
+        );
+    }
+    // And a model that accepts a period is of a kind that declares a periodic form
+    // (`ModelKind::PERIODIC`, what messages and registries list).
+    for (name, model, _) in &cases {
+        assert!(
+            PERIODIC_KINDS.contains(&model.kind()),
+            "{name} accepts a period but its kind {} does not declare PERIODIC",
+            model.kind()
         );
     }
     for (name, model, p) in &cases {

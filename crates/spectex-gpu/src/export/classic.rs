@@ -10,6 +10,8 @@ use crate::classic::pack;
 use crate::kernel::Table;
 
 impl ExportKind for ClassicNoise {
+    const GLUE: &'static str = include_str!("../../../../shaders/export/classic.wgsl");
+
     fn export_parts(&self, z: f64) -> Result<ExportNode, GpuError> {
         let (kernel, octaves) = pack(self, z);
         // Octave o: lattices 3o (c_o), 3o + 1 (c_o/(1 + F)) and 3o + 2 (c_o/F) of

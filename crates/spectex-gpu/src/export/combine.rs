@@ -15,6 +15,8 @@ use super::{
 use crate::GpuError;
 
 impl ExportKind for Combine {
+    const GLUE: &'static str = include_str!("../../../../shaders/export/combine.wgsl");
+
     fn export_parts(&self, z: f64) -> Result<ExportNode, GpuError> {
         Ok(ExportNode::Combine {
             op: self.op.clone(),

@@ -8,6 +8,8 @@ use crate::GpuError;
 use crate::gabor::pack;
 
 impl ExportKind for GaborNoise {
+    const GLUE: &'static str = include_str!("../../../../shaders/export/gabor.wgsl");
+
     fn export_parts(&self, _z: f64) -> Result<ExportNode, GpuError> {
         let kernel = pack(self, None);
         // The kernel grid is the export's lattice 0 (export/gabor.wgsl).

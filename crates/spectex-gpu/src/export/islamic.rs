@@ -28,6 +28,8 @@ fn bit_table(a: f64) -> impl Iterator<Item = u32> {
 }
 
 impl ExportKind for IslamicPattern {
+    const GLUE: &'static str = include_str!("../../../../shaders/export/islamic.wgsl");
+
     fn export_parts(&self, _z: f64) -> Result<ExportNode, GpuError> {
         let (kernel, segments) = crate::islamic::pack(self, None);
         let map = self.lattice_map();

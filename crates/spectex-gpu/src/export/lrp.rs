@@ -8,6 +8,8 @@ use crate::GpuError;
 use crate::lrp::host;
 
 impl ExportKind for LrpNoise {
+    const GLUE: &'static str = include_str!("../../../../shaders/export/lrp.wgsl");
+
     fn export_parts(&self, _z: f64) -> Result<ExportNode, GpuError> {
         let (kernel, tables, _) = host(self, None);
         // Stratum s's lattice is the export's lattice s (export/lrp.wgsl).

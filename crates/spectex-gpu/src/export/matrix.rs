@@ -9,6 +9,8 @@ use crate::GpuError;
 use crate::kernel::Table;
 
 impl ExportKind for MatrixTransform {
+    const GLUE: &'static str = include_str!("../../../../shaders/export/matrix.wgsl");
+
     fn export_parts(&self, _z: f64) -> Result<ExportNode, GpuError> {
         let (kernel, texels) = crate::matrix::pack(self, None)?;
         ExportParts::of(

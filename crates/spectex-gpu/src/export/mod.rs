@@ -34,6 +34,7 @@
 
 use std::collections::{HashMap, HashSet};
 use std::fmt::Write as _;
+use std::sync::LazyLock;
 
 use spectex_model::{Model, ModelKind};
 
@@ -61,60 +62,18 @@ mod warp;
 mod wavelet;
 mod wgsl_text;
 
-/// The files of `shaders/export/`: the lattice split every exported model uses and each
-/// supported kind's glue (its `<kind>_sample_cell`).
-pub const EXPORT_SHADERS: &[(&str, &str)] = &[
-    (
+/// The files of `shaders/export/`: the lattice split every exported model uses and each kind's
+/// glue (its `<kind>_sample_cell`), as the kind declares it ([`ExportKind::GLUE`]).
+pub static EXPORT_SHADERS: LazyLock<Vec<(&'static str, &'static str)>> = LazyLock::new(|| {
+    let mut files = vec![(
         "split",
         include_str!("../../../../shaders/export/split.wgsl"),
-    ),
-    ("lrp", include_str!("../../../../shaders/export/lrp.wgsl")),
-    (
-        "gabor",
-        include_str!("../../../../shaders/export/gabor.wgsl"),
-    ),
-    (
-        "classic",
-        include_str!("../../../../shaders/export/classic.wgsl"),
-    ),
-    (
-        "texton",
-        include_str!("../../../../shaders/export/texton.wgsl"),
-    ),
-    (
-        "wavelet",
-        include_str!("../../../../shaders/export/wavelet.wgsl"),
-    ),
-    (
-        "texture",
-        include_str!("../../../../shaders/export/texture.wgsl"),
-    ),
-    ("warp", include_str!("../../../../shaders/export/warp.wgsl")),
-    (
-        "subdivision",
-        include_str!("../../../../shaders/export/subdivision.wgsl"),
-    ),
-    (
-        "phasor",
-        include_str!("../../../../shaders/export/phasor.wgsl"),
-    ),
-    (
-        "matrix",
-        include_str!("../../../../shaders/export/matrix.wgsl"),
-    ),
-    (
-        "islamic",
-        include_str!("../../../../shaders/export/islamic.wgsl"),
-    ),
-    (
-        "combine",
-        include_str!("../../../../shaders/export/combine.wgsl"),
-    ),
-    (
-        "voronoi",
-        include_str!("../../../../shaders/export/voronoi.wgsl"),
-    ),
-];
+    )];
+    spectex_model::for_each_kind!(types: K => {
+        files.push((<K as ModelKind>::NAME, <K as ExportKind>::GLUE));
+    });
+    files
+});
 
 /// Bytes of tables up to which an exported module is portable WGSL: the WGSL specification lets
 /// an implementation refuse more than 8192 bytes in the `private` address space (Tint, in
@@ -268,6 +227,10 @@ impl ExportNode {
 
 /// The export layer of a model kind.
 pub(crate) trait ExportKind: ModelKind {
+    /// The kind's glue in `shaders/export/` (defines `<kind>_sample_cell`), listed in
+    /// [`EXPORT_SHADERS`] under the kind's name.
+    const GLUE: &'static str;
+
     /// The parts of a **validated** model on the plane `z` (ignored by 2D models).
     ///
     /// # Errors

@@ -136,6 +136,8 @@ fn locate_fields(lattices: usize) -> String {
 }
 
 impl ExportKind for PhasorNoise {
+    const GLUE: &'static str = include_str!("../../../../shaders/export/phasor.wgsl");
+
     fn export_parts(&self, z: f64) -> Result<ExportNode, GpuError> {
         let (kernel, mut profile) = crate::phasor::pack(self, z, None)?;
         let side = self.kernel_radius();

@@ -9,6 +9,8 @@ use crate::kernel::Table;
 use crate::subdivision::host;
 
 impl ExportKind for StochasticSubdivision {
+    const GLUE: &'static str = include_str!("../../../../shaders/export/subdivision.wgsl");
+
     fn export_parts(&self, _z: f64) -> Result<ExportNode, GpuError> {
         let (kernel, scales) = host(self);
         // The coarse lattice is the export's lattice 0 (export/subdivision.wgsl).

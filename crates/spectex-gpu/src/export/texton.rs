@@ -9,6 +9,8 @@ use crate::kernel::Table;
 use crate::texton::host;
 
 impl ExportKind for TextonNoise {
+    const GLUE: &'static str = include_str!("../../../../shaders/export/texton.wgsl");
+
     fn export_parts(&self, _z: f64) -> Result<ExportNode, GpuError> {
         let (kernel, data) = host(self);
         // The texton grid is the export's lattice 0 (export/texton.wgsl).

@@ -11,6 +11,8 @@ use crate::kernel::Table;
 use crate::texture::{PlacementAxis, TextureParams, pack_structures};
 
 impl ExportKind for TextureModel {
+    const GLUE: &'static str = include_str!("../../../../shaders/export/texture.wgsl");
+
     fn export_parts(&self, z: f64) -> Result<ExportNode, GpuError> {
         let lrp = |seed, mean, strata| Model::Lrp(LrpNoise { seed, mean, strata });
         let strata = self

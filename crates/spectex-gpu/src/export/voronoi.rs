@@ -17,6 +17,8 @@ use super::{ExportKind, ExportNode, ExportParts, float};
 use crate::GpuError;
 
 impl ExportKind for VoronoiNoise {
+    const GLUE: &'static str = include_str!("../../../../shaders/export/voronoi.wgsl");
+
     /// A 3D diagram exports its plane `z`.
     fn export_parts(&self, z: f64) -> Result<ExportNode, GpuError> {
         let refuse = |feature: &str| GpuError::Unsupported {

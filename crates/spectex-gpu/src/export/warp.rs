@@ -5,6 +5,8 @@ use super::{ExportKind, ExportNode, parts};
 use crate::GpuError;
 
 impl ExportKind for spectex_model::Warp {
+    const GLUE: &'static str = include_str!("../../../../shaders/export/warp.wgsl");
+
     fn export_parts(&self, z: f64) -> Result<ExportNode, GpuError> {
         Ok(ExportNode::Warp {
             base: Box::new(parts(&self.base, z)?),

@@ -8,6 +8,8 @@ use crate::GpuError;
 use crate::wavelet::host;
 
 impl ExportKind for WaveletNoise {
+    const GLUE: &'static str = include_str!("../../../../shaders/export/wavelet.wgsl");
+
     fn export_parts(&self, z: f64) -> Result<ExportNode, GpuError> {
         let (kernel, tables) = host(self, z, None);
         // Band b's sample grid is the export's lattice b (export/wavelet.wgsl), its tile

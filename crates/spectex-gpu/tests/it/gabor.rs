@@ -17,28 +17,9 @@ use common::{cpu_cos_turns, cpu_exp_poly, first_bit_difference};
 use spectex_gpu::{GpuEvaluator, GpuWindow};
 use spectex_model::random::{Prng, cell_hash_in_row, layer_key, row_key};
 use spectex_model::{GaborNoise, Model, Orientation};
+use spectex_testkit::fixtures::gabor as model;
 use spectex_testkit::reference::{self, GaborReference};
 use std::f64::consts::TAU;
-
-fn model(
-    seed: u32,
-    ipk: f32,
-    bandwidth: f32,
-    frequency: f32,
-    orientation: Orientation,
-) -> GaborNoise {
-    let m = GaborNoise {
-        seed,
-        mean: 0.25,
-        amplitude: 1.5,
-        bandwidth,
-        frequency,
-        orientation,
-        impulses_per_kernel: ipk,
-    };
-    m.validate().unwrap();
-    m
-}
 
 fn models() -> Vec<(&'static str, GaborNoise)> {
     let aniso = |angle| Orientation::Anisotropic { angle };

@@ -16,39 +16,8 @@ use common::{first_bit_difference, lrp_f32};
 use spectex_gpu::{GpuEvaluator, GpuWindow};
 use spectex_model::random::{Prng, cell_hash};
 use spectex_model::{LrpNoise, Model, Stratum};
+use spectex_testkit::fixtures::lrp_three_strata as model;
 use spectex_testkit::reference;
-
-/// Three strata of different periods, table sizes and budgets (small `J` keeps lavapipe fast).
-fn model(seed: u32) -> LrpNoise {
-    let mut prng = Prng::new(cell_hash(0, 0, 77, seed));
-    let mut f = |spread: f32| {
-        [
-            (prng.next_f32() - 0.5) * spread,
-            prng.next_f32() * 0.5 * spread,
-        ]
-    };
-    LrpNoise {
-        seed,
-        mean: 0.25,
-        strata: vec![
-            Stratum {
-                window_width: 9.5,
-                amplitude: 0.2,
-                sub_strata: (0..5).map(|_| (0..7).map(|_| f(0.6)).collect()).collect(),
-            },
-            Stratum {
-                window_width: 23.0,
-                amplitude: 0.05,
-                sub_strata: (0..12).map(|_| (0..3).map(|_| f(0.2)).collect()).collect(),
-            },
-            Stratum {
-                window_width: 3.25,
-                amplitude: 0.5,
-                sub_strata: vec![vec![f(1.0)]],
-            },
-        ],
-    }
-}
 
 /// Error bound of the device's f32 evaluation against [`reference::lrp`], per stratum, summed.
 ///

@@ -56,7 +56,7 @@ fn periodic_tiles_and_whole_periods_are_invisible() {
         );
         kinds.push(case.model.kind());
     }
-    for kind in PERIODIC_KINDS {
+    for kind in PERIODIC_KINDS.iter() {
         assert!(
             kinds.contains(kind),
             "no shipped {kind} model takes a period of {PERIODS:?}"

@@ -45,7 +45,7 @@ fn validate(name: &str) -> naga::Module {
 
 #[test]
 fn every_module_parses_and_validates_as_composed() {
-    for file in SHADERS {
+    for file in SHADERS.iter() {
         let module = validate(file.name);
         let entries: Vec<&str> = module
             .entry_points

@@ -10,18 +10,32 @@ use spectex_testkit::cpu::COST_BOUNDS;
 use spectex_testkit::models::{KIND_STRATEGIES, any_model};
 
 #[test]
-fn every_kind_has_a_strategy_and_a_cost_bound() {
-    let kinds: BTreeSet<&str> = KIND_NAMES.iter().copied().collect();
-    let strategies: BTreeSet<&str> = KIND_STRATEGIES.iter().map(|(k, _)| *k).collect();
-    let bounds: BTreeSet<&str> = COST_BOUNDS.iter().map(|(k, _)| *k).collect();
-    assert_eq!(
-        strategies, kinds,
-        "spectex_testkit::models::KIND_STRATEGIES must list every kind once"
-    );
-    assert_eq!(
-        bounds, kinds,
-        "spectex_testkit::cpu::COST_BOUNDS must give every kind its bound"
-    );
+fn each_kinds_strategy_makes_models_of_that_kind_and_its_bound_is_finite() {
+    // The registries are collected from the kinds (`FuzzKind`, `CostBound`) through
+    // `for_each_kind!`, so every kind is in them; what can still go wrong is a kind's
+    // declaration itself: a strategy that builds another kind's models, a bound that is no bound.
+    let mut runner = TestRunner::deterministic();
+    for (kind, strategy) in KIND_STRATEGIES.iter() {
+        let strategy = strategy(spectex_testkit::strategy::Odds::VALID, 1);
+        for _ in 0..20 {
+            let model = strategy.new_tree(&mut runner).unwrap().current();
+            assert_eq!(
+                model.kind(),
+                *kind,
+                "the {kind} strategy made a {} model",
+                model.kind()
+            );
+        }
+    }
+    let kinds: Vec<&str> = KIND_NAMES.to_vec();
+    let named: Vec<&str> = COST_BOUNDS.iter().map(|(k, _)| *k).collect();
+    assert_eq!(named, kinds, "one bound per kind, in the variants' order");
+    for (kind, bound) in COST_BOUNDS.iter() {
+        assert!(
+            bound.is_finite() && *bound >= 1.0,
+            "{kind}: cost bound {bound}"
+        );
+    }
 }
 
 #[test]

@@ -13,7 +13,7 @@ mod stream;
 mod warp;
 mod wavelet;
 
-use spectex_cli::parse_size;
+use spectex_cli::args::parse_size;
 
 #[test]
 fn sizes_parse() {

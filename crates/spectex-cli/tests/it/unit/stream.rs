@@ -6,6 +6,7 @@
 )]
 
 use anyhow::Result;
+use spectex_cli::io::EXR_TILE;
 use spectex_cli::stream::*;
 
 /// Every pixel of the image in exactly one tile, tiles of ⌈W/C⌉ × ⌈H/R⌉ pixels at most:
