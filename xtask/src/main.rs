@@ -13,6 +13,7 @@ use std::process::{Command, ExitCode, Stdio};
 use std::time::{Instant, SystemTime};
 
 mod gpu;
+mod python;
 
 /// Every command with the one line `cargo xtask help` prints for it.
 const COMMANDS: &[(&str, &str)] = &[
@@ -21,6 +22,12 @@ const COMMANDS: &[(&str, &str)] = &[
         "what CI runs: installs rustfmt, clippy and lavapipe if missing; fmt --check, clippy \
          -D warnings, every test once with the GPU on lavapipe, doc tests, one line per \
          cross-checked model (XTASK_TEST_RUNNER=nextest: tests by cargo-nextest)",
+    ),
+    (
+        "python",
+        "the Python bindings' pytest suite as CI runs it (venv and module under target/); \
+         `cargo xtask python wheel [--features gpu]`: the release wheel by maturin, its size, \
+         the import time and the render overhead against Rust",
     ),
     (
         "verify",
@@ -119,6 +126,7 @@ fn run() -> Result<()> {
             }
             verify(&Workspace::locate()?)
         }
+        Some("python") => python::python(&Workspace::locate()?, &rest),
         Some("bench") => bench(&Workspace::locate()?, rest),
         Some("fuzz") => fuzz(&Workspace::locate()?, &rest),
         Some("gpu-report") => {
@@ -602,6 +610,7 @@ fn ci(ws: &Workspace) -> Result<()> {
             command,
         });
     }
+    steps.extend(python::ci_steps(ws, &driver, &rustflags)?);
     run_steps("ci", steps)?;
     summary.report()
 }

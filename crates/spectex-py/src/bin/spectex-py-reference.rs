@@ -11,9 +11,11 @@ use std::process::ExitCode;
 
 use spectex_cpu::{Evaluator, Filter, Window};
 
-/// `(name, width, height, offset, scale, z, filter)` of each window rendered; the suite
-/// (`tests/test_render.py`) renders the same.
-const CASES: &[(&str, usize, usize, [f64; 2], f64, f64, bool)] = &[
+/// One window rendered: `(name, width, height, offset, scale, z, filter)`.
+type Case = (&'static str, usize, usize, [f64; 2], f64, f64, bool);
+
+/// The windows rendered; the suite (`tests/test_render.py`) renders the same.
+const CASES: &[Case] = &[
     ("origin", 48, 40, [0.0, 0.0], 1.0, 0.0, true),
     ("far", 40, 33, [1.0e7, -3.5e6], 2.5, 7.25, true),
     ("zoomout", 32, 24, [-1234.5, 987.25], 16.0, 0.0, false),
