@@ -69,7 +69,11 @@ impl PyModel {
     ///
     /// Example::
     ///
-    ///     >>> m = spectex.Model.load("testdata/models/lrp-ring.json")  # doctest: +SKIP
+    ///     >>> import os, tempfile
+    ///     >>> path = os.path.join(tempfile.mkdtemp(), "ring.json")
+    ///     >>> spectex.noise.gabor().save(path)
+    ///     >>> spectex.Model.load(path).kind
+    ///     'gabor'
     #[classmethod]
     fn load(_cls: &Bound<'_, PyType>, path: PathBuf) -> PyResult<Self> {
         let text = std::fs::read_to_string(&path).map_err(|e| {
@@ -95,6 +99,15 @@ impl PyModel {
 
     /// Writes the model file (pretty JSON with ``schema_version``) to ``path``, which must end
     /// in ``.json``.
+    ///
+    /// Example::
+    ///
+    ///     >>> import os, tempfile
+    ///     >>> path = os.path.join(tempfile.mkdtemp(), "perlin.json")
+    ///     >>> m = spectex.noise.perlin(seed=4)
+    ///     >>> m.save(path)
+    ///     >>> spectex.Model.load(path) == m
+    ///     True
     fn save(&self, path: PathBuf) -> PyResult<()> {
         if path
             .extension()
@@ -115,6 +128,11 @@ impl PyModel {
     }
 
     /// The model file's text (pretty JSON with ``schema_version``, the fit and the period).
+    ///
+    /// Example::
+    ///
+    ///     >>> '"voronoi"' in spectex.noise.voronoi().to_json()
+    ///     True
     fn to_json(&self) -> PyResult<String> {
         spectex_model::to_json_file(&self.model, self.fit, self.period).map_err(value_error)
     }
@@ -146,7 +164,7 @@ impl PyModel {
     /// Example::
     ///
     ///     >>> m = spectex.noise.perlin()
-    ///     >>> (m.reseeded(1).render(8, 8) != m.render(8, 8)).any()
+    ///     >>> bool((m.reseeded(1).render(8, 8) != m.render(8, 8)).any())
     ///     True
     fn reseeded(&self, delta: i64) -> PyResult<Self> {
         let delta = u32::try_from(delta).map_err(|_| {
@@ -167,7 +185,7 @@ impl PyModel {
     ///
     ///     >>> t = spectex.noise.perlin(cell_size=16.0).periodic(64, 64)
     ///     >>> a = t.render(128, 128)
-    ///     >>> (a[:64, :64] == a[64:, 64:]).all()
+    ///     >>> bool((a[:64, :64] == a[64:, 64:]).all())
     ///     True
     fn periodic(&self, width: i64, height: i64) -> PyResult<Self> {
         let w = u32::try_from(width).map_err(|_| {
@@ -306,7 +324,13 @@ impl PyModel {
 
     /// The model as one WGSL module for a fragment shader (``fn spectex_sample(p: vec2<f32>)``),
     /// self-contained, its tables as constants; ``z`` is the plane of a 3D model. Needs the
-    /// ``gpu`` build feature.
+    /// ``gpu`` build feature (``spectex.GPU`` says whether this build has it).
+    ///
+    /// Example::
+    ///
+    ///     >>> m = spectex.noise.perlin()
+    ///     >>> "fn spectex_sample" in m.export_wgsl() if spectex.GPU else True
+    ///     True
     #[pyo3(signature = (z = 0.0))]
     fn export_wgsl(&self, z: f64) -> PyResult<String> {
         self.export(z)

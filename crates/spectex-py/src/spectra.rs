@@ -161,7 +161,8 @@ pub(crate) fn rpn<'py>(
 /// The spectral analyses ``spectex analyze`` writes, as arrays: ``periodic`` and ``smooth``
 /// (Moisan's periodic + smooth decomposition, per channel), ``log_spectrum`` and
 /// ``log_spectrum_periodic`` (centred ln(1 + |DFT|) of the Rec. 709 luminance, before and
-/// after removing the smooth component), ``welch_psd`` and ``variance_spectrum`` (centred),
+/// after removing the smooth component), ``welch_psd`` and ``variance_spectrum`` (centred, on
+/// the Welch blocks' grid),
 /// and ``radial_profile``: a dict of ``radius`` (cycles per pixel), ``count`` and ``power``
 /// (Welch power of the luminance per ring) and ``power_channels`` (one column per channel).
 ///
@@ -169,7 +170,7 @@ pub(crate) fn rpn<'py>(
 ///
 ///     >>> import numpy as np, spectex
 ///     >>> a = spectex.analyze(np.random.default_rng(0).random((32, 32)))
-///     >>> sorted(a)[:3], a["welch_psd"].shape
+///     >>> sorted(a)[:3], a["log_spectrum"].shape
 ///     (['log_spectrum', 'log_spectrum_periodic', 'periodic'], (32, 32))
 #[pyfunction]
 pub(crate) fn analyze<'py>(

@@ -36,6 +36,8 @@ def test_fields_by_name_and_alias():
     assert (kind, f["cell_size"], f["dimensions"], f["seed"], f["basis"]) == ("classic", 16.0, 3, 7, "gradient")
     kind, f = fields(spectex.noise.perlin(octaves=3))
     assert f["fractal"]["octaves"] == 3 and f["fractal"]["kind"] == "fbm"
+    _, f = fields(spectex.phasor(frequency=0.08, seed=9))
+    assert f["frequency"] == {"constant": {"value": 0.08}} and f["seed"] == 9
     _, f = fields(spectex.noise.ridged(basis="simplex", octaves=4, gain=np.float32(0.25)))
     assert f["basis"] == "simplex" and f["fractal"]["octaves"] == 4 and f["fractal"]["gain"] == 0.25
 

@@ -32,11 +32,11 @@ def overlay(func, fields, kwargs):
         key = ALIASES.get(name, name)
         path = f"{func}.{key}"
         if key in fields:
-            fields[key] = plain(value, path)
+            fields[key] = field_value(fields[key], plain(value, path))
             continue
-        for sub in fields.values():
-            if isinstance(sub, dict) and key in sub:
-                sub[key] = plain(value, path)
+        for sub in nested(fields):
+            if key in sub:
+                sub[key] = field_value(sub[key], plain(value, path))
                 break
         else:
             raise TypeError(
@@ -45,14 +45,31 @@ def overlay(func, fields, kwargs):
             )
 
 
+def nested(fields):
+    """The nested structs of ``fields`` (objects of several fields, such as a fractal sum); a
+    one-key object is an enum's variant (``{"isotropic": {…}}``), set whole."""
+    return [v for v in fields.values() if isinstance(v, dict) and len(v) > 1]
+
+
+def field_value(current, value):
+    """A number given for a field whose default is a constant control field
+    (``{"constant": {"value": x}}``, phasor noise's graded parameters) is that constant."""
+    if (
+        isinstance(value, (int, float))
+        and not isinstance(value, bool)
+        and isinstance(current, dict)
+        and list(current) == ["constant"]
+    ):
+        return {"constant": {"value": value}}
+    return value
+
+
 def flatten(fields):
-    """``{name: default}`` of the top-level fields and the fields of nested objects."""
-    flat = {}
-    for key, value in fields.items():
-        flat[key] = value
-        if isinstance(value, dict):
-            for sub, v in value.items():
-                flat.setdefault(sub, v)
+    """``{name: default}`` of the top-level fields and the fields of nested structs."""
+    flat = dict(fields)
+    for sub in nested(fields):
+        for key, value in sub.items():
+            flat.setdefault(key, value)
     return flat
 
 

@@ -26,6 +26,7 @@ from ._spectex import combine as _combine
 from ._spectex import warp as _warp
 
 _BUILDERS, BASES = builder_names()
+BASES = tuple(BASES)
 _BUILDERS = dict(_BUILDERS)
 _SUMS = ("fbm", "turbulence", "ridged")
 _FRACTAL_FIELDS = ("octaves", "lacunarity", "gain")
@@ -88,7 +89,7 @@ def combine(op, *models, **params):
         >>> a, b = spectex.noise.perlin(seed=1), spectex.noise.voronoi()
         >>> spectex.combine("max", a, b).kind
         'combine'
-        >>> spectex.combine("smoothstep", a, edges=(0.4, 0.6)).render(8, 8).max() <= 1.0
+        >>> bool(spectex.combine("smoothstep", a, edges=(0.4, 0.6)).render(8, 8).max() <= 1.0)
         True
     """
     if not isinstance(op, str):
