@@ -38,7 +38,11 @@ def main():
     model = spectex.fit(source, budget=args.budget, strata=4, seed=1)
     print(f"fitted {model!r} in {time.perf_counter() - start:.2f} s")
 
-    exemplar = source if exemplar_model is not None else spectex.analyze(source)["periodic"]
+    if exemplar_model is not None:
+        exemplar = source
+    else:  # the file's pixels: periodic + smooth component (Moisan) is the image
+        parts = spectex.analyze(source)
+        exemplar = parts["periodic"] + parts["smooth"]
     grey = exemplar if exemplar.ndim == 2 else exemplar @ np.array([0.2126, 0.7152, 0.0722])
     start = time.perf_counter()
     far = model.render(512, 512, offset=(1.0e7, -3.0e6))

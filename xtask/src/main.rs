@@ -610,7 +610,13 @@ fn ci(ws: &Workspace) -> Result<()> {
             command,
         });
     }
-    steps.extend(python::ci_steps(ws, &driver, &rustflags)?);
+    steps.extend(python::ci_steps(ws, &|command: &mut Command| {
+        lavapipe_env(command, &icd);
+        summary.apply(command);
+        command
+            .env("RUSTC_WORKSPACE_WRAPPER", &driver)
+            .env("RUSTFLAGS", &rustflags);
+    })?);
     run_steps("ci", steps)?;
     summary.report()
 }

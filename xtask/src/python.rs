@@ -10,7 +10,7 @@
 //! with the package's Python files in `target/py-stage/`.
 
 use std::env;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::Command;
 
 use anyhow::{Context, Result, bail};
@@ -43,20 +43,18 @@ fn venv_python(ws: &Workspace) -> PathBuf {
     target_dir(ws).join(VENV).join("bin").join("python")
 }
 
-/// CI's Python steps. `driver` and `rustflags` are the test step's `RUSTC_WORKSPACE_WRAPPER`
-/// and `RUSTFLAGS`: with the same environment and profile the build reuses every dependency
-/// the test step compiled and compiles pyo3, numpy and spectex-py alone, linted by clippy with
-/// `-D warnings` like every other crate.
-pub(super) fn ci_steps(ws: &Workspace, driver: &Path, rustflags: &str) -> Result<Vec<Step>> {
-    steps(ws, &|command: &mut Command| {
-        command
-            .env("RUSTC_WORKSPACE_WRAPPER", driver)
-            .env("RUSTFLAGS", rustflags);
-    })
+/// CI's Python steps. `ci_env` gives a command the test step's environment
+/// (`RUSTC_WORKSPACE_WRAPPER=clippy-driver`, `RUSTFLAGS=-D warnings`, lavapipe): with it and
+/// the same profile the build reuses every dependency the test step compiled and compiles
+/// pyo3, numpy and spectex-py alone, linted by clippy with `-D warnings` like every other
+/// crate, and the suite's GPU test renders on lavapipe.
+pub(super) fn ci_steps(ws: &Workspace, ci_env: &dyn Fn(&mut Command)) -> Result<Vec<Step>> {
+    steps(ws, ci_env)
 }
 
-/// The steps: venv, pip, the module and the reference binary, staging, pytest.
-fn steps(ws: &Workspace, cargo_env: &dyn Fn(&mut Command)) -> Result<Vec<Step>> {
+/// The steps: venv, pip, the module (with the `gpu` feature: spectex-gpu is in the test
+/// build already) and the reference binary, staging, pytest.
+fn steps(ws: &Workspace, ci_env: &dyn Fn(&mut Command)) -> Result<Vec<Step>> {
     let mut found = Command::new("python3");
     found.arg("--version");
     if !super::runs(&mut found) {
@@ -98,10 +96,12 @@ fn steps(ws: &Workspace, cargo_env: &dyn Fn(&mut Command)) -> Result<Vec<Step>> 
         "--lib",
         "--bin",
         "spectex-py-reference",
+        "--features",
+        "spectex-py/gpu",
         "--profile",
         "test",
     ]);
-    cargo_env(&mut build);
+    ci_env(&mut build);
     build.env("PYO3_PYTHON", &python);
     steps.push(Step {
         title: "cargo build spectex-py's module and reference binary (test profile)".into(),
@@ -134,6 +134,7 @@ fn steps(ws: &Workspace, cargo_env: &dyn Fn(&mut Command)) -> Result<Vec<Step>> 
             target.join("debug").join("spectex-py-reference"),
         )
         .env("SPECTEX_PY_REQUIRE_REFERENCE", "1");
+    ci_env(&mut pytest);
     steps.push(Step {
         title: "pytest crates/spectex-py/tests".into(),
         command: pytest,
@@ -166,8 +167,15 @@ fn wheel(ws: &Workspace, extra: &[String]) -> Result<()> {
         run_command(&mut venv)?;
     }
     let mut pip = Command::new(&python);
-    pip.args(["-m", "pip", "install", "-q", "--only-binary=:all:", "maturin"])
-        .args(TEST_PACKAGES);
+    pip.args([
+        "-m",
+        "pip",
+        "install",
+        "-q",
+        "--only-binary=:all:",
+        "maturin",
+    ])
+    .args(TEST_PACKAGES);
     run_command(&mut pip)?;
     let out = target.join("py-wheels");
     if out.exists() {
@@ -175,7 +183,13 @@ fn wheel(ws: &Workspace, extra: &[String]) -> Result<()> {
     }
     let mut build = Command::new(target.join(VENV).join("bin").join("maturin"));
     build
-        .args(["build", "--release", "-m", "crates/spectex-py/Cargo.toml", "-o"])
+        .args([
+            "build",
+            "--release",
+            "-m",
+            "crates/spectex-py/Cargo.toml",
+            "-o",
+        ])
         .arg(&out)
         .arg("-i")
         .arg(&python)
@@ -190,7 +204,14 @@ fn wheel(ws: &Workspace, extra: &[String]) -> Result<()> {
     let size = std::fs::metadata(&wheel)?.len();
     let mut install = Command::new(&python);
     install
-        .args(["-m", "pip", "install", "-q", "--force-reinstall", "--no-deps"])
+        .args([
+            "-m",
+            "pip",
+            "install",
+            "-q",
+            "--force-reinstall",
+            "--no-deps",
+        ])
         .arg(&wheel);
     run_command(&mut install)?;
     let mut overhead = Command::new(&python);

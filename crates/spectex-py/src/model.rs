@@ -339,13 +339,16 @@ impl PyModel {
     fn __repr__(&self) -> String {
         let period = self
             .period
-            .map(|p| format!(", period={}", p))
+            .map(|p| format!(", period={p}"))
+            .unwrap_or_default();
+        let fit = self
+            .fit
+            .map(|f| format!(", fit={:?}", format!("{f:?}").to_lowercase()))
             .unwrap_or_default();
         format!(
-            "spectex.Model(kind={:?}, channels={}{period}, json={} bytes)",
+            "spectex.Model(kind={:?}, channels={}{period}{fit})",
             self.model.kind(),
-            self.model.output_channels(),
-            self.to_json().map(|t| t.len()).unwrap_or(0)
+            self.model.output_channels()
         )
     }
 
@@ -398,7 +401,7 @@ impl PyModel {
     fn render_gpu(&self, _py: Python<'_>, _window: &Window, _z: f64) -> PyResult<Vec<f32>> {
         Err(pyo3::exceptions::PyRuntimeError::new_err(
             "device=\"gpu\" needs spectex built with the gpu feature: \
-             pip install ./crates/spectex-py --config-settings=build-args='--features gpu'",
+             MATURIN_PEP517_ARGS='--features gpu' pip install ./crates/spectex-py",
         ))
     }
 
@@ -420,7 +423,7 @@ impl PyModel {
     fn export(&self, _z: f64) -> PyResult<String> {
         Err(pyo3::exceptions::PyRuntimeError::new_err(
             "export_wgsl needs spectex built with the gpu feature (the WGSL exporter is part of \
-             spectex-gpu): pip install ./crates/spectex-py --config-settings=build-args='--features gpu'",
+             spectex-gpu): MATURIN_PEP517_ARGS='--features gpu' pip install ./crates/spectex-py",
         ))
     }
 }

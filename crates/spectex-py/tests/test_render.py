@@ -95,3 +95,21 @@ def test_ctrl_c_stops_a_long_render():
     timer.join()
     # Each thread ends the band it is in: a few bands' time, not the 256 of the whole render.
     assert stopped < 0.2 + 8 * band + 0.5, f"stopped after {stopped:.2f} s; one band takes {band:.3f} s"
+
+
+@pytest.mark.skipif(not spectex.GPU, reason="spectex built without the gpu feature")
+def test_gpu_render_agrees_with_the_cpu():
+    import os
+
+    model = spectex.noise.perlin(cell_size=16.0, seed=2)
+    try:
+        gpu = model.render(64, 48, offset=(1e5, -2e5), device="gpu")
+    except RuntimeError as e:
+        if os.environ.get("SPECTEX_REQUIRE_GPU") == "1":
+            raise
+        pytest.skip(f"no GPU adapter: {e}")
+    cpu = model.render(64, 48, offset=(1e5, -2e5))
+    assert gpu.shape == cpu.shape and gpu.dtype == np.float32
+    # Within f32 rounding of the same expression (the cross-check's tolerances are tighter).
+    assert np.max(np.abs(gpu - cpu)) < 1e-3
+    assert "fn spectex_sample" in model.export_wgsl()
