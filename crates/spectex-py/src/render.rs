@@ -30,7 +30,7 @@ pub(crate) fn render_window(
     eval.check_window(window).map_err(value_error)?;
     let channels = eval.output_channels();
     let row = window.width * channels;
-    let mut out = vec![0.0f32; row * window.height];
+    let mut out = zeroed(row * window.height)?;
     if out.is_empty() {
         return Ok(out);
     }
@@ -81,6 +81,20 @@ pub(crate) fn render_window(
         Some(e) => Err(e),
         None => Ok(out),
     }
+}
+
+/// `len` zeros, or a `MemoryError` when they cannot be allocated (a window of up to 2³⁰
+/// pixels passes validation; an allocation failure must not abort the interpreter).
+pub(crate) fn zeroed(len: usize) -> PyResult<Vec<f32>> {
+    let mut out = Vec::new();
+    out.try_reserve_exact(len).map_err(|_| {
+        pyo3::exceptions::PyMemoryError::new_err(format!(
+            "cannot allocate {len} float32 values ({:.1} GB) for the render",
+            len as f64 * 4e-9
+        ))
+    })?;
+    out.resize(len, 0.0);
+    Ok(out)
 }
 
 /// Evaluates `eval` at `points` (pixels) with the GIL released: the bits of
