@@ -88,11 +88,14 @@ fn steps(ws: &Workspace, ci_env: &dyn Fn(&mut Command)) -> Result<Vec<Step>> {
         title: format!("pip install {} (wheels)", TEST_PACKAGES.join(" ")),
         command: pip,
     });
-    // `--workspace --lib`: features resolved as for the test step (with `-p spectex-py` they
-    // would be resolved for this crate alone and shared dependencies built again).
+    // Features resolved as for the test and examples steps: `--workspace` (with `-p spectex-py`
+    // they would be resolved for this crate alone), and `--examples` (already built by the
+    // examples step), which brings in the dev-dependencies' features as the tests do; without
+    // it spectex-cpu, -spectrum, -sampling … were compiled again with fewer features.
     let mut build = ws.cargo(&[
         "build",
         "--workspace",
+        "--examples",
         "--lib",
         "--bin",
         "spectex-py-reference",
