@@ -26,7 +26,7 @@ const COMMANDS: &[(&str, &str)] = &[
     (
         "python",
         "the Python bindings' pytest suite as CI runs it (venv and module under target/); \
-         `cargo xtask python wheel [--features gpu]`: the release wheel by maturin, its size, \
+         `cargo xtask python wheel [--no-default-features]`: the release wheel by maturin, its size, \
          the import time and the render overhead against Rust",
     ),
     (

@@ -145,8 +145,8 @@ fn steps(ws: &Workspace, ci_env: &dyn Fn(&mut Command)) -> Result<Vec<Step>> {
     Ok(steps)
 }
 
-/// `cargo xtask python`: the CI steps alone; `cargo xtask python wheel [--features gpu]`: the
-/// release wheel, its size, `import spectex`'s time and the render overhead.
+/// `cargo xtask python`: the CI steps alone; `cargo xtask python wheel [--no-default-features]`:
+/// the release wheel, its size, `import spectex`'s time and the render overhead.
 pub(super) fn python(ws: &Workspace, args: &[std::ffi::OsString]) -> Result<()> {
     let args: Vec<String> = args
         .iter()
@@ -160,7 +160,8 @@ pub(super) fn python(ws: &Workspace, args: &[std::ffi::OsString]) -> Result<()> 
 }
 
 /// Builds the release wheel with maturin (extra arguments go to `maturin build`, e.g.
-/// `--features gpu`), installs it in the venv and runs `examples/python/overhead.py`.
+/// `--no-default-features` for the CPU-only one), installs it in the venv and runs
+/// `examples/python/overhead.py`.
 fn wheel(ws: &Workspace, extra: &[String]) -> Result<()> {
     let target = target_dir(ws);
     let python = venv_python(ws);

@@ -324,7 +324,7 @@ impl PyModel {
 
     /// The model as one WGSL module for a fragment shader (``fn spectex_sample(p: vec2<f32>)``),
     /// self-contained, its tables as constants; ``z`` is the plane of a 3D model. Needs the
-    /// ``gpu`` build feature (``spectex.GPU`` says whether this build has it).
+    /// ``gpu`` build feature, on by default (``spectex.GPU`` says whether this build has it).
     ///
     /// Example::
     ///
@@ -400,8 +400,8 @@ impl PyModel {
     #[cfg(not(feature = "gpu"))]
     fn render_gpu(&self, _py: Python<'_>, _window: &Window, _z: f64) -> PyResult<Vec<f32>> {
         Err(pyo3::exceptions::PyRuntimeError::new_err(
-            "device=\"gpu\" needs spectex built with the gpu feature: \
-             MATURIN_PEP517_ARGS='--features gpu' pip install ./crates/spectex-py",
+            "device=\"gpu\" needs spectex built with its gpu feature (on by default; this build \
+             was made with --no-default-features): pip install ./crates/spectex-py",
         ))
     }
 
@@ -422,8 +422,9 @@ impl PyModel {
     #[cfg(not(feature = "gpu"))]
     fn export(&self, _z: f64) -> PyResult<String> {
         Err(pyo3::exceptions::PyRuntimeError::new_err(
-            "export_wgsl needs spectex built with the gpu feature (the WGSL exporter is part of \
-             spectex-gpu): MATURIN_PEP517_ARGS='--features gpu' pip install ./crates/spectex-py",
+            "export_wgsl needs spectex built with its gpu feature (the WGSL exporter is part of \
+             spectex-gpu; on by default, this build was made with --no-default-features): \
+             pip install ./crates/spectex-py",
         ))
     }
 }
