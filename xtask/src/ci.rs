@@ -240,6 +240,13 @@ pub(crate) fn ci(ws: &Workspace) -> Result<()> {
             command,
         });
     }
+    steps.extend(crate::python::ci_steps(ws, &|command: &mut Command| {
+        lavapipe_env(command, &icd);
+        summary.apply(command);
+        command
+            .env("RUSTC_WORKSPACE_WRAPPER", &driver)
+            .env("RUSTFLAGS", &rustflags);
+    })?);
     run_steps("ci", steps)?;
     crate::browser::view_check(ws)?;
     summary.report()

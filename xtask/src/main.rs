@@ -24,6 +24,7 @@ mod fastnoise;
 mod fuzz;
 mod gpu;
 mod json;
+mod python;
 mod system;
 
 use bench::bench;
@@ -38,6 +39,12 @@ const COMMANDS: &[(&str, &str)] = &[
         "what CI runs: installs rustfmt, clippy and lavapipe if missing; fmt --check, clippy \
          -D warnings, every test once with the GPU on lavapipe, doc tests, one line per \
          cross-checked model (XTASK_TEST_RUNNER=nextest: tests by cargo-nextest)",
+    ),
+    (
+        "python",
+        "the Python bindings' pytest suite as CI runs it (venv and module under target/); \
+         `cargo xtask python wheel [--no-default-features]`: the release wheel by maturin, its size, \
+         the import time and the render overhead against Rust",
     ),
     (
         "verify",
@@ -130,6 +137,7 @@ fn run() -> Result<()> {
             }
             verify(&Workspace::locate()?)
         }
+        Some("python") => python::python(&Workspace::locate()?, &rest),
         Some("bench") => bench(&Workspace::locate()?, rest),
         Some("fuzz") => fuzz(&Workspace::locate()?, &rest),
         Some("gpu-report") => {

@@ -57,6 +57,17 @@ const ALLOWED_PROJECT_DEPENDENCIES: &[(&str, &[&str])] = &[
         ],
     ),
     (
+        "spectex-py",
+        &[
+            "spectex-model",
+            "spectex-spectrum",
+            "spectex-sampling",
+            "spectex-cpu",
+            "spectex-gpu",
+            "spectex-simulate",
+        ],
+    ),
+    (
         "spectex-testkit",
         &[
             "spectex-model",

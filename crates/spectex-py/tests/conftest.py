@@ -1,0 +1,42 @@
+"""Shared fixtures: the repository's paths and the Rust reference renders.
+
+The reference renders come from the ``spectex-py-reference`` binary (``src/bin``), which renders
+each testdata model with ``spectex_cpu::Evaluator::render`` in Rust. ``cargo xtask python``
+builds it and names it in ``SPECTEX_PY_REFERENCE_BIN``; run alone, the suite looks for it in
+the cargo target directory and skips the byte-equality tests with a reason when it is absent
+(``SPECTEX_PY_REQUIRE_REFERENCE=1``, set by xtask, makes that a failure).
+"""
+
+import os
+import pathlib
+import subprocess
+
+import pytest
+
+REPO = pathlib.Path(__file__).resolve().parents[3]
+MODELS = sorted((REPO / "testdata" / "models").glob("*.json"))
+TEXTURES = pathlib.Path("/work/shared/testdata/textures")
+
+
+def _reference_bin():
+    given = os.environ.get("SPECTEX_PY_REFERENCE_BIN")
+    if given:
+        return pathlib.Path(given)
+    target = pathlib.Path(os.environ.get("CARGO_TARGET_DIR", REPO / "target"))
+    for profile in ("debug", "release"):
+        candidate = target / profile / "spectex-py-reference"
+        if candidate.exists():
+            return candidate
+    return None
+
+
+@pytest.fixture(scope="session")
+def reference_dir(tmp_path_factory):
+    exe = _reference_bin()
+    if exe is None or not exe.exists():
+        if os.environ.get("SPECTEX_PY_REQUIRE_REFERENCE") == "1":
+            pytest.fail(f"the reference binary is missing ({exe}); build it with cargo xtask python")
+        pytest.skip("spectex-py-reference not built (cargo build -p spectex-py --bins)")
+    out = tmp_path_factory.mktemp("reference")
+    subprocess.run([str(exe), str(out), *map(str, MODELS)], check=True)
+    return out
