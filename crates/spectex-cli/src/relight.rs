@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use anyhow::{Result, anyhow};
 use clap::Args;
 use ndarray::{Array3, Axis};
-use spectex_spectrum::relief::{Edges, normal_map, shade};
+use spectex_spectrum::relief::{DEFAULT_AMBIENT, DEFAULT_STRENGTH, Edges, normal_map, shade};
 
 use crate::io::{self, BitDepth};
 
@@ -23,10 +23,10 @@ pub struct RelightCommand {
     #[arg(long, value_name = "AZ,EL", default_value = "135,45", value_parser = parse_light, allow_hyphen_values = true)]
     light: [f64; 2],
     /// Relief: a pixel value of 1 is this many pixels high (0 < S ≤ 1e6).
-    #[arg(long, default_value_t = 16.0)]
+    #[arg(long, default_value_t = DEFAULT_STRENGTH)]
     strength: f64,
     /// Ambient light, 0 to 1.
-    #[arg(long, default_value_t = 0.1)]
+    #[arg(long, default_value_t = DEFAULT_AMBIENT)]
     ambient: f64,
     /// Write the tangent-space normal map ((n + 1)/2, +y up, OpenGL) instead of the shading.
     #[arg(long)]
@@ -35,7 +35,7 @@ pub struct RelightCommand {
     #[arg(long)]
     periodic: bool,
     /// Bits per channel of a PNG output.
-    #[arg(long, value_enum, default_value = "8")]
+    #[arg(long, value_enum, default_value_t = BitDepth::DEFAULT)]
     bit_depth: BitDepth,
 }
 

@@ -24,6 +24,14 @@ use ndarray::{Array2, Array3, ArrayView2};
 
 use crate::SpectrumError;
 
+/// The relief of `spectex relight` unless `--strength` is given: a height of 1 is 16 pixels
+/// high, steep enough for a noise of contrast 0.15 to show its bumps.
+pub const DEFAULT_STRENGTH: f64 = 16.0;
+
+/// The ambient light of `spectex relight` unless `--ambient` is given: faces turned away from
+/// the light stay just visible.
+pub const DEFAULT_AMBIENT: f64 = 0.1;
+
 /// What lies beyond the image's borders.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Edges {

@@ -42,8 +42,8 @@ pub struct WorleyArgs {
     #[arg(long, value_enum, default_value = "euclidean")]
     metric: MetricArg,
     /// C1,C2,C3,C4 of C1·F1 + C2·F2 + C3·F3 + C4·F4 (each in [-1000, 1000]); -1,1,0,0 is F2 − F1.
-    #[arg(long, value_name = "C1,C2,C3,C4", default_value = "1,0,0,0", value_parser = parse_coefficients, allow_hyphen_values = true)]
-    coefficients: [f32; 4],
+    #[arg(long, value_name = "C1,C2,C3,C4", default_value_t = Coefficients(Worley::DEFAULT_COEFFICIENTS), value_parser = parse_coefficients, allow_hyphen_values = true)]
+    coefficients: Coefficients,
     /// Feature points in every cell (1 to 16).
     #[arg(long, default_value_t = Worley::DEFAULT_POINTS_PER_CELL)]
     points: u32,
@@ -149,14 +149,25 @@ pub struct WorleyNoiseArgs {
     pub classic: ClassicArgs,
 }
 
-fn parse_coefficients(s: &str) -> Result<[f32; 4], String> {
+/// `C1,C2,C3,C4` as parsed from `--coefficients` (and written so, for a default).
+#[derive(Debug, Clone, Copy)]
+pub struct Coefficients([f32; 4]);
+
+impl std::fmt::Display for Coefficients {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let [a, b, c, d] = self.0;
+        write!(f, "{a},{b},{c},{d}")
+    }
+}
+
+fn parse_coefficients(s: &str) -> Result<Coefficients, String> {
     let err = || format!("'{s}' is not four coefficients; write C1,C2,C3,C4, for example -1,1,0,0");
     let v: Vec<f32> = s
         .split(',')
         .map(|c| c.trim().parse::<f32>())
         .collect::<Result<_, _>>()
         .map_err(|_| err())?;
-    v.try_into().map_err(|_| err())
+    v.try_into().map(Coefficients).map_err(|_| err())
 }
 
 pub fn worley_basis(args: &WorleyArgs) -> Basis {
@@ -166,7 +177,7 @@ pub fn worley_basis(args: &WorleyArgs) -> Basis {
             MetricArg::Manhattan => Metric::Manhattan,
             MetricArg::Chebyshev => Metric::Chebyshev,
         },
-        coefficients: args.coefficients,
+        coefficients: args.coefficients.0,
         points: match args.poisson {
             Some(mean) => FeaturePoints::Poisson(mean),
             None => FeaturePoints::Fixed(args.points),

@@ -20,7 +20,7 @@ pub struct WaveletArgs {
     #[arg(long, value_name = "PX", default_value_t = WaveletNoise::DEFAULT_CELL_SIZE)]
     cell: f32,
     /// Weights of the bands W1,W2,… (1 to 16); band b has 2^b times the first one's frequency.
-    #[arg(long, value_name = "W1,W2,…", default_value = "1", value_parser = parse_bands, allow_hyphen_values = true)]
+    #[arg(long, value_name = "W1,W2,…", default_value_t = Bands(WaveletNoise::DEFAULT_BANDS.to_vec()), value_parser = parse_bands, allow_hyphen_values = true)]
     bands: Bands,
     /// 2 (a plane) or 3 (a volume sliced at --z).
     #[arg(long, default_value_t = WaveletNoise::DEFAULT_DIMENSIONS)]
@@ -41,9 +41,16 @@ pub struct WaveletArgs {
     render: RenderArgs,
 }
 
-/// Band weights as parsed from `--bands`.
+/// Band weights as parsed from `--bands` (and written so, for a default).
 #[derive(Debug, Clone)]
 pub(crate) struct Bands(Vec<f32>);
+
+impl std::fmt::Display for Bands {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let weights: Vec<String> = self.0.iter().map(f32::to_string).collect();
+        write!(f, "{}", weights.join(","))
+    }
+}
 
 fn parse_bands(s: &str) -> Result<Bands, String> {
     s.split(',')
