@@ -10,6 +10,9 @@ use spectex_model::Period;
 
 use crate::io::{BitDepth, EXR_TILE};
 
+/// Output size, pixels, unless `--size` is given (or a periodic model's period sets it).
+pub(crate) const DEFAULT_SIZE: (usize, usize) = (512, 512);
+
 /// Model pixels per output pixel unless `--scale` is given: one.
 pub(crate) const DEFAULT_SCALE: f64 = 1.0;
 

@@ -241,12 +241,12 @@ pub fn build(cmd: &PhasorCommand, width: usize) -> Result<PhasorNoise> {
 
 /// `spectex phasor`.
 pub fn phasor(cmd: &PhasorCommand) -> Result<()> {
-    let size = cmd.render.size.unwrap_or((512, 512));
+    let size = cmd.render.size.unwrap_or(crate::args::DEFAULT_SIZE);
     let model = Model::from(build(cmd, size.0)?);
     if let Some(path) = &cmd.model {
         write_model(path, &model)?;
     }
-    render_to_file(&model, &cmd.render, (512, 512))
+    render_to_file(&model, &cmd.render, crate::args::DEFAULT_SIZE)
 }
 
 /// `spectex slices`.

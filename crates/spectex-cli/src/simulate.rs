@@ -15,6 +15,7 @@ use spectex_model::simulation::{
 use spectex_simulate::Simulator;
 
 use crate::io::{self, BitDepth};
+use crate::noise::{arg_of, model_of};
 
 /// Arguments of `spectex simulate`.
 /// Steps between frames unless `--every` is given: 100, a few dozen frames for the default
@@ -160,11 +161,17 @@ struct ElementaryArgs {
     density: f32,
 }
 
-#[derive(Debug, Clone, Copy, ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 enum NeighbourhoodArg {
     Moore,
     VonNeumann,
 }
+
+/// The neighbourhoods by name, for the conversions both ways.
+const NEIGHBOURHOODS: [(NeighbourhoodArg, Neighbourhood); 2] = [
+    (NeighbourhoodArg::Moore, Neighbourhood::Moore),
+    (NeighbourhoodArg::VonNeumann, Neighbourhood::VonNeumann),
+];
 
 #[derive(Debug, Args)]
 struct CyclicArgs {
@@ -177,7 +184,7 @@ struct CyclicArgs {
     #[arg(long, default_value_t = Cyclic::SPIRALS.threshold)]
     threshold: u32,
     /// Which neighbours count.
-    #[arg(long, value_enum, default_value = "moore")]
+    #[arg(long, value_enum, default_value_t = arg_of(&NEIGHBOURHOODS, &Cyclic::SPIRALS.neighbourhood))]
     neighbourhood: NeighbourhoodArg,
 }
 
@@ -251,10 +258,7 @@ pub fn simulate(cmd: &SimulateCommand) -> Result<()> {
             let sim = Simulation::Cyclic(Cyclic {
                 states: a.states,
                 threshold: a.threshold,
-                neighbourhood: match a.neighbourhood {
-                    NeighbourhoodArg::Moore => Neighbourhood::Moore,
-                    NeighbourhoodArg::VonNeumann => Neighbourhood::VonNeumann,
-                },
+                neighbourhood: model_of(&NEIGHBOURHOODS, &a.neighbourhood),
             });
             (&a.common, spec_for(&a.common, Cyclic::DEFAULT_STEPS, sim)?)
         }

@@ -84,7 +84,7 @@ impl SpectralTarget {
     pub const DEFAULT_BAND_MIN: f32 = 0.05;
     /// Outer radius of the `spectex noise band` annulus, cycles per pixel: one octave.
     pub const DEFAULT_BAND_MAX: f32 = 0.1;
-    /// `β` of the `spectex noise fractal` target: power `f^−3`, a natural-terrain roll-off.
+    /// `β` of the `spectex noise fractal` target: power `f^−3`, a Brownian surface (`H = ½`).
     pub const DEFAULT_FRACTAL_BETA: f32 = 1.5;
     /// `θ₀` of the `spectex noise fractal` target, **degrees** as the command takes them.
     pub const DEFAULT_FRACTAL_ANGLE_DEGREES: f32 = 0.0;

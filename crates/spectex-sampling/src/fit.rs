@@ -98,7 +98,7 @@ impl Default for FitOptions {
 }
 
 impl FitOptions {
-    /// `J`, the cosine budget: 50 cosines per lattice point, the paper's figures' order.
+    /// `J`, the cosine budget: 50 cosines per lattice point over all strata.
     pub const DEFAULT_BUDGET: u32 = 50;
     /// `L`, the strata (§4.2: "we actually use L = 4 in all our examples").
     pub const DEFAULT_STRATA: u32 = 4;

@@ -25,8 +25,12 @@ use ndarray::{Array2, Array3, ArrayView2};
 use crate::SpectrumError;
 
 /// The relief of `spectex relight` unless `--strength` is given: a height of 1 is 16 pixels
-/// high, steep enough for a noise of contrast 0.15 to show its bumps.
+/// high.
 pub const DEFAULT_STRENGTH: f64 = 16.0;
+
+/// The light of `spectex relight` unless `--light` is given, `[azimuth, elevation]` in
+/// degrees: from the top left, 45° above the surface (the cartographic convention).
+pub const DEFAULT_LIGHT: [f64; 2] = [135.0, 45.0];
 
 /// The ambient light of `spectex relight` unless `--ambient` is given: faces turned away from
 /// the light stay just visible.

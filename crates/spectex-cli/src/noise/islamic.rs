@@ -152,5 +152,5 @@ pub(crate) fn run(args: &IslamicArgs) -> Result<()> {
     if let Some(path) = &args.model {
         write_model(path, &model)?;
     }
-    render_to_file(&model, &args.render, (512, 512))
+    render_to_file(&model, &args.render, crate::args::DEFAULT_SIZE)
 }

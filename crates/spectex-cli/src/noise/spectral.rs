@@ -127,7 +127,7 @@ fn run(target: SpectralTarget, common: &NoiseArgs) -> Result<()> {
     if let Some(path) = &common.model {
         write_model(path, &model)?;
     }
-    render_to_file(&model, &common.render, (512, 512))
+    render_to_file(&model, &common.render, crate::args::DEFAULT_SIZE)
 }
 
 /// The flags as a builder: the target's defaults where `--budget` or `--strata` is omitted.

@@ -94,5 +94,5 @@ pub(crate) fn run(args: &SubdivisionArgs) -> Result<()> {
     if let Some(path) = &args.model {
         write_model(path, &model)?;
     }
-    render_to_file(&model, &args.render, (512, 512))
+    render_to_file(&model, &args.render, crate::args::DEFAULT_SIZE)
 }

@@ -178,5 +178,5 @@ pub(crate) fn run(args: &TextonArgs) -> Result<()> {
     if let Some(path) = &args.model {
         write_model(path, &model)?;
     }
-    render_to_file(&model, &args.render, (512, 512))
+    render_to_file(&model, &args.render, crate::args::DEFAULT_SIZE)
 }

@@ -1,9 +1,9 @@
 //! `spectex noise wavelet`: wavelet noise (Cook & DeRose 2005, `spectex_model::wavelet`) from
 //! flags, written as a model (`--model`) and rendered.
 
-use anyhow::{Result, anyhow};
+use anyhow::Result;
 use clap::Args;
-use spectex_model::{Model, ModelError, WaveletNoise, WaveletNoiseBuilder};
+use spectex_model::{Model, WaveletNoise, WaveletNoiseBuilder};
 
 use crate::args::RenderArgs;
 use crate::model_file::write_model;
@@ -81,17 +81,12 @@ fn flag(field: &str) -> &'static str {
 /// Builds the model, writes it if asked, and renders it.
 pub(crate) fn run(args: &WaveletArgs) -> Result<()> {
     crate::io::check_output(&args.render.output, args.render.bit_depth)?;
-    let model = builder(args).build().map_err(|e| match &e {
-        ModelError::OutOfRange { field, .. } | ModelError::Length { field, .. } => {
-            anyhow!("{e}; set {} within it", flag(field))
-        }
-        _ => anyhow!("{e}"),
-    })?;
+    let model = builder(args).build().map_err(super::flag_hint(flag))?;
     let model = Model::from(model);
     if let Some(path) = &args.model {
         write_model(path, &model)?;
     }
-    render_to_file(&model, &args.render, (512, 512))
+    render_to_file(&model, &args.render, crate::args::DEFAULT_SIZE)
 }
 
 /// The flags as a builder (the tile side of the dimensions without `--tile`).

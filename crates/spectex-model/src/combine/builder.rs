@@ -17,7 +17,7 @@ impl Combine {
     /// `(e₀, e₁)` of a smoothstep: a soft threshold around ½, the middle of a default
     /// operand's `[0, 1]`.
     pub const DEFAULT_EDGES: [f32; 2] = [0.45, 0.55];
-    /// Folds of the survey's fold: three, as in its Fig. 19.
+    /// Folds of the survey's fold: three.
     pub const DEFAULT_FOLDS: u32 = 3;
     /// Cycles per unit of the operand of a sine fold: two bands across `[0, 1]`.
     pub const DEFAULT_SIN_GAIN: f32 = 2.0;

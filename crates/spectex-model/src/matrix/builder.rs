@@ -7,7 +7,7 @@ use crate::matrix::{MatrixSource, MatrixTransform};
 impl MatrixTransform {
     /// Arnold's cat map `[[1, 1], [1, 2]]` (determinant 1: a bijection on every torus).
     pub const DEFAULT_MATRIX: [[u32; 2]; 2] = [[1, 1], [1, 2]];
-    /// `k`: five applications of the cat map already scramble the rings beyond recognition.
+    /// `k`, the applications of the map: five.
     pub const DEFAULT_ITERATIONS: u64 = 5;
     /// `N`, the torus side and period, pixels.
     pub const DEFAULT_SIZE: u32 = 256;

@@ -15,8 +15,9 @@ impl StochasticSubdivision {
     pub const DEFAULT_LEVELS: u32 = 7;
     /// `H = ½`: Brownian roughness (Fournier et al.'s fBm with independent increments).
     pub const DEFAULT_HURST: f32 = 0.5;
-    /// `a`, the standard deviation of the coarse values: the finer levels add about as much
-    /// again, so `0.5 ± 0.1`-ish values stay inside `[0, 1]`.
+    /// `a`, the standard deviation of the coarse values: at `H = ½` the finer levels add about
+    /// as much variance again, so the texture's standard deviation is near 0.14, close to the
+    /// shared [`crate::DEFAULT_STD_DEV`].
     pub const DEFAULT_AMPLITUDE: f32 = 0.1;
     /// The constant added.
     pub const DEFAULT_MEAN: f32 = DEFAULT_MEAN;
