@@ -10,6 +10,15 @@ use spectex_model::Period;
 
 use crate::io::{BitDepth, EXR_TILE};
 
+/// Output size, pixels, unless `--size` is given (or a periodic model's period sets it).
+pub(crate) const DEFAULT_SIZE: (usize, usize) = (512, 512);
+
+/// Model pixels per output pixel unless `--scale` is given: one.
+pub(crate) const DEFAULT_SCALE: f64 = 1.0;
+
+/// The plane z on which a 3D model is evaluated unless `--z` is given.
+pub(crate) const DEFAULT_Z: f64 = 0.0;
+
 /// Where and how to render.
 #[derive(Debug, Args)]
 pub struct RenderArgs {
@@ -23,17 +32,17 @@ pub struct RenderArgs {
     #[arg(long, value_name = "X,Y", value_parser = parse_offset, allow_hyphen_values = true)]
     pub(crate) offset: Option<[f64; 2]>,
     /// Model pixels per output pixel (0 < S ≤ 1e6).
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = DEFAULT_SCALE)]
     pub(crate) scale: f64,
     /// Point-sample a minified render (--scale > 1) instead of fading out what its pixels cannot
     /// resolve (the default: LRP cosines, fBm octaves … above the output's Nyquist frequency).
     #[arg(long)]
     pub(crate) no_filter: bool,
     /// Bits per channel of a PNG output.
-    #[arg(long, value_enum, default_value = "8")]
+    #[arg(long, value_enum, default_value_t = BitDepth::DEFAULT)]
     pub(crate) bit_depth: BitDepth,
     /// The plane z (model pixels) on which a 3D model is evaluated; 2D models ignore it.
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = DEFAULT_Z, allow_hyphen_values = true)]
     pub(crate) z: f64,
     /// Evaluator: the CPU reference, the GPU (wgpu; WGPU_ADAPTER_NAME picks the adapter), or
     /// auto (the GPU when an adapter exists, else the CPU; says which it used).

@@ -34,7 +34,7 @@ pub struct ExportCommand {
     #[arg(long, default_value_t = DEFAULT_BINDING, requires = "tables")]
     binding: u32,
     /// The plane z (model pixels) on which a 3D model is exported; 2D models ignore it.
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = crate::args::DEFAULT_Z, allow_hyphen_values = true)]
     z: f64,
 }
 

@@ -12,32 +12,33 @@ use spectex_sampling::{FitMethod, FitOptions, TextureOptions};
 use crate::args::RenderArgs;
 use crate::io;
 use crate::model_file::write_fitted_model;
+use crate::noise::{arg_of, model_of};
 use crate::render::render_to_file;
 
 /// Options shared by every command that fits an LRP model.
 #[derive(Debug, Args)]
 pub struct FitArgs {
     /// Cosine budget J: cosines per lattice point over all strata (1 to 1024).
-    #[arg(long, default_value_t = 50)]
+    #[arg(long, default_value_t = FitOptions::DEFAULT_BUDGET)]
     budget: u32,
     /// Number of strata L (1 to 64, at most J; the paper uses 4).
-    #[arg(long, default_value_t = 4)]
+    #[arg(long, default_value_t = FitOptions::DEFAULT_STRATA)]
     strata: u32,
     /// How the strata become cosines: `spectrum` (equal-energy sub-strata drawn in proportion to
     /// the power, matching the exemplar's spectrum) or `paper` (Gilet et al. 2014 §4.3 as
     /// printed, to reproduce its figures).
-    #[arg(long, value_enum, default_value_t = FitArg::Spectrum)]
+    #[arg(long, value_enum, default_value_t = arg_of(&METHODS, &FitOptions::DEFAULT_METHOD))]
     fit: FitArg,
     /// Seed of the fit (k-means seeding) and of the model's random phases.
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = FitOptions::DEFAULT_SEED)]
     seed: u32,
     /// Texture by example: share r of the exemplar's energy whose phases are kept (0 to 1;
     /// the paper's §5; 0.1–0.35 keeps structure, 1 reproduces the exemplar periodically).
-    #[arg(long, value_name = "r", default_value_t = 0.0)]
+    #[arg(long, value_name = "r", default_value_t = TextureOptions::DEFAULT_STRUCTURE)]
     structure: f64,
     /// Distort the structure by turbulence of this scale, pixels (0 to 1e4; about the size of
     /// the texture's features).
-    #[arg(long, value_name = "σ", default_value_t = 0.0)]
+    #[arg(long, value_name = "σ", default_value_t = TextureOptions::DEFAULT_TURBULENCE)]
     turbulence: f64,
     /// Shift blocks of half the structure's period at random, to break its periodicity.
     #[arg(long)]
@@ -54,6 +55,12 @@ enum FitArg {
     Paper,
 }
 
+/// The fit methods by name, for the conversions both ways.
+const METHODS: [(FitArg, FitMethod); 2] = [
+    (FitArg::Spectrum, FitMethod::Spectrum),
+    (FitArg::Paper, FitMethod::Paper),
+];
+
 impl FitArgs {
     pub fn options(&self) -> FitOptions {
         FitOptions {
@@ -66,10 +73,7 @@ impl FitArgs {
     }
 
     fn method(&self) -> FitMethod {
-        match self.fit {
-            FitArg::Spectrum => FitMethod::Spectrum,
-            FitArg::Paper => FitMethod::Paper,
-        }
+        model_of(&METHODS, &self.fit)
     }
 
     /// The fit recorded in the model file.

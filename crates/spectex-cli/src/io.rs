@@ -115,6 +115,12 @@ pub enum BitDepth {
     Sixteen,
 }
 
+impl BitDepth {
+    /// The bit depth of a PNG output unless `--bit-depth` is given: 8 bits, what every viewer
+    /// reads.
+    pub const DEFAULT: Self = Self::Eight;
+}
+
 /// The output format, chosen by the file extension.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Format {

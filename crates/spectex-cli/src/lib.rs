@@ -145,13 +145,13 @@ struct RpnArgs {
     #[arg(long, value_name = "WxH", value_parser = parse_size)]
     size: Option<(usize, usize)>,
     /// Seed of the random phase (0 to 4294967295).
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = spectex_model::DEFAULT_SEED)]
     seed: u32,
     /// Asymptotic discrete spot noise (spot convolved with Gaussian white noise) instead of RPN.
     #[arg(long)]
     adsn: bool,
     /// Bits per channel of a PNG output.
-    #[arg(long, value_enum, default_value = "8")]
+    #[arg(long, value_enum, default_value_t = BitDepth::DEFAULT)]
     bit_depth: BitDepth,
 }
 

@@ -17,8 +17,9 @@ pub mod wavelet;
 
 use std::path::PathBuf;
 
-use anyhow::{Result, bail};
+use anyhow::{Result, anyhow, bail};
 use clap::{Args, Subcommand};
+use spectex_model::ModelError;
 use spectex_model::classic::Basis;
 
 use crate::args::RenderArgs;
@@ -121,6 +122,36 @@ impl NoiseArgs {
             );
         }
         Ok(())
+    }
+}
+
+/// The flag's value naming the model's `value` in `table` (pairs of a clap value enum and the
+/// model's enum), e.g. for a flag's default from a kind's `DEFAULT_` constant.
+pub(crate) fn arg_of<A: Copy, M: PartialEq>(table: &[(A, M)], value: &M) -> A {
+    table
+        .iter()
+        .find(|(_, m)| m == value)
+        .map(|&(a, _)| a)
+        .expect("every model value has a flag value")
+}
+
+/// The model's value named by `arg` in `table`.
+pub(crate) fn model_of<A: PartialEq, M: Copy>(table: &[(A, M)], arg: &A) -> M {
+    table
+        .iter()
+        .find(|(a, _)| a == arg)
+        .map(|&(_, m)| m)
+        .expect("every flag value names a model value")
+}
+
+/// A model's validation error as the command's, naming the flag to change: `flag` maps the
+/// error's dotted field to it (a kind module's `flag`).
+pub(crate) fn flag_hint(flag: fn(&str) -> &'static str) -> impl Fn(ModelError) -> anyhow::Error {
+    move |e| match &e {
+        ModelError::OutOfRange { field, .. } | ModelError::Length { field, .. } => {
+            anyhow!("{e}; set {} within it", flag(field))
+        }
+        _ => anyhow!("{e}"),
     }
 }
 

@@ -57,14 +57,14 @@ pub struct PhasorCommand {
     #[arg(long, value_name = "IMAGE")]
     frequency_image: Option<PathBuf>,
     /// Frequency at white in --frequency-image.
-    #[arg(long, default_value_t = 0.1)]
+    #[arg(long, default_value_t = PhasorNoise::DEFAULT_FREQUENCY_MAX)]
     frequency_max: f32,
     /// Greyscale image grading the bandwidth from --bandwidth (black) to --bandwidth-max
     /// (white): wider kernels, longer coherent stripes where it is dark.
     #[arg(long, value_name = "IMAGE")]
     bandwidth_image: Option<PathBuf>,
     /// Bandwidth at white in --bandwidth-image.
-    #[arg(long, default_value_t = 0.04)]
+    #[arg(long, default_value_t = PhasorNoise::DEFAULT_BANDWIDTH_MAX)]
     bandwidth_max: f32,
     /// Mean impulses per kernel footprint (0.01 to 200).
     #[arg(long, default_value_t = PhasorNoise::DEFAULT_IMPULSES_PER_KERNEL)]
@@ -90,7 +90,7 @@ pub struct PhasorCommand {
     #[arg(long, value_enum, default_value = "sine")]
     profile: ProfileKind,
     /// Duty cycle of the square profile, in [0, 1].
-    #[arg(long, default_value_t = 0.5)]
+    #[arg(long, default_value_t = PhasorNoise::DEFAULT_DUTY)]
     duty: f32,
     /// Greyscale image giving the duty cycle (its grey level), stretched over the output.
     #[arg(long, value_name = "IMAGE")]
@@ -241,12 +241,12 @@ pub fn build(cmd: &PhasorCommand, width: usize) -> Result<PhasorNoise> {
 
 /// `spectex phasor`.
 pub fn phasor(cmd: &PhasorCommand) -> Result<()> {
-    let size = cmd.render.size.unwrap_or((512, 512));
+    let size = cmd.render.size.unwrap_or(crate::args::DEFAULT_SIZE);
     let model = Model::from(build(cmd, size.0)?);
     if let Some(path) = &cmd.model {
         write_model(path, &model)?;
     }
-    render_to_file(&model, &cmd.render, (512, 512))
+    render_to_file(&model, &cmd.render, crate::args::DEFAULT_SIZE)
 }
 
 /// `spectex slices`.
@@ -270,7 +270,7 @@ pub struct SlicesCommand {
     #[arg(long, value_name = "X,Y", allow_hyphen_values = true, value_parser = parse_range)]
     offset: Option<[f64; 2]>,
     /// Model pixels per output pixel.
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = crate::args::DEFAULT_SCALE)]
     scale: f64,
     /// Point-sample minified layers (--scale > 1) instead of filtering them.
     #[arg(long)]

@@ -6,7 +6,9 @@ use std::path::PathBuf;
 use anyhow::{Result, anyhow};
 use clap::Args;
 use ndarray::{Array3, Axis};
-use spectex_spectrum::relief::{Edges, normal_map, shade};
+use spectex_spectrum::relief::{
+    DEFAULT_AMBIENT, DEFAULT_LIGHT, DEFAULT_STRENGTH, Edges, normal_map, shade,
+};
 
 use crate::io::{self, BitDepth};
 
@@ -20,13 +22,13 @@ pub struct RelightCommand {
     output: PathBuf,
     /// Light direction AZIMUTH,ELEVATION in degrees (azimuth 0 = from the right, 90 = from the
     /// top of the image; elevation 0 to 90 above the surface).
-    #[arg(long, value_name = "AZ,EL", default_value = "135,45", value_parser = parse_light, allow_hyphen_values = true)]
-    light: [f64; 2],
+    #[arg(long, value_name = "AZ,EL", default_value_t = Light(DEFAULT_LIGHT), value_parser = parse_light, allow_hyphen_values = true)]
+    light: Light,
     /// Relief: a pixel value of 1 is this many pixels high (0 < S ≤ 1e6).
-    #[arg(long, default_value_t = 16.0)]
+    #[arg(long, default_value_t = DEFAULT_STRENGTH)]
     strength: f64,
     /// Ambient light, 0 to 1.
-    #[arg(long, default_value_t = 0.1)]
+    #[arg(long, default_value_t = DEFAULT_AMBIENT)]
     ambient: f64,
     /// Write the tangent-space normal map ((n + 1)/2, +y up, OpenGL) instead of the shading.
     #[arg(long)]
@@ -35,11 +37,21 @@ pub struct RelightCommand {
     #[arg(long)]
     periodic: bool,
     /// Bits per channel of a PNG output.
-    #[arg(long, value_enum, default_value = "8")]
+    #[arg(long, value_enum, default_value_t = BitDepth::DEFAULT)]
     bit_depth: BitDepth,
 }
 
-fn parse_light(s: &str) -> Result<[f64; 2], String> {
+/// `AZIMUTH,ELEVATION` as parsed from `--light` (and written so, for a default).
+#[derive(Debug, Clone, Copy)]
+pub struct Light([f64; 2]);
+
+impl std::fmt::Display for Light {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{},{}", self.0[0], self.0[1])
+    }
+}
+
+fn parse_light(s: &str) -> Result<Light, String> {
     let err = || {
         format!(
             "'{s}' is not a light direction; write AZIMUTH,ELEVATION in degrees, for example 135,45"
@@ -48,7 +60,7 @@ fn parse_light(s: &str) -> Result<[f64; 2], String> {
     let (a, e) = s.split_once(',').ok_or_else(err)?;
     let a: f64 = a.trim().parse().map_err(|_| err())?;
     let e: f64 = e.trim().parse().map_err(|_| err())?;
-    Ok([a, e])
+    Ok(Light([a, e]))
 }
 
 /// `spectex relight`.
@@ -69,8 +81,8 @@ pub fn relight(cmd: &RelightCommand) -> Result<()> {
             height.view(),
             cmd.strength,
             edges,
-            cmd.light[0],
-            cmd.light[1],
+            cmd.light.0[0],
+            cmd.light.0[1],
             cmd.ambient,
         )
         .map_err(|e| anyhow!("{e}; check --light, --strength and --ambient"))?;

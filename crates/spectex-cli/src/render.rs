@@ -25,7 +25,12 @@ pub struct RenderCommand {
 /// `spectex render`: periodic with `--periodic`, else with the period the file records.
 pub fn render(cmd: &RenderCommand) -> Result<()> {
     let file = read_model_file(&cmd.model)?;
-    render_to_file_with_period(&file.model, file.period, &cmd.render, (512, 512))
+    render_to_file_with_period(
+        &file.model,
+        file.period,
+        &cmd.render,
+        crate::args::DEFAULT_SIZE,
+    )
 }
 
 /// Renders `model` as `args` says (`default_size` unless `--size`), showing progress on a

@@ -15,6 +15,13 @@ use spectex_sampling::{FitOptions, TextureOptions, false_colour_fraction, fit_te
 use crate::io;
 
 /// Arguments of `spectex sheet`.
+/// The shares `r` of the panels after the exemplar unless `--ratios` is given: noise by
+/// example, then the paper's range of kept structure (Fig. 8: 0.1 to 0.35).
+const DEFAULT_RATIOS: [f64; 4] = [0.0, 0.1, 0.2, 0.35];
+
+/// The side of a panel unless `--panel` is given, pixels.
+const DEFAULT_PANEL: usize = 256;
+
 #[derive(Debug, Args)]
 pub struct SheetCommand {
     /// Exemplar images; the built-in exemplar if none.
@@ -23,22 +30,22 @@ pub struct SheetCommand {
     #[arg(short, long, value_name = "DIR")]
     output: PathBuf,
     /// Shares r of the panels after the exemplar, comma-separated, each in [0, 1].
-    #[arg(long, value_delimiter = ',', default_value = "0,0.1,0.2,0.35")]
+    #[arg(long, value_delimiter = ',', default_values_t = DEFAULT_RATIOS)]
     ratios: Vec<f64>,
     /// Cosine budget J (1 to 1024).
-    #[arg(long, default_value_t = 50)]
+    #[arg(long, default_value_t = FitOptions::DEFAULT_BUDGET)]
     budget: u32,
     /// Turbulence σ in pixels for the panels with r > 0 (0 for none).
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = TextureOptions::DEFAULT_TURBULENCE)]
     turbulence: f64,
     /// No random placement in the panels with r > 0.
     #[arg(long)]
     no_placement: bool,
     /// Seed.
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = FitOptions::DEFAULT_SEED)]
     seed: u32,
     /// Side of each panel in the sheet, pixels (16 to 2048; renders are resampled to it).
-    #[arg(long, default_value_t = 256)]
+    #[arg(long, default_value_t = DEFAULT_PANEL)]
     panel: usize,
 }
 

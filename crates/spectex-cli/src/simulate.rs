@@ -15,8 +15,13 @@ use spectex_model::simulation::{
 use spectex_simulate::Simulator;
 
 use crate::io::{self, BitDepth};
+use crate::noise::{arg_of, model_of};
 
 /// Arguments of `spectex simulate`.
+/// Steps between frames unless `--every` is given: 100, a few dozen frames for the default
+/// runs.
+const DEFAULT_EVERY: u32 = 100;
+
 #[derive(Debug, Args)]
 pub struct SimulateCommand {
     #[command(subcommand)]
@@ -60,7 +65,7 @@ struct CommonArgs {
     #[arg(long, value_name = "DIR")]
     frames: Option<PathBuf>,
     /// Steps between frames.
-    #[arg(long, value_name = "N", default_value_t = 100)]
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_EVERY)]
     every: u32,
     /// Step on the GPU (Gray–Scott and the automata; the adapter named by WGPU_ADAPTER_NAME).
     #[arg(long)]
@@ -69,7 +74,7 @@ struct CommonArgs {
     #[arg(long, value_name = "FILE")]
     save_params: Option<PathBuf>,
     /// Bits per channel of PNG outputs.
-    #[arg(long, value_enum, default_value = "8")]
+    #[arg(long, value_enum, default_value_t = BitDepth::DEFAULT)]
     bit_depth: BitDepth,
 }
 
@@ -134,10 +139,10 @@ struct LifeArgs {
     #[command(flatten)]
     common: CommonArgs,
     /// Rule B<digits>/S<digits>.
-    #[arg(long, default_value = "B3/S23")]
+    #[arg(long, default_value_t = LifeLike::conway().rule)]
     rule: String,
     /// Share of live cells at start.
-    #[arg(long, default_value_t = 0.35)]
+    #[arg(long, default_value_t = LifeLike::conway().density)]
     density: f32,
 }
 
@@ -146,34 +151,40 @@ struct ElementaryArgs {
     #[command(flatten)]
     common: CommonArgs,
     /// Wolfram rule number, 0 to 255.
-    #[arg(long, default_value_t = 30)]
+    #[arg(long, default_value_t = Elementary::RULE_30.rule)]
     rule: u32,
     /// Start from one live cell in the middle instead of a random row.
     #[arg(long)]
     single: bool,
     /// Share of live cells in a random first row.
-    #[arg(long, default_value_t = 0.5)]
+    #[arg(long, default_value_t = Elementary::RULE_30.density)]
     density: f32,
 }
 
-#[derive(Debug, Clone, Copy, ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 enum NeighbourhoodArg {
     Moore,
     VonNeumann,
 }
+
+/// The neighbourhoods by name, for the conversions both ways.
+const NEIGHBOURHOODS: [(NeighbourhoodArg, Neighbourhood); 2] = [
+    (NeighbourhoodArg::Moore, Neighbourhood::Moore),
+    (NeighbourhoodArg::VonNeumann, Neighbourhood::VonNeumann),
+];
 
 #[derive(Debug, Args)]
 struct CyclicArgs {
     #[command(flatten)]
     common: CommonArgs,
     /// Number of states.
-    #[arg(long, default_value_t = 3)]
+    #[arg(long, default_value_t = Cyclic::SPIRALS.states)]
     states: u32,
     /// Neighbours in the successor state needed to advance.
-    #[arg(long, default_value_t = 3)]
+    #[arg(long, default_value_t = Cyclic::SPIRALS.threshold)]
     threshold: u32,
     /// Which neighbours count.
-    #[arg(long, value_enum, default_value = "moore")]
+    #[arg(long, value_enum, default_value_t = arg_of(&NEIGHBOURHOODS, &Cyclic::SPIRALS.neighbourhood))]
     neighbourhood: NeighbourhoodArg,
 }
 
@@ -247,10 +258,7 @@ pub fn simulate(cmd: &SimulateCommand) -> Result<()> {
             let sim = Simulation::Cyclic(Cyclic {
                 states: a.states,
                 threshold: a.threshold,
-                neighbourhood: match a.neighbourhood {
-                    NeighbourhoodArg::Moore => Neighbourhood::Moore,
-                    NeighbourhoodArg::VonNeumann => Neighbourhood::VonNeumann,
-                },
+                neighbourhood: model_of(&NEIGHBOURHOODS, &a.neighbourhood),
             });
             (&a.common, spec_for(&a.common, Cyclic::DEFAULT_STEPS, sim)?)
         }

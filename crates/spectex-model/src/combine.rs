@@ -26,6 +26,9 @@ use crate::Model;
 use crate::error::{ModelError, check_len, check_level, check_range};
 use crate::math::sin_turns;
 
+mod builder;
+pub use builder::CombineBuilder;
+
 /// Most operands of one combination.
 pub const MAX_OPERANDS: usize = 8;
 /// Most combinations nested inside one model (itself included).

@@ -63,14 +63,11 @@ use serde::{Deserialize, Serialize};
 use crate::error::{ModelError, check_range};
 use crate::random::{Prng, cell_hash};
 
+mod builder;
+pub use builder::IslamicPatternBuilder;
+
 /// The random layer of the pattern's phase ("ISLM").
 pub const ISLAMIC_LAYER: u32 = 0x4953_4C4D;
-/// Default lattice period, pixels.
-pub const DEFAULT_CELL_SIZE: f32 = 96.0;
-/// Default line band width, pixels.
-pub const DEFAULT_LINE_WIDTH: f32 = 3.0;
-/// Default contact angle, degrees.
-pub const DEFAULT_CONTACT_ANGLE: f32 = 67.5;
 /// Largest star step `d`.
 pub const MAX_STAR_STEP: u32 = 5;
 /// Floats per segment in [`IslamicGeometry::segments`]: `a_x, a_y, b_x, b_y, d_x, d_y, ι`.
@@ -144,25 +141,6 @@ pub struct IslamicPattern {
     pub rotation: f32,
     /// `o`, the pattern's offset in pixels, each in `[−1e9, 1e9]`.
     pub offset: [f32; 2],
-}
-
-impl Default for IslamicPattern {
-    /// The 4.8.8 tiling with contact angle 67.5° (eight-pointed stars in the octagons), a
-    /// 96 px period, 3 px line bands, no rotation or offset, seed 0.
-    fn default() -> Self {
-        Self {
-            seed: 0,
-            tiling: Tiling::OctagonSquare,
-            motif: Motif::Contact {
-                angle: DEFAULT_CONTACT_ANGLE,
-            },
-            cell_size: DEFAULT_CELL_SIZE,
-            line_width: DEFAULT_LINE_WIDTH,
-            output: IslamicOutput::Band,
-            rotation: 0.0,
-            offset: [0.0, 0.0],
-        }
-    }
 }
 
 /// One regular polygon of a tiling's lattice cell (cell units, f64).

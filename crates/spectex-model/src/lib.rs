@@ -68,7 +68,7 @@ pub mod wavelet;
 pub mod window;
 
 pub use classic::{ClassicNoise, ClassicNoiseBuilder, FractalNoiseBuilder};
-pub use combine::Combine;
+pub use combine::{Combine, CombineBuilder};
 pub use defaults::{DEFAULT_MEAN, DEFAULT_SEED, DEFAULT_STD_DEV, Levels};
 pub use error::ModelError;
 pub use file::{
@@ -79,20 +79,20 @@ pub use gabor::{
     GABOR_PERIOD_TOLERANCE, GABOR_TRUNCATION, GaborNoise, GaborNoiseBuilder, NEG_LN_20, Orientation,
 };
 pub use grid::{Filter, MAX_POSITION, MAX_WINDOW_PIXELS, MAX_WINDOW_SIDE, Window, WindowError};
-pub use islamic::IslamicPattern;
+pub use islamic::{IslamicPattern, IslamicPatternBuilder};
 pub use kind::{KIND_NAMES, Model, ModelKind, PERIODIC_KINDS};
 pub use lrp::{LrpNoise, LrpNoiseBuilder, MAX_COSINES, MAX_STRATA, MAX_TABLE, Stratum};
-pub use matrix::MatrixTransform;
+pub use matrix::{MatrixTransform, MatrixTransformBuilder};
 pub use period::Period;
 pub use phasor::{
     COHERENT_BANDWIDTH_RATIO, COHERENT_SPREAD, Field, Harmonic, MAX_FIELD_SIDE,
     MAX_PROFILE_SAMPLES, PHASOR_PERIOD_TOLERANCE, PHASOR_TRUNCATION, PhasorNoise,
     PhasorNoiseBuilder, PhasorOrientation, PhasorOutput, Profile, RAMP_EXTENT,
 };
-pub use subdivision::StochasticSubdivision;
+pub use subdivision::{StochasticSubdivision, StochasticSubdivisionBuilder};
 pub use target::SpectralTarget;
-pub use texton::TextonNoise;
+pub use texton::{TextonNoise, TextonNoiseBuilder};
 pub use texture::{ColourBasis, FixedCosine, Structure, TextureChannel, TextureModel, Turbulence};
-pub use voronoi::VoronoiNoise;
+pub use voronoi::{VoronoiNoise, VoronoiNoiseBuilder};
 pub use warp::{MAX_WARP, Warp, WarpBuilder};
 pub use wavelet::{WaveletNoise, WaveletNoiseBuilder};

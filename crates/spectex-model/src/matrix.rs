@@ -31,6 +31,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{ModelError, check_len, check_level, check_range};
 
+mod builder;
+pub use builder::MatrixTransformBuilder;
+
 /// Largest torus side `N`, pixels.
 pub const MAX_SIZE: u32 = 4096;
 /// Largest side of an image source, texels.

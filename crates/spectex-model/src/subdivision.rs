@@ -50,6 +50,9 @@ use serde::{Deserialize, Serialize};
 use crate::error::{ModelError, check_level, check_range};
 use crate::random::cell_hash;
 
+mod builder;
+pub use builder::StochasticSubdivisionBuilder;
+
 /// Most subdivision levels `L` (a level-`L` index `< 2^L` fits an `i32` with room for the
 /// stencil).
 pub const MAX_LEVELS: u32 = 16;
@@ -171,21 +174,6 @@ pub const fn centred_byte_sum(bits: u32) -> i32 {
 }
 
 impl StochasticSubdivision {
-    /// A midpoint-displacement texture with the defaults: seed 0, cells of 128 pixels, 7
-    /// levels (finest side 1 pixel), `H = 0.5` (Brownian), amplitude 0.1 around 0.5.
-    #[must_use]
-    pub fn midpoint() -> Self {
-        Self {
-            seed: crate::DEFAULT_SEED,
-            cell_size: 128.0,
-            levels: 7,
-            hurst: 0.5,
-            amplitude: 0.1,
-            mean: crate::DEFAULT_MEAN,
-            stencil: Stencil::Midpoint,
-        }
-    }
-
     /// `σ_ℓ/√21845` for `ℓ = 0..=L`: the factor of level `ℓ`'s centred byte sum, in f64
     /// (`L` capped at [`MAX_LEVELS`] for an unvalidated model).
     #[must_use]

@@ -68,6 +68,30 @@ pub enum SpectralTarget {
 }
 
 impl SpectralTarget {
+    /// Radius of the `spectex noise ring` target, cycles per pixel: a 16-pixel period (the
+    /// paper's Fig. 10).
+    pub const DEFAULT_RING_RADIUS: f32 = 0.0625;
+    /// Gaussian half-width of the `spectex noise ring` target, cycles per pixel: a thin ring.
+    pub const DEFAULT_RING_WIDTH: f32 = 0.005;
+    /// Distance of the `spectex noise lobe` lobes from the origin, cycles per pixel.
+    pub const DEFAULT_LOBE_FREQUENCY: f32 = 0.1;
+    /// Direction of the `spectex noise lobe` lobes, **degrees** as the command takes them (the
+    /// model's `angle` is in radians).
+    pub const DEFAULT_LOBE_ANGLE_DEGREES: f32 = 30.0;
+    /// Standard deviation of each `spectex noise lobe` lobe, cycles per pixel.
+    pub const DEFAULT_LOBE_WIDTH: f32 = 0.01;
+    /// Inner radius of the `spectex noise band` annulus, cycles per pixel.
+    pub const DEFAULT_BAND_MIN: f32 = 0.05;
+    /// Outer radius of the `spectex noise band` annulus, cycles per pixel: one octave.
+    pub const DEFAULT_BAND_MAX: f32 = 0.1;
+    /// `β` of the `spectex noise fractal` target: power `f^−3`, a Brownian surface (`H = ½`).
+    pub const DEFAULT_FRACTAL_BETA: f32 = 1.5;
+    /// `θ₀` of the `spectex noise fractal` target, **degrees** as the command takes them.
+    pub const DEFAULT_FRACTAL_ANGLE_DEGREES: f32 = 0.0;
+    /// Lowest frequency with power of the `spectex noise fractal` target, cycles per pixel:
+    /// features up to 128 pixels.
+    pub const DEFAULT_FRACTAL_MIN_FREQUENCY: f32 = 1.0 / 128.0;
+
     /// The target density at frequency `(fx, fy)` in cycles per pixel (continuous targets; a
     /// discrete one answers with its nearest grid value).
     #[must_use]

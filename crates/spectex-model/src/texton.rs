@@ -42,6 +42,9 @@ use crate::error::{ModelError, check_image, check_level, check_range};
 use crate::math::{cos_turns, exp_poly, sin_turns};
 use crate::random::{Prng, cell_hash};
 
+mod builder;
+pub use builder::TextonNoiseBuilder;
+
 /// The random layer of texton cells ("TEXT").
 pub const TEXTON_LAYER: u32 = 0x5445_5854;
 /// Most textons in one cell (the cap of the Poisson count).
@@ -55,10 +58,6 @@ pub const MAX_REACH: u32 = 3;
 pub const MAX_IMAGE_SIDE: u32 = crate::error::MAX_IMAGE_SIDE;
 /// Largest scale factor of a texton.
 pub const MAX_SCALE: f32 = 16.0;
-/// Default cell side `C`, pixels.
-pub const DEFAULT_CELL_SIZE: f32 = 32.0;
-/// Default semi-axes `(a, b)`, pixels.
-pub const DEFAULT_RADII: [f32; 2] = [14.0, 7.0];
 
 /// What is placed: the texton's shape `g` over its normalised coordinates.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -131,25 +130,6 @@ pub struct TextonNoise {
     pub combine: Combine,
     /// Constant added to the combined textons.
     pub mean: f32,
-}
-
-impl Default for TextonNoise {
-    /// Randomly rotated ellipsoids of semi-axes 14 × 7 px on a fully jittered 32 px grid,
-    /// scales 0.75–1.25, weights 0.5–1, added.
-    fn default() -> Self {
-        Self {
-            seed: 0,
-            cell_size: DEFAULT_CELL_SIZE,
-            placement: Placement::Grid { jitter: 1.0 },
-            spot: Spot::Ellipsoid,
-            radii: DEFAULT_RADII,
-            rotation: [0.0, 1.0],
-            scale: [0.75, 1.25],
-            intensity: [0.5, 1.0],
-            combine: Combine::Sum,
-            mean: 0.0,
-        }
-    }
 }
 
 /// Linear interpolation `lo + (hi − lo)·u` of a range, the one expression every evaluator uses.

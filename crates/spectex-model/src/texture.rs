@@ -27,6 +27,15 @@
 //! turbulence displacement `d(x) = σ(Σ_S |n_S(x)| − centre)` (one field per axis) is evaluated at
 //! the unshifted `x` and added after the shift, so the distortion is continuous everywhere
 //! (§5.2: "random placement must be applied first").
+//!
+//! ## No builder
+//! Unlike the procedural kinds, a [`TextureModel`] has no builder and no `DEFAULT_` constants:
+//! its fields (strata of fitted cosines, the structure's blocks of phases, the colour basis)
+//! are measured from an exemplar, not chosen, so there is no default texture to start from and
+//! no field a caller would set by hand. It is made by `spectex_sampling::fit_texture`, whose
+//! options are the settings with defaults (`FitOptions::DEFAULT_BUDGET`,
+//! `TextureOptions::DEFAULT_STRUCTURE`, …, the `spectex fit` and `spectex synth` flags'
+//! defaults), and read from model files; both validate it ([`TextureModel::validate`]).
 
 use serde::{Deserialize, Serialize};
 

@@ -73,6 +73,9 @@ use std::sync::{Arc, Mutex};
 use crate::error::{ModelError, check_image, check_len, check_level, check_range};
 use crate::random::{Prng, cell_hash};
 
+mod builder;
+pub use builder::VoronoiNoiseBuilder;
+
 /// The random layer of Voronoi seeds ("VORO").
 pub const VORONOI_LAYER: u32 = 0x564F_524F;
 /// Cells searched beyond a pixel's own for the nearest seed (5 × 5 cells; module docs).
@@ -96,8 +99,6 @@ pub const MAX_LLOYD_BLOCK: u32 = 16;
 pub const MAX_PALETTE: usize = 256;
 /// Largest side of a colour image, texels.
 pub const MAX_IMAGE_SIDE: u32 = crate::error::MAX_IMAGE_SIDE;
-/// Default cell side `C`, pixels.
-pub const DEFAULT_CELL_SIZE: f32 = 32.0;
 /// The largest offset a seed takes in its cell, `1 − 2⁻²⁴`.
 const MAX_OFFSET: f64 = 1.0 - 1.0 / 16_777_216.0;
 
@@ -172,31 +173,15 @@ pub struct VoronoiNoise {
     pub output: VoronoiOutput,
 }
 
-impl Default for VoronoiNoise {
-    /// Fully jittered seeds on a 32 px lattice, no relaxation (blocks of 4 when relaxed), the
-    /// cell ID.
-    fn default() -> Self {
-        Self {
-            seed: 0,
-            dimensions: 2,
-            cell_size: DEFAULT_CELL_SIZE,
-            jitter: 1.0,
-            lloyd_iterations: 0,
-            lloyd_block: 4,
-            output: VoronoiOutput::CellId,
-        }
-    }
-}
-
 /// The default of [`VoronoiNoise::dimensions`].
 fn two() -> u32 {
-    2
+    VoronoiNoise::DEFAULT_DIMENSIONS
 }
 
 /// Whether `dimensions` is the default (not written to files, so a 2D model's file is as before).
 #[allow(clippy::trivially_copy_pass_by_ref)] // serde's skip_serializing_if passes a reference
 fn is_two(dimensions: &u32) -> bool {
-    *dimensions == 2
+    *dimensions == VoronoiNoise::DEFAULT_DIMENSIONS
 }
 
 /// One lattice cell's seed as both evaluators read it.

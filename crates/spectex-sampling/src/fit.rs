@@ -83,19 +83,34 @@ impl FitMethod {
 }
 
 impl Default for FitOptions {
+    /// Every option at its `DEFAULT_` constant (the `spectex fit` and `spectex synth` flags'
+    /// defaults).
     fn default() -> Self {
         Self {
-            budget: 50,
-            strata: 4,
-            seed: 0,
-            coverage: 0.75,
-            partition: Partition::EqualEnergy,
-            method: FitMethod::Spectrum,
+            budget: Self::DEFAULT_BUDGET,
+            strata: Self::DEFAULT_STRATA,
+            seed: Self::DEFAULT_SEED,
+            coverage: Self::DEFAULT_COVERAGE,
+            partition: Self::DEFAULT_PARTITION,
+            method: Self::DEFAULT_METHOD,
         }
     }
 }
 
 impl FitOptions {
+    /// `J`, the cosine budget: 50 cosines per lattice point over all strata.
+    pub const DEFAULT_BUDGET: u32 = 50;
+    /// `L`, the strata (§4.2: "we actually use L = 4 in all our examples").
+    pub const DEFAULT_STRATA: u32 = 4;
+    /// Seed of the fitted model and of k-means' seeding.
+    pub const DEFAULT_SEED: u32 = spectex_model::DEFAULT_SEED;
+    /// Share of a window's energy kept inside the shrink distance (§4.3's empirical 75%).
+    pub const DEFAULT_COVERAGE: f64 = 0.75;
+    /// Equal-energy strata (§4.2).
+    pub const DEFAULT_PARTITION: Partition = Partition::EqualEnergy;
+    /// The spectrum fit.
+    pub const DEFAULT_METHOD: FitMethod = FitMethod::Spectrum;
+
     /// Checks every option against its range.
     ///
     /// # Errors

@@ -73,11 +73,13 @@ pub struct TextureOptions {
 }
 
 impl Default for TextureOptions {
+    /// Every option at its `DEFAULT_` constant: plain noise by example (no structure, no
+    /// turbulence, no random placement), the structure from the periodic component.
     fn default() -> Self {
         Self {
             fit: FitOptions::default(),
-            structure: 0.0,
-            turbulence: 0.0,
+            structure: Self::DEFAULT_STRUCTURE,
+            turbulence: Self::DEFAULT_TURBULENCE,
             random_placement: false,
             periodic: true,
             turbulence_budget: DEFAULT_TURBULENCE_BUDGET,
@@ -86,6 +88,11 @@ impl Default for TextureOptions {
 }
 
 impl TextureOptions {
+    /// `r`: no phases kept (the fit is LRP noise by example).
+    pub const DEFAULT_STRUCTURE: f64 = 0.0;
+    /// `σ`, pixels: no turbulence.
+    pub const DEFAULT_TURBULENCE: f64 = 0.0;
+
     /// Checks every option.
     ///
     /// # Errors

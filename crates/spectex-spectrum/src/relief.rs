@@ -24,6 +24,18 @@ use ndarray::{Array2, Array3, ArrayView2};
 
 use crate::SpectrumError;
 
+/// The relief of `spectex relight` unless `--strength` is given: a height of 1 is 16 pixels
+/// high.
+pub const DEFAULT_STRENGTH: f64 = 16.0;
+
+/// The light of `spectex relight` unless `--light` is given, `[azimuth, elevation]` in
+/// degrees: from the top left, 45° above the surface (the cartographic convention).
+pub const DEFAULT_LIGHT: [f64; 2] = [135.0, 45.0];
+
+/// The ambient light of `spectex relight` unless `--ambient` is given: faces turned away from
+/// the light stay just visible.
+pub const DEFAULT_AMBIENT: f64 = 0.1;
+
 /// What lies beyond the image's borders.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Edges {

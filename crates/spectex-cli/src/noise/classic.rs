@@ -1,11 +1,12 @@
 //! `spectex noise perlin|simplex|value|kensler|fbm|worley`: the classic pointwise noises of
 //! `spectex_model::classic` from flags, written as a model (`--model`) and rendered.
 
-use anyhow::{Result, anyhow};
+use anyhow::Result;
 use clap::Args;
 use spectex_model::classic::{Basis, ClassicNoise, FeaturePoints, FractalKind, Metric, Worley};
 use spectex_model::{Model, ModelError};
 
+use super::{arg_of, model_of};
 use crate::args::RenderArgs;
 use crate::model_file::write_model;
 use crate::render::render_to_file;
@@ -39,11 +40,11 @@ pub struct ClassicArgs {
 #[derive(Debug, Args)]
 pub struct WorleyArgs {
     /// Distance between a point and the feature points.
-    #[arg(long, value_enum, default_value = "euclidean")]
+    #[arg(long, value_enum, default_value_t = arg_of(&METRICS, &Worley::DEFAULT_METRIC))]
     metric: MetricArg,
     /// C1,C2,C3,C4 of C1·F1 + C2·F2 + C3·F3 + C4·F4 (each in [-1000, 1000]); -1,1,0,0 is F2 − F1.
-    #[arg(long, value_name = "C1,C2,C3,C4", default_value = "1,0,0,0", value_parser = parse_coefficients, allow_hyphen_values = true)]
-    coefficients: [f32; 4],
+    #[arg(long, value_name = "C1,C2,C3,C4", default_value_t = Coefficients(Worley::DEFAULT_COEFFICIENTS), value_parser = parse_coefficients, allow_hyphen_values = true)]
+    coefficients: Coefficients,
     /// Feature points in every cell (1 to 16).
     #[arg(long, default_value_t = Worley::DEFAULT_POINTS_PER_CELL)]
     points: u32,
@@ -53,7 +54,7 @@ pub struct WorleyArgs {
 }
 
 /// The distance of Worley noise.
-#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub(crate) enum MetricArg {
     /// √(Σ δ²).
     Euclidean,
@@ -62,6 +63,13 @@ pub(crate) enum MetricArg {
     /// max |δ|.
     Chebyshev,
 }
+
+/// The metrics by name, for the conversions both ways.
+const METRICS: [(MetricArg, Metric); 3] = [
+    (MetricArg::Euclidean, Metric::Euclidean),
+    (MetricArg::Manhattan, Metric::Manhattan),
+    (MetricArg::Chebyshev, Metric::Chebyshev),
+];
 
 /// The basis of a fractal sum.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -149,24 +157,31 @@ pub struct WorleyNoiseArgs {
     pub classic: ClassicArgs,
 }
 
-fn parse_coefficients(s: &str) -> Result<[f32; 4], String> {
+/// `C1,C2,C3,C4` as parsed from `--coefficients` (and written so, for a default).
+#[derive(Debug, Clone, Copy)]
+pub struct Coefficients([f32; 4]);
+
+impl std::fmt::Display for Coefficients {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let [a, b, c, d] = self.0;
+        write!(f, "{a},{b},{c},{d}")
+    }
+}
+
+fn parse_coefficients(s: &str) -> Result<Coefficients, String> {
     let err = || format!("'{s}' is not four coefficients; write C1,C2,C3,C4, for example -1,1,0,0");
     let v: Vec<f32> = s
         .split(',')
         .map(|c| c.trim().parse::<f32>())
         .collect::<Result<_, _>>()
         .map_err(|_| err())?;
-    v.try_into().map_err(|_| err())
+    v.try_into().map(Coefficients).map_err(|_| err())
 }
 
 pub fn worley_basis(args: &WorleyArgs) -> Basis {
     Basis::Worley(Worley {
-        metric: match args.metric {
-            MetricArg::Euclidean => Metric::Euclidean,
-            MetricArg::Manhattan => Metric::Manhattan,
-            MetricArg::Chebyshev => Metric::Chebyshev,
-        },
-        coefficients: args.coefficients,
+        metric: model_of(&METRICS, &args.metric),
+        coefficients: args.coefficients.0,
         points: match args.poisson {
             Some(mean) => FeaturePoints::Poisson(mean),
             None => FeaturePoints::Fixed(args.points),
@@ -199,15 +214,12 @@ fn flag(field: &str) -> &'static str {
 /// Builds the model of a classic noise kind, writes it if asked, and renders it.
 pub(crate) fn run(basis: Basis, fractal: Option<&FractalArgs>, args: &ClassicArgs) -> Result<()> {
     crate::io::check_output(&args.render.output, args.render.bit_depth)?;
-    let model = build(basis, fractal, args).map_err(|e| match &e {
-        ModelError::OutOfRange { field, .. } => anyhow!("{e}; set {} within it", flag(field)),
-        _ => anyhow!("{e}"),
-    })?;
+    let model = build(basis, fractal, args).map_err(super::flag_hint(flag))?;
     let model = Model::from(model);
     if let Some(path) = &args.model {
         write_model(path, &model)?;
     }
-    render_to_file(&model, &args.render, (512, 512))
+    render_to_file(&model, &args.render, crate::args::DEFAULT_SIZE)
 }
 
 /// The noise the flags describe, through `ClassicNoise`'s builders: the mean and amplitude

@@ -56,15 +56,15 @@ pub(crate) struct CombineArgs {
     #[arg(
         long,
         value_name = "E0,E1",
-        default_value = "0.45,0.55",
+        default_value_t = edges_text(Combine::DEFAULT_EDGES),
         allow_hyphen_values = true
     )]
     edges: String,
     /// Folds of the survey's fold (0 to 32).
-    #[arg(long, default_value_t = 3)]
+    #[arg(long, default_value_t = Combine::DEFAULT_FOLDS)]
     folds: u32,
     /// Cycles per unit of the operand for sin-fold.
-    #[arg(long, default_value_t = 2.0, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = Combine::DEFAULT_SIN_GAIN, allow_hyphen_values = true)]
     gain: f32,
     /// The exemplar whose grey histogram `histogram` matches (PNG/JPEG); default: the
     /// built-in exemplar.
@@ -74,7 +74,7 @@ pub(crate) struct CombineArgs {
     #[arg(
         long,
         value_name = "AT:HEX,…",
-        default_value = "0.2:2b1a0e,0.5:6b4226,0.8:c8a27a"
+        default_value_t = stops_text(&Combine::DEFAULT_RAMP_STOPS)
     )]
     stops: String,
     /// Also write the model to this .json file (render it again with `spectex render`).
@@ -88,13 +88,33 @@ pub(crate) struct CombineArgs {
 fn default_operand(k: usize) -> Result<Model> {
     let fbm = ClassicNoise::fbm().build().map_err(|e| anyhow!("{e}"))?;
     Ok(match k {
-        1 => Model::Voronoi(VoronoiNoise {
-            output: VoronoiOutput::F1,
-            ..VoronoiNoise::default()
-        }),
+        1 => Model::from(
+            VoronoiNoise::builder()
+                .output(VoronoiOutput::F1)
+                .build()
+                .map_err(|e| anyhow!("{e}"))?,
+        ),
         0 => Model::Classic(fbm),
         _ => Model::Classic(fbm).reseeded(k as u32),
     })
+}
+
+/// Smoothstep edges as `--edges` reads them, `E0,E1`.
+fn edges_text(edges: [f32; 2]) -> String {
+    format!("{},{}", edges[0], edges[1])
+}
+
+/// Ramp stops as `--stops` reads them, `AT:RRGGBB,…` (each channel back to its byte).
+fn stops_text(stops: &[RampStop]) -> String {
+    let byte = |v: f32| (v * 255.0).round() as u8;
+    stops
+        .iter()
+        .map(|s| {
+            let [r, g, b] = s.colour.map(byte);
+            format!("{}:{r:02x}{g:02x}{b:02x}", s.at)
+        })
+        .collect::<Vec<_>>()
+        .join(",")
 }
 
 fn parse_pair(s: &str) -> Result<[f32; 2]> {
@@ -196,16 +216,19 @@ pub(crate) fn run(args: &CombineArgs) -> Result<()> {
             .collect::<Result<_>>()?
     };
     let op = operation(args, &operands)?;
-    let combine = Combine { op, operands };
-    combine.validate().map_err(|e| match &e {
-        ModelError::Length { field, .. } if field.starts_with("combine.operands") => {
-            anyhow!("{e}; give --operand that many times")
-        }
-        _ => anyhow!("{e}; check the operation's flags and the operands"),
-    })?;
+    let combine = Combine::builder()
+        .op(op)
+        .operands(operands)
+        .build()
+        .map_err(|e| match &e {
+            ModelError::Length { field, .. } if field.starts_with("combine.operands") => {
+                anyhow!("{e}; give --operand that many times")
+            }
+            _ => anyhow!("{e}; check the operation's flags and the operands"),
+        })?;
     let model = Model::Combine(combine);
     if let Some(path) = &args.model {
         write_model(path, &model)?;
     }
-    render_to_file(&model, &args.render, (512, 512))
+    render_to_file(&model, &args.render, crate::args::DEFAULT_SIZE)
 }

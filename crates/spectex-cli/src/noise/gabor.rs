@@ -41,7 +41,7 @@ pub(super) fn run(args: &GaborArgs) -> Result<()> {
     if let Some(path) = &common.model {
         write_model(path, &model)?;
     }
-    render_to_file(&model, &common.render, (512, 512))
+    render_to_file(&model, &common.render, crate::args::DEFAULT_SIZE)
 }
 
 /// The flags as a builder (isotropic directions without `--angle`).

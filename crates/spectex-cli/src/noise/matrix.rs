@@ -2,10 +2,10 @@
 //! flags: a source (built-in rings, or a square grey image) on the N × N torus moved k times by
 //! an integer matrix; written as a model (`--model`) and rendered.
 
-use anyhow::{Result, anyhow, bail};
+use anyhow::{Result, bail};
 use clap::Args;
+use spectex_model::Model;
 use spectex_model::matrix::{MAX_IMAGE_SIDE, MatrixSource, MatrixTransform};
-use spectex_model::{Model, ModelError};
 
 use crate::args::RenderArgs;
 use crate::model_file::write_model;
@@ -16,26 +16,26 @@ use crate::render::render_to_file;
 pub(crate) struct MatrixArgs {
     /// The matrix by rows, a11,a12,a21,a22: Lucas or Fibonacci numbers (or 0) whose determinant
     /// is prime to --torus (default: Arnold's cat map 1,1,1,2).
-    #[arg(long, value_name = "A11,A12,A21,A22", value_delimiter = ',', default_values_t = [1u32, 1, 1, 2])]
+    #[arg(long, value_name = "A11,A12,A21,A22", value_delimiter = ',', default_values_t = MatrixTransform::DEFAULT_MATRIX.concat())]
     matrix: Vec<u32>,
     /// How many times the map is applied.
-    #[arg(long, default_value_t = 5)]
+    #[arg(long, default_value_t = MatrixTransform::DEFAULT_ITERATIONS)]
     iterations: u64,
     /// N, the torus side and the texture's period, pixels (2 to 4096; an image's side).
-    #[arg(long, value_name = "N", default_value_t = 256)]
+    #[arg(long, value_name = "N", default_value_t = MatrixTransform::DEFAULT_SIZE)]
     torus: u32,
     /// Rings of the built-in source, centre to corner (1 to 64).
-    #[arg(long, default_value_t = 6)]
+    #[arg(long, default_value_t = MatrixTransform::DEFAULT_RINGS)]
     rings: u32,
     /// A square grey source image of side N (PNG/JPEG, at most 1024 pixels, stored in the
     /// model; colour images are taken as their first channel), instead of the rings.
     #[arg(long, value_name = "IMAGE", conflicts_with = "rings")]
     image: Option<std::path::PathBuf>,
     /// Factor applied to the source value.
-    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = MatrixTransform::DEFAULT_AMPLITUDE, allow_hyphen_values = true)]
     amplitude: f32,
     /// Constant added after the factor.
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = MatrixTransform::DEFAULT_MEAN, allow_hyphen_values = true)]
     mean: f32,
     /// Also write the model to this .json file (render it again with `spectex render`).
     #[arg(long, value_name = "MODEL")]
@@ -87,23 +87,18 @@ pub(crate) fn run(args: &MatrixArgs) -> Result<()> {
     let [a11, a12, a21, a22] = args.matrix[..] else {
         bail!("--matrix takes four integers a11,a12,a21,a22");
     };
-    let model = MatrixTransform {
-        matrix: [[a11, a12], [a21, a22]],
-        iterations: args.iterations,
-        size,
-        source,
-        amplitude: args.amplitude,
-        mean: args.mean,
-    };
-    model.validate().map_err(|e| match &e {
-        ModelError::OutOfRange { field, .. } | ModelError::Length { field, .. } => {
-            anyhow!("{e}; set {} within it", flag(field))
-        }
-        _ => anyhow!("{e}"),
-    })?;
-    let model = Model::Matrix(model);
+    let model = MatrixTransform::builder()
+        .matrix([[a11, a12], [a21, a22]])
+        .iterations(args.iterations)
+        .size(size)
+        .source(source)
+        .amplitude(args.amplitude)
+        .mean(args.mean)
+        .build()
+        .map_err(super::flag_hint(flag))?;
+    let model = Model::from(model);
     if let Some(path) = &args.model {
         write_model(path, &model)?;
     }
-    render_to_file(&model, &args.render, (512, 512))
+    render_to_file(&model, &args.render, crate::args::DEFAULT_SIZE)
 }

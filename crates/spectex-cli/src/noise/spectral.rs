@@ -16,10 +16,10 @@ use crate::render::render_to_file;
 #[derive(Debug, Args)]
 pub struct RingArgs {
     /// Ring radius, cycles per pixel.
-    #[arg(long, default_value_t = 0.0625)]
+    #[arg(long, default_value_t = SpectralTarget::DEFAULT_RING_RADIUS)]
     radius: f32,
     /// Gaussian half-width of the ring, cycles per pixel.
-    #[arg(long, default_value_t = 0.005)]
+    #[arg(long, default_value_t = SpectralTarget::DEFAULT_RING_WIDTH)]
     width: f32,
     #[command(flatten)]
     pub common: NoiseArgs,
@@ -29,13 +29,13 @@ pub struct RingArgs {
 #[derive(Debug, Args)]
 pub(super) struct LobeArgs {
     /// Distance of the lobes from the origin, cycles per pixel.
-    #[arg(long, default_value_t = 0.1)]
+    #[arg(long, default_value_t = SpectralTarget::DEFAULT_LOBE_FREQUENCY)]
     frequency: f32,
     /// Direction, degrees.
-    #[arg(long, default_value_t = 30.0, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = SpectralTarget::DEFAULT_LOBE_ANGLE_DEGREES, allow_hyphen_values = true)]
     angle: f32,
     /// Standard deviation of each lobe, cycles per pixel.
-    #[arg(long, default_value_t = 0.01)]
+    #[arg(long, default_value_t = SpectralTarget::DEFAULT_LOBE_WIDTH)]
     width: f32,
     #[command(flatten)]
     common: NoiseArgs,
@@ -45,10 +45,10 @@ pub(super) struct LobeArgs {
 #[derive(Debug, Args)]
 pub(super) struct BandArgs {
     /// Inner radius, cycles per pixel.
-    #[arg(long, default_value_t = 0.05)]
+    #[arg(long, default_value_t = SpectralTarget::DEFAULT_BAND_MIN)]
     min: f32,
     /// Outer radius, cycles per pixel.
-    #[arg(long, default_value_t = 0.1)]
+    #[arg(long, default_value_t = SpectralTarget::DEFAULT_BAND_MAX)]
     max: f32,
     #[command(flatten)]
     common: NoiseArgs,
@@ -58,16 +58,16 @@ pub(super) struct BandArgs {
 #[derive(Debug, Args)]
 pub struct FractalArgs {
     /// β, the roll-off of the magnitude spectrum (0 to 4): the power falls as f^(−2β).
-    #[arg(long, default_value_t = 1.5)]
+    #[arg(long, default_value_t = SpectralTarget::DEFAULT_FRACTAL_BETA)]
     beta: f32,
     /// θ₀, the dominant direction of the frequencies, degrees.
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = SpectralTarget::DEFAULT_FRACTAL_ANGLE_DEGREES, allow_hyphen_values = true)]
     angle: f32,
     /// σ, the angular standard deviation, degrees (isotropic if omitted).
     #[arg(long)]
     spread: Option<f32>,
     /// Lowest frequency with power, cycles per pixel (1/8192 to 0.25).
-    #[arg(long, default_value_t = 1.0 / 128.0)]
+    #[arg(long, default_value_t = SpectralTarget::DEFAULT_FRACTAL_MIN_FREQUENCY)]
     min_frequency: f32,
     #[command(flatten)]
     pub common: NoiseArgs,
@@ -127,7 +127,7 @@ fn run(target: SpectralTarget, common: &NoiseArgs) -> Result<()> {
     if let Some(path) = &common.model {
         write_model(path, &model)?;
     }
-    render_to_file(&model, &common.render, (512, 512))
+    render_to_file(&model, &common.render, crate::args::DEFAULT_SIZE)
 }
 
 /// The flags as a builder: the target's defaults where `--budget` or `--strata` is omitted.

@@ -1,11 +1,12 @@
 //! `spectex noise texton`: texton placement / spot noise (survey §2.3, §3.1.5,
 //! `spectex_model::texton`) from flags, written as a model (`--model`) and rendered.
 
-use anyhow::{Result, anyhow};
+use anyhow::Result;
 use clap::{Args, ValueEnum};
-use spectex_model::texton::{Combine, MAX_IMAGE_SIDE, Placement, Spot, TextonNoise};
-use spectex_model::{Model, ModelError};
+use spectex_model::Model;
+use spectex_model::texton::{Combine, MAX_IMAGE_SIDE, Spot, TextonNoise};
 
+use super::{arg_of, model_of};
 use crate::args::RenderArgs;
 use crate::model_file::write_model;
 use crate::render::render_to_file;
@@ -20,7 +21,7 @@ enum SpotArg {
 }
 
 /// How overlapping textons combine.
-#[derive(Debug, Clone, Copy, ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 enum CombineArg {
     /// The addition rule.
     Sum,
@@ -28,44 +29,59 @@ enum CombineArg {
     Max,
 }
 
+impl From<SpotArg> for Spot {
+    fn from(spot: SpotArg) -> Self {
+        match spot {
+            SpotArg::Ellipsoid => Self::Ellipsoid,
+            SpotArg::Gaussian => Self::Gaussian,
+        }
+    }
+}
+
+/// The rules by name, for the conversions both ways.
+const COMBINES: [(CombineArg, Combine); 2] = [
+    (CombineArg::Sum, Combine::Sum),
+    (CombineArg::Max, Combine::Max),
+];
+
 /// The options of `spectex noise texton`.
 #[derive(Debug, Args)]
 pub(crate) struct TextonArgs {
     /// Cell side, pixels (1 to 4096): one texton per cell on the grid, or --density per cell.
-    #[arg(long, value_name = "PX", default_value_t = spectex_model::texton::DEFAULT_CELL_SIZE)]
+    #[arg(long, value_name = "PX", default_value_t = TextonNoise::DEFAULT_CELL_SIZE)]
     cell: f32,
     /// Grid jitter in cells, 0 (regular grid) to 1 (the survey's random grid).
-    #[arg(long, default_value_t = 1.0, conflicts_with = "density")]
+    #[arg(long, default_value_t = TextonNoise::DEFAULT_JITTER, conflicts_with = "density")]
     jitter: f32,
     /// Poisson placement with this mean number of textons per cell (0 to 8), instead of a grid.
     #[arg(long)]
     density: Option<f32>,
-    /// The texton's shape.
-    #[arg(long, value_enum, default_value = "ellipsoid")]
-    spot: SpotArg,
+    /// The texton's shape (default: the model's, an ellipsoid).
+    #[arg(long, value_enum)]
+    spot: Option<SpotArg>,
     /// A grey image as the texton (PNG/JPEG, at most 1024 per side), instead of --spot.
     #[arg(long, value_name = "IMAGE", conflicts_with = "spot")]
     image: Option<std::path::PathBuf>,
     /// Semi-axes A,B of the texton, pixels (each texton is scaled by a draw from --scale).
-    #[arg(long, value_name = "A,B", default_value = "14,7", value_parser = parse_pair)]
+    #[arg(long, value_name = "A,B", default_value_t = Pair(TextonNoise::DEFAULT_RADII), value_parser = parse_pair)]
     radii: Pair,
     /// Range of the rotation, turns (0,1: every direction).
-    #[arg(long, value_name = "LO,HI", default_value = "0,1", value_parser = parse_pair, allow_hyphen_values = true)]
+    #[arg(long, value_name = "LO,HI", default_value_t = Pair(TextonNoise::DEFAULT_ROTATION), value_parser = parse_pair, allow_hyphen_values = true)]
     rotation: Pair,
     /// Range of each texton's scale (each above 0, at most 16; --scale is the render's).
-    #[arg(long, value_name = "LO,HI", default_value = "0.75,1.25", value_parser = parse_pair)]
+    #[arg(long, value_name = "LO,HI", default_value_t = Pair(TextonNoise::DEFAULT_SCALE), value_parser = parse_pair)]
     texton_scale: Pair,
     /// Range of the textons' weights (their height).
-    #[arg(long, value_name = "LO,HI", default_value = "0.5,1", value_parser = parse_pair, allow_hyphen_values = true)]
+    #[arg(long, value_name = "LO,HI", default_value_t = Pair(TextonNoise::DEFAULT_INTENSITY), value_parser = parse_pair, allow_hyphen_values = true)]
     intensity: Pair,
     /// How overlapping textons combine.
-    #[arg(long, value_enum, default_value = "sum")]
+    #[arg(long, value_enum, default_value_t = arg_of(&COMBINES, &TextonNoise::DEFAULT_COMBINE))]
     combine: CombineArg,
     /// Constant added.
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = TextonNoise::DEFAULT_MEAN, allow_hyphen_values = true)]
     mean: f32,
     /// Seed.
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = TextonNoise::DEFAULT_SEED)]
     seed: u32,
     /// Also write the model to this .json file (render it again with `spectex render`).
     #[arg(long, value_name = "MODEL")]
@@ -74,9 +90,15 @@ pub(crate) struct TextonArgs {
     render: RenderArgs,
 }
 
-/// Two numbers as parsed from `A,B`.
+/// Two numbers as parsed from `A,B` (and written so, for a default).
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Pair([f32; 2]);
+
+impl std::fmt::Display for Pair {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{},{}", self.0[0], self.0[1])
+    }
+}
 
 fn parse_pair(s: &str) -> Result<Pair, String> {
     let parts: Vec<&str> = s.split(',').collect();
@@ -133,42 +155,28 @@ fn image_spot(path: &std::path::Path) -> Result<Spot> {
 /// Builds the model, writes it if asked, and renders it.
 pub(crate) fn run(args: &TextonArgs) -> Result<()> {
     crate::io::check_output(&args.render.output, args.render.bit_depth)?;
-    let spot = match &args.image {
-        Some(path) => image_spot(path)?,
-        None => match args.spot {
-            SpotArg::Ellipsoid => Spot::Ellipsoid,
-            SpotArg::Gaussian => Spot::Gaussian,
-        },
+    let builder = TextonNoise::builder()
+        .seed(args.seed)
+        .cell_size(args.cell)
+        .radii(args.radii.0)
+        .rotation(args.rotation.0)
+        .scale(args.texton_scale.0)
+        .intensity(args.intensity.0)
+        .combine(model_of(&COMBINES, &args.combine))
+        .mean(args.mean);
+    let builder = match args.density {
+        Some(density) => builder.poisson(density),
+        None => builder.jitter(args.jitter),
     };
-    let model = TextonNoise {
-        seed: args.seed,
-        cell_size: args.cell,
-        placement: match args.density {
-            Some(density) => Placement::Poisson { density },
-            None => Placement::Grid {
-                jitter: args.jitter,
-            },
-        },
-        spot,
-        radii: args.radii.0,
-        rotation: args.rotation.0,
-        scale: args.texton_scale.0,
-        intensity: args.intensity.0,
-        combine: match args.combine {
-            CombineArg::Sum => Combine::Sum,
-            CombineArg::Max => Combine::Max,
-        },
-        mean: args.mean,
+    let builder = match (&args.image, args.spot) {
+        (Some(path), _) => builder.spot(image_spot(path)?),
+        (None, Some(spot)) => builder.spot(spot.into()),
+        (None, None) => builder,
     };
-    model.validate().map_err(|e| match &e {
-        ModelError::OutOfRange { field, .. } | ModelError::Length { field, .. } => {
-            anyhow!("{e}; set {} within it", flag(field))
-        }
-        _ => anyhow!("{e}"),
-    })?;
-    let model = Model::Texton(model);
+    let model = builder.build().map_err(super::flag_hint(flag))?;
+    let model = Model::from(model);
     if let Some(path) = &args.model {
         write_model(path, &model)?;
     }
-    render_to_file(&model, &args.render, (512, 512))
+    render_to_file(&model, &args.render, crate::args::DEFAULT_SIZE)
 }

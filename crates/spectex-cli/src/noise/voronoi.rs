@@ -3,10 +3,10 @@
 //! optional Lloyd relaxation; in 2D or 3D (`--dims 3`, the solid diagram sliced at `--z`);
 //! written as a model (`--model`) and rendered.
 
-use anyhow::{Result, anyhow, bail};
+use anyhow::{Result, bail};
 use clap::{Args, ValueEnum};
+use spectex_model::Model;
 use spectex_model::voronoi::{MAX_IMAGE_SIDE, VoronoiNoise, VoronoiOutput};
-use spectex_model::{Model, ModelError};
 
 use crate::args::RenderArgs;
 use crate::model_file::write_model;
@@ -32,24 +32,24 @@ enum OutputArg {
 #[derive(Debug, Args)]
 pub(crate) struct VoronoiArgs {
     /// Lattice cell side, pixels (1 to 4096): one seed per cell.
-    #[arg(long, value_name = "PX", default_value_t = spectex_model::voronoi::DEFAULT_CELL_SIZE)]
+    #[arg(long, value_name = "PX", default_value_t = VoronoiNoise::DEFAULT_CELL_SIZE)]
     cell: f32,
     /// 2 (seeds in the plane) or 3 (seeds in space, the diagram sliced at --z; no --lloyd or
     /// --image).
-    #[arg(long, visible_alias = "dimensions", default_value_t = 2)]
+    #[arg(long, visible_alias = "dimensions", default_value_t = VoronoiNoise::DEFAULT_DIMENSIONS)]
     dims: u32,
     /// Jitter of the seeds in cells, 0 (regular grid) to 1 (anywhere in the cell).
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = VoronoiNoise::DEFAULT_JITTER)]
     jitter: f32,
     /// Lloyd relaxation iterations (0 to 16), run per block of --block cells.
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = VoronoiNoise::DEFAULT_LLOYD_ITERATIONS)]
     lloyd: u32,
     /// Side of a relaxation block, cells (1 to 16).
-    #[arg(long, default_value_t = 4)]
+    #[arg(long, default_value_t = VoronoiNoise::DEFAULT_LLOYD_BLOCK)]
     block: u32,
-    /// What a pixel shows.
-    #[arg(long, value_enum, default_value = "id")]
-    show: OutputArg,
+    /// What a pixel shows (default: the model's, the cell ID).
+    #[arg(long, value_enum)]
+    show: Option<OutputArg>,
     /// Palette colours as hex RGB (e.g. 264653,2a9d8f,e9c46a), for --show palette.
     #[arg(long, value_name = "HEX,…", value_delimiter = ',')]
     palette: Vec<String>,
@@ -58,7 +58,7 @@ pub(crate) struct VoronoiArgs {
     #[arg(long, value_name = "IMAGE", conflicts_with = "show")]
     image: Option<std::path::PathBuf>,
     /// Seed.
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = VoronoiNoise::DEFAULT_SEED)]
     seed: u32,
     /// Also write the model to this .json file (render it again with `spectex render`).
     #[arg(long, value_name = "MODEL")]
@@ -66,15 +66,6 @@ pub(crate) struct VoronoiArgs {
     #[command(flatten)]
     render: RenderArgs,
 }
-
-/// The built-in palette: five colours of a mosaic.
-const DEFAULT_PALETTE: [[f32; 3]; 5] = [
-    [0.149, 0.275, 0.325],
-    [0.165, 0.616, 0.561],
-    [0.914, 0.769, 0.416],
-    [0.957, 0.635, 0.380],
-    [0.906, 0.435, 0.310],
-];
 
 fn parse_hex(s: &str) -> Result<[f32; 3]> {
     let t = s.trim().trim_start_matches('#');
@@ -129,41 +120,32 @@ fn flag(field: &str) -> &'static str {
 /// Builds the model, writes it if asked, and renders it.
 pub(crate) fn run(args: &VoronoiArgs) -> Result<()> {
     crate::io::check_output(&args.render.output, args.render.bit_depth)?;
-    let output = match (&args.image, args.show) {
-        (Some(path), _) => image_output(path)?,
-        (None, OutputArg::Id) => VoronoiOutput::CellId,
-        (None, OutputArg::F1) => VoronoiOutput::F1,
-        (None, OutputArg::Border) => VoronoiOutput::Border,
-        (None, OutputArg::F2F1) => VoronoiOutput::F2MinusF1,
-        (None, OutputArg::Palette) => VoronoiOutput::Palette {
-            colours: if args.palette.is_empty() {
-                DEFAULT_PALETTE.to_vec()
-            } else {
-                args.palette
-                    .iter()
-                    .map(|s| parse_hex(s))
-                    .collect::<Result<_>>()?
-            },
-        },
+    let builder = VoronoiNoise::builder()
+        .seed(args.seed)
+        .dimensions(args.dims)
+        .cell_size(args.cell)
+        .jitter(args.jitter)
+        .lloyd_iterations(args.lloyd)
+        .lloyd_block(args.block);
+    let builder = match (&args.image, args.show) {
+        (Some(path), _) => builder.output(image_output(path)?),
+        (None, None) => builder,
+        (None, Some(OutputArg::Id)) => builder.output(VoronoiOutput::CellId),
+        (None, Some(OutputArg::F1)) => builder.output(VoronoiOutput::F1),
+        (None, Some(OutputArg::Border)) => builder.output(VoronoiOutput::Border),
+        (None, Some(OutputArg::F2F1)) => builder.output(VoronoiOutput::F2MinusF1),
+        // No --palette: the model's default palette.
+        (None, Some(OutputArg::Palette)) => builder.palette(
+            args.palette
+                .iter()
+                .map(|s| parse_hex(s))
+                .collect::<Result<_>>()?,
+        ),
     };
-    let model = VoronoiNoise {
-        seed: args.seed,
-        dimensions: args.dims,
-        cell_size: args.cell,
-        jitter: args.jitter,
-        lloyd_iterations: args.lloyd,
-        lloyd_block: args.block,
-        output,
-    };
-    model.validate().map_err(|e| match &e {
-        ModelError::OutOfRange { field, .. } | ModelError::Length { field, .. } => {
-            anyhow!("{e}; set {} within it", flag(field))
-        }
-        _ => anyhow!("{e}"),
-    })?;
-    let model = Model::Voronoi(model);
+    let model = builder.build().map_err(super::flag_hint(flag))?;
+    let model = Model::from(model);
     if let Some(path) = &args.model {
         write_model(path, &model)?;
     }
-    render_to_file(&model, &args.render, (512, 512))
+    render_to_file(&model, &args.render, crate::args::DEFAULT_SIZE)
 }

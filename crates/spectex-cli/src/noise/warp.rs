@@ -60,7 +60,7 @@ pub(crate) fn run(args: &WarpArgs) -> Result<()> {
     if let Some(path) = &args.model {
         write_model(path, &model)?;
     }
-    render_to_file(&model, &args.render, (512, 512))
+    render_to_file(&model, &args.render, crate::args::DEFAULT_SIZE)
 }
 
 /// The flags as a builder, with the model files read in the order base, x, y: the built-in

@@ -1,9 +1,9 @@
 //! `spectex noise wavelet`: wavelet noise (Cook & DeRose 2005, `spectex_model::wavelet`) from
 //! flags, written as a model (`--model`) and rendered.
 
-use anyhow::{Result, anyhow};
+use anyhow::Result;
 use clap::Args;
-use spectex_model::{Model, ModelError, WaveletNoise, WaveletNoiseBuilder};
+use spectex_model::{Model, WaveletNoise, WaveletNoiseBuilder};
 
 use crate::args::RenderArgs;
 use crate::model_file::write_model;
@@ -20,7 +20,7 @@ pub struct WaveletArgs {
     #[arg(long, value_name = "PX", default_value_t = WaveletNoise::DEFAULT_CELL_SIZE)]
     cell: f32,
     /// Weights of the bands W1,W2,… (1 to 16); band b has 2^b times the first one's frequency.
-    #[arg(long, value_name = "W1,W2,…", default_value = "1", value_parser = parse_bands, allow_hyphen_values = true)]
+    #[arg(long, value_name = "W1,W2,…", default_value_t = Bands(WaveletNoise::DEFAULT_BANDS.to_vec()), value_parser = parse_bands, allow_hyphen_values = true)]
     bands: Bands,
     /// 2 (a plane) or 3 (a volume sliced at --z).
     #[arg(long, default_value_t = WaveletNoise::DEFAULT_DIMENSIONS)]
@@ -41,9 +41,16 @@ pub struct WaveletArgs {
     render: RenderArgs,
 }
 
-/// Band weights as parsed from `--bands`.
+/// Band weights as parsed from `--bands` (and written so, for a default).
 #[derive(Debug, Clone)]
 pub(crate) struct Bands(Vec<f32>);
+
+impl std::fmt::Display for Bands {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let weights: Vec<String> = self.0.iter().map(f32::to_string).collect();
+        write!(f, "{}", weights.join(","))
+    }
+}
 
 fn parse_bands(s: &str) -> Result<Bands, String> {
     s.split(',')
@@ -74,17 +81,12 @@ fn flag(field: &str) -> &'static str {
 /// Builds the model, writes it if asked, and renders it.
 pub(crate) fn run(args: &WaveletArgs) -> Result<()> {
     crate::io::check_output(&args.render.output, args.render.bit_depth)?;
-    let model = builder(args).build().map_err(|e| match &e {
-        ModelError::OutOfRange { field, .. } | ModelError::Length { field, .. } => {
-            anyhow!("{e}; set {} within it", flag(field))
-        }
-        _ => anyhow!("{e}"),
-    })?;
+    let model = builder(args).build().map_err(super::flag_hint(flag))?;
     let model = Model::from(model);
     if let Some(path) = &args.model {
         write_model(path, &model)?;
     }
-    render_to_file(&model, &args.render, (512, 512))
+    render_to_file(&model, &args.render, crate::args::DEFAULT_SIZE)
 }
 
 /// The flags as a builder (the tile side of the dimensions without `--tile`).

@@ -23,6 +23,14 @@ impl PhasorNoise {
     pub const DEFAULT_IMPULSES_PER_KERNEL: f32 = 32.0;
     /// Direction of the kernels (the bi-lobe case along x) unless another orientation is given.
     pub const DEFAULT_ANGLE: f32 = 0.0;
+    /// Frequency at white of a frequency image (`spectex phasor --frequency-image`), cycles
+    /// per pixel: twice [`Self::DEFAULT_FREQUENCY`], an octave of grading.
+    pub const DEFAULT_FREQUENCY_MAX: f32 = 0.1;
+    /// Bandwidth at white of a bandwidth image (`spectex phasor --bandwidth-image`), per pixel:
+    /// twice [`Self::DEFAULT_BANDWIDTH`].
+    pub const DEFAULT_BANDWIDTH_MAX: f32 = 0.04;
+    /// Duty cycle of a square profile: equal light and dark.
+    pub const DEFAULT_DUTY: f32 = 0.5;
 
     /// A phasor noise with every field at its default: sine stripes along x, written in
     /// `[0, 1]`; set what differs, then `build()`.
