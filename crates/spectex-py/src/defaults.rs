@@ -1,12 +1,8 @@
 //! The one place the Python builders get their defaults: each builder's default model, made by
-//! `spectex-model`'s own builder (or its `Default`) for that kind. The Python functions'
-//! signatures are generated from these models' fields at import, so a default changed in
-//! `spectex-model` changes here and in Python with nothing else to edit.
-//!
-//! Where a kind has no builder yet the model crate's `Default` or named constructor is used
-//! (voronoi, texton, islamic: `Default`; subdivision: `StochasticSubdivision::midpoint`), the
-//! same values the `spectex noise` flags default to. Repoint an entry when its kind gets a
-//! builder with `DEFAULT_` constants.
+//! `spectex-model`'s own builder for that kind (its `DEFAULT_` constants, which the `spectex
+//! noise` flags default to as well). The Python functions' signatures are generated from these
+//! models' fields at import, so a default changed in `spectex-model` changes here and in Python
+//! with nothing else to edit.
 
 use spectex_model::classic::{Basis, FractalKind, Worley};
 use spectex_model::{
@@ -114,10 +110,10 @@ pub(crate) fn default_model(
         "gabor" => GaborNoise::builder().build().map(Model::from),
         "phasor" => PhasorNoise::builder().build().map(Model::from),
         "wavelet" => WaveletNoise::builder().build().map(Model::from),
-        "voronoi" => Ok(Model::Voronoi(VoronoiNoise::default())),
-        "texton" => Ok(Model::Texton(TextonNoise::default())),
-        "islamic" => Ok(Model::Islamic(IslamicPattern::default())),
-        "subdivision" => Ok(Model::Subdivision(StochasticSubdivision::midpoint())),
+        "voronoi" => VoronoiNoise::builder().build().map(Model::from),
+        "texton" => TextonNoise::builder().build().map(Model::from),
+        "islamic" => IslamicPattern::builder().build().map(Model::from),
+        "subdivision" => StochasticSubdivision::builder().build().map(Model::from),
         _ => return None,
     })
 }
