@@ -296,12 +296,7 @@ pub fn assemble(cmd: &AssembleCommand) -> Result<()> {
         );
     }
 
-    let dir = io::parent_dir(&cmd.output);
-    let tmp = tempfile::Builder::new()
-        .prefix(".spectex-")
-        .suffix(".tmp")
-        .tempfile_in(&dir)
-        .map_err(|e| anyhow!("cannot write into '{}': {e}", dir.display()))?;
+    let tmp = io::temporary_beside(&cmd.output)?;
     let rows = cmd.band_rows.unwrap_or_else(|| stream::band_rows(width));
     let bar = crate::progress::progress_bar(height as u64, "assembling");
     let mut failure = None;

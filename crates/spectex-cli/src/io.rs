@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, anyhow, bail};
 use image::{DynamicImage, ImageBuffer, ImageReader, Limits, Luma, Rgb};
-use ndarray::{Array2, Array3, Axis};
+use ndarray::{Array2, Array3};
 
 /// Largest input side accepted by the decoder (also the synthesis limit).
 pub const MAX_INPUT_SIDE: u32 = 16_384;
@@ -58,18 +58,10 @@ pub fn load(path: &Path) -> Result<Loaded> {
     decode(&bytes, &format!("input '{}'", path.display()))
 }
 
-/// Rec. 709 luminance of a colour image (`0.2126 R + 0.7152 G + 0.0722 B`), or the single
-/// channel of a grey one.
+/// Rec. 709 luminance of a colour image, or the single channel of a grey one
+/// ([`spectex_spectrum::luminance`]).
 pub fn luminance(img: &Array3<f64>) -> Array2<f64> {
-    if img.dim().0 == 1 {
-        return img.index_axis(Axis(0), 0).to_owned();
-    }
-    let w = [0.2126, 0.7152, 0.0722];
-    let mut y = Array2::zeros((img.dim().1, img.dim().2));
-    for (c, wc) in w.iter().enumerate() {
-        y.scaled_add(*wc, &img.index_axis(Axis(0), c));
-    }
-    y
+    spectex_spectrum::luminance(img.view())
 }
 
 /// The image as grey levels for a command that reads grey (a height map, a control image):
@@ -203,6 +195,25 @@ pub struct WriteReport {
     pub total: usize,
 }
 
+/// A hidden temporary file (`.spectex-XXXX.tmp`) in the directory of `path`, where its output
+/// is written before [`finish`] renames it into place (removed if dropped unfinished).
+///
+/// # Errors
+/// The directory is not writable.
+pub(crate) fn temporary_beside(path: &Path) -> Result<tempfile::NamedTempFile> {
+    let dir = parent_dir(path);
+    tempfile::Builder::new()
+        .prefix(".spectex-")
+        .suffix(".tmp")
+        .tempfile_in(&dir)
+        .map_err(|e| {
+            anyhow!(
+                "cannot write into '{}': {e}; choose a writable location",
+                dir.display()
+            )
+        })
+}
+
 /// Writes `pixels` (`(channel, row, column)`, 1 or 3 channels) to `path` atomically: the data
 /// go to a temporary file in the same directory, which is renamed over `path` only once
 /// complete. A failure at any point leaves no file behind.
@@ -211,12 +222,7 @@ pub fn save(path: &Path, pixels: &Array3<f64>, format: Format) -> Result<WriteRe
     if channels != 1 && channels != 3 {
         bail!("internal: cannot write an image of {channels} channels");
     }
-    let dir = parent_dir(path);
-    let tmp = tempfile::Builder::new()
-        .prefix(".spectex-")
-        .suffix(".tmp")
-        .tempfile_in(&dir)
-        .map_err(|e| anyhow!("cannot write into '{}': {e}", dir.display()))?;
+    let tmp = temporary_beside(path)?;
     let mut report = WriteReport {
         clipped: 0,
         total: pixels.len(),
@@ -423,54 +429,75 @@ pub(crate) fn save_samples(
         channels,
         data,
     } = samples;
-    let dir = parent_dir(path);
-    let tmp = tempfile::Builder::new()
-        .prefix(".spectex-")
-        .suffix(".tmp")
-        .tempfile_in(&dir)
-        .map_err(|e| anyhow!("cannot write into '{}': {e}", dir.display()))?;
+    let tmp = temporary_beside(path)?;
     let report = WriteReport {
         clipped,
         total: w * h * channels,
     };
     {
         let mut out = BufWriter::new(tmp.as_file());
-        let (w32, h32) = (w as u32, h as u32);
-        let wrong = || anyhow!("internal: {w}×{h}×{channels} samples of the wrong length");
-        let img = match (data, channels) {
-            (SampleData::U8(v), 1) => Some(DynamicImage::ImageLuma8(
-                ImageBuffer::from_raw(w32, h32, v).ok_or_else(wrong)?,
-            )),
-            (SampleData::U8(v), _) => Some(DynamicImage::ImageRgb8(
-                ImageBuffer::from_raw(w32, h32, v).ok_or_else(wrong)?,
-            )),
-            (SampleData::U16(v), 1) => Some(DynamicImage::ImageLuma16(
-                ImageBuffer::from_raw(w32, h32, v).ok_or_else(wrong)?,
-            )),
-            (SampleData::U16(v), _) => Some(DynamicImage::ImageRgb16(
-                ImageBuffer::from_raw(w32, h32, v).ok_or_else(wrong)?,
-            )),
-            (SampleData::F32(v), _) => {
-                if v.len() != w * h * channels {
-                    return Err(wrong());
-                }
-                write_exr(&mut out, &v, w, h, channels)
-                    .with_context(|| format!("cannot encode '{}'", path.display()))?;
-                None
-            }
-        };
-        if let Some(img) = img {
-            if !matches!(format, Format::Png(_)) {
-                bail!("internal: PNG samples for a {format:?} output");
-            }
-            img.write_with_encoder(image::codecs::png::PngEncoder::new(&mut out))
-                .with_context(|| format!("cannot encode '{}'", path.display()))?;
-        }
+        encode_samples(
+            &mut out,
+            Samples {
+                width: w,
+                height: h,
+                channels,
+                data,
+            },
+            format,
+        )
+        .with_context(|| format!("cannot encode '{}'", path.display()))?;
         out.flush()
             .with_context(|| format!("cannot write '{}'", path.display()))?;
     }
     finish(tmp, path)?;
     Ok(report)
+}
+
+/// Encodes `samples` into `out` as the file `format` names: an 8- or 16-bit PNG (grey or RGB) of
+/// their levels, or the OpenEXR of their values ([`write_exr`]). The one encoder of rendered
+/// samples: files ([`save_samples`]) and `spectex view`'s tiles.
+///
+/// # Errors
+/// Samples of the wrong length or made for another format, or the encoder's error.
+pub(crate) fn encode_samples<W: Write + std::io::Seek>(
+    out: W,
+    samples: Samples,
+    format: Format,
+) -> Result<()> {
+    let Samples {
+        width: w,
+        height: h,
+        channels,
+        data,
+    } = samples;
+    let (w32, h32) = (w as u32, h as u32);
+    let wrong = || anyhow!("internal: {w}×{h}×{channels} samples of the wrong length");
+    let img = match (data, channels) {
+        (SampleData::U8(v), 1) => {
+            DynamicImage::ImageLuma8(ImageBuffer::from_raw(w32, h32, v).ok_or_else(wrong)?)
+        }
+        (SampleData::U8(v), _) => {
+            DynamicImage::ImageRgb8(ImageBuffer::from_raw(w32, h32, v).ok_or_else(wrong)?)
+        }
+        (SampleData::U16(v), 1) => {
+            DynamicImage::ImageLuma16(ImageBuffer::from_raw(w32, h32, v).ok_or_else(wrong)?)
+        }
+        (SampleData::U16(v), _) => {
+            DynamicImage::ImageRgb16(ImageBuffer::from_raw(w32, h32, v).ok_or_else(wrong)?)
+        }
+        (SampleData::F32(v), _) => {
+            if v.len() != w * h * channels {
+                return Err(wrong());
+            }
+            return write_exr(out, &v, w, h, channels);
+        }
+    };
+    if !matches!(format, Format::Png(_)) {
+        bail!("internal: PNG samples for a {format:?} output");
+    }
+    img.write_with_encoder(image::codecs::png::PngEncoder::new(out))?;
+    Ok(())
 }
 
 /// Writes `values` (`channels` = 1 or 3 per pixel, row-major) as a 32-bit float OpenEXR: one
@@ -516,17 +543,7 @@ pub fn write_text_atomically(path: &Path, text: &str) -> Result<()> {
 
 /// Writes a binary file atomically (temporary file in the same directory, then rename).
 pub fn write_bytes_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
-    let dir = parent_dir(path);
-    let mut tmp = tempfile::Builder::new()
-        .prefix(".spectex-")
-        .suffix(".tmp")
-        .tempfile_in(&dir)
-        .map_err(|e| {
-            anyhow!(
-                "cannot write into '{}': {e}; choose a writable location",
-                dir.display()
-            )
-        })?;
+    let mut tmp = temporary_beside(path)?;
     tmp.write_all(bytes)
         .with_context(|| format!("cannot write '{}'", path.display()))?;
     finish(tmp, path)

@@ -256,13 +256,8 @@ pub(crate) fn render(
         Ok(())
     };
 
-    let dir = io::parent_dir(&args.output);
     crate::interrupt::watch();
-    let tmp = tempfile::Builder::new()
-        .prefix(".spectex-")
-        .suffix(".tmp")
-        .tempfile_in(&dir)
-        .map_err(|e| anyhow!("cannot write into '{}': {e}", dir.display()))?;
+    let tmp = io::temporary_beside(&args.output)?;
     let start = std::time::Instant::now();
     let rows = args
         .stream

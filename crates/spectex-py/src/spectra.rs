@@ -230,8 +230,8 @@ fn analyses(img: ArrayView3<'_, f64>) -> PyResult<Analysis> {
         periodic.index_axis_mut(Axis(0), c).assign(&d.periodic);
         smooth.index_axis_mut(Axis(0), c).assign(&d.smooth);
     }
-    let luma = luminance(img);
-    let luma_p = luminance(periodic.view());
+    let luma = spectex_spectrum::luminance(img);
+    let luma_p = spectex_spectrum::luminance(periodic.view());
     let psd = welch_psd(luma.view(), &mut fft).map_err(value_error)?;
     let var = variance_spectrum(luma.view(), &mut fft).map_err(value_error)?;
     let log_spectrum = log_magnitude_spectrum(luma.view(), &mut fft);
@@ -260,20 +260,6 @@ fn analyses(img: ArrayView3<'_, f64>) -> PyResult<Analysis> {
         power: rings.iter().map(|b| b.power).collect(),
         power_channels,
     })
-}
-
-/// Rec. 709 luminance (`0.2126 R + 0.7152 G + 0.0722 B`) of a colour image, or the one
-/// channel of a grey one: `spectex_cli::io::luminance`, the same sum in the same order (the
-/// command's crate is not a dependency of this module).
-fn luminance(img: ArrayView3<'_, f64>) -> Array2<f64> {
-    if img.dim().0 == 1 {
-        return img.index_axis(Axis(0), 0).to_owned();
-    }
-    let mut y = Array2::zeros((img.dim().1, img.dim().2));
-    for (c, wc) in [0.2126, 0.7152, 0.0722].iter().enumerate() {
-        y.scaled_add(*wc, &img.index_axis(Axis(0), c));
-    }
-    y
 }
 
 /// A `(channel, row, column)` array as numpy `(H, W)` for one channel or `(H, W, C)`, without

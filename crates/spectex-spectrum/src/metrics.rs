@@ -160,3 +160,19 @@ pub fn fraction_above_gaussian_quantile(a: ArrayView2<'_, f64>, p: f64) -> f64 {
     let t = m + v.sqrt() * standard_normal_quantile(p);
     a.iter().filter(|&&x| x > t).count() as f64 / a.len().max(1) as f64
 }
+
+/// Rec. 709 luminance of a `(channel, row, column)` colour image (`0.2126 R + 0.7152 G +
+/// 0.0722 B`, summed in that order), or the single channel of a grey one: what the `spectex`
+/// command and the Python package analyse and use as grey levels.
+#[must_use]
+pub fn luminance(img: ndarray::ArrayView3<'_, f64>) -> Array2<f64> {
+    use ndarray::Axis;
+    if img.dim().0 == 1 {
+        return img.index_axis(Axis(0), 0).to_owned();
+    }
+    let mut y = Array2::zeros((img.dim().1, img.dim().2));
+    for (c, wc) in [0.2126, 0.7152, 0.0722].iter().enumerate() {
+        y.scaled_add(*wc, &img.index_axis(Axis(0), c));
+    }
+    y
+}

@@ -10,7 +10,7 @@ use image::{DynamicImage, ImageBuffer};
 use ndarray::Array2;
 use spectex_cpu::{Evaluator, Window};
 
-use crate::io::{self, BitDepth, Format, SampleData, Samples};
+use crate::io::{self, BitDepth, Format, Samples};
 
 /// Largest side of a displayed spectrum.
 pub(crate) const MAX_SPECTRUM: usize = 1024;
@@ -70,12 +70,15 @@ impl Renderer {
 
     /// `window` as the PNG (8 bits per channel) `spectex render -o out.png` writes of it.
     pub(crate) fn png(&self, window: &Window) -> Result<Vec<u8>> {
-        encode(self.samples(window, Format::Png(BitDepth::Eight))?)
+        encode(
+            self.samples(window, Format::Png(BitDepth::Eight))?,
+            Format::Png(BitDepth::Eight),
+        )
     }
 
     /// `window` as the OpenEXR (32-bit float RGB) `spectex render -o out.exr` writes of it.
     pub(crate) fn exr(&self, window: &Window) -> Result<Vec<u8>> {
-        encode(self.samples(window, Format::Exr)?)
+        encode(self.samples(window, Format::Exr)?, Format::Exr)
     }
 
     /// `window` as an 8-bit PNG written band by band into `out` (memory: one band), for large
@@ -110,38 +113,11 @@ impl Renderer {
     }
 }
 
-/// The file bytes of `samples`, encoded as `io::save_samples` encodes them.
-fn encode(samples: Samples) -> Result<Vec<u8>> {
-    let Samples {
-        width: w,
-        height: h,
-        channels,
-        data,
-    } = samples;
-    let (w32, h32) = (w as u32, h as u32);
-    let wrong = || anyhow!("internal: {w}×{h}×{channels} samples of the wrong length");
-    let mut out = Vec::new();
-    let img = match (data, channels) {
-        (SampleData::U8(v), 1) => {
-            DynamicImage::ImageLuma8(ImageBuffer::from_raw(w32, h32, v).ok_or_else(wrong)?)
-        }
-        (SampleData::U8(v), _) => {
-            DynamicImage::ImageRgb8(ImageBuffer::from_raw(w32, h32, v).ok_or_else(wrong)?)
-        }
-        (SampleData::U16(v), 1) => {
-            DynamicImage::ImageLuma16(ImageBuffer::from_raw(w32, h32, v).ok_or_else(wrong)?)
-        }
-        (SampleData::U16(v), _) => {
-            DynamicImage::ImageRgb16(ImageBuffer::from_raw(w32, h32, v).ok_or_else(wrong)?)
-        }
-        (SampleData::F32(v), _) => {
-            // The OpenEXR `spectex render` writes (`io::save_samples`).
-            io::write_exr(std::io::Cursor::new(&mut out), &v, w, h, channels)?;
-            return Ok(out);
-        }
-    };
-    img.write_with_encoder(image::codecs::png::PngEncoder::new(&mut out))?;
-    Ok(out)
+/// The file bytes of `samples` in `format`, by the encoder `spectex render` writes files with.
+fn encode(samples: Samples, format: Format) -> Result<Vec<u8>> {
+    let mut out = std::io::Cursor::new(Vec::new());
+    io::encode_samples(&mut out, samples, format)?;
+    Ok(out.into_inner())
 }
 
 /// A grey image of values in `[0, 1]` as an 8-bit PNG.
