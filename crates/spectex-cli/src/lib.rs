@@ -220,7 +220,13 @@ fn with_hint(e: anyhow::Error) -> anyhow::Error {
     }
 }
 
-fn run(cli: Cli) -> Result<()> {
+/// Runs the parsed command `cli`: what [`main`] does after parsing, without the exit status (the
+/// docs test runs every documented command line through it, in-process).
+///
+/// # Errors
+/// The command's failure, as [`main`] would print it.
+#[doc(hidden)]
+pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Rpn(args) => run_rpn(&args),
         Command::Analyze(args) => {
