@@ -38,6 +38,9 @@ fn _spectex(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(builders::builder_names, m)?)?;
     m.add_function(wrap_pyfunction!(builders::combine, m)?)?;
     m.add_function(wrap_pyfunction!(builders::warp, m)?)?;
+    m.add_function(wrap_pyfunction!(builders::target_names, m)?)?;
+    m.add_function(wrap_pyfunction!(builders::target_default, m)?)?;
+    m.add_function(wrap_pyfunction!(builders::lrp_from_target, m)?)?;
     m.add_function(wrap_pyfunction!(simulate::simulation_defaults, m)?)?;
     m.add_function(wrap_pyfunction!(simulate::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(render::bench_rust_render, m)?)?;

@@ -30,13 +30,29 @@ def _reference_bin():
     return None
 
 
-@pytest.fixture(scope="session")
-def reference_dir(tmp_path_factory):
+def _reference_or_skip():
     exe = _reference_bin()
     if exe is None or not exe.exists():
         if os.environ.get("SPECTEX_PY_REQUIRE_REFERENCE") == "1":
             pytest.fail(f"the reference binary is missing ({exe}); build it with cargo xtask python")
         pytest.skip("spectex-py-reference not built (cargo build -p spectex-py --bins)")
+    return exe
+
+
+@pytest.fixture(scope="session")
+def reference_dir(tmp_path_factory):
+    exe = _reference_or_skip()
     out = tmp_path_factory.mktemp("reference")
     subprocess.run([str(exe), str(out), *map(str, MODELS)], check=True)
+    return out
+
+
+@pytest.fixture(scope="session")
+def builder_reference(tmp_path_factory):
+    """The models the Rust builders make for the builder cases (``--builders``), and the Rust
+    renders of each: ``<case>.json`` and ``<case>.<window>.f32``."""
+    exe = _reference_or_skip()
+    out = tmp_path_factory.mktemp("builders")
+    subprocess.run([str(exe), "--builders", str(out)], check=True)
+    subprocess.run([str(exe), str(out), *map(str, sorted(out.glob("*.json")))], check=True)
     return out

@@ -6,6 +6,7 @@ import pickle
 import pydoc
 
 import numpy as np
+import pytest
 
 import spectex
 
@@ -24,11 +25,89 @@ def test_signatures_carry_the_rust_defaults():
     assert fields(spectex.warp())[1]["strength"] == 16.0
 
 
+def builders():
+    """Every builder of spectex.noise (the models of models, combine and warp, aside)."""
+    return [getattr(spectex.noise, n) for n in spectex.noise.__all__ if n not in ("combine", "warp", "BASES")]
+
+
 def test_every_builder_makes_a_valid_model_that_renders():
-    for name in ["perlin", "simplex", "value", "kensler", "worley", "fbm", "turbulence", "ridged", "gabor", "phasor", "wavelet", "voronoi", "texton", "islamic", "subdivision"]:
-        model = getattr(spectex.noise, name)()
+    assert len(builders()) == 20
+    for builder in builders():
+        model = builder()
         assert isinstance(model, spectex.Model)
-        assert np.isfinite(model.render(8, 8)).all(), name
+        assert np.isfinite(model.render(8, 8)).all(), builder.__name__
+
+
+def test_every_kind_has_a_builder():
+    # A texture is fitted (spectex.fit with structure, or a colour exemplar); combine and warp
+    # are made of other models.
+    made = {b().kind for b in builders()} | {"combine", "warp"}
+    made.add(spectex.fit(np.random.default_rng(0).random((16, 16, 3)), budget=4, strata=1).kind)
+    assert made == set(spectex.KIND_NAMES)
+
+
+# The models `spectex-py-reference --builders` makes with the Rust builders
+# (spectex_sampling::LrpFromTarget, spectex_model::MatrixTransform::builder), made here by the
+# Python ones: the defaults, and every parameter given (values exact in f32).
+BUILDER_CASES = {
+    "ring": lambda: spectex.noise.ring(),
+    "ring-options": lambda: spectex.noise.ring(radius=0.125, width=0.0078125, budget=6, strata=2, seed=3, std_dev=0.25, mean=0.0),
+    "lobe": lambda: spectex.noise.lobe(),
+    "lobe-options": lambda: spectex.noise.lobe(frequency=0.125, angle=-1.0, width=0.015625, budget=4, seed=7),
+    "band": lambda: spectex.noise.band(),
+    "fractal": lambda: spectex.noise.fractal(),
+    "fractal-options": lambda: spectex.noise.fractal(beta=1.0, angle=0.5, spread=0.25, min_frequency=0.015625, budget=24, strata=6, mean=0.25),
+    "matrix": lambda: spectex.matrix(),
+    "matrix-options": lambda: spectex.noise.matrix(matrix=[[3, 0], [0, 7]], iterations=2, size=128, source={"rings": {"rings": 9}}, amplitude=0.5, mean=0.25),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BUILDER_CASES))
+def test_builder_makes_the_rust_builders_model_and_render(case, builder_reference):
+    from test_render import CASES
+
+    model = BUILDER_CASES[case]()
+    expected = spectex.Model.load(str(builder_reference / f"{case}.json"))
+    assert json.loads(model.to_json()) == json.loads(expected.to_json()), case
+    assert model == expected
+    for name, w, h, offset, scale, z, filt in CASES:
+        got = model.render(w, h, offset=offset, scale=scale, z=z, filter=filt)
+        assert got.tobytes() == (builder_reference / f"{case}.{name}.f32").read_bytes(), f"{case} {name}"
+
+
+def test_target_signatures_carry_the_rust_defaults():
+    # SpectralTarget::DEFAULT_RING_RADIUS, DEFAULT_LOBE_ANGLE_DEGREES (30°, in radians as f32),
+    # LrpFromTarget::DEFAULT_BUDGET and FRACTAL_BUDGET, FRACTAL_STRATA, DEFAULT_STD_DEV.
+    ring = inspect.signature(spectex.noise.ring).parameters
+    assert (ring["radius"].default, ring["budget"].default, ring["strata"].default) == (0.0625, 10, 1)
+    assert (ring["width"].default, ring["std_dev"].default, ring["mean"].default) == (0.005, 0.15, 0.5)
+    angle = inspect.signature(spectex.noise.lobe).parameters["angle"].default
+    assert float(np.float32(angle)) == float(np.float32(np.radians(30.0)))
+    fractal = inspect.signature(spectex.noise.fractal).parameters
+    assert (fractal["budget"].default, fractal["strata"].default, fractal["spread"].default) == (48, 12, None)
+    matrix = inspect.signature(spectex.matrix).parameters
+    assert (matrix["matrix"].default, matrix["iterations"].default) == ([[1, 1], [1, 2]], 5)
+
+
+@pytest.mark.parametrize("call,error,match", [
+    (lambda: spectex.noise.ring(radius=0.9), ValueError, r"ring\.radius"),
+    (lambda: spectex.noise.band(min=0.2, max=0.1), ValueError, r"band\.max"),
+    (lambda: spectex.noise.fractal(spread=0.0), ValueError, r"fractal\.spread"),
+    (lambda: spectex.noise.ring(budget=0), ValueError, "budget"),
+    (lambda: spectex.noise.ring(budget=-3), ValueError, "budget"),
+    (lambda: spectex.noise.ring(budget=2, strata=3), ValueError, "strata"),
+    (lambda: spectex.noise.lobe(std_dev=0.0), ValueError, "std_dev"),
+    (lambda: spectex.noise.lobe(width=float("nan")), ValueError, "finite"),
+    (lambda: spectex.noise.ring(seed=2**32), ValueError, "seed"),
+    (lambda: spectex.noise.ring(radious=0.1), TypeError, "radious.*radius"),
+    (lambda: spectex.noise.band(min="low"), ValueError, "band"),
+    (lambda: spectex.matrix(matrix=[[2, 0], [0, 1]]), ValueError, r"matrix\.matrix"),
+    (lambda: spectex.matrix(size=1), ValueError, r"matrix\.size"),
+    (lambda: spectex.matrix(rings=9), TypeError, "rings"),
+])
+def test_bad_target_and_matrix_parameters_name_the_parameter(call, error, match):
+    with pytest.raises(error, match=match):
+        call()
 
 
 def test_fields_by_name_and_alias():

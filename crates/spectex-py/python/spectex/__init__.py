@@ -27,6 +27,7 @@ voronoi = noise.voronoi
 texton = noise.texton
 islamic = noise.islamic
 subdivision = noise.subdivision
+matrix = noise.matrix
 
 __all__ = [
     "GPU",
@@ -37,6 +38,7 @@ __all__ = [
     "fit",
     "gabor",
     "islamic",
+    "matrix",
     "noise",
     "phasor",
     "rpn",

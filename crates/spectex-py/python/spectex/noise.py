@@ -8,6 +8,12 @@ accepted for ``cell_size`` and ``dimensions``; a fractal sum's ``octaves``, ``la
 ``gain`` are set by name). Values are checked by the model's validation: a value out of range
 is a ``ValueError`` naming the field and its valid range.
 
+LRP noise is fitted to a spectrum rather than set field by field: ``ring``, ``lobe``, ``band``
+and ``fractal`` (the ``spectex noise`` commands of the same names) take the spectral target's
+parameters (frequencies in cycles per pixel, angles in radians where the command takes
+degrees) and the fit's ``budget``, ``strata``, ``seed``, ``std_dev`` and ``mean``, with the
+defaults of ``spectex_sampling::LrpFromTarget`` for that target.
+
 Example::
 
     >>> import spectex
@@ -21,8 +27,9 @@ Example::
 import json
 
 from . import _fields
-from ._spectex import Model, builder_names, default_model
+from ._spectex import Model, builder_names, default_model, target_default, target_names
 from ._spectex import combine as _combine
+from ._spectex import lrp_from_target as _lrp_from_target
 from ._spectex import warp as _warp
 
 _BUILDERS, BASES = builder_names()
@@ -65,9 +72,11 @@ def _make(name, description):
         extra = f"\n``basis`` is one of {', '.join(BASES)}."
     elif name in BASES:
         extra = "\n``octaves`` (with ``lacunarity``, ``gain``) makes the noise's fBm."
+    # A kind without randomness (matrix) has no seed.
+    example = "seed=1" if "seed" in dict(params) else ""
     builder.__doc__ = (
         f"A ``{kind}`` model: {description}, every field at the Rust default unless given.{extra}\n\n"
-        f"Example::\n\n    >>> m = spectex.noise.{name}(seed=1)\n    >>> m.kind\n    '{kind}'\n"
+        f"Example::\n\n    >>> m = spectex.noise.{name}({example})\n    >>> m.kind\n    '{kind}'\n"
     )
     return builder
 
@@ -75,7 +84,46 @@ def _make(name, description):
 for _name, _description in _BUILDERS.items():
     globals()[_name] = _make(_name, _description)
 
-__all__ = sorted(_BUILDERS) + ["combine", "warp", "BASES"]
+
+def _make_target(name, description):
+    defaults = target_default(name)
+    variant, target, options = defaults["variant"], defaults["target"], defaults["options"]
+
+    def builder(**kwargs):
+        fields = dict(target)
+        given = {}
+        for key, value in kwargs.items():
+            value = _fields.plain(value, f"{name}.{key}")
+            if key in fields:
+                fields[key] = value
+            elif key in options:
+                given[key] = value
+            else:
+                raise TypeError(
+                    f"{name}() got an unexpected keyword argument {key!r}; its parameters are "
+                    + ", ".join(sorted([*fields, *options]))
+                )
+        return _lrp_from_target(json.dumps({variant: fields}), **given)
+
+    builder.__name__ = builder.__qualname__ = name
+    builder.__module__ = __name__
+    builder.__signature__ = _fields.signature([*target.items(), *options.items()])
+    builder.__doc__ = (
+        f"An ``lrp`` model: {description}, fitted as ``spectex noise {name}`` fits it, every "
+        f"parameter at the Rust default unless given.\n\n"
+        f"The target's parameters are in cycles per pixel, its angles in radians; ``budget`` "
+        f"(cosines per lattice point J) and ``strata`` (L) shape the fit, ``std_dev`` and "
+        f"``mean`` the noise's values.\n\n"
+        f"Example::\n\n    >>> m = spectex.noise.{name}(seed=1)\n    >>> m.kind\n    'lrp'\n"
+    )
+    return builder
+
+
+_TARGETS = dict(target_names())
+for _name, _description in _TARGETS.items():
+    globals()[_name] = _make_target(_name, _description)
+
+__all__ = sorted([*_BUILDERS, *_TARGETS]) + ["combine", "warp", "BASES"]
 
 
 def combine(op, *models, **params):

@@ -5,11 +5,17 @@
 //!
 //! `spectex-py-reference OUT_DIR MODEL.json…` writes `OUT_DIR/<stem>.<case>.f32` for each case
 //! of [`CASES`] and `OUT_DIR/<stem>.points.f32` for [`points`].
+//!
+//! `spectex-py-reference --builders OUT_DIR` writes `OUT_DIR/<case>.json`, the models of
+//! [`builder_cases`] made by the Rust builders themselves (`spectex_sampling::LrpFromTarget`,
+//! `MatrixTransform::builder`), which the Python builders' models must equal.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use spectex_cpu::{Evaluator, Filter, Window};
+use spectex_model::{MatrixTransform, Model, SpectralTarget};
+use spectex_sampling::LrpFromTarget;
 
 /// One window rendered: `(name, width, height, offset, scale, z, filter)`.
 type Case = (&'static str, usize, usize, [f64; 2], f64, f64, bool);
@@ -71,15 +77,136 @@ fn reference(out: &Path, file: &Path) -> Result<(), String> {
     write(&out.join(format!("{stem}.points.f32")), &values)
 }
 
+/// The builder cases (file stem, model): every target and the matrix builder at their
+/// defaults, and with every option given (values exact in f32). The suite
+/// (`tests/test_builders.py`) makes the same through Python.
+fn builder_cases() -> Result<Vec<(&'static str, Model)>, String> {
+    type T = SpectralTarget;
+    let lrp = |target: T| LrpFromTarget::new(target);
+    let targets = [
+        (
+            "ring",
+            lrp(T::Ring {
+                radius: T::DEFAULT_RING_RADIUS,
+                width: T::DEFAULT_RING_WIDTH,
+            }),
+        ),
+        (
+            "ring-options",
+            lrp(T::Ring {
+                radius: 0.125,
+                width: 0.0078125,
+            })
+            .budget(6)
+            .strata(2)
+            .seed(3)
+            .std_dev(0.25)
+            .mean(0.0),
+        ),
+        (
+            "lobe",
+            lrp(T::Lobes {
+                frequency: T::DEFAULT_LOBE_FREQUENCY,
+                angle: T::DEFAULT_LOBE_ANGLE_DEGREES.to_radians(),
+                width: T::DEFAULT_LOBE_WIDTH,
+            }),
+        ),
+        (
+            "lobe-options",
+            lrp(T::Lobes {
+                frequency: 0.125,
+                angle: -1.0,
+                width: 0.015625,
+            })
+            .budget(4)
+            .seed(7),
+        ),
+        (
+            "band",
+            lrp(T::Band {
+                min: T::DEFAULT_BAND_MIN,
+                max: T::DEFAULT_BAND_MAX,
+            }),
+        ),
+        (
+            "fractal",
+            lrp(T::Fractal {
+                beta: T::DEFAULT_FRACTAL_BETA,
+                angle: T::DEFAULT_FRACTAL_ANGLE_DEGREES.to_radians(),
+                spread: None,
+                min_frequency: T::DEFAULT_FRACTAL_MIN_FREQUENCY,
+            }),
+        ),
+        (
+            "fractal-options",
+            lrp(T::Fractal {
+                beta: 1.0,
+                angle: 0.5,
+                spread: Some(0.25),
+                min_frequency: 0.015625,
+            })
+            .budget(24)
+            .strata(6)
+            .mean(0.25),
+        ),
+    ];
+    let mut cases = Vec::new();
+    for (stem, builder) in targets {
+        let noise = builder.build().map_err(|e| format!("{stem}: {e}"))?;
+        cases.push((stem, Model::from(noise)));
+    }
+    let matrices = [
+        ("matrix", MatrixTransform::builder()),
+        (
+            "matrix-options",
+            MatrixTransform::builder()
+                .matrix([[3, 0], [0, 7]])
+                .iterations(2)
+                .size(128)
+                .rings(9)
+                .amplitude(0.5)
+                .mean(0.25),
+        ),
+    ];
+    for (stem, builder) in matrices {
+        let matrix = builder.build().map_err(|e| format!("{stem}: {e}"))?;
+        cases.push((stem, Model::from(matrix)));
+    }
+    Ok(cases)
+}
+
+/// Writes the models of [`builder_cases`] into `out`.
+fn builders(out: &Path) -> Result<(), String> {
+    for (stem, model) in builder_cases()? {
+        let text = spectex_model::to_json(&model).map_err(|e| format!("{stem}: {e}"))?;
+        let path = out.join(format!("{stem}.json"));
+        std::fs::write(&path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    }
+    Ok(())
+}
+
 fn main() -> ExitCode {
-    let args: Vec<PathBuf> = std::env::args_os().skip(1).map(PathBuf::from).collect();
+    let mut args: Vec<PathBuf> = std::env::args_os().skip(1).map(PathBuf::from).collect();
+    let making_builders = args.first().is_some_and(|a| a.as_os_str() == "--builders");
+    if making_builders {
+        args.remove(0);
+    }
     let Some((out, files)) = args.split_first() else {
-        eprintln!("usage: spectex-py-reference OUT_DIR MODEL.json…");
+        eprintln!(
+            "usage: spectex-py-reference OUT_DIR MODEL.json… | spectex-py-reference --builders OUT_DIR"
+        );
         return ExitCode::FAILURE;
     };
     if let Err(e) = std::fs::create_dir_all(out) {
         eprintln!("cannot create {}: {e}", out.display());
         return ExitCode::FAILURE;
+    }
+    if making_builders {
+        if let Err(e) = builders(out) {
+            eprintln!("error: {e}");
+            return ExitCode::FAILURE;
+        }
+        return ExitCode::SUCCESS;
     }
     for file in files {
         if let Err(e) = reference(out, file) {
