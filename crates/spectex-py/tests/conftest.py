@@ -15,7 +15,8 @@ import pytest
 
 REPO = pathlib.Path(__file__).resolve().parents[3]
 MODELS = sorted((REPO / "testdata" / "models").glob("*.json"))
-TEXTURES = pathlib.Path("/work/shared/testdata/textures")
+# The project's shared photographs, beside the repository (as the guide's `../shared/…`).
+TEXTURES = REPO.parent / "shared" / "testdata" / "textures"
 
 
 def _reference_bin():
