@@ -23,7 +23,7 @@ fn exemplar_256() -> Array2<f64> {
         env!("CARGO_MANIFEST_DIR"),
         "/../../../shared/testdata/textures/skimage_gravel.png"
     );
-    if let Ok(img) = image::open(path) {
+    if let Ok(img) = spectex_testkit::image_files::open(path) {
         let g = img.to_luma32f();
         if g.width() >= 256 && g.height() >= 256 {
             return Array2::from_shape_fn((256, 256), |(y, x)| {

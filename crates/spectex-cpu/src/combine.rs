@@ -131,8 +131,16 @@ impl RowKernel for CombineEvaluator {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
     use crate::Evaluator;
     use spectex_model::combine::{CombineOp, RampStop};
@@ -142,8 +150,7 @@ mod tests {
         Evaluator::new(m).expect("valid").render(w).expect("window")
     }
 
-    #[test]
-    fn combinations_are_their_operation_of_the_operands_renders() {
+    pub fn combinations_are_their_operation_of_the_operands_renders() {
         let a = Model::Classic(ClassicNoise::fbm().build().expect("valid"));
         let b = Model::Voronoi(VoronoiNoise {
             output: spectex_model::voronoi::VoronoiOutput::F1,

@@ -495,8 +495,16 @@ impl crate::RowKernel for GaborEvaluator {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
     fn model(ipk: f32, orientation: Orientation) -> GaborNoise {
@@ -515,8 +523,7 @@ mod tests {
 
     /// The renormalised product stays a normal f32: `exp(−64)` times the smallest non-zero
     /// uniform `2⁻²⁴` is above `f32::MIN_POSITIVE`, and `exp(64)` is finite.
-    #[test]
-    fn poisson_chunk_keeps_products_normal() {
+    pub fn poisson_chunk_keeps_products_normal() {
         let g = GaborEvaluator::new(&model(500.0, ANISO));
         assert_eq!(g.poisson_chunks, 2);
         assert!(g.chunk_up.is_finite());
@@ -526,8 +533,7 @@ mod tests {
 
     /// Mean and variance of the per-cell count against λ (Poisson: both equal λ), across the
     /// plain-Knuth and renormalised regimes; tolerance 5 standard errors of each estimate.
-    #[test]
-    fn poisson_count_has_poisson_moments() {
+    pub fn poisson_count_has_poisson_moments() {
         for ipk in [0.3f32, 8.0, 64.0, 150.0, 250.0, 1000.0] {
             let g = GaborEvaluator::new(&model(ipk, ANISO));
             let lambda = g.lambda;
@@ -555,8 +561,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn count_is_capped_and_the_loop_bounded_for_nonsense_models() {
+    pub fn count_is_capped_and_the_loop_bounded_for_nonsense_models() {
         let mut m = model(8.0, ANISO);
         m.bandwidth = 0.0;
         m.impulses_per_kernel = f32::NAN;
@@ -575,8 +580,7 @@ mod tests {
     }
 
     /// `π a² r² = −ln 0.05` for every bandwidth, so the exponent per squared cell unit is fixed.
-    #[test]
-    fn gaussian_exponent_is_the_truncation_log() {
+    pub fn gaussian_exponent_is_the_truncation_log() {
         assert_eq!(NEG_LN_20, spectex_model::GABOR_TRUNCATION.ln() as f32);
         for a in [0.001f32, 0.05, 3.0] {
             let mut m = model(8.0, ANISO);
@@ -587,8 +591,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn locate_splits_cells_and_rejects_out_of_range() {
+    pub fn locate_splits_cells_and_rejects_out_of_range() {
         assert_eq!(locate(-0.5, 2.0), Some((-1, 0.75)));
         assert_eq!(locate(4.0, 2.0), Some((2, 0.0)));
         assert_eq!(locate(f64::NAN, 2.0), None);
@@ -601,8 +604,7 @@ mod tests {
         assert_eq!(g.eval(0.0, 1e300), 0.0);
     }
 
-    #[test]
-    fn kept_impulses_follow_the_draw_order() {
+    pub fn kept_impulses_follow_the_draw_order() {
         // Column 5 of row 0 at u_y = 0.5: every impulse of the three cells with |d_y| < 1,
         // redrawn here from the contract.
         let g = GaborEvaluator::new(&model(20.0, Orientation::Isotropic { min: 0.0, max: 6.0 }));

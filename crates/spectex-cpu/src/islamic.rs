@@ -80,8 +80,16 @@ impl RowKernel for IslamicEvaluator {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use std::f64::consts::PI;
 
     use spectex_model::Filter;
@@ -229,8 +237,7 @@ mod tests {
         out
     }
 
-    #[test]
-    fn the_signed_distance_matches_brute_force_in_f64() {
+    pub fn the_signed_distance_matches_brute_force_in_f64() {
         for m in patterns() {
             for origin in [[0.0, 0.0], [-77.3, 12.9], [1.0e7, -1.0e7]] {
                 let w = Window::new(23, 19).at(origin, 3.7);
@@ -257,8 +264,7 @@ mod tests {
     /// the first tile's first normal, through its centre: with the rotations D4 or D6): the
     /// value at
     /// `p` and at `p` moved by the symmetry, within the f32 evaluation's error twice.
-    #[test]
-    fn the_pattern_has_its_tilings_symmetries() {
+    pub fn the_pattern_has_its_tilings_symmetries() {
         for m in patterns() {
             let e = IslamicEvaluator::new(&m);
             let c = f64::from(m.cell_size);
@@ -342,8 +348,7 @@ mod tests {
     /// exactly the 1D box-filtered band: the band's value equals a 64 × 64 supersampling of the
     /// band of those analytic lines over the pixel's footprint, wherever the box meets one
     /// family of lines only.
-    #[test]
-    fn the_band_is_the_box_filtered_coverage() {
+    pub fn the_band_is_the_box_filtered_coverage() {
         let m = IslamicPattern {
             tiling: Tiling::Square,
             motif: Motif::Star { step: 1 },

@@ -42,6 +42,18 @@ pub mod voronoi;
 pub mod warp;
 pub mod wavelet;
 
+/// The unit tests' bodies, one module per source module, run by `tests/it/unit.rs`.
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+pub mod unit_tests {
+    pub use crate::classic::table_tests as classic_tables;
+    pub use crate::combine::tests as combine;
+    pub use crate::gabor::tests as gabor;
+    pub use crate::islamic::tests as islamic;
+    pub use crate::texton::tests as texton;
+    pub use crate::voronoi::tests as voronoi;
+}
+
 use rayon::prelude::*;
 use spectex_model::{Model, ModelError, ModelKind, Period};
 

@@ -154,8 +154,16 @@ impl RowKernel for TextonEvaluator {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
     use spectex_model::texton::{Placement, Spot};
 
@@ -211,8 +219,7 @@ mod tests {
         ]
     }
 
-    #[test]
-    fn rows_match_the_per_pixel_definition() {
+    pub fn rows_match_the_per_pixel_definition() {
         for (k, m) in models().iter().enumerate() {
             let e = TextonEvaluator::new(m);
             for origin in [[0.0, 0.0], [-77.3, 12.9], [1.0e7, -1.0e7]] {
@@ -236,8 +243,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn an_isolated_ellipsoid_has_its_radii() {
+    pub fn an_isolated_ellipsoid_has_its_radii() {
         // One texton per cell at the centre, no rotation, unit scale and weight: along the
         // texton's x axis the value is √(1 − (d/a)²) and vanishes at d = a (Eq. (6), height 1).
         let m = TextonNoise {

@@ -258,8 +258,16 @@ impl VoronoiEvaluator {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
     /// Every seed of the 11 × 11 cells around the pixel's, in f64 absolute cell units.
@@ -312,8 +320,7 @@ mod tests {
         out
     }
 
-    #[test]
-    fn outputs_match_brute_force_over_all_nearby_seeds() {
+    pub fn outputs_match_brute_force_over_all_nearby_seeds() {
         let palette = VoronoiOutput::Palette {
             colours: vec![[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
         };
@@ -405,8 +412,7 @@ mod tests {
         out
     }
 
-    #[test]
-    fn outputs_3d_match_brute_force_near_and_far() {
+    pub fn outputs_3d_match_brute_force_near_and_far() {
         let palette = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
         for (origin, z) in [
             ([0.0, 0.0], 0.0),
@@ -461,8 +467,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn the_3d_fast_path_is_the_full_search() {
+    pub fn the_3d_fast_path_is_the_full_search() {
         for output in [
             VoronoiOutput::CellId,
             VoronoiOutput::F2MinusF1,
@@ -486,8 +491,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn a_regular_3d_lattice_slice_at_cell_centres_is_the_2d_diagram() {
+    pub fn a_regular_3d_lattice_slice_at_cell_centres_is_the_2d_diagram() {
         // Jitter 0 puts every seed at its cell's centre. On the plane through the centres of
         // the layer k (z = (k + ½)·C) the nearest seed lies in that layer (d_z = 0, so the
         // same f32 d² as in 2D), and the layers above and below add bisector planes ½ away,
@@ -518,8 +522,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn a_periodic_3d_diagram_repeats_in_x_and_y_only() {
+    pub fn a_periodic_3d_diagram_repeats_in_x_and_y_only() {
         let m = VoronoiNoise {
             dimensions: 3,
             cell_size: 8.0,
@@ -561,8 +564,7 @@ mod tests {
         assert_ne!(a.sites, c.sites);
     }
 
-    #[test]
-    fn image_colours_are_the_texel_under_the_seed() {
+    pub fn image_colours_are_the_texel_under_the_seed() {
         // A 1-pixel cell with no jitter puts the seed of cell (i, j) at (i + ½, j + ½) pixels,
         // in texel (i mod W, j mod H): the render at pixel centres reproduces the image tiled.
         let texels: Vec<[f32; 3]> = (0..6).map(|k| [k as f32, 0.5, -(k as f32)]).collect();
@@ -588,8 +590,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn a_regular_grid_has_known_distances() {
+    pub fn a_regular_grid_has_known_distances() {
         // Jitter 0: seeds at cell centres. At a cell's corner F1 = √½ and the border is 0; at
         // the centre F1 = 0 and the border is ½ (cell units).
         let m = VoronoiNoise {

@@ -48,16 +48,23 @@ pub fn stratum_variance(amplitude: f64, cosines: usize) -> f64 {
     PI * cosines as f64 * amplitude * amplitude * window_radial_energy()
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
     use spectex_model::window::kaiser_bessel;
 
     /// The mean over a lattice cell of `Σ_i w²(|x − x_i|)` (Δ = 1, lattice ℤ²), by direct
     /// summation on a 400 × 400 midpoint grid of the cell and every lattice point within reach,
     /// equals `2π·∫₀^1.5 r w²(r) dr`.
-    #[test]
-    fn lattice_mean_of_squared_windows_is_two_pi_c() {
+    pub fn lattice_mean_of_squared_windows_is_two_pi_c() {
         let n = 400;
         let mut total = 0.0;
         for a in 0..n {
@@ -81,8 +88,7 @@ mod tests {
 
     /// Monte Carlo over random phases at fixed positions: the variance of `n_S(x)` averaged over
     /// a cell equals `π·J_S·A_S²·c`.
-    #[test]
-    fn amplitude_gives_the_stratum_energy_as_variance() {
+    pub fn amplitude_gives_the_stratum_energy_as_variance() {
         use spectex_model::random::{Prng, cell_hash};
         let (energy, cosines, delta) = (0.37, 5usize, 3.0);
         let a = amplitude(energy, cosines);

@@ -229,8 +229,16 @@ pub fn erode(mask: ArrayView2<'_, bool>, radius: f64) -> Erosion {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
     use spectex_model::random::{Prng, cell_hash};
 
@@ -322,8 +330,7 @@ mod tests {
         })
     }
 
-    #[test]
-    fn distance_transform_matches_the_direct_minimum() {
+    pub fn distance_transform_matches_the_direct_minimum() {
         for (h, w) in [(1, 1), (1, 7), (5, 5), (8, 8), (13, 9), (16, 16), (31, 24)] {
             for seed in 0..3 {
                 let mask = random_mask(h, w, seed);
@@ -380,8 +387,7 @@ mod tests {
         pieces
     }
 
-    #[test]
-    fn components_match_their_definition() {
+    pub fn components_match_their_definition() {
         for (h, w) in [(1, 1), (4, 4), (9, 13), (16, 16)] {
             for seed in 0..4 {
                 let mask = random_mask(h, w, seed);
@@ -401,8 +407,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn erosion_matches_the_direct_modified_definition() {
+    pub fn erosion_matches_the_direct_modified_definition() {
         for (h, w) in [(8, 8), (16, 16), (20, 13), (32, 32)] {
             for seed in 0..4 {
                 let mask = random_mask(h, w, seed);
@@ -435,8 +440,7 @@ mod tests {
     }
 
     /// A ring thinner than the radius keeps its whole centre line, not a few spots.
-    #[test]
-    fn a_thin_ring_keeps_its_centre_line_all_the_way_round() {
+    pub fn a_thin_ring_keeps_its_centre_line_all_the_way_round() {
         let n = 64;
         let mask = Array2::from_shape_fn((n, n), |(y, x)| {
             let (dy, dx) = (y as f64 - 32.0, x as f64 - 32.0);
@@ -459,8 +463,7 @@ mod tests {
         assert!(kept * 2 < all, "kept {kept} of {all} bins");
     }
 
-    #[test]
-    fn a_full_grid_and_an_empty_set_are_left_alone() {
+    pub fn a_full_grid_and_an_empty_set_are_left_alone() {
         let full = Array2::from_elem((6, 6), true);
         let e = erode(full.view(), 3.0);
         assert_eq!(e.mask, full);

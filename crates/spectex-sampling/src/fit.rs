@@ -601,9 +601,13 @@ pub fn fit_target(
     fit_psd(psd.view(), 0.0, options)
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+pub mod tests {
     #![allow(
+        clippy::missing_panics_doc,
         clippy::unwrap_used,
         reason = "a test fails loudly on the first unexpected None or Err"
     )]
@@ -621,8 +625,7 @@ mod tests {
         })
     }
 
-    #[test]
-    fn options_are_validated_with_their_name_and_range() {
+    pub fn options_are_validated_with_their_name_and_range() {
         let bad = |o: FitOptions| o.validate().unwrap_err().to_string();
         let d = FitOptions::default();
         assert!(bad(FitOptions { budget: 0, ..d }).contains("budget = 0"));
@@ -655,8 +658,7 @@ mod tests {
         d.validate().unwrap();
     }
 
-    #[test]
-    fn fitted_psd_keeps_budget_energy_and_ranges() {
+    pub fn fitted_psd_keeps_budget_energy_and_ranges() {
         let img = synthetic_image(100, 90, 1);
         let psd = welch_psd(img.view(), &mut Fft2::new()).unwrap();
         let t = psd.nrows();
@@ -690,8 +692,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn eroded_strata_are_inside_their_strata_and_symmetric() {
+    pub fn eroded_strata_are_inside_their_strata_and_symmetric() {
         let img = synthetic_image(129, 129, 3);
         let psd = welch_psd(img.view(), &mut Fft2::new()).unwrap();
         let plan = stratify(psd.view(), &FitOptions::default()).unwrap();
@@ -717,8 +718,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn targets_are_fitted_with_the_requested_variance() {
+    pub fn targets_are_fitted_with_the_requested_variance() {
         let targets = [
             SpectralTarget::Ring {
                 radius: 0.2,
@@ -781,8 +781,7 @@ mod tests {
         ));
     }
 
-    #[test]
-    fn bad_inputs_are_errors_not_panics() {
+    pub fn bad_inputs_are_errors_not_panics() {
         let d = FitOptions::default();
         let flat = Array2::from_elem((40, 40), 0.3);
         assert!(matches!(
@@ -826,8 +825,7 @@ mod tests {
     /// with four equal-energy strata the pair is a stratum of one frequency, which the spectrum
     /// fit gives one cosine (its capacity), the other 49 going to the floor's strata; the
     /// paper's fit gives it its equal share.
-    #[test]
-    fn a_stratum_of_one_frequency_gets_one_cosine() {
+    pub fn a_stratum_of_one_frequency_gets_one_cosine() {
         let t = 32;
         let mut psd = Array2::from_elem((t, t), 1.0);
         psd[[0, 0]] = 0.0;
@@ -857,8 +855,7 @@ mod tests {
         assert!(model.strata.iter().all(|s| s.cosines() >= 12), "{model:?}");
     }
 
-    #[test]
-    fn a_pure_sinusoid_gets_one_stratum_of_one_frequency_pair() {
+    pub fn a_pure_sinusoid_gets_one_stratum_of_one_frequency_pair() {
         let img = Array2::from_shape_fn((64, 64), |(y, x)| {
             (2.0 * std::f64::consts::PI * (4.0 * x as f64 + 2.0 * y as f64) / 32.0).cos()
         });

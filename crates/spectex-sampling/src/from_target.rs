@@ -167,9 +167,13 @@ impl LrpFromTarget {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+pub mod tests {
     #![allow(
+        clippy::missing_panics_doc,
         clippy::unwrap_used,
         reason = "a test fails loudly on the first unexpected None or Err"
     )]
@@ -183,8 +187,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn defaults_are_the_documented_constants_and_fit_target_with_them() {
+    pub fn defaults_are_the_documented_constants_and_fit_target_with_them() {
         let built = LrpFromTarget::new(ring()).build().unwrap();
         let options = FitOptions {
             budget: 10,
@@ -212,8 +215,7 @@ mod tests {
         );
     }
 
-    #[test]
-    fn given_options_replace_the_defaults() {
+    pub fn given_options_replace_the_defaults() {
         let options = LrpFromTarget::new(ring())
             .budget(6)
             .strata(2)
@@ -237,8 +239,7 @@ mod tests {
         );
     }
 
-    #[test]
-    fn invalid_options_name_the_parameter() {
+    pub fn invalid_options_name_the_parameter() {
         let parameter = |b: LrpFromTarget| match b.build() {
             Err(SamplingError::OutOfRange { parameter, .. }) => parameter,
             other => panic!("{other:?}"),

@@ -53,12 +53,19 @@ pub fn half_plane_representative(bin: Bin, size: usize) -> Bin {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
-    #[test]
-    fn half_plane_holds_exactly_one_of_each_mirror_pair() {
+    pub fn half_plane_holds_exactly_one_of_each_mirror_pair() {
         for size in [1usize, 2, 3, 4, 5, 8, 9, 16, 17] {
             for k in 0..size {
                 for l in 0..size {
@@ -80,8 +87,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn mirror_negates_the_signed_frequency_except_on_nyquist_lines() {
+    pub fn mirror_negates_the_signed_frequency_except_on_nyquist_lines() {
         for size in [4usize, 7, 16] {
             for k in 0..size {
                 for l in 0..size {

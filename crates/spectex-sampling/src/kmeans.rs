@@ -292,8 +292,16 @@ pub fn sub_strata(
     tables
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
     /// Points of a few irregular blobs on a 64×64 frequency grid.
@@ -314,8 +322,7 @@ mod tests {
             .collect()
     }
 
-    #[test]
-    fn converged_clusters_hold_the_points_nearest_their_means() {
+    pub fn converged_clusters_hold_the_points_nearest_their_means() {
         for seed in 0..6 {
             for (n, k) in [(50usize, 3usize), (400, 12), (2000, 7), (3000, 40)] {
                 let points = blob_points(seed, n);
@@ -350,8 +357,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn indexed_nearest_centroid_matches_the_direct_search() {
+    pub fn indexed_nearest_centroid_matches_the_direct_search() {
         let mut prng = Prng::new(5);
         for k in [1usize, 2, 3, 17, 256] {
             // Centroids on a coarse lattice, with duplicates, so that exact ties happen.
@@ -380,8 +386,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn kmeans_is_deterministic_for_any_thread_count() {
+    pub fn kmeans_is_deterministic_for_any_thread_count() {
         let points = blob_points(3, 20_000);
         let run = |threads: usize| {
             rayon::ThreadPoolBuilder::new()
@@ -397,8 +402,7 @@ mod tests {
         assert_ne!(one, kmeans(&points, 25, &mut Prng::new(43)));
     }
 
-    #[test]
-    fn few_points_each_get_their_own_cluster() {
+    pub fn few_points_each_get_their_own_cluster() {
         let points = [[0.1, 0.2], [0.3, 0.0]];
         let r = kmeans(&points, 5, &mut Prng::new(1));
         assert_eq!(r.assignment, [0, 1]);
@@ -411,8 +415,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn tables_partition_the_points() {
+    pub fn tables_partition_the_points() {
         let size = 32;
         let points: Vec<Bin> = (1..size / 2)
             .flat_map(|k| (0..size).map(move |l| [k, l]))

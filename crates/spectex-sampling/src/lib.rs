@@ -55,6 +55,22 @@ pub mod spectrum_fit;
 pub mod stratify;
 pub mod texture;
 
+/// The unit tests' bodies, one module per source module, run by `tests/it/unit.rs`.
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+pub mod unit_tests {
+    pub use crate::amplitude::tests as amplitude;
+    pub use crate::erosion::tests as erosion;
+    pub use crate::fit::tests as fit;
+    pub use crate::from_target::tests as from_target;
+    pub use crate::grid::tests as grid;
+    pub use crate::kmeans::tests as kmeans;
+    pub use crate::shrink::tests as shrink;
+    pub use crate::spectrum_fit::tests as spectrum_fit;
+    pub use crate::stratify::tests as stratify;
+    pub use crate::texture::tests as texture;
+}
+
 pub use error::SamplingError;
 pub use fit::{
     DEFAULT_TARGET_GRID, FitMethod, FitOptions, MAX_IMAGE_SIDE, MAX_TARGET_GRID, MIN_TARGET_GRID,

@@ -204,8 +204,16 @@ fn solve_shrink_unit(coverage: f64) -> f64 {
     hi
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
     /// `J₀(x) = (1/π)∫₀^π cos(x sin θ) dθ` by the trapezoid rule on 4096 intervals: the
@@ -218,8 +226,7 @@ mod tests {
         sum / n as f64
     }
 
-    #[test]
-    fn bessel_j0_matches_its_integral_representation() {
+    pub fn bessel_j0_matches_its_integral_representation() {
         for i in 0..=1200 {
             let x = i as f64 * 0.0833;
             let (got, want) = (bessel_j0(x), j0_by_integral(x));
@@ -232,8 +239,7 @@ mod tests {
         assert_eq!(bessel_j0(-3.7), bessel_j0(3.7));
     }
 
-    #[test]
-    fn bessel_j0_vanishes_at_its_tabulated_zeros() {
+    pub fn bessel_j0_vanishes_at_its_tabulated_zeros() {
         // Zeros j_{0,k} from Abramowitz & Stegun, Table 9.5.
         for zero in [
             2.404_825_557_695_773,
@@ -251,8 +257,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn gauss_legendre_integrates_polynomials_exactly() {
+    pub fn gauss_legendre_integrates_polynomials_exactly() {
         for n in [1usize, 2, 5, 16] {
             let rule = gauss_legendre(n);
             for degree in 0..2 * n {
@@ -271,8 +276,7 @@ mod tests {
     }
 
     /// `Ŵ(ρ)` against composite Simpson's rule on the original variable `r`, 20000 intervals.
-    #[test]
-    fn window_spectrum_matches_a_direct_hankel_sum() {
+    pub fn window_spectrum_matches_a_direct_hankel_sum() {
         for rho in [0.0, 0.1, 0.37, 0.72, 1.0, 1.9, 3.3, 6.0] {
             let n = 20_000;
             let h = WINDOW_SUPPORT / n as f64;
@@ -291,8 +295,7 @@ mod tests {
     }
 
     /// Parseval: the window's spectral energy out to a large radius equals `∫|W|² = 2π·0.1126`.
-    #[test]
-    fn window_spectral_energy_equals_its_spatial_energy() {
+    pub fn window_spectral_energy_equals_its_spatial_energy() {
         let spectral = window_spectrum_energy(40.0);
         let spatial = window_energy();
         assert!(
@@ -302,8 +305,7 @@ mod tests {
         assert!((spatial / (2.0 * PI) - 0.1126).abs() < 5e-5);
     }
 
-    #[test]
-    fn shrink_unit_holds_the_requested_share_of_energy() {
+    pub fn shrink_unit_holds_the_requested_share_of_energy() {
         for coverage in [0.1, 0.5, 0.75, 0.9, 0.99] {
             let delta0 = shrink_unit(coverage);
             let share = window_spectrum_energy(delta0) / window_energy();

@@ -470,8 +470,16 @@ pub fn sharpen_welch(psd: &ndarray::Array2<f64>) -> ndarray::Array2<f64> {
     estimate
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
     use ndarray::Array2;
     use spectex_model::random::{Prng, cell_hash};
@@ -487,8 +495,7 @@ mod tests {
             .collect()
     }
 
-    #[test]
-    fn groups_carry_equal_energy_and_the_whole() {
+    pub fn groups_carry_equal_energy_and_the_whole() {
         for (n, parts) in [
             (1usize, 1usize),
             (1, 5),
@@ -522,8 +529,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn tables_list_frequencies_in_proportion_to_power() {
+    pub fn tables_list_frequencies_in_proportion_to_power() {
         let items = random_items(300, 2);
         let total: f64 = items.iter().map(|it| it.weight).sum();
         let table = weighted_table(&items, TABLE_ENTRIES);
@@ -543,8 +549,7 @@ mod tests {
     /// A few strong bins and thousands of faint ones (each a hundredth of an entry's share, a
     /// tenth of the power together): the faint ones are not dropped but represented together,
     /// every run of consecutive items getting its quota to within one entry.
-    #[test]
-    fn faint_bins_keep_their_share_together() {
+    pub fn faint_bins_keep_their_share_together() {
         let mut items = Vec::new();
         for i in 0..4096 {
             let strong = i % 512 == 0;
@@ -577,8 +582,7 @@ mod tests {
     /// Worked by hand: the dirt height map's J = 50 over four equal-energy strata of 3712, 12, 3
     /// and 1 frequencies. The three small strata keep one cosine per frequency; the 16 cosines
     /// they hold leave 34 for the first.
-    #[test]
-    fn capped_budgets_give_freed_cosines_to_the_other_strata() {
+    pub fn capped_budgets_give_freed_cosines_to_the_other_strata() {
         let equal = [1.0; 4];
         assert_eq!(
             capped_budgets(&[12, 12, 13, 13], &[3712, 12, 3, 1], &equal),
@@ -609,8 +613,7 @@ mod tests {
     /// The water-filling's defining properties on random inputs: no stratum above its
     /// capacity, no cosine created, a cosine left unused only when every stratum is full, and
     /// any stratum below its capacity within one cosine of the largest share.
-    #[test]
-    fn capped_budgets_fill_water_levels() {
+    pub fn capped_budgets_fill_water_levels() {
         let mut prng = Prng::new(11);
         for case in 0..2000 {
             let n = 1 + (prng.next_u32() % 8) as usize;
@@ -643,8 +646,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn resolving_width_spans_the_periods_of_the_low_quartile() {
+    pub fn resolving_width_spans_the_periods_of_the_low_quartile() {
         // All power on the ring of radius 4 bins of a 64-bin grid: |f| = 1/16 cycle per pixel.
         let size = 64;
         let bins: Vec<Bin> = vec![[0, 4], [0, 60], [4, 0], [60, 0]];
@@ -681,8 +683,7 @@ mod tests {
 
     /// The operator against the estimator it models: cosines next to the zero frequency (where
     /// the block mean's removal matters), on the axes' Nyquist bins and elsewhere.
-    #[test]
-    fn the_welch_operator_is_welchs_estimate_of_grid_cosines() {
+    pub fn the_welch_operator_is_welchs_estimate_of_grid_cosines() {
         let n = 32;
         let op = WelchOperator { n };
         for k in [
@@ -721,8 +722,7 @@ mod tests {
     /// Sharpened, Welch's estimate of a few cosines (ring 1 and farther out, each measured by
     /// the estimator itself) gives back their powers: within 5% at every cosine's bin, where the
     /// blur alone (the mean's removal left out) left the first ring 44% short.
-    #[test]
-    fn sharpening_inverts_welchs_estimate_and_keeps_the_total() {
+    pub fn sharpening_inverts_welchs_estimate_and_keeps_the_total() {
         let n = 32;
         let cosines = [
             ((0, 1), 2.0),

@@ -302,9 +302,13 @@ pub fn window_width(size: usize, cosines: usize, bins: usize) -> f64 {
     raw.clamp(MIN_WINDOW_WIDTH, upper.max(MIN_WINDOW_WIDTH))
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+pub mod tests {
     #![allow(
+        clippy::missing_panics_doc,
         clippy::unwrap_used,
         reason = "a test fails loudly on the first unexpected None or Err"
     )]
@@ -342,8 +346,7 @@ mod tests {
         0.5 * (psd[bin] + psd[mirror(bin, size)])
     }
 
-    #[test]
-    fn strata_energies_are_equal_within_one_mirror_pair() {
+    pub fn strata_energies_are_equal_within_one_mirror_pair() {
         for size in [2usize, 3, 8, 17, 32, 64] {
             for seed in 0..4 {
                 for strata in [1usize, 2, 4, 7] {
@@ -378,8 +381,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn strata_are_disjoint_symmetric_and_cover_every_bin_with_power() {
+    pub fn strata_are_disjoint_symmetric_and_cover_every_bin_with_power() {
         for size in [2usize, 5, 16, 33] {
             for seed in 0..3 {
                 let psd = random_psd(size, seed);
@@ -408,8 +410,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn higher_strata_hold_higher_powers() {
+    pub fn higher_strata_hold_higher_powers() {
         for size in [8usize, 31, 64] {
             for seed in 0..4 {
                 let psd = random_psd(size, seed);
@@ -433,8 +434,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn a_single_peak_leaves_empty_strata() {
+    pub fn a_single_peak_leaves_empty_strata() {
         let mut psd = Array2::zeros((16, 16));
         psd[[0, 3]] = 1.0;
         psd[[0, 13]] = 1.0;
@@ -444,8 +444,7 @@ mod tests {
         assert!((out[2].energy - 2.0 / 256.0).abs() < 1e-15);
     }
 
-    #[test]
-    fn budget_sums_to_j_with_the_remainder_on_the_highest_energies() {
+    pub fn budget_sums_to_j_with_the_remainder_on_the_highest_energies() {
         let energies = [1.0, 1.2, 0.0, 0.9, 1.2];
         let got = distribute_budget(&energies, 10);
         // 4 strata with energy: 2 each, remainder 2 to the two of energy 1.2 (index 4, then 1).
@@ -459,8 +458,7 @@ mod tests {
         assert_eq!(distribute_budget(&[0.0, 0.0], 5), [0, 0]);
     }
 
-    #[test]
-    fn window_width_follows_section_4_3_and_is_clamped() {
+    pub fn window_width_follows_section_4_3_and_is_clamped() {
         // Δ = T √J / √(2|S|) = 256 · √12 / √(2·600)
         let want = 256.0 * 12f64.sqrt() / 1200f64.sqrt();
         assert!((window_width(256, 12, 600) - want).abs() < 1e-12);
@@ -469,8 +467,7 @@ mod tests {
         assert_eq!(window_width(64, 3, 0), 4.0 * 64.0);
     }
 
-    #[test]
-    fn invalid_spectra_are_rejected_with_their_position() {
+    pub fn invalid_spectra_are_rejected_with_their_position() {
         let mut psd = Array2::<f64>::ones((8, 8));
         psd[[2, 3]] = f64::NAN;
         assert!(matches!(
@@ -517,8 +514,7 @@ mod tests {
     /// Every bin with power lands in exactly one stratum, a mirror pair is never split, the
     /// energies add up, and within a stratum the power varies by at most `(p₁/p₀)^(1/L)`;
     /// the stratum of each pair is the one its log-power names, recomputed here directly.
-    #[test]
-    fn log_power_strata_bound_the_power_ratio_within_each_stratum() {
+    pub fn log_power_strata_bound_the_power_ratio_within_each_stratum() {
         for size in [4usize, 16, 33] {
             for seed in 0..3 {
                 let psd = random_psd(size, seed);

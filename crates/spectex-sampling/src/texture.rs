@@ -665,8 +665,16 @@ pub fn false_colour_fraction(
     far as f64 / (oh * ow) as f64
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
     use ndarray::Array3;
 
@@ -684,8 +692,7 @@ mod tests {
 
     /// Two sinusoids on the grid: two pairs, so two cosines in one block are exact and one
     /// cosine is not (the blocks subdivide until the deviation is within 1/256 or b = T).
-    #[test]
-    fn subdivision_starts_with_one_block_and_refines_only_when_needed() {
+    pub fn subdivision_starts_with_one_block_and_refines_only_when_needed() {
         let t = 32;
         let img = Array2::from_shape_fn((t, t), |(y, x)| {
             let (x, y) = (x as f64, y as f64);
@@ -714,8 +721,7 @@ mod tests {
         assert!(deviation(&coarser, img.view()) > COLOUR_PRECISION);
     }
 
-    #[test]
-    fn false_colours_are_counted_exactly() {
+    pub fn false_colours_are_counted_exactly() {
         // Exemplar: pure red and pure blue. Output: red, blue, their mean (purple, 0.707 from
         // both) and a red off by 0.05.
         let ex = Array3::from_shape_fn((3, 1, 2), |(c, _, x)| match (c, x) {
@@ -732,8 +738,7 @@ mod tests {
         assert_eq!(false_colour_fraction(ex.view(), out.view(), 0.75), 0.0);
     }
 
-    #[test]
-    fn jacobi_diagonalises_a_symmetric_matrix() {
+    pub fn jacobi_diagonalises_a_symmetric_matrix() {
         let a = [[2.0, 0.3, -0.4], [0.3, 1.0, 0.25], [-0.4, 0.25, 0.5]];
         let (values, v) = jacobi3(a);
         assert!(values[0] >= values[1] && values[1] >= values[2]);
@@ -755,8 +760,7 @@ mod tests {
         assert!((values.iter().sum::<f64>() - 3.5).abs() < 1e-12);
     }
 
-    #[test]
-    fn region_holds_the_requested_share_of_energy() {
+    pub fn region_holds_the_requested_share_of_energy() {
         let img = image(64, 64, 1);
         let block = img.slice(s![0..32, 0..32]);
         let mut fft = Fft2::new();
@@ -776,8 +780,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn options_are_validated() {
+    pub fn options_are_validated() {
         let img = Array3::from_shape_fn((1, 32, 32), |(_, y, x)| image(32, 32, 2)[[y, x]]);
         for (opts, name) in [
             (

@@ -16,7 +16,7 @@ fn sample_rgb_512() -> Array3<f64> {
         env!("CARGO_MANIFEST_DIR"),
         "/../../../shared/testdata/textures/skimage_gravel.png"
     );
-    if let Ok(img) = image::open(path) {
+    if let Ok(img) = spectex_testkit::image_files::open(path) {
         let g = img.to_luma8();
         if g.dimensions() == (512, 512) {
             return Array3::from_shape_fn((3, 512, 512), |(c, y, x)| {

@@ -323,7 +323,7 @@ where
 
 /// The generator seed for a campaign: `seed` mixed with the campaign's name, so two campaigns
 /// with one seed draw different cases.
-fn seed_bytes(seed: u64, name: &str) -> [u8; 32] {
+pub fn seed_bytes(seed: u64, name: &str) -> [u8; 32] {
     let mut h = seed ^ 0x9E37_79B9_7F4A_7C15;
     for b in name.bytes() {
         h = (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01B3);
@@ -445,88 +445,4 @@ where
         }
     }
     smallest
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use proptest::prelude::*;
-
-    #[test]
-    fn panics_properties_and_hangs_are_findings_and_shrink() {
-        let settings = Settings {
-            cases: 200,
-            seed: 1,
-            case_timeout: Duration::from_secs(5),
-        };
-        let target: Target<u32> = Arc::new(|&n: &u32| {
-            assert!(n < 900, "too big: {n}");
-            if n % 97 == 13 {
-                return Err(format!("{n} is 13 mod 97"));
-            }
-            Ok(Observation {
-                kind: Some("number"),
-                accepted: n % 2 == 0,
-                ..Observation::default()
-            })
-        });
-        let report = run("unit", &settings, &(0u32..1000), |n| n.to_string(), &target);
-        assert_eq!(report.cases, 200);
-        let panics: Vec<&Finding> = report
-            .findings
-            .iter()
-            .filter(|f| matches!(f.failure, Failure::Panic(_)))
-            .collect();
-        assert!(!panics.is_empty(), "{}", report.summary());
-        // Shrinking goes down to the smallest failing number.
-        assert!(
-            panics
-                .iter()
-                .all(|f| f.shrunk.as_ref().is_some_and(|(input, _)| input == "900")),
-            "{}",
-            report.summary()
-        );
-        assert!(
-            report
-                .findings
-                .iter()
-                .any(|f| matches!(f.failure, Failure::Property(_))),
-            "{}",
-            report.summary()
-        );
-        let passed = report.cases as usize - report.findings.len();
-        assert_eq!(
-            report.accepted_total() + report.rejected["number"],
-            passed as u32
-        );
-
-        let hang: Target<u32> = Arc::new(|_| {
-            std::thread::sleep(Duration::from_secs(3));
-            Ok(Observation::default())
-        });
-        let settings = Settings {
-            cases: 5,
-            seed: 1,
-            case_timeout: Duration::from_millis(100),
-        };
-        let report = run("hang", &settings, &Just(1u32), |n| n.to_string(), &hang);
-        assert_eq!(report.cases, 1, "a hang ends the campaign");
-        assert!(matches!(report.findings[0].failure, Failure::Hang(_)));
-    }
-
-    #[test]
-    fn the_seed_decides_the_cases() {
-        let draw = |seed: u64, name: &str| {
-            let mut runner = TestRunner::new_with_rng(
-                Config::default(),
-                TestRng::from_seed(RngAlgorithm::ChaCha, &seed_bytes(seed, name)),
-            );
-            (0..8)
-                .map(|_| any::<u64>().new_tree(&mut runner).unwrap().current())
-                .collect::<Vec<_>>()
-        };
-        assert_eq!(draw(3, "a"), draw(3, "a"));
-        assert_ne!(draw(3, "a"), draw(4, "a"));
-        assert_ne!(draw(3, "a"), draw(3, "b"));
-    }
 }

@@ -9,6 +9,8 @@
 //!   renders finite values in bounded time per pixel ([`cpu::COST_BOUNDS`]).
 //! - **References** ([`reference`]): slow f64 direct sums of the definitions (LRP, Gabor noise)
 //!   that the CPU and the GPU tests both compare against.
+//! - **Image files** ([`image_files`]): `image`'s open, decode and save, compiled once here
+//!   instead of in every test binary that reads a PNG.
 //! - **Invariance** ([`invariance`]): the checks every kind must pass — tiles, thread counts,
 //!   far offsets, reseeding — over every `testdata/models/*.json` by one
 //!   [`check`](invariance::check), on any evaluator implementing
@@ -41,6 +43,7 @@ pub mod cases;
 pub mod cpu;
 pub mod fixtures;
 pub mod fuzz;
+pub mod image_files;
 pub mod images;
 pub mod invariance;
 pub mod limits;

@@ -34,7 +34,7 @@ fn rpn_on_the_built_in_exemplar() {
     let out = dir.join("out.png");
     let o = spectex(&["rpn", "-o", s(&out)]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let img = image::open(&out).unwrap();
+    let img = spectex_testkit::image_files::open(&out).unwrap();
     assert_eq!((img.width(), img.height()), (256, 256));
     assert!(img.color().has_color());
     // Only the output is there: the temporary file was renamed, not copied.
@@ -60,7 +60,7 @@ fn rpn_sizes_depths_formats_and_seeds() {
         "16",
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let img = image::open(&p16).unwrap();
+    let img = spectex_testkit::image_files::open(&p16).unwrap();
     assert_eq!((img.width(), img.height()), (100, 64));
     assert_eq!(img.color(), image::ColorType::Rgb16);
 
@@ -68,8 +68,12 @@ fn rpn_sizes_depths_formats_and_seeds() {
     let exr = dir.join("a.exr");
     let o = spectex(&["rpn", s(&input), "-o", s(&exr), "--adsn", "--size", "64x64"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let out = image::open(&exr).unwrap().to_rgb32f();
-    let sample = image::open(&input).unwrap().to_rgb32f();
+    let out = spectex_testkit::image_files::open(&exr)
+        .unwrap()
+        .to_rgb32f();
+    let sample = spectex_testkit::image_files::open(&input)
+        .unwrap()
+        .to_rgb32f();
     for c in 0..3 {
         let mean = |im: &image::Rgb32FImage| {
             im.pixels().map(|p| f64::from(p.0[c])).sum::<f64>()
@@ -102,7 +106,10 @@ fn grey_and_alpha_inputs() {
         .unwrap();
     let out = dir.join("g-out.png");
     assert!(spectex(&["rpn", s(&grey), "-o", s(&out)]).status.success());
-    assert_eq!(image::open(&out).unwrap().color(), image::ColorType::L8);
+    assert_eq!(
+        spectex_testkit::image_files::open(&out).unwrap().color(),
+        image::ColorType::L8
+    );
 
     let rgba = dir.join("a.png");
     image::RgbaImage::from_fn(20, 20, |x, y| {
@@ -114,7 +121,10 @@ fn grey_and_alpha_inputs() {
     let o = spectex(&["rpn", s(&rgba), "-o", s(&out)]);
     assert!(o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("alpha channel"));
-    assert_eq!(image::open(&out).unwrap().color(), image::ColorType::Rgb8);
+    assert_eq!(
+        spectex_testkit::image_files::open(&out).unwrap().color(),
+        image::ColorType::Rgb8
+    );
 }
 
 #[test]
@@ -143,7 +153,7 @@ fn analyze_writes_every_file() {
         .map(|l| l.split(',').nth(1).unwrap().parse::<usize>().unwrap())
         .sum();
     assert_eq!(counted, 128 * 128);
-    let psd = image::open(out.join("welch_psd.png")).unwrap();
+    let psd = spectex_testkit::image_files::open(out.join("welch_psd.png")).unwrap();
     assert_eq!((psd.width(), psd.height()), (128, 128));
 
     let exr = dir.join("exr");
@@ -221,7 +231,7 @@ fn fit_render_synth_and_noise_end_to_end() {
         "--device",
         "cpu",
     ]);
-    let img = image::open(&far).unwrap();
+    let img = spectex_testkit::image_files::open(&far).unwrap();
     assert_eq!((img.width(), img.height()), (48, 32));
     assert!(String::from_utf8_lossy(&out.stdout).contains("on the CPU"));
 
@@ -241,7 +251,10 @@ fn fit_render_synth_and_noise_end_to_end() {
 
     let synth = dir.join("synth.png");
     spectex_ok(&["synth", "-o", s(&synth), "--budget", "4", "--size", "40x40"]);
-    assert_eq!(image::open(&synth).unwrap().width(), 40);
+    assert_eq!(
+        spectex_testkit::image_files::open(&synth).unwrap().width(),
+        40
+    );
 
     for kind in ["ring", "lobe", "band", "gabor"] {
         let png = dir.join(format!("{kind}.png"));
@@ -306,7 +319,7 @@ fn texture_by_example_end_to_end() {
     assert_eq!(strata, 14);
     let png = dir.join("tex.png");
     spectex_ok(&["render", s(&model), "-o", s(&png), "--size", "64x48"]);
-    let img = image::open(&png).unwrap();
+    let img = spectex_testkit::image_files::open(&png).unwrap();
     assert_eq!((img.width(), img.height()), (64, 48));
     assert!(!img.color().has_color());
 
@@ -324,7 +337,7 @@ fn texture_by_example_end_to_end() {
         "--size",
         "40x30",
     ]);
-    let img = image::open(&synth).unwrap();
+    let img = spectex_testkit::image_files::open(&synth).unwrap();
     assert_eq!((img.width(), img.height()), (40, 30));
     assert!(img.color().has_color());
 
@@ -342,7 +355,7 @@ fn texture_by_example_end_to_end() {
     ]);
     let table = String::from_utf8_lossy(&out.stdout);
     assert!(table.contains("| grey | 0.35 |"), "{table}");
-    let sheet = image::open(sheets.join("grey_sheet.png")).unwrap();
+    let sheet = spectex_testkit::image_files::open(sheets.join("grey_sheet.png")).unwrap();
     assert_eq!((sheet.width(), sheet.height()), (5 * 32 + 4 * 6, 32));
 }
 
@@ -388,7 +401,9 @@ fn relight_and_normal_maps() {
         "--normals",
         "--periodic",
     ]);
-    let n = image::open(&normals).unwrap().to_rgb8();
+    let n = spectex_testkit::image_files::open(&normals)
+        .unwrap()
+        .to_rgb8();
     assert_eq!(n.dimensions(), (64, 16));
     // Interior: leaning to −x (red below 128), no y component (green 128), z up (blue > 128).
     let p = n.get_pixel(30, 8).0;
@@ -433,7 +448,7 @@ fn phasor_and_slices_end_to_end() {
         std::fs::read(&again).unwrap(),
         "render of the model file differs from phasor's own output"
     );
-    let pwm = image::open(&img).unwrap().to_luma8();
+    let pwm = spectex_testkit::image_files::open(&img).unwrap().to_luma8();
     assert!(
         pwm.pixels().all(|p| p[0] == 0 || p[0] == 255),
         "PWM not binary"
@@ -570,7 +585,10 @@ fn classic_noises_end_to_end() {
             "--z",
             z,
         ]);
-        let (a, b) = (image::open(&png).unwrap(), image::open(&again).unwrap());
+        let (a, b) = (
+            spectex_testkit::image_files::open(&png).unwrap(),
+            spectex_testkit::image_files::open(&again).unwrap(),
+        );
         assert_eq!(a.dimensions(), (64, 48));
         assert_eq!(
             a.as_bytes(),
@@ -648,7 +666,10 @@ fn voronoi_and_combinations_end_to_end() {
         spectex_ok(&args);
         let again = dir.join(format!("{n}-again.png"));
         spectex_ok(&["render", s(&model), "-o", s(&again), "--size", "64x48"]);
-        let (a, b) = (image::open(&png).unwrap(), image::open(&again).unwrap());
+        let (a, b) = (
+            spectex_testkit::image_files::open(&png).unwrap(),
+            spectex_testkit::image_files::open(&again).unwrap(),
+        );
         assert_eq!(a.dimensions(), (64, 48));
         assert_eq!(
             a.as_bytes(),
@@ -671,7 +692,12 @@ fn islamic_patterns_end_to_end() {
     let dir = scratch("islamic");
     let plain = dir.join("plain.png");
     spectex_ok(&["noise", "islamic", "-o", s(&plain), "--size", "64x48"]);
-    assert_eq!(image::open(&plain).unwrap().dimensions(), (64, 48));
+    assert_eq!(
+        spectex_testkit::image_files::open(&plain)
+            .unwrap()
+            .dimensions(),
+        (64, 48)
+    );
     let cases: &[&[&str]] = &[
         &["--tiling", "square", "--angle", "30", "--show", "filled"],
         &["--tiling", "hexagonal", "--star", "2", "--cell", "24"],
@@ -694,7 +720,10 @@ fn islamic_patterns_end_to_end() {
         spectex_ok(&args);
         let again = dir.join(format!("{n}-again.png"));
         spectex_ok(&["render", s(&model), "-o", s(&again), "--size", "64x48"]);
-        let (a, b) = (image::open(&png).unwrap(), image::open(&again).unwrap());
+        let (a, b) = (
+            spectex_testkit::image_files::open(&png).unwrap(),
+            spectex_testkit::image_files::open(&again).unwrap(),
+        );
         assert_eq!(
             a.as_bytes(),
             b.as_bytes(),
@@ -757,7 +786,11 @@ fn classic_noises_render_on_the_gpu() {
                 "on the CPU"
             };
             assert!(stdout.contains(want), "{kind}: {stdout}");
-            images.push(image::open(&png).unwrap().into_luma16());
+            images.push(
+                spectex_testkit::image_files::open(&png)
+                    .unwrap()
+                    .into_luma16(),
+            );
         }
         // `spectex render` of the written model on the GPU.
         let again = dir.join(format!("{n}-{kind}-render.png"));
@@ -778,7 +811,11 @@ fn classic_noises_render_on_the_gpu() {
             "--device",
             "gpu",
         ]);
-        images.push(image::open(&again).unwrap().into_luma16());
+        images.push(
+            spectex_testkit::image_files::open(&again)
+                .unwrap()
+                .into_luma16(),
+        );
         assert_eq!(images[0].dimensions(), (48, 32));
         let cpu = images[0].as_raw();
         assert!(cpu.iter().any(|&v| v != cpu[0]), "{kind}: constant image");
@@ -836,7 +873,10 @@ fn warp_end_to_end() {
             "--offset",
             "1e7,-1e7",
         ]);
-        let (a, b) = (image::open(&png).unwrap(), image::open(&again).unwrap());
+        let (a, b) = (
+            spectex_testkit::image_files::open(&png).unwrap(),
+            spectex_testkit::image_files::open(&again).unwrap(),
+        );
         assert_eq!(a.dimensions(), (48, 32));
         assert_eq!(a.as_bytes(), b.as_bytes(), "{extra:?}: render differs");
         assert!(
@@ -858,7 +898,7 @@ fn warp_end_to_end() {
         "1e7,-1e7",
     ]);
     assert!(out.status.success());
-    let base = image::open(&base).unwrap();
+    let base = spectex_testkit::image_files::open(&base).unwrap();
     assert_ne!(base.as_bytes(), &images[1][..]);
     assert_ne!(images[1], images[2]);
 }
@@ -924,7 +964,9 @@ fn periodic_noise_of_every_other_kind_tiles_seamlessly() {
             "16",
         ]);
         spectex_ok(&all);
-        let img = image::open(&out).unwrap().to_luma16();
+        let img = spectex_testkit::image_files::open(&out)
+            .unwrap()
+            .to_luma16();
         assert_eq!(img.dimensions(), (2 * p, 2 * p), "{name}");
         let mut distinct = std::collections::HashSet::new();
         for y in 0..2 * p {
@@ -949,7 +991,9 @@ fn periodic_noise_of_every_other_kind_tiles_seamlessly() {
 fn periodic_renders_tile_seamlessly() {
     let dir = scratch("periodic");
     let quarters_equal = |path: &Path, p: u32| {
-        let img = image::open(path).unwrap().to_luma16();
+        let img = spectex_testkit::image_files::open(path)
+            .unwrap()
+            .to_luma16();
         assert_eq!(img.dimensions(), (2 * p, 2 * p), "{}", path.display());
         for y in 0..2 * p {
             for x in 0..2 * p {
@@ -1018,8 +1062,12 @@ fn periodic_renders_tile_seamlessly() {
     ]);
     quarters_equal(&big, 64);
     let (tile, whole) = (
-        image::open(&ring).unwrap().to_luma16(),
-        image::open(&big).unwrap().to_luma16(),
+        spectex_testkit::image_files::open(&ring)
+            .unwrap()
+            .to_luma16(),
+        spectex_testkit::image_files::open(&big)
+            .unwrap()
+            .to_luma16(),
     );
     for (x, y, v) in tile.enumerate_pixels() {
         assert_eq!(

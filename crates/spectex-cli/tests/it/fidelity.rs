@@ -31,7 +31,9 @@ pub(crate) fn shared_grey(name: &str) -> Option<Array2<f64>> {
         println!("skipping {name}: ../shared/testdata/textures is absent");
         return None;
     }
-    let img = image::open(format!("{dir}/{name}")).unwrap().to_luma32f();
+    let img = spectex_testkit::image_files::open(format!("{dir}/{name}"))
+        .unwrap()
+        .to_luma32f();
     let (w, h) = img.dimensions();
     Some(Array2::from_shape_fn((h as usize, w as usize), |(y, x)| {
         f64::from(img.get_pixel(x as u32, y as u32).0[0])

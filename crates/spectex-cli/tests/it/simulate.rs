@@ -21,7 +21,7 @@ fn every_simulation_runs_with_its_defaults() {
     ] {
         let out = dir.join(format!("{name}.png"));
         let o = spectex_ok(&["simulate", name, "-o", s(&out), "--size", "40x24"]);
-        let img = image::open(&out).unwrap().to_luma8();
+        let img = spectex_testkit::image_files::open(&out).unwrap().to_luma8();
         assert_eq!(img.dimensions(), (40, 24), "{name}");
         let stdout = String::from_utf8_lossy(&o.stdout);
         assert!(

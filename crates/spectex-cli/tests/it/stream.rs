@@ -206,7 +206,10 @@ fn streamed_renders_equal_whole_ones() {
         ];
         args.extend(bands);
         spectex_ok(&args);
-        let (a, b) = (image::open(&a).unwrap(), image::open(&b).unwrap());
+        let (a, b) = (
+            spectex_testkit::image_files::open(&a).unwrap(),
+            spectex_testkit::image_files::open(&b).unwrap(),
+        );
         assert_eq!(a.color(), b.color(), "{depth}-bit");
         assert!(
             a.as_bytes() == b.as_bytes(),

@@ -35,7 +35,9 @@ fn shared(name: &str) -> Option<Array3<f64>> {
         println!("skipping {name}: ../shared/testdata/textures is absent");
         return None;
     }
-    Some(planes(&image::open(format!("{dir}/{name}")).unwrap()))
+    Some(planes(
+        &spectex_testkit::image_files::open(format!("{dir}/{name}")).unwrap(),
+    ))
 }
 
 fn builtin() -> Array3<f64> {
@@ -44,7 +46,7 @@ fn builtin() -> Array3<f64> {
         "/../../testdata/default_exemplar.png"
     ))
     .unwrap();
-    planes(&image::load_from_memory(&bytes).unwrap())
+    planes(&spectex_testkit::image_files::load_from_memory(&bytes).unwrap())
 }
 
 /// Oriented sinusoids plus hashed noise, in about [0, 1].

@@ -283,8 +283,8 @@ fn a_large_download_is_streamed_with_the_pixels_of_spectex_render() {
         &["--size", "4100x20", "--offset", "1e5,7"],
         "png",
     );
-    let a = image::load_from_memory(&served).unwrap();
-    let b = image::load_from_memory(&cli).unwrap();
+    let a = spectex_testkit::image_files::load_from_memory(&served).unwrap();
+    let b = spectex_testkit::image_files::load_from_memory(&cli).unwrap();
     assert_eq!((a.width(), a.height()), (4100, 20));
     assert!(a.as_bytes() == b.as_bytes(), "the streamed pixels differ");
 }
@@ -540,7 +540,7 @@ fn an_image_is_fitted_on_open_and_refitted_with_its_controls() {
         "/api/spectrum/exemplar.png",
         "/api/spectrum/synthesis.png",
     ] {
-        let png = image::load_from_memory(&server.get_ok(path)).unwrap();
+        let png = spectex_testkit::image_files::load_from_memory(&server.get_ok(path)).unwrap();
         assert!(png.width() >= 32, "{path}");
     }
     let (status, reply) = server.request("POST", "/api/fit", Some(r#"{"structure": 7}"#));
@@ -681,8 +681,11 @@ fn a_simulation_steps_live_as_spectex_simulate_runs_it() {
     );
     // 30 steps, then 20 more: the frame `spectex simulate` writes after 50.
     let _ = server.get_ok("/api/sim/frame.png?steps=30");
-    let frame = image::load_from_memory(&server.get_ok("/api/sim/frame.png?steps=20")).unwrap();
-    let expected = image::open(&cli).unwrap();
+    let frame = spectex_testkit::image_files::load_from_memory(
+        &server.get_ok("/api/sim/frame.png?steps=20"),
+    )
+    .unwrap();
+    let expected = spectex_testkit::image_files::open(&cli).unwrap();
     assert_eq!((frame.width(), frame.height()), (64, 48));
     assert!(
         frame.to_luma8().as_raw() == expected.to_luma8().as_raw(),

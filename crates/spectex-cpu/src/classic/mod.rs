@@ -120,6 +120,9 @@ mod lattice;
 mod relaxed;
 mod simplex;
 mod tables;
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+pub use tables::tests as table_tests;
 mod worley;
 
 use fractal::{Octave, RowOctave};

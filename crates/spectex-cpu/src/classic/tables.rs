@@ -292,16 +292,23 @@ impl ClassicEvaluator {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use spectex_model::classic::gradient_dot;
 
     use super::{coded_gradient_dot, gradient_code, gradient_terms};
 
     /// The folded corner `((x & mask) ^ sign) + constant` is `gradient_dot` bit for bit, for
     /// every gradient index and signed zeros among the coordinates (the case `−0 + −0`).
-    #[test]
-    fn gradient_terms_fold_gradient_dot_exactly() {
+    pub fn gradient_terms_fold_gradient_dot_exactly() {
         let values = [0.0f32, -0.0, 0.375, -0.625, 1.0, -1.0, 0.999_999_9, 1.0e-30];
         for g in 0..16u32 {
             // Low bits too: only the top four choose the gradient.
@@ -327,8 +334,7 @@ mod tests {
     /// The coded gradient of the simplex corner tables is `gradient_dot` bit for bit, for every
     /// gradient index and signed zeros among the coordinates, whatever the bits below the code
     /// (a cube's other corners).
-    #[test]
-    fn coded_gradient_dot_is_gradient_dot_exactly() {
+    pub fn coded_gradient_dot_is_gradient_dot_exactly() {
         let values = [
             0.0f32,
             -0.0,

@@ -13,5 +13,6 @@ mod matrix;
 mod periodic;
 mod phasor;
 mod subdivision;
+mod unit;
 mod warp;
 mod wavelet;

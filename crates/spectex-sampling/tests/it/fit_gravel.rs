@@ -25,7 +25,7 @@ fn gravel() -> Option<Array2<f64>> {
         return None;
     }
     let path = format!("{dir}/skimage_gravel.png");
-    let img = image::open(&path)
+    let img = spectex_testkit::image_files::open(&path)
         .unwrap_or_else(|e| panic!("{path}: {e}"))
         .to_luma32f();
     let (w, h) = img.dimensions();

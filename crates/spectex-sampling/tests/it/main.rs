@@ -4,3 +4,4 @@
 //! the dependencies.
 
 mod fit_gravel;
+mod unit;

@@ -76,11 +76,11 @@ fn presets_match_their_golden_images() {
             let img = image::GrayImage::from_raw(spec.width, spec.height, bytes)
                 .unwrap_or_else(|| panic!("{name}: image size"));
             std::fs::create_dir_all(golden_dir()).unwrap_or_else(|e| panic!("{e}"));
-            img.save(&path)
+            spectex_testkit::image_files::save(&image::DynamicImage::ImageLuma8(img), &path)
                 .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
             continue;
         }
-        let stored = image::open(&path)
+        let stored = spectex_testkit::image_files::open(&path)
             .unwrap_or_else(|e| {
                 panic!(
                     "{}: {e}; create it with SPECTEX_UPDATE_GOLDEN=1",

@@ -27,7 +27,7 @@ fn shared(name: &str) -> Option<Array3<f64>> {
         eprintln!("skipping {name}: ../shared/testdata/textures is absent");
         return None;
     }
-    let img = image::open(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
+    let img = spectex_testkit::image_files::open(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
     let rgb = img.color().has_color();
     if rgb {
         let im = img.to_rgb32f();

@@ -16,3 +16,4 @@ mod fuzz_models;
 mod invariance;
 mod kinds;
 mod limits;
+mod runner;
