@@ -84,20 +84,9 @@ mod render;
 pub mod shaders;
 pub mod simulate;
 
-// One module per model kind: its records, packing and `GpuKind` implementation.
-mod classic;
-mod combine;
-mod gabor;
-mod islamic;
-mod lrp;
-mod matrix;
-mod phasor;
-mod subdivision;
-mod texton;
-mod texture;
-mod voronoi;
-mod warp;
-mod wavelet;
+// One module per kind (`<kind>.rs`: its records, packing, `GpuKind` and `ExportKind`),
+// declared from the one list of kinds.
+spectex_model::for_each_kind!(mod);
 
 pub use context::{ADAPTER_NAME_ENV, GpuContext};
 pub use error::{GpuError, LAVAPIPE_HINT};
