@@ -93,7 +93,7 @@ fn kernel_term(uxs: f32, ox: f32, fx: f32, dy2: f32, py: f32, kw: f32) -> f32 {
 
 /// The noise at the pixel whose column and row are located by `column` and `row` (both valid):
 /// the per-pixel evaluation, shared by `gabor_main` and the exported module
-/// (`shaders/export/gabor.wgsl`, which locates the pixel itself).
+/// (the export glue at the end of this file, which locates the pixel itself).
 fn gabor_value(column: GridAxis, row: GridAxis) -> f32 {
     let key = layer_key(GABOR_LAYER, params.seed);
     var sums = array<f32, 3>(0.0f, 0.0f, 0.0f);
@@ -146,4 +146,14 @@ fn gabor_main(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     output[index] = gabor_value(column, row);
+}
+
+// ---- export glue: `spectex export --wgsl` (after export/split.wgsl) ----
+// The exported entry of a Gabor model (after the kernel above and
+// export/split.wgsl): lattice 0 of the export tables is the kernel radius r (cell side).
+
+/// The noise at the position `cell + offset` (pixels).
+fn gabor_sample_cell(cell: vec2<i32>, offset: vec2<f32>) -> f32 {
+    let at = export_normalise(cell, offset);
+    return gabor_value(export_grid_axis(at.n.x, at.u.x, 0u), export_grid_axis(at.n.y, at.u.y, 0u));
 }

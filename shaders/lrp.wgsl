@@ -103,7 +103,8 @@ fn lattice_index(cell: i32, k: u32) -> i32 {
 
 /// Stratum `s`'s term `A_s · Σ w(r²) · Σ_j cos(…)` at the pixel whose column and row axes (for
 /// this stratum) are given: the per-pixel evaluation, shared by `lrp_main` and the exported
-/// module (`shaders/export/lrp.wgsl`, which builds the axes from a position itself).
+/// module (the export glue at the end of this file, which builds the axes from a position
+/// itself).
 fn lrp_stratum(s: u32, column: LatticeAxis, row: LatticeAxis) -> f32 {
     let stratum = strata[s];
     let key = layer_key(s, params.seed);
@@ -161,4 +162,37 @@ fn lrp_main(@builtin(global_invocation_id) gid: vec3<u32>) {
         total += lrp_stratum(s, column, row);
     }
     output[gid.y * params.width + gid.x] = total + params.mean;
+}
+
+// ---- export glue: `spectex export --wgsl` (after export/split.wgsl) ----
+// The exported entry of an LRP model (after the kernel above and export/split.wgsl):
+// lattice l of the export tables is stratum l's Δ_s.
+
+/// The `LatticeAxis` of `lrp.wgsl` for the coordinate `n + u` on stratum `s`'s lattice: the
+/// cell and the offsets `(rem − (k − 1)·Δ) + u` to the lattice points cell − 1 … cell + 2 (the
+/// CPU's `f32(x − (c + k − 1)·Δ)`, rounded once where `rem − (k − 1)·Δ` is exact).
+fn lrp_export_axis(n: i32, u: f32, s: u32) -> LatticeAxis {
+    let at = export_locate(n, u, s);
+    let delta = strata[s].delta;
+    var axis: LatticeAxis;
+    axis.cell = at.cell;
+    axis.offset = array<f32, 4>(
+        (at.rem + delta) + u,
+        at.rem + u,
+        (at.rem - delta) + u,
+        (at.rem - 2.0f * delta) + u,
+    );
+    return axis;
+}
+
+/// The noise at the position `cell + offset` (pixels), the strata summed in the CPU's order.
+fn lrp_sample_cell(cell: vec2<i32>, offset: vec2<f32>) -> f32 {
+    let at = export_normalise(cell, offset);
+    var total = 0.0f;
+    for (var s = 0u; s < params.strata; s++) {
+        let column = lrp_export_axis(at.n.x, at.u.x, s);
+        let row = lrp_export_axis(at.n.y, at.u.y, s);
+        total += lrp_stratum(s, column, row);
+    }
+    return total + params.mean;
 }

@@ -296,3 +296,331 @@ fn phasor_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     output[index] = params.mean + params.amplitude * v;
 }
+
+// ---- export glue: `spectex export --wgsl` (after export/split.wgsl) ----
+// The exported entry of a phasor noise (after the kernel above and
+// export/split.wgsl): lattice 0 of the export tables is the kernel grid (cell side r, the
+// kernel radius). The compute shader reads impulses the host drew per tile
+// (spectex_model::phasor_kernels); an exported module has no host, so this glue draws each of
+// the 3×3 (3×3×3) cells a point reaches itself, with the randomness contract's WGSL twin, in
+// the order `PhasorKernels::draw_cell` draws them: the Poisson count (Knuth's product against
+// exp(−λ), capped), then per impulse its offsets, where the bandwidth varies its thinning
+// uniform, its direction's draws and ψ. The exporter declares:
+//     phasor_export_seed: u32         the model's seed,
+//     phasor_export_threshold: f32    exp(−λ) rounded to f32 (λ impulses per cell),
+//     phasor_export_cap: u32          ⌊4λ + 32⌋,
+//     phasor_export_mode: u32         0 aligned at a constant angle (direction a), 1 two lobes,
+//                                     2 isotropic, 3 aligned at a varying angle, 4 along an
+//                                     image's gradient, 5 coherent,
+//     phasor_export_fr: f32           F·r, the frequency magnitude (turns per cell unit) of a
+//                                     constant frequency,
+//     phasor_export_f_a, _f_b: vec3   F·r times direction a (b): the impulse frequency vectors,
+//     phasor_export_u_a, _u_b: vec3   directions a and b (for a varying frequency),
+//     phasor_export_graded: u32       1 where the bandwidth varies (impulses thinned),
+//     phasor_export_b_min, _b_max     its range, f32,
+//     phasor_export_varying_f: u32    1 where the frequency varies (F·r per impulse),
+//     phasor_export_side: f32         r rounded to f32,
+//     phasor_export_offset_turns: f32 a gradient orientation's offset in turns,
+//     phasor_export_dir_threshold, _dir_cap, _spread_turns, _cap_cos: the coherent direction
+//                                     process (lattice 1 is its grid, side r_f),
+//     phasor_export_per_pixel: u32    1 where a duty cycle or the blend weight varies,
+// and, per field, `phasor_export_<field>(n, r)`: the field at the pixel position `n + r`
+// (`n` integer, `r` an f32 below a few cells), for bandwidth, frequency, angle, duty_a,
+// duty_b and weight, and `phasor_export_steer(n, r, shift)`: a gradient orientation's grey
+// level at `n + r` moved by `shift` image samples. A constant field returns its value; a
+// linear one `value + g·n + g·r`; an image field locates `n` on the lattice of its repeat
+// (`width·pixel_size` along x, `height·pixel_size` along y: n = q·R + rem exactly where R is
+// an f32) and interpolates its grey samples (after the profile data in `profile_data`) at
+// `(rem + r)/pixel_size − ½` as the CPU does at `x/pixel_size − ½`, so a point at 10⁷ pixels
+// reads its texel as precisely as one at the origin. The pixel's splits on the fields' lattices (and on the
+// coherent direction grid) are taken once per pixel, `phasor_export_locate_fields`, not per
+// impulse. Fields are read where the CPU reads them:
+// kernel parameters at the impulse `((i, j) + o)·r`, which is `n + (s + o)·r − rem` for the
+// pixel's cell split `n = cell·r + rem − u`; profile parameters at the pixel. They are f32
+// here and f64 on the CPU: the export test bounds the difference and leaves out the pixels
+// where it can decide a discontinuous use (a thinning comparison within its error of the
+// threshold, a gradient or coherent sum within its error of zero).
+// The sum, outputs and profiles are phasor.wgsl's (the same f32 operations as the CPU).
+
+/// The bilinear interpolation of `w × h` grey samples at `profile_data[start..]` (row-major,
+/// periodic), at sample coordinates `(u, v)`: spectex_model's `bilinear_periodic`.
+fn phasor_export_bilinear(start: u32, w: i32, h: i32, u: f32, v: f32) -> f32 {
+    let fu = floor(u);
+    let fv = floor(v);
+    let tu = u - fu;
+    let tv = v - fv;
+    let i0 = ((i32(fu) % w) + w) % w;
+    let j0 = ((i32(fv) % h) + h) % h;
+    let i1 = (i0 + 1) % w;
+    let j1 = (j0 + 1) % h;
+    let s00 = profile_data[start + u32(j0 * w + i0)];
+    let s10 = profile_data[start + u32(j0 * w + i1)];
+    let s01 = profile_data[start + u32(j1 * w + i0)];
+    let s11 = profile_data[start + u32(j1 * w + i1)];
+    let top = s00 * (1.0f - tu) + s10 * tu;
+    let bottom = s01 * (1.0f - tu) + s11 * tu;
+    return top * (1.0f - tv) + bottom * tv;
+}
+
+/// The unit direction at `t` turns in the plane.
+fn phasor_export_planar(t: f32) -> vec3<f32> {
+    return vec3<f32>(cos_turns(t), sin_turns(t), 0.0f);
+}
+
+/// A gradient orientation's direction at the impulse `n + r`: `atan2` of the grey level's
+/// central differences (one sample apart) plus the offset, the offset alone on a flat spot.
+fn phasor_export_gradient(n: vec2<i32>, r: vec2<f32>) -> vec3<f32> {
+    let gx = phasor_export_steer(n, r, vec2<f32>(1.0f, 0.0f))
+        - phasor_export_steer(n, r, vec2<f32>(-1.0f, 0.0f));
+    let gy = phasor_export_steer(n, r, vec2<f32>(0.0f, 1.0f))
+        - phasor_export_steer(n, r, vec2<f32>(0.0f, -1.0f));
+    var a = 0.0f;
+    if (gx != 0.0f || gy != 0.0f) {
+        a = atan2_turns(gy, gx);
+    }
+    return phasor_export_planar(fract(a + phasor_export_offset_turns));
+}
+
+/// The coherent direction field at the impulse `n + r` (§3.2.2): the normalised sum of the
+/// direction process's kernels around it (lattice 1, DIRECTION_LAYER), as
+/// `PhasorKernels::coherent_direction` sums them in f32.
+fn phasor_export_coherent(n: vec2<i32>, r: vec2<f32>) -> vec3<f32> {
+    // `n` (the pixel's) split on lattice 1, once per pixel by `phasor_sample_cell`.
+    let ax = phasor_export_dir_x;
+    let ay = phasor_export_dir_y;
+    let wx = (ax.rem + r.x) * export_inv_sides[1];
+    let wy = (ay.rem + r.y) * export_inv_sides[1];
+    let fx = floor(wx);
+    let fy = floor(wy);
+    let cell = vec2<i32>(
+        bitcast<i32>(bitcast<u32>(ax.cell) + bitcast<u32>(i32(fx))),
+        bitcast<i32>(bitcast<u32>(ay.cell) + bitcast<u32>(i32(fy))),
+    );
+    let ux = wx - fx;
+    let uy = wy - fy;
+    var sum = vec3<f32>(0.0f);
+    for (var sy = -1; sy <= 1; sy++) {
+        for (var sx = -1; sx <= 1; sx++) {
+            let c = vec2<i32>(
+                bitcast<i32>(bitcast<u32>(cell.x) + bitcast<u32>(sx)),
+                bitcast<i32>(bitcast<u32>(cell.y) + bitcast<u32>(sy)),
+            );
+            var prng = Prng(cell_hash(c.x, c.y, 1u, phasor_export_seed));
+            var p = 1.0f;
+            var count = 0u;
+            while (count < phasor_export_dir_cap) {
+                p *= prng_next_f32(&prng);
+                if (p < phasor_export_dir_threshold) {
+                    break;
+                }
+                count += 1u;
+            }
+            for (var k = 0u; k < count; k++) {
+                let ox = prng_next_f32(&prng);
+                let oy = prng_next_f32(&prng);
+                let t = (2.0f * prng_next_f32(&prng) - 1.0f) * phasor_export_spread_turns;
+                let dx = (ux - f32(sx)) - ox;
+                let dy = (uy - f32(sy)) - oy;
+                let d2 = dx * dx + dy * dy + 0.0f * 0.0f;
+                if (d2 < 1.0f) {
+                    let g = exp_poly(PHASOR_NEG_LN_20 * d2);
+                    sum.x += g * cos_turns(t);
+                    sum.y += g * sin_turns(t);
+                    sum.z += g * 0.0f;
+                }
+            }
+        }
+    }
+    let norm = sqrt(sum.x * sum.x + sum.y * sum.y + sum.z * sum.z);
+    if (norm > 0.0f) {
+        return vec3<f32>(sum.x / norm, sum.y / norm, sum.z / norm);
+    }
+    return vec3<f32>(1.0f, 0.0f, 0.0f);
+}
+
+/// The pixel's integer position split on the direction grid (lattice 1), set by
+/// `phasor_sample_cell` where the orientation is coherent: every impulse's direction sum reads
+/// it, instead of splitting the same position again (a 32-step table loop per axis).
+var<private> phasor_export_dir_x: ExportSplit;
+var<private> phasor_export_dir_y: ExportSplit;
+
+/// The PRNG of kernel cell `c` (spectex_model::phasor_kernels, layer 0): a 3D model hashes
+/// the layer k into the seed first.
+fn phasor_export_prng(c: vec3<i32>) -> Prng {
+    var seed = phasor_export_seed;
+    if (params.three_d == 1u) {
+        seed = cell_hash(c.z, 0i, 0u, seed);
+    }
+    return Prng(cell_hash(c.x, c.y, 0u, seed));
+}
+
+/// Knuth's Poisson count: uniforms multiplied until the product falls below exp(−λ).
+fn phasor_export_count(prng: ptr<function, Prng>) -> u32 {
+    var p = 1.0f;
+    var n = 0u;
+    while (n < phasor_export_cap) {
+        p *= prng_next_f32(prng);
+        if (p < phasor_export_threshold) {
+            return n;
+        }
+        n += 1u;
+    }
+    return n;
+}
+
+/// An impulse's frequency vector (turns per cell unit) at `n + r` pixels, drawing what its
+/// orientation draws: `F·r` (a constant, or the field at the impulse clamped to [0, ½] times
+/// r in f32, as the CPU rounds it) times its direction.
+fn phasor_export_frequency(prng: ptr<function, Prng>, n: vec2<i32>, r: vec2<f32>) -> vec3<f32> {
+    var fr = phasor_export_fr;
+    if (phasor_export_varying_f == 1u) {
+        fr = clamp(phasor_export_frequency_field(n, r), 0.0f, 0.5f) * phasor_export_side;
+    }
+    var u = vec3<f32>(1.0f, 0.0f, 0.0f);
+    switch phasor_export_mode {
+        case 0u: {
+            if (phasor_export_varying_f == 0u) {
+                return phasor_export_f_a;
+            }
+            u = phasor_export_u_a;
+        }
+        case 1u: {
+            let first = prng_next_f32(prng) < 0.5f;
+            if (phasor_export_varying_f == 0u) {
+                return select(phasor_export_f_b, phasor_export_f_a, first);
+            }
+            u = select(phasor_export_u_b, phasor_export_u_a, first);
+        }
+        case 3u: {
+            u = phasor_export_planar(fract(phasor_export_angle(n, r) * PHASOR_EXPORT_INV_TAU));
+        }
+        case 4u: {
+            u = phasor_export_gradient(n, r);
+        }
+        case 5u: {
+            u = phasor_export_coherent(n, r);
+        }
+        default: {
+            if (params.three_d == 1u) {
+                let z = 2.0f * prng_next_f32(prng) - 1.0f;
+                let s = sqrt(max(1.0f - z * z, 0.0f));
+                let t = prng_next_f32(prng);
+                return vec3<f32>(fr * (s * cos_turns(t)), fr * (s * sin_turns(t)), fr * z);
+            }
+            let t = prng_next_f32(prng);
+            return vec3<f32>(fr * cos_turns(t), fr * sin_turns(t), fr * 0.0f);
+        }
+    }
+    return vec3<f32>(fr * u.x, fr * u.y, fr * u.z);
+}
+
+/// 1/2π rounded to f32: a varying angle's turns (the CPU divides by 2π in f64).
+const PHASOR_EXPORT_INV_TAU: f32 = 0.15915494f;
+
+/// The noise at the position `cell + offset` (pixels): the CPU's sum over the cells' impulses
+/// in its order (layers, rows, columns ascending; impulses in draw order), then its output.
+fn phasor_sample_cell(cell: vec2<i32>, offset: vec2<f32>) -> f32 {
+    let at = export_normalise(cell, offset);
+    // Per-pixel splits that the fields and directions read per impulse.
+    phasor_export_locate_fields(at.n);
+    if (phasor_export_mode == 5u) {
+        phasor_export_dir_x = export_split(at.n.x, 1u);
+        phasor_export_dir_y = export_split(at.n.y, 1u);
+    }
+    let cx = export_locate(at.n.x, at.u.x, 0u);
+    let cy = export_locate(at.n.y, at.u.y, 0u);
+    // The CPU's offsets in cell units, `x/r − ⌊x/r⌋` rounded once from f64.
+    let ux = (cx.rem + at.u.x) * export_inv_sides[0];
+    let uy = (cy.rem + at.u.y) * export_inv_sides[0];
+    if (params.z_valid == 0u) {
+        return 0.0f;
+    }
+    var re = 0.0f;
+    var im = 0.0f;
+    let layers = select(1, 3, params.three_d == 1u);
+    for (var l = 0; l < layers; l++) {
+        let sz = select(0, l - 1, params.three_d == 1u);
+        let dz = params.z_offset - f32(sz);
+        for (var sy = -1; sy <= 1; sy++) {
+            let dy = uy - f32(sy);
+            for (var sx = -1; sx <= 1; sx++) {
+                let dxs = ux - f32(sx);
+                let c = vec3<i32>(
+                    bitcast<i32>(bitcast<u32>(cx.cell) + bitcast<u32>(sx)),
+                    bitcast<i32>(bitcast<u32>(cy.cell) + bitcast<u32>(sy)),
+                    bitcast<i32>(bitcast<u32>(params.z_cell) + bitcast<u32>(sz)),
+                );
+                var prng = phasor_export_prng(c);
+                let count = phasor_export_count(&prng);
+                for (var k = 0u; k < count; k++) {
+                    let ox = prng_next_f32(&prng);
+                    let oy = prng_next_f32(&prng);
+                    var oz = 0.0f;
+                    if (params.three_d == 1u) {
+                        oz = prng_next_f32(&prng);
+                    }
+                    // The impulse relative to the integer position `at.n`, pixels.
+                    let r = vec2<f32>(
+                        (f32(sx) + ox) * phasor_export_side - cx.rem,
+                        (f32(sy) + oy) * phasor_export_side - cy.rem,
+                    );
+                    var sharp = 1.0f;
+                    if (phasor_export_graded == 1u) {
+                        // Thinning: kept with probability (b/b_max)², a discarded impulse draws
+                        // nothing more.
+                        let b = clamp(
+                            phasor_export_bandwidth(at.n, r),
+                            phasor_export_b_min,
+                            phasor_export_b_max,
+                        );
+                        let q = b / phasor_export_b_max;
+                        if (!(prng_next_f32(&prng) < q * q)) {
+                            continue;
+                        }
+                        let s = b / phasor_export_b_min;
+                        sharp = s * s;
+                    }
+                    let f = phasor_export_frequency(&prng, at.n, r);
+                    let psi = prng_next_f32(&prng);
+                    let d = vec3<f32>(dxs - ox, dy - oy, dz - oz);
+                    let d2 = (d.x * d.x + d.y * d.y + d.z * d.z) * sharp;
+                    if (d2 < 1.0f) {
+                        let g = exp_poly(PHASOR_NEG_LN_20 * d2);
+                        let t = f.x * d.x + f.y * d.y + f.z * d.z + psi;
+                        re += g * cos_turns(t);
+                        im += g * sin_turns(t);
+                    }
+                }
+            }
+        }
+    }
+    var v = 0.0f;
+    switch params.output_kind {
+        case 1u: {
+            v = atan2_turns(im, re);
+        }
+        case 2u: {
+            v = sqrt(re * re + im * im);
+        }
+        case 3u: {
+            v = im;
+        }
+        default: {
+            var duty_a = params.duty_a;
+            var duty_b = params.duty_b;
+            var w = params.weight;
+            if (phasor_export_per_pixel == 1u) {
+                // The CPU's `field.at(p).clamp(0, 1) as f32` at the pixel.
+                duty_a = clamp(phasor_export_duty_a(at.n, at.u), 0.0f, 1.0f);
+                duty_b = clamp(phasor_export_duty_b(at.n, at.u), 0.0f, 1.0f);
+                w = clamp(phasor_export_weight(at.n, at.u), 0.0f, 1.0f);
+            }
+            v = leaf(params.a_kind, params.a_start, params.a_len, duty_a, re, im, 0.0f);
+            if (params.blend == 1u) {
+                let b = leaf(params.b_kind, params.b_start, params.b_len, duty_b, re, im, 0.0f);
+                v = (1.0f - w) * v + w * b;
+            }
+        }
+    }
+    return params.mean + params.amplitude * v;
+}

@@ -146,6 +146,50 @@ impl CrosscheckSummary {
     }
 }
 
+/// `cargo xtask fmt`: `cargo fmt --all` and the source files it does not reach ([`fmt_args`]).
+pub(crate) fn fmt(ws: &Workspace) -> Result<()> {
+    ensure_rustfmt_and_clippy(ws)?;
+    let args = fmt_args(ws, false)?;
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    run_command(&mut ws.cargo(&args))
+}
+
+/// `cargo fmt --all [-- --check]` plus every `.rs` file under `crates/*/src/`: rustfmt finds a
+/// crate's modules by following its `mod` items, and the kinds' modules are declared by a macro
+/// (`spectex_model::for_each_kind!(mod)`), which it does not expand.
+fn fmt_args(ws: &Workspace, check: bool) -> Result<Vec<String>> {
+    let mut args: Vec<String> = ["fmt", "--all", "--"].map(str::to_owned).to_vec();
+    if check {
+        args.push("--check".to_owned());
+    }
+    let mut files = Vec::new();
+    for krate in fs::read_dir(ws.root.join("crates")).context("reading crates/")? {
+        rust_files(&krate?.path().join("src"), &mut files)?;
+    }
+    files.sort();
+    for file in files {
+        let relative = file.strip_prefix(&ws.root).unwrap_or(&file);
+        args.push(relative.to_string_lossy().into_owned());
+    }
+    Ok(args)
+}
+
+/// Every `.rs` file under `dir`, recursively (none if `dir` does not exist).
+fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) -> Result<()> {
+    if !dir.is_dir() {
+        return Ok(());
+    }
+    for entry in fs::read_dir(dir).with_context(|| format!("reading {}", dir.display()))? {
+        let path = entry?.path();
+        if path.is_dir() {
+            rust_files(&path, out)?;
+        } else if path.extension().is_some_and(|e| e == "rs") {
+            out.push(path);
+        }
+    }
+    Ok(())
+}
+
 /// `cargo xtask ci`. The tests run once, on lavapipe with `SPECTEX_REQUIRE_GPU=1`, so the GPU
 /// tests and the cross-check suite of `cargo xtask verify` run (and are built) in the test step,
 /// and verify's report comes from that run. Every cargo command gets the same environment and
@@ -188,10 +232,9 @@ pub(crate) fn ci(ws: &Workspace) -> Result<()> {
             command,
         }
     };
-    let mut steps = vec![step(
-        "cargo fmt --check",
-        &["fmt", "--all", "--", "--check"],
-    )];
+    let fmt_args = fmt_args(ws, true)?;
+    let fmt_args: Vec<&str> = fmt_args.iter().map(String::as_str).collect();
+    let mut steps = vec![step("cargo fmt --check (and every source file)", &fmt_args)];
     match runner {
         TestRunner::Nextest => {
             steps.push(step(

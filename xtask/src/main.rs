@@ -5,7 +5,7 @@
 //! command is a new function building its steps (and checking the tools it needs first).
 //!
 //! This file holds the dispatch, the help, the [`Workspace`] and the step runner; the commands
-//! are in `ci` (ci, verify), `bench` (with `fastnoise`, FastNoiseSIMD's harness), `gpu`, `fuzz`
+//! are in `ci` (ci, verify, fmt), `bench` (with `fastnoise`, FastNoiseSIMD's harness), `gpu`, `fuzz`
 //! and `checks` (export-check, bevy-check, reproduce); `system` installs and finds lavapipe,
 //! `json` reads cargo's and criterion's JSON.
 
@@ -39,6 +39,11 @@ const COMMANDS: &[(&str, &str)] = &[
         "what CI runs: installs rustfmt, clippy and lavapipe if missing; fmt --check, clippy \
          -D warnings, every test once with the GPU on lavapipe, doc tests, one line per \
          cross-checked model (XTASK_TEST_RUNNER=nextest: tests by cargo-nextest)",
+    ),
+    (
+        "fmt",
+        "cargo fmt --all, and the kinds' modules it does not reach (declared by a macro); \
+         what `ci` checks",
     ),
     (
         "python",
@@ -136,6 +141,12 @@ fn run() -> Result<()> {
                 bail!("`cargo xtask verify` takes no arguments (got {rest:?})");
             }
             verify(&Workspace::locate()?)
+        }
+        Some("fmt") => {
+            if !rest.is_empty() {
+                bail!("`cargo xtask fmt` takes no arguments (got {rest:?})");
+            }
+            ci::fmt(&Workspace::locate()?)
         }
         Some("python") => python::python(&Workspace::locate()?, &rest),
         Some("bench") => bench(&Workspace::locate()?, rest),

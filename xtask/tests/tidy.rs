@@ -9,6 +9,8 @@
 mod docs;
 #[path = "tidy/kinds.rs"]
 mod kinds;
+#[path = "tidy/recipe.rs"]
+mod recipe;
 
 use std::collections::BTreeSet;
 use std::fs;

@@ -1,26 +1,15 @@
-//! `spectex noise`: procedural noises built from flags, one module per family of subcommands
-//! (LRP noise of a continuous spectrum, Gabor, the classic noises, wavelet noise, domain
-//! warping, textons, Voronoi diagrams, matrix transformation, stochastic subdivision, combinations), each building its model through `spectex_model`'s builders, writing it if asked
-//! (`--model`) and rendering it.
-
-pub mod classic;
-mod combine;
-pub mod gabor;
-mod islamic;
-mod matrix;
-pub mod spectral;
-mod subdivision;
-mod texton;
-mod voronoi;
-pub mod warp;
-pub mod wavelet;
+//! `spectex noise`: procedural noises built from flags, one module per kind holding its
+//! subcommands (LRP noise of a continuous spectrum, Gabor, the classic noises, wavelet noise,
+//! domain warping, textons, Voronoi diagrams, matrix transformation, stochastic subdivision,
+//! combinations, Islamic patterns; none for phasor noise and textures by example), each
+//! building its model through `spectex_model`'s builders, writing it if asked (`--model`) and
+//! rendering it.
 
 use std::path::PathBuf;
 
 use anyhow::{Result, anyhow, bail};
 use clap::{Args, Subcommand};
 use spectex_model::ModelError;
-use spectex_model::classic::Basis;
 
 use crate::args::RenderArgs;
 
@@ -31,60 +20,35 @@ pub struct NoiseCommand {
     kind: NoiseKind,
 }
 
-/// The continuous spectra of the paper's Fig. 3 and Fig. 10, Gabor noise for comparison, the
-/// survey's 1/f^β fractal spectra, and the classic pointwise noises.
-#[derive(Debug, Subcommand)]
-enum NoiseKind {
-    /// Isotropic noise whose power lies on a ring of radius F (Fig. 10).
-    Ring(spectral::RingArgs),
-    /// Anisotropic noise: two Gaussian lobes at ±F in direction ANGLE (Fig. 3).
-    Lobe(spectral::LobeArgs),
-    /// Band-pass noise: constant power for MIN ≤ |f| ≤ MAX.
-    Band(spectral::BandArgs),
-    /// Gabor noise by sparse convolution (Lagae et al. 2009), for comparison with LRP noise.
-    Gabor(gabor::GaborArgs),
-    /// A random-phase 1/f^β fractal with the survey's angular term (Eq. (8)), as LRP noise:
-    /// continuous and infinite; --contrast is the RMS roughness.
-    Fractal(spectral::FractalArgs),
-    /// Improved Perlin gradient noise (Perlin 2002), 2D or 3D (sliced at --z).
-    Perlin(classic::ClassicArgs),
-    /// Simplex noise (Perlin 2001, Gustavson 2005), 2D or 3D.
-    Simplex(classic::ClassicArgs),
-    /// Value noise: random lattice values with quintic interpolation, 2D or 3D.
-    Value(classic::ClassicArgs),
-    /// Better gradient noise (Kensler, Knoll & Shirley 2008): xor hash, radial kernel of
-    /// radius 2 cells, 2D or 3D.
-    Kensler(classic::ClassicArgs),
-    /// Fractal sum over octaves (fBm, turbulence, ridged multifractal) of a basis.
-    Fbm(classic::FbmArgs),
-    /// Domain warping: --base evaluated at p + strength·(x(p), y(p)) for the --by (x) and
-    /// --by-y models (built-in fBms by default).
-    Warp(warp::WarpArgs),
-    /// Worley cellular noise C1·F1 + C2·F2 + C3·F3 + C4·F4 (Worley 1996), 2D or 3D.
-    Worley(classic::WorleyNoiseArgs),
-    /// Wavelet noise (Cook & DeRose 2005): a band-limited tile summed over octave bands, 2D or 3D.
-    Wavelet(wavelet::WaveletArgs),
-    /// Texton placement / spot noise (survey §2.3): ellipsoids, Gaussian spots or an image
-    /// placed on a jittered grid or at Poisson points, rotated, scaled, summed or maxed.
-    Texton(texton::TextonArgs),
-    /// Voronoi diagrams (survey §2.6): cell ID, F1, exact border distance, F2 − F1, or colours
-    /// from a palette or an image; optional Lloyd relaxation.
-    Voronoi(voronoi::VoronoiArgs),
-    /// Matrix transformation (survey §2.4): a source (built-in rings or a square image) moved
-    /// k times by an integer matrix on the N × N torus, e.g. the cat map.
-    Matrix(matrix::MatrixArgs),
-    /// Stochastic subdivision (survey §3.1.7): midpoint displacement (Fournier et al. 1982)
-    /// or a smoother 4-point stencil (after Lewis 1987), each displacement hashed from its
-    /// level and lattice point, so infinite and tile-invariant.
-    Subdivision(subdivision::SubdivisionArgs),
-    /// A combination of models (survey §4.1–4.2): add, multiply, min, max, mix, smoothstep,
-    /// fold, sin-fold, histogram matching, colour ramp.
-    Combine(combine::CombineArgs),
-    /// Islamic star patterns (survey §2.7): Hankin contact-angle rosettes or {n/d} stars on
-    /// the square, hexagonal, 4.8.8 or 3.12.12 tiling, as line bands, signed distance or
-    /// filled regions.
-    Islamic(islamic::IslamicArgs),
+/// One module per kind (`<kind>.rs`: its subcommands as a `Noise` enum, none for a kind another
+/// command builds, and `noise` to run them), declared from the one list of kinds, with the
+/// enum of every kind's subcommands and the one dispatch over it.
+macro_rules! noise_kinds {
+    ($($module:ident $Variant:ident $Kind:ty,)*) => {
+        $(
+            #[doc(hidden)]
+            pub mod $module;
+        )*
+
+        /// Every kind's subcommands, in the order of the kinds.
+        #[derive(Debug, Subcommand)]
+        enum NoiseKind {
+            $(
+                #[command(flatten)]
+                $Variant($module::Noise),
+            )*
+        }
+
+        /// `spectex noise`.
+        pub fn noise(cmd: &NoiseCommand) -> Result<()> {
+            match &cmd.kind {
+                $(NoiseKind::$Variant(noise) => $module::noise(noise),)*
+            }
+        }
+    };
 }
+
+spectex_model::for_each_kind!(list: noise_kinds);
 
 /// What the noises of a spectrum (and Gabor noise) share.
 #[derive(Debug, Args)]
@@ -152,30 +116,5 @@ pub(crate) fn flag_hint(flag: fn(&str) -> &'static str) -> impl Fn(ModelError) -
             anyhow!("{e}; set {} within it", flag(field))
         }
         _ => anyhow!("{e}"),
-    }
-}
-
-/// `spectex noise`.
-pub fn noise(cmd: &NoiseCommand) -> Result<()> {
-    match &cmd.kind {
-        NoiseKind::Ring(args) => spectral::ring(args),
-        NoiseKind::Lobe(args) => spectral::lobe(args),
-        NoiseKind::Band(args) => spectral::band(args),
-        NoiseKind::Gabor(args) => gabor::run(args),
-        NoiseKind::Fractal(args) => spectral::fractal(args),
-        NoiseKind::Perlin(args) => classic::run(Basis::Gradient, None, args),
-        NoiseKind::Simplex(args) => classic::run(Basis::Simplex, None, args),
-        NoiseKind::Value(args) => classic::run(Basis::Value, None, args),
-        NoiseKind::Kensler(args) => classic::run(Basis::Kensler, None, args),
-        NoiseKind::Fbm(args) => classic::fbm(args),
-        NoiseKind::Warp(args) => warp::run(args),
-        NoiseKind::Worley(args) => classic::worley(args),
-        NoiseKind::Wavelet(args) => wavelet::run(args),
-        NoiseKind::Texton(args) => texton::run(args),
-        NoiseKind::Voronoi(args) => voronoi::run(args),
-        NoiseKind::Matrix(args) => matrix::run(args),
-        NoiseKind::Subdivision(args) => subdivision::run(args),
-        NoiseKind::Combine(args) => combine::run(args),
-        NoiseKind::Islamic(args) => islamic::run(args),
     }
 }

@@ -25,22 +25,13 @@
 //! assert_eq!(tile[0].to_bits(), pixels[4 * 64 + 8].to_bits());
 //! ```
 
-pub mod classic;
-pub mod combine;
-pub mod gabor;
-pub mod islamic;
-pub mod lrp;
 /// The f32 functions both evaluators share, defined once in `spectex-model`.
 pub use spectex_model::math;
-pub mod matrix;
 mod periodic;
-pub mod phasor;
-pub mod subdivision;
-pub mod texton;
-pub mod texture;
-pub mod voronoi;
-pub mod warp;
-pub mod wavelet;
+
+// One module per kind (`<kind>.rs`: its `CpuKind` and `RowKernel`), declared from the one list
+// of kinds.
+spectex_model::for_each_kind!(pub mod);
 
 /// The unit tests' bodies, one module per source module, run by `tests/it/unit.rs`.
 #[cfg(feature = "unit-tests")]

@@ -1,6 +1,10 @@
 //! Classic noises on the device (`shaders/classic.wgsl`): a [`ClassicNoise`] into the uniform
 //! and the octave table, and a tile's columns and rows into [`ClassicAxis`] records (the f64
 //! work: cells, f32 offsets, and the per-axis parts of simplex noise's skewed coordinates).
+//!
+//! The classic noise's export (the glue of `shaders/classic.wgsl`): the compute shader's uniform
+//! and octave table; per octave three lattices (the cell and, for simplex noise, the two
+//! parts of the skew).
 
 use spectex_model::Period;
 use spectex_model::classic::{
@@ -10,11 +14,15 @@ use spectex_model::classic::{
 use spectex_model::random::layer_key;
 
 use crate::axis::{periodic_columns, periodic_rows};
+use crate::export::{ExportKind, ExportNode, ExportParts};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
-use crate::shaders::ShaderFile;
+use crate::shaders::{ShaderFile, kernel_and_glue};
 use crate::{GpuContext, GpuError, GpuWindow};
+
+/// `shaders/classic.wgsl`: the compute shader, then the export glue.
+const WGSL: (&str, &str) = kernel_and_glue(include_str!("../../../shaders/classic.wgsl"));
 
 wgsl_struct! {
     /// `ClassicParams` of `classic.wgsl`; `width` and `height` are the tile's.
@@ -256,7 +264,7 @@ impl ClassicKernel {
 impl GpuKind for ClassicNoise {
     const SHADER: Option<ShaderFile> = Some(ShaderFile {
         name: "classic",
-        source: include_str!("../../../shaders/classic.wgsl"),
+        source: WGSL.0,
         needs_common: true,
         entry_points: &["classic_main"],
     });
@@ -330,6 +338,56 @@ impl ShaderKernel for ClassicKernel {
             ],
         ))
     }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Export (`spectex export --wgsl`).
+
+impl ExportKind for ClassicNoise {
+    const GLUE: &'static str = WGSL.1;
+
+    fn export_parts(&self, z: f64) -> Result<ExportNode, GpuError> {
+        let (kernel, octaves) = pack(self, z);
+        // Octave o: lattices 3o (c_o), 3o + 1 (c_o/(1 + F)) and 3o + 2 (c_o/F) of
+        // the glue of classic.wgsl; the skew lattices only matter to simplex noise (F > 0).
+        let lattices: Vec<f64> = kernel
+            .sides
+            .iter()
+            .flat_map(|&c| {
+                let f = kernel.skew;
+                if f > 0.0 {
+                    [c, c / (1.0 + f), c / f]
+                } else {
+                    [c, c, c]
+                }
+            })
+            .collect();
+        let halving = u32::from(halving(&lattices));
+        Ok(ExportParts::of(
+            &kernel,
+            &[Table::new("classic octaves", &octaves)],
+            lattices,
+            "classic",
+        )?
+        .with_constants(format!(
+            "/// 1: every octave's lattices are the previous octave's halved exactly (split once).\n\
+             const classic_export_halving: u32 = {halving}u;\n"
+        )))
+    }
+}
+
+/// Whether each octave's three lattices are exactly half the previous octave's, in f64 and as
+/// the f32 sides the glue reads (lacunarity 2): then `export_halve` derives octave o + 1's
+/// splits from octave o's, exactly where the sides are f32.
+fn halving(lattices: &[f64]) -> bool {
+    lattices
+        .chunks_exact(3)
+        .zip(lattices.chunks_exact(3).skip(1))
+        .all(|(coarse, fine)| {
+            coarse.iter().zip(fine).all(|(&c, &f)| {
+                c == 2.0 * f && f > 0.0 && (c as f32) == 2.0 * (f as f32) && (f as f32) > 0.0
+            })
+        })
 }
 
 #[cfg(test)]
@@ -420,5 +478,17 @@ mod tests {
             Some(Period::new(64, 32).unwrap()),
         );
         assert_eq!((periodic[1].cells_x, periodic[1].cells_y), (8, 4));
+    }
+
+    #[test]
+    fn halving_needs_every_lattice_halved_exactly() {
+        assert!(halving(&[
+            32.0, 20.0, 80.0, 16.0, 10.0, 40.0, 8.0, 5.0, 20.0
+        ]));
+        assert!(halving(&[32.0, 32.0, 32.0]));
+        // Lacunarity 1.9, or one skew lattice off by an ulp.
+        assert!(!halving(&[32.0, 32.0, 32.0, 16.842, 16.842, 16.842]));
+        let off = 10.0f64.next_up();
+        assert!(!halving(&[32.0, 20.0, 80.0, 16.0, off, 40.0]));
     }
 }

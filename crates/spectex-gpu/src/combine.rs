@@ -2,11 +2,17 @@
 //! every operand through its own kernel (displaced when the combination is) and applies
 //! [`CombineOp::apply`](spectex_model::combine::CombineOp::apply) on the host in f32, the
 //! CPU's expression, as a warp applies its displacement.
+//!
+//! A combination's export (the glue of `shaders/combine.wgsl`): like a warp, a composition — each
+//! operand is exported as its own prefixed model, and the glue's `combine_sample_cell`
+//! (written by the emitter, per operation and channel) evaluates them at the position and applies
+//! `CombineOp::apply`'s expression in WGSL (the compute path applies it on the host in f32).
 
 use spectex_model::{Combine, Model, ModelKind, Period};
 
+use crate::export::{ExportKind, ExportNode, parts};
 use crate::kernel::{GpuKernel, GpuKind};
-use crate::shaders::ShaderFile;
+use crate::shaders::{ShaderFile, kernel_and_glue};
 use crate::{GpuContext, GpuError, GpuEvaluator, GpuWindow};
 
 /// A combination's operand evaluators.
@@ -107,5 +113,24 @@ impl GpuKernel for CombineKernel {
             }
         }
         Ok(out)
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Export (`spectex export --wgsl`).
+
+impl ExportKind for Combine {
+    const GLUE: &'static str = kernel_and_glue(include_str!("../../../shaders/combine.wgsl")).1;
+
+    fn export_parts(&self, z: f64) -> Result<ExportNode, GpuError> {
+        Ok(ExportNode::Combine {
+            op: self.op.clone(),
+            operands: self
+                .operands
+                .iter()
+                .map(|m| parts(m, z))
+                .collect::<Result<_, _>>()?,
+            channels: self.output_channels(),
+        })
     }
 }

@@ -1,15 +1,22 @@
 //! Gabor noise on the device (`shaders/gabor.wgsl`): the constants the CPU's Gabor evaluator
 //! computes, by the same f64 expressions, in the uniform, and per tile each column's and row's
 //! kernel-grid cell and offset.
+//!
+//! The Gabor noise's export (the glue of `shaders/gabor.wgsl`): the compute shader's uniform; the
+//! kernel grid (side: the kernel radius) is the export's only lattice.
 
 use spectex_model::{GaborNoise, Orientation, Period};
 
 use crate::axis::{CellAxes, CellAxis};
+use crate::export::{ExportKind, ExportNode, ExportParts};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
-use crate::shaders::ShaderFile;
+use crate::shaders::{ShaderFile, kernel_and_glue};
 use crate::{GpuContext, GpuError, GpuWindow};
+
+/// `shaders/gabor.wgsl`: the compute shader, then the export glue.
+const WGSL: (&str, &str) = kernel_and_glue(include_str!("../../../shaders/gabor.wgsl"));
 
 /// The Poisson count's renormalisation chunk (the CPU's `POISSON_CHUNK`).
 const POISSON_CHUNK: f64 = 64.0;
@@ -121,7 +128,7 @@ pub(crate) fn pack(model: &GaborNoise, period: Option<Period>) -> GaborKernel {
 impl GpuKind for GaborNoise {
     const SHADER: Option<ShaderFile> = Some(ShaderFile {
         name: "gabor",
-        source: include_str!("../../../shaders/gabor.wgsl"),
+        source: WGSL.0,
         needs_common: true,
         entry_points: &["gabor_main"],
     });
@@ -159,6 +166,20 @@ impl ShaderKernel for GaborKernel {
             &params,
             CellAxes::new(self.radius, tile, self.period).tables(["gabor columns", "gabor rows"]),
         ))
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Export (`spectex export --wgsl`).
+
+impl ExportKind for GaborNoise {
+    const GLUE: &'static str = WGSL.1;
+
+    fn export_parts(&self, _z: f64) -> Result<ExportNode, GpuError> {
+        let kernel = pack(self, None);
+        // The kernel grid is the export's lattice 0 (the glue of gabor.wgsl).
+        let lattices = vec![kernel.radius];
+        ExportParts::of(&kernel, &[], lattices, "gabor")
     }
 }
 

@@ -30,9 +30,10 @@
 //!   [`GpuEvaluator::new_at_z`] is the one dispatch over kinds. Pipeline layouts are derived
 //!   from the shaders (`layout: None`), and every record the device reads is a `#[repr(C)]`
 //!   `bytemuck::Pod` struct whose field offsets a test holds against naga's layout of its WGSL
-//!   twin. A new kind adds its module (whose `GpuKind::SHADER` names its `shaders/<kind>.wgsl`,
-//!   collected into [`SHADERS`]) and its `export/<kind>.rs` (whose `GLUE` names its
-//!   `shaders/export/<kind>.wgsl`).
+//!   twin. A new kind adds its module `<kind>.rs` (declared by
+//!   `for_each_kind!(mod)`: its `GpuKind`, whose `SHADER` is the compute part of its
+//!   `shaders/<kind>.wgsl`, collected into [`SHADERS`], and its `ExportKind`, whose `GLUE` is
+//!   the rest of that file).
 //!
 //! Adapter choice: `WGPU_ADAPTER_NAME` (a substring of the adapter's name, e.g. `llvmpipe`), else
 //! wgpu's high-performance default. Without a GPU, lavapipe (`apt-get install mesa-vulkan-drivers
@@ -84,20 +85,9 @@ mod render;
 pub mod shaders;
 pub mod simulate;
 
-// One module per model kind: its records, packing and `GpuKind` implementation.
-mod classic;
-mod combine;
-mod gabor;
-mod islamic;
-mod lrp;
-mod matrix;
-mod phasor;
-mod subdivision;
-mod texton;
-mod texture;
-mod voronoi;
-mod warp;
-mod wavelet;
+// One module per kind (`<kind>.rs`: its records, packing, `GpuKind` and `ExportKind`),
+// declared from the one list of kinds.
+spectex_model::for_each_kind!(mod);
 
 pub use context::{ADAPTER_NAME_ENV, GpuContext};
 pub use error::{GpuError, LAVAPIPE_HINT};

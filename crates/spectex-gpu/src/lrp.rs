@@ -2,15 +2,22 @@
 //! sub-strata packed once, and per tile the lattice cell of every column and row with its f32
 //! offsets to the nearby lattice points (f64 on the host, so a window at `(10⁷, 10⁷)` is as
 //! precise as one at the origin).
+//!
+//! The LRP noise's export (the glue of `shaders/lrp.wgsl`): the compute shader's uniform and
+//! tables; stratum s's lattice is the export's lattice s.
 
 use spectex_model::{LrpNoise, Period};
 
 use crate::axis::{periodic_columns, periodic_rows};
+use crate::export::{ExportKind, ExportNode, ExportParts};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::{Shaded, binding_limit};
-use crate::shaders::ShaderFile;
+use crate::shaders::{ShaderFile, kernel_and_glue};
 use crate::{GpuContext, GpuError, GpuWindow};
+
+/// `shaders/lrp.wgsl`: the compute shader, then the export glue.
+const WGSL: (&str, &str) = kernel_and_glue(include_str!("../../../shaders/lrp.wgsl"));
 
 wgsl_struct! {
     /// `LrpParams` of `lrp.wgsl`.
@@ -176,7 +183,7 @@ pub(crate) fn host(model: &LrpNoise, period: Option<Period>) -> (LrpKernel, Vec<
 impl GpuKind for LrpNoise {
     const SHADER: Option<ShaderFile> = Some(ShaderFile {
         name: "lrp",
-        source: include_str!("../../../shaders/lrp.wgsl"),
+        source: WGSL.0,
         needs_common: true,
         entry_points: &["lrp_main"],
     });
@@ -254,6 +261,20 @@ impl ShaderKernel for LrpKernel {
                 Table::new("lrp gains", &gains),
             ],
         ))
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Export (`spectex export --wgsl`).
+
+impl ExportKind for LrpNoise {
+    const GLUE: &'static str = WGSL.1;
+
+    fn export_parts(&self, _z: f64) -> Result<ExportNode, GpuError> {
+        let (kernel, tables, _) = host(self, None);
+        // Stratum s's lattice is the export's lattice s (the glue of lrp.wgsl).
+        let lattices = kernel.deltas.clone();
+        ExportParts::of(&kernel, &tables, lattices, "lrp")
     }
 }
 

@@ -1,16 +1,24 @@
 //! Matrix transformation on the device (`shaders/matrix.wgsl`): the host computes
 //! `A = (M⁻¹)^k mod N` once and, per tile, each column's and row's cell on the pixel grid (the
 //! CPU's split); the shader reduces the cell modulo `N` and reads the source at `A·q mod N`.
+//!
+//! The matrix transformation's export (the glue of `shaders/matrix.wgsl`): the compute shader's
+//! uniform and texels; the glue takes the pixel cell from the position's integer part, so
+//! the export needs no lattice.
 
 use spectex_model::Period;
 use spectex_model::matrix::{MatrixSource, MatrixTransform};
 
 use crate::axis::{CellAxes, CellAxis};
+use crate::export::{ExportKind, ExportNode, ExportParts};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
-use crate::shaders::ShaderFile;
+use crate::shaders::{ShaderFile, kernel_and_glue};
 use crate::{GpuContext, GpuError, GpuWindow};
+
+/// `shaders/matrix.wgsl`: the compute shader, then the export glue.
+const WGSL: (&str, &str) = kernel_and_glue(include_str!("../../../shaders/matrix.wgsl"));
 
 wgsl_struct! {
     /// `MatrixParams` of `matrix.wgsl`; `width` and `height` are the tile's.
@@ -43,7 +51,7 @@ pub(crate) struct MatrixKernel {
 impl GpuKind for MatrixTransform {
     const SHADER: Option<ShaderFile> = Some(ShaderFile {
         name: "matrix",
-        source: include_str!("../../../shaders/matrix.wgsl"),
+        source: WGSL.0,
         needs_common: true,
         entry_points: &["matrix_main"],
     });
@@ -132,6 +140,23 @@ impl ShaderKernel for MatrixKernel {
             &params,
             CellAxes::new(1.0, tile, self.period).tables(["matrix columns", "matrix rows"]),
         ))
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Export (`spectex export --wgsl`).
+
+impl ExportKind for MatrixTransform {
+    const GLUE: &'static str = WGSL.1;
+
+    fn export_parts(&self, _z: f64) -> Result<ExportNode, GpuError> {
+        let (kernel, texels) = pack(self, None)?;
+        ExportParts::of(
+            &kernel,
+            &[Table::new("matrix texels", &texels)],
+            Vec::new(),
+            "matrix",
+        )
     }
 }
 

@@ -1,5 +1,7 @@
 //! The shader registry: every WGSL file of `shaders/`, embedded with `include_str!`, and how a
-//! module is composed at load time (the common module prepended to each model shader).
+//! module is composed at load time (the common module prepended to each model shader). A
+//! kind's file is its compute shader, then from the [`GLUE_MARKER`] line its export glue
+//! ([`crate::export::EXPORT_SHADERS`]); [`SHADERS`] holds the compute part.
 //!
 //! `tests/it/shaders.rs` checks that this table and the files in `shaders/` match exactly and that
 //! every composed module parses and validates with naga.
@@ -22,6 +24,32 @@ pub struct ShaderFile {
     pub needs_common: bool,
     /// The compute entry points it defines (empty for a library module).
     pub entry_points: &'static [&'static str],
+}
+
+/// The start of the line of a kind's `shaders/<kind>.wgsl` that ends its compute shader and
+/// starts its export glue (`spectex export --wgsl`, [`crate::export`]).
+pub const GLUE_MARKER: &str = "// ---- export glue";
+
+/// A kind's `shaders/<kind>.wgsl` split at its [`GLUE_MARKER`] line: the compute shader before
+/// it (empty for a kind without one: warp, combine) and the export glue from it. Evaluated at
+/// compile time, so a kind's file without the line does not compile.
+pub(crate) const fn kernel_and_glue(text: &'static str) -> (&'static str, &'static str) {
+    let bytes = text.as_bytes();
+    let marker = GLUE_MARKER.as_bytes();
+    let mut at = 0;
+    while at + marker.len() <= bytes.len() {
+        if at == 0 || bytes[at - 1] == b'\n' {
+            let mut k = 0;
+            while k < marker.len() && bytes[at + k] == marker[k] {
+                k += 1;
+            }
+            if k == marker.len() {
+                return text.split_at(at);
+            }
+        }
+        at += 1;
+    }
+    panic!("a kind's shader has no `// ---- export glue` line");
 }
 
 /// Every file of `shaders/`, by name.
@@ -58,7 +86,8 @@ pub static SHADERS: LazyLock<Vec<ShaderFile>> = LazyLock::new(|| {
             entry_points: &["probe_integers", "probe_floats"],
         },
     ];
-    // Each kind's compute shader, as the kind declares it (`GpuKind::SHADER`).
+    // Each kind's compute shader, as the kind declares it (`GpuKind::SHADER`: its file up to
+    // the export glue).
     spectex_model::for_each_kind!(types: K => {
         if let Some(file) = <K as GpuKind>::SHADER {
             files.push(file);

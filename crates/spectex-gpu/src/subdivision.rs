@@ -1,17 +1,24 @@
 //! Stochastic subdivision on the device (`shaders/subdivision.wgsl`): the host computes the
 //! level scales `σ_ℓ/√21845` once (f64, rounded to f32) and, per tile, each column's and row's
 //! coarse cell and f32 offset (the CPU's split); the shader computes every level's block per
-//! pixel in f32. The WGSL export locates the coarse cell itself (`export/subdivision.wgsl`).
+//! pixel in f32. The WGSL export locates the coarse cell itself (the glue of `subdivision.wgsl`).
+//!
+//! The stochastic subdivision's export (the glue of `shaders/subdivision.wgsl`): the compute
+//! shader's uniform and scales; the coarse lattice is the export's only lattice.
 
 use spectex_model::subdivision::{Stencil, StochasticSubdivision};
 use spectex_model::{ModelKind, Period};
 
 use crate::axis::{CellAxes, CellAxis};
+use crate::export::{ExportKind, ExportNode, ExportParts};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
-use crate::shaders::ShaderFile;
+use crate::shaders::{ShaderFile, kernel_and_glue};
 use crate::{GpuContext, GpuError, GpuWindow};
+
+/// `shaders/subdivision.wgsl`: the compute shader, then the export glue.
+const WGSL: (&str, &str) = kernel_and_glue(include_str!("../../../shaders/subdivision.wgsl"));
 
 wgsl_struct! {
     /// `SubdivisionParams` of `subdivision.wgsl`; `width` and `height` are the tile's.
@@ -59,7 +66,7 @@ pub(crate) fn host(model: &StochasticSubdivision) -> (SubdivisionKernel, Vec<f32
 impl GpuKind for StochasticSubdivision {
     const SHADER: Option<ShaderFile> = Some(ShaderFile {
         name: "subdivision",
-        source: include_str!("../../../shaders/subdivision.wgsl"),
+        source: WGSL.0,
         needs_common: true,
         entry_points: &["subdivision_main"],
     });
@@ -118,6 +125,25 @@ impl ShaderKernel for SubdivisionKernel {
             CellAxes::new(self.side, tile, None)
                 .tables(["subdivision columns", "subdivision rows"]),
         ))
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Export (`spectex export --wgsl`).
+
+impl ExportKind for StochasticSubdivision {
+    const GLUE: &'static str = WGSL.1;
+
+    fn export_parts(&self, _z: f64) -> Result<ExportNode, GpuError> {
+        let (kernel, scales) = host(self);
+        // The coarse lattice is the export's lattice 0 (the glue of subdivision.wgsl).
+        let lattices = vec![kernel.side];
+        ExportParts::of(
+            &kernel,
+            &[Table::new("subdivision scales", &scales)],
+            lattices,
+            "subdivision",
+        )
     }
 }
 

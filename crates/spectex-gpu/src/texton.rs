@@ -1,16 +1,23 @@
 //! Texton placement / spot noise on the device (`shaders/texton.wgsl`): the model's constants
 //! in the uniform, its Poisson CDF and image texels packed once, and per tile each column's and
 //! row's texton-grid cell and offset (the CPU's split).
+//!
+//! The texton noise's export (the glue of `shaders/texton.wgsl`): the compute shader's uniform
+//! and model data; the texton grid is the export's only lattice.
 
 use spectex_model::texton::{Combine, MAX_TEXTONS_PER_CELL, Placement, Spot};
 use spectex_model::{Period, TextonNoise};
 
 use crate::axis::{CellAxes, CellAxis};
+use crate::export::{ExportKind, ExportNode, ExportParts};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
-use crate::shaders::ShaderFile;
+use crate::shaders::{ShaderFile, kernel_and_glue};
 use crate::{GpuContext, GpuError, GpuWindow};
+
+/// `shaders/texton.wgsl`: the compute shader, then the export glue.
+const WGSL: (&str, &str) = kernel_and_glue(include_str!("../../../shaders/texton.wgsl"));
 
 wgsl_struct! {
     /// `TextonParams` of `texton.wgsl`; `width` and `height` are the tile's.
@@ -65,7 +72,7 @@ pub(crate) struct TextonKernel {
 impl GpuKind for TextonNoise {
     const SHADER: Option<ShaderFile> = Some(ShaderFile {
         name: "texton",
-        source: include_str!("../../../shaders/texton.wgsl"),
+        source: WGSL.0,
         needs_common: true,
         entry_points: &["texton_main"],
     });
@@ -174,6 +181,25 @@ impl ShaderKernel for TextonKernel {
             CellAxes::new(self.cell_size, tile, self.period)
                 .tables(["texton columns", "texton rows"]),
         ))
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Export (`spectex export --wgsl`).
+
+impl ExportKind for TextonNoise {
+    const GLUE: &'static str = WGSL.1;
+
+    fn export_parts(&self, _z: f64) -> Result<ExportNode, GpuError> {
+        let (kernel, data) = host(self);
+        // The texton grid is the export's lattice 0 (the glue of texton.wgsl).
+        let lattices = vec![kernel.cell_size];
+        ExportParts::of(
+            &kernel,
+            &[Table::new("texton model data", &data)],
+            lattices,
+            "texton",
+        )
     }
 }
 

@@ -2,17 +2,25 @@
 //! once, the random-phase strata and turbulence strata as LRP evaluators on the same device, and
 //! per tile the strata values, the turbulence displacement (summed and scaled here in the CPU's
 //! f32 order) and the placement cells of every column and row (f64, `locate_cell`).
+//!
+//! The texture by example's export (the glue of `shaders/texture.wgsl`): its own shader's parts
+//! and the LRP models (strata and turbulence) whose values it reads; the placement cell is
+//! the export's lattice 0.
 
 use spectex_model::grid::locate_cell;
 use spectex_model::texture::PLACEMENT_LAYER;
 use spectex_model::{LrpNoise, Model, Period, TextureModel};
 
 use crate::axis::{periodic_columns, periodic_rows};
+use crate::export::{ExportKind, ExportNode, ExportNodeOf, ExportParts, TextureExport};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::{Shaded, binding_limit};
-use crate::shaders::ShaderFile;
+use crate::shaders::{ShaderFile, kernel_and_glue};
 use crate::{GpuContext, GpuError, GpuEvaluator, GpuWindow};
+
+/// `shaders/texture.wgsl`: the compute shader, then the export glue.
+const WGSL: (&str, &str) = kernel_and_glue(include_str!("../../../shaders/texture.wgsl"));
 
 wgsl_struct! {
     /// `TextureParams` of `texture.wgsl`.
@@ -162,7 +170,7 @@ pub(crate) fn pack_structures(model: &TextureModel) -> Structures {
 impl GpuKind for TextureModel {
     const SHADER: Option<ShaderFile> = Some(ShaderFile {
         name: "texture",
-        source: include_str!("../../../shaders/texture.wgsl"),
+        source: WGSL.0,
         needs_common: true,
         entry_points: &["texture_main"],
     });
@@ -377,6 +385,101 @@ impl ShaderKernel for TextureKernel {
                 Table::new("texture rows", &rows),
             ],
         ))
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Export (`spectex export --wgsl`).
+
+impl ExportKind for TextureModel {
+    const GLUE: &'static str = WGSL.1;
+
+    fn export_parts(&self, z: f64) -> Result<ExportNode, GpuError> {
+        let lrp = |seed, mean, strata| Model::Lrp(LrpNoise { seed, mean, strata });
+        let strata = self
+            .channels
+            .iter()
+            .map(|ch| {
+                if ch.strata.is_empty() {
+                    Ok(Err(ch.mean))
+                } else {
+                    lrp(ch.seed, ch.mean, ch.strata.clone())
+                        .export_node(z)
+                        .map(Ok)
+                }
+            })
+            .collect::<Result<Vec<_>, GpuError>>()?;
+        let turbulence = match &self.turbulence {
+            Some(t) => {
+                let mut axes: [Vec<ExportNode>; 2] = [Vec::new(), Vec::new()];
+                for (axis, nodes) in axes.iter_mut().enumerate() {
+                    for (s, stratum) in t.strata.iter().enumerate() {
+                        nodes
+                            .push(lrp(t.seed(axis, s), 0.0, vec![stratum.clone()]).export_node(z)?);
+                    }
+                }
+                Some((t.sigma, t.centre, axes))
+            }
+            None => None,
+        };
+        let structures = pack_structures(self);
+        let nc = self.channels.len();
+        let mut params = TextureParams {
+            width: 1,
+            height: 1,
+            channels: nc as u32,
+            period: self.period,
+            seed: self.seed,
+            random_placement: u32::from(self.random_placement),
+            colour: u32::from(self.colour.is_some()),
+            placement_layer: PLACEMENT_LAYER,
+            ..bytemuck::Zeroable::zeroed()
+        };
+        if let Some(c) = &self.colour {
+            for i in 0..3 {
+                params.colour_mean[i] = c.mean[i];
+                params.basis[i][..3].copy_from_slice(&c.basis[i]);
+            }
+        }
+        // The uniform, the resident tables, then the per-tile tables of a one-pixel tile
+        // (unused by the glue, which computes their values itself).
+        let bindings = vec![
+            bytemuck::bytes_of(&params).to_vec(),
+            Table::new("texture structures", &structures.channels).bytes,
+            Table::new("texture blocks", &structures.blocks).bytes,
+            Table::new("texture cosines", &structures.cosines).bytes,
+            Table::new("texture block means", &structures.means).bytes,
+            Table::new("texture values", &vec![0.0f32; nc + 2]).bytes,
+            Table::new(
+                "texture columns",
+                &[PlacementAxis {
+                    cell: 0,
+                    offset: 0.0,
+                }],
+            )
+            .bytes,
+            Table::new(
+                "texture rows",
+                &[PlacementAxis {
+                    cell: 0,
+                    offset: 0.0,
+                }],
+            )
+            .bytes,
+        ];
+        // The placement cell P = T/2 is the export's lattice 0 (the glue of texture.wgsl).
+        let leaf = ExportParts::new(
+            "texture",
+            "texture",
+            nc,
+            bindings,
+            vec![self.placement_cell()],
+        );
+        Ok(ExportNode::Texture(Box::new(TextureExport {
+            leaf,
+            strata,
+            turbulence,
+        })))
     }
 }
 

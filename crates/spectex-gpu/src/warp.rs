@@ -2,11 +2,15 @@
 //! (displaced themselves when the warp is), applies [`Warp::displacement`] on the host in f32,
 //! and renders its base displaced by the sum through the base's own shader (`common.wgsl`'s
 //! displacement convention, bind group 1 of every model shader).
+//!
+//! A warp's export: its three models, composed by the glue of `shaders/warp.wgsl` (the emitter
+//! writes the composition, `Emitter::node`).
 
 use spectex_model::{Model, Period, Warp};
 
+use crate::export::{ExportKind, ExportNode, parts};
 use crate::kernel::{GpuKernel, GpuKind};
-use crate::shaders::ShaderFile;
+use crate::shaders::{ShaderFile, kernel_and_glue};
 use crate::{GpuContext, GpuError, GpuEvaluator, GpuWindow};
 
 /// A warp's three sub-evaluators.
@@ -98,5 +102,21 @@ impl GpuKernel for WarpKernel {
         // a warp filters only its displacement fields (they are rendered on the window).
         let base_tile = tile.filtered(spectex_model::Filter::Off);
         self.base.render_tile_displaced(&base_tile, Some(&total))
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Export (`spectex export --wgsl`).
+
+impl ExportKind for Warp {
+    const GLUE: &'static str = kernel_and_glue(include_str!("../../../shaders/warp.wgsl")).1;
+
+    fn export_parts(&self, z: f64) -> Result<ExportNode, GpuError> {
+        Ok(ExportNode::Warp {
+            base: Box::new(parts(&self.base, z)?),
+            x: Box::new(parts(&self.x, z)?),
+            y: Box::new(parts(&self.y, z)?),
+            strength: self.strength,
+        })
     }
 }

@@ -1,16 +1,23 @@
 //! Wavelet noise on the device (`shaders/wavelet.wgsl`): the model's tile (built on the host by
 //! the model's one function) and its bands uploaded once, and per tile and band each column's
 //! and row's tile index and fraction, located in f64 by [`locate_sample`] (the CPU's call).
+//!
+//! The wavelet noise's export (the glue of `shaders/wavelet.wgsl`): the compute shader's uniform
+//! and band tables; band b's sample grid is the export's lattice b.
 
 use spectex_model::wavelet::{Band, locate_sample};
 use spectex_model::{Period, WaveletNoise};
 
 use crate::axis::{periodic_columns, periodic_rows};
+use crate::export::{ExportKind, ExportNode, ExportParts};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
-use crate::shaders::ShaderFile;
+use crate::shaders::{ShaderFile, kernel_and_glue};
 use crate::{GpuContext, GpuError, GpuWindow};
+
+/// `shaders/wavelet.wgsl`: the compute shader, then the export glue.
+const WGSL: (&str, &str) = kernel_and_glue(include_str!("../../../shaders/wavelet.wgsl"));
 
 wgsl_struct! {
     /// `WaveletParams` of `wavelet.wgsl`.
@@ -97,7 +104,7 @@ fn band_records(model: &WaveletNoise, bands: &[Band], z: f64) -> Vec<WaveletBand
 impl GpuKind for WaveletNoise {
     const SHADER: Option<ShaderFile> = Some(ShaderFile {
         name: "wavelet",
-        source: include_str!("../../../shaders/wavelet.wgsl"),
+        source: WGSL.0,
         needs_common: true,
         entry_points: &["wavelet_main"],
     });
@@ -173,6 +180,33 @@ impl ShaderKernel for WaveletKernel {
                 ),
             ],
         ))
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Export (`spectex export --wgsl`).
+
+impl ExportKind for WaveletNoise {
+    const GLUE: &'static str = WGSL.1;
+
+    fn export_parts(&self, z: f64) -> Result<ExportNode, GpuError> {
+        let (kernel, tables) = host(self, z, None);
+        // Band b's sample grid is the export's lattice b (the glue of wavelet.wgsl), its tile
+        // offsets along x and y the constant `wavelet_export_offsets`.
+        let lattices = kernel.bands.iter().map(|b| b.side).collect();
+        let offsets: Vec<String> = kernel
+            .bands
+            .iter()
+            .flat_map(|b| [b.offset[0], b.offset[1]])
+            .map(|o| format!("{o}u"))
+            .collect();
+        let constants = format!(
+            "/// Per band, the tile offsets o_b along x and y (spectex_model::wavelet::Band).\n\
+             const wavelet_export_offsets: array<u32, {n}> = array<u32, {n}>({});\n",
+            offsets.join(", "),
+            n = offsets.len()
+        );
+        Ok(ExportParts::of(&kernel, &tables, lattices, "wavelet")?.with_constants(constants))
     }
 }
 

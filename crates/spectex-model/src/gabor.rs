@@ -1,5 +1,10 @@
 //! Gabor noise by sparse convolution (Lagae et al. 2009): Poisson-distributed impulses per grid
 //! cell, each a truncated Gaussian times a cosine.
+//!
+//! # Randomness contract (layer 0)
+//!
+//! Cell `(i, j)` seeds its PRNG with `cell_hash(i, j, 0, seed)` and draws a Poisson count, then
+//! per impulse its offsets, weight and (isotropic) direction.
 
 use serde::{Deserialize, Serialize};
 

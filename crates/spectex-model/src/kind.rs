@@ -114,123 +114,82 @@ pub enum Model {
     Subdivision(StochasticSubdivision),
 }
 
-/// The one list of kinds. `for_each_kind!(model, m: K => body)` calls `body` with `m` bound to
-/// the kind struct inside `model` (by the reference the match gives) and `K` naming its type;
-/// `for_each_kind!(types: K => body)` runs `body` once per kind, in the order of [`Model`]'s
-/// variants, with only `K` bound: how each layer collects what its kinds declare (their
-/// names, periodic forms, shaders, test strategies) instead of keeping a list of its own.
+/// The one list of kinds: a kind is its line here (module, [`Model`] variant, struct) and its
+/// variant of [`Model`]; every layer reaches its kinds through this macro.
+///
+/// - `for_each_kind!(model, m: K => body)` calls `body` with `m` bound to the kind struct inside
+///   `model` (by the reference the match gives) and `K` naming its type.
+/// - `for_each_kind!(types: K => body)` runs `body` once per kind, in the order of [`Model`]'s
+///   variants, with only `K` bound: how each layer collects what its kinds declare (their
+///   names, periodic forms, shaders, test strategies) instead of keeping a list of its own.
+/// - `for_each_kind!(VIS mod);` declares `VIS mod <kind>;` for every kind, in the module that
+///   invokes it (files `<kind>.rs` beside that module's file, or in its folder, as for any
+///   `mod`): each layer's one module per kind. rustfmt does not see modules a macro declares,
+///   so `cargo xtask fmt` formats them (and `cargo xtask ci` checks them).
+/// - `for_each_kind!(pub use);` re-exports each kind struct at the invoking module (the crate
+///   root of `spectex-model`).
+/// - `for_each_kind!(list: callback);` calls the caller's `callback! { module Variant Type, … }`
+///   (`Type` a path): for a layer that generates items per kind (the command line's
+///   subcommands).
 #[macro_export]
 #[doc(hidden)]
 macro_rules! for_each_kind {
-    (types: $Kind:ident => $body:expr) => {{
-        {
-            type $Kind = $crate::LrpNoise;
-            $body;
+    (types: $Kind:ident => $body:expr) => {
+        $crate::for_each_kind! { @kinds [types $Kind $body] }
+    };
+    (pub use) => {
+        $crate::for_each_kind! { @kinds [use] }
+    };
+    ($vis:vis mod) => {
+        $crate::for_each_kind! { @kinds [$vis mod] }
+    };
+    (list: $callback:ident) => {
+        $crate::for_each_kind! { @kinds [list $callback] }
+    };
+    // The list: `module Variant Struct`, in the order of `Model`'s variants.
+    (@kinds $form:tt) => {
+        $crate::for_each_kind! { @each $form
+            lrp Lrp LrpNoise,
+            gabor Gabor GaborNoise,
+            phasor Phasor PhasorNoise,
+            texture Texture TextureModel,
+            classic Classic ClassicNoise,
+            warp Warp Warp,
+            wavelet Wavelet WaveletNoise,
+            texton Texton TextonNoise,
+            voronoi Voronoi VoronoiNoise,
+            combine Combine Combine,
+            islamic Islamic IslamicPattern,
+            matrix Matrix MatrixTransform,
+            subdivision Subdivision StochasticSubdivision,
         }
-        {
-            type $Kind = $crate::GaborNoise;
+    };
+    (@each [types $Kind:ident $body:expr] $($module:ident $Variant:ident $Struct:ident,)*) => {{
+        $({
+            type $Kind = $crate::$module::$Struct;
             $body;
-        }
-        {
-            type $Kind = $crate::PhasorNoise;
-            $body;
-        }
-        {
-            type $Kind = $crate::TextureModel;
-            $body;
-        }
-        {
-            type $Kind = $crate::ClassicNoise;
-            $body;
-        }
-        {
-            type $Kind = $crate::Warp;
-            $body;
-        }
-        {
-            type $Kind = $crate::WaveletNoise;
-            $body;
-        }
-        {
-            type $Kind = $crate::TextonNoise;
-            $body;
-        }
-        {
-            type $Kind = $crate::VoronoiNoise;
-            $body;
-        }
-        {
-            type $Kind = $crate::Combine;
-            $body;
-        }
-        {
-            type $Kind = $crate::IslamicPattern;
-            $body;
-        }
-        {
-            type $Kind = $crate::MatrixTransform;
-            $body;
-        }
-        {
-            type $Kind = $crate::StochasticSubdivision;
-            $body;
-        }
+        })*
     }};
-    ($model:expr, $m:ident : $Kind:ident => $body:expr) => {
+    (@each [match $model:expr, $m:ident, $Kind:ident, $body:expr]
+        $($module:ident $Variant:ident $Struct:ident,)*) => {
         match $model {
-            $crate::Model::Lrp($m) => {
-                type $Kind = $crate::LrpNoise;
+            $($crate::Model::$Variant($m) => {
+                type $Kind = $crate::$module::$Struct;
                 $body
-            }
-            $crate::Model::Gabor($m) => {
-                type $Kind = $crate::GaborNoise;
-                $body
-            }
-            $crate::Model::Phasor($m) => {
-                type $Kind = $crate::PhasorNoise;
-                $body
-            }
-            $crate::Model::Texture($m) => {
-                type $Kind = $crate::TextureModel;
-                $body
-            }
-            $crate::Model::Classic($m) => {
-                type $Kind = $crate::ClassicNoise;
-                $body
-            }
-            $crate::Model::Warp($m) => {
-                type $Kind = $crate::Warp;
-                $body
-            }
-            $crate::Model::Wavelet($m) => {
-                type $Kind = $crate::WaveletNoise;
-                $body
-            }
-            $crate::Model::Texton($m) => {
-                type $Kind = $crate::TextonNoise;
-                $body
-            }
-            $crate::Model::Voronoi($m) => {
-                type $Kind = $crate::VoronoiNoise;
-                $body
-            }
-            $crate::Model::Combine($m) => {
-                type $Kind = $crate::Combine;
-                $body
-            }
-            $crate::Model::Islamic($m) => {
-                type $Kind = $crate::IslamicPattern;
-                $body
-            }
-            $crate::Model::Matrix($m) => {
-                type $Kind = $crate::MatrixTransform;
-                $body
-            }
-            $crate::Model::Subdivision($m) => {
-                type $Kind = $crate::StochasticSubdivision;
-                $body
-            }
+            })*
         }
+    };
+    (@each [$vis:vis mod] $($module:ident $Variant:ident $Struct:ident,)*) => {
+        $($vis mod $module;)*
+    };
+    (@each [use] $($module:ident $Variant:ident $Struct:ident,)*) => {
+        $(pub use $crate::$module::$Struct;)*
+    };
+    (@each [list $callback:ident] $($module:ident $Variant:ident $Struct:ident,)*) => {
+        $callback! { $($module $Variant $crate::$module::$Struct,)* }
+    };
+    ($model:expr, $m:ident : $Kind:ident => $body:expr) => {
+        $crate::for_each_kind! { @kinds [match $model, $m, $Kind, $body] }
     };
 }
 
@@ -312,5 +271,19 @@ mod tests {
         sorted.sort_unstable();
         sorted.dedup();
         assert_eq!(sorted.len(), KIND_NAMES.len(), "kind names are distinct");
+    }
+
+    /// Every layer finds a kind's files by its module name (`<kind>.rs`, declared by
+    /// `for_each_kind!(mod)`), and the docs and registries by its name: they are one.
+    #[test]
+    fn each_kind_lives_in_the_module_of_its_name() {
+        for_each_kind!(types: K => {
+            let path = std::any::type_name::<K>();
+            assert_eq!(
+                path.split("::").nth(1),
+                Some(<K as ModelKind>::NAME),
+                "{path}: the kind's module and its name differ"
+            );
+        });
     }
 }

@@ -39,36 +39,28 @@
 //! # Ok::<(), spectex_model::ModelError>(())
 //! ```
 
-pub mod classic;
-pub mod combine;
 mod defaults;
 mod error;
 mod file;
 pub mod filter;
 pub mod fixtures;
-mod gabor;
 pub mod grid;
-pub mod islamic;
 pub mod kind;
-mod lrp;
 pub mod math;
-pub mod matrix;
 pub mod period;
-mod phasor;
 pub mod phasor_kernels;
 pub mod random;
 pub mod simulation;
-pub mod subdivision;
 mod target;
-pub mod texton;
-pub mod texture;
-pub mod voronoi;
-pub mod warp;
-pub mod wavelet;
 pub mod window;
 
-pub use classic::{ClassicNoise, ClassicNoiseBuilder, FractalNoiseBuilder};
-pub use combine::{Combine, CombineBuilder};
+// One module per kind (`<kind>.rs`: its serde struct, `ModelKind` impl and builder), declared
+// from the one list of kinds, each kind struct re-exported here.
+crate::for_each_kind!(pub mod);
+crate::for_each_kind!(pub use);
+
+pub use classic::{ClassicNoiseBuilder, FractalNoiseBuilder};
+pub use combine::CombineBuilder;
 pub use defaults::{DEFAULT_MEAN, DEFAULT_SEED, DEFAULT_STD_DEV, Levels};
 pub use error::ModelError;
 pub use file::{
@@ -76,23 +68,23 @@ pub use file::{
     from_json_with_fit, to_json, to_json_file, to_json_with_fit,
 };
 pub use gabor::{
-    GABOR_PERIOD_TOLERANCE, GABOR_TRUNCATION, GaborNoise, GaborNoiseBuilder, NEG_LN_20, Orientation,
+    GABOR_PERIOD_TOLERANCE, GABOR_TRUNCATION, GaborNoiseBuilder, NEG_LN_20, Orientation,
 };
 pub use grid::{Filter, MAX_POSITION, MAX_WINDOW_PIXELS, MAX_WINDOW_SIDE, Window, WindowError};
-pub use islamic::{IslamicPattern, IslamicPatternBuilder};
+pub use islamic::IslamicPatternBuilder;
 pub use kind::{KIND_NAMES, Model, ModelKind, PERIODIC_KINDS};
-pub use lrp::{LrpNoise, LrpNoiseBuilder, MAX_COSINES, MAX_STRATA, MAX_TABLE, Stratum};
-pub use matrix::{MatrixTransform, MatrixTransformBuilder};
+pub use lrp::{LrpNoiseBuilder, MAX_COSINES, MAX_STRATA, MAX_TABLE, Stratum};
+pub use matrix::MatrixTransformBuilder;
 pub use period::Period;
 pub use phasor::{
     COHERENT_BANDWIDTH_RATIO, COHERENT_SPREAD, Field, Harmonic, MAX_FIELD_SIDE,
-    MAX_PROFILE_SAMPLES, PHASOR_PERIOD_TOLERANCE, PHASOR_TRUNCATION, PhasorNoise,
-    PhasorNoiseBuilder, PhasorOrientation, PhasorOutput, Profile, RAMP_EXTENT,
+    MAX_PROFILE_SAMPLES, PHASOR_PERIOD_TOLERANCE, PHASOR_TRUNCATION, PhasorNoiseBuilder,
+    PhasorOrientation, PhasorOutput, Profile, RAMP_EXTENT,
 };
-pub use subdivision::{StochasticSubdivision, StochasticSubdivisionBuilder};
+pub use subdivision::StochasticSubdivisionBuilder;
 pub use target::SpectralTarget;
-pub use texton::{TextonNoise, TextonNoiseBuilder};
-pub use texture::{ColourBasis, FixedCosine, Structure, TextureChannel, TextureModel, Turbulence};
-pub use voronoi::{VoronoiNoise, VoronoiNoiseBuilder};
-pub use warp::{MAX_WARP, Warp, WarpBuilder};
-pub use wavelet::{WaveletNoise, WaveletNoiseBuilder};
+pub use texton::TextonNoiseBuilder;
+pub use texture::{ColourBasis, FixedCosine, Structure, TextureChannel, Turbulence};
+pub use voronoi::VoronoiNoiseBuilder;
+pub use warp::{MAX_WARP, WarpBuilder};
+pub use wavelet::WaveletNoiseBuilder;

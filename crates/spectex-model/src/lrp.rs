@@ -1,5 +1,10 @@
 //! Local Random-Phase noise (Gilet et al. 2014, Eqs. 1–2): a sum over strata of windowed sums
 //! of cosines on a regular lattice, with random phases and frequencies drawn per lattice point.
+//!
+//! # Randomness contract (layers = strata)
+//!
+//! Stratum `s` seeds lattice point `(i, j)`'s PRNG with `cell_hash(i, j, s, seed)` and draws,
+//! per sub-stratum in order, the table index (`next_u32 % len`) then the phase (`unit_f32`).
 
 use serde::{Deserialize, Serialize};
 

@@ -13,6 +13,9 @@
 //! analytic linear ramp, or a greyscale image mapped to a range. Kernel parameters (frequency,
 //! orientation) are read at each kernel's centre `x_j`; profile parameters (duty cycle, the
 //! blend between two profiles) at the evaluated point.
+//!
+//! Its draws (layer 0 the kernels, layer 1 the coherent direction process) are specified in
+//! [`crate::phasor_kernels`].
 
 use serde::{Deserialize, Serialize};
 

@@ -11,38 +11,17 @@
 //! Random Phase Noise draws its phase at DFT index `(k, l)` (row, column) from
 //! `cell_hash(l, k, 0, seed)` — `θ = 2π · b/2³²`, evaluated as `e^{iθ}` by a three-table product
 //! accurate to a few ulps — and ADSN draws pixel `(x, y)`'s Gaussian by Box–Muller from the PRNG
-//! seeded with `cell_hash(x, y, 1, seed)`. LRP stratum `s` seeds lattice point `(i, j)`'s PRNG with
-//! `cell_hash(i, j, s, seed)` and draws, per sub-stratum in order, the table index (`next_u32 %
-//! len`) then the phase (`unit_f32`). Gabor noise uses layer 0 with a Poisson count per cell, then
-//! per impulse its offsets, weight and (isotropic) direction. Phasor noise uses layer 0 for its
-//! kernels and layer 1 for the coherent direction process; a 3D cell `(i, j, k)` seeds with
-//! `cell_hash(i, j, layer, cell_hash(k, 0, layer, seed))`; per impulse: offsets, the direction
-//! draws of its orientation mode, then a phase offset; a graded bandwidth adds one thinning uniform
-//! after the offsets (`spectex_model::phasor_kernels` lists them). Texture placement cell `(cx,
-//! cy)` draws its shift `(x, y) = T·(unit_f32, unit_f32)` from the PRNG seeded with `cell_hash(cx,
-//! cy, PLACEMENT_LAYER = 0x504C4143 "PLAC", seed)`; texture channels and turbulence strata are LRP
-//! noises with their own seeds (stored in the model). k-means seeding in `spectex-sampling` uses
-//! `kmeans::KMEANS_LAYER`. Classic noises use layer `o` for octave `o`: 2D corner `(i, j)` hashes
-//! to `cell_hash(i, j, o, seed)`, 3D corner `(i, j, k)` to `cell_hash(i, j, o, cell_hash(k, 0, o,
-//! seed))`; gradient and simplex noise take the gradient index `h >> 28`, value noise
-//! `2·unit_f32(h) − 1`; Kensler noise xors per-axis entries `cell_hash(n, a, o, seed)` (axis `a`
-//! = 0, 1, 2) into `h` and picks its gradient by `hash(h)`; a Worley cell seeds the PRNG with `h` and draws a Poisson count (one
-//! uniform against the f32 CDF) when the count is not fixed, then per point its offsets `x`, `y` (,
-//! `z`). New models take new layer numbers per stratum or octave and list them here. Wavelet noise
-//! uses `WAVELET_LAYER = 0x57415645` ("WAVE"): 2D tile sample `(i, j)` seeds the PRNG with
-//! `cell_hash(i, j, WAVELET_LAYER, seed)`, 3D `(i, j, k)` with `cell_hash(i, j, WAVELET_LAYER,
-//! cell_hash(k, 0, WAVELET_LAYER, seed))`, and draws two words for one Box–Muller Gaussian in f64;
-//! band `b` draws its tile offsets (`next_u32 % n` per axis) from `cell_hash(b, −1, WAVELET_LAYER,
-//! seed)`. Voronoi seeds (`spectex_model::voronoi`) use `VORONOI_LAYER = 0x564F524F` ("VORO"):
-//! cell `(i, j)` seeds the PRNG with `cell_hash(i, j, VORONOI_LAYER, seed)` and draws its offsets
-//! `x`, `y` then its ID; Lloyd relaxation moves the offsets on the host, per block, from these.
-//! A 3D cell `(i, j, k)` seeds it with `cell_hash(i, j, VORONOI_LAYER, cell_hash(k, 0,
-//! VORONOI_LAYER, seed))` and draws `x`, `y`, `z` then its ID.
-//! Islamic patterns (`spectex_model::islamic`) draw their phase `φ₁`, `φ₂` (`next_f32` twice)
-//! from `cell_hash(0, 0, ISLAMIC_LAYER = 0x49534C4D "ISLM", seed)`.
-//! Stochastic subdivision (`spectex_model::subdivision`) displaces level-`ℓ` point `k` of coarse
-//! cell `c` by the byte sum of `cell_hash(k_x, k_y, SUBD + ℓ, cell_hash(c_x, c_y, SUBD, seed))`,
-//! `SUBDIVISION_LAYER = 0x53554244` ("SUBD").
+//! seeded with `cell_hash(x, y, 1, seed)`. k-means seeding in `spectex-sampling` uses
+//! `kmeans::KMEANS_LAYER`.
+//!
+//! Each model kind specifies its draws (layers, seeds, order) in its module's docs
+//! (`spectex_model::<kind>`, "Randomness contract"; phasor noise in [`crate::phasor_kernels`]):
+//! layer `s` per LRP stratum or `o` per classic octave; a constant spelling the kind's name
+//! (`VORONOI_LAYER = 0x564F524F`, "VORO") for wavelet, texton, Voronoi, Islamic and subdivision
+//! layers; a 3D cell `(i, j, k)` hashes as `cell_hash(i, j, layer, cell_hash(k, 0, layer, seed))`.
+//! A new kind does the same in its own module. Textures by example draw their placement from
+//! `PLACEMENT_LAYER` ("PLAC"); their channels and turbulence are LRP noises with seeds of
+//! their own. Warps, combinations and matrix transformations draw nothing of their own.
 
 /// Multiplier of the 32-bit LCG step (PCG's default 32-bit multiplier).
 pub const LCG_MULTIPLIER: u32 = 747_796_405;

@@ -6,110 +6,21 @@ use std::sync::{Arc, LazyLock};
 use std::time::Instant;
 
 use spectex_cpu::{CpuError, Evaluator};
-use spectex_model::classic::MAX_OCTAVES;
-use spectex_model::texton::{MAX_REACH, MAX_TEXTONS_PER_CELL};
-use spectex_model::texture::MAX_CHANNELS;
-use spectex_model::voronoi::{MAX_LLOYD_BLOCK, MAX_LLOYD_ITERATIONS};
-use spectex_model::warp::MAX_WARP_DEPTH;
-use spectex_model::wavelet::MAX_BANDS;
-use spectex_model::{MAX_COSINES, MAX_POSITION, MAX_STRATA, Model, ModelKind, Window};
+use spectex_model::{MAX_POSITION, Model, ModelKind, Window};
 
 use crate::cases::{ModelCase, check_file_round_trip};
 use crate::fuzz::{Observation, Target};
 use crate::invariance::{Backend, Prepared};
 
-/// `9·Σ_S J_S` cosines: 9 lattice points per stratum, at most 64 strata of 1024 cosines.
-const LRP_MAX_COST: f64 = 9.0 * MAX_STRATA as f64 * MAX_COSINES as f64;
-/// `9λ` kernels, `λ = impulses_per_kernel/π` per cell with `impulses_per_kernel ≤ 1000`
-/// (`GaborNoise::validate`).
-const GABOR_MAX_COST: f64 = 9.0 * 1000.0 / std::f64::consts::PI;
-/// `27λ` kernels in 3D, `λ < 64` impulses per cell (`PhasorNoise::validate`), each with `27λ`
-/// more for a coherent direction.
-const PHASOR_MAX_COST: f64 = 27.0 * 64.0 * (1.0 + 27.0 * 64.0);
-/// 27 cells (a 3D Worley search's first ring) per octave, at most 16 octaves.
-const CLASSIC_MAX_COST: f64 = 27.0 * MAX_OCTAVES as f64;
-/// `3^d` tile samples per band, at most 16 bands.
-const WAVELET_MAX_COST: f64 = 27.0 * MAX_BANDS as f64;
-/// Textons visited per pixel: `(2·MAX_REACH + 1)²` cells of at most `MAX_TEXTONS_PER_CELL`.
-const TEXTON_MAX_COST: f64 =
-    ((2 * MAX_REACH + 1) * (2 * MAX_REACH + 1) * MAX_TEXTONS_PER_CELL) as f64;
-/// A Voronoi pixel: its search (7 × 7 cells, twice for the border) and, for a one-pixel window
-/// of a relaxed model, the relaxation of the up to 4 blocks its cells touch: `k` sweeps of
-/// `B²` seeds each clipped by 48 bisectors.
-const VORONOI_MAX_COST: f64 =
-    98.0 + 4.0 * MAX_LLOYD_ITERATIONS as f64 * (MAX_LLOYD_BLOCK * MAX_LLOYD_BLOCK) as f64 * 48.0;
-/// Segments an Islamic pattern's pixel visits, at most its table's
-/// (`spectex_model::islamic::MAX_SEGMENTS`, tested there).
-const ISLAMIC_MAX_COST: f64 = spectex_model::islamic::MAX_SEGMENTS as f64;
-/// A matrix transformation reads one source texel per pixel (the map `A·q mod N` is folded into
-/// one matrix on the host, whatever the iteration count).
-const MATRIX_MAX_COST: f64 = 1.0;
-/// A stochastic subdivision computes at most a 6 × 6 block of lattice values per level, 17
-/// levels (`spectex_cpu::subdivision`: `W²·(L + 1)`, `L ≤ MAX_LEVELS = 16`).
-const SUBDIVISION_MAX_COST: f64 = 36.0 * 17.0;
-/// A combination costs its operands' costs: along any path at most 8 combinations and 8 warps
-/// nest (`MAX_COMBINE_DEPTH`, `MAX_WARP_DEPTH`), each with at most 8 (3) operands, so at most
-/// `8^16` leaves at the largest leaf cost (a texture's).
-const COMBINE_MAX_COST: f64 = 2.814_749_767_106_56e14 * TEXTURE_MAX_COST;
-/// One channel's or one turbulence axis's strata: `9(J_S + 1)` calls for each of 64 strata.
-const TEXTURE_STRATA_MAX_COST: f64 = 9.0 * (MAX_COSINES as f64 + 1.0) * MAX_STRATA as f64;
-/// Three channels of strata and a structure (4 blocks of 1024 cosines), and two turbulence axes.
-const TEXTURE_MAX_COST: f64 = MAX_CHANNELS as f64
-    * (TEXTURE_STRATA_MAX_COST + 4.0 * MAX_COSINES as f64)
-    + 2.0 * TEXTURE_STRATA_MAX_COST;
-/// A warp costs its base's and its two displacements' costs, so a tree of warps nested
-/// [`MAX_WARP_DEPTH`] deep costs at most its `3^depth` leaves at the largest leaf cost (a
-/// texture's).
-const WARP_MAX_COST: f64 = 6561.0 * TEXTURE_MAX_COST;
-
 /// The largest [`Evaluator::cost_per_pixel`] a valid model of a kind can have, derived from the
-/// limits `spectex-model` validates (each constant's comment gives the derivation). The units
-/// are the kind's own (cosines, kernels, lattice or tile evaluations), each a bounded amount of
-/// work, so a valid model renders in bounded time per pixel. Every kind implements it (collected
-/// through `spectex_model::for_each_kind!`, so a kind without one does not compile).
+/// limits `spectex-model` validates (each kind's `MAX_COST` comment gives the derivation). The
+/// units are the kind's own (cosines, kernels, lattice or tile evaluations), each a bounded
+/// amount of work, so a valid model renders in bounded time per pixel. Every kind implements it
+/// in its module of [`crate::models`] (collected through `spectex_model::for_each_kind!`, so a
+/// kind without one does not compile).
 pub trait CostBound: ModelKind {
     /// The bound.
     const MAX_COST: f64;
-}
-
-impl CostBound for spectex_model::LrpNoise {
-    const MAX_COST: f64 = LRP_MAX_COST;
-}
-impl CostBound for spectex_model::GaborNoise {
-    const MAX_COST: f64 = GABOR_MAX_COST;
-}
-impl CostBound for spectex_model::PhasorNoise {
-    const MAX_COST: f64 = PHASOR_MAX_COST;
-}
-impl CostBound for spectex_model::TextureModel {
-    const MAX_COST: f64 = TEXTURE_MAX_COST;
-}
-impl CostBound for spectex_model::ClassicNoise {
-    const MAX_COST: f64 = CLASSIC_MAX_COST;
-}
-impl CostBound for spectex_model::Warp {
-    const MAX_COST: f64 = WARP_MAX_COST;
-}
-impl CostBound for spectex_model::WaveletNoise {
-    const MAX_COST: f64 = WAVELET_MAX_COST;
-}
-impl CostBound for spectex_model::TextonNoise {
-    const MAX_COST: f64 = TEXTON_MAX_COST;
-}
-impl CostBound for spectex_model::VoronoiNoise {
-    const MAX_COST: f64 = VORONOI_MAX_COST;
-}
-impl CostBound for spectex_model::Combine {
-    const MAX_COST: f64 = COMBINE_MAX_COST;
-}
-impl CostBound for spectex_model::IslamicPattern {
-    const MAX_COST: f64 = ISLAMIC_MAX_COST;
-}
-impl CostBound for spectex_model::MatrixTransform {
-    const MAX_COST: f64 = MATRIX_MAX_COST;
-}
-impl CostBound for spectex_model::StochasticSubdivision {
-    const MAX_COST: f64 = SUBDIVISION_MAX_COST;
 }
 
 /// Every kind's [`CostBound`], by name, in the order of `Model`'s variants.
@@ -120,8 +31,6 @@ pub static COST_BOUNDS: LazyLock<Vec<(&'static str, f64)>> = LazyLock::new(|| {
     });
     bounds
 });
-
-const _: () = assert!(6561 == 3usize.pow(MAX_WARP_DEPTH as u32));
 
 /// The cost bound of `kind` ([`COST_BOUNDS`]); `None` for a kind missing from the table.
 #[must_use]

@@ -2,7 +2,7 @@
 //! `spectex_model::classic` from flags, written as a model (`--model`) and rendered.
 
 use anyhow::Result;
-use clap::Args;
+use clap::{Args, Subcommand};
 use spectex_model::classic::{Basis, ClassicNoise, FeaturePoints, FractalKind, Metric, Worley};
 use spectex_model::{Model, ModelError};
 
@@ -10,6 +10,36 @@ use super::{arg_of, model_of};
 use crate::args::RenderArgs;
 use crate::model_file::write_model;
 use crate::render::render_to_file;
+
+/// The `spectex noise` subcommands of the classic noises.
+#[derive(Debug, Subcommand)]
+pub(super) enum Noise {
+    /// Improved Perlin gradient noise (Perlin 2002), 2D or 3D (sliced at --z).
+    Perlin(ClassicArgs),
+    /// Simplex noise (Perlin 2001, Gustavson 2005), 2D or 3D.
+    Simplex(ClassicArgs),
+    /// Value noise: random lattice values with quintic interpolation, 2D or 3D.
+    Value(ClassicArgs),
+    /// Better gradient noise (Kensler, Knoll & Shirley 2008): xor hash, radial kernel of
+    /// radius 2 cells, 2D or 3D.
+    Kensler(ClassicArgs),
+    /// Fractal sum over octaves (fBm, turbulence, ridged multifractal) of a basis.
+    Fbm(FbmArgs),
+    /// Worley cellular noise C1·F1 + C2·F2 + C3·F3 + C4·F4 (Worley 1996), 2D or 3D.
+    Worley(WorleyNoiseArgs),
+}
+
+/// Runs one of them.
+pub(super) fn noise(noise: &Noise) -> Result<()> {
+    match noise {
+        Noise::Perlin(args) => run(Basis::Gradient, None, args),
+        Noise::Simplex(args) => run(Basis::Simplex, None, args),
+        Noise::Value(args) => run(Basis::Value, None, args),
+        Noise::Kensler(args) => run(Basis::Kensler, None, args),
+        Noise::Fbm(args) => fbm(args),
+        Noise::Worley(args) => worley(args),
+    }
+}
 
 /// What every classic noise kind shares.
 #[derive(Debug, Args)]

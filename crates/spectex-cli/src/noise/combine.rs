@@ -6,7 +6,7 @@
 use std::path::PathBuf;
 
 use anyhow::{Result, anyhow, bail};
-use clap::{Args, ValueEnum};
+use clap::{Args, Subcommand, ValueEnum};
 use spectex_model::combine::{Combine, CombineOp, RampStop, histogram_table};
 use spectex_model::voronoi::{VoronoiNoise, VoronoiOutput};
 use spectex_model::{ClassicNoise, Model, ModelError, Window};
@@ -14,6 +14,21 @@ use spectex_model::{ClassicNoise, Model, ModelError, Window};
 use crate::args::RenderArgs;
 use crate::model_file::{read_model, write_model};
 use crate::render::render_to_file;
+
+/// The `spectex noise` subcommands of combinations.
+#[derive(Debug, Subcommand)]
+pub(super) enum Noise {
+    /// A combination of models (survey §4.1–4.2): add, multiply, min, max, mix, smoothstep,
+    /// fold, sin-fold, histogram matching, colour ramp.
+    Combine(CombineArgs),
+}
+
+/// Runs one of them.
+pub(super) fn noise(noise: &Noise) -> Result<()> {
+    match noise {
+        Noise::Combine(args) => run(args),
+    }
+}
 
 /// The operation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]

@@ -2,13 +2,27 @@
 //! amplitude chosen for `--contrast` by `GaborNoise::unit_std_dev`.
 
 use anyhow::{Result, anyhow};
-use clap::Args;
+use clap::{Args, Subcommand};
 use spectex_model::{GaborNoise, GaborNoiseBuilder, Model};
 
 use super::NoiseArgs;
 use crate::io;
 use crate::model_file::write_model;
 use crate::render::render_to_file;
+
+/// The `spectex noise` subcommands of Gabor noise.
+#[derive(Debug, Subcommand)]
+pub(super) enum Noise {
+    /// Gabor noise by sparse convolution (Lagae et al. 2009), for comparison with LRP noise.
+    Gabor(GaborArgs),
+}
+
+/// Runs one of them.
+pub(super) fn noise(noise: &Noise) -> Result<()> {
+    match noise {
+        Noise::Gabor(args) => run(args),
+    }
+}
 
 /// The options of `spectex noise gabor`.
 #[derive(Debug, Args)]

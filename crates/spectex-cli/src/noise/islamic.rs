@@ -3,7 +3,7 @@
 //! (`--model`) and rendered.
 
 use anyhow::Result;
-use clap::{Args, ValueEnum};
+use clap::{Args, Subcommand, ValueEnum};
 use spectex_model::Model;
 use spectex_model::islamic::{IslamicOutput, IslamicPattern, Tiling};
 
@@ -11,6 +11,22 @@ use super::{arg_of, model_of};
 use crate::args::RenderArgs;
 use crate::model_file::write_model;
 use crate::render::render_to_file;
+
+/// The `spectex noise` subcommands of Islamic patterns.
+#[derive(Debug, Subcommand)]
+pub(super) enum Noise {
+    /// Islamic star patterns (survey §2.7): Hankin contact-angle rosettes or {n/d} stars on
+    /// the square, hexagonal, 4.8.8 or 3.12.12 tiling, as line bands, signed distance or
+    /// filled regions.
+    Islamic(IslamicArgs),
+}
+
+/// Runs one of them.
+pub(super) fn noise(noise: &Noise) -> Result<()> {
+    match noise {
+        Noise::Islamic(args) => run(args),
+    }
+}
 
 /// The tiling.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]

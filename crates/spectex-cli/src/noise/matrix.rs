@@ -3,13 +3,28 @@
 //! an integer matrix; written as a model (`--model`) and rendered.
 
 use anyhow::{Result, bail};
-use clap::Args;
+use clap::{Args, Subcommand};
 use spectex_model::Model;
 use spectex_model::matrix::{MAX_IMAGE_SIDE, MatrixSource, MatrixTransform};
 
 use crate::args::RenderArgs;
 use crate::model_file::write_model;
 use crate::render::render_to_file;
+
+/// The `spectex noise` subcommands of matrix transformations.
+#[derive(Debug, Subcommand)]
+pub(super) enum Noise {
+    /// Matrix transformation (survey §2.4): a source (built-in rings or a square image) moved
+    /// k times by an integer matrix on the N × N torus, e.g. the cat map.
+    Matrix(MatrixArgs),
+}
+
+/// Runs one of them.
+pub(super) fn noise(noise: &Noise) -> Result<()> {
+    match noise {
+        Noise::Matrix(args) => run(args),
+    }
+}
 
 /// The options of `spectex noise matrix`.
 #[derive(Debug, Args)]

@@ -4,7 +4,7 @@
 //! model (`--model`) and rendered.
 
 use anyhow::Result;
-use clap::{Args, ValueEnum};
+use clap::{Args, Subcommand, ValueEnum};
 use spectex_model::Model;
 use spectex_model::subdivision::{Stencil, StochasticSubdivision};
 
@@ -12,6 +12,22 @@ use super::{arg_of, model_of};
 use crate::args::RenderArgs;
 use crate::model_file::write_model;
 use crate::render::render_to_file;
+
+/// The `spectex noise` subcommands of stochastic subdivision.
+#[derive(Debug, Subcommand)]
+pub(super) enum Noise {
+    /// Stochastic subdivision (survey §3.1.7): midpoint displacement (Fournier et al. 1982)
+    /// or a smoother 4-point stencil (after Lewis 1987), each displacement hashed from its
+    /// level and lattice point, so infinite and tile-invariant.
+    Subdivision(SubdivisionArgs),
+}
+
+/// Runs one of them.
+pub(super) fn noise(noise: &Noise) -> Result<()> {
+    match noise {
+        Noise::Subdivision(args) => run(args),
+    }
+}
 
 /// How a level interpolates its parent.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]

@@ -2,7 +2,7 @@
 //! `spectex_model::texton`) from flags, written as a model (`--model`) and rendered.
 
 use anyhow::Result;
-use clap::{Args, ValueEnum};
+use clap::{Args, Subcommand, ValueEnum};
 use spectex_model::Model;
 use spectex_model::texton::{Combine, MAX_IMAGE_SIDE, Spot, TextonNoise};
 
@@ -10,6 +10,21 @@ use super::{arg_of, model_of};
 use crate::args::RenderArgs;
 use crate::model_file::write_model;
 use crate::render::render_to_file;
+
+/// The `spectex noise` subcommands of texton noise.
+#[derive(Debug, Subcommand)]
+pub(super) enum Noise {
+    /// Texton placement / spot noise (survey §2.3): ellipsoids, Gaussian spots or an image
+    /// placed on a jittered grid or at Poisson points, rotated, scaled, summed or maxed.
+    Texton(TextonArgs),
+}
+
+/// Runs one of them.
+pub(super) fn noise(noise: &Noise) -> Result<()> {
+    match noise {
+        Noise::Texton(args) => run(args),
+    }
+}
 
 /// The texton's shape.
 #[derive(Debug, Clone, Copy, ValueEnum)]

@@ -4,13 +4,28 @@
 //! written as a model (`--model`) and rendered.
 
 use anyhow::{Result, bail};
-use clap::{Args, ValueEnum};
+use clap::{Args, Subcommand, ValueEnum};
 use spectex_model::Model;
 use spectex_model::voronoi::{MAX_IMAGE_SIDE, VoronoiNoise, VoronoiOutput};
 
 use crate::args::RenderArgs;
 use crate::model_file::write_model;
 use crate::render::render_to_file;
+
+/// The `spectex noise` subcommands of Voronoi diagrams.
+#[derive(Debug, Subcommand)]
+pub(super) enum Noise {
+    /// Voronoi diagrams (survey §2.6): cell ID, F1, exact border distance, F2 − F1, or colours
+    /// from a palette or an image; optional Lloyd relaxation.
+    Voronoi(VoronoiArgs),
+}
+
+/// Runs one of them.
+pub(super) fn noise(noise: &Noise) -> Result<()> {
+    match noise {
+        Noise::Voronoi(args) => run(args),
+    }
+}
 
 /// What a pixel shows.
 #[derive(Debug, Clone, Copy, ValueEnum)]

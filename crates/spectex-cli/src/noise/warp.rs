@@ -5,12 +5,27 @@
 use std::path::PathBuf;
 
 use anyhow::{Result, anyhow};
-use clap::Args;
+use clap::{Args, Subcommand};
 use spectex_model::{Model, ModelError, Warp, WarpBuilder};
 
 use crate::args::RenderArgs;
 use crate::model_file::{read_model, write_model};
 use crate::render::render_to_file;
+
+/// The `spectex noise` subcommands of domain warping.
+#[derive(Debug, Subcommand)]
+pub(super) enum Noise {
+    /// Domain warping: --base evaluated at p + strength·(x(p), y(p)) for the --by (x) and
+    /// --by-y models (built-in fBms by default).
+    Warp(WarpArgs),
+}
+
+/// Runs one of them.
+pub(super) fn noise(noise: &Noise) -> Result<()> {
+    match noise {
+        Noise::Warp(args) => run(args),
+    }
+}
 
 /// The options of `spectex noise warp`.
 #[derive(Debug, Args)]

@@ -2,12 +2,26 @@
 //! flags, written as a model (`--model`) and rendered.
 
 use anyhow::Result;
-use clap::Args;
+use clap::{Args, Subcommand};
 use spectex_model::{Model, WaveletNoise, WaveletNoiseBuilder};
 
 use crate::args::RenderArgs;
 use crate::model_file::write_model;
 use crate::render::render_to_file;
+
+/// The `spectex noise` subcommands of wavelet noise.
+#[derive(Debug, Subcommand)]
+pub(super) enum Noise {
+    /// Wavelet noise (Cook & DeRose 2005): a band-limited tile summed over octave bands, 2D or 3D.
+    Wavelet(WaveletArgs),
+}
+
+/// Runs one of them.
+pub(super) fn noise(noise: &Noise) -> Result<()> {
+    match noise {
+        Noise::Wavelet(args) => run(args),
+    }
+}
 
 /// The options of `spectex noise wavelet`.
 #[derive(Debug, Args)]

@@ -18,19 +18,9 @@
 
 use spectex_model::Model;
 
-pub mod classic;
-pub mod combine;
-pub mod gabor;
-pub mod islamic;
-pub mod lrp;
-pub mod matrix;
-pub mod phasor;
-pub mod subdivision;
-pub mod texton;
-pub mod texture;
-pub mod voronoi;
-pub mod warp;
-pub mod wavelet;
+// One module per kind (`<kind>.rs`: its `CheckKind` and the derivation of its bounds), declared
+// from the one list of kinds.
+spectex_model::for_each_kind!(pub mod);
 
 /// Single-precision unit roundoff, `2⁻²⁴`.
 pub const F32_UNIT_ROUNDOFF: f64 = 5.960_464_477_539_063e-8;

@@ -7,30 +7,31 @@
 //! (`shaders/<kind>.wgsl`, after `common.wgsl`) with its bindings and compute entry point
 //! removed, the tables the device evaluator uploads (the same packers, the same bytes) emitted
 //! as WGSL constants in place of the bindings (their types read from the shader by naga), and
-//! the kind's glue from `shaders/export/` ([`EXPORT_SHADERS`]), which locates a position on the
+//! the kind's glue (the end of its `shaders/<kind>.wgsl`, [`EXPORT_SHADERS`]), which locates a position on the
 //! kind's lattices itself (`export/split.wgsl`) instead of reading the host's per-tile tables.
 //! Every name is prefixed (`spectex_` for the common functions, `spectex_m<k>_` for model `k`:
 //! a warp's sub-models each get their own), so the module can be pasted into any shader.
 //!
-//! A warp exports its three models and `export/warp.wgsl` composing them, a combination its
-//! operands and `export/combine.wgsl` applying its operation per channel, a texture by
+//! A warp exports its three models and the glue of `warp.wgsl` composing them, a combination its
+//! operands and the glue of `combine.wgsl` applying its operation per channel, a texture by
 //! example its LRP models and its own shader (`ExportNode`). Where the compute path's host
 //! computes per tile what a pixel reads, the glue computes it from the position: phasor
 //! kernels and Voronoi sites are drawn in the shader with the randomness contract's WGSL
-//! twin (`export/phasor.rs`, `export/voronoi.rs`), an Islamic pattern's lattice fractions
-//! summed from fixed-point tables (`export/islamic.rs`), a matrix transformation's pixel cell
+//! twin (`phasor.rs`, `voronoi.rs`), an Islamic pattern's lattice fractions
+//! summed from fixed-point tables (`islamic.rs`), a matrix transformation's pixel cell
 //! taken from the integer part. Tables are constants up to
 //! [`MAX_TABLE_BYTES`]; with [`TableStorage::Buffer`] ([`export`]) they go to one read-only
 //! storage buffer whose bytes [`Export::tables`] holds and whose layout the header lists.
 //! Every kind exports; features with no exact export give [`GpuError::Unsupported`] naming
 //! them (Voronoi Lloyd relaxation and image colours, a 3D phasor model with varying fields:
-//! each kind's export module says why). A phasor model's varying fields are evaluated in the
-//! shader in f32 (`export/phasor.rs`), image fields located with the lattice split.
+//! each kind's module says why). A phasor model's varying fields are evaluated in the
+//! shader in f32 (`phasor.rs`), image fields located with the lattice split.
 //!
 //! Layout: this file holds the public API and the kind dispatch; `emitter` writes the module
 //! (per model its chunk, the storage buffer's layout, the header), `values` prints binding
 //! values as WGSL of their naga types, `wgsl_text` rewrites WGSL sources (bindings and entry
-//! points stripped, names prefixed), and each kind's `ExportKind` impl is in its own file.
+//! points stripped, names prefixed), and each kind's `ExportKind` impl is in its module
+//! (`crate::<kind>`, beside its `GpuKind`).
 
 use std::collections::{HashMap, HashSet};
 use std::fmt::Write as _;
@@ -42,28 +43,16 @@ use crate::GpuError;
 use crate::kernel::{ShaderKernel, Table};
 
 use emitter::{Emitter, header};
-use values::float;
+pub(crate) use values::float;
 use wgsl_text::{composable_members, rename, strip, top_level_names};
 
-mod classic;
-mod combine;
 mod emitter;
-mod gabor;
-mod islamic;
-mod lrp;
-mod matrix;
-mod phasor;
-mod subdivision;
-mod texton;
-mod texture;
 mod values;
-mod voronoi;
-mod warp;
-mod wavelet;
 mod wgsl_text;
 
-/// The files of `shaders/export/`: the lattice split every exported model uses and each kind's
-/// glue (its `<kind>_sample_cell`), as the kind declares it ([`ExportKind::GLUE`]).
+/// The lattice split every exported model uses (`shaders/export/split.wgsl`) and each kind's
+/// glue (its `<kind>_sample_cell`, the end of its `shaders/<kind>.wgsl`), as the kind declares
+/// it ([`ExportKind::GLUE`]).
 pub static EXPORT_SHADERS: LazyLock<Vec<(&'static str, &'static str)>> = LazyLock::new(|| {
     let mut files = vec![(
         "split",
@@ -166,7 +155,7 @@ impl ExportParts {
 }
 
 /// A texture by example as the exporter sees it: its own shader's parts and the LRP models
-/// whose values it reads (export/texture.wgsl).
+/// whose values it reads (the glue of texture.wgsl).
 #[derive(Debug, Clone)]
 pub(crate) struct TextureExport {
     /// The texture shader's parts.
@@ -214,6 +203,14 @@ impl ExportNode {
         self
     }
 
+    /// Sets the glue's placeholders and their replacements (a leaf's; ignored by a warp).
+    pub(crate) fn with_substitutions(mut self, substitutions: Vec<(&'static str, String)>) -> Self {
+        if let Self::Leaf(parts) = &mut self {
+            parts.substitutions = substitutions;
+        }
+        self
+    }
+
     /// Values per pixel.
     fn channels(&self) -> usize {
         match self {
@@ -227,8 +224,8 @@ impl ExportNode {
 
 /// The export layer of a model kind.
 pub(crate) trait ExportKind: ModelKind {
-    /// The kind's glue in `shaders/export/` (defines `<kind>_sample_cell`), listed in
-    /// [`EXPORT_SHADERS`] under the kind's name.
+    /// The kind's glue: `shaders/<kind>.wgsl` from its `GLUE_MARKER` line (defines
+    /// `<kind>_sample_cell`), listed in [`EXPORT_SHADERS`] under the kind's name.
     const GLUE: &'static str;
 
     /// The parts of a **validated** model on the plane `z` (ignored by 2D models).
@@ -441,7 +438,7 @@ pub(super) fn node_bytes(node: &ExportNode) -> u64 {
         }
         ExportNode::Warp { base, x, y, .. } => node_bytes(base) + node_bytes(x) + node_bytes(y),
         ExportNode::Combine { op, operands, .. } => {
-            operands.iter().map(node_bytes).sum::<u64>() + combine::table_bytes(op)
+            operands.iter().map(node_bytes).sum::<u64>() + emitter::combine_table_bytes(op)
         }
     }
 }

@@ -4,7 +4,7 @@
 use crate::GpuError;
 
 /// An f32 as a WGSL literal that parses to the same bits (`f` suffix: parsed directly as f32).
-pub(super) fn float(v: f32) -> String {
+pub(crate) fn float(v: f32) -> String {
     if v.is_finite() {
         format!("{v:?}f")
     } else if v.is_nan() {

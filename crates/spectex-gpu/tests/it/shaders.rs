@@ -8,12 +8,14 @@
     reason = "a test fails loudly on the first unexpected None or Err"
 )]
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::PathBuf;
 
 use crate::common;
 
 use common::{ATAN_TURNS, COS_TURNS, KB_POLY};
+use spectex_gpu::export::EXPORT_SHADERS;
+use spectex_gpu::shaders::GLUE_MARKER;
 use spectex_gpu::{SHADERS, wgsl_source};
 
 fn shaders_dir() -> PathBuf {
@@ -60,6 +62,8 @@ fn every_module_parses_and_validates_as_composed() {
     }
 }
 
+/// Each file of `shaders/` is what the registries hold of it: its compute shader in
+/// [`SHADERS`], then (a kind's file) its export glue in `EXPORT_SHADERS`, from the glue line on.
 #[test]
 fn registry_matches_the_files_in_shaders() {
     let mut on_disk = BTreeMap::new();
@@ -70,27 +74,39 @@ fn registry_matches_the_files_in_shaders() {
             on_disk.insert(name, std::fs::read_to_string(&path).unwrap());
         }
     }
-    let registered: BTreeMap<String, &str> = SHADERS
+    let compute: BTreeMap<&str, &str> = SHADERS.iter().map(|f| (f.name, f.source)).collect();
+    let glue: BTreeMap<&str, &str> = EXPORT_SHADERS
         .iter()
-        .map(|f| (f.name.to_owned(), f.source))
+        .filter(|(name, _)| *name != "split")
+        .copied()
         .collect();
+    let registered: BTreeSet<&str> = compute.keys().chain(glue.keys()).copied().collect();
     let missing: Vec<_> = on_disk
         .keys()
-        .filter(|k| !registered.contains_key(*k))
+        .filter(|k| !registered.contains(k.as_str()))
         .collect();
     let extra: Vec<_> = registered
-        .keys()
-        .filter(|k| !on_disk.contains_key(*k))
+        .iter()
+        .filter(|k| !on_disk.contains_key(**k))
         .collect();
     assert!(
         missing.is_empty() && extra.is_empty(),
-        "shaders/ and spectex_gpu::SHADERS differ: files not registered {missing:?}, \
-         registered names without a file {extra:?}"
+        "shaders/ and spectex_gpu::SHADERS / EXPORT_SHADERS differ: files not registered \
+         {missing:?}, registered names without a file {extra:?}"
     );
     for (name, text) in &on_disk {
+        let glue = glue.get(name.as_str()).copied().unwrap_or_default();
+        assert!(
+            glue.is_empty() || glue.starts_with(GLUE_MARKER),
+            "{name}.wgsl: the glue starts at its `{GLUE_MARKER}` line"
+        );
+        let registered = format!(
+            "{}{glue}",
+            compute.get(name.as_str()).copied().unwrap_or_default()
+        );
         assert_eq!(
-            registered[name], text,
-            "{name}.wgsl: the registry's text differs from the file"
+            &registered, text,
+            "{name}.wgsl: the registries' text differs from the file"
         );
     }
 }

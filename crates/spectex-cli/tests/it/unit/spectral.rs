@@ -1,9 +1,9 @@
-//! `spectex noise ring|fractal`'s flags against the spectral builders (`src/noise/spectral.rs`).
+//! `spectex noise ring|fractal`'s flags against the spectral builders (`src/noise/lrp.rs`).
 
 use clap::Parser;
 use spectex_sampling::{FitOptions, Partition};
 
-use spectex_cli::noise::spectral::*;
+use spectex_cli::noise::lrp::*;
 use spectex_model::SpectralTarget;
 use spectex_sampling::LrpFromTarget;
 

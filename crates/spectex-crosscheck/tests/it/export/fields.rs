@@ -4,7 +4,7 @@
 //! evaluation can change there, and where it can decide a discontinuous use either way.
 //!
 //! The export evaluates every field in f32 at the impulse position `n + r` it forms
-//! (`export/phasor.wgsl`), the CPU in f64 at `(cell + o)·r`. Per impulse, from the CPU's
+//! (the glue of `phasor.wgsl`), the CPU in f64 at `(cell + o)·r`. Per impulse, from the CPU's
 //! values:
 //! - position: the export's `r` is within [`position_error`] pixels of the CPU's position;
 //! - a field's value moves by [`field_error`] (its slope times that, plus its f32 roundings);

@@ -1,4 +1,5 @@
-// export/warp.wgsl — the exported entry of a domain warp `base(p + D(x(p), y(p)))`
+// ---- export glue: `spectex export --wgsl` (after export/split.wgsl) ----
+// The exported entry of a domain warp `base(p + D(x(p), y(p)))`
 // (spectex_model::warp), after its three models. The exporter replaces WARP_X, WARP_Y and
 // WARP_BASE with the displacement models' and the base's `…_sample_cell` functions, WARP_VALUE
 // with the base's value type, and declares `warp_strength` (pixels per unit of x and y).

@@ -3,7 +3,7 @@
 //! fractal), fitted by `spectex_sampling::LrpFromTarget`.
 
 use anyhow::{Context, Result, anyhow};
-use clap::Args;
+use clap::{Args, Subcommand};
 use spectex_model::{Model, SpectralTarget};
 use spectex_sampling::LrpFromTarget;
 
@@ -11,6 +11,30 @@ use super::NoiseArgs;
 use crate::io;
 use crate::model_file::write_model;
 use crate::render::render_to_file;
+
+/// The `spectex noise` subcommands of LRP noise.
+#[derive(Debug, Subcommand)]
+pub(super) enum Noise {
+    /// Isotropic noise whose power lies on a ring of radius F (Fig. 10).
+    Ring(RingArgs),
+    /// Anisotropic noise: two Gaussian lobes at ±F in direction ANGLE (Fig. 3).
+    Lobe(LobeArgs),
+    /// Band-pass noise: constant power for MIN ≤ |f| ≤ MAX.
+    Band(BandArgs),
+    /// A random-phase 1/f^β fractal with the survey's angular term (Eq. (8)), as LRP noise:
+    /// continuous and infinite; --contrast is the RMS roughness.
+    Fractal(FractalArgs),
+}
+
+/// Runs one of them.
+pub(super) fn noise(noise: &Noise) -> Result<()> {
+    match noise {
+        Noise::Ring(args) => ring(args),
+        Noise::Lobe(args) => lobe(args),
+        Noise::Band(args) => band(args),
+        Noise::Fractal(args) => fractal(args),
+    }
+}
 
 /// The options of `spectex noise ring`.
 #[derive(Debug, Args)]

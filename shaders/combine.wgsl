@@ -1,4 +1,5 @@
-// export/combine.wgsl — the exported entry of a combination (spectex_model::combine), after
+// ---- export glue: `spectex export --wgsl` (after export/split.wgsl) ----
+// The exported entry of a combination (spectex_model::combine), after
 // its operands: each operand is exported as its own model (its own prefix), and the exporter
 // writes `combine_sample_cell`, which evaluates them at the position and applies the
 // operation per channel with the functions below: WGSL twins of `CombineOp::apply` (the
