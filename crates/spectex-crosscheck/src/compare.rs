@@ -314,19 +314,25 @@ pub fn judge_by_reasons(
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
-    #[test]
-    fn planes_take_one_component_of_interleaved_values() {
+    pub fn planes_take_one_component_of_interleaved_values() {
         let v = [0.0, 1.0, 2.0, 10.0, 11.0, 12.0];
         assert_eq!(plane(&v, 3, 1), [1.0, 11.0]);
         assert_eq!(plane(&v, 1, 0), v);
     }
 
-    #[test]
-    fn identical_renders_measure_zero() {
+    pub fn identical_renders_measure_zero() {
         let v: Vec<f32> = (0..64).map(|i| (i as f32 * 0.37).sin()).collect();
         let c = compare(8, 8, v.clone(), v);
         assert_eq!(
@@ -336,8 +342,7 @@ mod tests {
         assert_eq!(c.bit_identical, 64);
     }
 
-    #[test]
-    fn one_outlier_sets_the_max_not_the_percentile() {
+    pub fn one_outlier_sets_the_max_not_the_percentile() {
         let a: Vec<f32> = vec![0.5; 10_000];
         let mut b = a.clone();
         b[1234] = 0.75;
@@ -347,8 +352,7 @@ mod tests {
         assert!((c.mean_abs - 0.25 / 10_000.0).abs() < 1e-12);
     }
 
-    #[test]
-    fn verdicts_follow_the_expected_failure_table() {
+    pub fn verdicts_follow_the_expected_failure_table() {
         let v: Vec<f32> = (0..64).map(|i| (i as f32 * 0.37).sin()).collect();
         let mut w = v.clone();
         w[3] += 0.5;

@@ -50,3 +50,24 @@ pub use compare::{
 pub use error::CrosscheckError;
 pub use report::{REPORT_DIR, write_failure_report, write_failure_report_in};
 pub use tolerance::{CheckKind, Tolerance};
+
+/// The unit tests' bodies, one module per source module, run by `tests/it/unit.rs`.
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+pub mod unit_tests {
+    pub use crate::compare::tests as compare;
+    pub use crate::report::tests as report;
+    pub use crate::tolerance::classic::tests as tolerance_classic;
+    pub use crate::tolerance::combine::tests as tolerance_combine;
+    pub use crate::tolerance::gabor::tests as tolerance_gabor;
+    pub use crate::tolerance::islamic::tests as tolerance_islamic;
+    pub use crate::tolerance::lrp::tests as tolerance_lrp;
+    pub use crate::tolerance::phasor::tests as tolerance_phasor;
+    pub use crate::tolerance::subdivision::tests as tolerance_subdivision;
+    pub use crate::tolerance::tests as tolerance;
+    pub use crate::tolerance::texton::tests as tolerance_texton;
+    pub use crate::tolerance::texture::tests as tolerance_texture;
+    pub use crate::tolerance::voronoi::tests as tolerance_voronoi;
+    pub use crate::tolerance::warp::tests as tolerance_warp;
+    pub use crate::tolerance::wavelet::tests as tolerance_wavelet;
+}

@@ -170,16 +170,22 @@ pub fn write_failure_report_in(
     Ok(md_path)
 }
 
-#[cfg(test)]
-mod tests {
-    #![allow(clippy::unwrap_used, reason = "a test fails loudly")]
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+pub mod tests {
+    #![allow(
+        clippy::unwrap_used,
+        clippy::missing_panics_doc,
+        reason = "a test fails loudly"
+    )]
 
     use super::*;
     use crate::compare::{compare, judge, standard_windows};
     use crate::tolerance::Tolerance;
 
-    #[test]
-    fn a_failure_writes_three_images_and_two_reports() {
+    pub fn a_failure_writes_three_images_and_two_reports() {
         let dir = tempfile::tempdir().unwrap();
         let a: Vec<f32> = (0..128 * 128).map(|i| (i as f32 * 0.01).sin()).collect();
         let mut b = a.clone();

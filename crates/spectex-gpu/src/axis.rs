@@ -141,13 +141,20 @@ impl CellAxes {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
     use crate::layout::check::assert_matches_wgsl;
 
-    #[test]
-    fn cell_axis_splits_cells_and_rejects_out_of_range() {
+    pub fn cell_axis_splits_cells_and_rejects_out_of_range() {
         let w = cell_axis(2.0, 3, |i| [-0.5, 4.0, 1e300][i]);
         let words: &[u32] = bytemuck::cast_slice(&w);
         assert_eq!(words[0..3], [(-1i32) as u32, 0.75f32.to_bits(), 1]);
@@ -158,8 +165,7 @@ mod tests {
     /// Cells worked by hand on a grid of side 2: the columns at x = 0 and 1 are both in cell
     /// 0; displaced by (3, 0) and (−5, 1) the pixels sit at (3, 0) and (−4, 1), cells (1, 0)
     /// and (−2, 0).
-    #[test]
-    fn cell_range_covers_the_pixels_and_their_displacements() {
+    pub fn cell_range_covers_the_pixels_and_their_displacements() {
         let tile = GpuWindow::new(2, 1);
         let axes = CellAxes::new(2.0, &tile, None);
         assert_eq!(axes.cell_range(&tile, None), [Some((0, 0)), Some((0, 0))]);
@@ -170,8 +176,7 @@ mod tests {
         );
     }
 
-    #[test]
-    fn cell_axis_matches_its_wgsl_twin() {
+    pub fn cell_axis_matches_its_wgsl_twin() {
         assert_matches_wgsl::<CellAxis>("common", "GridAxis");
     }
 }

@@ -390,8 +390,16 @@ fn halving(lattices: &[f64]) -> bool {
         })
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
     use crate::layout::check::assert_matches_wgsl;
     use spectex_model::classic::{Fractal, Worley};
@@ -416,8 +424,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn records_match_the_wgsl() {
+    pub fn records_match_the_wgsl() {
         assert_matches_wgsl::<ClassicParams>("classic", "ClassicParams");
         assert_matches_wgsl::<ClassicOctave>("classic", "ClassicOctave");
         assert_matches_wgsl::<ClassicAxis>("classic", "ClassicAxis");
@@ -425,8 +432,7 @@ mod tests {
 
     /// The skewed coordinate `X = p_x + (p_x + p_y)·F` rebuilt from the column's own part and the
     /// row's other part (integers plus fractions) is the f64 value within f32 rounding, far away.
-    #[test]
-    fn skew_parts_add_up_to_the_skewed_coordinate() {
+    pub fn skew_parts_add_up_to_the_skewed_coordinate() {
         let (kernel, _) = pack(&model(Basis::Simplex, 2), 0.0);
         let (x, y) = (1.0e7 + 0.3, -3.0e6 + 0.7);
         let col = kernel.axis(1, |_| x)[0];
@@ -441,8 +447,7 @@ mod tests {
         assert_eq!(col.offset, (px - px.floor()) as f32);
     }
 
-    #[test]
-    fn params_and_octaves_carry_the_model() {
+    pub fn params_and_octaves_carry_the_model() {
         let w = Worley {
             metric: Metric::Euclidean,
             coefficients: [-1.0, 1.0, 0.0, 0.0],
@@ -480,8 +485,7 @@ mod tests {
         assert_eq!((periodic[1].cells_x, periodic[1].cells_y), (8, 4));
     }
 
-    #[test]
-    fn halving_needs_every_lattice_halved_exactly() {
+    pub fn halving_needs_every_lattice_halved_exactly() {
         assert!(halving(&[
             32.0, 20.0, 80.0, 16.0, 10.0, 40.0, 8.0, 5.0, 20.0
         ]));

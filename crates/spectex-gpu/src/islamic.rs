@@ -211,21 +211,27 @@ impl ExportKind for IslamicPattern {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
     use crate::layout::check::assert_matches_wgsl;
 
-    #[test]
-    fn params_match_the_wgsl() {
+    pub fn params_match_the_wgsl() {
         assert_matches_wgsl::<IslamicParams>("islamic", "IslamicParams");
     }
 
     /// The glue's sum of the set bits' table entries, modulo 2³² (`islamic_export_fixed_sum`),
     /// is `frac(a·n)·2³²` within its roundings: at most half a unit per entry (32) and for the
     /// reference (1), whatever `n` — the identity `a·n = Σ_k bit_k(n)·a·w_k`.
-    #[test]
-    fn fixed_point_sums_are_the_fraction_of_a_times_n() {
+    pub fn fixed_point_sums_are_the_fraction_of_a_times_n() {
         for a in [1.0 / 48.0, -0.017_320_508_075_688_77, 0.123_456_789, 3.5] {
             let table: Vec<u32> = bit_table(a).collect();
             for n in [

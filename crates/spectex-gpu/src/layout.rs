@@ -9,15 +9,15 @@
 //! padding of its own and `Pod` (which refuses implicit padding) holds.
 
 /// One record's field names and byte offsets, in declaration order, for the layout test (the
-/// only reader, so it exists in test builds only).
-#[cfg(test)]
+/// only reader, so it exists with the `unit-tests` feature only).
+#[cfg(feature = "unit-tests")]
 pub(crate) trait WgslStruct: bytemuck::Pod {
     /// `(field name, byte offset)` of every field.
     const FIELDS: &'static [(&'static str, usize)];
 }
 
 /// Declares a `#[repr(C)]`, `Pod` record mirroring a WGSL struct (same field names, in the same
-/// order) and, in test builds, implements `WgslStruct` for it, so its offsets are checked
+/// order) and, with the `unit-tests` feature, implements `WgslStruct` for it, so its offsets are checked
 /// against naga's.
 macro_rules! wgsl_struct {
     (
@@ -33,7 +33,7 @@ macro_rules! wgsl_struct {
             $( $(#[$field_meta])* pub $field: $ty ),*
         }
 
-        #[cfg(test)]
+        #[cfg(feature = "unit-tests")]
         impl $crate::layout::WgslStruct for $name {
             const FIELDS: &'static [(&'static str, usize)] =
                 &[$( (stringify!($field), ::core::mem::offset_of!($name, $field)) ),*];
@@ -42,7 +42,7 @@ macro_rules! wgsl_struct {
 }
 pub(crate) use wgsl_struct;
 
-#[cfg(test)]
+#[cfg(feature = "unit-tests")]
 pub(crate) mod check {
     //! The layout test's helper: naga's view of a WGSL struct against a Rust record.
 

@@ -101,3 +101,27 @@ pub use spectex_model::{
 };
 /// The wgpu version this crate is built on, for callers using [`GpuContext::device`].
 pub use wgpu;
+
+/// The unit tests' bodies, one module per source module, run by `tests/it/unit.rs`.
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+pub mod unit_tests {
+    pub use crate::axis::tests as axis;
+    pub use crate::classic::tests as classic;
+    pub use crate::export::emitter::tests as export_emitter;
+    pub use crate::export::wgsl_text::tests as export_wgsl_text;
+    pub use crate::gabor::tests as gabor;
+    pub use crate::islamic::tests as islamic;
+    pub use crate::lrp::tests as lrp;
+    pub use crate::matrix::tests as matrix;
+    pub use crate::phasor::tests as phasor;
+    pub use crate::pipeline::tests as pipeline;
+    pub use crate::render::tests as render;
+    pub use crate::shaders::tests as shaders;
+    pub use crate::simulate::tests as simulate;
+    pub use crate::subdivision::tests as subdivision;
+    pub use crate::texton::tests as texton;
+    pub use crate::texture::tests as texture;
+    pub use crate::voronoi::tests as voronoi;
+    pub use crate::wavelet::tests as wavelet;
+}

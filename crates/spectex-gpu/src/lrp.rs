@@ -278,20 +278,26 @@ impl ExportKind for LrpNoise {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
     use crate::layout::check::assert_matches_wgsl;
 
-    #[test]
-    fn records_match_the_wgsl() {
+    pub fn records_match_the_wgsl() {
         assert_matches_wgsl::<LrpParams>("lrp", "LrpParams");
         assert_matches_wgsl::<LrpStratum>("lrp", "LrpStratum");
         assert_matches_wgsl::<LatticeAxis>("lrp", "LatticeAxis");
     }
 
-    #[test]
-    fn lattice_offsets_are_the_rounded_f64_differences() {
+    pub fn lattice_offsets_are_the_rounded_f64_differences() {
         let records = lattice_axis(&[9.5], 3, |i| 1.0e7 + i as f64 * 0.25);
         for (i, r) in records.iter().enumerate() {
             let x = 1.0e7 + i as f64 * 0.25;
@@ -306,8 +312,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn pack_concatenates_tables_in_order() {
+    pub fn pack_concatenates_tables_in_order() {
         use spectex_model::Stratum;
         let m = LrpNoise {
             seed: 3,

@@ -160,13 +160,20 @@ impl ExportKind for MatrixTransform {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
     use crate::layout::check::assert_matches_wgsl;
 
-    #[test]
-    fn params_match_the_wgsl() {
+    pub fn params_match_the_wgsl() {
         assert_matches_wgsl::<MatrixParams>("matrix", "MatrixParams");
     }
 }

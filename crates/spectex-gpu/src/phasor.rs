@@ -743,20 +743,26 @@ impl ExportKind for PhasorNoise {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
     use crate::layout::check::assert_matches_wgsl;
 
-    #[test]
-    fn records_match_the_wgsl() {
+    pub fn records_match_the_wgsl() {
         assert_matches_wgsl::<PhasorParams>("phasor", "PhasorParams");
         assert_matches_wgsl::<PhasorImpulse>("phasor", "PhasorImpulse");
     }
 
     /// A nested blend is refused before any device work, naming the kind as model files do.
-    #[test]
-    fn nested_blends_are_unsupported_in_phasor_models() {
+    pub fn nested_blends_are_unsupported_in_phasor_models() {
         let mut model = spectex_model::fixtures::phasor_pwm(2, PhasorOrientation::Isotropic);
         let blend = |a: Profile| Profile::Blend {
             a: Box::new(a),

@@ -542,12 +542,19 @@ pub(crate) fn read_buffer(
     Ok(bytes)
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use crate::layout::check::assert_matches_wgsl;
 
-    #[test]
-    fn warp_params_match_the_wgsl() {
+    pub fn warp_params_match_the_wgsl() {
         // common.wgsl is prepended to every model shader; any of them holds the struct.
         assert_matches_wgsl::<super::WarpParams>("lrp", "WarpParams");
     }

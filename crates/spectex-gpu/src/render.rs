@@ -778,19 +778,25 @@ fn check_aligned(value: u64, what: &'static str) -> Result<(), GpuError> {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use crate::layout::check::assert_matches_wgsl;
 
-    #[test]
-    fn pack_params_match_the_wgsl() {
+    pub fn pack_params_match_the_wgsl() {
         assert_matches_wgsl::<super::PackParams>("output", "PackParams");
     }
 
     /// The store shader of every texture format parses and validates, and its uniform has the
     /// layout of the Rust record.
-    #[test]
-    fn store_shaders_validate_with_the_record_layout() {
+    pub fn store_shaders_validate_with_the_record_layout() {
         for &format in super::TEXTURE_FORMATS {
             let name = super::texture_format_name(format).unwrap_or("?");
             let source = super::store_wgsl(name);

@@ -108,8 +108,16 @@ pub fn wgsl_source(name: &str) -> Option<String> {
     })
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
     /// Parses and validates the composed module `name`, panicking with naga's annotated source.
@@ -133,8 +141,7 @@ mod tests {
     /// host binds by: the uniform at 0, read-only tables at 1, 2, … and the output last; group 1
     /// is `common.wgsl`'s displacement. (The probe's two entry points bind disjoint halves of
     /// its group 0, and its tests bind each half on its own.)
-    #[test]
-    fn model_shaders_use_every_binding_in_the_host_order() {
+    pub fn model_shaders_use_every_binding_in_the_host_order() {
         use naga::{AddressSpace, StorageAccess};
         for file in SHADERS.iter().filter(|f| f.entry_points.len() == 1) {
             let (module, info) = parse(file.name);
@@ -192,8 +199,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn names_are_unique_and_composition_prepends_common() {
+    pub fn names_are_unique_and_composition_prepends_common() {
         for (i, a) in SHADERS.iter().enumerate() {
             assert!(
                 SHADERS[i + 1..].iter().all(|b| b.name != a.name),

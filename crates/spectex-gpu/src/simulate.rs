@@ -449,12 +449,19 @@ fn params(width: u32, height: u32, rule: u32, extra: u32) -> SimParams {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use crate::layout::check::assert_matches_wgsl;
 
-    #[test]
-    fn sim_params_match_the_wgsl() {
+    pub fn sim_params_match_the_wgsl() {
         assert_matches_wgsl::<super::SimParams>("simulate", "SimParams");
     }
 }

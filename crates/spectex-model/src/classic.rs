@@ -64,7 +64,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{ModelError, check_level, check_range};
 
-mod builder;
+pub(crate) mod builder;
 pub use builder::{ClassicNoiseBuilder, FractalNoiseBuilder};
 
 /// Most octaves of a fractal sum.
@@ -513,8 +513,16 @@ impl crate::ModelKind for ClassicNoise {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
     fn perlin() -> ClassicNoise {
@@ -548,8 +556,7 @@ mod tests {
         (if h & 1 == 0 { u } else { -u }) + (if h & 2 == 0 { v } else { -v })
     }
 
-    #[test]
-    fn gradient_dot_is_perlins_grad() {
+    pub fn gradient_dot_is_perlins_grad() {
         for g in 0..16u32 {
             for (x, y, z) in [(0.3f32, -0.7f32, 0.25f32), (-1.0, 0.5, 0.125)] {
                 let got = gradient_dot(g << 28 | 12345, x, y, z);
@@ -558,8 +565,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn fade_and_lattice_values_hit_their_ends() {
+    pub fn fade_and_lattice_values_hit_their_ends() {
         assert_eq!(fade(0.0), 0.0);
         assert_eq!(fade(1.0), 1.0);
         assert_eq!(fade(0.5), 0.5);
@@ -567,8 +573,7 @@ mod tests {
         assert_eq!(lattice_value(u32::MAX), 1.0 - 2.0 / 16_777_216.0);
     }
 
-    #[test]
-    fn poisson_cdf_matches_the_pmf_sum() {
+    pub fn poisson_cdf_matches_the_pmf_sum() {
         let cdf = FeaturePoints::Poisson(2.0).poisson_cdf().unwrap();
         // P(N ≤ 0) = e^{-2}, P(N ≤ 1) = 3e^{-2}, P(N ≤ 2) = 5e^{-2}.
         let e = (-2.0f64).exp();
@@ -579,8 +584,7 @@ mod tests {
         assert!(FeaturePoints::Fixed(3).poisson_cdf().is_none());
     }
 
-    #[test]
-    fn validation_names_the_field() {
+    pub fn validation_names_the_field() {
         let mut cases: Vec<(ClassicNoise, &str)> = Vec::new();
         let mut m = perlin();
         m.dimensions = 4;
@@ -621,8 +625,7 @@ mod tests {
         assert!(perlin().validate().is_ok());
     }
 
-    #[test]
-    fn json_round_trip_and_unknown_fields() {
+    pub fn json_round_trip_and_unknown_fields() {
         let m = crate::Model::Classic(perlin());
         let text = crate::to_json(&m).unwrap();
         assert_eq!(crate::from_json(&text).unwrap(), m);
@@ -630,8 +633,7 @@ mod tests {
         assert!(matches!(crate::from_json(&bad), Err(ModelError::Json(_))));
     }
 
-    #[test]
-    fn worley_needs_the_last_non_zero_coefficient() {
+    pub fn worley_needs_the_last_non_zero_coefficient() {
         let w = |c| Worley {
             metric: Metric::Manhattan,
             coefficients: c,

@@ -26,7 +26,7 @@ use crate::Model;
 use crate::error::{ModelError, check_len, check_level, check_range};
 use crate::math::sin_turns;
 
-mod builder;
+pub(crate) mod builder;
 pub use builder::CombineBuilder;
 
 /// Most operands of one combination.
@@ -442,13 +442,20 @@ impl crate::ModelKind for Combine {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
     use crate::fixtures::constant;
 
-    #[test]
-    fn operations_follow_their_definitions() {
+    pub fn operations_follow_their_definitions() {
         let (a, b, t) = ([0.25f32], [1.0f32], [0.5f32]);
         let v: [&[f32]; 3] = [&a, &b, &t];
         assert_eq!(CombineOp::Add.apply(&v[..2], 0), 1.25);
@@ -474,8 +481,7 @@ mod tests {
         assert!((CombineOp::SinFold { gain: 0.25 }.apply(&[&[1.0]], 0) - 1.0).abs() < 1e-6);
     }
 
-    #[test]
-    fn lookup_and_ramp_interpolate_and_clamp() {
+    pub fn lookup_and_ramp_interpolate_and_clamp() {
         let table = [0.0, 10.0, 40.0];
         assert_eq!(lookup([0.0, 2.0], &table, 0.5), 5.0);
         assert_eq!(lookup([0.0, 2.0], &table, 1.5), 25.0);
@@ -497,8 +503,7 @@ mod tests {
         assert_eq!(ramp(&stops, 7.0, 2), 0.5);
     }
 
-    #[test]
-    fn histogram_matching_maps_quantiles() {
+    pub fn histogram_matching_maps_quantiles() {
         // Samples uniform on [0, 1); exemplar uniform on [10, 20): the matched table is
         // 10 + 10·x up to the quantisation of 1000 ranks.
         let samples: Vec<f32> = (0..1000).map(|k| k as f32 / 1000.0).collect();
@@ -512,8 +517,7 @@ mod tests {
         assert!(table.windows(2).all(|w| w[0] <= w[1]), "monotone");
     }
 
-    #[test]
-    fn validation_names_nested_fields() {
+    pub fn validation_names_nested_fields() {
         let mut bad = constant(0.0);
         if let Model::Classic(c) = &mut bad {
             c.cell_size = 0.0;

@@ -154,12 +154,19 @@ pub(crate) fn check_image<const C: usize>(
 /// Largest side of an image stored in a model (a texton's spot, Voronoi colours), texels.
 pub(crate) const MAX_IMAGE_SIDE: u32 = 1024;
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
-    #[test]
-    fn a_bound_is_met_by_the_f32_nearest_it() {
+    pub fn a_bound_is_met_by_the_f32_nearest_it() {
         let check =
             |v: f32, lo: f64, hi: f64| check_range(|| "f".into(), f64::from(v), lo, hi, "r");
         // 0.01f32 lies below 0.01 and π as f32 above π: both are the bound a file writes.

@@ -147,12 +147,19 @@ pub fn to_json_file(
     Ok(serde_json::to_string_pretty(&file)?)
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
-    #[test]
-    fn a_file_records_the_fit_that_made_it() {
+    pub fn a_file_records_the_fit_that_made_it() {
         let model = Model::Gabor(crate::fixtures::gabor_isotropic());
         let text = to_json_with_fit(&model, Some(Fit::Paper)).unwrap();
         assert!(text.contains("\"fit\": \"paper\""), "{text}");

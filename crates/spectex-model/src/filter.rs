@@ -610,13 +610,20 @@ pub fn filtered_samples(series: &[f32], t: f32, u: f32) -> f32 {
     sum
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
     /// In band, below the fade, the gain is the box filter's attenuation `sinc(f_x s)·sinc(f_y s)`.
-    #[test]
-    fn pure_cosines_in_band_get_the_box_attenuation() {
+    pub fn pure_cosines_in_band_get_the_box_attenuation() {
         // Every |f|·s here is at most FADE_START.
         for (f, s) in [([0.05, 0.0], 4.0), ([0.02, 0.07], 4.0), ([0.1, 0.1], 2.5)] {
             let want = sinc(f[0] * s) * sinc(f[1] * s);
@@ -627,8 +634,7 @@ mod tests {
         assert!((sinc(0.2) - 0.935_489_283_788_639_7).abs() < 1e-12);
     }
 
-    #[test]
-    fn nothing_survives_past_the_fade() {
+    pub fn nothing_survives_past_the_fade() {
         // FADE_END / 4 = 0.1375 cycles per model pixel at a footprint of 4.
         for f in [0.1375, 0.14, 0.2, 0.5] {
             assert_eq!(component_gain([f, 0.0], 0.0, 4.0), 0.0, "f = {f}");
@@ -637,8 +643,7 @@ mod tests {
     }
 
     /// The gain falls continuously with the footprint (no popping as a camera zooms out).
-    #[test]
-    fn the_gain_is_continuous_and_falls_with_the_footprint() {
+    pub fn the_gain_is_continuous_and_falls_with_the_footprint() {
         let mut prev = 1.0;
         for i in 0..=600 {
             let s = 1.0 + f64::from(i) * 0.01;
@@ -650,8 +655,7 @@ mod tests {
         assert!(prev < 5e-3, "still {prev} at s = 7");
     }
 
-    #[test]
-    fn gain_table_matches_the_quadrature() {
+    pub fn gain_table_matches_the_quadrature() {
         for (sigma, s) in [
             (0.2, 4.0),
             (0.02, 4.0),
@@ -673,8 +677,7 @@ mod tests {
     /// The filtered square against its definition: at `u → 0` with 64 harmonics, the series of
     /// a 25% duty square (Fejér-free, so within Gibbs' 9% near the edges, exact far from them);
     /// at `u ≥ 0.55` only the mean; its mean over a period is the duty (the fade keeps it).
-    #[test]
-    fn filtered_square_keeps_the_mean_and_converges() {
+    pub fn filtered_square_keeps_the_mean_and_converges() {
         let d = 0.25f32;
         // Far from the edges (0 and d) the 64-term series of a square is within 1/(π·64·dist).
         for (t, want) in [(0.125f32, 1.0f32), (0.6, 0.0), (0.9, 0.0)] {
@@ -709,8 +712,7 @@ mod tests {
 
     /// A spread component's energy gain is the Gaussian average of `H²`: checked against a
     /// plain Riemann sum over a wide range on a fine grid.
-    #[test]
-    fn spread_gain_matches_a_direct_average() {
+    pub fn spread_gain_matches_a_direct_average() {
         for (f, sigma, s) in [
             (0.05, 0.02, 4.0),
             (0.1, 0.3, 4.0),
@@ -739,8 +741,7 @@ mod tests {
     /// definitions: at `u → 0` (every harmonic kept) the series is the profile to within its
     /// truncation after 64 harmonics (away from the sawtooth's jump), and past the fade only
     /// the mean is left.
-    #[test]
-    fn profile_series_converge_to_their_profiles() {
+    pub fn profile_series_converge_to_their_profiles() {
         let u = 1e-5f32;
         let values = [0.0f32, 1.0, 0.25, 0.75, -0.5];
         let series = samples_series(&values);

@@ -90,12 +90,19 @@ pub fn constant(mean: f32) -> Model {
     })
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
-    #[test]
-    fn budgets_are_spread_and_models_valid() {
+    pub fn budgets_are_spread_and_models_valid() {
         for budget in [1, 3, 10, 50] {
             let m = lrp_four_strata(budget);
             m.validate().unwrap();

@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{ModelError, check_level, check_range};
 
-mod builder;
+pub(crate) mod builder;
 pub use builder::GaborNoiseBuilder;
 
 /// How far a periodic Gabor noise's kernel radius (so its bandwidth) may move to tile the
@@ -219,8 +219,16 @@ impl crate::ModelKind for GaborNoise {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
     use std::f64::consts::PI;
 
@@ -287,8 +295,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn unit_std_dev_matches_a_polar_integration() {
+    pub fn unit_std_dev_matches_a_polar_integration() {
         for (a, f, n) in [
             (0.05, 0.0625, 32.0),
             (0.05, 0.0, 16.0),
@@ -307,8 +314,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn unit_std_dev_at_zero_frequency_has_a_closed_form() {
+    pub fn unit_std_dev_at_zero_frequency_has_a_closed_form() {
         // F₀ = 0: ∫_disc e^{−2πa²|x|²} dx = (1 − e^{−2πa²r²})/(2a²) and πa²r² = ln 20, so
         // the variance is λ/3 · (1 − 1/400)/(2a²) with λ = N/(πr²).
         let g = noise(0.05, 0.0, 16.0);

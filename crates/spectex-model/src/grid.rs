@@ -210,20 +210,26 @@ pub fn locate_cell(coord: f64, side: f64) -> Option<(i32, f32)> {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
-    #[test]
-    fn tiles_evaluate_the_same_positions() {
+    pub fn tiles_evaluate_the_same_positions() {
         let w = Window::new(100, 50).at([1.0e7, -3.5], 0.37);
         let t = w.tile(10, 20, 5, 5);
         assert_eq!(t.x(2).to_bits(), w.x(12).to_bits());
         assert_eq!(t.y(3).to_bits(), w.y(23).to_bits());
     }
 
-    #[test]
-    fn validation_names_the_parameter() {
+    pub fn validation_names_the_parameter() {
         let cases = [
             (Window::new(0, 5), "width"),
             (Window::new(5, 70_000), "height"),
@@ -264,8 +270,7 @@ mod tests {
         assert!(Window::new(65_536, 1).validate().is_ok());
     }
 
-    #[test]
-    fn footprint_is_the_pixel_box_only_when_minified() {
+    pub fn footprint_is_the_pixel_box_only_when_minified() {
         let w = Window::new(4, 4);
         assert_eq!(w.at([0.0, 0.0], 1.0).footprint(), None);
         assert_eq!(w.at([0.0, 0.0], 0.3).footprint(), None);
@@ -279,8 +284,7 @@ mod tests {
         assert_eq!(dense.tile(1, 1, 2, 2).footprint(), Some(4.0));
     }
 
-    #[test]
-    fn locate_cell_splits_exactly_and_rejects_out_of_range() {
+    pub fn locate_cell_splits_exactly_and_rejects_out_of_range() {
         assert_eq!(locate_cell(-0.5, 2.0), Some((-1, 0.75)));
         assert_eq!(locate_cell(4.0, 2.0), Some((2, 0.0)));
         assert_eq!(locate_cell(f64::NAN, 2.0), None);

@@ -63,7 +63,7 @@ use serde::{Deserialize, Serialize};
 use crate::error::{ModelError, check_range};
 use crate::random::{Prng, cell_hash};
 
-mod builder;
+pub(crate) mod builder;
 pub use builder::IslamicPatternBuilder;
 
 /// The random layer of the pattern's phase ("ISLM").
@@ -599,8 +599,16 @@ impl crate::ModelKind for IslamicPattern {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
     const TILINGS: [Tiling; 4] = [
@@ -610,13 +618,11 @@ mod tests {
         Tiling::DodecagonTriangle,
     ];
 
-    #[test]
-    fn defaults_validate() {
+    pub fn defaults_validate() {
         IslamicPattern::default().validate().expect("valid");
     }
 
-    #[test]
-    fn validation_names_the_field_and_range() {
+    pub fn validation_names_the_field_and_range() {
         let d = IslamicPattern::default;
         let cases: Vec<(IslamicPattern, &str)> = vec![
             (
@@ -675,8 +681,7 @@ mod tests {
     /// The tiles of each tiling meet edge to edge: every edge midpoint of every polygon is
     /// also an edge midpoint of exactly one other polygon (of this cell or a neighbour), and
     /// the polygons' areas add up to the cell's.
-    #[test]
-    fn the_tilings_are_edge_to_edge_and_cover_the_cell() {
+    pub fn the_tilings_are_edge_to_edge_and_cover_the_cell() {
         for tiling in TILINGS {
             let [e1, e2] = tiling.basis();
             let area: f64 = tiling
@@ -730,8 +735,7 @@ mod tests {
     /// The square's contact star by hand: for the unit square centred at the origin the rays
     /// of the midpoints (½, 0) and (0, ½) toward the corner (½, ½) meet on the diagonal at
     /// `x = y = cos θ / (2(sin θ + cos θ))`.
-    #[test]
-    fn the_square_contact_points_are_the_closed_form() {
+    pub fn the_square_contact_points_are_the_closed_form() {
         for angle in [10.0f32, 45.0, 67.5, 80.0] {
             let tile = Tile {
                 centre: [0.0, 0.0],
@@ -752,8 +756,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn tables_stay_within_their_bounds() {
+    pub fn tables_stay_within_their_bounds() {
         for tiling in TILINGS {
             for motif in [
                 Motif::Contact { angle: 1.0 },
@@ -778,8 +781,7 @@ mod tests {
     }
 
     /// The lattice map of an unrotated square pattern at the origin is `p/C − φ`.
-    #[test]
-    fn the_lattice_map_is_the_inverse_of_the_basis() {
+    pub fn the_lattice_map_is_the_inverse_of_the_basis() {
         let m = IslamicPattern {
             tiling: Tiling::Hexagonal,
             rotation: 30.0,

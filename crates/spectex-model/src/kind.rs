@@ -246,13 +246,20 @@ impl Model {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
     use crate::fixtures;
 
-    #[test]
-    fn kind_names_are_the_model_file_tags() {
+    pub fn kind_names_are_the_model_file_tags() {
         for model in [
             Model::Lrp(fixtures::lrp_four_strata(10)),
             Model::Gabor(fixtures::gabor_isotropic()),
@@ -275,8 +282,7 @@ mod tests {
 
     /// Every layer finds a kind's files by its module name (`<kind>.rs`, declared by
     /// `for_each_kind!(mod)`), and the docs and registries by its name: they are one.
-    #[test]
-    fn each_kind_lives_in_the_module_of_its_name() {
+    pub fn each_kind_lives_in_the_module_of_its_name() {
         for_each_kind!(types: K => {
             let path = std::any::type_name::<K>();
             assert_eq!(

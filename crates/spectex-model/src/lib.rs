@@ -88,3 +88,46 @@ pub use texture::{ColourBasis, FixedCosine, Structure, TextureChannel, Turbulenc
 pub use voronoi::VoronoiNoiseBuilder;
 pub use warp::{MAX_WARP, WarpBuilder};
 pub use wavelet::WaveletNoiseBuilder;
+
+/// The unit tests' bodies, one module per source module, run by `tests/it/unit.rs`.
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+pub mod unit_tests {
+    pub use crate::classic::builder::tests as classic_builder;
+    pub use crate::classic::tests as classic;
+    pub use crate::combine::builder::tests as combine_builder;
+    pub use crate::combine::tests as combine;
+    pub use crate::error::tests as error;
+    pub use crate::file::tests as file;
+    pub use crate::filter::tests as filter;
+    pub use crate::fixtures::tests as fixtures;
+    pub use crate::gabor::builder::tests as gabor_builder;
+    pub use crate::gabor::tests as gabor;
+    pub use crate::grid::tests as grid;
+    pub use crate::islamic::builder::tests as islamic_builder;
+    pub use crate::islamic::tests as islamic;
+    pub use crate::kind::tests as kind;
+    pub use crate::lrp::builder::tests as lrp_builder;
+    pub use crate::math::tests as math;
+    pub use crate::matrix::builder::tests as matrix_builder;
+    pub use crate::matrix::tests as matrix;
+    pub use crate::period::tests as period;
+    pub use crate::phasor::builder::tests as phasor_builder;
+    pub use crate::phasor::tests as phasor;
+    pub use crate::phasor_kernels::tests as phasor_kernels;
+    pub use crate::random::tests as random;
+    pub use crate::simulation::tests as simulation;
+    pub use crate::subdivision::builder::tests as subdivision_builder;
+    pub use crate::subdivision::tests as subdivision;
+    pub use crate::target::tests as target;
+    pub use crate::texton::builder::tests as texton_builder;
+    pub use crate::texton::tests as texton;
+    pub use crate::texture::tests as texture;
+    pub use crate::voronoi::builder::tests as voronoi_builder;
+    pub use crate::voronoi::tests as voronoi;
+    pub use crate::warp::builder::tests as warp_builder;
+    pub use crate::warp::tests as warp;
+    pub use crate::wavelet::builder::tests as wavelet_builder;
+    pub use crate::wavelet::tests as wavelet;
+    pub use crate::window::tests as window;
+}

@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{ModelError, check_len, check_level, check_range};
 
-mod builder;
+pub(crate) mod builder;
 pub use builder::LrpNoiseBuilder;
 
 /// Most strata in one model.

@@ -50,12 +50,21 @@ pub fn cos_turns(t: f32) -> f32 {
     if far { -p } else { p }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
+    // The other test modules of this file, so that `unit_tests::math` names every body.
     use super::*;
+    pub use super::{atan_tests::*, exp_tests::*, window_tests::*};
 
-    #[test]
-    fn fract_turns_is_exact() {
+    pub fn fract_turns_is_exact() {
         for t in [0.0f32, 0.25, 0.5, -0.5, 1.75, -3.2, 1000.1, 123_456.7] {
             let r = fract_turns(t);
             assert!((-0.5..=0.5).contains(&r), "{t} -> {r}");
@@ -66,8 +75,7 @@ mod tests {
     }
 
     /// Against f64 `cos` over a dense sweep of turns, including large arguments.
-    #[test]
-    fn cos_turns_matches_f64_cos() {
+    pub fn cos_turns_matches_f64_cos() {
         let mut worst = 0.0f64;
         for i in -200_000..=200_000 {
             let t = i as f32 * 1.37e-5 + (i % 7) as f32 * 100.0;
@@ -116,13 +124,14 @@ pub fn kaiser_bessel_r2(r2: f32) -> f32 {
     if inside > 0.0 { w } else { 0.0 }
 }
 
-#[cfg(test)]
-mod window_tests {
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(clippy::missing_panics_doc, reason = "tests panic on failure")]
+pub mod window_tests {
     use super::*;
 
     /// The f32 window against the f64 definition in spectex-model.
-    #[test]
-    fn window_matches_the_model_definition() {
+    pub fn window_matches_the_model_definition() {
         let mut worst = 0.0f64;
         for i in 0..=3000 {
             let r = i as f64 * 0.0005;
@@ -138,8 +147,7 @@ mod window_tests {
     }
 
     /// `P(1)` is the window at the centre, 1 by definition; the fit is not constrained to it.
-    #[test]
-    fn window_is_one_at_the_centre() {
+    pub fn window_is_one_at_the_centre() {
         let centre = kaiser_bessel_r2(0.0);
         assert!(
             (centre - 1.0).abs() <= 3.0 * f32::EPSILON,
@@ -201,14 +209,15 @@ pub fn exp_poly(z: f32) -> f32 {
     p * two_n
 }
 
-#[cfg(test)]
-mod exp_tests {
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(clippy::missing_panics_doc, reason = "tests panic on failure")]
+pub mod exp_tests {
     use super::*;
 
     /// Against f64 `exp` of the same f32 input: a dense sweep of the Gabor range `[−3.1, 0]`
     /// and a coarser one over `[−80, 80]`.
-    #[test]
-    fn exp_poly_matches_f64_exp() {
+    pub fn exp_poly_matches_f64_exp() {
         let mut worst = 0.0f64;
         let mut check = |z: f32| {
             let want = f64::from(z).exp();
@@ -226,8 +235,7 @@ mod exp_tests {
         assert_eq!(exp_poly(0.0), 1.0);
     }
 
-    #[test]
-    fn exp_poly_reduction_constants_and_clamping() {
+    pub fn exp_poly_reduction_constants_and_clamping() {
         let ln2 = f64::from(LN2_HI) + f64::from(LN2_LO);
         assert!((ln2 - std::f64::consts::LN_2).abs() < 1e-13, "{ln2}");
         assert_eq!(LN2_HI.to_bits() & 0x1ff, 0, "n·LN2_HI must be exact");
@@ -293,14 +301,15 @@ pub fn sin_turns(t: f32) -> f32 {
     cos_turns(t - 0.25)
 }
 
-#[cfg(test)]
-mod atan_tests {
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(clippy::missing_panics_doc, reason = "tests panic on failure")]
+pub mod atan_tests {
     use super::*;
 
     /// Against f64 `atan2` on a dense set of directions and magnitudes, all four quadrants.
-    #[test]
     #[allow(clippy::disallowed_methods, reason = "f64 libm is the reference")]
-    fn atan2_turns_matches_f64() {
+    pub fn atan2_turns_matches_f64() {
         let mut worst = 0.0f64;
         for i in 0..200_000 {
             let angle = (i as f64 / 200_000.0 - 0.5) * std::f64::consts::TAU;

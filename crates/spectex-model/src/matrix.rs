@@ -31,7 +31,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{ModelError, check_len, check_level, check_range};
 
-mod builder;
+pub(crate) mod builder;
 pub use builder::MatrixTransformBuilder;
 
 /// Largest torus side `N`, pixels.
@@ -289,8 +289,16 @@ impl From<MatrixTransform> for crate::Model {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
     fn cat(n: u32, k: u64) -> MatrixTransform {
@@ -304,8 +312,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn lucas_and_fibonacci_numbers() {
+    pub fn lucas_and_fibonacci_numbers() {
         let members = [
             0, 1, 2, 3, 4, 5, 7, 8, 11, 13, 18, 21, 29, 34, 47, 55, 76, 89, 123,
         ];
@@ -314,8 +321,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn inverse_times_matrix_is_the_identity() {
+    pub fn inverse_times_matrix_is_the_identity() {
         for (m, n) in [
             ([[1, 1], [1, 2]], 256),
             ([[3, 0], [0, 5]], 256),
@@ -332,8 +338,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn invalid_matrices_are_refused_by_field() {
+    pub fn invalid_matrices_are_refused_by_field() {
         let mut t = cat(256, 1);
         t.matrix = [[6, 0], [0, 1]];
         match t.validate() {
@@ -362,8 +367,7 @@ mod tests {
         assert!(t.validate().is_err());
     }
 
-    #[test]
-    fn json_round_trip() {
+    pub fn json_round_trip() {
         let m = crate::Model::Matrix(cat(64, 3));
         let text = crate::to_json(&m).unwrap();
         assert_eq!(crate::from_json(&text).unwrap(), m);

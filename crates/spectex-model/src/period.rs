@@ -169,12 +169,19 @@ pub fn cells_in(period: f64, side: f64) -> i64 {
     ((period / side).round() as i64).max(1)
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
-    #[test]
-    fn reduce_is_exact_and_one_period_apart_agrees() {
+    pub fn reduce_is_exact_and_one_period_apart_agrees() {
         // Exact: every value below is representable and so is its remainder.
         assert_eq!(reduce(0.0, 256.0), 0.0);
         assert_eq!(reduce(-0.0, 256.0).to_bits(), 0.0f64.to_bits());
@@ -198,8 +205,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn wrap_and_cells() {
+    pub fn wrap_and_cells() {
         assert_eq!(wrap(-1, 7), 6);
         assert_eq!(wrap(7, 7), 0);
         assert_eq!(wrap(13, 7), 6);
@@ -210,8 +216,7 @@ mod tests {
         assert_eq!(Period::new(7, 5).unwrap().common_side(), 1);
     }
 
-    #[test]
-    fn parse_and_range() {
+    pub fn parse_and_range() {
         assert_eq!(
             Period::parse("256x128").unwrap(),
             Period::new(256, 128).unwrap()

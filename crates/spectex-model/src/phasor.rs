@@ -21,7 +21,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{ModelError, check_len, check_level, check_range};
 
-mod builder;
+pub(crate) mod builder;
 pub use builder::PhasorNoiseBuilder;
 
 /// Fraction of its peak at which the Gaussian kernel is truncated (as for Gabor noise, Lagae et
@@ -767,8 +767,16 @@ impl crate::ModelKind for PhasorNoise {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
     fn model() -> PhasorNoise {
@@ -790,8 +798,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn valid_model_and_named_errors() {
+    pub fn valid_model_and_named_errors() {
         model().validate().unwrap();
         let mut m = model();
         m.frequency = Field::constant(f32::NAN);
@@ -841,8 +848,7 @@ mod tests {
         );
     }
 
-    #[test]
-    fn fields_repeat_with_periods_their_repeat_divides() {
+    pub fn fields_repeat_with_periods_their_repeat_divides() {
         let period = |w, h| crate::Period::new(w, h).unwrap();
         assert!(Field::constant(0.3).repeats_with(period(7, 5)));
         let ramp = Field::Linear {
@@ -874,8 +880,7 @@ mod tests {
         );
     }
 
-    #[test]
-    fn image_field_interpolates_and_wraps() {
+    pub fn image_field_interpolates_and_wraps() {
         let f = Field::Image {
             width: 2,
             height: 1,
@@ -906,8 +911,7 @@ mod tests {
         assert!((a.abs() - std::f64::consts::PI).abs() < 1e-12, "{a}");
     }
 
-    #[test]
-    fn radius_and_density() {
+    pub fn radius_and_density() {
         let m = model();
         let r = m.kernel_radius();
         // a(r) = 0.05 by definition.

@@ -405,8 +405,16 @@ impl PhasorKernels {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
     use crate::{PhasorOutput, Profile};
 
@@ -445,8 +453,7 @@ mod tests {
 
     /// §3.2.1: two bi-lobes more than π/2 apart use the dual formulation (the second direction
     /// reversed, so every pair is less than π/2 apart); closer ones keep both directions.
-    #[test]
-    fn two_lobes_switch_sign_beyond_a_right_angle() {
+    pub fn two_lobes_switch_sign_beyond_a_right_angle() {
         for (b, reversed) in [(2.1f64, true), (1.0, false)] {
             let m = model(PhasorOrientation::TwoLobes {
                 angle_a: 0.0,
@@ -477,8 +484,7 @@ mod tests {
 
     /// Kernels steered by an image follow its gradient plus the offset: a grey ramp along x
     /// with offset π/2 gives kernels along ±y.
-    #[test]
-    fn gradient_orientation_follows_the_image() {
+    pub fn gradient_orientation_follows_the_image() {
         let image = Field::Image {
             width: 64,
             height: 1,
@@ -513,8 +519,7 @@ mod tests {
     }
 
     /// The process of a 2D model ignores k; a 3D model's layers differ.
-    #[test]
-    fn layers_are_independent_in_3d_only() {
+    pub fn layers_are_independent_in_3d_only() {
         let mut m = model(PhasorOrientation::Isotropic);
         let draw = |m: &PhasorNoise, k: i32| {
             let mut v = Vec::new();

@@ -165,14 +165,21 @@ impl Prng {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
     /// Reference values from an independent Python transcription of Jarzynski & Olano's
     /// `pcg_hash` (arbitrary-precision integers masked to 32 bits), not from this code.
-    #[test]
-    fn hash_matches_independent_reference() {
+    pub fn hash_matches_independent_reference() {
         assert_eq!(hash(0), 0x07bb_2fe2);
         assert_eq!(hash(1), 0xa8be_ea3c);
         assert_eq!(hash(2), 0x7a7e_cc88);
@@ -182,15 +189,13 @@ mod tests {
         assert_eq!(cell_hash(-5, 7, 1, 42), 0xae24_4374);
     }
 
-    #[test]
-    fn prng_stream_matches_independent_reference() {
+    pub fn prng_stream_matches_independent_reference() {
         let mut prng = Prng::new(cell_hash(1, 2, 3, 4));
         let got: Vec<u32> = (0..4).map(|_| prng.next_u32()).collect();
         assert_eq!(got, [0x7a60_1af0, 0xec03_c058, 0xdf6d_3a0e, 0xba6b_5704]);
     }
 
-    #[test]
-    fn permute_is_a_bijection_on_a_window() {
+    pub fn permute_is_a_bijection_on_a_window() {
         // A bijection restricted to 2^20 consecutive inputs has no collisions there.
         let mut seen: Vec<u32> = (0..1u32 << 20).map(permute).collect();
         seen.sort_unstable();
@@ -198,8 +203,7 @@ mod tests {
         assert_eq!(seen.len(), 1 << 20);
     }
 
-    #[test]
-    fn uniform_floats_are_in_range_and_exact() {
+    pub fn uniform_floats_are_in_range_and_exact() {
         assert_eq!(unit_f32(0), 0.0);
         assert_eq!(unit_f32(u32::MAX), 1.0 - 1.0 / 16_777_216.0);
         assert!(unit_f32(u32::MAX) < 1.0);
@@ -209,8 +213,7 @@ mod tests {
 
     /// Chi-square test of uniformity over 256 bins, for neighbouring cells (the hardest case
     /// for a weak hash). With 255 degrees of freedom the 99.99th percentile is about 340.
-    #[test]
-    fn neighbouring_cells_are_uniform() {
+    pub fn neighbouring_cells_are_uniform() {
         let mut bins = [0u32; 256];
         let n = 256 * 1024;
         for y in -256..256 {
@@ -227,8 +230,7 @@ mod tests {
     }
 
     /// Strict avalanche: flipping one input bit flips each output bit with probability ½.
-    #[test]
-    fn hash_avalanche() {
+    pub fn hash_avalanche() {
         let samples = 4096u32;
         for bit in 0..32 {
             let mut flips = [0u32; 32];
@@ -249,8 +251,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn hoisted_keys_compose_to_the_cell_hash() {
+    pub fn hoisted_keys_compose_to_the_cell_hash() {
         let mut prng = Prng::new(99);
         for _ in 0..10_000 {
             let (x, y) = (prng.next_u32() as i32, prng.next_u32() as i32);
@@ -265,8 +266,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn seeds_layers_and_axes_decorrelate() {
+    pub fn seeds_layers_and_axes_decorrelate() {
         assert_ne!(cell_hash(1, 0, 0, 0), cell_hash(0, 1, 0, 0));
         assert_ne!(cell_hash(0, 0, 1, 0), cell_hash(0, 0, 0, 1));
         assert_ne!(cell_hash(-1, 0, 0, 0), cell_hash(1, 0, 0, 0));

@@ -621,12 +621,19 @@ pub fn spec_from_json(text: &str) -> Result<SimulationSpec, ModelError> {
     Ok(spec)
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
-    #[test]
-    fn bs_rules_parse_and_bad_ones_name_the_field() {
+    pub fn bs_rules_parse_and_bad_ones_name_the_field() {
         let life = |rule: &str| LifeLike {
             rule: rule.to_owned(),
             density: 0.5,
@@ -647,8 +654,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn out_of_range_fields_are_named() {
+    pub fn out_of_range_fields_are_named() {
         let mut gs = GrayScott::preset(GrayScottPreset::Spots);
         gs.du = 0.3;
         let spec = SimulationSpec::new(8, 8, 1, 0, Simulation::GrayScott(gs));
@@ -683,8 +689,7 @@ mod tests {
         );
     }
 
-    #[test]
-    fn files_round_trip_and_check_their_version() {
+    pub fn files_round_trip_and_check_their_version() {
         let spec = SimulationSpec::new(
             16,
             9,
@@ -705,8 +710,7 @@ mod tests {
     }
 
     /// Pearson's rates: `D·(256/2.5)²`, computed here in f64.
-    #[test]
-    fn pearson_rates_per_pixel() {
+    pub fn pearson_rates_per_pixel() {
         let scale = (256.0f64 / 2.5).powi(2);
         assert!((f64::from(GrayScott::PEARSON_DU) - 2e-5 * scale).abs() < 1e-7);
         assert!((f64::from(GrayScott::PEARSON_DV) - 1e-5 * scale).abs() < 1e-7);

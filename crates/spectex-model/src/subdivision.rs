@@ -50,7 +50,7 @@ use serde::{Deserialize, Serialize};
 use crate::error::{ModelError, check_level, check_range};
 use crate::random::cell_hash;
 
-mod builder;
+pub(crate) mod builder;
 pub use builder::StochasticSubdivisionBuilder;
 
 /// Most subdivision levels `L` (a level-`L` index `< 2^L` fits an `i32` with room for the
@@ -258,12 +258,19 @@ impl From<StochasticSubdivision> for crate::Model {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
-    #[test]
-    fn byte_sum_has_mean_zero_and_variance_21845() {
+    pub fn byte_sum_has_mean_zero_and_variance_21845() {
         // Over all 2^16 pairs of two bytes the sum's moments are exact; four bytes are two
         // independent pairs, so the mean and variance add.
         let (mut s1, mut s2) = (0i64, 0i64);
@@ -278,8 +285,7 @@ mod tests {
         assert_eq!(centred_byte_sum(u32::MAX), 510);
     }
 
-    #[test]
-    fn catmull_rom_at_a_half_is_the_four_point_stencil() {
+    pub fn catmull_rom_at_a_half_is_the_four_point_stencil() {
         let (w, n) = Stencil::Cubic.final_weights(0.5);
         assert_eq!(n, 4);
         assert_eq!(w, CUBIC_MIDPOINT);
@@ -292,8 +298,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn the_window_covers_every_tap_of_the_next_level() {
+    pub fn the_window_covers_every_tap_of_the_next_level() {
         for s in [Stencil::Midpoint, Stencil::Cubic] {
             let (w, r) = s.window();
             for o in -20..20 {
@@ -309,8 +314,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn normalise_names_one_point_once() {
+    pub fn normalise_names_one_point_once() {
         assert_eq!(normalise(3, 5, 2), (4, 1));
         assert_eq!(normalise(3, -1, 2), (2, 3));
         assert_eq!(normalise(0, 4, 2), (1, 0));
@@ -318,8 +322,7 @@ mod tests {
         assert_eq!(normalise(7, -2, 0), (5, 0));
     }
 
-    #[test]
-    fn validation_names_the_field() {
+    pub fn validation_names_the_field() {
         type Break = fn(&mut StochasticSubdivision);
         let cases: [(Break, &str); 6] = [
             (|m| m.cell_size = 0.5, "subdivision.cell_size"),

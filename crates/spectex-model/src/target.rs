@@ -290,12 +290,19 @@ impl SpectralTarget {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
-    #[test]
-    fn fractal_power_follows_eq_8() {
+    pub fn fractal_power_follows_eq_8() {
         let t = SpectralTarget::Fractal {
             beta: 1.5,
             angle: 0.5,

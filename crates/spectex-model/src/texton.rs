@@ -42,7 +42,7 @@ use crate::error::{ModelError, check_image, check_level, check_range};
 use crate::math::{cos_turns, exp_poly, sin_turns};
 use crate::random::{Prng, cell_hash};
 
-mod builder;
+pub(crate) mod builder;
 pub use builder::TextonNoiseBuilder;
 
 /// The random layer of texton cells ("TEXT").
@@ -402,12 +402,19 @@ impl crate::ModelKind for TextonNoise {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
-    #[test]
-    fn defaults_validate_and_reach_one_cell() {
+    pub fn defaults_validate_and_reach_one_cell() {
         let t = TextonNoise::default();
         t.validate().expect("defaults are valid");
         // 14 px · 1.25 = 17.5 px < 32 px.
@@ -415,8 +422,7 @@ mod tests {
         assert!((t.textons_per_pixel() - 9.0).abs() < 1e-12);
     }
 
-    #[test]
-    fn validation_names_the_field_and_range() {
+    pub fn validation_names_the_field_and_range() {
         let cases: Vec<(TextonNoise, &str)> = vec![
             (
                 TextonNoise {
@@ -475,8 +481,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn poisson_counts_follow_the_pmf() {
+    pub fn poisson_counts_follow_the_pmf() {
         // Independent estimate: the mean count over many cells equals λ (capped at 16, where the
         // tail beyond is below 1e-9 for λ = 3).
         let t = TextonNoise {
@@ -494,8 +499,7 @@ mod tests {
         assert!((mean - 3.0).abs() < 0.045, "mean count {mean}");
     }
 
-    #[test]
-    fn ellipsoid_height_and_support() {
+    pub fn ellipsoid_height_and_support() {
         let t = TextonNoise {
             radii: [10.0, 5.0],
             ..TextonNoise::default()
@@ -522,8 +526,7 @@ mod tests {
         assert!((v - 0.75f32.sqrt()).abs() < 1e-6, "{v}");
     }
 
-    #[test]
-    fn bilinear_reproduces_texels_and_interpolates() {
+    pub fn bilinear_reproduces_texels_and_interpolates() {
         let values = [0.0, 1.0, 2.0, 3.0];
         // Texel (0, 0)'s centre is at qu = qv = −½.
         assert_eq!(bilinear(&values, 2, 2, -0.5, -0.5), 0.0);

@@ -706,8 +706,16 @@ impl From<TextureModel> for crate::Model {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
     /// A structure of `b × b` blocks whose zero frequency (block mean) is `0.1·(index + 1)`,
@@ -736,8 +744,7 @@ mod tests {
 
     /// Level 1 holds the means of aligned 2×2 groups, the last level the mean of all blocks
     /// (sums of the values `0.1·(k + 1)` by hand).
-    #[test]
-    fn mean_mipmap_averages_aligned_groups() {
+    pub fn mean_mipmap_averages_aligned_groups() {
         let mip = blocks_with_means(4).mean_mipmap();
         assert_eq!(mip.len(), 16 + 4 + 1);
         // Group (0, 0): blocks 0, 1, 4, 5 → 0.1·(1 + 2 + 5 + 6)/4 = 0.35.
@@ -748,8 +755,7 @@ mod tests {
 
     /// A footprint past the whole period leaves only the global mean (every cosine faded, the
     /// top mipmap level); a moderate one keeps the mean of the field over the period.
-    #[test]
-    fn filtered_structure_fades_to_the_mean() {
+    pub fn filtered_structure_fades_to_the_mean() {
         let st = blocks_with_means(4);
         let mip = st.mean_mipmap();
         for q in [[0.0f32, 0.0], [3.7, 25.1], [31.9, 8.0]] {
@@ -804,8 +810,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn block_weights_are_a_partition_of_unity() {
+    pub fn block_weights_are_a_partition_of_unity() {
         // Every block holds the constant 1 (the zero frequency, phase 0): n_R must be 1
         // everywhere, up to f32 rounding of a few additions.
         for blocks in [2u32, 4, 8] {
@@ -828,8 +833,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn one_block_is_a_fourier_series_of_the_period() {
+    pub fn one_block_is_a_fourier_series_of_the_period() {
         // b = 1, N = 2T: k = (2, 0) is cos 2π(x/T + φ) and k = (N/2, 0) is cos πx.
         let m = structure_model(1, 16, false);
         let s = m.channels[0].structure.as_ref().unwrap();
@@ -845,8 +849,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn placement_cross_fade_keeps_unit_energy_and_is_continuous() {
+    pub fn placement_cross_fade_keeps_unit_energy_and_is_continuous() {
         let m = structure_model(2, 64, true);
         for i in 0..400 {
             let s = i as f32 / 400.0;
@@ -867,16 +870,14 @@ mod tests {
         assert_eq!(inside.taps[0].0, 1.0);
     }
 
-    #[test]
-    fn without_placement_the_structure_is_periodic() {
+    pub fn without_placement_the_structure_is_periodic() {
         let m = structure_model(4, 32, false);
         let p0 = m.placement(0, 0.3, 0, 0.7, [1.5, -2.0]);
         let p1 = m.placement(6, 0.3, -4, 0.7, [1.5, -2.0]);
         assert_eq!(m.structure_at(0, &p0), m.structure_at(0, &p1));
     }
 
-    #[test]
-    fn validation_names_the_field_and_range() {
+    pub fn validation_names_the_field_and_range() {
         let mut m = structure_model(2, 32, false);
         m.validate().unwrap();
         m.period = 48;

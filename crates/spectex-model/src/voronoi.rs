@@ -73,7 +73,7 @@ use std::sync::{Arc, Mutex};
 use crate::error::{ModelError, check_image, check_len, check_level, check_range};
 use crate::random::{Prng, cell_hash};
 
-mod builder;
+pub(crate) mod builder;
 pub use builder::VoronoiNoiseBuilder;
 
 /// The random layer of Voronoi seeds ("VORO").
@@ -1067,17 +1067,23 @@ impl crate::ModelKind for VoronoiNoise {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
-    #[test]
-    fn defaults_validate() {
+    pub fn defaults_validate() {
         VoronoiNoise::default().validate().expect("valid");
     }
 
-    #[test]
-    fn validation_names_the_field_and_range() {
+    pub fn validation_names_the_field_and_range() {
         let cases: Vec<(VoronoiNoise, &str)> = vec![
             (
                 VoronoiNoise {
@@ -1132,8 +1138,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn three_dimensions_validate_with_field_paths() {
+    pub fn three_dimensions_validate_with_field_paths() {
         let three = VoronoiNoise {
             dimensions: 3,
             output: VoronoiOutput::Border,
@@ -1173,8 +1178,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn a_file_without_dimensions_is_2d_and_2d_files_are_unchanged() {
+    pub fn a_file_without_dimensions_is_2d_and_2d_files_are_unchanged() {
         let json = r#"{"seed":3,"cell_size":8.0,"jitter":1.0,"lloyd_iterations":0,"lloyd_block":4,"output":"f1"}"#;
         let m: VoronoiNoise = serde_json::from_str(json).expect("parses");
         assert_eq!(m.dimensions, 2);
@@ -1184,8 +1188,7 @@ mod tests {
         assert!(text.contains(r#""dimensions":3"#), "{text}");
     }
 
-    #[test]
-    fn the_3d_draw_follows_the_contract() {
+    pub fn the_3d_draw_follows_the_contract() {
         // Cell (i, j, k): PRNG seeded with cell_hash(i, j, VORO, cell_hash(k, 0, VORO, seed)),
         // drawing o_x, o_y, o_z and the ID, each ½ + jitter·(u − ½).
         let m = VoronoiNoise {
@@ -1210,8 +1213,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn the_pruned_3d_search_is_the_full_search() {
+    pub fn the_pruned_3d_search_is_the_full_search() {
         // Jitter 0 puts seeds on a regular lattice, where ties between cells are everywhere;
         // jitter 1 lets seeds come arbitrarily close.
         let mut prng = Prng::new(77);
@@ -1266,8 +1268,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn the_centroid_of_a_regular_grid_cell_is_its_seed() {
+    pub fn the_centroid_of_a_regular_grid_cell_is_its_seed() {
         // Seeds on the integer lattice: each Voronoi cell is the unit square around its seed.
         let p = [0.5, 0.5];
         let others: Vec<[f64; 2]> = (-3..=3)
@@ -1311,8 +1312,7 @@ mod tests {
         [sx / count, sy / count]
     }
 
-    #[test]
-    fn clipped_centroids_match_dense_sampling() {
+    pub fn clipped_centroids_match_dense_sampling() {
         let m = VoronoiNoise::default();
         for (cx, cy) in [(0i64, 0i64), (5, -3), (-40, 17)] {
             let seed = |i: i64, j: i64| {
@@ -1341,8 +1341,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn relaxation_stays_in_the_cells_and_evens_the_spacing() {
+    pub fn relaxation_stays_in_the_cells_and_evens_the_spacing() {
         let m = VoronoiNoise {
             lloyd_iterations: 4,
             lloyd_block: 6,

@@ -26,7 +26,7 @@ use crate::Model;
 use crate::error::{ModelError, check_range};
 use crate::grid::{MAX_POSITION, Window, WindowError};
 
-mod builder;
+pub(crate) mod builder;
 pub use builder::WarpBuilder;
 
 /// Largest displacement along one axis, pixels (`2¹⁶`, exact in f32): displacements are clamped
@@ -210,8 +210,16 @@ impl crate::ModelKind for Warp {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
     use crate::fixtures::constant;
 
@@ -224,8 +232,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn displacement_is_clamped_and_nan_free() {
+    pub fn displacement_is_clamped_and_nan_free() {
         let w = warp(constant(0.0));
         assert_eq!(w.displacement(0.25), 1.0);
         assert_eq!(w.displacement(1e9), MAX_WARP);
@@ -234,8 +241,7 @@ mod tests {
         assert_eq!(w.displacement(f32::INFINITY), MAX_WARP);
     }
 
-    #[test]
-    fn validation_names_the_nested_field() {
+    pub fn validation_names_the_nested_field() {
         let mut bad_x = warp(constant(0.0));
         if let Model::Classic(c) = bad_x.x.as_mut() {
             c.cell_size = 0.0;
@@ -255,8 +261,7 @@ mod tests {
         assert!(Model::Warp(warp(constant(0.5))).validate().is_ok());
     }
 
-    #[test]
-    fn depth_is_limited() {
+    pub fn depth_is_limited() {
         let mut m = constant(0.0);
         for _ in 0..MAX_WARP_DEPTH {
             m = Model::Warp(warp(m));
@@ -272,8 +277,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn x_and_y_must_be_grey() {
+    pub fn x_and_y_must_be_grey() {
         use crate::{ColourBasis, TextureChannel, TextureModel};
         let channel = TextureChannel {
             seed: 1,
@@ -305,8 +309,7 @@ mod tests {
         assert!(Model::Warp(warp(colour)).validate().is_ok());
     }
 
-    #[test]
-    fn windows_keep_displaced_positions_in_range() {
+    pub fn windows_keep_displaced_positions_in_range() {
         let m = Model::Warp(warp(constant(0.0)));
         let near = MAX_POSITION - f64::from(MAX_WARP);
         assert!(check_window(&m, &Window::new(2, 2).at([near - 1.0, 0.0], 1.0)).is_ok());
@@ -316,8 +319,7 @@ mod tests {
         assert!(check_window(&constant(0.0), &Window::new(2, 2).at([2e9, 0.0], 1.0)).is_ok());
     }
 
-    #[test]
-    fn json_round_trip_and_unknown_fields() {
+    pub fn json_round_trip_and_unknown_fields() {
         let m = Model::Warp(warp(constant(0.5)));
         let text = crate::to_json(&m).unwrap();
         assert!(text.contains("\"warp\""));

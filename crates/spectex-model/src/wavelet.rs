@@ -57,7 +57,7 @@ use serde::{Deserialize, Serialize};
 use crate::error::{ModelError, check_level, check_range};
 use crate::random::{Prng, cell_hash, open_unit_f64, unit_f64};
 
-mod builder;
+pub(crate) mod builder;
 pub use builder::WaveletNoiseBuilder;
 
 /// The randomness-contract layer of wavelet noise (`"WAVE"`).
@@ -430,8 +430,16 @@ impl crate::ModelKind for WaveletNoise {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
     fn model() -> WaveletNoise {
@@ -474,8 +482,7 @@ mod tests {
             .collect()
     }
 
-    #[test]
-    fn band_pass_tile_matches_a_dense_matrix_reference() {
+    pub fn band_pass_tile_matches_a_dense_matrix_reference() {
         for n in [16usize, 18, 32] {
             let r = gaussian_tile(3, n, 2);
             let m = projection_matrix(n);
@@ -509,8 +516,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn spatial_variance_matches_the_double_sum() {
+    pub fn spatial_variance_matches_the_double_sum() {
         let n = 16;
         let t = band_pass_tile(&gaussian_tile(9, n, 2), n, 2);
         let mut want = 0.0;
@@ -533,8 +539,7 @@ mod tests {
         assert!((got - want).abs() < 1e-12 * want, "{got} vs {want}");
     }
 
-    #[test]
-    fn spline_weights_partition_unity_and_hit_the_knots() {
+    pub fn spline_weights_partition_unity_and_hit_the_knots() {
         assert_eq!(spline_weights(0.5), [0.125, 0.75, 0.125]);
         assert_eq!(spline_weights(0.0), [0.5, 0.5, 0.0]);
         for f in [0.0f32, 0.1, 0.37, 0.5, 0.99] {
@@ -550,8 +555,7 @@ mod tests {
         );
     }
 
-    #[test]
-    fn bands_are_normalised_and_offsets_drawn_by_the_contract() {
+    pub fn bands_are_normalised_and_offsets_drawn_by_the_contract() {
         let m = model();
         let bands = m.bands();
         let norm = (1.0f64 + 0.25 + 0.0625).sqrt();
@@ -563,8 +567,7 @@ mod tests {
         assert_eq!(bands[2].offset[2], 0);
     }
 
-    #[test]
-    fn validation_names_the_field() {
+    pub fn validation_names_the_field() {
         let mut cases: Vec<(WaveletNoise, &str)> = Vec::new();
         let mut m = model();
         m.dimensions = 1;
@@ -607,8 +610,7 @@ mod tests {
         assert!(model().validate().is_ok());
     }
 
-    #[test]
-    fn json_round_trip_and_unknown_fields() {
+    pub fn json_round_trip_and_unknown_fields() {
         let m = crate::Model::Wavelet(model());
         let text = crate::to_json(&m).unwrap();
         assert!(text.contains("\"wavelet\""));
@@ -617,8 +619,7 @@ mod tests {
         assert!(matches!(crate::from_json(&bad), Err(ModelError::Json(_))));
     }
 
-    #[test]
-    fn tile_has_unit_spatial_variance_and_is_deterministic() {
+    pub fn tile_has_unit_spatial_variance_and_is_deterministic() {
         let m = model();
         let t = m.tile();
         assert_eq!(t.values.len(), 32 * 32);

@@ -116,13 +116,20 @@ pub fn lattice_envelope(f: impl Fn(f64) -> f64) -> (f64, f64) {
     (min, max)
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
     /// I₃ against a direct sum of 60 terms computed with explicit factorials.
-    #[test]
-    fn bessel_matches_a_long_direct_sum() {
+    pub fn bessel_matches_a_long_direct_sum() {
         for z in [0.0, 0.1, 1.0, 2.5, 5.0, 3.0 * std::f64::consts::PI] {
             let mut want = 0.0;
             let mut fact_m = 1.0f64;
@@ -142,8 +149,7 @@ mod tests {
     }
 
     /// Eq. (3)'s constant, "≈ 0.1126 for the Kaiser–Bessel window" (§4.3), to four digits.
-    #[test]
-    fn window_integral_matches_the_paper() {
+    pub fn window_integral_matches_the_paper() {
         let e = window_radial_energy();
         assert!((e - 0.1126).abs() < 0.00005, "∫ r w² dr = {e}");
     }
@@ -153,8 +159,7 @@ mod tests {
     /// one cell it varies by 3.7% of its maximum. (The variance envelope `Σ_i w²` is not what
     /// the paper bounds: it varies by 59%, i.e. the local standard deviation by up to 36%; see
     /// `variance_envelope_is_not_flat`.)
-    #[test]
-    fn lattice_envelope_varies_less_than_five_percent() {
+    pub fn lattice_envelope_varies_less_than_five_percent() {
         let (min, max) = lattice_envelope(|w| w);
         assert!((max - min) / max < 0.05, "envelope from {min} to {max}");
         assert!(
@@ -163,8 +168,7 @@ mod tests {
         );
     }
 
-    #[test]
-    fn variance_envelope_is_not_flat() {
+    pub fn variance_envelope_is_not_flat() {
         let (min, max) = lattice_envelope(|w| w * w);
         let v = (max - min) / max;
         assert!((0.55..0.62).contains(&v), "variance envelope varies by {v}");
@@ -172,8 +176,7 @@ mod tests {
 
     /// The bandwidth against a direct 2D estimate: `∫|∂_x w|²` and `∫w²` summed on a Cartesian
     /// grid with forward differences (no radial formula involved).
-    #[test]
-    fn window_bandwidth_matches_a_cartesian_estimate() {
+    pub fn window_bandwidth_matches_a_cartesian_estimate() {
         let n = 600;
         let h = 2.0 * WINDOW_SUPPORT / n as f64;
         let at = |i: usize, j: usize| {
@@ -197,8 +200,7 @@ mod tests {
         assert!((got - 0.2452).abs() < 1e-4, "{got}");
     }
 
-    #[test]
-    fn window_shape() {
+    pub fn window_shape() {
         assert_eq!(kaiser_bessel(0.0), 1.0);
         assert_eq!(kaiser_bessel(1.5), 0.0);
         assert_eq!(kaiser_bessel(-2.0), 0.0);

@@ -285,8 +285,16 @@ impl CheckKind for ClassicNoise {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
     use crate::tolerance::tests::check_slope_on_fine_render;
     use crate::tolerance::tolerance;
@@ -295,8 +303,7 @@ mod tests {
     /// The slope bounds of the classic noises hold on fine CPU renders: along rows and columns
     /// sampled every 1/16 pixel, no step changes the value by more than `slope·step + jump`, and
     /// the bound is within a factor 12 of the steepest step seen (so it is not vacuous).
-    #[test]
-    fn classic_slope_bounds_hold_on_fine_renders() {
+    pub fn classic_slope_bounds_hold_on_fine_renders() {
         let model = |basis: Basis, dimensions: u32, fractal: Option<FractalKind>| ClassicNoise {
             seed: 5,
             dimensions,
@@ -358,8 +365,7 @@ mod tests {
     /// A 3D classic noise is checked on a plane off the lattice planes of every octave of the
     /// shipped 3D cases (a zero `z` fraction would leave the `z` interpolation untested); a 2D
     /// one on `z = 0`, which it ignores.
-    #[test]
-    fn a_3d_noise_is_checked_off_its_lattice_planes() {
+    pub fn a_3d_noise_is_checked_off_its_lattice_planes() {
         for case in ["classic-simplex-3d", "classic-worley-3d-turbulence"] {
             let path = format!(
                 "{}/../../testdata/models/{case}.json",
@@ -383,8 +389,7 @@ mod tests {
     }
 
     /// The simplex bounds against a dense scan of one kernel's value and radial slope.
-    #[test]
-    fn simplex_bounds_cover_a_scan_of_the_kernel() {
+    pub fn simplex_bounds_cover_a_scan_of_the_kernel() {
         for (three_d, r2, scale, corners) in [(false, 0.5, 70.0, 3.0), (true, 0.6, 32.0, 4.0)] {
             let (n, l) = simplex_bounds(three_d);
             let (mut vmax, mut smax) = (0.0f64, 0.0f64);
@@ -408,8 +413,7 @@ mod tests {
 
     /// Bounds scale with the amplitude, grow with octaves, the 3D simplex seam dominates its
     /// bound, and Manhattan Worley is tighter than Euclidean.
-    #[test]
-    fn classic_bounds_follow_their_derivation() {
+    pub fn classic_bounds_follow_their_derivation() {
         use spectex_model::classic::{FeaturePoints, Fractal, Worley};
         let g = classic(&classic_model(Basis::Gradient, 2)).max_abs;
         let mut louder = classic_model(Basis::Gradient, 2);

@@ -433,8 +433,16 @@ impl CheckKind for Combine {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
     use spectex_model::voronoi::{VoronoiNoise, VoronoiOutput};
 
@@ -445,8 +453,7 @@ mod tests {
         })
     }
 
-    #[test]
-    fn a_sum_adds_its_operands_bounds_and_a_maximum_takes_the_largest() {
+    pub fn a_sum_adds_its_operands_bounds_and_a_maximum_takes_the_largest() {
         let one = check_kind(&f1()).value_bound().expect("F1 has a bound");
         let add = Combine {
             op: CombineOp::Add,
@@ -491,8 +498,7 @@ mod tests {
             .collect()
     }
 
-    #[test]
-    fn crossed_waves_are_judged_by_their_operands_verdicts_and_the_operation() {
+    pub fn crossed_waves_are_judged_by_their_operands_verdicts_and_the_operation() {
         let crossed = Combine {
             op: CombineOp::Add,
             operands: vec![wave(0.4), wave(1.97)],
@@ -529,8 +535,7 @@ mod tests {
         );
     }
 
-    #[test]
-    fn a_bounded_combination_keeps_the_generic_criterion() {
+    pub fn a_bounded_combination_keeps_the_generic_criterion() {
         let add = Combine {
             op: CombineOp::Add,
             operands: vec![f1(), f1()],
@@ -547,8 +552,7 @@ mod tests {
         assert_eq!(step.own_verdict(&ok, None), Some(vec![]));
     }
 
-    #[test]
-    fn a_threshold_has_no_bound_and_a_smoothstep_scales_by_its_slope() {
+    pub fn a_threshold_has_no_bound_and_a_smoothstep_scales_by_its_slope() {
         let step = |edges| Combine {
             op: CombineOp::Smoothstep { edges },
             operands: vec![f1()],

@@ -46,13 +46,20 @@ impl CheckKind for GaborNoise {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
     use spectex_model::Orientation;
 
-    #[test]
-    fn gabor_bound_grows_with_impulses() {
+    pub fn gabor_bound_grows_with_impulses() {
         let m = |impulses_per_kernel: f32| GaborNoise {
             seed: 0,
             mean: 0.0,

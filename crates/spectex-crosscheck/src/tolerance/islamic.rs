@@ -95,12 +95,19 @@ impl CheckKind for IslamicPattern {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
-    #[test]
-    fn bounds_are_far_below_a_pixel() {
+    pub fn bounds_are_far_below_a_pixel() {
         // A few hundred unit roundoffs of a cell: at the largest cell (4096 px) still below
         // 0.1 px, and at the default cell a thousandth of a pixel.
         let m = IslamicPattern {

@@ -88,21 +88,27 @@ impl CheckKind for LrpNoise {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
     /// The window falls from 1 to 0 over 1.5 widths, so its steepest slope is above 1/1.5;
     /// numerically it is ≈ 1.27 (the f64 window's own values, not a fitted constant).
-    #[test]
-    fn kaiser_bessel_slope_is_plausible() {
+    pub fn kaiser_bessel_slope_is_plausible() {
         let k = kaiser_bessel_slope();
         assert!(k > 1.0 / 1.5 && k < 2.0, "{k}");
     }
 
     /// The bound grows linearly with the amplitude and with the number of cosines.
-    #[test]
-    fn lrp_bound_scales_with_amplitude_and_terms() {
+    pub fn lrp_bound_scales_with_amplitude_and_terms() {
         let model = |amplitude: f32, cosines: usize| LrpNoise {
             seed: 0,
             mean: 0.0,

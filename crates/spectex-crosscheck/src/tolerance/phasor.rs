@@ -358,8 +358,16 @@ impl CheckKind for PhasorNoise {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
     use spectex_model::PhasorOrientation;
 
@@ -383,8 +391,7 @@ mod tests {
     /// One pixel: (own output, Gabor, intensity, phase), each (cpu, gpu).
     /// A minified render's square profile is a continuous series: no pixel is excused as near
     /// a jump, and a difference within its slope bound times the phase tolerance passes.
-    #[test]
-    fn filtered_squares_are_judged_by_their_slope() {
+    pub fn filtered_squares_are_judged_by_their_slope() {
         let m = pwm(PhasorOutput::Profiled);
         // F = 0.06 at a footprint of 4: u = 0.24, harmonics 1 and 2 (2·0.24 < 0.55 ≤ 3·0.24).
         assert_eq!(square_harmonics(0.24), 2);
@@ -416,8 +423,7 @@ mod tests {
     /// A varying duty cycle: without its value at the pixel the output is not judged (the
     /// jump may be anywhere); with it, a flip far from that duty fails and one within the
     /// duty's error of it passes.
-    #[test]
-    fn a_located_varying_duty_judges_the_output() {
+    pub fn a_located_varying_duty_judges_the_output() {
         let mut m = pwm(PhasorOutput::Profiled);
         m.profile = Profile::Square {
             duty: Field::Linear {
@@ -442,8 +448,7 @@ mod tests {
         );
     }
 
-    #[test]
-    fn a_profile_may_flip_only_next_to_its_jump() {
+    pub fn a_profile_may_flip_only_next_to_its_jump() {
         let m = pwm(PhasorOutput::Profiled);
         // Phase tolerance at I = 1: asin(√2·1e-4)/2π + 1e-7 ≈ 2.26e-5 turns.
         let near = renders([1.0, 0.0], [0.3, 0.3], [1.0, 1.0], [0.249_99, 0.250_01]);
@@ -456,8 +461,7 @@ mod tests {
         );
     }
 
-    #[test]
-    fn phases_are_compared_on_the_circle_where_they_are_determined() {
+    pub fn phases_are_compared_on_the_circle_where_they_are_determined() {
         let m = pwm(PhasorOutput::Phase);
         let wrap = renders(
             [0.499_99, -0.499_99],
@@ -480,8 +484,7 @@ mod tests {
         assert!(judge_pixels(&m, E, &singular, None).is_empty());
     }
 
-    #[test]
-    fn the_complex_sum_is_held_to_its_bound() {
+    pub fn the_complex_sum_is_held_to_its_bound() {
         let m = pwm(PhasorOutput::Profiled);
         let gabor = renders([1.0, 1.0], [0.3, 0.3 + 2e-4], [1.0, 1.0], [0.1, 0.1]);
         assert_eq!(judge_pixels(&m, E, &gabor, None).len(), 1);

@@ -100,12 +100,19 @@ impl CheckKind for StochasticSubdivision {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
-    #[test]
-    fn catmull_rom_derivative_weights_sum_to_at_most_three() {
+    pub fn catmull_rom_derivative_weights_sum_to_at_most_three() {
         let mut largest = 0.0f64;
         for i in 0..=1000 {
             let u = f64::from(i) / 1000.0;
@@ -120,8 +127,7 @@ mod tests {
         assert!((largest - 3.0).abs() < 1e-12, "max Σ|w'| = {largest}");
     }
 
-    #[test]
-    fn the_bound_grows_with_levels_and_amplitude() {
+    pub fn the_bound_grows_with_levels_and_amplitude() {
         let mut m = StochasticSubdivision::midpoint();
         let a = subdivision(&m).max_abs;
         m.levels += 4;

@@ -206,12 +206,19 @@ impl CheckKind for TextonNoise {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
-    #[test]
-    fn the_sum_bound_grows_with_the_textons_and_the_maximum_does_not() {
+    pub fn the_sum_bound_grows_with_the_textons_and_the_maximum_does_not() {
         let sparse = TextonNoise::default();
         let dense = TextonNoise {
             placement: Placement::Poisson { density: 6.0 },
@@ -232,8 +239,7 @@ mod tests {
         assert!((b - a - summation).abs() < 1e-12, "{a} vs {b}");
     }
 
-    #[test]
-    fn the_ellipsoid_bound_is_the_square_root_of_the_rho2_error() {
+    pub fn the_ellipsoid_bound_is_the_square_root_of_the_rho2_error() {
         let m = TextonNoise {
             intensity: [1.0, 1.0],
             placement: Placement::Grid { jitter: 0.0 },

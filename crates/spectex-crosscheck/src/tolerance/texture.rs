@@ -264,16 +264,23 @@ impl CheckKind for TextureModel {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
     use crate::tolerance::tests::check_slope_on_fine_render;
     use crate::tolerance::tolerance;
 
     /// The slope bound of a texture holds on a fine CPU render (see
     /// [`check_slope_on_fine_render`]).
-    #[test]
-    fn texture_slope_bound_holds_on_a_fine_render() {
+    pub fn texture_slope_bound_holds_on_a_fine_render() {
         let grey = std::fs::read_to_string(concat!(
             env!("CARGO_MANIFEST_DIR"),
             "/../../testdata/models/texture-synthetic-grey.json"
@@ -326,8 +333,7 @@ mod tests {
 
     /// One tolerance per output component; the structure's part grows with its amplitude, the
     /// colour basis scales a component's bound, and turbulence adds to it.
-    #[test]
-    fn texture_bound_per_component() {
+    pub fn texture_bound_per_component() {
         let grey = texture(&texture_model(0.1, false, false));
         assert_eq!(grey.len(), 1);
         let louder = texture(&texture_model(0.2, false, false));

@@ -147,7 +147,7 @@ pub const FLIP_MARGIN: f64 = 2.0
 /// whose `d²` differ by at most `2|d|·|δd| + D2_ROUNDINGS·u·d²`: an order statistic is
 /// 1-Lipschitz in its inputs, and `√` turns the error into `|δd| + (D2_ROUNDINGS/2)·u·F` plus
 /// the square roots' roundings.
-#[cfg(test)]
+#[cfg(feature = "unit-tests")]
 fn distance_error(f_max: f64) -> f64 {
     Dims::TWO.distance_error(f_max)
 }
@@ -166,7 +166,7 @@ fn separation(m: &VoronoiNoise) -> Option<f64> {
 /// keeps it. Where the nearest seed flips both sides' borders are at most
 /// `(F2² − F1²)/(2|e|) ≤ (F1 + F2)·FLIP_MARGIN/(2·separation)`, which also bounds their
 /// difference.
-#[cfg(test)]
+#[cfg(feature = "unit-tests")]
 fn border_error(separation: f64) -> f64 {
     Dims::TWO.border_error(separation)
 }
@@ -282,12 +282,19 @@ impl CheckKind for VoronoiNoise {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
-    #[test]
-    fn bounds_are_small_against_a_cell() {
+    pub fn bounds_are_small_against_a_cell() {
         // A few hundred unit roundoffs of cell units: far below anything visible.
         const { assert!(FLIP_MARGIN < 1e-5) };
         assert!(distance_error(F2_MAX) < 1e-5);
@@ -305,8 +312,7 @@ mod tests {
         assert!((F1_MAX_3D - 3f64.sqrt()).abs() < 1e-15 && (F2_MAX_3D - 6f64.sqrt()).abs() < 1e-15);
     }
 
-    #[test]
-    fn the_verdict_excuses_only_ambiguous_pixels() {
+    pub fn the_verdict_excuses_only_ambiguous_pixels() {
         let m = VoronoiNoise::default();
         let renders = |margin: f32| {
             vec![

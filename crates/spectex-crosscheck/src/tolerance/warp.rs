@@ -85,8 +85,16 @@ impl CheckKind for Warp {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
     use crate::tolerance::tolerance;
     use spectex_model::classic::{Basis, ClassicNoise};
@@ -94,8 +102,7 @@ mod tests {
 
     /// A phasor base's truncation jumps set the warp's largest error but only their share
     /// `4|δ|/r` of the mean: the mean bound is the smooth part's quarter plus that share.
-    #[test]
-    fn warp_mean_counts_jumps_only_near_kernel_boundaries() {
+    pub fn warp_mean_counts_jumps_only_near_kernel_boundaries() {
         let mut phasor = spectex_model::fixtures::phasor_pwm(
             2,
             spectex_model::PhasorOrientation::TwoLobes {
@@ -132,8 +139,7 @@ mod tests {
 
     /// A warp's bound is the base's at strength 0 plus the GPU's relocation roundings, and it
     /// grows with the strength.
-    #[test]
-    fn warp_bound_grows_with_strength() {
+    pub fn warp_bound_grows_with_strength() {
         let lrp = |seed| {
             Model::Lrp(LrpNoise {
                 seed,
@@ -182,8 +188,7 @@ mod tests {
     }
 
     /// A warp is checked on its base's plane (x and y are rendered on it too).
-    #[test]
-    fn a_warp_is_checked_on_its_base_plane() {
+    pub fn a_warp_is_checked_on_its_base_plane() {
         let classic = |dimensions| {
             Model::Classic(ClassicNoise {
                 seed: 0,
@@ -209,8 +214,7 @@ mod tests {
 
     /// A warp over a model without a derived regularity (phasor noise's phase-based outputs),
     /// as its base or as its x, has no bound: the cross-check refuses it rather than guess.
-    #[test]
-    fn warp_of_a_model_without_regularity_has_no_tolerance() {
+    pub fn warp_of_a_model_without_regularity_has_no_tolerance() {
         let lrp = Model::Lrp(LrpNoise {
             seed: 1,
             mean: 0.0,

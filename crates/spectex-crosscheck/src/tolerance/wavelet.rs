@@ -69,8 +69,16 @@ impl CheckKind for WaveletNoise {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
     use crate::tolerance::tests::check_slope_on_fine_render;
     use crate::tolerance::tolerance;
@@ -78,8 +86,7 @@ mod tests {
 
     /// The slope bound of wavelet noise holds on fine CPU renders, in 2D and 3D (see
     /// [`check_slope_on_fine_render`]; within a factor 12 of the steepest step seen).
-    #[test]
-    fn wavelet_slope_bounds_hold_on_fine_renders() {
+    pub fn wavelet_slope_bounds_hold_on_fine_renders() {
         let mut wavelet: WaveletNoise = serde_json::from_str(
             r#"{"seed": 3, "dimensions": 2, "tile_size": 32, "cell_size": 6.0,
                 "bands": [1.0, 0.5], "amplitude": 0.4, "mean": 0.5}"#,
@@ -93,8 +100,7 @@ mod tests {
     /// The wavelet bound is the derivation's sum: for one band of weight 1 and zero mean,
     /// `(2(9d + 2) + 64)·u·amplitude·max|T|`; it scales with the amplitude, grows with `d`, and
     /// a mean adds `64·u·|mean|`.
-    #[test]
-    fn wavelet_bound_follows_its_derivation() {
+    pub fn wavelet_bound_follows_its_derivation() {
         let model = |dimensions: u32, amplitude: f32, mean: f32| WaveletNoise {
             seed: 4,
             dimensions,

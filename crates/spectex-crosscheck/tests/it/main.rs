@@ -11,3 +11,4 @@ mod models;
 mod simulations;
 mod subdivision;
 mod texture_fixtures;
+mod unit;

@@ -756,12 +756,19 @@ impl Emitter<'_> {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
-    #[test]
-    fn whole_sides_are_integers_up_to_2_pow_24() {
+    pub fn whole_sides_are_integers_up_to_2_pow_24() {
         assert_eq!(whole_sides(&[]), [0]);
         assert_eq!(
             whole_sides(&[32.0, 9.5, 1.0, 0.5, 16_777_216.0, 16_777_218.0]),
@@ -772,8 +779,7 @@ mod tests {
         assert_eq!(whole_sides(&many), [0, 1]);
     }
 
-    #[test]
-    fn lattice_tables_decompose_every_bit_weight() {
+    pub fn lattice_tables_decompose_every_bit_weight() {
         // Δ = 9.5 (an f32): remainders are multiples of 0.5 below 9.5, exact.
         let (sides, q, r) = lattice_tables(&[9.5]);
         assert_eq!(sides, [9.5]);

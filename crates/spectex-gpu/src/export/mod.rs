@@ -46,9 +46,9 @@ use emitter::{Emitter, header};
 pub(crate) use values::float;
 use wgsl_text::{composable_members, rename, strip, top_level_names};
 
-mod emitter;
+pub(crate) mod emitter;
 mod values;
-mod wgsl_text;
+pub(crate) mod wgsl_text;
 
 /// The lattice split every exported model uses (`shaders/export/split.wgsl`) and each kind's
 /// glue (its `<kind>_sample_cell`, the end of its `shaders/<kind>.wgsl`), as the kind declares

@@ -243,12 +243,19 @@ fn replace_identifiers(
     out
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
-    #[test]
-    fn members_naga_would_rename_get_a_letter_suffix_everywhere() {
+    pub fn members_naga_would_rename_get_a_letter_suffix_everywhere() {
         let src = "struct P {\n    a00: f32,\n    @align(16) _pad0: u32,\n    key: u32, // key2\n}\n\
                    fn f(p: P) -> f32 { let a00 = p.a00; return a00 + f32(p.key); } // a00\n";
         assert_eq!(
@@ -258,8 +265,7 @@ mod tests {
         );
     }
 
-    #[test]
-    fn rename_skips_members_fields_and_comments() {
+    pub fn rename_skips_members_fields_and_comments() {
         let map: HashMap<String, String> = [("strata", "p_strata"), ("S", "p_S")]
             .map(|(a, b)| (a.to_owned(), b.to_owned()))
             .into();
@@ -271,8 +277,7 @@ mod tests {
         );
     }
 
-    #[test]
-    fn rename_turns_buffer_tables_into_accessor_calls() {
+    pub fn rename_turns_buffer_tables_into_accessor_calls() {
         let map: HashMap<String, String> = [("t", "p_t"), ("u", "p_u")]
             .map(|(a, b)| (a.to_owned(), b.to_owned()))
             .into();
@@ -284,8 +289,7 @@ mod tests {
         );
     }
 
-    #[test]
-    fn strip_removes_bindings_and_entry_points() {
+    pub fn strip_removes_bindings_and_entry_points() {
         let src = "const A: u32 = 1u;\n/// doc\n@group(0) @binding(0) var<uniform> p: P;\n@compute @workgroup_size(8, 8, 1)\nfn main() {\n    let x = 1;\n}\nfn g() {}\n";
         assert_eq!(strip(src), "const A: u32 = 1u;\nfn g() {}\n");
         assert_eq!(

@@ -19,5 +19,6 @@ mod render;
 mod shaders;
 mod subdivision;
 mod texture;
+mod unit;
 mod warp;
 mod wavelet;

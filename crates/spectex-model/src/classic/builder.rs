@@ -323,12 +323,19 @@ impl From<ClassicNoise> for Model {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
-    #[test]
-    fn defaults_are_the_documented_constants() {
+    pub fn defaults_are_the_documented_constants() {
         let fbm = ClassicNoise::fbm().build().expect("defaults are valid");
         let expected = ClassicNoise {
             seed: 0,
@@ -378,8 +385,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn levels_follow_basis_and_sum_unless_given() {
+    pub fn levels_follow_basis_and_sum_unless_given() {
         let turbulence = ClassicNoise::turbulence().basis(Basis::Simplex).build();
         let turbulence = turbulence.expect("valid");
         assert_eq!((turbulence.mean, turbulence.amplitude), (0.0, 1.0));
@@ -391,8 +397,7 @@ mod tests {
         assert_eq!((given.mean, given.amplitude), (0.25, -2.0));
     }
 
-    #[test]
-    fn setters_reach_every_field_in_any_order() {
+    pub fn setters_reach_every_field_in_any_order() {
         let a = ClassicNoise::fbm()
             .octaves(4)
             .seed(3)
@@ -419,8 +424,7 @@ mod tests {
         assert_eq!((f.octaves, f.lacunarity, f.gain), (4, 2.5, 0.6));
     }
 
-    #[test]
-    fn invalid_settings_name_the_field() {
+    pub fn invalid_settings_name_the_field() {
         let cases = [
             (
                 ClassicNoise::perlin().cell_size(0.5).build(),

@@ -103,8 +103,16 @@ impl CombineBuilder {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
     use crate::{ClassicNoise, VoronoiNoise};
 
@@ -112,8 +120,7 @@ mod tests {
         ClassicNoise::fbm().build().expect("valid").into()
     }
 
-    #[test]
-    fn defaults_are_the_documented_constants() {
+    pub fn defaults_are_the_documented_constants() {
         let b = Combine::builder();
         let sum = b.clone().operand(grey()).operand(grey()).build();
         assert_eq!(sum.expect("valid").op, CombineOp::Add);
@@ -138,8 +145,7 @@ mod tests {
         assert_eq!(Combine::DEFAULT_SIN_GAIN, 2.0);
     }
 
-    #[test]
-    fn invalid_settings_name_the_field() {
+    pub fn invalid_settings_name_the_field() {
         let b = || Combine::builder().operand(grey());
         let length = b().build();
         match length {

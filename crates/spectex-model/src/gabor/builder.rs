@@ -180,12 +180,19 @@ impl From<GaborNoise> for Model {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
-    #[test]
-    fn defaults_are_the_documented_constants() {
+    pub fn defaults_are_the_documented_constants() {
         let g = GaborNoise::builder().build().expect("defaults are valid");
         assert_eq!(
             (
@@ -208,8 +215,7 @@ mod tests {
         assert_eq!(g.amplitude, 0.15 / g.unit_std_dev() as f32);
     }
 
-    #[test]
-    fn amplitude_and_std_dev_replace_each_other() {
+    pub fn amplitude_and_std_dev_replace_each_other() {
         let k = GaborNoise::builder().std_dev(0.3).amplitude(2.0).build();
         assert_eq!(k.expect("valid").amplitude, 2.0);
         let s = GaborNoise::builder().amplitude(2.0).std_dev(0.3).build();
@@ -217,8 +223,7 @@ mod tests {
         assert!((f64::from(s.amplitude) * s.unit_std_dev() - 0.3).abs() < 1e-6);
     }
 
-    #[test]
-    fn invalid_settings_name_the_field() {
+    pub fn invalid_settings_name_the_field() {
         let cases = [
             (
                 GaborNoise::builder().bandwidth(0.0).build(),

@@ -144,12 +144,19 @@ impl IslamicPatternBuilder {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
-    #[test]
-    fn defaults_are_the_documented_constants() {
+    pub fn defaults_are_the_documented_constants() {
         let p = IslamicPattern::builder()
             .build()
             .expect("defaults are valid");
@@ -166,8 +173,7 @@ mod tests {
         assert_eq!(p, expected);
     }
 
-    #[test]
-    fn invalid_settings_name_the_field() {
+    pub fn invalid_settings_name_the_field() {
         let b = IslamicPattern::builder;
         let cases = [
             (b().cell_size(2.0).build(), "islamic.cell_size"),

@@ -91,8 +91,16 @@ impl From<LrpNoise> for Model {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
     fn stratum(window_width: f32) -> Stratum {
@@ -103,8 +111,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn defaults_and_strata_in_order() {
+    pub fn defaults_and_strata_in_order() {
         let noise = LrpNoise::from_strata(vec![stratum(8.0)])
             .stratum(stratum(16.0))
             .build()
@@ -115,8 +122,7 @@ mod tests {
         assert_eq!(Model::from(noise.clone()), Model::Lrp(noise));
     }
 
-    #[test]
-    fn invalid_settings_name_the_field() {
+    pub fn invalid_settings_name_the_field() {
         match LrpNoise::from_strata(Vec::new()).build() {
             Err(ModelError::Length { field, len, .. }) => {
                 assert_eq!((field.as_str(), len), ("lrp.strata", 0))

@@ -230,12 +230,19 @@ impl From<PhasorNoise> for Model {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
-    #[test]
-    fn defaults_are_the_documented_constants() {
+    pub fn defaults_are_the_documented_constants() {
         let noise = PhasorNoise::builder().build().expect("defaults are valid");
         let expected = PhasorNoise {
             seed: 0,
@@ -254,8 +261,7 @@ mod tests {
         assert_eq!(noise, expected);
     }
 
-    #[test]
-    fn levels_show_every_output_in_the_unit_interval() {
+    pub fn levels_show_every_output_in_the_unit_interval() {
         let levels = |output, profile: Profile| {
             let noise = PhasorNoise::builder()
                 .output(output)
@@ -286,8 +292,7 @@ mod tests {
         assert_eq!((given.mean, given.amplitude), (0.1, 2.0));
     }
 
-    #[test]
-    fn invalid_settings_name_the_field() {
+    pub fn invalid_settings_name_the_field() {
         let cases = [
             (
                 PhasorNoise::builder().frequency(0.9).build(),

@@ -163,12 +163,19 @@ impl TextonNoiseBuilder {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
-    #[test]
-    fn defaults_are_the_documented_constants() {
+    pub fn defaults_are_the_documented_constants() {
         let t = TextonNoise::builder().build().expect("defaults are valid");
         let expected = TextonNoise {
             seed: 0,
@@ -185,8 +192,7 @@ mod tests {
         assert_eq!(t, expected);
     }
 
-    #[test]
-    fn invalid_settings_name_the_field() {
+    pub fn invalid_settings_name_the_field() {
         let b = TextonNoise::builder;
         let cases = [
             (b().cell_size(0.5).build(), "texton.cell_size"),

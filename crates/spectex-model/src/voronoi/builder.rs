@@ -144,12 +144,19 @@ impl VoronoiNoiseBuilder {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
-    #[test]
-    fn defaults_are_the_documented_constants() {
+    pub fn defaults_are_the_documented_constants() {
         let v = VoronoiNoise::builder().build().expect("defaults are valid");
         let expected = VoronoiNoise {
             seed: 0,
@@ -170,8 +177,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn invalid_settings_name_the_field() {
+    pub fn invalid_settings_name_the_field() {
         let b = VoronoiNoise::builder;
         let cases = [
             (b().dimensions(4).build(), "voronoi.dimensions"),

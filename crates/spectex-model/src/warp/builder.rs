@@ -152,8 +152,16 @@ impl From<Warp> for Model {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
     use crate::classic::{Basis, Fractal, FractalKind};
     use crate::fixtures::constant;
@@ -175,8 +183,7 @@ mod tests {
         })
     }
 
-    #[test]
-    fn defaults_are_the_documented_constants() {
+    pub fn defaults_are_the_documented_constants() {
         let warp = Warp::builder().seed(7).build().expect("defaults are valid");
         assert_eq!(*warp.base, perlin_fbm(1_007, 0.5, 0.5));
         assert_eq!(*warp.x, perlin_fbm(7, 0.0, 1.0));
@@ -186,8 +193,7 @@ mod tests {
         assert_eq!(*plain.x, perlin_fbm(0, 0.0, 1.0));
     }
 
-    #[test]
-    fn given_models_are_kept() {
+    pub fn given_models_are_kept() {
         let warp = Warp::of(constant(0.25))
             .by(constant(1.0))
             .by_y(constant(-1.0))
@@ -200,8 +206,7 @@ mod tests {
         );
     }
 
-    #[test]
-    fn invalid_settings_name_the_field() {
+    pub fn invalid_settings_name_the_field() {
         match Warp::builder().strength(f32::NAN).build() {
             Err(ModelError::OutOfRange { field, .. }) => assert_eq!(field, "warp.strength"),
             other => panic!("{other:?}"),

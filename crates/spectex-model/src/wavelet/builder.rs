@@ -145,12 +145,19 @@ impl From<WaveletNoise> for Model {
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
+/// (a unit-test harness would compile this whole crate a second time).
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(
+    clippy::unwrap_used,
+    clippy::missing_panics_doc,
+    reason = "tests fail loudly on the first unexpected None or Err"
+)]
+pub mod tests {
     use super::*;
 
-    #[test]
-    fn defaults_are_the_documented_constants() {
+    pub fn defaults_are_the_documented_constants() {
         let noise = WaveletNoise::builder().build().expect("defaults are valid");
         let expected = WaveletNoise {
             seed: 0,
@@ -168,8 +175,7 @@ mod tests {
         assert_eq!(given.expect("valid").tile_size, 16);
     }
 
-    #[test]
-    fn invalid_settings_name_the_field() {
+    pub fn invalid_settings_name_the_field() {
         let out_of_range = [
             (
                 WaveletNoise::builder().tile_size(17).build(),

@@ -4,3 +4,4 @@
 //! the dependencies.
 
 mod model_files;
+mod unit;
