@@ -85,7 +85,14 @@ const ALLOWED_PROJECT_DEPENDENCIES: &[(&str, &[&str])] = &[
 /// test kit never ends up in a library's build.
 const DEV_ONLY_DEPENDENCIES: &[(&str, &[&str])] = &[(
     "spectex-testkit",
-    &["spectex-cpu", "spectex-gpu", "spectex-cli"],
+    &[
+        "spectex-cpu",
+        "spectex-gpu",
+        "spectex-cli",
+        "spectex-spectrum",
+        "spectex-sampling",
+        "spectex-simulate",
+    ],
 )];
 
 /// Folders of a crate whose `.rs` files are modules that must start with a `//!` line.

@@ -666,17 +666,23 @@ fn fixtures() -> BTreeMap<&'static str, PathBuf> {
     );
     for (name, file, (w, h)) in [("one", "one.png", (1, 1)), ("line", "line.png", (10, 1))] {
         let path = dir.join(file);
-        image::RgbImage::from_fn(w, h, |x, y| {
-            image::Rgb([(x * 7) as u8, (y * 3) as u8, ((x + y) * 5) as u8])
-        })
-        .save(&path)
+        spectex_testkit::image_files::save(
+            &image::DynamicImage::from(image::RgbImage::from_fn(w, h, |x, y| {
+                image::Rgb([(x * 7) as u8, (y * 3) as u8, ((x + y) * 5) as u8])
+            })),
+            &path,
+        )
         .unwrap();
         files.insert(name, path);
     }
     let grey = dir.join("grey.png");
-    image::GrayImage::from_fn(16, 16, |x, y| image::Luma([(x * 9 + y * 5) as u8]))
-        .save(&grey)
-        .unwrap();
+    spectex_testkit::image_files::save(
+        &image::DynamicImage::from(image::GrayImage::from_fn(16, 16, |x, y| {
+            image::Luma([(x * 9 + y * 5) as u8])
+        })),
+        &grey,
+    )
+    .unwrap();
     files.insert("grey", grey);
     let models = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../testdata/models");
     files.insert("colour", models.join("texture-synthetic-colour.json"));

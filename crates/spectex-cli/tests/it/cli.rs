@@ -21,10 +21,12 @@ fn assert_fails(out: &Output, dir: &Path, needles: &[&str]) {
 }
 
 fn write_png(path: &Path, w: u32, h: u32) {
-    image::RgbImage::from_fn(w, h, |x, y| {
-        image::Rgb([(x * 7) as u8, (y * 3) as u8, ((x + y) * 5) as u8])
-    })
-    .save(path)
+    spectex_testkit::image_files::save(
+        &image::DynamicImage::from(image::RgbImage::from_fn(w, h, |x, y| {
+            image::Rgb([(x * 7) as u8, (y * 3) as u8, ((x + y) * 5) as u8])
+        })),
+        path,
+    )
     .unwrap();
 }
 
@@ -101,9 +103,13 @@ fn rpn_sizes_depths_formats_and_seeds() {
 fn grey_and_alpha_inputs() {
     let dir = scratch("grey");
     let grey = dir.join("g.png");
-    image::GrayImage::from_fn(20, 20, |x, y| image::Luma([((x * y) % 256) as u8]))
-        .save(&grey)
-        .unwrap();
+    spectex_testkit::image_files::save(
+        &image::DynamicImage::from(image::GrayImage::from_fn(20, 20, |x, y| {
+            image::Luma([((x * y) % 256) as u8])
+        })),
+        &grey,
+    )
+    .unwrap();
     let out = dir.join("g-out.png");
     assert!(spectex(&["rpn", s(&grey), "-o", s(&out)]).status.success());
     assert_eq!(
@@ -112,10 +118,12 @@ fn grey_and_alpha_inputs() {
     );
 
     let rgba = dir.join("a.png");
-    image::RgbaImage::from_fn(20, 20, |x, y| {
-        image::Rgba([x as u8 * 9, y as u8 * 9, 100, 128])
-    })
-    .save(&rgba)
+    spectex_testkit::image_files::save(
+        &image::DynamicImage::from(image::RgbaImage::from_fn(20, 20, |x, y| {
+            image::Rgba([x as u8 * 9, y as u8 * 9, 100, 128])
+        })),
+        &rgba,
+    )
     .unwrap();
     let out = dir.join("a-out.png");
     let o = spectex(&["rpn", s(&rgba), "-o", s(&out)]);
@@ -278,15 +286,17 @@ fn texture_by_example_end_to_end() {
     let dir = scratch("texture");
     // A grey exemplar with structure: bricks-like stripes plus a ramp of noise.
     let grey = dir.join("grey.png");
-    image::GrayImage::from_fn(96, 80, |x, y| {
-        let stripe = if (y / 8 + (x / 24) % 2) % 2 == 0 {
-            60
-        } else {
-            190
-        };
-        image::Luma([(stripe + ((x * 37 + y * 91) % 29)) as u8])
-    })
-    .save(&grey)
+    spectex_testkit::image_files::save(
+        &image::DynamicImage::from(image::GrayImage::from_fn(96, 80, |x, y| {
+            let stripe = if (y / 8 + (x / 24) % 2) % 2 == 0 {
+                60
+            } else {
+                190
+            };
+            image::Luma([(stripe + ((x * 37 + y * 91) % 29)) as u8])
+        })),
+        &grey,
+    )
     .unwrap();
     let model = dir.join("tex.json");
     spectex_ok(&[
@@ -365,10 +375,14 @@ fn relight_and_normal_maps() {
     // A ramp rising to the right: under a light from the right (azimuth 0) at 45° the plane
     // z = 0.5·x has n·l = (−0.5·cos45° + sin45°)/√1.25 everywhere, with no ambient.
     let height = dir.join("ramp.png");
-    image::ImageBuffer::<image::Luma<u16>, _>::from_fn(64, 16, |x, _| {
-        image::Luma([(x * 1024) as u16])
-    })
-    .save(&height)
+    spectex_testkit::image_files::save(
+        &image::DynamicImage::from(image::ImageBuffer::<image::Luma<u16>, _>::from_fn(
+            64,
+            16,
+            |x, _| image::Luma([(x * 1024) as u16]),
+        )),
+        &height,
+    )
     .unwrap();
     // One pixel step is 1024/65535 of full scale; strength makes it 0.5 px.
     let strength = format!("{}", 0.5 * 65535.0 / 1024.0);

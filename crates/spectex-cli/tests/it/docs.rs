@@ -73,6 +73,11 @@ const REWRITES: &[(&str, &str)] = &[
          answer GET /api/state, and is stopped",
     ),
     (
+        "target",
+        "an output under `target/` has that folder made first: a reader who built spectex \
+         from this checkout has it, the page's scratch directory does not",
+    ),
+    (
         "sbatch",
         "`sbatch --array=A-B SCRIPT ARGS` runs the script's `mkdir -p` and `spectex` lines \
          once per task A to B, the task's index given as `--tile-index` rather than in \
@@ -152,7 +157,7 @@ const NOT_RUN: &[(&str, &str, Check)] = &[
     ),
 ];
 
-/// `cargo run --example NAME`: `crates/spectex-cli/examples/NAME.rs` exists.
+/// `cargo run --example NAME`: the CLI crate has that example's source file.
 fn example_exists(command: &str, repo: &Path) -> Result<(), String> {
     let name = words(command)
         .into_iter()
@@ -165,7 +170,7 @@ fn example_exists(command: &str, repo: &Path) -> Result<(), String> {
         .ok_or_else(|| format!("there is no example {name} ({})", file.display()))
 }
 
-/// `pip install ./DIR`: `DIR/pyproject.toml` exists.
+/// `pip install ./DIR`: `DIR` holds a `pyproject.toml`.
 fn package_exists(command: &str, repo: &Path) -> Result<(), String> {
     let dir = words(command)
         .into_iter()
@@ -514,6 +519,10 @@ impl Page {
             self.note("paths");
             self.dir.join(value)
         };
+        if output && value.starts_with("target/") {
+            self.note("target");
+            std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        }
         let stand_in = INPUTS.iter().find(|(name, ..)| *name == value);
         if let Some(&(name, input, _)) = stand_in.filter(|_| !output && !path.exists()) {
             self.provide(input, &path)?;
@@ -692,11 +701,12 @@ fn glob(path: &Path) -> Vec<PathBuf> {
 
 /// A 64² grey crop of the built-in exemplar at `path`, in its extension's format.
 fn stand_in_image(path: &Path) {
-    let exemplar = image::open(repo().join("testdata/default_exemplar.png")).unwrap();
+    let exemplar =
+        spectex_testkit::image_files::open(repo().join("testdata/default_exemplar.png")).unwrap();
     let crop = exemplar
         .crop_imm(0, 0, SIDE as u32, SIDE as u32)
         .into_luma8();
-    crop.save(path)
+    spectex_testkit::image_files::save(&image::DynamicImage::from(crop), path)
         .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
 }
 
