@@ -92,6 +92,8 @@ const DEV_ONLY_DEPENDENCIES: &[(&str, &[&str])] = &[(
         "spectex-spectrum",
         "spectex-sampling",
         "spectex-simulate",
+        "spectex-model",
+        "spectex-crosscheck",
     ],
 )];
 

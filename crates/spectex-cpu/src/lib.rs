@@ -33,7 +33,8 @@ mod periodic;
 // of kinds.
 spectex_model::for_each_kind!(pub mod);
 
-/// The unit tests' bodies, one module per source module, run by `tests/it/unit.rs`.
+/// The unit tests' bodies, one module per source module (`pub mod tests` behind this feature),
+/// run by `tests/it/unit.rs`: a unit-test harness would compile the crate a second time.
 #[cfg(feature = "unit-tests")]
 #[doc(hidden)]
 pub mod unit_tests {

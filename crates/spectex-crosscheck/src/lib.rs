@@ -51,7 +51,8 @@ pub use error::CrosscheckError;
 pub use report::{REPORT_DIR, write_failure_report, write_failure_report_in};
 pub use tolerance::{CheckKind, Tolerance};
 
-/// The unit tests' bodies, one module per source module, run by `tests/it/unit.rs`.
+/// The unit tests' bodies, one module per source module (`pub mod tests` behind this feature),
+/// run by `tests/it/unit.rs`: a unit-test harness would compile the crate a second time.
 #[cfg(feature = "unit-tests")]
 #[doc(hidden)]
 pub mod unit_tests {

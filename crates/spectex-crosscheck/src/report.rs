@@ -170,16 +170,10 @@ pub fn write_failure_report_in(
     Ok(md_path)
 }
 
-/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
-/// (a unit-test harness would compile this whole crate a second time).
 #[cfg(feature = "unit-tests")]
 #[doc(hidden)]
 pub mod tests {
-    #![allow(
-        clippy::unwrap_used,
-        clippy::missing_panics_doc,
-        reason = "a test fails loudly"
-    )]
+    #![allow(clippy::unwrap_used, reason = "a test fails loudly")]
 
     use super::*;
     use crate::compare::{compare, judge, standard_windows};

@@ -102,7 +102,8 @@ pub use spectex_model::{
 /// The wgpu version this crate is built on, for callers using [`GpuContext::device`].
 pub use wgpu;
 
-/// The unit tests' bodies, one module per source module, run by `tests/it/unit.rs`.
+/// The unit tests' bodies, one module per source module (`pub mod tests` behind this feature),
+/// run by `tests/it/unit.rs`: a unit-test harness would compile the crate a second time.
 #[cfg(feature = "unit-tests")]
 #[doc(hidden)]
 pub mod unit_tests {

@@ -210,15 +210,9 @@ impl ExportKind for WaveletNoise {
     }
 }
 
-/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
-/// (a unit-test harness would compile this whole crate a second time).
 #[cfg(feature = "unit-tests")]
 #[doc(hidden)]
-#[allow(
-    clippy::unwrap_used,
-    clippy::missing_panics_doc,
-    reason = "tests fail loudly on the first unexpected None or Err"
-)]
+#[allow(clippy::unwrap_used, reason = "a test fails loudly")]
 pub mod tests {
     use super::*;
     use crate::layout::check::assert_matches_wgsl;

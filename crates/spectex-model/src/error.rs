@@ -154,15 +154,9 @@ pub(crate) fn check_image<const C: usize>(
 /// Largest side of an image stored in a model (a texton's spot, Voronoi colours), texels.
 pub(crate) const MAX_IMAGE_SIDE: u32 = 1024;
 
-/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
-/// (a unit-test harness would compile this whole crate a second time).
 #[cfg(feature = "unit-tests")]
 #[doc(hidden)]
-#[allow(
-    clippy::unwrap_used,
-    clippy::missing_panics_doc,
-    reason = "tests fail loudly on the first unexpected None or Err"
-)]
+#[allow(clippy::unwrap_used, reason = "a test fails loudly")]
 pub mod tests {
     use super::*;
 

@@ -50,15 +50,9 @@ pub fn cos_turns(t: f32) -> f32 {
     if far { -p } else { p }
 }
 
-/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
-/// (a unit-test harness would compile this whole crate a second time).
 #[cfg(feature = "unit-tests")]
 #[doc(hidden)]
-#[allow(
-    clippy::unwrap_used,
-    clippy::missing_panics_doc,
-    reason = "tests fail loudly on the first unexpected None or Err"
-)]
+#[allow(clippy::unwrap_used, reason = "a test fails loudly")]
 pub mod tests {
     // The other test modules of this file, so that `unit_tests::math` names every body.
     use super::*;
@@ -126,7 +120,6 @@ pub fn kaiser_bessel_r2(r2: f32) -> f32 {
 
 #[cfg(feature = "unit-tests")]
 #[doc(hidden)]
-#[allow(clippy::missing_panics_doc, reason = "tests panic on failure")]
 pub mod window_tests {
     use super::*;
 
@@ -211,7 +204,6 @@ pub fn exp_poly(z: f32) -> f32 {
 
 #[cfg(feature = "unit-tests")]
 #[doc(hidden)]
-#[allow(clippy::missing_panics_doc, reason = "tests panic on failure")]
 pub mod exp_tests {
     use super::*;
 
@@ -303,7 +295,6 @@ pub fn sin_turns(t: f32) -> f32 {
 
 #[cfg(feature = "unit-tests")]
 #[doc(hidden)]
-#[allow(clippy::missing_panics_doc, reason = "tests panic on failure")]
 pub mod atan_tests {
     use super::*;
 

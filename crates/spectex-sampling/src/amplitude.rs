@@ -48,15 +48,9 @@ pub fn stratum_variance(amplitude: f64, cosines: usize) -> f64 {
     PI * cosines as f64 * amplitude * amplitude * window_radial_energy()
 }
 
-/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
-/// (a unit-test harness would compile this whole crate a second time).
 #[cfg(feature = "unit-tests")]
 #[doc(hidden)]
-#[allow(
-    clippy::unwrap_used,
-    clippy::missing_panics_doc,
-    reason = "tests fail loudly on the first unexpected None or Err"
-)]
+#[allow(clippy::unwrap_used, reason = "a test fails loudly")]
 pub mod tests {
     use super::*;
     use spectex_model::window::kaiser_bessel;

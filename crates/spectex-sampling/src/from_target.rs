@@ -167,13 +167,10 @@ impl LrpFromTarget {
     }
 }
 
-/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
-/// (a unit-test harness would compile this whole crate a second time).
 #[cfg(feature = "unit-tests")]
 #[doc(hidden)]
 pub mod tests {
     #![allow(
-        clippy::missing_panics_doc,
         clippy::unwrap_used,
         reason = "a test fails loudly on the first unexpected None or Err"
     )]

@@ -9,6 +9,8 @@
 //!   renders finite values in bounded time per pixel ([`cpu::COST_BOUNDS`]).
 //! - **References** ([`reference`]): slow f64 direct sums of the definitions (LRP, Gabor noise)
 //!   that the CPU and the GPU tests both compare against.
+//! - **Unit tests** ([`unit`]): a crate's unit tests run from its `it` binary, the crate compiled
+//!   once.
 //! - **Image files** ([`image_files`]): `image`'s open, decode and save, compiled once here
 //!   instead of in every test binary that reads a PNG.
 //! - **Invariance** ([`invariance`]): the checks every kind must pass — tiles, thread counts,
@@ -51,6 +53,7 @@ pub mod models;
 pub mod mutate;
 pub mod reference;
 pub mod strategy;
+pub mod unit;
 
 /// The property-testing crate the strategies are built with, for tests composing them.
 pub use proptest;

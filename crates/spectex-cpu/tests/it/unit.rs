@@ -1,63 +1,12 @@
-//! The crate's unit tests: their bodies are `pub mod tests` in the source modules (behind the
-//! `unit-tests` feature, so the crate is compiled once for both its tests and its dependents),
-//! run here one `#[test]` each. [`every_unit_test_is_run`] fails when a body has no `#[test]`
-//! here, or a `#[test]` here names no body.
+//! The crate's unit tests: their bodies are `pub mod tests` in the source modules, behind the
+//! `unit-tests` feature, run here (see `spectex_testkit::unit`).
 
-/// One module per source module, one `#[test]` per body, and the list of every name.
-macro_rules! unit_tests {
-    ($($module:ident: $($test:ident),+;)+) => {
-        $(
-            mod $module {
-                $(
-                    #[test]
-                    fn $test() {
-                        spectex_cpu::unit_tests::$module::$test();
-                    }
-                )+
-            }
-        )+
-        const RUN: &[&str] = &[$($(stringify!($test)),+),+];
-    };
-}
-
-unit_tests! {
+spectex_testkit::unit_tests! {
+    spectex_cpu;
     classic_tables: gradient_terms_fold_gradient_dot_exactly, coded_gradient_dot_is_gradient_dot_exactly;
     gabor: poisson_chunk_keeps_products_normal, poisson_count_has_poisson_moments, count_is_capped_and_the_loop_bounded_for_nonsense_models, gaussian_exponent_is_the_truncation_log, locate_splits_cells_and_rejects_out_of_range, kept_impulses_follow_the_draw_order;
     islamic: the_signed_distance_matches_brute_force_in_f64, the_pattern_has_its_tilings_symmetries, the_band_is_the_box_filtered_coverage;
     texton: rows_match_the_per_pixel_definition, an_isolated_ellipsoid_has_its_radii;
     combine: combinations_are_their_operation_of_the_operands_renders;
     voronoi: outputs_match_brute_force_over_all_nearby_seeds, outputs_3d_match_brute_force_near_and_far, the_3d_fast_path_is_the_full_search, a_regular_3d_lattice_slice_at_cell_centres_is_the_2d_diagram, a_periodic_3d_diagram_repeats_in_x_and_y_only, image_colours_are_the_texel_under_the_seed, a_regular_grid_has_known_distances;
-}
-
-/// Every `pub fn` of a `pub mod tests` under `src/` is run above, and nothing else is.
-#[test]
-fn every_unit_test_is_run() {
-    let mut bodies = Vec::new();
-    let mut stack = vec![std::path::PathBuf::from(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/src"
-    ))];
-    while let Some(dir) = stack.pop() {
-        for entry in std::fs::read_dir(&dir).unwrap() {
-            let path = entry.unwrap().path();
-            if path.is_dir() {
-                stack.push(path);
-            } else if path.extension().is_some_and(|e| e == "rs") {
-                let text = std::fs::read_to_string(&path).unwrap();
-                if let Some((_, tests)) = text.split_once("\npub mod tests {") {
-                    bodies.extend(tests.lines().filter_map(|l| {
-                        let name = l.strip_prefix("    pub fn ")?;
-                        Some(name[..name.find('(')?].to_owned())
-                    }));
-                }
-            }
-        }
-    }
-    bodies.sort();
-    let mut run: Vec<String> = RUN.iter().map(|s| (*s).to_owned()).collect();
-    run.sort();
-    assert_eq!(
-        bodies, run,
-        "unit-test bodies under src/ against the tests run here"
-    );
 }

@@ -264,15 +264,9 @@ impl CheckKind for TextureModel {
     }
 }
 
-/// The unit tests' bodies, compiled with the `unit-tests` feature and run by `tests/it/unit.rs`
-/// (a unit-test harness would compile this whole crate a second time).
 #[cfg(feature = "unit-tests")]
 #[doc(hidden)]
-#[allow(
-    clippy::unwrap_used,
-    clippy::missing_panics_doc,
-    reason = "tests fail loudly on the first unexpected None or Err"
-)]
+#[allow(clippy::unwrap_used, reason = "a test fails loudly")]
 pub mod tests {
     use super::*;
     use crate::tolerance::tests::check_slope_on_fine_render;

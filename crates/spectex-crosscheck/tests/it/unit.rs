@@ -1,26 +1,8 @@
-//! The crate's unit tests: their bodies are `pub mod tests` in the source modules (behind the
-//! `unit-tests` feature, so the crate is compiled once for both its tests and its dependents),
-//! run here one `#[test]` each. `every_unit_test_is_run` fails when a body has no `#[test]`
-//! here, or a `#[test]` here names no body.
+//! The crate's unit tests: their bodies are `pub mod tests` in the source modules, behind the
+//! `unit-tests` feature, run here (see `spectex_testkit::unit`).
 
-/// One module per source module, one `#[test]` per body, and the list of every name.
-macro_rules! unit_tests {
-    ($($module:ident: $($test:ident),+;)+) => {
-        $(
-            mod $module {
-                $(
-                    #[test]
-                    fn $test() {
-                        spectex_crosscheck::unit_tests::$module::$test();
-                    }
-                )+
-            }
-        )+
-        const RUN: &[&str] = &[$($(stringify!($test)),+),+];
-    };
-}
-
-unit_tests! {
+spectex_testkit::unit_tests! {
+    spectex_crosscheck;
     compare: planes_take_one_component_of_interleaved_values, identical_renders_measure_zero, one_outlier_sets_the_max_not_the_percentile, verdicts_follow_the_expected_failure_table;
     report: a_failure_writes_three_images_and_two_reports;
     tolerance_classic: classic_slope_bounds_hold_on_fine_renders, a_3d_noise_is_checked_off_its_lattice_planes, simplex_bounds_cover_a_scan_of_the_kernel, classic_bounds_follow_their_derivation;
@@ -36,37 +18,4 @@ unit_tests! {
     tolerance_voronoi: bounds_are_small_against_a_cell, the_verdict_excuses_only_ambiguous_pixels;
     tolerance_warp: warp_mean_counts_jumps_only_near_kernel_boundaries, warp_bound_grows_with_strength, a_warp_is_checked_on_its_base_plane, warp_of_a_model_without_regularity_has_no_tolerance;
     tolerance_wavelet: wavelet_slope_bounds_hold_on_fine_renders, wavelet_bound_follows_its_derivation;
-}
-
-/// Every `pub fn` of a `pub mod tests` under `src/` is run above, and nothing else is.
-#[test]
-fn every_unit_test_is_run() {
-    let mut bodies = Vec::new();
-    let mut stack = vec![std::path::PathBuf::from(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/src"
-    ))];
-    while let Some(dir) = stack.pop() {
-        for entry in std::fs::read_dir(&dir).unwrap() {
-            let path = entry.unwrap().path();
-            if path.is_dir() {
-                stack.push(path);
-            } else if path.extension().is_some_and(|e| e == "rs") {
-                let text = std::fs::read_to_string(&path).unwrap();
-                if let Some((_, tests)) = text.split_once("\npub mod tests {") {
-                    bodies.extend(tests.lines().filter_map(|l| {
-                        let name = l.strip_prefix("    pub fn ")?;
-                        Some(name[..name.find('(')?].to_owned())
-                    }));
-                }
-            }
-        }
-    }
-    bodies.sort();
-    let mut run: Vec<String> = RUN.iter().map(|s| (*s).to_owned()).collect();
-    run.sort();
-    assert_eq!(
-        bodies, run,
-        "unit-test bodies under src/ against the tests run here"
-    );
 }

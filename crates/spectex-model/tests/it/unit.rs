@@ -1,26 +1,8 @@
-//! The crate's unit tests: their bodies are `pub mod tests` in the source modules (behind the
-//! `unit-tests` feature, so the crate is compiled once for both its tests and its dependents),
-//! run here one `#[test]` each. `every_unit_test_is_run` fails when a body has no `#[test]`
-//! here, or a `#[test]` here names no body.
+//! The crate's unit tests: their bodies are `pub mod tests` in the source modules, behind the
+//! `unit-tests` feature, run here (see `spectex_testkit::unit`).
 
-/// One module per source module, one `#[test]` per body, and the list of every name.
-macro_rules! unit_tests {
-    ($($module:ident: $($test:ident),+;)+) => {
-        $(
-            mod $module {
-                $(
-                    #[test]
-                    fn $test() {
-                        spectex_model::unit_tests::$module::$test();
-                    }
-                )+
-            }
-        )+
-        const RUN: &[&str] = &[$($(stringify!($test)),+),+];
-    };
-}
-
-unit_tests! {
+spectex_testkit::unit_tests! {
+    spectex_model;
     classic: gradient_dot_is_perlins_grad, fade_and_lattice_values_hit_their_ends, poisson_cdf_matches_the_pmf_sum, validation_names_the_field, json_round_trip_and_unknown_fields, worley_needs_the_last_non_zero_coefficient;
     combine: operations_follow_their_definitions, lookup_and_ramp_interpolate_and_clamp, histogram_matching_maps_quantiles, validation_names_nested_fields;
     error: a_bound_is_met_by_the_f32_nearest_it;
@@ -58,37 +40,4 @@ unit_tests! {
     combine_builder: defaults_are_the_documented_constants, invalid_settings_name_the_field;
     islamic_builder: defaults_are_the_documented_constants, invalid_settings_name_the_field;
     lrp_builder: defaults_and_strata_in_order, invalid_settings_name_the_field;
-}
-
-/// Every `pub fn` of a `pub mod tests` under `src/` is run above, and nothing else is.
-#[test]
-fn every_unit_test_is_run() {
-    let mut bodies = Vec::new();
-    let mut stack = vec![std::path::PathBuf::from(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/src"
-    ))];
-    while let Some(dir) = stack.pop() {
-        for entry in std::fs::read_dir(&dir).unwrap() {
-            let path = entry.unwrap().path();
-            if path.is_dir() {
-                stack.push(path);
-            } else if path.extension().is_some_and(|e| e == "rs") {
-                let text = std::fs::read_to_string(&path).unwrap();
-                if let Some((_, tests)) = text.split_once("\npub mod tests {") {
-                    bodies.extend(tests.lines().filter_map(|l| {
-                        let name = l.strip_prefix("    pub fn ")?;
-                        Some(name[..name.find('(')?].to_owned())
-                    }));
-                }
-            }
-        }
-    }
-    bodies.sort();
-    let mut run: Vec<String> = RUN.iter().map(|s| (*s).to_owned()).collect();
-    run.sort();
-    assert_eq!(
-        bodies, run,
-        "unit-test bodies under src/ against the tests run here"
-    );
 }

@@ -104,3 +104,25 @@ fn a_saved_png_opens_with_its_pixels() {
     assert_eq!(back, ramp);
     assert_eq!(from_memory, ramp);
 }
+
+/// `unit_tests!`'s check finds the bodies of a planted tree, and fails on one left out or one
+/// named that has no body.
+#[test]
+fn the_unit_test_check_fails_on_a_body_not_run() {
+    use spectex_testkit::unit::assert_every_body_is_run;
+    let dir = std::env::temp_dir().join(format!("spectex-testkit-unit-{}", std::process::id()));
+    std::fs::create_dir_all(dir.join("inner")).unwrap();
+    std::fs::write(
+        dir.join("inner/a.rs"),
+        "fn x() {}\n\n#[cfg(feature = \"unit-tests\")]\npub mod tests {\n    use super::*;\n\n    \
+         pub fn first() {}\n\n    fn helper() {}\n\n    pub fn second() {\n        helper();\n    }\n}\n",
+    )
+    .unwrap();
+    std::fs::write(dir.join("b.rs"), "pub fn not_a_test() {}\n").unwrap();
+    assert_every_body_is_run(&dir, &["second", "first"]);
+    for run in [&["first"][..], &["first", "second", "third"]] {
+        let caught = std::panic::catch_unwind(|| assert_every_body_is_run(&dir, run));
+        assert!(caught.is_err(), "{run:?} passed");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
