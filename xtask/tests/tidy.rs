@@ -851,9 +851,9 @@ fn a_dev_only_crate_is_taken_only_as_a_dev_dependency_by_its_takers() {
         ),
     );
     tree.write(
-        "crates/spectex-model/Cargo.toml",
+        "crates/spectex-reproduce/Cargo.toml",
         &manifest(
-            "spectex-model",
+            "spectex-reproduce",
             "[dev-dependencies]\nspectex-testkit.workspace = true\n",
         ),
     );
@@ -863,6 +863,9 @@ fn a_dev_only_crate_is_taken_only_as_a_dev_dependency_by_its_takers() {
         &edges,
         &["spectex-gpu", "build-dependencies.kit", "dev-only"],
     );
-    assert_reported(&edges, &["spectex-model", "[dev-dependencies]", "dev-only"]);
+    assert_reported(
+        &edges,
+        &["spectex-reproduce", "[dev-dependencies]", "dev-only"],
+    );
     assert_eq!(edges.len(), 3, "{edges:#?}");
 }
