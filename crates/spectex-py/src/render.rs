@@ -61,7 +61,16 @@ pub(crate) fn render_window(
                 Err(_) => Err(mpsc::RecvTimeoutError::Disconnected),
             });
             match received {
-                Ok(result) => return result,
+                // A Ctrl-C that came while the last bands finished is still the caller's:
+                // the render is dropped and KeyboardInterrupt raised, as if it came earlier.
+                Ok(result) => {
+                    if interrupted.is_none()
+                        && let Err(e) = py.check_signals()
+                    {
+                        interrupted = Some(e);
+                    }
+                    return result;
+                }
                 Err(mpsc::RecvTimeoutError::Timeout) => {}
                 Err(mpsc::RecvTimeoutError::Disconnected) => {
                     return Err(pyo3::exceptions::PyRuntimeError::new_err(

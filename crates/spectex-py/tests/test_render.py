@@ -81,11 +81,13 @@ def test_render_returns_an_array_numpy_owns_without_a_copy():
 
 def test_ctrl_c_stops_a_long_render():
     model = spectex.noise.fbm(octaves=8, cell_size=256.0)
-    width, height = 4096, 4096
+    # Large enough that the whole render takes seconds on a loaded 2-core machine (4096² took
+    # 0.7 s idle, and once finished before a late Ctrl-C was seen).
+    width, height = 8192, 8192
     start = time.perf_counter()
     model.render(width, 16)  # one band of rows
     band = time.perf_counter() - start
-    # The whole render is height / 16 = 256 bands; Ctrl-C (simulated) comes after 0.2 s.
+    # The whole render is height / 16 = 512 bands; Ctrl-C (simulated) comes after 0.2 s.
     timer = threading.Timer(0.2, _thread.interrupt_main)
     start = time.perf_counter()
     timer.start()
@@ -93,7 +95,7 @@ def test_ctrl_c_stops_a_long_render():
         model.render(width, height)
     stopped = time.perf_counter() - start
     timer.join()
-    # Each thread ends the band it is in: a few bands' time, not the 256 of the whole render.
+    # Each thread ends the band it is in: a few bands' time, not the 512 of the whole render.
     assert stopped < 0.2 + 8 * band + 0.5, f"stopped after {stopped:.2f} s; one band takes {band:.3f} s"
 
 
