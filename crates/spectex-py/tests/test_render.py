@@ -1,6 +1,7 @@
 """Renders and samples from Python equal the Rust evaluator's, byte for byte."""
 
 import concurrent.futures
+import signal
 import threading
 import time
 import _thread
@@ -88,13 +89,20 @@ def test_ctrl_c_stops_a_long_render():
     model.render(width, 16)  # one band of rows
     band = time.perf_counter() - start
     # The whole render is height / 16 = 512 bands; Ctrl-C (simulated) comes after 0.2 s.
-    timer = threading.Timer(0.2, _thread.interrupt_main)
-    start = time.perf_counter()
-    timer.start()
-    with pytest.raises(KeyboardInterrupt):
-        model.render(width, height)
-    stopped = time.perf_counter() - start
-    timer.join()
+    # Python's own SIGINT handler for the test: a process started with SIGINT ignored (a job
+    # sent to the background by a non-interactive shell) inherits that, and interrupt_main then
+    # does nothing.
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        timer = threading.Timer(0.2, _thread.interrupt_main)
+        start = time.perf_counter()
+        timer.start()
+        with pytest.raises(KeyboardInterrupt):
+            model.render(width, height)
+        stopped = time.perf_counter() - start
+        timer.join()
+    finally:
+        signal.signal(signal.SIGINT, previous)
     # Each thread ends the band it is in: a few bands' time, not the 512 of the whole render.
     assert stopped < 0.2 + 8 * band + 0.5, f"stopped after {stopped:.2f} s; one band takes {band:.3f} s"
 
