@@ -20,7 +20,6 @@
 )]
 
 use std::collections::{BTreeMap, BTreeSet};
-use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::Instant;
@@ -726,21 +725,9 @@ fn run_in_process(command: &Rewritten) -> Result<(), String> {
 
 /// Runs `spectex view` (rewritten words) as a process, asks it for `/api/state` and stops it.
 fn serve(words: &[String]) -> Result<String, String> {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_spectex"))
-        .args(&words[1..])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let mut line = String::new();
-    BufReader::new(child.stdout.take().unwrap())
-        .read_line(&mut line)
-        .unwrap();
-    let addr = line
-        .split("http://")
-        .nth(1)
-        .and_then(|rest| rest.split('/').next())
-        .map(str::to_owned);
+    let mut command = Command::new(env!("CARGO_BIN_EXE_spectex"));
+    command.args(&words[1..]).stderr(Stdio::piped());
+    let (mut child, addr) = crate::view::spawn_view(command);
     let answer = addr
         .as_deref()
         .map(|a| crate::view::request(a, "GET", "/api/state", None));

@@ -24,6 +24,22 @@ struct Server {
     addr: String,
 }
 
+/// Spawns a `spectex view` command with its stdout piped and reads the `host:port` from the
+/// `http://…` of its first line (`None` when that line has none).
+pub(crate) fn spawn_view(mut command: Command) -> (Child, Option<String>) {
+    let mut child = command.stdout(Stdio::piped()).spawn().unwrap();
+    let mut line = String::new();
+    BufReader::new(child.stdout.take().unwrap())
+        .read_line(&mut line)
+        .unwrap();
+    let addr = line
+        .split("http://")
+        .nth(1)
+        .and_then(|rest| rest.split('/').next())
+        .map(str::to_owned);
+    (child, addr)
+}
+
 impl Server {
     /// Starts `spectex view ARGS --port 0 --workers 2` and reads the address it prints.
     fn start(args: &[&str]) -> Self {
@@ -32,24 +48,14 @@ impl Server {
 
     /// [`Server::start`] with `workers` render workers.
     fn with_workers(args: &[&str], workers: &str) -> Self {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_spectex"))
+        let mut command = Command::new(env!("CARGO_BIN_EXE_spectex"));
+        command
             .arg("view")
             .args(args)
             .args(["--port", "0", "--workers", workers])
-            .stdout(Stdio::piped())
-            .stderr(Stdio::inherit())
-            .spawn()
-            .unwrap();
-        let mut line = String::new();
-        BufReader::new(child.stdout.take().unwrap())
-            .read_line(&mut line)
-            .unwrap();
-        let addr = line
-            .split("http://")
-            .nth(1)
-            .and_then(|rest| rest.split('/').next())
-            .unwrap_or_else(|| panic!("no address in {line:?}"))
-            .to_owned();
+            .stderr(Stdio::inherit());
+        let (child, addr) = spawn_view(command);
+        let addr = addr.unwrap_or_else(|| panic!("spectex view printed no address"));
         Self { child, addr }
     }
 
