@@ -220,13 +220,16 @@ pub(crate) fn ci(ws: &Workspace) -> Result<()> {
         Ok(flags) if !flags.trim().is_empty() => format!("{flags} -D warnings"),
         _ => "-D warnings".to_owned(),
     };
-    let step = |title: &str, args: &[&str]| {
-        let mut command = ws.cargo(args);
-        lavapipe_env(&mut command, &icd);
-        summary.apply(&mut command);
+    let ci_env = |command: &mut Command| {
+        lavapipe_env(command, &icd);
+        summary.apply(command);
         command
             .env("RUSTC_WORKSPACE_WRAPPER", &driver)
             .env("RUSTFLAGS", &rustflags);
+    };
+    let step = |title: &str, args: &[&str]| {
+        let mut command = ws.cargo(args);
+        ci_env(&mut command);
         Step {
             title: title.to_owned(),
             command,
@@ -255,10 +258,21 @@ pub(crate) fn ci(ws: &Workspace) -> Result<()> {
         // and the integration tests; `--lib --bins` would also build a harness for the targets
         // that say `test = false` (spectex-cli's, whose unit tests are in its `it` binary).
         // `--bench '*'` is the [[bench]]es only (`--benches` adds the libraries again).
-        TestRunner::Cargo => steps.push(step(
-            "cargo test --tests --bench '*' (clippy -D warnings; GPU tests and cross-check on lavapipe)",
-            &["test", "--workspace", "--tests", "--bench", "*"],
-        )),
+        // `cargo xtask test`: the same build (`cargo test --tests --bench '*' --no-run`), then
+        // the binaries two at a time on the 2-core machine (see `runner`).
+        TestRunner::Cargo => {
+            let mut command = Command::new(
+                env::current_exe().context("finding the xtask executable to run `xtask test`")?,
+            );
+            command.arg("test").current_dir(&ws.root);
+            ci_env(&mut command);
+            steps.push(Step {
+                title: "cargo xtask test: cargo test --tests --bench '*', the binaries in \
+                        parallel (clippy -D warnings; GPU tests and cross-check on lavapipe)"
+                    .to_owned(),
+                command,
+            });
+        }
     }
     steps.push(step("cargo test --doc", &["test", "--workspace", "--doc"]));
     // The numbered examples, built in the test profile with the workspace's feature set (the
@@ -283,13 +297,7 @@ pub(crate) fn ci(ws: &Workspace) -> Result<()> {
             command,
         });
     }
-    steps.extend(crate::python::ci_steps(ws, &|command: &mut Command| {
-        lavapipe_env(command, &icd);
-        summary.apply(command);
-        command
-            .env("RUSTC_WORKSPACE_WRAPPER", &driver)
-            .env("RUSTFLAGS", &rustflags);
-    })?);
+    steps.extend(crate::python::ci_steps(ws, &ci_env)?);
     run_steps("ci", steps)?;
     crate::browser::view_check(ws)?;
     summary.report()
@@ -326,7 +334,7 @@ pub(crate) fn verify(ws: &Workspace) -> Result<()> {
                 command,
             }]
         }
-        TestRunner::Cargo => test_executables(ws, &gpu_env, VERIFIED_PACKAGES)?
+        TestRunner::Cargo => test_executables(ws, &gpu_env, &["--tests"], Some(VERIFIED_PACKAGES))?
             .into_iter()
             .map(|test| {
                 let mut command = Command::new(&test.executable);
@@ -347,27 +355,26 @@ pub(crate) fn verify(ws: &Workspace) -> Result<()> {
 }
 
 /// A test binary cargo built.
-struct TestExecutable {
-    executable: PathBuf,
-    package_dir: PathBuf,
+pub(crate) struct TestExecutable {
+    pub(crate) executable: PathBuf,
+    pub(crate) package_dir: PathBuf,
     /// The target's source file relative to the workspace root, to name it.
-    source: String,
+    pub(crate) source: String,
 }
 
-/// The test binaries of `packages` among those of `cargo test --workspace --tests`, building
-/// them first when they are not up to date (with `env`, the environment of the runs).
-fn test_executables(
+/// The test binaries of `packages` (every package: `None`) among those of
+/// `cargo test --workspace TARGETS`, building them first when they are not up to date (with
+/// `env`, the environment of the runs).
+pub(crate) fn test_executables(
     ws: &Workspace,
     env: &dyn Fn(&mut Command),
-    packages: &[&str],
+    targets: &[&str],
+    packages: Option<&[&str]>,
 ) -> Result<Vec<TestExecutable>> {
-    let mut build = ws.cargo(&[
-        "test",
-        "--workspace",
-        "--tests",
-        "--no-run",
-        "--message-format=json-render-diagnostics",
-    ]);
+    let mut build = ws.cargo(&["test", "--workspace"]);
+    build
+        .args(targets)
+        .args(["--no-run", "--message-format=json-render-diagnostics"]);
     env(&mut build);
     eprintln!("xtask: building the tests: {}", show(&build));
     let output = build
@@ -385,10 +392,11 @@ fn test_executables(
         let Some(package_dir) = artifact.manifest_path.parent() else {
             continue;
         };
-        if packages
-            .iter()
-            .any(|p| package_dir.ends_with(Path::new("crates").join(p)))
-        {
+        if packages.is_none_or(|packages| {
+            packages
+                .iter()
+                .any(|p| package_dir.ends_with(Path::new("crates").join(p)))
+        }) {
             let source = &artifact.target.src_path;
             found.push(TestExecutable {
                 executable,
@@ -405,7 +413,7 @@ fn test_executables(
         bail!(
             "`{}` built no test of {}",
             show(&build),
-            packages.join(" or ")
+            packages.map_or_else(|| "the workspace".to_owned(), |p| p.join(" or "))
         );
     }
     found.sort_by(|a, b| a.source.cmp(&b.source));

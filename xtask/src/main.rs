@@ -5,7 +5,7 @@
 //! command is a new function building its steps (and checking the tools it needs first).
 //!
 //! This file holds the dispatch, the help, the [`Workspace`] and the step runner; the commands
-//! are in `ci` (ci, verify, fmt), `bench` (with `fastnoise`, FastNoiseSIMD's harness), `gpu`, `fuzz`
+//! are in `ci` (ci, verify, fmt), `runner` (test), `bench` (with `fastnoise`, FastNoiseSIMD's harness), `gpu`, `fuzz`
 //! and `checks` (export-check, bevy-check, reproduce); `system` installs and finds lavapipe,
 //! `json` reads cargo's and criterion's JSON.
 
@@ -25,6 +25,7 @@ mod fuzz;
 mod gpu;
 mod json;
 mod python;
+mod runner;
 mod system;
 
 use bench::bench;
@@ -39,6 +40,12 @@ const COMMANDS: &[(&str, &str)] = &[
         "what CI runs: installs rustfmt, clippy and lavapipe if missing; fmt --check, clippy \
          -D warnings, every test once with the GPU on lavapipe, doc tests, one line per \
          cross-checked model (XTASK_TEST_RUNNER=nextest: tests by cargo-nextest)",
+    ),
+    (
+        "test",
+        "`cargo test --workspace --tests --bench '*'` with the test binaries run in parallel, \
+         as many at a time as there are cores (XTASK_TEST_JOBS), each one's output whole when \
+         it ends; `cargo xtask test -- ARGS` passes ARGS to every binary",
     ),
     (
         "fmt",
@@ -148,6 +155,7 @@ fn run() -> Result<()> {
             }
             ci::fmt(&Workspace::locate()?)
         }
+        Some("test") => runner::test(&Workspace::locate()?, &rest),
         Some("python") => python::python(&Workspace::locate()?, &rest),
         Some("bench") => bench(&Workspace::locate()?, rest),
         Some("fuzz") => fuzz(&Workspace::locate()?, &rest),

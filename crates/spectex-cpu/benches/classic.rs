@@ -36,7 +36,10 @@ use std::time::{Duration, Instant};
 /// A reference library's noise at a pixel position.
 type PixelNoise<'a> = &'a (dyn Fn(f64, f64) -> f32 + Sync);
 
-const SIDE: usize = 1024;
+/// The window side of the library comparison (benchmarking; 64 in a test pass).
+fn side() -> usize {
+    spectex_testkit::bench::side(1024)
+}
 const CELL: f64 = 32.0;
 
 fn ours(basis: Basis, octaves: Option<u32>) -> Evaluator {
@@ -62,7 +65,9 @@ fn classic(basis: Basis, octaves: Option<u32>, dimensions: u32) -> ClassicNoise 
 }
 
 /// Side of the `grid` group's window.
-const GRID: usize = 2048;
+fn grid() -> usize {
+    spectex_testkit::bench::side(2048)
+}
 /// The plane of the 3D slices, pixels.
 const GRID_Z: f64 = 7.0;
 
@@ -127,9 +132,9 @@ fn cpu_time<T>(pool: &rayon::ThreadPool, iters: u64, mut f: impl FnMut() -> T + 
 
 /// FastNoiseSIMD's grid (see the module doc): `grid/{case}_{3d,2d}[_reference]`, 1 thread.
 fn bench_grid(c: &mut Criterion) {
-    let window = Window::new(GRID, GRID);
+    let window = Window::new(grid(), grid());
     let mut group = c.benchmark_group("grid");
-    group.throughput(Throughput::Elements((GRID * GRID) as u64));
+    group.throughput(Throughput::Elements((grid() * grid()) as u64));
     group.sample_size(10);
     group.warm_up_time(Duration::from_millis(500));
     group.measurement_time(Duration::from_secs(2));
@@ -150,7 +155,7 @@ fn bench_grid(c: &mut Criterion) {
         ("cellular", cellular, None, false),
         ("fbm6", Basis::Gradient, Some(6), true),
     ];
-    let mut out = vec![0.0f32; GRID * GRID];
+    let mut out = vec![0.0f32; grid() * grid()];
     for dimensions in [3, 2] {
         for (case, basis, octaves, reference) in &cases {
             let noise = classic(basis.clone(), *octaves, dimensions);
@@ -193,7 +198,7 @@ fn bench_grid(c: &mut Criterion) {
 
 /// Fills a 1024² image row by row with `f(x, y)` in pixels, on the current rayon pool.
 fn fill(out: &mut [f32], f: &(dyn Fn(f64, f64) -> f32 + Sync)) {
-    out.par_chunks_mut(SIDE).enumerate().for_each(|(y, row)| {
+    out.par_chunks_mut(side()).enumerate().for_each(|(y, row)| {
         for (x, v) in row.iter_mut().enumerate() {
             *v = f(x as f64, y as f64);
         }
@@ -208,9 +213,9 @@ fn fastnoise(noise_type: NoiseType) -> FastNoiseLite {
 }
 
 fn bench(c: &mut Criterion) {
-    let window = Window::new(SIDE, SIDE);
+    let window = Window::new(side(), side());
     let mut group = c.benchmark_group("classic");
-    group.throughput(Throughput::Elements((SIDE * SIDE) as u64));
+    group.throughput(Throughput::Elements((side() * side()) as u64));
     group.sample_size(10);
     let single = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
@@ -270,7 +275,7 @@ fn bench(c: &mut Criterion) {
             fl_fbm.get_noise_2d(x as f32, y as f32)
         }),
     ];
-    let mut out = vec![0.0f32; SIDE * SIDE];
+    let mut out = vec![0.0f32; side() * side()];
     for (threads, pool) in &pools {
         for (case, eval) in &ours_cases {
             group.bench_function(BenchmarkId::new(format!("{case}/spectex"), threads), |b| {
@@ -289,7 +294,7 @@ fn bench(c: &mut Criterion) {
                 group.bench_function(BenchmarkId::new("cellular_f1/noise-rs", threads), |b| {
                     b.iter(|| {
                         pool.install(|| {
-                            out.par_chunks_mut(SIDE).enumerate().for_each_init(
+                            out.par_chunks_mut(side()).enumerate().for_each_init(
                                 || Worley::new(1),
                                 |worley, (y, row)| {
                                     for (x, v) in row.iter_mut().enumerate() {

@@ -21,15 +21,18 @@ fn model() -> Model {
     Model::Lrp(lrp_four_strata(50))
 }
 
-const SIDE: usize = 1024;
+/// The window side (benchmarking; 64 in a test pass).
+fn side() -> usize {
+    spectex_testkit::bench::side(1024)
+}
 
 fn bench(c: &mut Criterion) {
     let model = model();
     let cpu = Evaluator::new(&model).unwrap();
     let mut group = c.benchmark_group("lrp_j50_1024");
     group.sample_size(10);
-    group.throughput(Throughput::Elements((SIDE * SIDE) as u64));
-    let window = Window::new(SIDE, SIDE);
+    group.throughput(Throughput::Elements((side() * side()) as u64));
+    let window = Window::new(side(), side());
     group.bench_function("cpu_all_threads", |b| {
         b.iter(|| black_box(cpu.render(&window).unwrap()));
     });
@@ -52,7 +55,7 @@ fn bench(c: &mut Criterion) {
     match GpuContext::new() {
         Ok(context) => {
             let gpu = GpuEvaluator::new(&context, &model).unwrap();
-            let gwindow = GpuWindow::new(SIDE, SIDE);
+            let gwindow = GpuWindow::new(side(), side());
             group.bench_function("gpu", |b| {
                 b.iter(|| black_box(gpu.render(&gwindow).unwrap()));
             });
@@ -63,7 +66,7 @@ fn bench(c: &mut Criterion) {
             let gpu_s = time(&|| {
                 black_box(gpu.render(&gwindow).unwrap());
             });
-            let mpix = (SIDE * SIDE) as f64 / 1e6;
+            let mpix = (side() * side()) as f64 / 1e6;
             println!(
                 "lrp J=50 1024²: CPU {:.2} Mpix/s, {} {:.2} Mpix/s, GPU/CPU speed ratio {:.2}",
                 mpix / cpu_s,

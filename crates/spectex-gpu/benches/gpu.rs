@@ -25,7 +25,7 @@ fn bench(c: &mut Criterion) {
             return;
         }
     };
-    let side = 1024;
+    let side = spectex_testkit::bench::side(1024);
     let window = GpuWindow::new(side, side).at([1000.0, 2000.0], 1.0);
     let pixels = (side * side) as f64;
     let mut group = c.benchmark_group("gpu_lrp_eval");
@@ -49,7 +49,7 @@ fn bench(c: &mut Criterion) {
     group.finish();
 
     // Phasor noise (the CPU bench's models), 256²: host kernel tables and read-back included.
-    let side = 256;
+    let side = spectex_testkit::bench::side(256);
     let window = GpuWindow::new(side, side).at([1000.0, 2000.0], 1.0);
     let mut group = c.benchmark_group("gpu_phasor_eval");
     group.throughput(Throughput::Elements((side * side) as u64));
@@ -106,7 +106,7 @@ fn bench(c: &mut Criterion) {
 
     // Classic noises (the cross-check's cases), 256²: fBm of Perlin noise (5 octaves), 3D
     // simplex noise, and 3D Worley turbulence (3 octaves of 27 cells), read-back included.
-    let side = 256;
+    let side = spectex_testkit::bench::side(256);
     let window = GpuWindow::new(side, side).at([1000.0, 2000.0], 1.0);
     let mut group = c.benchmark_group("gpu_classic_eval");
     group.throughput(Throughput::Elements((side * side) as u64));

@@ -13,6 +13,7 @@
 //!   once.
 //! - **Image files** ([`image_files`]): `image`'s open, decode and save, compiled once here
 //!   instead of in every test binary that reads a PNG.
+//! - **Benches** ([`bench`]): window sizes that shrink when a bench runs once as a test.
 //! - **Invariance** ([`invariance`]): the checks every kind must pass — tiles, thread counts,
 //!   far offsets, reseeding — over every `testdata/models/*.json` by one
 //!   [`check`](invariance::check), on any evaluator implementing
@@ -40,6 +41,7 @@
 //! assert!(report.verdict("tiles") == Some(&spectex_testkit::invariance::Verdict::Pass));
 //! ```
 
+pub mod bench;
 pub mod cases;
 #[cfg(feature = "cpu")]
 pub mod cpu;
