@@ -386,8 +386,8 @@ pub(crate) fn test_executables(
     }
     let mut found = Vec::new();
     for artifact in compiler_artifacts(&String::from_utf8_lossy(&output.stdout)) {
-        let Some(executable) = artifact.executable else {
-            continue; // a library, or a test without an executable
+        let Some(executable) = artifact.executable.filter(|_| artifact.profile.test) else {
+            continue; // a library, or a program (the `spectex` binary the CLI tests run)
         };
         let Some(package_dir) = artifact.manifest_path.parent() else {
             continue;

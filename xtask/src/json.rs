@@ -10,8 +10,17 @@ pub(crate) struct Artifact {
     /// The package's `Cargo.toml`.
     pub manifest_path: PathBuf,
     pub target: ArtifactTarget,
-    /// The built test or bench binary; `None` for a library (`"executable":null`).
+    /// The built binary; `None` for a library (`"executable":null`).
     pub executable: Option<PathBuf>,
+    pub profile: ArtifactProfile,
+}
+
+/// How an [`Artifact`] was compiled (the fields xtask reads).
+#[derive(Debug, Deserialize)]
+pub(crate) struct ArtifactProfile {
+    /// A test harness (a test, or a bench built by `cargo test`), not a program such as the
+    /// `spectex` binary the CLI's tests run.
+    pub test: bool,
 }
 
 /// The target an [`Artifact`] was built for.
@@ -93,7 +102,7 @@ mod tests {
 
     #[test]
     fn artifacts_are_read_from_cargo_messages() {
-        let line = r#"{"reason":"compiler-artifact","manifest_path":"/w/a \"b\"\\c/Cargo.toml","target":{"name":"it","src_path":"/w/tests/it/main.rs"},"executable":null,"fresh":true,"x":"\u00e9\n"}"#;
+        let line = r#"{"reason":"compiler-artifact","manifest_path":"/w/a \"b\"\\c/Cargo.toml","target":{"name":"it","src_path":"/w/tests/it/main.rs"},"executable":null,"profile":{"opt_level":"2","test":true},"fresh":true,"x":"\u00e9\n"}"#;
         let with_executable = line.replace(r#""executable":null"#, r#""executable":"/w/t/it-1""#);
         let stdout = [
             line,
@@ -114,6 +123,7 @@ mod tests {
             Path::new("/w/tests/it/main.rs")
         );
         assert_eq!(artifacts[0].executable, None);
+        assert!(artifacts[0].profile.test);
         assert_eq!(
             artifacts[1].executable.as_deref(),
             Some(Path::new("/w/t/it-1"))
