@@ -8,7 +8,7 @@ use std::process::{Command, Stdio};
 use anyhow::{Context, Result, bail};
 
 use crate::json::compiler_artifacts;
-use crate::system::{ensure_lavapipe, lavapipe_env};
+use crate::system::{ensure_lavapipe, lavapipe_env, runtime_dir};
 use crate::{Step, Workspace, run_command, run_steps, runs, show, target_dir};
 
 /// Installs rustfmt and clippy with rustup when either is missing; fails, saying how to install
@@ -220,7 +220,13 @@ pub(crate) fn ci(ws: &Workspace) -> Result<()> {
         Ok(flags) if !flags.trim().is_empty() => format!("{flags} -D warnings"),
         _ => "-D warnings".to_owned(),
     };
+    // Every step's processes get the private runtime directory (`private_runtime_dir`):
+    // without it Mesa printed a line per adapter query, 140 lines of the test step's log.
+    let runtime = runtime_dir(ws)?;
     let ci_env = |command: &mut Command| {
+        if let Some(runtime) = &runtime {
+            command.env("XDG_RUNTIME_DIR", runtime);
+        }
         lavapipe_env(command, &icd);
         summary.apply(command);
         command

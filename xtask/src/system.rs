@@ -130,6 +130,15 @@ pub(crate) fn lavapipe_env(command: &mut Command, icd: &Path) {
 /// adapter query when the variable is unset (as in CI and containers); the GPU works either
 /// way. A private runtime directory under the target dir keeps the output to real errors.
 pub(crate) fn private_runtime_dir(ws: &Workspace, command: &mut Command) -> Result<()> {
+    if let Some(runtime) = runtime_dir(ws)? {
+        command.env("XDG_RUNTIME_DIR", runtime);
+    }
+    Ok(())
+}
+
+/// The private runtime directory of [`private_runtime_dir`], created; `None` where
+/// `XDG_RUNTIME_DIR` is set (or the platform has none).
+pub(crate) fn runtime_dir(ws: &Workspace) -> Result<Option<PathBuf>> {
     #[cfg(unix)]
     if env::var_os("XDG_RUNTIME_DIR").is_none() {
         use std::os::unix::fs::PermissionsExt;
@@ -137,7 +146,7 @@ pub(crate) fn private_runtime_dir(ws: &Workspace, command: &mut Command) -> Resu
         fs::create_dir_all(&runtime)
             .and_then(|()| fs::set_permissions(&runtime, fs::Permissions::from_mode(0o700)))
             .with_context(|| format!("creating {}", runtime.display()))?;
-        command.env("XDG_RUNTIME_DIR", &runtime);
+        return Ok(Some(runtime));
     }
-    Ok(())
+    Ok(None)
 }
