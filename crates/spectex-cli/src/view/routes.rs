@@ -472,6 +472,8 @@ struct Reply {
     body: Arc<Vec<u8>>,
     /// A download's file name.
     download: Option<String>,
+    /// A `Server-Timing` header's value: where a tile's time went.
+    timing: Option<String>,
 }
 
 impl Reply {
@@ -482,6 +484,7 @@ impl Reply {
             content_type,
             body: Arc::new(body.into()),
             download: None,
+            timing: None,
         }
     }
 
@@ -497,6 +500,7 @@ impl Reply {
             content_type: "text/plain; charset=utf-8",
             body: Arc::new(format!("{}\n", e.message).into_bytes()),
             download: None,
+            timing: None,
         }
     }
 }
@@ -534,9 +538,11 @@ impl AsRef<[u8]> for Body {
 /// Sends `reply` (a client gone by then is not an error of the server's).
 fn respond(request: tiny_http::Request, reply: Reply) {
     let len = reply.body.len();
+    let mut headers = headers(reply.content_type, reply.download.as_deref());
+    headers.extend(reply.timing.and_then(|t| header("Server-Timing", &t)));
     let response = tiny_http::Response::new(
         tiny_http::StatusCode(reply.status),
-        headers(reply.content_type, reply.download.as_deref()),
+        headers,
         std::io::Cursor::new(Body(reply.body)),
         Some(len),
         None,
@@ -767,6 +773,7 @@ fn route(
             content_type: "image/x-icon",
             body: Arc::new(Vec::new()),
             download: None,
+            timing: None,
         })),
         (Get, "/render") => render_request(query),
         (Get, "/api/sim/frame.png") => {
@@ -1046,6 +1053,7 @@ fn tile_request(shared: &Shared, path: &str, query: &str) -> Result<Routed, Http
             content_type: "image/png",
             body: Arc::clone(bytes),
             download: None,
+            timing: Some("cache;desc=hit".to_owned()),
         }));
     }
     let asked = Instant::now();
@@ -1145,12 +1153,18 @@ fn work(shared: &Shared, job: Job) {
                     "the tab no longer shows this tile; not rendered",
                 ));
             }
+            let mut timing = TileTiming::new(asked);
             let renderer = shared.renderer(version, z, period)?;
+            timing.lap("renderer");
+            let samples = renderer
+                .samples(&window, tiles::TILE_FORMAT)
+                .map_err(|e| HttpError::bad(format!("{e:#}")))?;
+            timing.lap("eval");
             let bytes = Arc::new(
-                renderer
-                    .png(&window)
+                tiles::encode(samples, tiles::TILE_FORMAT)
                     .map_err(|e| HttpError::bad(format!("{e:#}")))?,
             );
+            timing.lap("png");
             if let Ok(mut cache) = shared.cache.lock() {
                 cache.put(key, Arc::clone(&bytes));
             }
@@ -1159,6 +1173,7 @@ fn work(shared: &Shared, job: Job) {
                 content_type: "image/png",
                 body: bytes,
                 download: None,
+                timing: Some(timing.header()),
             }))
         }
         Work::Render {
@@ -1228,6 +1243,46 @@ fn work(shared: &Shared, job: Job) {
             request,
             Reply::error(&HttpError::status(500, "internal error while rendering")),
         ),
+    }
+}
+
+/// Where a tile's time went, as a `Server-Timing` header (the browser's resource timings show
+/// it, `curl -D -` too): waiting in the queue, then each step a worker took.
+struct TileTiming {
+    /// The end of the last step.
+    at: Instant,
+    /// `name;dur=MS` of each step.
+    steps: Vec<String>,
+}
+
+impl TileTiming {
+    /// Timing of a tile asked for at `asked`, starting now with its wait in the queue.
+    fn new(asked: Instant) -> Self {
+        let at = Instant::now();
+        let mut timing = Self {
+            at,
+            steps: Vec::new(),
+        };
+        timing.push("queue", at - asked);
+        timing
+    }
+
+    /// Ends the step `name`.
+    fn lap(&mut self, name: &str) {
+        let now = Instant::now();
+        self.push(name, now - self.at);
+        self.at = now;
+    }
+
+    /// Notes `name` took `time`.
+    fn push(&mut self, name: &str, time: Duration) {
+        self.steps
+            .push(format!("{name};dur={:.1}", time.as_secs_f64() * 1e3));
+    }
+
+    /// The header's value.
+    fn header(self) -> String {
+        self.steps.join(", ")
     }
 }
 

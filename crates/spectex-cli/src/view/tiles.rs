@@ -15,6 +15,9 @@ use crate::io::{self, BitDepth, Format, Samples};
 /// Largest side of a displayed spectrum.
 pub(crate) const MAX_SPECTRUM: usize = 1024;
 
+/// What tiles are: 8-bit PNGs, as `spectex render -o out.png` writes.
+pub(crate) const TILE_FORMAT: Format = Format::Png(BitDepth::Eight);
+
 /// Rows evaluated at a time: the evaluator's band (as `device::render`).
 const BAND_ROWS: usize = 16;
 
@@ -70,10 +73,7 @@ impl Renderer {
 
     /// `window` as the PNG (8 bits per channel) `spectex render -o out.png` writes of it.
     pub(crate) fn png(&self, window: &Window) -> Result<Vec<u8>> {
-        encode(
-            self.samples(window, Format::Png(BitDepth::Eight))?,
-            Format::Png(BitDepth::Eight),
-        )
+        encode(self.samples(window, TILE_FORMAT)?, TILE_FORMAT)
     }
 
     /// `window` as the OpenEXR (32-bit float RGB) `spectex render -o out.exr` writes of it.
@@ -114,7 +114,7 @@ impl Renderer {
 }
 
 /// The file bytes of `samples` in `format`, by the encoder `spectex render` writes files with.
-fn encode(samples: Samples, format: Format) -> Result<Vec<u8>> {
+pub(crate) fn encode(samples: Samples, format: Format) -> Result<Vec<u8>> {
     let mut out = std::io::Cursor::new(Vec::new());
     io::encode_samples(&mut out, samples, format)?;
     Ok(out.into_inner())

@@ -11,6 +11,7 @@
   let map = null, fine = null, coarse = null, seams = null;
   // What the browser test reads: the last redraw's times and the number of tiles loaded.
   window.spectex = { redraws: [], tilesLoaded: 0, ready: false, view: () => viewWindow() };
+  performance.setResourceTimingBufferSize(2000);
 
   async function api(path, body) {
     const init = body === undefined ? {} : {
@@ -96,18 +97,33 @@
     for (let y = Math.ceil(y0 / ph) * ph; y <= y1; y += ph) L.polyline([[-y, x0], [-y, x1]], style).addTo(seams);
   }
 
+  // Where a redraw's tile time went, from the resource timings and the server's
+  // `Server-Timing` header: tiles loaded per layer and the server's milliseconds per step,
+  // summed over the tiles (queue, eval, png...).
+  function tileTimings() {
+    const out = { coarse: 0, fine: 0, server: {} };
+    for (const e of performance.getEntriesByType('resource')) {
+      if (!e.name.includes('/tile/')) continue;
+      out[e.name.includes('q=c') ? 'coarse' : 'fine'] += 1;
+      for (const t of e.serverTiming || []) out.server[t.name] = Math.round((out.server[t.name] || 0) + t.duration);
+    }
+    return out;
+  }
+
   // Coarse tiles (a quarter of the resolution, 1/16 of the work) first, then the fine ones.
   function redraw() {
     const t0 = performance.now();
-    const record = { coarse: null, fine: null };
+    const record = { coarse: null, fine: null, tiles: null };
     window.spectex.redraws.push(record);
     $('timing').textContent = 'drawing…';
+    performance.clearResourceTimings();
     let fineStarted = false;
     const startFine = () => {
       if (fineStarted) return;
       fineStarted = true;
       fine.once('load', () => {
         record.fine = performance.now() - t0;
+        record.tiles = tileTimings();
         $('timing').textContent = `redrawn in ${Math.round(record.fine)} ms (coarse ${Math.round(record.coarse ?? 0)} ms)`;
       });
       fine.redraw();
