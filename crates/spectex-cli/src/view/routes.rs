@@ -1147,18 +1147,36 @@ fn work(shared: &Shared, job: Job) {
                 window.x(window.width),
                 window.y(window.height),
             ];
+            let gone = || HttpError::status(410, "the tab no longer shows this tile; not rendered");
             if !shared.wanted(session.as_deref(), zoom, rect, asked) {
-                return Err(HttpError::status(
-                    410,
-                    "the tab no longer shows this tile; not rendered",
-                ));
+                return Err(gone());
             }
             let mut timing = TileTiming::new(asked);
             let renderer = shared.renderer(version, z, period)?;
             timing.lap("renderer");
-            let samples = renderer
-                .samples(&window, tiles::TILE_FORMAT)
-                .map_err(|e| HttpError::bad(format!("{e:#}")))?;
+            // A tile for a model version or a region no longer shown stops between bands: a
+            // new seed or a slider's next step does not wait for the last one's tiles.
+            let unwanted = || {
+                shared.current.lock().map_or(true, |c| c.version != version)
+                    || !shared.wanted(session.as_deref(), zoom, rect, asked)
+            };
+            let Some(samples) = renderer
+                .samples_unless(&window, tiles::TILE_FORMAT, &unwanted)
+                .map_err(|e| HttpError::bad(format!("{e:#}")))?
+            else {
+                let current = lock(&shared.current)?.version;
+                return Err(if current == version {
+                    gone()
+                } else {
+                    HttpError::status(
+                        409,
+                        format!(
+                            "the model changed while this tile rendered (stopped); ask again \
+                             with v={current}"
+                        ),
+                    )
+                });
+            };
             timing.lap("eval");
             let bytes = Arc::new(
                 tiles::encode(samples, tiles::TILE_FORMAT)

@@ -3,6 +3,7 @@
 //! the display of a power spectrum.
 
 use std::io::Write;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{Receiver, SyncSender};
 
 use anyhow::{Result, anyhow};
@@ -55,20 +56,40 @@ impl Renderer {
     /// `window` as the samples of `format` (PNG levels or EXR values), as `spectex render` stores
     /// them.
     pub(crate) fn samples(&self, window: &Window, format: Format) -> Result<Samples> {
+        self.samples_unless(window, format, &|| false)?
+            .ok_or_else(|| anyhow!("internal: a render stopped unasked"))
+    }
+
+    /// [`samples`](Self::samples), or `None` once `stop()` says the render is no longer wanted
+    /// (asked before each band, so a stale tile costs at most the bands already started).
+    pub(crate) fn samples_unless(
+        &self,
+        window: &Window,
+        format: Format,
+        stop: &(dyn Fn() -> bool + Sync),
+    ) -> Result<Option<Samples>> {
         self.cpu.check_window(window).map_err(|e| anyhow!("{e}"))?;
         let mut samples = Samples::new(format, window.width, window.height, self.channels())?;
         if self.gpu.is_some() {
+            if stop() {
+                return Ok(None);
+            }
             let mut values = vec![0.0f32; samples.row_len() * window.height];
             self.values_into(window, 0, &mut values)?;
             samples.fill(window.height.max(1), |_, band| band.store(&values));
-            return Ok(samples);
+            return Ok(Some(samples));
         }
+        let stopped = AtomicBool::new(false);
         samples.fill(BAND_ROWS, |first, band| {
+            if stopped.load(Ordering::Relaxed) || stop() {
+                stopped.store(true, Ordering::Relaxed);
+                return 0;
+            }
             let mut values = vec![0.0f32; band.len()];
             self.cpu.eval_rows(window, first, &mut values);
             band.store(&values)
         });
-        Ok(samples)
+        Ok((!stopped.into_inner()).then_some(samples))
     }
 
     /// `window` as the PNG (8 bits per channel) `spectex render -o out.png` writes of it.

@@ -48,11 +48,17 @@ impl Server {
 
     /// [`Server::start`] with `workers` render workers.
     fn with_workers(args: &[&str], workers: &str) -> Self {
+        Self::with_env(args, workers, &[])
+    }
+
+    /// [`Server::with_workers`] with the environment variables `env`.
+    fn with_env(args: &[&str], workers: &str, env: &[(&str, &str)]) -> Self {
         let mut command = Command::new(env!("CARGO_BIN_EXE_spectex"));
         command
             .arg("view")
             .args(args)
             .args(["--port", "0", "--workers", workers])
+            .envs(env.iter().copied())
             .stderr(Stdio::inherit());
         let (child, addr) = spawn_view(command);
         let addr = addr.unwrap_or_else(|| panic!("spectex view printed no address"));
@@ -659,6 +665,34 @@ fn tiles_a_tab_no_longer_shows_are_not_rendered() {
     );
     assert_eq!(closed.join().unwrap(), 410, "a tile of a closed tab");
     assert_eq!(inside.join().unwrap(), 200, "a tile in view");
+}
+
+#[test]
+fn a_tile_stops_rendering_when_the_model_changes() {
+    // One worker and one rayon thread: the tile's bands are rendered one after another, and a
+    // zoomed-out LRP tile takes far longer (0.7 s in the test profile here) than the 50 ms
+    // before the model changes.
+    let server = Server::with_env(
+        &[&model("lrp-gravel.json")],
+        "1",
+        &[("RAYON_NUM_THREADS", "1")],
+    );
+    let addr = server.addr.clone();
+    let asked = Instant::now();
+    let tile = std::thread::spawn(move || request(&addr, "GET", "/tile/-4/0/0.png?v=1", None));
+    std::thread::sleep(Duration::from_millis(50));
+    assert_eq!(server.request("POST", "/api/seed", Some("{}")).0, 200);
+    let (status, body) = tile.join().unwrap();
+    let text = String::from_utf8_lossy(&body);
+    assert_eq!(status, 409, "{text}");
+    assert!(
+        text.contains("changed while this tile rendered") && text.contains("v=2"),
+        "{text}"
+    );
+    eprintln!(
+        "stale tile: answered 409 {:.0} ms after it was asked for",
+        asked.elapsed().as_secs_f64() * 1e3
+    );
 }
 
 #[test]
