@@ -5,6 +5,8 @@
 //! simple coordinate system: map point `(x, y)` at zoom 0 is model pixel `(x, y)`, and tile
 //! `(tx, ty)` at zoom `k` is the 256 × 256 window at offset `256 · 2^-k · (tx, ty)`, scale
 //! `2^-k`: the bytes `spectex render --size 256x256 --offset X,Y --scale S -o tile.png` writes.
+//! A coarse tile (`size=64`) is the 64 × 64 window at offset `64 · 2^-k · (tx, ty)`: the region
+//! of the fine tile `(tx, ty)` of zoom `k + 2`, at a quarter of its resolution.
 //!
 //! Requests are handled by one dispatcher thread that answers the cheap ones itself and queues
 //! renders for a fixed pool of workers ([`queue`]): the queue is bounded (a burst beyond it gets

@@ -23,6 +23,9 @@ use crate::render::filter_flag;
 
 /// Side of a tile, pixels.
 pub(crate) const TILE: usize = 256;
+/// The sides a tile may ask for (`size`): [`TILE`], and the page's coarse tiles, a quarter of
+/// it, each covering exactly the region of one full-resolution tile.
+const TILE_SIZES: [&str; 2] = ["64", "256"];
 /// Zoom levels: scale `2^-zoom` model pixels per screen pixel, from `2^19` (under the render's
 /// 1e6 cap) down to `2^-24`.
 const MIN_ZOOM: i64 = -19;
@@ -996,9 +999,9 @@ fn plane_and_period(q: &Query) -> Result<(f64, Option<Period>, bool), HttpError>
     Ok((z, period, filter))
 }
 
-/// `GET /tile/{zoom}/{tx}/{ty}.png?v&filter&z&periodic&s&q`.
+/// `GET /tile/{zoom}/{tx}/{ty}.png?v&filter&z&periodic&s&q&size`.
 fn tile_request(shared: &Shared, path: &str, query: &str) -> Result<Routed, HttpError> {
-    let q = Query::parse(query, &["v", "filter", "z", "periodic", "s", "q"])?;
+    let q = Query::parse(query, &["v", "filter", "z", "periodic", "s", "q", "size"])?;
     let parts: Vec<&str> = path["/tile/".len()..].split('/').collect();
     let [zoom, tx, ty] = parts.as_slice() else {
         return Err(HttpError::bad("a tile is /tile/ZOOM/X/Y.png"));
@@ -1023,8 +1026,12 @@ fn tile_request(shared: &Shared, path: &str, query: &str) -> Result<Routed, Http
     };
     let zoom = int("zoom", zoom, MIN_ZOOM, MAX_ZOOM)?;
     let scale = (-zoom as f64).exp2();
+    let size: usize = q
+        .choice("size", "256", &TILE_SIZES)?
+        .parse()
+        .map_err(|_| HttpError::status(500, "internal: a tile size is not a number"))?;
     // Tiles whose corner stays within ±2^30 model pixels.
-    let max_tile = (MAX_POSITION / (TILE as f64 * scale)).floor() as i64 - 1;
+    let max_tile = (MAX_POSITION / (size as f64 * scale)).floor() as i64 - 1;
     let tx = int("x", tx, -max_tile, max_tile)?;
     let ty = int("y", ty, -max_tile, max_tile)?;
     let version = q.int_in("v", None, 0, i64::MAX)? as u64;
@@ -1035,12 +1042,12 @@ fn tile_request(shared: &Shared, path: &str, query: &str) -> Result<Routed, Http
     if version != current {
         return Err(stale(current));
     }
-    let side = TILE as f64 * scale;
-    let window = Window::new(TILE, TILE)
+    let side = size as f64 * scale;
+    let window = Window::new(size, size)
         .at([tx as f64 * side, ty as f64 * side], scale)
         .filtered(filter_flag(!filter));
     let key = format!(
-        "{version}/{zoom}/{tx}/{ty}/{filter}/{}/{:?}",
+        "{version}/{zoom}/{size}/{tx}/{ty}/{filter}/{}/{:?}",
         z.to_bits(),
         period.map(|p| p.to_array())
     );

@@ -198,6 +198,12 @@ fn tiles_and_renders_are_the_bytes_of_spectex_render() {
             &["--size", "64x48", "--offset", "1e7,1e7"],
             "png",
         ),
+        // A coarse tile: the quarter-resolution twin of the tile (0, 3, -1), 64² at scale 4.
+        (
+            "/tile/-2/3/-1.png?v=1&q=c&size=64",
+            &["--size", "64x64", "--offset", "768,-256", "--scale", "4"],
+            "png",
+        ),
         // Zoomed out 16×, filtered (the default) and not.
         (
             "/tile/-4/-1/2.png?v=1",
@@ -394,6 +400,13 @@ fn bad_parameters_are_400_naming_the_field() {
             None,
             400,
             "filter = '2'",
+        ),
+        (
+            "GET",
+            "/tile/0/0/0.png?v=1&size=100",
+            None,
+            400,
+            "size = '100' is not one of 64, 256",
         ),
         (
             "GET",

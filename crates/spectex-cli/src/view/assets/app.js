@@ -23,8 +23,9 @@
     return text ? JSON.parse(text) : null;
   }
 
-  function tileQuery(q) {
+  function tileQuery(q, size) {
     const p = new URLSearchParams({ v: version, filter: opts.filter ? 1 : 0, z: opts.z, s: session, q });
+    if (size) p.set('size', size);
     if (opts.periodic) p.set('periodic', opts.periodic);
     return p.toString();
   }
@@ -40,7 +41,7 @@
 
   const Layer = L.TileLayer.extend({
     getTileUrl(c) {
-      return `/tile/${this._getZoomForUrl()}/${c.x}/${c.y}.png?${tileQuery(this.options.q)}`;
+      return `/tile/${this._getZoomForUrl()}/${c.x}/${c.y}.png?${tileQuery(this.options.q, this.options.size)}`;
     },
   });
 
@@ -425,7 +426,9 @@
     });
     const size = map.getSize();
     map.setView([-size.y / 2, size.x / 2], 0, { animate: false });
-    coarse = new Layer('', { tileSize: 1024, zoomOffset: -2, q: 'c', minZoom: minZoom + 2, maxZoom, keepBuffer: 0 });
+    // A coarse tile is the quarter-resolution twin of a fine one (the same region, 1/16 of the
+    // pixels), so the coarse layer covers the view no further than the fine one does.
+    coarse = new Layer('', { tileSize: state.tile, size: state.tile / 4, zoomOffset: -2, q: 'c', minZoom: minZoom + 2, maxZoom, keepBuffer: 0 });
     fine = new Layer('', { tileSize: state.tile, q: 'f', minZoom, maxZoom, keepBuffer: 1 });
     fine.on('tileload', () => { window.spectex.tilesLoaded += 1; });
     fine.on('loading', () => { window.spectex.loading = true; });
