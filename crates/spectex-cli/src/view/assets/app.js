@@ -112,27 +112,34 @@
   }
 
   // Coarse tiles (a quarter of the resolution, 1/16 of the work) first, then the fine ones.
+  // The fine ones are asked for once the coarse ones are in: the browser sends at most six
+  // requests at a time, in an order of its own, so asking for both at once lets fine tiles
+  // overtake the preview. Until then the last fine tiles stay in place.
+  let onCoarse = null, onFine = null;
   function redraw() {
     const t0 = performance.now();
     const record = { coarse: null, fine: null, tiles: null };
     window.spectex.redraws.push(record);
     $('timing').textContent = 'drawing…';
     performance.clearResourceTimings();
-    let fineStarted = false;
+    // A redraw replaces the one in progress, whose handlers must not fire for this one's tiles.
+    if (onCoarse) coarse.off('load', onCoarse);
+    if (onFine) fine.off('load', onFine);
+    onCoarse = onFine = null;
     const startFine = () => {
-      if (fineStarted) return;
-      fineStarted = true;
-      fine.once('load', () => {
+      onFine = () => {
+        onFine = null;
         record.fine = performance.now() - t0;
         record.tiles = tileTimings();
         $('timing').textContent = `redrawn in ${Math.round(record.fine)} ms (coarse ${Math.round(record.coarse ?? 0)} ms)`;
-      });
+      };
+      fine.once('load', onFine);
       fine.redraw();
     };
     if (map.hasLayer(coarse)) {
-      coarse.once('load', () => { record.coarse = performance.now() - t0; startFine(); });
+      onCoarse = () => { onCoarse = null; record.coarse = performance.now() - t0; startFine(); };
+      coarse.once('load', onCoarse);
       coarse.redraw();
-      setTimeout(startFine, 1500);
     } else {
       startFine();
     }
