@@ -134,6 +134,7 @@
         $('timing').textContent = `redrawn in ${Math.round(record.fine)} ms (coarse ${Math.round(record.coarse ?? 0)} ms)`;
       };
       fine.once('load', onFine);
+      holding = true;
       fine.redraw();
     };
     if (map.hasLayer(coarse)) {
@@ -145,6 +146,51 @@
     }
     showWhere();
     drawSeams();
+  }
+
+  // Each frame the browser draws while tiles arrive composes the whole view, on the CPU where
+  // there is no GPU: headless Chromium spent as much CPU on a redraw's two dozen frames as the
+  // server spent rendering it. So during a redraw the new fine tiles are shown in batches, at
+  // most one per BATCH_MS and the last ones at once; and a coarse tile whose fine twin (same
+  // coordinates) is shown is hidden rather than drawn beneath it. Pans and zooms show tiles as
+  // Leaflet does.
+  const BATCH_MS = 100;
+  let holding = false;
+  function showInBatches() {
+    const key = (c) => `${c.x}:${c.y}:${c.z}`;
+    const held = new Map(), shown = new Set(), coarseTiles = new Map();
+    let timer = null;
+    const show = (k, el) => {
+      el.classList.remove('held');
+      shown.add(k);
+      coarseTiles.get(k)?.classList.add('covered');
+    };
+    const showHeld = () => {
+      clearTimeout(timer);
+      timer = null;
+      for (const [k, el] of held) show(k, el);
+      held.clear();
+    };
+    fine.on('tileload', (e) => {
+      const k = key(e.coords);
+      if (!holding) { show(k, e.tile); return; }
+      e.tile.classList.add('held');
+      held.set(k, e.tile);
+      if (!timer) timer = setTimeout(showHeld, BATCH_MS);
+    });
+    fine.on('load', () => { holding = false; showHeld(); });
+    fine.on('tileunload', (e) => {
+      const k = key(e.coords);
+      held.delete(k);
+      shown.delete(k);
+      coarseTiles.get(k)?.classList.remove('covered');
+    });
+    coarse.on('tileload', (e) => {
+      const k = key(e.coords);
+      coarseTiles.set(k, e.tile);
+      e.tile.classList.toggle('covered', shown.has(k));
+    });
+    coarse.on('tileunload', (e) => { coarseTiles.delete(key(e.coords)); });
   }
 
   function setStatus(text) { $('status').textContent = text; }
@@ -437,6 +483,7 @@
     // pixels), so the coarse layer covers the view no further than the fine one does.
     coarse = new Layer('', { tileSize: state.tile, size: state.tile / 4, zoomOffset: -2, q: 'c', minZoom: minZoom + 2, maxZoom, keepBuffer: 0 });
     fine = new Layer('', { tileSize: state.tile, q: 'f', minZoom, maxZoom, keepBuffer: 1 });
+    showInBatches();
     fine.on('tileload', () => { window.spectex.tilesLoaded += 1; });
     fine.on('loading', () => { window.spectex.loading = true; });
     fine.on('load', () => { window.spectex.loading = false; });
