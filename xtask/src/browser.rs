@@ -1,7 +1,8 @@
 //! The real-browser test of `spectex view` (part of `cargo xtask ci`): headless Chromium
 //! (Debian's `chromium`, installed with apt-get when missing and root) driven by playwright-core
 //! from npm (`browser_view.cjs`) against the `spectex` binary the test step built. Where
-//! Chromium, Node or the npm package cannot be had, it says so loudly and skips.
+//! Chromium, Node or the npm package cannot be had, it says so loudly and skips. The same
+//! script measures redraws for `cargo xtask view-bench` ([`view_bench`]).
 //!
 //! `SPECTEX_VIEW_SHOTS=DIR` also writes the README's two screenshots into DIR (`view-model.png` of
 //! `testdata/models/combine-bark.json`, `view-image.png` of
@@ -58,7 +59,7 @@ struct Server {
 }
 
 impl Server {
-    /// Starts `spectex view ARGS` on a free port and reads its address.
+    /// Starts `spectex view ARGS` (2 workers) on a free port and reads its address.
     fn start(spectex: &Path, args: &[&Path]) -> Result<Self> {
         let mut child = Command::new(spectex)
             .arg("view")
@@ -89,8 +90,21 @@ impl Drop for Server {
     }
 }
 
-/// The browser test; `Ok` also when it skips (saying why).
-pub(crate) fn view_check(ws: &Workspace) -> Result<()> {
+/// What driving a browser needs: Chromium, and the driver's npm package in `dir`.
+struct Tools {
+    /// The browser.
+    chromium: PathBuf,
+    /// The playwright-core package's directory.
+    package: PathBuf,
+    /// The scratch directory the package is installed in.
+    dir: PathBuf,
+    /// Seconds spent finding or installing Chromium, then npm.
+    setup: (f64, f64),
+}
+
+/// Finds Chromium (installing Debian's package when missing and root), Node and npm, and
+/// installs the driver; `Ok(Err(why))` when one of them cannot be had.
+fn tools(ws: &Workspace) -> Result<Result<Tools, String>> {
     let started = Instant::now();
     let chromium = match find_chromium() {
         Some(path) => path,
@@ -98,14 +112,14 @@ pub(crate) fn view_check(ws: &Workspace) -> Result<()> {
             if let Err(e) =
                 apt_install(&["chromium"], "Chromium (the browser test of spectex view)")
             {
-                skip(&format!("{e:#}"));
-                return Ok(());
+                return Ok(Err(format!("{e:#}")));
             }
             match find_chromium() {
                 Some(path) => path,
                 None => {
-                    skip("apt-get installed chromium, but /usr/bin/chromium is missing");
-                    return Ok(());
+                    return Ok(Err(
+                        "apt-get installed chromium, but /usr/bin/chromium is missing".into(),
+                    ));
                 }
             }
         }
@@ -113,10 +127,9 @@ pub(crate) fn view_check(ws: &Workspace) -> Result<()> {
     let installed = started.elapsed().as_secs_f64();
     for tool in ["node", "npm"] {
         if !runs(Command::new(tool).arg("--version")) {
-            skip(&format!(
+            return Ok(Err(format!(
                 "`{tool}` is not installed (apt-get install nodejs npm)"
-            ));
-            return Ok(());
+            )));
         }
     }
     let dir = target_dir(ws).join("browser-test");
@@ -138,11 +151,33 @@ pub(crate) fn view_check(ws: &Workspace) -> Result<()> {
                 .arg(PLAYWRIGHT),
         );
         if let Err(e) = npm {
-            skip(&format!("cannot install {PLAYWRIGHT} from npm: {e:#}"));
-            return Ok(());
+            return Ok(Err(format!("cannot install {PLAYWRIGHT} from npm: {e:#}")));
         }
     }
-    let npm_done = started.elapsed().as_secs_f64();
+    Ok(Ok(Tools {
+        chromium,
+        package,
+        dir,
+        setup: (installed, started.elapsed().as_secs_f64() - installed),
+    }))
+}
+
+/// The browser test; `Ok` also when it skips (saying why).
+pub(crate) fn view_check(ws: &Workspace) -> Result<()> {
+    let started = Instant::now();
+    let Tools {
+        chromium,
+        package,
+        dir,
+        setup: (installed, npm),
+    } = match tools(ws)? {
+        Ok(tools) => tools,
+        Err(why) => {
+            skip(&why);
+            return Ok(());
+        }
+    };
+    let npm_done = installed + npm;
     let spectex = target_dir(ws)
         .join("debug")
         .join(format!("spectex{}", env::consts::EXE_SUFFIX));
@@ -208,4 +243,74 @@ pub(crate) fn view_check(ws: &Workspace) -> Result<()> {
         started.elapsed().as_secs_f64() - npm_done
     );
     Ok(())
+}
+
+/// The help line of `cargo xtask view-bench`.
+pub(crate) const VIEW_BENCH_USAGE: &str = "`cargo xtask view-bench [MODEL.json] [--redraws N] \
+     [--pan X,Y] [--zoom K]`";
+
+/// `cargo xtask view-bench`: the release `spectex view` of MODEL (default
+/// `testdata/models/lrp-gravel.json`) with 2 workers in headless Chromium, a 1024 × 1024 map,
+/// redrawn N times (default 8) after "new seed": each redraw's coarse and full times, the
+/// server's per-step times summed over its tiles, the CPU the browser and the server used, then
+/// best and median. A measurement, not a test: nothing is asserted.
+pub(crate) fn view_bench(ws: &Workspace, args: &[std::ffi::OsString]) -> Result<()> {
+    let mut model = ws.root.join("testdata/models/lrp-gravel.json");
+    let (mut redraws, mut pan, mut zoom) = ("8".to_owned(), None, None);
+    let mut args = args.iter().map(|a| a.to_string_lossy().into_owned());
+    while let Some(arg) = args.next() {
+        let mut value = |name: &str| {
+            args.next()
+                .with_context(|| format!("{name} needs a value; {VIEW_BENCH_USAGE}"))
+        };
+        match arg.as_str() {
+            "--redraws" => redraws = value("--redraws")?,
+            "--pan" => pan = Some(value("--pan")?),
+            "--zoom" => zoom = Some(value("--zoom")?),
+            other if other.starts_with("--") => bail!("unknown option {other}; {VIEW_BENCH_USAGE}"),
+            other => model = env::current_dir()?.join(other),
+        }
+    }
+    if !redraws.parse::<u32>().is_ok_and(|n| n > 0) {
+        bail!("--redraws {redraws}: a whole number above 0");
+    }
+    let tools = tools(ws)?.map_err(|why| anyhow::anyhow!("cannot drive a browser: {why}"))?;
+    run_command(&mut ws.cargo(&["build", "--release", "-p", "spectex-cli"]))?;
+    let spectex = target_dir(ws)
+        .join("release")
+        .join(format!("spectex{}", env::consts::EXE_SUFFIX));
+    let server = Server::start(&spectex, &[&model])?;
+    let script = tools.dir.join("browser_view.cjs");
+    fs::write(&script, SCRIPT)?;
+    eprintln!(
+        "xtask: view-bench of {} (load average: {})",
+        model.display(),
+        load_average()
+    );
+    let mut node = Command::new("node");
+    node.arg(&script)
+        .env("BENCH", "1")
+        .env("PLAYWRIGHT_CORE", &tools.package)
+        .env("CHROMIUM", &tools.chromium)
+        .env("VIEW_URL", &server.url)
+        .env("SERVER_PID", server.child.id().to_string())
+        .env("REDRAWS", &redraws)
+        .env("MAP_W", "1024")
+        .env("MAP_H", "1024");
+    if let Some(pan) = &pan {
+        node.env("PAN", pan);
+    }
+    if let Some(zoom) = &zoom {
+        node.env("ZOOM", zoom);
+    }
+    run_command(&mut node)?;
+    eprintln!("xtask: load average after: {}", load_average());
+    Ok(())
+}
+
+/// `/proc/loadavg`'s three averages, or "unknown".
+fn load_average() -> String {
+    fs::read_to_string("/proc/loadavg")
+        .map(|l| l.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
+        .unwrap_or_else(|_| "unknown".to_owned())
 }

@@ -3,6 +3,8 @@
 // moves a slider and goes to (1e7, 1e7), and checks each time from a screenshot of the map that
 // the view is not blank, changed, and equals `spectex render` of the window the page shows.
 //
+// With BENCH set it measures redraws instead (`cargo xtask view-bench`, see `bench`).
+//
 // Environment: PLAYWRIGHT_CORE (the package's directory), CHROMIUM, SPECTEX (the binary),
 // VIEW_URL, MODEL (the model file the server shows), SLIDER (the JSON pointer of the field whose
 // slider moves), OUT (a scratch directory); SHOTS (a
@@ -228,4 +230,80 @@ async function screenshots(browser) {
   console.log(`browser: screenshots written to ${process.env.SHOTS}`);
 }
 
-main().catch((e) => { console.error('browser: FAILED: ' + e.message); process.exit(1); });
+// CPU time (ms) so far of the browser (this script's descendants) and of the server
+// (SERVER_PID), from /proc (null elsewhere): on a 2-core machine the browser's share is the
+// render's loss.
+function cpuMs() {
+  if (!fs.existsSync('/proc/self/stat')) return null;
+  const procs = new Map();
+  for (const pid of fs.readdirSync('/proc').filter((d) => /^\d+$/.test(d))) {
+    try {
+      const stat = fs.readFileSync(`/proc/${pid}/stat`, 'utf8').split(') ')[1].split(' ');
+      procs.set(pid, { parent: stat[1], ms: 10 * (Number(stat[11]) + Number(stat[12])) });
+    } catch (e) { /* the process ended */ }
+  }
+  const browser = (pid) => {
+    for (let p = procs.get(pid)?.parent; p && p !== '0'; p = procs.get(p)?.parent) if (p === String(process.pid)) return true;
+    return false;
+  };
+  const out = { chromium: 0, server: procs.get(process.env.SERVER_PID)?.ms ?? 0 };
+  for (const [pid, p] of procs) if (browser(pid)) out.chromium += p.ms;
+  return out;
+}
+
+// `cargo xtask view-bench`: REDRAWS clicks on "new seed" (PAN: the view moved by X,Y pixels
+// first; ZOOM: at that zoom level), each redraw's times as the page records them (coarse and
+// fine, from the redraw's start; from the click too) with its tiles' server timings summed, then
+// best and median.
+async function bench() {
+  const browser = await pw.chromium.launch({ executablePath: process.env.CHROMIUM, args: ARGS, headless: true });
+  try {
+    const ctx = await browser.newContext({ viewport: { width: 380 + Number(process.env.MAP_W), height: Number(process.env.MAP_H) }, deviceScaleFactor: 1 });
+    const page = await ctx.newPage();
+    page.on('pageerror', (e) => { console.log('bench: page error: ' + e.message); process.exitCode = 1; });
+    await page.goto(process.env.VIEW_URL);
+    await until(page, () => window.spectex && window.spectex.ready, undefined, 120000);
+    if (process.env.ZOOM) await page.evaluate((z) => window.spectex.map.setZoom(z, { animate: false }), Number(process.env.ZOOM));
+    if (process.env.PAN) await page.evaluate((p) => window.spectex.map.panBy(p, { animate: false }), process.env.PAN.split(',').map(Number));
+    await settle(page);
+    const v = await page.evaluate(() => window.spectex.view());
+    console.log(`bench: window ${v.w}x${v.h} at ${v.x},${v.y} scale ${v.scale}, ${process.env.REDRAWS} redraws after "new seed"`);
+    const rows = [];
+    const cpu0 = cpuMs();
+    for (let i = 0; i < Number(process.env.REDRAWS); i++) {
+      await page.waitForTimeout(300);
+      const n = await page.evaluate(() => window.spectex.redraws.length);
+      const clicked = Date.now();
+      await page.click('#seed');
+      // Waiting inside the page: a DevTools round trip every few ms would take the CPU measured.
+      await page.evaluate((n) => new Promise((resolve) => {
+        const id = setInterval(() => {
+          const r = window.spectex.redraws;
+          if (r.length > n && r[r.length - 1].fine != null) { clearInterval(id); resolve(); }
+        }, 10);
+      }), n);
+      const click = Date.now() - clicked;
+      const r = await page.evaluate(() => window.spectex.redraws[window.spectex.redraws.length - 1]);
+      rows.push({ coarse: r.coarse, fine: r.fine, click });
+      // (A page older than the tile timings records none.)
+      const tiles = r.tiles ? `; tiles ${r.tiles.coarse} coarse + ${r.tiles.fine} fine, server ms summed: ` +
+        Object.entries(r.tiles.server).map(([k, ms]) => `${k} ${ms}`).join(', ') : '';
+      console.log(`bench: redraw ${i + 1}: coarse ${Math.round(r.coarse)} ms, full ${Math.round(r.fine)} ms ` +
+        `(${click} ms from the click)${tiles}`);
+    }
+    const cpu1 = cpuMs();
+    if (cpu0) {
+      const per = (k) => Math.round((cpu1[k] - cpu0[k]) / rows.length);
+      console.log(`bench: CPU per redraw: server ${per('server')} ms, Chromium ${per('chromium')} ms`);
+    }
+    for (const k of ['coarse', 'fine', 'click']) {
+      const a = rows.map((r) => r[k]).sort((x, y) => x - y);
+      const name = { coarse: 'coarse tiles', fine: 'full view', click: 'full view from the click' }[k];
+      console.log(`bench: ${name}: best ${Math.round(a[0])} ms, median ${Math.round(a[a.length >> 1])} ms, worst ${Math.round(a[a.length - 1])} ms`);
+    }
+  } finally {
+    await browser.close();
+  }
+}
+
+(process.env.BENCH ? bench() : main()).catch((e) => { console.error('browser: FAILED: ' + e.message); process.exit(1); });

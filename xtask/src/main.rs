@@ -5,8 +5,9 @@
 //! command is a new function building its steps (and checking the tools it needs first).
 //!
 //! This file holds the dispatch, the help, the [`Workspace`] and the step runner; the commands
-//! are in `ci` (ci, verify, fmt), `runner` (test), `bench` (with `fastnoise`, FastNoiseSIMD's harness), `gpu`, `fuzz`
-//! and `checks` (export-check, bevy-check, reproduce); `system` installs and finds lavapipe,
+//! are in `ci` (ci, verify, fmt), `runner` (test), `bench` (with `fastnoise`, FastNoiseSIMD's
+//! harness), `gpu`, `fuzz`, `checks` (export-check, bevy-check, reproduce) and `browser` (CI's
+//! browser test of `spectex view`, view-bench); `system` installs and finds lavapipe,
 //! `json` reads cargo's and criterion's JSON.
 
 use anyhow::{Context, Result, bail};
@@ -115,6 +116,13 @@ const COMMANDS: &[(&str, &str)] = &[
          each of those for 20-200 s): `cargo test --workspace --test it \
          export::exported_modules` with SPECTEX_EXPORT_ALL=1",
     ),
+    (
+        "view-bench",
+        "`spectex view`'s redraw after \"new seed\" in headless Chromium, measured: the release \
+         binary, 2 workers, a 1024x1024 view of MODEL (default testdata/models/lrp-gravel.json), \
+         coarse and full times, the server's time per step, the CPU of browser and server; \
+         `cargo xtask view-bench [MODEL.json] [--redraws N] [--pan X,Y] [--zoom K]`",
+    ),
     ("help", "print this list"),
 ];
 
@@ -166,6 +174,7 @@ fn run() -> Result<()> {
             gpu::gpu_report(&Workspace::locate()?)
         }
         Some("gpu-table") => gpu::gpu_table(&rest),
+        Some("view-bench") => browser::view_bench(&Workspace::locate()?, &rest),
         Some("reproduce") => reproduce(&Workspace::locate()?, &rest),
         Some("export-check") => {
             if !rest.is_empty() {
