@@ -297,7 +297,7 @@ pub(crate) fn ci(ws: &Workspace) -> Result<()> {
         let mut command =
             Command::new(examples_bin.join(format!("{name}{}", env::consts::EXE_SUFFIX)));
         command.arg(&examples_out).current_dir(&ws.root);
-        lavapipe_env(&mut command, &icd);
+        ci_env(&mut command);
         steps.push(Step {
             title: format!("example {name} (as `cargo run --example {name}` runs it)"),
             command,
