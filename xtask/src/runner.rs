@@ -51,10 +51,32 @@ pub(crate) fn test(ws: &Workspace, rest: &[OsString]) -> Result<()> {
     let count = tests.len();
     eprintln!("xtask: running {count} test binaries, {jobs} at a time, the largest first");
     let started = Instant::now();
+    let failures = run_all(tests, args, jobs, &logs);
+    let seconds = started.elapsed().as_secs_f64();
+    if !failures.is_empty() {
+        bail!(
+            "{} of {count} test binaries failed ({seconds:.1} s): {}",
+            failures.len(),
+            failures.join(", ")
+        );
+    }
+    eprintln!("xtask: {count} test binaries passed in {seconds:.1} s");
+    Ok(())
+}
+
+/// Runs `tests` in order, `jobs` at a time, each one's output into `logs/{index}.log`; returns
+/// the sources of those that failed (or could not start), in the order they ended.
+fn run_all(
+    tests: Vec<TestExecutable>,
+    args: &[OsString],
+    jobs: usize,
+    logs: &std::path::Path,
+) -> Vec<String> {
+    let count = tests.len();
     let queue = Mutex::new(tests.into_iter().enumerate());
     let failures = Mutex::new(Vec::new());
     thread::scope(|scope| {
-        for _ in 0..jobs.min(count) {
+        for _ in 0..jobs.clamp(1, count.max(1)) {
             scope.spawn(|| {
                 loop {
                     // The guard is dropped at the end of this statement, before the run.
@@ -71,17 +93,7 @@ pub(crate) fn test(ws: &Workspace, rest: &[OsString]) -> Result<()> {
             });
         }
     });
-    let failures = failures.into_inner().unwrap_or_default();
-    let seconds = started.elapsed().as_secs_f64();
-    if !failures.is_empty() {
-        bail!(
-            "{} of {count} test binaries failed ({seconds:.1} s): {}",
-            failures.len(),
-            failures.join(", ")
-        );
-    }
-    eprintln!("xtask: {count} test binaries passed in {seconds:.1} s");
-    Ok(())
+    failures.into_inner().unwrap_or_default()
 }
 
 /// Runs one test binary as `cargo test` would (in its package's directory, with
@@ -114,4 +126,64 @@ fn run_one(test: &TestExecutable, args: &[OsString], log: &std::path::Path) -> R
         bail!("{status}");
     }
     Ok(())
+}
+
+#[cfg(all(test, unix))]
+mod tests {
+    use std::ffi::OsString;
+    use std::fs;
+    use std::os::unix::fs::PermissionsExt;
+    use std::path::Path;
+
+    use super::run_all;
+    use crate::ci::TestExecutable;
+
+    /// An executable shell script `name` in `dir` with `body`.
+    fn script(dir: &Path, name: &str, body: &str) -> TestExecutable {
+        let path = dir.join(name);
+        fs::write(&path, format!("#!/bin/sh\n{body}\n")).expect("writing a test script");
+        fs::set_permissions(&path, fs::Permissions::from_mode(0o755))
+            .expect("making it executable");
+        TestExecutable {
+            executable: path,
+            package_dir: dir.to_path_buf(),
+            source: name.to_owned(),
+        }
+    }
+
+    #[test]
+    fn every_binary_runs_once_with_the_arguments_and_failures_are_named() {
+        let dir = std::env::temp_dir().join(format!("xtask-runner-{}", std::process::id()));
+        fs::create_dir_all(&dir).unwrap();
+        // Each binary appends its name, its arguments and its CARGO_MANIFEST_DIR to a record.
+        let record = dir.join("record");
+        let line = format!(
+            r#"echo "$0 $* $CARGO_MANIFEST_DIR" >> '{}'"#,
+            record.display()
+        );
+        let tests = vec![
+            script(&dir, "a", &format!("{line}\nsleep 0.2")),
+            script(&dir, "b", &format!("{line}\necho b failed\nexit 3")),
+            script(&dir, "c", &line),
+            script(&dir, "d", &format!("{line}\nexit 1")),
+        ];
+        let args = [OsString::from("--exact"), OsString::from("x")];
+        let mut failures = run_all(tests, &args, 2, &dir);
+        failures.sort();
+        assert_eq!(failures, ["b", "d"]);
+        let mut lines: Vec<String> = fs::read_to_string(&record)
+            .unwrap()
+            .lines()
+            .map(str::to_owned)
+            .collect();
+        lines.sort();
+        let expected: Vec<String> = ["a", "b", "c", "d"]
+            .iter()
+            .map(|name| format!("{} --exact x {}", dir.join(name).display(), dir.display()))
+            .collect();
+        assert_eq!(lines, expected);
+        // The second binary's output is in its log, by its index.
+        assert_eq!(fs::read_to_string(dir.join("1.log")).unwrap(), "b failed\n");
+        fs::remove_dir_all(&dir).unwrap();
+    }
 }
