@@ -7,7 +7,9 @@
 //! CI does not build the wheel: maturin builds in its own cargo invocation (a test-profile
 //! build of it is a test harness, and its environment rebuilds pyo3), so a wheel there would
 //! compile the dependencies a second time. The suite imports the module cargo built, staged
-//! with the package's Python files in `target/py-stage/`.
+//! with the package's Python files in `target/py-stage/`. CI installs maturin for the source
+//! distribution: `maturin sdist`, then a check that every file its Rust sources include is in
+//! it (a file outside a crate's directory is not, and the sdist would not compile).
 
 use std::env;
 use std::path::PathBuf;
@@ -20,8 +22,40 @@ use super::{Step, Workspace, run_command, run_steps, target_dir};
 /// The virtual environment's directory under the target directory.
 const VENV: &str = "py-venv";
 
-/// The packages the suite needs, from PyPI as wheels only.
-const TEST_PACKAGES: &[&str] = &["numpy", "pytest"];
+/// The packages CI's steps need, from PyPI as wheels only: the suite's, and maturin for the
+/// source distribution.
+const TEST_PACKAGES: &[&str] = &["numpy", "pytest", "maturin"];
+
+/// Checks the sdist maturin wrote into `DIR` (argv[1]): every `include_str!`/`include_bytes!`
+/// of a literal path in its crates' sources (`src/`, build scripts) names a file the sdist holds, and it holds the Python
+/// package; prints what it found. A path dependency's files outside its crate's directory are
+/// not packed (maturin takes each crate's `cargo package --list`), so such an include would
+/// fail the compilation `pip install` runs from the sdist.
+const CHECK_SDIST: &str = r#"import pathlib, posixpath, re, sys, tarfile
+archives = sorted(pathlib.Path(sys.argv[1]).glob('*.tar.gz'))
+if len(archives) != 1:
+    sys.exit(f'expected one sdist in {sys.argv[1]}, found {len(archives)}')
+with tarfile.open(archives[0]) as tar:
+    members = {m.name: m for m in tar.getmembers() if m.isfile()}
+    names = set(members)
+    pattern = re.compile(r'include_(?:str|bytes)!\(\s*"([^"]+)"\s*\)')
+    missing, includes = [], 0
+    # What a build compiles: the crates' sources and build scripts (not tests or benches).
+    built = (n for n in names if n.endswith('.rs') and ('/src/' in n or n.endswith('/build.rs')))
+    for name in sorted(built):
+        text = tar.extractfile(members[name]).read().decode('utf-8', 'replace')
+        for path in pattern.findall(text):
+            includes += 1
+            target = posixpath.normpath(posixpath.join(posixpath.dirname(name), path))
+            if target not in names:
+                missing.append(f'{name}: include of {path} ({target} is not in the sdist)')
+root = archives[0].name[:-len('.tar.gz')]
+if f'{root}/python/spectex/__init__.py' not in names:
+    missing.append('the Python package (python/spectex/__init__.py) is not in the sdist')
+if missing:
+    sys.exit('the sdist would not build:\n' + '\n'.join(missing))
+print(f'{archives[0].name}: {len(names)} files, {includes} includes, every one in it')
+"#;
 
 /// The Python package's source, relative to the workspace root.
 const PACKAGE: &str = "crates/spectex-py/python/spectex";
@@ -92,6 +126,27 @@ fn steps(ws: &Workspace, ci_env: &dyn Fn(&mut Command)) -> Result<Vec<Step>> {
     // they would be resolved for this crate alone), and `--examples` (already built by the
     // examples step), which brings in the dev-dependencies' features as the tests do; without
     // it spectex-cpu, -spectrum, -sampling … were compiled again with fewer features.
+    // The source distribution `pip install` builds from where no wheel fits: maturin packs the
+    // crate and its path dependencies; the check reads it (no compilation).
+    let sdist = target.join("py-sdist");
+    if sdist.exists() {
+        std::fs::remove_dir_all(&sdist).with_context(|| format!("removing {}", sdist.display()))?;
+    }
+    let mut maturin = Command::new(target.join(VENV).join("bin").join("maturin"));
+    maturin
+        .args(["sdist", "-m", "crates/spectex-py/Cargo.toml", "-o"])
+        .arg(&sdist)
+        .current_dir(&ws.root);
+    steps.push(Step {
+        title: "maturin sdist (crates/spectex-py)".into(),
+        command: maturin,
+    });
+    let mut check = Command::new(&python);
+    check.args(["-c", CHECK_SDIST]).arg(&sdist);
+    steps.push(Step {
+        title: "check the sdist: every file its Rust sources include is in it".into(),
+        command: check,
+    });
     let mut build = ws.cargo(&[
         "build",
         "--workspace",
@@ -171,15 +226,8 @@ fn wheel(ws: &Workspace, extra: &[String]) -> Result<()> {
         run_command(&mut venv)?;
     }
     let mut pip = Command::new(&python);
-    pip.args([
-        "-m",
-        "pip",
-        "install",
-        "-q",
-        "--only-binary=:all:",
-        "maturin",
-    ])
-    .args(TEST_PACKAGES);
+    pip.args(["-m", "pip", "install", "-q", "--only-binary=:all:"])
+        .args(TEST_PACKAGES);
     run_command(&mut pip)?;
     let out = target.join("py-wheels");
     if out.exists() {

@@ -186,7 +186,21 @@ fn kinds() -> Vec<(&'static str, Model, bool)> {
     use spectex_model::classic::ClassicNoise;
     let mut kinds: Vec<(&'static str, Model, bool)> = spectex_cpu::bench_models()
         .into_iter()
-        .map(|(name, model)| (name, model, false))
+        .map(|(name, case)| {
+            let model = match case {
+                spectex_cpu::BenchModel::Built(model) => model,
+                spectex_cpu::BenchModel::Testdata(file) => {
+                    let path = format!(
+                        "{}/../../testdata/models/{file}",
+                        env!("CARGO_MANIFEST_DIR")
+                    );
+                    let text = std::fs::read_to_string(&path)
+                        .unwrap_or_else(|e| panic!("reading {path}: {e}"));
+                    spectex_model::from_json(&text).expect("testdata models are valid")
+                }
+            };
+            (name, model, false)
+        })
         .collect();
     kinds.extend([
         (

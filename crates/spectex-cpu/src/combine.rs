@@ -18,8 +18,8 @@ pub struct CombineEvaluator {
 
 impl CpuKind for Combine {
     /// The bench case: `testdata/models/combine-bark.json`.
-    fn bench_model() -> Model {
-        crate::testdata_model(include_str!("../../../testdata/models/combine-bark.json"))
+    fn bench_model() -> crate::BenchModel {
+        crate::BenchModel::Testdata("combine-bark.json")
     }
 
     fn cpu_kernel(&self, z: f64) -> Result<Box<dyn RowKernel>, CpuError> {

@@ -463,8 +463,10 @@ fn libm_exp(z: f64) -> f64 {
 
 impl crate::CpuKind for GaborNoise {
     /// The bench case: isotropic Gabor noise (`spectex_model::fixtures`).
-    fn bench_model() -> spectex_model::Model {
-        spectex_model::Model::Gabor(spectex_model::fixtures::gabor_isotropic())
+    fn bench_model() -> crate::BenchModel {
+        crate::BenchModel::Built(spectex_model::Model::Gabor(
+            spectex_model::fixtures::gabor_isotropic(),
+        ))
     }
 
     fn cpu_kernel(&self, _z: f64) -> Result<Box<dyn crate::RowKernel>, crate::CpuError> {

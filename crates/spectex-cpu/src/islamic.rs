@@ -35,10 +35,8 @@ impl IslamicEvaluator {
 
 impl CpuKind for IslamicPattern {
     /// The bench case: `testdata/models/islamic-488-band.json`.
-    fn bench_model() -> spectex_model::Model {
-        crate::testdata_model(include_str!(
-            "../../../testdata/models/islamic-488-band.json"
-        ))
+    fn bench_model() -> crate::BenchModel {
+        crate::BenchModel::Testdata("islamic-488-band.json")
     }
 
     fn cpu_kernel(&self, _z: f64) -> Result<Box<dyn RowKernel>, CpuError> {

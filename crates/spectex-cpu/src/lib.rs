@@ -209,7 +209,7 @@ pub trait RowKernel: Send + Sync {
 pub trait CpuKind: ModelKind {
     /// The model of this kind that `cargo xtask bench kinds` and the `kinds` group of
     /// `benches/eval.rs` measure (collected for every kind by [`bench_models`]).
-    fn bench_model() -> Model;
+    fn bench_model() -> BenchModel;
 
     /// The kernel of a **validated** model on the plane `z` (ignored by 2D models).
     ///
@@ -235,23 +235,26 @@ pub trait CpuKind: ModelKind {
     }
 }
 
+/// A kind's bench case ([`CpuKind::bench_model`]).
+#[derive(Debug, Clone)]
+pub enum BenchModel {
+    /// A model built in code.
+    Built(Model),
+    /// A model file of the repository's `testdata/models/`, by name, which the bench reads: a
+    /// library that embedded files from outside its crate could not be packaged (`cargo
+    /// package`, a Python sdist).
+    Testdata(&'static str),
+}
+
 /// Every kind's bench case ([`CpuKind::bench_model`]), by kind name, in the order of
 /// `Model`'s variants.
 #[must_use]
-pub fn bench_models() -> Vec<(&'static str, Model)> {
+pub fn bench_models() -> Vec<(&'static str, BenchModel)> {
     let mut models = Vec::new();
     spectex_model::for_each_kind!(types: K => {
         models.push((<K as ModelKind>::NAME, <K as CpuKind>::bench_model()));
     });
     models
-}
-
-/// A model file of `testdata/models/` embedded in the library (bench cases).
-fn testdata_model(text: &str) -> Model {
-    match spectex_model::from_json(text) {
-        Ok(model) => model,
-        Err(e) => unreachable!("testdata models are valid (the cross-check loads each): {e}"),
-    }
 }
 
 /// A model prepared for evaluation. Building it validates the model; rendering can then fail

@@ -578,8 +578,10 @@ fn support_span(
 
 impl crate::CpuKind for LrpNoise {
     /// The bench case: LRP noise of J = 50 cosines over 4 strata (`spectex_model::fixtures`), the speed the project tracks.
-    fn bench_model() -> spectex_model::Model {
-        spectex_model::Model::Lrp(spectex_model::fixtures::lrp_four_strata(50))
+    fn bench_model() -> crate::BenchModel {
+        crate::BenchModel::Built(spectex_model::Model::Lrp(
+            spectex_model::fixtures::lrp_four_strata(50),
+        ))
     }
 
     fn cpu_kernel(&self, _z: f64) -> Result<Box<dyn crate::RowKernel>, crate::CpuError> {

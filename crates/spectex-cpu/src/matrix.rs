@@ -47,10 +47,8 @@ impl MatrixEvaluator {
 
 impl CpuKind for MatrixTransform {
     /// The bench case: `testdata/models/matrix-cat-rings.json`.
-    fn bench_model() -> spectex_model::Model {
-        crate::testdata_model(include_str!(
-            "../../../testdata/models/matrix-cat-rings.json"
-        ))
+    fn bench_model() -> crate::BenchModel {
+        crate::BenchModel::Testdata("matrix-cat-rings.json")
     }
 
     fn cpu_kernel(&self, _z: f64) -> Result<Box<dyn RowKernel>, CpuError> {

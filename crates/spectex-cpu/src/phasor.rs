@@ -661,12 +661,12 @@ fn profile(
 
 impl crate::CpuKind for PhasorNoise {
     /// The bench case: the `spectex phasor` defaults (2D, sine profile).
-    fn bench_model() -> spectex_model::Model {
-        spectex_model::Model::Phasor(
+    fn bench_model() -> crate::BenchModel {
+        crate::BenchModel::Built(spectex_model::Model::Phasor(
             PhasorNoise::builder()
                 .build()
                 .expect("the builder's defaults are valid"),
-        )
+        ))
     }
 
     fn cpu_kernel(&self, z: f64) -> Result<Box<dyn crate::RowKernel>, crate::CpuError> {

@@ -203,10 +203,8 @@ impl SubdivisionEvaluator {
 
 impl CpuKind for StochasticSubdivision {
     /// The bench case: `testdata/models/subdivision-midpoint.json`.
-    fn bench_model() -> spectex_model::Model {
-        crate::testdata_model(include_str!(
-            "../../../testdata/models/subdivision-midpoint.json"
-        ))
+    fn bench_model() -> crate::BenchModel {
+        crate::BenchModel::Testdata("subdivision-midpoint.json")
     }
 
     fn cpu_kernel(&self, _z: f64) -> Result<Box<dyn RowKernel>, CpuError> {

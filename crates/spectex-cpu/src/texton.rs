@@ -70,10 +70,8 @@ impl TextonEvaluator {
 
 impl CpuKind for TextonNoise {
     /// The bench case: `testdata/models/texton-ellipsoids.json`.
-    fn bench_model() -> spectex_model::Model {
-        crate::testdata_model(include_str!(
-            "../../../testdata/models/texton-ellipsoids.json"
-        ))
+    fn bench_model() -> crate::BenchModel {
+        crate::BenchModel::Testdata("texton-ellipsoids.json")
     }
 
     fn cpu_kernel(&self, _z: f64) -> Result<Box<dyn RowKernel>, CpuError> {

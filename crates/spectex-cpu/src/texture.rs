@@ -173,10 +173,8 @@ impl TextureEvaluator {
 
 impl crate::CpuKind for TextureModel {
     /// The bench case: `testdata/models/texture-synthetic-colour.json`.
-    fn bench_model() -> spectex_model::Model {
-        crate::testdata_model(include_str!(
-            "../../../testdata/models/texture-synthetic-colour.json"
-        ))
+    fn bench_model() -> crate::BenchModel {
+        crate::BenchModel::Testdata("texture-synthetic-colour.json")
     }
 
     fn cpu_kernel(&self, _z: f64) -> Result<Box<dyn crate::RowKernel>, crate::CpuError> {

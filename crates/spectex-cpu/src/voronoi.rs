@@ -162,8 +162,8 @@ impl VoronoiEvaluator {
 
 impl CpuKind for VoronoiNoise {
     /// The bench case: `testdata/models/voronoi-f1.json`.
-    fn bench_model() -> spectex_model::Model {
-        crate::testdata_model(include_str!("../../../testdata/models/voronoi-f1.json"))
+    fn bench_model() -> crate::BenchModel {
+        crate::BenchModel::Testdata("voronoi-f1.json")
     }
 
     fn cpu_kernel(&self, z: f64) -> Result<Box<dyn RowKernel>, CpuError> {

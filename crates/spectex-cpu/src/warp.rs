@@ -168,12 +168,12 @@ impl WarpEvaluator {
 
 impl crate::CpuKind for Warp {
     /// The bench case: the `spectex noise warp` defaults.
-    fn bench_model() -> Model {
-        Model::Warp(
+    fn bench_model() -> crate::BenchModel {
+        crate::BenchModel::Built(Model::Warp(
             Warp::builder()
                 .build()
                 .expect("the builder's defaults are valid"),
-        )
+        ))
     }
 
     fn cpu_kernel(&self, z: f64) -> Result<Box<dyn crate::RowKernel>, CpuError> {

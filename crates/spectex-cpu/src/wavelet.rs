@@ -185,8 +185,8 @@ impl WaveletEvaluator {
 
 impl crate::CpuKind for WaveletNoise {
     /// The bench case: `testdata/models/wavelet-2d.json`.
-    fn bench_model() -> spectex_model::Model {
-        crate::testdata_model(include_str!("../../../testdata/models/wavelet-2d.json"))
+    fn bench_model() -> crate::BenchModel {
+        crate::BenchModel::Testdata("wavelet-2d.json")
     }
 
     fn cpu_kernel(&self, z: f64) -> Result<Box<dyn crate::RowKernel>, crate::CpuError> {

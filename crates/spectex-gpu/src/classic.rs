@@ -22,7 +22,7 @@ use crate::shaders::{ShaderFile, kernel_and_glue};
 use crate::{GpuContext, GpuError, GpuWindow};
 
 /// `shaders/classic.wgsl`: the compute shader, then the export glue.
-const WGSL: (&str, &str) = kernel_and_glue(include_str!("../../../shaders/classic.wgsl"));
+const WGSL: (&str, &str) = kernel_and_glue(include_str!("../shaders/classic.wgsl"));
 
 wgsl_struct! {
     /// `ClassicParams` of `classic.wgsl`; `width` and `height` are the tile's.

@@ -120,7 +120,7 @@ impl GpuKernel for CombineKernel {
 // Export (`spectex export --wgsl`).
 
 impl ExportKind for Combine {
-    const GLUE: &'static str = kernel_and_glue(include_str!("../../../shaders/combine.wgsl")).1;
+    const GLUE: &'static str = kernel_and_glue(include_str!("../shaders/combine.wgsl")).1;
 
     fn export_parts(&self, z: f64) -> Result<ExportNode, GpuError> {
         Ok(ExportNode::Combine {

@@ -16,7 +16,7 @@ use crate::shaders::{ShaderFile, kernel_and_glue};
 use crate::{GpuContext, GpuError, GpuWindow};
 
 /// `shaders/gabor.wgsl`: the compute shader, then the export glue.
-const WGSL: (&str, &str) = kernel_and_glue(include_str!("../../../shaders/gabor.wgsl"));
+const WGSL: (&str, &str) = kernel_and_glue(include_str!("../shaders/gabor.wgsl"));
 
 /// The Poisson count's renormalisation chunk (the CPU's `POISSON_CHUNK`).
 const POISSON_CHUNK: f64 = 64.0;

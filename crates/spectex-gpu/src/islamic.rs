@@ -19,7 +19,7 @@ use crate::shaders::{ShaderFile, kernel_and_glue};
 use crate::{GpuContext, GpuError, GpuWindow};
 
 /// `shaders/islamic.wgsl`: the compute shader, then the export glue.
-const WGSL: (&str, &str) = kernel_and_glue(include_str!("../../../shaders/islamic.wgsl"));
+const WGSL: (&str, &str) = kernel_and_glue(include_str!("../shaders/islamic.wgsl"));
 
 wgsl_struct! {
     /// `IslamicParams` of `islamic.wgsl`; `width` and `height` are the tile's.

@@ -17,7 +17,7 @@ use crate::shaders::{ShaderFile, kernel_and_glue};
 use crate::{GpuContext, GpuError, GpuWindow};
 
 /// `shaders/lrp.wgsl`: the compute shader, then the export glue.
-const WGSL: (&str, &str) = kernel_and_glue(include_str!("../../../shaders/lrp.wgsl"));
+const WGSL: (&str, &str) = kernel_and_glue(include_str!("../shaders/lrp.wgsl"));
 
 wgsl_struct! {
     /// `LrpParams` of `lrp.wgsl`.

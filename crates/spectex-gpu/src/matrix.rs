@@ -18,7 +18,7 @@ use crate::shaders::{ShaderFile, kernel_and_glue};
 use crate::{GpuContext, GpuError, GpuWindow};
 
 /// `shaders/matrix.wgsl`: the compute shader, then the export glue.
-const WGSL: (&str, &str) = kernel_and_glue(include_str!("../../../shaders/matrix.wgsl"));
+const WGSL: (&str, &str) = kernel_and_glue(include_str!("../shaders/matrix.wgsl"));
 
 wgsl_struct! {
     /// `MatrixParams` of `matrix.wgsl`; `width` and `height` are the tile's.

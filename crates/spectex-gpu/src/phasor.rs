@@ -39,7 +39,7 @@ use crate::shaders::{ShaderFile, kernel_and_glue};
 use crate::{GpuContext, GpuError, GpuWindow};
 
 /// `shaders/phasor.wgsl`: the compute shader, then the export glue.
-const WGSL: (&str, &str) = kernel_and_glue(include_str!("../../../shaders/phasor.wgsl"));
+const WGSL: (&str, &str) = kernel_and_glue(include_str!("../shaders/phasor.wgsl"));
 
 wgsl_struct! {
     /// `PhasorParams` of `phasor.wgsl`; the tile size, cell box and plane are set per tile.

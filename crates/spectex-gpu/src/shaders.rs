@@ -11,7 +11,7 @@ use std::sync::LazyLock;
 
 use crate::kernel::GpuKind;
 
-const COMMON: &str = include_str!("../../../shaders/common.wgsl");
+const COMMON: &str = include_str!("../shaders/common.wgsl");
 
 /// One WGSL file of `shaders/`.
 #[derive(Debug, Clone, Copy)]
@@ -63,7 +63,7 @@ pub static SHADERS: LazyLock<Vec<ShaderFile>> = LazyLock::new(|| {
         },
         ShaderFile {
             name: "simulate",
-            source: include_str!("../../../shaders/simulate.wgsl"),
+            source: include_str!("../shaders/simulate.wgsl"),
             needs_common: false,
             entry_points: &[
                 "gray_scott_step",
@@ -75,13 +75,13 @@ pub static SHADERS: LazyLock<Vec<ShaderFile>> = LazyLock::new(|| {
         },
         ShaderFile {
             name: "output",
-            source: include_str!("../../../shaders/output.wgsl"),
+            source: include_str!("../shaders/output.wgsl"),
             needs_common: false,
             entry_points: &["pack_unorm8", "pack_unorm16", "pack_f16"],
         },
         ShaderFile {
             name: "probe",
-            source: include_str!("../../../shaders/probe.wgsl"),
+            source: include_str!("../shaders/probe.wgsl"),
             needs_common: true,
             entry_points: &["probe_integers", "probe_floats"],
         },

@@ -18,7 +18,7 @@ use crate::shaders::{ShaderFile, kernel_and_glue};
 use crate::{GpuContext, GpuError, GpuWindow};
 
 /// `shaders/subdivision.wgsl`: the compute shader, then the export glue.
-const WGSL: (&str, &str) = kernel_and_glue(include_str!("../../../shaders/subdivision.wgsl"));
+const WGSL: (&str, &str) = kernel_and_glue(include_str!("../shaders/subdivision.wgsl"));
 
 wgsl_struct! {
     /// `SubdivisionParams` of `subdivision.wgsl`; `width` and `height` are the tile's.

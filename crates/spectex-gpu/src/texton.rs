@@ -17,7 +17,7 @@ use crate::shaders::{ShaderFile, kernel_and_glue};
 use crate::{GpuContext, GpuError, GpuWindow};
 
 /// `shaders/texton.wgsl`: the compute shader, then the export glue.
-const WGSL: (&str, &str) = kernel_and_glue(include_str!("../../../shaders/texton.wgsl"));
+const WGSL: (&str, &str) = kernel_and_glue(include_str!("../shaders/texton.wgsl"));
 
 wgsl_struct! {
     /// `TextonParams` of `texton.wgsl`; `width` and `height` are the tile's.

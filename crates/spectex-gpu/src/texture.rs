@@ -20,7 +20,7 @@ use crate::shaders::{ShaderFile, kernel_and_glue};
 use crate::{GpuContext, GpuError, GpuEvaluator, GpuWindow};
 
 /// `shaders/texture.wgsl`: the compute shader, then the export glue.
-const WGSL: (&str, &str) = kernel_and_glue(include_str!("../../../shaders/texture.wgsl"));
+const WGSL: (&str, &str) = kernel_and_glue(include_str!("../shaders/texture.wgsl"));
 
 wgsl_struct! {
     /// `TextureParams` of `texture.wgsl`.

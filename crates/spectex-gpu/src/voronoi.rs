@@ -30,7 +30,7 @@ use crate::shaders::{ShaderFile, kernel_and_glue};
 use crate::{GpuContext, GpuError, GpuWindow};
 
 /// `shaders/voronoi.wgsl`: the compute shader, then the export glue.
-const WGSL: (&str, &str) = kernel_and_glue(include_str!("../../../shaders/voronoi.wgsl"));
+const WGSL: (&str, &str) = kernel_and_glue(include_str!("../shaders/voronoi.wgsl"));
 
 wgsl_struct! {
     /// `VoronoiParams` of `voronoi.wgsl`; `width` and `height` are the tile's.

@@ -109,7 +109,7 @@ impl GpuKernel for WarpKernel {
 // Export (`spectex export --wgsl`).
 
 impl ExportKind for Warp {
-    const GLUE: &'static str = kernel_and_glue(include_str!("../../../shaders/warp.wgsl")).1;
+    const GLUE: &'static str = kernel_and_glue(include_str!("../shaders/warp.wgsl")).1;
 
     fn export_parts(&self, z: f64) -> Result<ExportNode, GpuError> {
         Ok(ExportNode::Warp {

@@ -17,7 +17,7 @@ use crate::shaders::{ShaderFile, kernel_and_glue};
 use crate::{GpuContext, GpuError, GpuWindow};
 
 /// `shaders/wavelet.wgsl`: the compute shader, then the export glue.
-const WGSL: (&str, &str) = kernel_and_glue(include_str!("../../../shaders/wavelet.wgsl"));
+const WGSL: (&str, &str) = kernel_and_glue(include_str!("../shaders/wavelet.wgsl"));
 
 wgsl_struct! {
     /// `WaveletParams` of `wavelet.wgsl`.

@@ -476,12 +476,12 @@ impl ClassicEvaluator {
 
 impl crate::CpuKind for ClassicNoise {
     /// The bench case: fBm of Perlin noise with the builder's defaults.
-    fn bench_model() -> spectex_model::Model {
-        spectex_model::Model::Classic(
+    fn bench_model() -> crate::BenchModel {
+        crate::BenchModel::Built(spectex_model::Model::Classic(
             ClassicNoise::fbm()
                 .build()
                 .expect("the builder's defaults are valid"),
-        )
+        ))
     }
 
     fn cpu_kernel(&self, z: f64) -> Result<Box<dyn crate::RowKernel>, crate::CpuError> {

@@ -54,10 +54,7 @@ pub(crate) mod wgsl_text;
 /// glue (its `<kind>_sample_cell`, the end of its `shaders/<kind>.wgsl`), as the kind declares
 /// it ([`ExportKind::GLUE`]).
 pub static EXPORT_SHADERS: LazyLock<Vec<(&'static str, &'static str)>> = LazyLock::new(|| {
-    let mut files = vec![(
-        "split",
-        include_str!("../../../../shaders/export/split.wgsl"),
-    )];
+    let mut files = vec![("split", include_str!("../../shaders/export/split.wgsl"))];
     spectex_model::for_each_kind!(types: K => {
         files.push((<K as ModelKind>::NAME, <K as ExportKind>::GLUE));
     });

@@ -19,7 +19,7 @@ use spectex_gpu::shaders::GLUE_MARKER;
 use spectex_gpu::{SHADERS, wgsl_source};
 
 fn shaders_dir() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shaders")
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("shaders")
 }
 
 /// Parses and validates one composed module, panicking with naga's annotated source excerpt.
