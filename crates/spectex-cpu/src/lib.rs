@@ -237,6 +237,10 @@ pub trait CpuKind: ModelKind {
 
 /// A kind's bench case ([`CpuKind::bench_model`]).
 #[derive(Debug, Clone)]
+#[allow(
+    clippy::large_enum_variant,
+    reason = "one value per kind, made once per bench run"
+)]
 pub enum BenchModel {
     /// A model built in code.
     Built(Model),
