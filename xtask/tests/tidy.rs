@@ -150,8 +150,81 @@ fn integration_tests_are_one_binary_per_crate() {
     );
 }
 
+#[test]
+fn crates_embed_only_their_own_files() {
+    let offences = includes_outside_their_crate(&workspace_root());
+    assert!(
+        offences.is_empty(),
+        "a published crate's sources embed files from outside its directory, which `cargo \
+         package` and the Python sdist leave out (the crate would not compile from them); move \
+         the file into the crate, or read it at run time where only the repository has it:\n  {}",
+        offences.join("\n  ")
+    );
+}
+
 // ---------------------------------------------------------------------------------------------
 // The checks.
+
+/// Every `include_str!`/`include_bytes!` of a literal path in the sources (`src/`, a build script)
+/// of a crate that is published (no `publish = false`) whose file lies outside the crate's
+/// directory.
+fn includes_outside_their_crate(root: &Path) -> Vec<String> {
+    let mut offences = Vec::new();
+    for dir in crate_dirs(root) {
+        if read(&dir.join("Cargo.toml"))
+            .lines()
+            .any(|line| strip_comment(line).replace(' ', "") == "publish=false")
+        {
+            continue;
+        }
+        let mut files = Vec::new();
+        rust_files(&dir.join("src"), &mut files);
+        if dir.join("build.rs").is_file() {
+            files.push(dir.join("build.rs"));
+        }
+        for file in files {
+            let text = read(&file);
+            for path in included_paths(&text) {
+                let mut target = file.parent().expect("a file has a parent").to_path_buf();
+                for part in Path::new(&path).components() {
+                    match part {
+                        std::path::Component::ParentDir => {
+                            target.pop();
+                        }
+                        std::path::Component::Normal(name) => target.push(name),
+                        _ => {}
+                    }
+                }
+                if !target.starts_with(&dir) {
+                    offences.push(format!(
+                        "{}: includes {path} ({})",
+                        relative(root, &file),
+                        relative(root, &target)
+                    ));
+                }
+            }
+        }
+    }
+    offences
+}
+
+/// The literal paths of `include_str!("…")` and `include_bytes!("…")` in `text`.
+fn included_paths(text: &str) -> Vec<String> {
+    let mut paths = Vec::new();
+    for macro_call in ["include_str!(", "include_bytes!("] {
+        let mut rest = text;
+        while let Some(at) = rest.find(macro_call) {
+            rest = &rest[at + macro_call.len()..];
+            let Some(literal) = rest.trim_start().strip_prefix('"') else {
+                continue;
+            };
+            if let Some(end) = literal.find('"') {
+                paths.push(literal[..end].to_owned());
+            }
+        }
+    }
+    paths
+}
 
 /// Every forbidden edge between project crates, a crate directory missing from or unknown to
 /// [`ALLOWED_PROJECT_DEPENDENCIES`], and any project crate xtask depends on.
@@ -868,4 +941,37 @@ fn a_dev_only_crate_is_taken_only_as_a_dev_dependency_by_its_takers() {
         &["spectex-reproduce", "[dev-dependencies]", "dev-only"],
     );
     assert_eq!(edges.len(), 3, "{edges:#?}");
+}
+
+#[test]
+fn an_include_from_outside_a_published_crate_is_reported() {
+    let tree = FakeTree::new("include");
+    tree.write(
+        "crates/spectex-gpu/src/lib.rs",
+        "//! A crate.\nconst A: &str = include_str!(\"../shaders/a.wgsl\");\n\
+         const B: &str = include_str!(\n    \"../../../shaders/b.wgsl\"\n);\n",
+    );
+    tree.write(
+        "crates/spectex-cpu/src/deep/kind.rs",
+        "//! A module.\nconst M: &[u8] = include_bytes!(\"../../../../testdata/m.json\");\n",
+    );
+    // A crate that is not published may embed the repository's files.
+    tree.write(
+        "crates/spectex-crosscheck/Cargo.toml",
+        &format!("{}publish = false\n", manifest("spectex-crosscheck", "")),
+    );
+    tree.write(
+        "crates/spectex-crosscheck/src/lib.rs",
+        "//! A crate.\nconst C: &str = include_str!(\"../../../testdata/c.json\");\n",
+    );
+    let offences = includes_outside_their_crate(&tree.root);
+    assert_eq!(offences.len(), 2, "{offences:#?}");
+    assert_reported(
+        &offences,
+        &["crates/spectex-gpu/src/lib.rs", "../../../shaders/b.wgsl"],
+    );
+    assert_reported(
+        &offences,
+        &["crates/spectex-cpu/src/deep/kind.rs", "testdata/m.json"],
+    );
 }

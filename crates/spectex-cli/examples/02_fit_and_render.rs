@@ -7,7 +7,7 @@
 //! cargo run --example 02_fit_and_render -- [OUT_DIR] [EXAMPLE.png]
 //! ```
 //!
-//! `EXAMPLE.png` defaults to `testdata/default_exemplar.png`, the 256×256 colour exemplar
+//! `EXAMPLE.png` defaults to `crates/spectex-cli/default_exemplar.png`, the 256×256 colour exemplar
 //! spectex made itself.
 
 use std::path::{Path, PathBuf};
@@ -22,7 +22,7 @@ fn main() -> Result<()> {
     let mut args = std::env::args().skip(1);
     let out_dir = args.next().map_or_else(std::env::temp_dir, PathBuf::from);
     let example = args.next().map_or_else(
-        || Path::new(env!("CARGO_MANIFEST_DIR")).join("../../testdata/default_exemplar.png"),
+        || Path::new(env!("CARGO_MANIFEST_DIR")).join("default_exemplar.png"),
         PathBuf::from,
     );
     let rgb = image::open(&example)

@@ -1,5 +1,5 @@
 //! The built-in default exemplar: a 256×256 colour micro-texture that spectex generated itself
-//! (`testdata/default_exemplar.png`), so every command runs with no input file at hand.
+//! (`crates/spectex-cli/default_exemplar.png`, inside the crate so that it packages), so every command runs with no input file at hand.
 //!
 //! It is a spot noise of a few thousand small anisotropic Gaussian spots in an earthy palette
 //! over fine grain, with a gentle light gradient. Spots are cut at the borders, so the image is
@@ -9,7 +9,7 @@
 //! deliberately.
 
 /// The PNG bytes of the built-in exemplar.
-pub const DEFAULT_EXEMPLAR_PNG: &[u8] = include_bytes!("../../../testdata/default_exemplar.png");
+pub const DEFAULT_EXEMPLAR_PNG: &[u8] = include_bytes!("../default_exemplar.png");
 
 /// How the built-in exemplar is named in messages.
-pub const DEFAULT_EXEMPLAR_NAME: &str = "the built-in exemplar (testdata/default_exemplar.png)";
+pub const DEFAULT_EXEMPLAR_NAME: &str = "the built-in exemplar (spectex-cli/default_exemplar.png)";

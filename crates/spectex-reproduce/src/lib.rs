@@ -417,9 +417,9 @@ impl Session<'_> {
     }
 }
 
-/// The built-in exemplar `testdata/default_exemplar.png` (256² RGB, made by the project).
+/// The built-in exemplar `crates/spectex-cli/default_exemplar.png` (256² RGB, made by the project).
 pub(crate) fn builtin_exemplar() -> Result<Array3<f64>> {
-    load_planes(&Path::new(env!("CARGO_MANIFEST_DIR")).join("../../testdata/default_exemplar.png"))
+    load_planes(&Path::new(env!("CARGO_MANIFEST_DIR")).join("../spectex-cli/default_exemplar.png"))
 }
 
 /// An image file as planes (see [`planes`]).

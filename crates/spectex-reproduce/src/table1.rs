@@ -25,7 +25,7 @@ pub const EXEMPLARS: &[&str] = &[
     "embark_ts_water_1.jpg",
 ];
 
-/// The built-in exemplar (`testdata/default_exemplar.png`) as `(channel, row, column)`.
+/// The built-in exemplar (`crates/spectex-cli/default_exemplar.png`) as `(channel, row, column)`.
 ///
 /// # Errors
 /// The file cannot be read.

@@ -701,7 +701,8 @@ fn glob(path: &Path) -> Vec<PathBuf> {
 /// A 64² grey crop of the built-in exemplar at `path`, in its extension's format.
 fn stand_in_image(path: &Path) {
     let exemplar =
-        spectex_testkit::image_files::open(repo().join("testdata/default_exemplar.png")).unwrap();
+        spectex_testkit::image_files::open(repo().join("crates/spectex-cli/default_exemplar.png"))
+            .unwrap();
     let crop = exemplar
         .crop_imm(0, 0, SIDE as u32, SIDE as u32)
         .into_luma8();

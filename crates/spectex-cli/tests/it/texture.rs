@@ -41,11 +41,8 @@ fn shared(name: &str) -> Option<Array3<f64>> {
 }
 
 fn builtin() -> Array3<f64> {
-    let bytes = std::fs::read(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../testdata/default_exemplar.png"
-    ))
-    .unwrap();
+    let bytes =
+        std::fs::read(concat!(env!("CARGO_MANIFEST_DIR"), "/default_exemplar.png")).unwrap();
     planes(&spectex_testkit::image_files::load_from_memory(&bytes).unwrap())
 }
 

@@ -1,4 +1,4 @@
-//! The built-in exemplar (`src/exemplar.rs`, `testdata/default_exemplar.png`) against its
+//! The built-in exemplar (`src/exemplar.rs`, `default_exemplar.png`) against its
 //! generator, which is the definition: a spot noise of a few thousand small anisotropic Gaussian
 //! spots in an earthy palette over fine grain, with a gentle light gradient.
 //! `SPECTEX_BLESS=1 cargo test -p spectex-cli exemplar` rewrites the file deliberately.
@@ -11,10 +11,7 @@ use spectex_model::random::{Prng, cell_hash};
 #[test]
 fn shipped_file_matches_the_generator() {
     let want = generate();
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../testdata/default_exemplar.png"
-    );
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/default_exemplar.png");
     if std::env::var_os("SPECTEX_BLESS").is_some() {
         let format = io::Format::Png(io::BitDepth::Eight);
         io::save(std::path::Path::new(path), &want, format).unwrap();
