@@ -8,12 +8,12 @@ use std::process::Command;
 
 use anyhow::{Context, Result, bail};
 
-use crate::system::{ensure_lavapipe, lavapipe_env, private_runtime_dir};
+use crate::system::{ensure_lavapipe, private_runtime_dir};
 use crate::{Step, Workspace, run_steps, target_dir};
 
 /// `cargo xtask export-check`: the export render test over every exportable model on lavapipe.
 pub(crate) fn export_check(ws: &Workspace) -> Result<()> {
-    let icd = ensure_lavapipe()?;
+    let lavapipe = ensure_lavapipe(ws)?;
     let mut command = ws.cargo(&[
         "test",
         "--workspace",
@@ -23,7 +23,7 @@ pub(crate) fn export_check(ws: &Workspace) -> Result<()> {
         "--",
         "--nocapture",
     ]);
-    lavapipe_env(&mut command, &icd);
+    lavapipe.apply(&mut command);
     command.env("SPECTEX_EXPORT_ALL", "1");
     run_steps(
         "export-check",
@@ -42,7 +42,7 @@ const BEVY_WINDOW: [&str; 5] = ["128", "96", "-37.25", "81.5", "0.75"];
 /// `cargo xtask bevy-check`: export a model, run the Bevy example headlessly on lavapipe (one
 /// frame into a file), and compare the frame with the CPU in the cross-check test binary.
 pub(crate) fn bevy_check(ws: &Workspace) -> Result<()> {
-    let icd = ensure_lavapipe()?;
+    let lavapipe = ensure_lavapipe(ws)?;
     let out = target_dir(ws).join("bevy-check");
     fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
     let module = out.join("model.wgsl");
@@ -69,8 +69,7 @@ pub(crate) fn bevy_check(ws: &Workspace) -> Result<()> {
         "CARGO_TARGET_DIR",
         env::var_os("BEVY_TARGET_DIR").map_or_else(|| target_dir(ws).join("bevy"), PathBuf::from),
     );
-    lavapipe_env(&mut bevy, &icd);
-    private_runtime_dir(ws, &mut bevy)?;
+    lavapipe.apply(&mut bevy);
     let mut compare = ws.cargo(&[
         "test",
         "-p",

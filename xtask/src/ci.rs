@@ -8,7 +8,7 @@ use std::process::{Command, Stdio};
 use anyhow::{Context, Result, bail};
 
 use crate::json::compiler_artifacts;
-use crate::system::{ensure_lavapipe, lavapipe_env, runtime_dir};
+use crate::system::ensure_lavapipe;
 use crate::{Step, Workspace, run_command, run_steps, runs, show, target_dir};
 
 /// Installs rustfmt and clippy with rustup when either is missing; fails, saying how to install
@@ -197,7 +197,7 @@ fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) -> Result<()> {
 /// dependency features differently and rebuilds the test binaries.
 pub(crate) fn ci(ws: &Workspace) -> Result<()> {
     ensure_rustfmt_and_clippy(ws)?;
-    let icd = ensure_lavapipe()?;
+    let lavapipe = ensure_lavapipe(ws)?;
     let runner = TestRunner::from_env(ws)?;
     let summary = CrosscheckSummary::prepare(ws)?;
     eprintln!(
@@ -206,7 +206,7 @@ pub(crate) fn ci(ws: &Workspace) -> Result<()> {
             TestRunner::Nextest => "cargo nextest",
             TestRunner::Cargo => "cargo test",
         },
-        icd.display()
+        lavapipe.icd.display()
     );
     // Clippy runs inside the test build instead of as a check build of its own (which compiled
     // every dependency a second time, in check mode: about 2 minutes of a 2-core machine).
@@ -220,14 +220,8 @@ pub(crate) fn ci(ws: &Workspace) -> Result<()> {
         Ok(flags) if !flags.trim().is_empty() => format!("{flags} -D warnings"),
         _ => "-D warnings".to_owned(),
     };
-    // Every step's processes get the private runtime directory (`private_runtime_dir`):
-    // without it Mesa printed a line per adapter query, 140 lines of the test step's log.
-    let runtime = runtime_dir(ws)?;
     let ci_env = |command: &mut Command| {
-        if let Some(runtime) = &runtime {
-            command.env("XDG_RUNTIME_DIR", runtime);
-        }
-        lavapipe_env(command, &icd);
+        lavapipe.apply(command);
         summary.apply(command);
         command
             .env("RUSTC_WORKSPACE_WRAPPER", &driver)
@@ -318,11 +312,11 @@ const VERIFIED_PACKAGES: &[&str] = &["spectex-gpu", "spectex-crosscheck"];
 /// the two crates with `-p` would resolve dependency features for them alone and build nearly
 /// everything a second time.
 pub(crate) fn verify(ws: &Workspace) -> Result<()> {
-    let icd = ensure_lavapipe()?;
-    eprintln!("xtask: verify on lavapipe, ICD {}", icd.display());
+    let lavapipe = ensure_lavapipe(ws)?;
+    eprintln!("xtask: verify on lavapipe, ICD {}", lavapipe.icd.display());
     let summary = CrosscheckSummary::prepare(ws)?;
     let gpu_env = |command: &mut Command| {
-        lavapipe_env(command, &icd);
+        lavapipe.apply(command);
         summary.apply(command);
     };
     let steps = match TestRunner::from_env(ws)? {

@@ -15,7 +15,7 @@ use std::process::{Command, Stdio};
 use anyhow::{Context, Result, bail};
 
 use crate::json::compiler_artifacts;
-use crate::system::{ensure_lavapipe, lavapipe_env};
+use crate::system::ensure_lavapipe;
 use crate::{Workspace, run_command, target_dir};
 
 /// One model's figures, in Mpix/s.
@@ -285,8 +285,7 @@ pub(crate) fn bench_gpu(ws: &Workspace, extra: &[OsString]) -> Result<()> {
     let on_lavapipe = env::var_os("WGPU_ADAPTER_NAME").is_none();
     let mut args = extra.to_vec();
     if on_lavapipe {
-        let icd = ensure_lavapipe()?;
-        lavapipe_env(&mut command, &icd);
+        ensure_lavapipe(ws)?.apply(&mut command);
         if !args.iter().any(|a| a == "--size") {
             args.extend(["--size".into(), "64".into()]);
         }

@@ -43,7 +43,7 @@ pub(crate) fn test(ws: &Workspace, rest: &[OsString]) -> Result<()> {
         Err(_) => thread::available_parallelism().map_or(1, NonZero::get),
     };
     let mut tests = test_executables(ws, &|_| {}, &["--tests", "--bench", "*"], None)?;
-    tests.sort_by_key(|test| {
+    tests.sort_by_cached_key(|test| {
         std::cmp::Reverse(fs::metadata(&test.executable).map_or(0, |m| m.len()))
     });
     let logs = target_dir(ws).join("xtask-test");

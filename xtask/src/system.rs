@@ -62,10 +62,43 @@ pub(crate) fn apt_install(packages: &[&str], what: &str) -> Result<()> {
     apt_get(&[&install[..], packages].concat())
 }
 
-/// The lavapipe ICD, after installing lavapipe and the Vulkan loader (as root, on Debian or
-/// Ubuntu) when they are missing. An ICD named by `VK_DRIVER_FILES`/`VK_ICD_FILENAMES` is the
-/// user's choice and installs nothing.
-pub(crate) fn ensure_lavapipe() -> Result<PathBuf> {
+/// Lavapipe, found (or installed) by [`ensure_lavapipe`]: what a command needs to run its GPU
+/// work there.
+pub(crate) struct Lavapipe {
+    /// The ICD file the Vulkan loader is pointed at.
+    pub(crate) icd: PathBuf,
+    /// The private `XDG_RUNTIME_DIR` ([`runtime_dir`]), where the caller has none.
+    runtime: Option<PathBuf>,
+}
+
+impl Lavapipe {
+    /// Sets the environment that runs a command's GPU work on lavapipe and makes a missing
+    /// adapter a failure (`SPECTEX_REQUIRE_GPU=1`) instead of a skip, with the private runtime
+    /// directory that keeps Mesa's loader quiet.
+    pub(crate) fn apply(&self, command: &mut Command) {
+        command
+            .env("VK_DRIVER_FILES", &self.icd)
+            .env("VK_ICD_FILENAMES", &self.icd)
+            .env("WGPU_ADAPTER_NAME", "llvmpipe")
+            .env("SPECTEX_REQUIRE_GPU", "1");
+        if let Some(runtime) = &self.runtime {
+            command.env("XDG_RUNTIME_DIR", runtime);
+        }
+    }
+}
+
+/// [`Lavapipe`], after installing lavapipe and the Vulkan loader (as root, on Debian or Ubuntu)
+/// when they are missing. An ICD named by `VK_DRIVER_FILES`/`VK_ICD_FILENAMES` is the user's
+/// choice and installs nothing.
+pub(crate) fn ensure_lavapipe(ws: &Workspace) -> Result<Lavapipe> {
+    Ok(Lavapipe {
+        icd: install_lavapipe()?,
+        runtime: runtime_dir(ws)?,
+    })
+}
+
+/// The lavapipe ICD file, installing lavapipe first where it is missing and can be.
+fn install_lavapipe() -> Result<PathBuf> {
     if ["VK_DRIVER_FILES", "VK_ICD_FILENAMES"]
         .iter()
         .all(|var| env::var_os(var).is_none())
@@ -116,16 +149,6 @@ pub(crate) fn lavapipe_icd() -> Result<PathBuf> {
     })
 }
 
-/// Sets the environment that runs the GPU tests on lavapipe and makes a missing adapter a
-/// failure (`SPECTEX_REQUIRE_GPU=1`) instead of a skip.
-pub(crate) fn lavapipe_env(command: &mut Command, icd: &Path) {
-    command
-        .env("VK_DRIVER_FILES", icd)
-        .env("VK_ICD_FILENAMES", icd)
-        .env("WGPU_ADAPTER_NAME", "llvmpipe")
-        .env("SPECTEX_REQUIRE_GPU", "1");
-}
-
 /// Mesa's Vulkan loader prints "error: XDG_RUNTIME_DIR is invalid or not set" once per
 /// adapter query when the variable is unset (as in CI and containers); the GPU works either
 /// way. A private runtime directory under the target dir keeps the output to real errors.
@@ -138,7 +161,7 @@ pub(crate) fn private_runtime_dir(ws: &Workspace, command: &mut Command) -> Resu
 
 /// The private runtime directory of [`private_runtime_dir`], created; `None` where
 /// `XDG_RUNTIME_DIR` is set (or the platform has none).
-pub(crate) fn runtime_dir(ws: &Workspace) -> Result<Option<PathBuf>> {
+fn runtime_dir(ws: &Workspace) -> Result<Option<PathBuf>> {
     #[cfg(unix)]
     if env::var_os("XDG_RUNTIME_DIR").is_none() {
         use std::os::unix::fs::PermissionsExt;
