@@ -1,12 +1,15 @@
 //! `spectex fit` and `spectex synth`: an LRP noise or a texture model fitted to an example
-//! image (Gilet et al. 2014, §4 and §5), written as a model file or rendered.
+//! image (Gilet et al. 2014, §4 and §5), or tiling and blending (Heitz & Neyret 2018,
+//! `--method tiling`), written as a model file or rendered.
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{Context, Result, anyhow};
+use anyhow::{Context, Result, anyhow, bail};
 use clap::Args;
 use ndarray::Axis;
+use spectex_model::tiling::{Blend, TilingTexture};
 use spectex_model::{Fit, LrpNoise, Model, TextureModel};
+use spectex_sampling::tiling::TilingOptions;
 use spectex_sampling::{FitMethod, FitOptions, TextureOptions};
 
 use crate::args::RenderArgs;
@@ -18,6 +21,25 @@ use crate::render::render_to_file;
 /// Options shared by every command that fits an LRP model.
 #[derive(Debug, Args)]
 pub struct FitArgs {
+    /// The by-example method: `lrp` (Local Random-Phase noise, Gilet et al. 2014: the
+    /// exemplar's spectrum, Gaussian values) or `tiling` (Heitz & Neyret 2018's tiling and
+    /// blending: the exemplar's histogram and shapes kept).
+    #[arg(long, value_enum, default_value_t = MethodArg::Lrp)]
+    method: MethodArg,
+    /// Tiling: side of the lattice's triangles, pixels (default: a quarter of the exemplar's
+    /// smaller side; at most half of it).
+    #[arg(long, value_name = "PX")]
+    tile: Option<f32>,
+    /// Tiling: `variance` (Heitz & Neyret's histogram-preserving blend) or `hex` (Mikkelsen
+    /// 2022's hex-tiling: sharpened linear blend of rotated tiles).
+    #[arg(long, value_enum, default_value_t = BlendArg::Variance)]
+    blend: BlendArg,
+    /// Tiling, hex blend: the weights' exponent γ (1 to 32).
+    #[arg(long, value_name = "γ", default_value_t = TilingTexture::DEFAULT_SHARPNESS)]
+    sharpness: u32,
+    /// Tiling, hex blend: largest rotation of a tile, turns (0 to 0.5).
+    #[arg(long, value_name = "TURNS", default_value_t = 0.0)]
+    rotation: f32,
     /// Cosine budget J: cosines per lattice point over all strata (1 to 1024).
     #[arg(long, default_value_t = FitOptions::DEFAULT_BUDGET)]
     budget: u32,
@@ -55,6 +77,20 @@ enum FitArg {
     Paper,
 }
 
+/// `--method`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum MethodArg {
+    Lrp,
+    Tiling,
+}
+
+/// `--blend`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum BlendArg {
+    Variance,
+    Hex,
+}
+
 /// The fit methods by name, for the conversions both ways.
 const METHODS: [(FitArg, FitMethod); 2] = [
     (FitArg::Spectrum, FitMethod::Spectrum),
@@ -76,11 +112,27 @@ impl FitArgs {
         model_of(&METHODS, &self.fit)
     }
 
-    /// The fit recorded in the model file.
-    fn recorded(&self) -> Fit {
-        match self.fit {
-            FitArg::Spectrum => Fit::Spectrum,
-            FitArg::Paper => Fit::Paper,
+    /// The fit recorded in the model file (LRP's only).
+    fn recorded(&self) -> Option<Fit> {
+        match (self.method, self.fit) {
+            (MethodArg::Tiling, _) => None,
+            (MethodArg::Lrp, FitArg::Spectrum) => Some(Fit::Spectrum),
+            (MethodArg::Lrp, FitArg::Paper) => Some(Fit::Paper),
+        }
+    }
+
+    /// The options of `--method tiling`.
+    pub fn tiling_options(&self) -> TilingOptions {
+        TilingOptions {
+            tile: self.tile,
+            blend: match self.blend {
+                BlendArg::Variance => Blend::Variance,
+                BlendArg::Hex => Blend::Hex {
+                    sharpness: self.sharpness,
+                    rotation: self.rotation,
+                },
+            },
+            seed: self.seed,
         }
     }
 
@@ -128,6 +180,7 @@ pub struct SynthCommand {
 enum Fitted {
     Noise(LrpNoise),
     Texture(TextureModel),
+    Tiling(TilingTexture),
 }
 
 impl Fitted {
@@ -135,6 +188,7 @@ impl Fitted {
         match self {
             Self::Noise(noise) => noise.clone().into(),
             Self::Texture(texture) => texture.clone().into(),
+            Self::Tiling(tiling) => tiling.clone().into(),
         }
     }
 }
@@ -147,6 +201,20 @@ fn fit_example(input: Option<&Path>, fit: &FitArgs) -> Result<(Fitted, (usize, u
         .map_err(|e| anyhow!("{e}; check --budget, --strata, --structure and --turbulence"))?;
     let (loaded, name) = io::load_input(input)?;
     let (channels, h, w) = loaded.pixels.dim();
+    if fit.method == MethodArg::Tiling {
+        if loaded.dropped_alpha {
+            bail!(
+                "{name} has an alpha channel; tiling by example tiles grey or RGB exemplars: \
+                 flatten or remove the alpha channel first"
+            );
+        }
+        let model =
+            spectex_sampling::tiling::fit_tiling(loaded.pixels.view(), &fit.tiling_options())
+                .with_context(|| {
+                    format!("cannot fit {name} (check --tile, --sharpness and --rotation)")
+                })?;
+        return Ok((Fitted::Tiling(model), (w, h)));
+    }
     if channels == 1 && !fit.wants_texture() {
         let grey = loaded.pixels.index_axis(Axis(0), 0);
         let model = spectex_sampling::fit_image(grey, &fit.options())
@@ -178,7 +246,7 @@ fn fit_example(input: Option<&Path>, fit: &FitArgs) -> Result<(Fitted, (usize, u
 /// `spectex fit`.
 pub fn fit(cmd: &FitCommand) -> Result<()> {
     let (fitted, _) = fit_example(cmd.input.as_deref(), &cmd.fit)?;
-    write_fitted_model(&cmd.output, &fitted.to_model(), Some(cmd.fit.recorded()))?;
+    write_fitted_model(&cmd.output, &fitted.to_model(), cmd.fit.recorded())?;
     #[allow(clippy::print_stdout)] // reason: the command's result summary
     match &fitted {
         Fitted::Noise(m) => {
@@ -197,6 +265,21 @@ pub fn fit(cmd: &FitCommand) -> Result<()> {
                     st.sub_strata.iter().map(Vec::len).sum::<usize>()
                 );
             }
+        }
+        Fitted::Tiling(m) => {
+            println!(
+                "wrote {} (tiling and blending, {} channel(s), {}×{} exemplar, triangles of {} px, {} blend, {} mip levels)",
+                cmd.output.display(),
+                m.channels,
+                m.width,
+                m.height,
+                m.tile,
+                match m.blend {
+                    Blend::Variance => "variance-preserving",
+                    Blend::Hex { .. } => "hex",
+                },
+                m.level_count()
+            );
         }
         Fitted::Texture(m) => {
             println!(

@@ -43,6 +43,7 @@ pub mod unit_tests {
     pub use crate::gabor::tests as gabor;
     pub use crate::islamic::tests as islamic;
     pub use crate::texton::tests as texton;
+    pub use crate::tiling::tests as tiling;
     pub use crate::voronoi::tests as voronoi;
 }
 

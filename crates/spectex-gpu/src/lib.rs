@@ -123,6 +123,7 @@ pub mod unit_tests {
     pub use crate::subdivision::tests as subdivision;
     pub use crate::texton::tests as texton;
     pub use crate::texture::tests as texture;
+    pub use crate::tiling::tests as tiling;
     pub use crate::voronoi::tests as voronoi;
     pub use crate::wavelet::tests as wavelet;
 }

@@ -14,7 +14,8 @@ use crate::error::ModelError;
 use crate::period::Period;
 use crate::{
     ClassicNoise, Combine, GaborNoise, IslamicPattern, LrpNoise, MatrixTransform, PhasorNoise,
-    StochasticSubdivision, TextonNoise, TextureModel, VoronoiNoise, Warp, WaveletNoise,
+    StochasticSubdivision, TextonNoise, TextureModel, TilingTexture, VoronoiNoise, Warp,
+    WaveletNoise,
 };
 
 /// The model-layer definition of one kind: its name, validation, output channels and seeds.
@@ -112,6 +113,9 @@ pub enum Model {
     /// Stochastic subdivision (survey §3.1.7, [`crate::subdivision`]): midpoint displacement
     /// on a square lattice, each displacement a hash of its level and lattice point.
     Subdivision(StochasticSubdivision),
+    /// Tiling and blending by example (Heitz & Neyret 2018, [`crate::tiling`]): an exemplar's
+    /// tiles on a triangle lattice, blended so the histogram is kept.
+    Tiling(TilingTexture),
 }
 
 /// The one list of kinds: a kind is its line here (module, [`Model`] variant, struct) and its
@@ -162,6 +166,7 @@ macro_rules! for_each_kind {
             islamic Islamic IslamicPattern,
             matrix Matrix MatrixTransform,
             subdivision Subdivision StochasticSubdivision,
+            tiling Tiling TilingTexture,
         }
     };
     (@each [types $Kind:ident $body:expr] $($module:ident $Variant:ident $Struct:ident,)*) => {{

@@ -124,6 +124,7 @@ pub mod unit_tests {
     pub use crate::texton::builder::tests as texton_builder;
     pub use crate::texton::tests as texton;
     pub use crate::texture::tests as texture;
+    pub use crate::tiling::tests as tiling;
     pub use crate::voronoi::builder::tests as voronoi_builder;
     pub use crate::voronoi::tests as voronoi;
     pub use crate::warp::builder::tests as warp_builder;

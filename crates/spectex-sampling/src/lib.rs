@@ -54,6 +54,7 @@ pub mod shrink;
 pub mod spectrum_fit;
 pub mod stratify;
 pub mod texture;
+pub mod tiling;
 
 /// The unit tests' bodies, one module per source module (`pub mod tests` behind this feature),
 /// run by `tests/it/unit.rs`: a unit-test harness would compile the crate a second time.
@@ -70,6 +71,7 @@ pub mod unit_tests {
     pub use crate::spectrum_fit::tests as spectrum_fit;
     pub use crate::stratify::tests as stratify;
     pub use crate::texture::tests as texture;
+    pub use crate::tiling::tests as tiling;
 }
 
 pub use error::SamplingError;

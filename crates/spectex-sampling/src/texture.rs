@@ -502,10 +502,10 @@ fn fit_turbulence(
 }
 
 /// Mean colour, eigenvectors (columns, `vectors[i][c]`) and eigenvalues (largest first).
-type Pca = ([f64; 3], [[f64; 3]; 3], [f64; 3]);
+pub(crate) type Pca = ([f64; 3], [[f64; 3]; 3], [f64; 3]);
 
 /// The PCA of the RGB values, by cyclic Jacobi rotations on their covariance.
-fn colour_pca(image: ArrayView3<'_, f64>) -> Result<Pca, SamplingError> {
+pub(crate) fn colour_pca(image: ArrayView3<'_, f64>) -> Result<Pca, SamplingError> {
     let (_, h, w) = image.dim();
     let n = (h * w) as f64;
     let mut mean = [0.0; 3];

@@ -9,6 +9,7 @@ spectex_testkit::unit_tests! {
     islamic: params_match_the_wgsl, fixed_point_sums_are_the_fraction_of_a_times_n;
     lrp: records_match_the_wgsl, lattice_offsets_are_the_rounded_f64_differences, pack_concatenates_tables_in_order;
     matrix: params_match_the_wgsl;
+    tiling: params_match_the_wgsl;
     phasor: records_match_the_wgsl, nested_blends_are_unsupported_in_phasor_models;
     pipeline: warp_params_match_the_wgsl;
     render: pack_params_match_the_wgsl, store_shaders_validate_with_the_record_layout;

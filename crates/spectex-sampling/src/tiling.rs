@@ -1,0 +1,304 @@
+//! Tiling and blending by example (Heitz & Neyret 2018; Deliot & Heitz 2019): an exemplar
+//! becomes a [`TilingTexture`] — its colours decorrelated by PCA, each channel Gaussianised by
+//! rank (`g = Φ⁻¹((r + ½)/n)` for the value of rank `r` among `n`, ties by position), and the
+//! inverse tabulated: `T⁻¹(g)` is the channel's sorted values read at rank `Φ(g)·n − ½`
+//! (linear between ranks, clamped to the extremes).
+
+use ndarray::ArrayView3;
+use spectex_model::tiling::{Blend, LUT_ENTRIES, MAX_SIDE, MIN_SIDE, TilingTexture, lut_node};
+
+use crate::SamplingError;
+use crate::texture::colour_pca;
+
+/// Options of [`fit_tiling`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TilingOptions {
+    /// Side of the lattice's triangles, pixels; `None`: a quarter of the exemplar's smaller
+    /// side.
+    pub tile: Option<f32>,
+    /// The blend.
+    pub blend: Blend,
+    /// Seed of the vertices' offsets.
+    pub seed: u32,
+}
+
+impl Default for TilingOptions {
+    fn default() -> Self {
+        Self {
+            tile: None,
+            blend: TilingTexture::DEFAULT_BLEND,
+            seed: spectex_model::DEFAULT_SEED,
+        }
+    }
+}
+
+/// `Φ(x)`, the standard normal CDF, from `erfc`.
+#[must_use]
+pub fn normal_cdf(x: f64) -> f64 {
+    0.5 * libm::erfc(-x / std::f64::consts::SQRT_2)
+}
+
+/// `Φ⁻¹(p)` for `p ∈ (0, 1)`: Acklam's rational approximation (relative error 1.2·10⁻⁹) and one
+/// Halley step on `Φ` (full f64 precision).
+#[must_use]
+pub fn normal_quantile(p: f64) -> f64 {
+    const A: [f64; 6] = [
+        -3.969_683_028_665_376e1,
+        2.209_460_984_245_205e2,
+        -2.759_285_104_469_687e2,
+        1.383_577_518_672_69e2,
+        -3.066_479_806_614_716e1,
+        2.506_628_277_459_239,
+    ];
+    const B: [f64; 5] = [
+        -5.447_609_879_822_406e1,
+        1.615_858_368_580_409e2,
+        -1.556_989_798_598_866e2,
+        6.680_131_188_771_972e1,
+        -1.328_068_155_288_572e1,
+    ];
+    const C: [f64; 6] = [
+        -7.784_894_002_430_293e-3,
+        -3.223_964_580_411_365e-1,
+        -2.400_758_277_161_838,
+        -2.549_732_539_343_734,
+        4.374_664_141_464_968,
+        2.938_163_982_698_783,
+    ];
+    const D: [f64; 4] = [
+        7.784_695_709_041_462e-3,
+        3.224_671_290_700_398e-1,
+        2.445_134_137_142_996,
+        3.754_408_661_907_416,
+    ];
+    let tail = |q: f64| {
+        (((((C[0] * q + C[1]) * q + C[2]) * q + C[3]) * q + C[4]) * q + C[5])
+            / ((((D[0] * q + D[1]) * q + D[2]) * q + D[3]) * q + 1.0)
+    };
+    let x = if p < 0.024_25 {
+        tail((-2.0 * p.ln()).sqrt())
+    } else if p > 1.0 - 0.024_25 {
+        -tail((-2.0 * (1.0 - p).ln()).sqrt())
+    } else {
+        let q = p - 0.5;
+        let r = q * q;
+        (((((A[0] * r + A[1]) * r + A[2]) * r + A[3]) * r + A[4]) * r + A[5]) * q
+            / (((((B[0] * r + B[1]) * r + B[2]) * r + B[3]) * r + B[4]) * r + 1.0)
+    };
+    let e = normal_cdf(x) - p;
+    let u = e * (2.0 * std::f64::consts::PI).sqrt() * (x * x / 2.0).exp();
+    x - u / (1.0 + x * u / 2.0)
+}
+
+/// Gaussianises one channel: the standard normal score of each value's rank, and the channel's
+/// values sorted.
+fn gaussianise(values: &[f64]) -> (Vec<f64>, Vec<f64>) {
+    let n = values.len();
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by(|&a, &b| values[a].total_cmp(&values[b]).then(a.cmp(&b)));
+    let mut scores = vec![0.0; n];
+    for (r, &i) in order.iter().enumerate() {
+        scores[i] = normal_quantile((r as f64 + 0.5) / n as f64);
+    }
+    let sorted = order.iter().map(|&i| values[i]).collect();
+    (scores, sorted)
+}
+
+/// `T⁻¹` at the table's nodes: the sorted values at rank `Φ(g)·n − ½`.
+fn inverse_table(sorted: &[f64]) -> Vec<f32> {
+    let n = sorted.len();
+    (0..LUT_ENTRIES)
+        .map(|k| {
+            let rank = (normal_cdf(lut_node(k)) * n as f64 - 0.5).clamp(0.0, (n - 1) as f64);
+            let i = (rank.floor() as usize).min(n.saturating_sub(2));
+            let f = rank - i as f64;
+            let hi = sorted[(i + 1).min(n - 1)];
+            (sorted[i] + f * (hi - sorted[i])) as f32
+        })
+        .collect()
+}
+
+/// Fits tiling and blending to an exemplar of 1 (grey) or 3 (RGB) channels, `(channel, row,
+/// column)`.
+///
+/// # Errors
+/// Another channel count; a side outside `8..=4096`; a non-finite pixel; a constant exemplar; a
+/// tile the exemplar cannot hold (the lattice's reach must leave room for an offset,
+/// `spectex_model::tiling::Lattice::spans`).
+pub fn fit_tiling(
+    image: ArrayView3<'_, f64>,
+    options: &TilingOptions,
+) -> Result<TilingTexture, SamplingError> {
+    let (nc, h, w) = image.dim();
+    if nc != 1 && nc != 3 {
+        return Err(SamplingError::OutOfRange {
+            parameter: "image channels",
+            value: nc as f64,
+            range: "1 (grey) or 3 (RGB); an alpha channel has no place in a tiled texture",
+        });
+    }
+    for side in [w, h] {
+        if side < MIN_SIDE as usize || side > MAX_SIDE as usize {
+            return Err(SamplingError::OutOfRange {
+                parameter: "image side",
+                value: side as f64,
+                range: "8 to 4096 pixels",
+            });
+        }
+    }
+    for ((c, y, x), &v) in image.indexed_iter() {
+        if !v.is_finite() {
+            return Err(SamplingError::NonFinite {
+                parameter: if c == 0 {
+                    "image"
+                } else {
+                    "image (a colour channel)"
+                },
+                value: v,
+                row: y,
+                column: x,
+            });
+        }
+    }
+    let tile = options.tile.unwrap_or((w.min(h) / 4) as f32);
+    let largest = ((w.min(h) - 1) / 2) as f64;
+    if !tile.is_finite() || tile < 1.0 || f64::from(tile) > largest {
+        return Err(SamplingError::OutOfRange {
+            parameter: "tile",
+            value: f64::from(tile),
+            range: "1 to (min(width, height) − 1)/2 pixels: the exemplar must hold a whole tile \
+                    around each lattice vertex",
+        });
+    }
+    let (mean, vectors) = if nc == 3 {
+        let (mean, vectors, _) = colour_pca(image)?;
+        (mean.to_vec(), vectors)
+    } else {
+        let m = image.sum() / (w * h) as f64;
+        (vec![m], [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
+    };
+    let mut gaussian = vec![0.0f32; w * h * nc];
+    let mut lut = Vec::with_capacity(nc * LUT_ENTRIES);
+    let mut spread = 0.0f64;
+    for c in 0..nc {
+        // Channel c: the projection on eigenvector c (grey: the value less the mean).
+        let values: Vec<f64> = (0..h * w)
+            .map(|i| {
+                let (y, x) = (i / w, i % w);
+                (0..nc)
+                    .map(|k| vectors[k][c] * (image[[k, y, x]] - mean[k]))
+                    .sum()
+            })
+            .collect();
+        let (scores, sorted) = gaussianise(&values);
+        spread = spread.max(sorted[sorted.len() - 1] - sorted[0]);
+        for (i, s) in scores.iter().enumerate() {
+            gaussian[i * nc + c] = *s as f32;
+        }
+        lut.extend(inverse_table(&sorted));
+    }
+    if spread <= 0.0 {
+        return Err(SamplingError::OutOfRange {
+            parameter: "image",
+            value: mean[0],
+            range: "an image whose values vary (a constant exemplar has no texture to tile)",
+        });
+    }
+    let basis = (0..nc)
+        .flat_map(|i| (0..nc).map(move |c| (i, c)))
+        .map(|(i, c)| vectors[i][c] as f32)
+        .collect();
+    let model = TilingTexture {
+        seed: options.seed,
+        width: w as u32,
+        height: h as u32,
+        channels: nc as u32,
+        tile,
+        blend: options.blend,
+        gaussian,
+        lut,
+        mean: mean.iter().map(|&m| m as f32).collect(),
+        basis,
+    };
+    model.validate().map_err(SamplingError::Model)?;
+    Ok(model)
+}
+
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(clippy::unwrap_used, reason = "a test fails loudly")]
+pub mod tests {
+    use super::*;
+    use ndarray::Array3;
+
+    pub fn normal_quantile_inverts_the_cdf() {
+        for &p in &[1e-9, 1e-4, 0.02, 0.3, 0.5, 0.77, 0.99, 1.0 - 1e-7] {
+            let x = normal_quantile(p);
+            assert!((normal_cdf(x) - p).abs() < 1e-14 * p.max(1e-3), "{p}");
+        }
+        // Φ(1.959963984540054) = 0.975 (the textbook two-sided 95% point).
+        assert!((normal_quantile(0.975) - 1.959_963_984_540_054).abs() < 1e-12);
+    }
+
+    /// The table maps scores back to the values: `T⁻¹(T(v)) = v` at every pixel within the
+    /// table's interpolation, so the fit keeps the histogram.
+    pub fn the_table_inverts_the_gaussianisation() {
+        let (h, w) = (24, 20);
+        let image = Array3::from_shape_fn((1, h, w), |(_, y, x)| {
+            let v = ((x * 7 + y * 13) % 17) as f64 / 16.0;
+            v * v
+        });
+        let m = fit_tiling(image.view(), &TilingOptions::default()).unwrap();
+        assert_eq!(m.tile, 5.0);
+        let lut = &m.lut[..LUT_ENTRIES];
+        let mean = f64::from(m.mean[0]);
+        for (i, &g) in m.gaussian.iter().enumerate() {
+            let back = spectex_model::tiling::lut_f64(lut, f64::from(g)) * f64::from(m.basis[0]);
+            let v = image[[0, i / w, i % w]];
+            // Between two table nodes the quantile moves by at most the gap between neighbouring
+            // sorted values; here those gaps are at most 33/256.
+            assert!(
+                (back + mean - v).abs() < 0.13,
+                "{i}: {back} + {mean} vs {v}"
+            );
+        }
+        // Sorted scores are the normal quantiles of the ranks: mean 0, variance near 1.
+        let n = m.gaussian.len() as f64;
+        let mean_g: f64 = m.gaussian.iter().map(|&g| f64::from(g)).sum::<f64>() / n;
+        let var_g: f64 = m
+            .gaussian
+            .iter()
+            .map(|&g| f64::from(g).powi(2))
+            .sum::<f64>()
+            / n;
+        assert!(
+            mean_g.abs() < 1e-6 && (var_g - 1.0).abs() < 0.03,
+            "{mean_g} {var_g}"
+        );
+    }
+
+    pub fn bad_exemplars_are_refused_by_name() {
+        let param = |r: Result<TilingTexture, SamplingError>| match r {
+            Err(SamplingError::OutOfRange { parameter, .. })
+            | Err(SamplingError::NonFinite { parameter, .. }) => parameter,
+            other => panic!("{other:?}"),
+        };
+        let ok = Array3::from_shape_fn((3, 16, 16), |(c, y, x)| ((c + x * y) % 5) as f64);
+        let options = TilingOptions::default();
+        assert!(fit_tiling(ok.view(), &options).is_ok());
+        let rgba = Array3::from_shape_fn((4, 16, 16), |(c, y, x)| ((c + x * y) % 5) as f64);
+        assert_eq!(param(fit_tiling(rgba.view(), &options)), "image channels");
+        let small = Array3::from_shape_fn((1, 4, 16), |(_, y, x)| (x + y) as f64);
+        assert_eq!(param(fit_tiling(small.view(), &options)), "image side");
+        let constant = Array3::from_elem((1, 16, 16), 0.25);
+        assert_eq!(param(fit_tiling(constant.view(), &options)), "image");
+        let mut nan = ok.clone();
+        nan[[0, 3, 4]] = f64::NAN;
+        assert_eq!(param(fit_tiling(nan.view(), &options)), "image");
+        let big_tile = TilingOptions {
+            tile: Some(8.0),
+            ..options
+        };
+        assert_eq!(param(fit_tiling(ok.view(), &big_tile)), "tile");
+    }
+}
