@@ -84,7 +84,9 @@ fn tiling_vertex(m: i32, k: i32) -> TilingVertex {
     var kk = k;
     if (params.wrap_rows != 0) {
         kk = wrap_cell(k, params.wrap_rows);
-        let q = (k - kk) / params.wrap_rows;
+        // max(…, 1): an export's constant wrap_rows is 0, and naga refuses a constant division
+        // by zero even in a branch that never runs.
+        let q = (k - kk) / max(params.wrap_rows, 1);
         mm = wrap_cell(m + q * (params.wrap_rows / 2), params.wrap_c);
     }
     var prng = Prng(cell_hash(mm, kk, params.layer, params.seed));

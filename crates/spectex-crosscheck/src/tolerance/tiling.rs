@@ -99,14 +99,88 @@ pub fn tiling(m: &TilingTexture) -> Vec<Tolerance> {
         .collect()
 }
 
+/// How far the value can move with the position. The value is continuous (a vertex enters or
+/// leaves a pixel's triangle with weight 0, and every table is continuous), so there is no jump;
+/// its slope per pixel, with `D` the largest difference between neighbouring texels of any
+/// level and channel (a bilinear tap moves by at most `√2·D` per pixel: one texel per pixel,
+/// rotations keep lengths), `|∇wᵢ| ≤ 1/a` for the triangles' smallest altitude `a` and
+/// `T = scale·step` the tables' largest slope per unit of `g`:
+/// - variance blend: `G = S/N` with `S = Σwᵢgᵢ`, `N = √Σwᵢ² ≥ 1/√3`: `|∇S| ≤ √2·D +
+///   3·max|g|/a`, `|∇N| ≤ √3/a`, `|S| ≤ max|g|`, so `|∇G| ≤ √3·|∇S| + 3√3·max|g|/a`, and the
+///   channel moves by `T·|∇G|`;
+/// - hex blend: `t = Σ p̂ᵢ·LUT(gᵢ)` with `p̂ᵢ = wᵢᵞ/Σwⱼᵞ`: `|∇LUT(gᵢ)| ≤ T·√2·D`, and
+///   `|∇p̂ᵢ| = γ·p̂ᵢ·|∇wᵢ/wᵢ − Σⱼ p̂ⱼ∇wⱼ/wⱼ| ≤ 2γ·3ᵞ/a` (`p̂ᵢ/wᵢ ≤ 1/Σwⱼᵞ ≤ 3ᵞ`), times the
+///   spread `2L` of the table values, for each of the 3 weights;
+/// - the output sums the channels with `Σ_c |B_ic|`; the grid is the lattice's side.
+#[must_use]
+pub fn regularity(m: &TilingTexture) -> Regularity {
+    let tables = m.tables();
+    let nc = m.channels as usize;
+    let mut d = 0.0f64;
+    for lv in &tables.levels {
+        let (w, h) = (lv.width as usize, lv.height as usize);
+        let at = |x: usize, y: usize| tables.texels[lv.offset as usize + y * w + x];
+        for y in 0..h {
+            for x in 0..w {
+                for (dx, dy) in [(1, 0), (0, 1)] {
+                    if x + dx < w && y + dy < h {
+                        let (a, b) = (at(x, y), at(x + dx, y + dy));
+                        for c in 0..nc {
+                            d = d.max(f64::from((a[c] - b[c]).abs()));
+                        }
+                    }
+                }
+            }
+        }
+    }
+    let g_max = m
+        .gaussian
+        .iter()
+        .map(|g| f64::from(g.abs()))
+        .fold(0.0, f64::max);
+    let (step, l_max) = lut_bounds(&tables);
+    let scale = (LUT_ENTRIES - 1) as f64 / (2.0 * f64::from(LUT_RANGE));
+    let slope_t = scale * step;
+    let lattice = m.lattice(None);
+    let side = lattice.map_or(1.0, |l| l.side);
+    // The smallest altitude: the row spacing, or for a stretched lattice the side times the
+    // sine of the smallest angle, at least row·side/longest edge.
+    let altitude = lattice.map_or(1.0, |l| l.row * l.side / l.reach());
+    let s2 = std::f64::consts::SQRT_2;
+    let s3 = 3f64.sqrt();
+    let channel = match m.blend {
+        Blend::Variance => {
+            let grad_s = s2 * d + 3.0 * g_max / altitude;
+            slope_t * (s3 * grad_s + 3.0 * s3 * g_max / altitude)
+        }
+        Blend::Hex { sharpness, .. } => {
+            let gamma = f64::from(sharpness);
+            slope_t * s2 * d + 3.0 * 2.0 * gamma * 3f64.powf(gamma) / altitude * 2.0 * l_max
+        }
+    };
+    let (mut slope, mut magnitude) = (0.0f64, 0.0f64);
+    for i in 0..nc {
+        let b: f64 = m.basis[i * nc..(i + 1) * nc]
+            .iter()
+            .map(|v| f64::from(v.abs()))
+            .sum();
+        slope = slope.max(b * channel);
+        magnitude = magnitude.max(f64::from(m.mean[i].abs()) + b * l_max);
+    }
+    Regularity {
+        slope,
+        jump: 0.0,
+        magnitude,
+        cell: side,
+    }
+}
+
 impl CheckKind for TilingTexture {
     fn tolerances(&self) -> Option<Vec<Tolerance>> {
         Some(tiling(self))
     }
 
-    /// None derived: the value's slope is the exemplar's through its look-up table, whose
-    /// steps may be any size (a histogram with gaps); a warp over a tiling texture has no bound.
     fn regularity(&self) -> Option<Regularity> {
-        None
+        Some(regularity(self))
     }
 }
