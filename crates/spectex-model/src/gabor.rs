@@ -132,6 +132,20 @@ impl GaborNoise {
         ((fitted / r - 1.0).abs() <= GABOR_PERIOD_TOLERANCE).then_some(fitted)
     }
 
+    /// The largest frequency `|f|` an impulse's kernel may have, cycles per pixel: `F₀`, or
+    /// for [`Orientation::Spectrum`] the largest `|f_k|` of the table (zero-weight components
+    /// included: a bound, not a statistic).
+    #[must_use]
+    pub fn largest_frequency(&self) -> f64 {
+        match &self.orientation {
+            Orientation::Spectrum { frequencies, .. } => frequencies
+                .iter()
+                .map(|f| f64::from(f[0]).hypot(f64::from(f[1])))
+                .fold(0.0, f64::max),
+            _ => f64::from(self.frequency),
+        }
+    }
+
     /// Mean impulses per grid cell of side `r`: `impulses_per_kernel / π`.
     #[must_use]
     pub fn impulses_per_cell(&self) -> f64 {
