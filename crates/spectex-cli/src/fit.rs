@@ -1,5 +1,6 @@
 //! `spectex fit` and `spectex synth`: an LRP noise or a texture model fitted to an example
-//! image (Gilet et al. 2014, §4 and §5), written as a model file or rendered.
+//! image (Gilet et al. 2014, §4 and §5), or a Gabor noise by example (Galerne et al. 2012,
+//! `--method gabor`), written as a model file or rendered.
 
 use std::path::{Path, PathBuf};
 
@@ -7,7 +8,7 @@ use anyhow::{Context, Result, anyhow};
 use clap::Args;
 use ndarray::Axis;
 use spectex_model::{Fit, LrpNoise, Model, TextureModel};
-use spectex_sampling::{FitMethod, FitOptions, TextureOptions};
+use spectex_sampling::{FitMethod, FitOptions, GaborFit, GaborFitOptions, TextureOptions};
 
 use crate::args::RenderArgs;
 use crate::io;
@@ -15,9 +16,27 @@ use crate::model_file::write_fitted_model;
 use crate::noise::{arg_of, model_of};
 use crate::render::render_to_file;
 
-/// Options shared by every command that fits an LRP model.
+/// Options shared by every command that fits a model to an example.
 #[derive(Debug, Args)]
 pub struct FitArgs {
+    /// The model fitted: `lrp` (Local Random-Phase noise, or a texture with --structure …;
+    /// Gilet et al. 2014) or `gabor` (Gabor noise by example, Galerne et al. 2012: a sparse sum
+    /// of Gaussians fitted to the power spectrum; a colour example is fitted by its luminance
+    /// 0.2126 R + 0.7152 G + 0.0722 B).
+    #[arg(long, value_enum, default_value_t = MethodArg::Lrp)]
+    method: MethodArg,
+    /// Gabor by example: candidate frequencies every 1/n cycles per pixel (n from 4 to 48;
+    /// the Gaussians' bandwidth is √π/n).
+    #[arg(long, value_name = "n", default_value_t = GaborFitOptions::DEFAULT_GRID)]
+    grid: u32,
+    /// Gabor by example: the L1 penalty λ as a share of the strongest correlation, in [0, 1)
+    /// (0: plain non-negative least squares; larger keeps fewer Gaussians).
+    #[arg(long, default_value_t = GaborFitOptions::DEFAULT_SPARSITY)]
+    sparsity: f64,
+    /// Gabor by example: mean impulses per kernel footprint (0.01 to 1000; the cost per pixel
+    /// is 9/π of it).
+    #[arg(long, default_value_t = GaborFitOptions::DEFAULT_IMPULSES_PER_KERNEL)]
+    impulses_per_kernel: f32,
     /// Cosine budget J: cosines per lattice point over all strata (1 to 1024).
     #[arg(long, default_value_t = FitOptions::DEFAULT_BUDGET)]
     budget: u32,
@@ -46,6 +65,16 @@ pub struct FitArgs {
     /// Take the structure from the raw exemplar block instead of its periodic component.
     #[arg(long)]
     raw_structure: bool,
+}
+
+/// `--method`: which model a fit makes. A new method is one more value here and one more arm
+/// in [`fit_example`] (and in `Fitted`, how it is written and summarised).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum MethodArg {
+    /// Local Random-Phase noise or texture (Gilet et al. 2014).
+    Lrp,
+    /// Gabor noise by example (Galerne et al. 2012).
+    Gabor,
 }
 
 /// `--fit`.
@@ -95,6 +124,16 @@ impl FitArgs {
         }
     }
 
+    /// The options of a Gabor noise by example.
+    fn gabor_options(&self) -> GaborFitOptions {
+        GaborFitOptions {
+            grid: self.grid,
+            sparsity: self.sparsity,
+            impulses_per_kernel: self.impulses_per_kernel,
+            seed: self.seed,
+        }
+    }
+
     /// Whether the texture model (rather than plain LRP noise) is asked for.
     pub fn wants_texture(&self) -> bool {
         self.structure > 0.0 || self.turbulence > 0.0 || self.random_placement
@@ -124,10 +163,12 @@ pub struct SynthCommand {
     render: RenderArgs,
 }
 
-/// What a fit gives: plain LRP noise (a grey exemplar without texture options) or a texture.
+/// What a fit gives: plain LRP noise (a grey exemplar without texture options), a texture, or
+/// a Gabor noise by example.
 enum Fitted {
     Noise(LrpNoise),
     Texture(TextureModel),
+    Gabor(Box<GaborFit>),
 }
 
 impl Fitted {
@@ -135,12 +176,52 @@ impl Fitted {
         match self {
             Self::Noise(noise) => noise.clone().into(),
             Self::Texture(texture) => texture.clone().into(),
+            Self::Gabor(fit) => fit.model.clone().into(),
         }
     }
 }
 
-/// Fits the example (the built-in exemplar if `input` is `None`); also returns its size.
+/// Fits the example (the built-in exemplar if `input` is `None`) by `--method`; also returns
+/// its size.
 fn fit_example(input: Option<&Path>, fit: &FitArgs) -> Result<(Fitted, (usize, usize))> {
+    match fit.method {
+        MethodArg::Lrp => fit_lrp(input, fit),
+        MethodArg::Gabor => fit_gabor(input, fit),
+    }
+}
+
+/// `--method gabor`: the luminance of the example (its only channel when grey).
+fn fit_gabor(input: Option<&Path>, fit: &FitArgs) -> Result<(Fitted, (usize, usize))> {
+    if fit.wants_texture() {
+        return Err(anyhow!(
+            "--structure, --turbulence and --random-placement make an LRP texture; they cannot \
+             be used with --method gabor"
+        ));
+    }
+    let options = fit.gabor_options();
+    options
+        .validate()
+        .map_err(|e| anyhow!("{e}; check --grid, --sparsity and --impulses-per-kernel"))?;
+    let (loaded, name) = io::load_input(input)?;
+    let (channels, h, w) = loaded.pixels.dim();
+    let grey = if channels >= 3 {
+        // Rec. 709 luminance of the (non-linear) values, as the exemplar is read.
+        ndarray::Array2::from_shape_fn((h, w), |(y, x)| {
+            0.2126 * loaded.pixels[[0, y, x]]
+                + 0.7152 * loaded.pixels[[1, y, x]]
+                + 0.0722 * loaded.pixels[[2, y, x]]
+        })
+    } else {
+        loaded.pixels.index_axis(Axis(0), 0).to_owned()
+    };
+    let fitted = spectex_sampling::fit_gabor(grey.view(), &options)
+        .with_context(|| format!("cannot fit {name}"))?;
+    Ok((Fitted::Gabor(Box::new(fitted)), (w, h)))
+}
+
+/// `--method lrp`: LRP noise for a grey example, a texture for a colour one or with texture
+/// options.
+fn fit_lrp(input: Option<&Path>, fit: &FitArgs) -> Result<(Fitted, (usize, usize))> {
     // Options first: a bad --budget or --structure is reported before any input is read.
     fit.texture_options()
         .validate()
@@ -178,9 +259,24 @@ fn fit_example(input: Option<&Path>, fit: &FitArgs) -> Result<(Fitted, (usize, u
 /// `spectex fit`.
 pub fn fit(cmd: &FitCommand) -> Result<()> {
     let (fitted, _) = fit_example(cmd.input.as_deref(), &cmd.fit)?;
-    write_fitted_model(&cmd.output, &fitted.to_model(), Some(cmd.fit.recorded()))?;
+    // `fit` records how an LRP model's strata became cosines; other methods have no such choice.
+    let recorded = matches!(cmd.fit.method, MethodArg::Lrp).then(|| cmd.fit.recorded());
+    write_fitted_model(&cmd.output, &fitted.to_model(), recorded)?;
     #[allow(clippy::print_stdout)] // reason: the command's result summary
     match &fitted {
+        Fitted::Gabor(fit) => {
+            println!(
+                "wrote {} (Gabor noise by example, {} of {} Gaussians on a 1/{} grid, \
+                 bandwidth a = {:.4}, relative residual {:.3}, {:.1} kernel evaluations per pixel)",
+                cmd.output.display(),
+                fit.components,
+                fit.candidates,
+                fit.grid,
+                fit.model.bandwidth,
+                fit.relative_residual,
+                9.0 * fit.model.impulses_per_cell()
+            );
+        }
         Fitted::Noise(m) => {
             println!(
                 "wrote {} (LRP noise, {} strata, J = {}):",
