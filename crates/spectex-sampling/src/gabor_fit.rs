@@ -14,11 +14,15 @@
 //! 5% truncation). Frequencies wrap at the pixel grid (a render samples the noise at pixels),
 //! so `ω − f_k` is taken per axis to its nearest alias.
 //!
-//! The weights minimise `½‖P − Σ_k c_k B_k‖² + λ‖c‖₁` with `c ≥ 0` (the paper's non-negative
-//! basis pursuit denoising) over the exemplar's Welch spectrum `P` without its zero frequency,
-//! by projected coordinate descent on the Gram matrix `BᵀB` (each `B_k` is stored sparsely: its
-//! lobes reach a few widths). `λ = sparsity · max_k (BᵀP)_k`: `sparsity = 0` is the plain
-//! non-negative least squares, 1 keeps nothing.
+//! The weights minimise `½‖P − Σ_k c_k B_k‖²_W + λ‖c‖₁` with `c ≥ 0` (the paper's
+//! non-negative basis pursuit denoising) over the exemplar's Welch spectrum `P` without its zero
+//! frequency, by projected coordinate descent on the Gram matrix `BᵀWB` (each `B_k` is stored
+//! sparsely: its lobes reach a few widths). `W` weighs each bin by the inverse of its 5×5
+//! average power plus a floor (a relative least squares): with plain least squares the strong
+//! low frequencies took every Gaussian and the weak, broad tail was dropped (gravel's L1 shape
+//! distance 0.18 against 0.14 weighted, `cargo xtask reproduce gabor-example`).
+//! `λ = sparsity · max_k (BᵀWP)_k`: `sparsity = 0` is the plain non-negative least squares, 1
+//! keeps nothing.
 //!
 //! # The bandwidth
 //!
@@ -212,8 +216,14 @@ pub fn fit_gabor_psd(
     let bandwidth = std::f64::consts::PI.sqrt() / n as f64;
     let candidates = candidates(n);
     let basis = Basis::new(&candidates, t, bandwidth);
-    let b: Vec<f64> = basis.columns.iter().map(|c| c.dot(&target)).collect();
-    let gram = basis.gram();
+    // Relative least squares: each bin weighted by 1/(its 5×5 average power + a floor), so a
+    // spectrum's weak tail counts as much as its strong peak (the shape distance is L1).
+    let smooth = spectex_spectrum::normalised_smoothed(target.view());
+    let floor = 1e-3 / (t * t) as f64;
+    let weight = smooth.mapv(|v| 1.0 / (v + floor));
+    let weighted = &target * &weight;
+    let b: Vec<f64> = basis.columns.iter().map(|c| c.dot(&weighted)).collect();
+    let gram = basis.gram(weight.as_slice().unwrap_or(&[]));
     let lambda = options.sparsity * b.iter().copied().fold(0.0, f64::max);
     let c = nonnegative_lasso(&gram, &b, lambda);
 
@@ -383,14 +393,14 @@ impl Basis {
         })
     }
 
-    /// `BᵀB`, dense (its pairs of distant candidates are 0).
-    fn gram(&self) -> Vec<Vec<f64>> {
+    /// `BᵀWB` for the bin weights `weight`, dense (its pairs of distant candidates are 0).
+    fn gram(&self, weight: &[f64]) -> Vec<Vec<f64>> {
         let k = self.columns.len();
         let mut q = vec![vec![0.0; k]; k];
         let mut scratch = vec![0.0f64; self.t * self.t];
         for i in 0..k {
             for &(e, v) in &self.columns[i].entries {
-                scratch[e as usize] = v;
+                scratch[e as usize] = v * weight.get(e as usize).copied().unwrap_or(1.0);
             }
             for j in i..k {
                 if !self.overlap(i, j) {
