@@ -95,6 +95,7 @@ fn against_lrp(s: &mut Session<'_>) -> Result<()> {
             &GaborFitOptions {
                 impulses_per_kernel: ipk,
                 seed: 1,
+                ..GaborFitOptions::default()
             },
         )
         .ctx("Gabor noise by example fit")?;
