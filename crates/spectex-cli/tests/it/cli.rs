@@ -1193,6 +1193,8 @@ fn fit_and_synth_gabor_noise_by_example() {
         "64x48",
     ]);
     assert!(png.is_file());
+    // The failures in a directory of their own: nothing may be left there.
+    let dir = scratch("gabor-example-bad");
     let out = spectex(&[
         "fit",
         "-o",
