@@ -1,6 +1,7 @@
 //! `spectex fit` and `spectex synth`: an LRP noise or a texture model fitted to an example
-//! image (Gilet et al. 2014, §4 and §5), or tiling and blending (Heitz & Neyret 2018,
-//! `--method tiling`), written as a model file or rendered.
+//! image (Gilet et al. 2014, §4 and §5), a Gabor noise by example (Galerne et al. 2012,
+//! `--method gabor`) or tiling and blending (Heitz & Neyret 2018, `--method tiling`), written
+//! as a model file or rendered.
 
 use std::path::{Path, PathBuf};
 
@@ -10,7 +11,7 @@ use ndarray::Axis;
 use spectex_model::tiling::{Blend, TilingTexture};
 use spectex_model::{Fit, LrpNoise, Model, TextureModel};
 use spectex_sampling::tiling::TilingOptions;
-use spectex_sampling::{FitMethod, FitOptions, TextureOptions};
+use spectex_sampling::{FitMethod, FitOptions, GaborFit, GaborFitOptions, TextureOptions};
 
 use crate::args::RenderArgs;
 use crate::io;
@@ -18,14 +19,28 @@ use crate::model_file::write_fitted_model;
 use crate::noise::{arg_of, model_of};
 use crate::render::render_to_file;
 
-/// Options shared by every command that fits an LRP model.
+/// Options shared by every command that fits a model to an example.
 #[derive(Debug, Args)]
 pub struct FitArgs {
-    /// The by-example method: `lrp` (Local Random-Phase noise, Gilet et al. 2014: the
-    /// exemplar's spectrum, Gaussian values) or `tiling` (Heitz & Neyret 2018's tiling and
-    /// blending: the exemplar's histogram and shapes kept).
+    /// The model fitted: `lrp` (Local Random-Phase noise, or a texture with --structure …;
+    /// Gilet et al. 2014), `gabor` (Gabor noise by example, Galerne et al. 2012: a sparse sum
+    /// of Gaussians fitted to the power spectrum; a colour example is fitted by its luminance
+    /// 0.2126 R + 0.7152 G + 0.0722 B) or `tiling` (tiling and blending, Heitz & Neyret 2018:
+    /// the exemplar's histogram and shapes kept).
     #[arg(long, value_enum, default_value_t = MethodArg::Lrp)]
     method: MethodArg,
+    /// Gabor by example: candidate frequencies every 1/n cycles per pixel (n from 4 to 48;
+    /// the Gaussians' bandwidth is √π/n).
+    #[arg(long, value_name = "n", default_value_t = GaborFitOptions::DEFAULT_GRID)]
+    grid: u32,
+    /// Gabor by example: the L1 penalty λ as a share of the strongest correlation, in [0, 1)
+    /// (0: plain non-negative least squares; larger keeps fewer Gaussians).
+    #[arg(long, default_value_t = GaborFitOptions::DEFAULT_SPARSITY)]
+    sparsity: f64,
+    /// Gabor by example: mean impulses per kernel footprint (0.01 to 1000; the cost per pixel
+    /// is 9/π of it).
+    #[arg(long, default_value_t = GaborFitOptions::DEFAULT_IMPULSES_PER_KERNEL)]
+    impulses_per_kernel: f32,
     /// Tiling: side of the lattice's triangles, pixels (default: a quarter of the exemplar's
     /// smaller side; at most half of it).
     #[arg(long, value_name = "PX")]
@@ -70,18 +85,23 @@ pub struct FitArgs {
     raw_structure: bool,
 }
 
+/// `--method`: which model a fit makes. A new method is one more value here and one more arm
+/// in [`fit_example`] (and in `Fitted`, how it is written and summarised).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum MethodArg {
+    /// Local Random-Phase noise or texture (Gilet et al. 2014).
+    Lrp,
+    /// Gabor noise by example (Galerne et al. 2012).
+    Gabor,
+    /// Tiling and blending (Heitz & Neyret 2018).
+    Tiling,
+}
+
 /// `--fit`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 enum FitArg {
     Spectrum,
     Paper,
-}
-
-/// `--method`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-enum MethodArg {
-    Lrp,
-    Tiling,
 }
 
 /// `--blend`.
@@ -115,7 +135,7 @@ impl FitArgs {
     /// The fit recorded in the model file (LRP's only).
     fn recorded(&self) -> Option<Fit> {
         match (self.method, self.fit) {
-            (MethodArg::Tiling, _) => None,
+            (MethodArg::Tiling | MethodArg::Gabor, _) => None,
             (MethodArg::Lrp, FitArg::Spectrum) => Some(Fit::Spectrum),
             (MethodArg::Lrp, FitArg::Paper) => Some(Fit::Paper),
         }
@@ -144,6 +164,16 @@ impl FitArgs {
             random_placement: self.random_placement,
             periodic: !self.raw_structure,
             ..TextureOptions::default()
+        }
+    }
+
+    /// The options of a Gabor noise by example.
+    fn gabor_options(&self) -> GaborFitOptions {
+        GaborFitOptions {
+            grid: self.grid,
+            sparsity: self.sparsity,
+            impulses_per_kernel: self.impulses_per_kernel,
+            seed: self.seed,
         }
     }
 
@@ -176,11 +206,13 @@ pub struct SynthCommand {
     render: RenderArgs,
 }
 
-/// What a fit gives: plain LRP noise (a grey exemplar without texture options) or a texture.
+/// What a fit gives: plain LRP noise (a grey exemplar without texture options), a texture, or
+/// a Gabor noise by example.
 enum Fitted {
     Noise(LrpNoise),
     Texture(TextureModel),
     Tiling(TilingTexture),
+    Gabor(Box<GaborFit>),
 }
 
 impl Fitted {
@@ -189,32 +221,76 @@ impl Fitted {
             Self::Noise(noise) => noise.clone().into(),
             Self::Texture(texture) => texture.clone().into(),
             Self::Tiling(tiling) => tiling.clone().into(),
+            Self::Gabor(fit) => fit.model.clone().into(),
         }
     }
 }
 
-/// Fits the example (the built-in exemplar if `input` is `None`); also returns its size.
+/// Fits the example (the built-in exemplar if `input` is `None`) by `--method`; also returns
+/// its size.
 fn fit_example(input: Option<&Path>, fit: &FitArgs) -> Result<(Fitted, (usize, usize))> {
+    match fit.method {
+        MethodArg::Lrp => fit_lrp(input, fit),
+        MethodArg::Gabor => fit_gabor(input, fit),
+        MethodArg::Tiling => fit_tiling(input, fit),
+    }
+}
+
+/// `--method gabor`: the luminance of the example (its only channel when grey).
+fn fit_gabor(input: Option<&Path>, fit: &FitArgs) -> Result<(Fitted, (usize, usize))> {
+    if fit.wants_texture() {
+        return Err(anyhow!(
+            "--structure, --turbulence and --random-placement make an LRP texture; they cannot \
+             be used with --method gabor"
+        ));
+    }
+    let options = fit.gabor_options();
+    options
+        .validate()
+        .map_err(|e| anyhow!("{e}; check --grid, --sparsity and --impulses-per-kernel"))?;
+    let (loaded, name) = io::load_input(input)?;
+    let (channels, h, w) = loaded.pixels.dim();
+    let grey = if channels >= 3 {
+        // Rec. 709 luminance of the (non-linear) values, as the exemplar is read.
+        ndarray::Array2::from_shape_fn((h, w), |(y, x)| {
+            0.2126 * loaded.pixels[[0, y, x]]
+                + 0.7152 * loaded.pixels[[1, y, x]]
+                + 0.0722 * loaded.pixels[[2, y, x]]
+        })
+    } else {
+        loaded.pixels.index_axis(Axis(0), 0).to_owned()
+    };
+    let fitted = spectex_sampling::fit_gabor(grey.view(), &options)
+        .with_context(|| format!("cannot fit {name}"))?;
+    Ok((Fitted::Gabor(Box::new(fitted)), (w, h)))
+}
+
+/// `--method tiling`: the example's grey or RGB channels (an alpha channel is refused).
+fn fit_tiling(input: Option<&Path>, fit: &FitArgs) -> Result<(Fitted, (usize, usize))> {
+    let (loaded, name) = io::load_input(input)?;
+    let (_, h, w) = loaded.pixels.dim();
+    if loaded.dropped_alpha {
+        bail!(
+            "{name} has an alpha channel; tiling by example tiles grey or RGB exemplars: \
+             flatten or remove the alpha channel first"
+        );
+    }
+    let model = spectex_sampling::tiling::fit_tiling(loaded.pixels.view(), &fit.tiling_options())
+        .with_context(|| {
+        format!("cannot fit {name} (check --tile, --sharpness and --rotation)")
+    })?;
+    Ok((Fitted::Tiling(model), (w, h)))
+}
+
+/// `--method lrp`: LRP noise for a grey example, a texture for a colour one or with texture
+/// options.
+fn fit_lrp(input: Option<&Path>, fit: &FitArgs) -> Result<(Fitted, (usize, usize))> {
     // Options first: a bad --budget or --structure is reported before any input is read.
     fit.texture_options()
         .validate()
         .map_err(|e| anyhow!("{e}; check --budget, --strata, --structure and --turbulence"))?;
     let (loaded, name) = io::load_input(input)?;
     let (channels, h, w) = loaded.pixels.dim();
-    if fit.method == MethodArg::Tiling {
-        if loaded.dropped_alpha {
-            bail!(
-                "{name} has an alpha channel; tiling by example tiles grey or RGB exemplars: \
-                 flatten or remove the alpha channel first"
-            );
-        }
-        let model =
-            spectex_sampling::tiling::fit_tiling(loaded.pixels.view(), &fit.tiling_options())
-                .with_context(|| {
-                    format!("cannot fit {name} (check --tile, --sharpness and --rotation)")
-                })?;
-        return Ok((Fitted::Tiling(model), (w, h)));
-    }
     if channels == 1 && !fit.wants_texture() {
         let grey = loaded.pixels.index_axis(Axis(0), 0);
         let model = spectex_sampling::fit_image(grey, &fit.options())
@@ -249,6 +325,19 @@ pub fn fit(cmd: &FitCommand) -> Result<()> {
     write_fitted_model(&cmd.output, &fitted.to_model(), cmd.fit.recorded())?;
     #[allow(clippy::print_stdout)] // reason: the command's result summary
     match &fitted {
+        Fitted::Gabor(fit) => {
+            println!(
+                "wrote {} (Gabor noise by example, {} of {} Gaussians on a 1/{} grid, \
+                 bandwidth a = {:.4}, relative residual {:.3}, {:.1} kernel evaluations per pixel)",
+                cmd.output.display(),
+                fit.components,
+                fit.candidates,
+                fit.grid,
+                fit.model.bandwidth,
+                fit.relative_residual,
+                9.0 * fit.model.impulses_per_cell()
+            );
+        }
         Fitted::Noise(m) => {
             println!(
                 "wrote {} (LRP noise, {} strata, J = {}):",

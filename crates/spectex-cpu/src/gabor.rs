@@ -33,6 +33,10 @@
 //!    (f32 operations), where `τ_min = frac(min / 2π)` and `span = (max − min) / 2π` are computed
 //!    in f64 and rounded to f32; the frequency vector is `F₀r·(cos_turns(τ), cos_turns(τ − ¼))`.
 //!    (The anisotropic vector `F₀r·(cos angle, sin angle)` is computed in f64 and rounded.)
+//!    For [`Orientation::Spectrum`] (Gabor noise by example) the fourth draw `u₄` picks the
+//!    component `k` = the number of entries `≤ u₄` of the table
+//!    [`spectex_model::cumulative_weights`] (at most `n − 1`), and the vector is
+//!    `r·f_k`, each coordinate computed in f64 and rounded to f32.
 //!
 //! # Precision (invariant 2 of docs/ARCHITECTURE.md)
 //!
@@ -83,7 +87,7 @@
 
 use spectex_model::grid::locate_cell as locate;
 use spectex_model::random::{Prng, cell_hash_in_row, layer_key, row_key};
-use spectex_model::{GaborNoise, NEG_LN_20, Orientation, Period, Window};
+use spectex_model::{GaborNoise, NEG_LN_20, Orientation, Period, Window, pick_component};
 
 use crate::math::{cos_turns, exp_poly};
 
@@ -131,12 +135,19 @@ pub struct GaborEvaluator {
 }
 
 /// The frequency vector of the impulses, in cycles per cell unit.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 enum Direction {
     /// One vector for every impulse.
     Fixed { fx: f32, fy: f32 },
     /// Angle in turns `τ_min + u·span`, drawn per impulse.
     Random { t_min: f32, span: f32 },
+    /// Component drawn per impulse from a cumulative table (module doc, step 2).
+    Table {
+        /// `r·f_k`, cycles per cell unit.
+        vectors: Vec<[f32; 2]>,
+        /// [`spectex_model::cumulative_weights`].
+        cumulative: Vec<f32>,
+    },
 }
 
 /// One impulse, reduced to what the kernel loop needs for a given row offset: the row part of
@@ -266,21 +277,31 @@ impl GaborEvaluator {
         let chunks = (lambda / POISSON_CHUNK).floor();
         let rest = lambda - chunks * POISSON_CHUNK;
         let frequency_cells = f64::from(model.frequency) * radius;
-        let direction = match model.orientation {
-            Orientation::Anisotropic { angle } => {
+        let direction = match &model.orientation {
+            &Orientation::Anisotropic { angle } => {
                 let (sin, cos) = angle_sin_cos(f64::from(angle));
                 Direction::Fixed {
                     fx: (frequency_cells * cos) as f32,
                     fy: (frequency_cells * sin) as f32,
                 }
             }
-            Orientation::Isotropic { min, max } => {
+            &Orientation::Isotropic { min, max } => {
                 let turn = std::f64::consts::TAU;
                 Direction::Random {
                     t_min: (f64::from(min) / turn).rem_euclid(1.0) as f32,
                     span: ((f64::from(max) - f64::from(min)) / turn) as f32,
                 }
             }
+            Orientation::Spectrum {
+                frequencies,
+                weights,
+            } => Direction::Table {
+                vectors: frequencies
+                    .iter()
+                    .map(|f| f.map(|c| (f64::from(c) * radius) as f32))
+                    .collect(),
+                cumulative: spectex_model::cumulative_weights(weights),
+            },
         };
         Self {
             mean: model.mean,
@@ -396,12 +417,19 @@ impl GaborEvaluator {
                 let ox = prng.next_f32();
                 let oy = prng.next_f32();
                 let w = 2.0 * prng.next_f32() - 1.0;
-                let (fx, fy) = match self.direction {
-                    Direction::Fixed { fx, fy } => (fx, fy),
-                    Direction::Random { t_min, span } => {
+                let (fx, fy) = match &self.direction {
+                    &Direction::Fixed { fx, fy } => (fx, fy),
+                    &Direction::Random { t_min, span } => {
                         let turns = t_min + prng.next_f32() * span;
                         let f = self.frequency_cells;
                         (f * cos_turns(turns), f * cos_turns(turns - 0.25))
+                    }
+                    Direction::Table {
+                        vectors,
+                        cumulative,
+                    } => {
+                        let k = pick_component(cumulative, prng.next_f32());
+                        vectors.get(k).map_or((0.0, 0.0), |v| (v[0], v[1]))
                     }
                 };
                 let dy = uyt - oy;

@@ -5,8 +5,10 @@
 // The plane is cut into square cells of side r (the kernel radius). Cell (i, j) holds the
 // impulses drawn from Prng(cell_hash(i, j, 0, seed)): a Poisson count by Knuth's method with
 // renormalisation by exp(64) and a cap, then per impulse x offset, y offset, weight 2u − 1 and,
-// for isotropic noise only, the direction u (turns t_min + u·span). All of this is integer or
-// exact f32 work, so the impulses are the CPU's bit for bit.
+// for isotropic noise only, the direction u (turns t_min + u·span), or for a spectrum (Gabor
+// noise by example) the component u: the number of cumulative entries ≤ u (binary search; any
+// search of the monotone table gives the CPU's index). All of this is integer or exact f32
+// work, so the impulses are the CPU's bit for bit.
 //
 // A pixel sums the three cell columns s = −1, 0, 1 separately; column i + s lists the impulses
 // of the cells (i+s, j−1), (i+s, j), (i+s, j+1) in draw order, keeps those with d_y² < 1, and
@@ -23,7 +25,7 @@ struct GaborParams {
     height: u32,
     seed: u32,
     /// 0: one frequency vector (dir_a, dir_b) = (f_x, f_y); 1: random angle in turns
-    /// dir_a + u·dir_b.
+    /// dir_a + u·dir_b; 2: a component drawn from `components`.
     direction_kind: u32,
     mean: f32,
     /// K.
@@ -43,7 +45,8 @@ struct GaborParams {
     dir_b: f32,
     /// 1 / r, cell units per pixel (f32 of the f64 value), for warping.
     inv_radius: f32,
-    _pad1: u32,
+    /// Entries of `components` (0 unless direction_kind is 2).
+    components: u32,
     /// Cells per period along x and y of a periodic noise (cells enter the hash wrapped modulo
     /// them, wrap_cell in common.wgsl, as on the CPU); 0 when not periodic.
     cells_x: i32,
@@ -52,10 +55,20 @@ struct GaborParams {
     _pad3: u32,
 }
 
+/// One component of a spectrum: its frequency vector in cycles per cell unit and its
+/// cumulative weight C_k.
+struct GaborComponent {
+    fx: f32,
+    fy: f32,
+    cumulative: f32,
+    _pad: u32,
+}
+
 @group(0) @binding(0) var<uniform> params: GaborParams;
-@group(0) @binding(1) var<storage, read> columns: array<GridAxis>;
-@group(0) @binding(2) var<storage, read> rows: array<GridAxis>;
-@group(0) @binding(3) var<storage, read_write> output: array<f32>;
+@group(0) @binding(1) var<storage, read> components: array<GaborComponent>;
+@group(0) @binding(2) var<storage, read> columns: array<GridAxis>;
+@group(0) @binding(3) var<storage, read> rows: array<GridAxis>;
+@group(0) @binding(4) var<storage, read_write> output: array<f32>;
 
 /// The randomness-contract layer of Gabor impulses.
 const GABOR_LAYER: u32 = 0u;
@@ -77,6 +90,22 @@ fn poisson_count(prng: ptr<function, Prng>) -> u32 {
         }
     }
     return params.max_impulses;
+}
+
+/// The component u picks: the number of cumulative entries ≤ u, at most n − 1 (CPU:
+/// spectex_model::pick_component).
+fn pick_component(u: f32) -> u32 {
+    var lo = 0u;
+    var hi = params.components - 1u;
+    while (lo < hi) {
+        let mid = (lo + hi) / 2u;
+        if (components[mid].cumulative <= u) {
+            lo = mid + 1u;
+        } else {
+            hi = mid;
+        }
+    }
+    return lo;
 }
 
 /// One impulse's contribution at d_x = uxs − ox; 0 beyond the radius.
@@ -118,6 +147,10 @@ fn gabor_value(column: GridAxis, row: GridAxis) -> f32 {
                     let turns = params.dir_a + prng_next_f32(&prng) * params.dir_b;
                     fx = params.frequency_cells * cos_turns(turns);
                     fy = params.frequency_cells * cos_turns(turns - 0.25f);
+                } else if (params.direction_kind == 2u) {
+                    let c = components[pick_component(prng_next_f32(&prng))];
+                    fx = c.fx;
+                    fy = c.fy;
                 }
                 let dy = uyt - oy;
                 let dy2 = dy * dy;

@@ -9,7 +9,7 @@ use spectex_model::{GaborNoise, Orientation, Period};
 
 use crate::axis::{CellAxes, CellAxis};
 use crate::export::{ExportKind, ExportNode, ExportParts};
-use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, TileTables};
+use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
 use crate::shaders::{ShaderFile, kernel_and_glue};
@@ -28,7 +28,7 @@ wgsl_struct! {
         height: u32,
         seed: u32,
         /// 0: one frequency vector `(dir_a, dir_b)`; 1: a random angle in turns
-        /// `dir_a + u·dir_b`.
+        /// `dir_a + u·dir_b`; 2: a component drawn from the `components` table.
         direction_kind: u32,
         mean: f32,
         amplitude: f32,
@@ -47,8 +47,8 @@ wgsl_struct! {
         dir_b: f32,
         /// `1/r` (f32 of the f64 value), for warping.
         inv_radius: f32,
-        // Padding to a whole 16-byte uniform row, as the WGSL struct has it.
-        _pad1: u32,
+        /// Entries of the `components` table (0 unless `direction_kind` is 2).
+        components: u32,
         /// Cells per period along x and y of a periodic noise (cells hashed modulo them,
         /// `wrap_cell`), 0 when not periodic.
         cells_x: i32,
@@ -58,12 +58,26 @@ wgsl_struct! {
     }
 }
 
-/// A Gabor noise on the device: its uniform (tile size set per tile) and its grid.
+wgsl_struct! {
+    /// `GaborComponent` of `gabor.wgsl`: one entry of a spectrum's table.
+    pub(crate) struct GaborComponent {
+        /// `r·f_k`, cycles per cell unit (f64 products rounded to f32, as on the CPU).
+        fx: f32,
+        fy: f32,
+        /// `C_k` of `spectex_model::cumulative_weights`.
+        cumulative: f32,
+        _pad: u32,
+    }
+}
+
+/// A Gabor noise on the device: its uniform (tile size set per tile), its grid and its
+/// components (empty unless it is a spectrum).
 #[derive(Debug, Clone)]
 pub(crate) struct GaborKernel {
     /// Kernel radius `r` = grid cell side, pixels.
     pub(crate) radius: f64,
     params: GaborParams,
+    components: Vec<GaborComponent>,
     /// The period of a periodic noise: positions reduced modulo it.
     period: Option<Period>,
 }
@@ -80,8 +94,9 @@ pub(crate) fn pack(model: &GaborNoise, period: Option<Period>) -> GaborKernel {
     let chunks = (lambda / POISSON_CHUNK).floor();
     let rest = lambda - chunks * POISSON_CHUNK;
     let frequency_cells = f64::from(model.frequency) * radius;
-    let (direction_kind, dir_a, dir_b) = match model.orientation {
-        Orientation::Anisotropic { angle } => {
+    let mut components = Vec::new();
+    let (direction_kind, dir_a, dir_b) = match &model.orientation {
+        &Orientation::Anisotropic { angle } => {
             let (sin, cos) = f64::from(angle).sin_cos();
             (
                 0u32,
@@ -89,13 +104,30 @@ pub(crate) fn pack(model: &GaborNoise, period: Option<Period>) -> GaborKernel {
                 (frequency_cells * sin) as f32,
             )
         }
-        Orientation::Isotropic { min, max } => {
+        &Orientation::Isotropic { min, max } => {
             let turn = std::f64::consts::TAU;
             (
                 1u32,
                 (f64::from(min) / turn).rem_euclid(1.0) as f32,
                 ((f64::from(max) - f64::from(min)) / turn) as f32,
             )
+        }
+        Orientation::Spectrum {
+            frequencies,
+            weights,
+        } => {
+            let cumulative = spectex_model::cumulative_weights(weights);
+            components = frequencies
+                .iter()
+                .zip(cumulative)
+                .map(|(f, cumulative)| GaborComponent {
+                    fx: (f64::from(f[0]) * radius) as f32,
+                    fy: (f64::from(f[1]) * radius) as f32,
+                    cumulative,
+                    _pad: 0,
+                })
+                .collect();
+            (2u32, 0.0, 0.0)
         }
     };
     let params = GaborParams {
@@ -114,6 +146,7 @@ pub(crate) fn pack(model: &GaborNoise, period: Option<Period>) -> GaborKernel {
         dir_a,
         dir_b,
         inv_radius: (1.0 / radius) as f32,
+        components: components.len() as u32,
         cells_x: cells[0],
         cells_y: cells[1],
         ..bytemuck::Zeroable::zeroed()
@@ -121,7 +154,15 @@ pub(crate) fn pack(model: &GaborNoise, period: Option<Period>) -> GaborKernel {
     GaborKernel {
         radius,
         params,
+        components,
         period,
+    }
+}
+
+impl GaborKernel {
+    /// The resident table (binding 1): the components, one zeroed filler when there are none.
+    fn tables(&self) -> [Table; 1] {
+        [Table::new("gabor components", &self.components)]
     }
 }
 
@@ -139,7 +180,9 @@ impl GpuKind for GaborNoise {
         _z: f64,
         period: Option<Period>,
     ) -> Result<Box<dyn GpuKernel>, GpuError> {
-        Shaded::boxed(context, pack(self, period), &[])
+        let kernel = pack(self, period);
+        let tables = kernel.tables();
+        Shaded::boxed(context, kernel, &tables)
     }
 }
 
@@ -179,7 +222,8 @@ impl ExportKind for GaborNoise {
         let kernel = pack(self, None);
         // The kernel grid is the export's lattice 0 (the glue of gabor.wgsl).
         let lattices = vec![kernel.radius];
-        ExportParts::of(&kernel, &[], lattices, "gabor")
+        // The components are a storage buffer of the export, as the compute shader's.
+        ExportParts::of(&kernel, &kernel.tables(), lattices, "gabor")
     }
 }
 
@@ -192,5 +236,6 @@ pub mod tests {
 
     pub fn params_match_the_wgsl() {
         assert_matches_wgsl::<GaborParams>("gabor", "GaborParams");
+        assert_matches_wgsl::<GaborComponent>("gabor", "GaborComponent");
     }
 }

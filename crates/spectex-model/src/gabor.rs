@@ -4,11 +4,14 @@
 //! # Randomness contract (layer 0)
 //!
 //! Cell `(i, j)` seeds its PRNG with `cell_hash(i, j, 0, seed)` and draws a Poisson count, then
-//! per impulse its offsets, weight and (isotropic) direction.
+//! per impulse its offsets, weight and (isotropic) direction, or for [`Orientation::Spectrum`]
+//! one uniform `u` that picks the impulse's component: the smallest `k` with `u < C_k` in the
+//! table [`cumulative_weights`] (the last component if none), appended after the weight where
+//! the isotropic direction would be, so the other orientations keep their draws and bytes.
 
 use serde::{Deserialize, Serialize};
 
-use crate::error::{ModelError, check_level, check_range};
+use crate::error::{ModelError, check_len, check_level, check_range};
 
 pub(crate) mod builder;
 pub use builder::GaborNoiseBuilder;
@@ -25,8 +28,11 @@ pub const GABOR_TRUNCATION: f64 = 0.05;
 /// ln 20`). Shared by Gabor and phasor noise (same truncation).
 pub const NEG_LN_20: f32 = -2.995_732_3;
 
+/// Most components a [`Orientation::Spectrum`] table may hold.
+pub const MAX_GABOR_COMPONENTS: usize = 1024;
+
 /// Orientation of the kernels' frequency vector.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, rename_all = "snake_case")]
 pub enum Orientation {
     /// All kernels share one direction, `angle` in radians from the x axis.
@@ -42,6 +48,48 @@ pub enum Orientation {
         /// Largest angle, radians.
         max: f32,
     },
+    /// Gabor noise by example (Galerne, Lagae, Lefebvre & Drettakis 2012): each impulse draws
+    /// its frequency vector from a discrete distribution, component `k` with probability
+    /// `weights[k] / Σ weights`, so the noise's power spectrum is the weighted sum of the
+    /// components' Gaussian lobes. `frequency` (`F₀`) is not used by this orientation (the fit
+    /// writes 0).
+    Spectrum {
+        /// Frequency vectors `(f_x, f_y)`, cycles per pixel, each `|f| ≤ 0.5`.
+        frequencies: Vec<[f32; 2]>,
+        /// Non-negative weights, one per frequency, not all 0.
+        weights: Vec<f32>,
+    },
+}
+
+/// The cumulative table a [`Orientation::Spectrum`] impulse searches: `C_k = (Σ_{i≤k} w_i) /
+/// (Σ_i w_i)`, summed in f64 and rounded to f32 (monotone, as rounding is), the last entry
+/// exactly 1. Component `k` is drawn for the uniform `u` when `k` is the number of entries
+/// `≤ u` (at most `n − 1`): any search over the monotone table gives the same index, so the CPU
+/// and the GPU agree bit for bit.
+#[must_use]
+pub fn cumulative_weights(weights: &[f32]) -> Vec<f32> {
+    let total: f64 = weights.iter().map(|&w| f64::from(w)).sum();
+    let mut acc = 0.0f64;
+    let mut out: Vec<f32> = weights
+        .iter()
+        .map(|&w| {
+            acc += f64::from(w);
+            (acc / total) as f32
+        })
+        .collect();
+    if let Some(last) = out.last_mut() {
+        *last = 1.0;
+    }
+    out
+}
+
+/// The component a uniform `u ∈ [0, 1)` picks in the table `cumulative` (see
+/// [`cumulative_weights`]): the number of entries `≤ u`, at most `len − 1`.
+#[must_use]
+pub fn pick_component(cumulative: &[f32], u: f32) -> usize {
+    cumulative
+        .partition_point(|&c| c <= u)
+        .min(cumulative.len().saturating_sub(1))
 }
 
 /// A Gabor noise: `n(x) = mean + Σ_i w_i · K·exp(−π a²|x − x_i|²)·cos(2π F₀ ω_i·(x − x_i))`.
@@ -84,6 +132,20 @@ impl GaborNoise {
         ((fitted / r - 1.0).abs() <= GABOR_PERIOD_TOLERANCE).then_some(fitted)
     }
 
+    /// The largest frequency `|f|` an impulse's kernel may have, cycles per pixel: `F₀`, or
+    /// for [`Orientation::Spectrum`] the largest `|f_k|` of the table (zero-weight components
+    /// included: a bound, not a statistic).
+    #[must_use]
+    pub fn largest_frequency(&self) -> f64 {
+        match &self.orientation {
+            Orientation::Spectrum { frequencies, .. } => frequencies
+                .iter()
+                .map(|f| f64::from(f[0]).hypot(f64::from(f[1])))
+                .fold(0.0, f64::max),
+            _ => f64::from(self.frequency),
+        }
+    }
+
     /// Mean impulses per grid cell of side `r`: `impulses_per_kernel / π`.
     #[must_use]
     pub fn impulses_per_cell(&self) -> f64 {
@@ -101,8 +163,20 @@ impl GaborNoise {
     /// disc and the Gaussian are rotation-invariant), so it is taken along `x`, by the midpoint
     /// rule on a 400 × 400 grid over the disc's bounding square (about 10⁻⁶ from the exact
     /// value; a test compares it with a polar integration).
+    ///
+    /// For [`Orientation::Spectrum`] the integral depends on each component's `|f_k|`, and the
+    /// variance is their average weighted by the draw probabilities `w_k / Σ w` (Campbell's
+    /// theorem over the mark distribution); the same midpoint grid is summed over `y` first, so
+    /// each component costs one pass over the 400 columns.
     #[must_use]
     pub fn unit_std_dev(&self) -> f64 {
+        if let Orientation::Spectrum {
+            frequencies,
+            weights,
+        } = &self.orientation
+        {
+            return self.spectrum_unit_std_dev(frequencies, weights);
+        }
         let r = self.kernel_radius();
         let a = f64::from(self.bandwidth);
         let f = f64::from(self.frequency);
@@ -118,6 +192,46 @@ impl GaborNoise {
                     integral += (-2.0 * std::f64::consts::PI * a * a * d2).exp() * c * c * h * h;
                 }
             }
+        }
+        let density = f64::from(self.impulses_per_kernel) / (std::f64::consts::PI * r * r);
+        (density * integral / 3.0).sqrt()
+    }
+
+    fn spectrum_unit_std_dev(&self, frequencies: &[[f32; 2]], weights: &[f32]) -> f64 {
+        let r = self.kernel_radius();
+        let a = f64::from(self.bandwidth);
+        let n = 400;
+        let h = 2.0 * r / n as f64;
+        // column[i] = Σ_j h² e^{−2πa²|x|²} over the disc: the integrand without its cosine.
+        let column: Vec<(f64, f64)> = (0..n)
+            .map(|i| {
+                let x = -r + (i as f64 + 0.5) * h;
+                let mut sum = 0.0;
+                for j in 0..n {
+                    let y = -r + (j as f64 + 0.5) * h;
+                    let d2 = x * x + y * y;
+                    if d2 <= r * r {
+                        sum += (-2.0 * std::f64::consts::PI * a * a * d2).exp() * h * h;
+                    }
+                }
+                (x, sum)
+            })
+            .collect();
+        let total: f64 = weights.iter().map(|&w| f64::from(w)).sum();
+        let mut integral = 0.0;
+        for (f, &w) in frequencies.iter().zip(weights) {
+            if w <= 0.0 {
+                continue;
+            }
+            let f = f64::from(f[0]).hypot(f64::from(f[1]));
+            let one: f64 = column
+                .iter()
+                .map(|&(x, g)| {
+                    let c = (2.0 * std::f64::consts::PI * f * x).cos();
+                    g * c * c
+                })
+                .sum();
+            integral += f64::from(w) / total * one;
         }
         let density = f64::from(self.impulses_per_kernel) / (std::f64::consts::PI * r * r);
         (density * integral / 3.0).sqrt()
@@ -157,15 +271,15 @@ impl GaborNoise {
             1000.0,
             "[0.01, 1000]",
         )?;
-        match self.orientation {
-            Orientation::Anisotropic { angle } => check_range(
+        match &self.orientation {
+            &Orientation::Anisotropic { angle } => check_range(
                 || "gabor.orientation.anisotropic.angle".into(),
                 f64::from(angle),
                 -1e3,
                 1e3,
                 "[-1000, 1000] radians",
             ),
-            Orientation::Isotropic { min, max } => {
+            &Orientation::Isotropic { min, max } => {
                 check_range(
                     || "gabor.orientation.isotropic.min".into(),
                     f64::from(min),
@@ -181,8 +295,68 @@ impl GaborNoise {
                     "[min, 1000] radians",
                 )
             }
+            Orientation::Spectrum {
+                frequencies,
+                weights,
+            } => validate_spectrum(frequencies, weights),
         }
     }
+}
+
+/// The checks of an [`Orientation::Spectrum`] table.
+fn validate_spectrum(frequencies: &[[f32; 2]], weights: &[f32]) -> Result<(), ModelError> {
+    const AT: &str = "gabor.orientation.spectrum";
+    check_len(
+        || format!("{AT}.frequencies"),
+        frequencies.len(),
+        1,
+        MAX_GABOR_COMPONENTS,
+        "1 to 1024 components",
+    )?;
+    check_len(
+        || format!("{AT}.weights"),
+        weights.len(),
+        frequencies.len(),
+        frequencies.len(),
+        "as many entries as frequencies",
+    )?;
+    for (k, f) in frequencies.iter().enumerate() {
+        for (c, v) in f.iter().enumerate() {
+            check_range(
+                || format!("{AT}.frequencies[{k}][{c}]"),
+                f64::from(*v),
+                -0.5,
+                0.5,
+                "[-0.5, 0.5] cycles per pixel",
+            )?;
+        }
+        let norm = f64::from(f[0]).hypot(f64::from(f[1]));
+        check_range(
+            || format!("{AT}.frequencies[{k}] (its length |f|)"),
+            norm,
+            0.0,
+            0.5,
+            "[0, 0.5] cycles per pixel",
+        )?;
+    }
+    for (k, w) in weights.iter().enumerate() {
+        check_range(
+            || format!("{AT}.weights[{k}]"),
+            f64::from(*w),
+            0.0,
+            1e30,
+            "[0, 1e30]",
+        )?;
+    }
+    let total: f64 = weights.iter().map(|&w| f64::from(w)).sum();
+    if total <= 0.0 {
+        return Err(ModelError::OutOfRange {
+            field: format!("{AT}.weights (their sum)"),
+            value: total,
+            range: "(0, 1e30·1024]: at least one weight must be positive",
+        });
+    }
+    Ok(())
 }
 
 impl crate::ModelKind for GaborNoise {
@@ -306,6 +480,91 @@ pub mod tests {
                 "a = {a}, F0 = {f}, N = {n}: grid {grid}, polar {polar}, rel {rel:e}"
             );
         }
+    }
+
+    /// A spectrum table's variance is the draw-weighted average of each component's polar
+    /// variance (Campbell's theorem over the marks), the components' directions irrelevant.
+    pub fn spectrum_unit_std_dev_is_the_weighted_polar_variance() {
+        let freqs = [[0.1f32, 0.0], [0.0, -0.25], [0.03, 0.04], [0.3, 0.3]];
+        let weights = [1.0f32, 3.0, 0.0, 2.0];
+        let mut g = noise(0.05, 0.0, 20.0);
+        g.orientation = Orientation::Spectrum {
+            frequencies: freqs.to_vec(),
+            weights: weights.to_vec(),
+        };
+        g.validate().unwrap();
+        let mut want = 0.0;
+        for (f, w) in freqs.iter().zip(weights) {
+            let one = noise(0.05, f64::from(f[0]).hypot(f64::from(f[1])) as f32, 20.0);
+            want += f64::from(w) / 6.0 * polar_variance(&one);
+        }
+        let rel = (g.unit_std_dev() / want.sqrt() - 1.0).abs();
+        assert!(
+            rel < 1e-4,
+            "grid {} polar {}, rel {rel:e}",
+            g.unit_std_dev(),
+            want.sqrt()
+        );
+    }
+
+    pub fn spectrum_tables_are_checked_with_field_paths() {
+        let spectrum = |frequencies: Vec<[f32; 2]>, weights: Vec<f32>| {
+            let mut g = noise(0.05, 0.0, 20.0);
+            g.orientation = Orientation::Spectrum {
+                frequencies,
+                weights,
+            };
+            g.validate()
+        };
+        let at = "gabor.orientation.spectrum";
+        let cases = [
+            (spectrum(vec![], vec![]), format!("{at}.frequencies")),
+            (spectrum(vec![[0.1, 0.0]], vec![]), format!("{at}.weights")),
+            (
+                spectrum(vec![[0.1, f32::NAN]], vec![1.0]),
+                format!("{at}.frequencies[0][1]"),
+            ),
+            (
+                spectrum(vec![[0.1, 0.0], [0.4, 0.4]], vec![1.0, 1.0]),
+                format!("{at}.frequencies[1] (its length |f|)"),
+            ),
+            (
+                spectrum(vec![[0.1, 0.0], [0.2, 0.0]], vec![1.0, -1.0]),
+                format!("{at}.weights[1]"),
+            ),
+            (
+                spectrum(vec![[0.1, 0.0]], vec![0.0]),
+                format!("{at}.weights (their sum)"),
+            ),
+            (
+                spectrum(
+                    vec![[0.0, 0.0]; MAX_GABOR_COMPONENTS + 1],
+                    vec![1.0; MAX_GABOR_COMPONENTS + 1],
+                ),
+                format!("{at}.frequencies"),
+            ),
+        ];
+        for (result, field) in cases {
+            match result {
+                Err(
+                    ModelError::OutOfRange { field: f, .. } | ModelError::Length { field: f, .. },
+                ) => {
+                    assert_eq!(f, field);
+                }
+                other => panic!("{field}: {other:?}"),
+            }
+        }
+    }
+
+    /// The cumulative table ends at 1, skips zero weights and picks by counting entries ≤ u.
+    pub fn components_are_picked_from_the_cumulative_table() {
+        let c = cumulative_weights(&[1.0, 0.0, 3.0]);
+        assert_eq!(c, vec![0.25, 0.25, 1.0]);
+        assert_eq!(pick_component(&c, 0.0), 0);
+        assert_eq!(pick_component(&c, 0.2499), 0);
+        assert_eq!(pick_component(&c, 0.25), 2);
+        assert_eq!(pick_component(&c, 0.999_999_9), 2);
+        assert_eq!(pick_component(&[1.0], 0.5), 0);
     }
 
     pub fn unit_std_dev_at_zero_frequency_has_a_closed_form() {

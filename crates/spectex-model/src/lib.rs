@@ -68,7 +68,8 @@ pub use file::{
     from_json_with_fit, to_json, to_json_file, to_json_with_fit,
 };
 pub use gabor::{
-    GABOR_PERIOD_TOLERANCE, GABOR_TRUNCATION, GaborNoiseBuilder, NEG_LN_20, Orientation,
+    GABOR_PERIOD_TOLERANCE, GABOR_TRUNCATION, GaborNoiseBuilder, MAX_GABOR_COMPONENTS, NEG_LN_20,
+    Orientation, cumulative_weights, pick_component,
 };
 pub use grid::{Filter, MAX_POSITION, MAX_WINDOW_PIXELS, MAX_WINDOW_SIDE, Window, WindowError};
 pub use islamic::IslamicPatternBuilder;

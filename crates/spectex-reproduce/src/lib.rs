@@ -24,6 +24,7 @@ use ndarray::{Array2, Array3};
 use spectex_cpu::{Evaluator, Filter, Window};
 use spectex_model::Model;
 
+pub mod gabor_example;
 pub mod lrp;
 pub mod phasor;
 pub mod plot;
@@ -39,7 +40,7 @@ pub use report::write_report;
 #[non_exhaustive]
 pub enum ReproduceError {
     /// A paper name that is not one of [`Paper::ALL`].
-    #[error("unknown paper `{name}`; valid papers: lrp, rpn, phasor, survey")]
+    #[error("unknown paper `{name}`; valid papers: lrp, rpn, phasor, survey, gabor-example")]
     UnknownPaper {
         /// The name given.
         name: String,
@@ -90,11 +91,19 @@ pub enum Paper {
     Phasor,
     /// Dong et al. 2020, Survey of procedural methods for two-dimensional texture generation.
     Survey,
+    /// Galerne, Lagae, Lefebvre & Drettakis 2012, Gabor noise by example.
+    GaborExample,
 }
 
 impl Paper {
     /// Every paper, in report order.
-    pub const ALL: [Paper; 4] = [Paper::Lrp, Paper::Rpn, Paper::Phasor, Paper::Survey];
+    pub const ALL: [Paper; 5] = [
+        Paper::Lrp,
+        Paper::Rpn,
+        Paper::Phasor,
+        Paper::Survey,
+        Paper::GaborExample,
+    ];
 
     /// The short name used on the command line and in file names.
     #[must_use]
@@ -104,6 +113,7 @@ impl Paper {
             Paper::Rpn => "rpn",
             Paper::Phasor => "phasor",
             Paper::Survey => "survey",
+            Paper::GaborExample => "gabor-example",
         }
     }
 
@@ -126,6 +136,10 @@ impl Paper {
             Paper::Survey => {
                 "Dong, Wang, Ji, Zhang 2020: Survey of procedural methods for two-dimensional \
                  texture generation (procedural-texture-survey-2020.txt)"
+            }
+            Paper::GaborExample => {
+                "Galerne, Lagae, Lefebvre, Drettakis 2012: Gabor noise by example (SIGGRAPH \
+                 2012; not in ../shared/papers: its equations were checked from public copies)"
             }
         }
     }
@@ -515,6 +529,7 @@ pub fn run(config: &Config, progress: &mut dyn FnMut(&str)) -> Result<Report> {
             Paper::Rpn => rpn::reproduce(&mut session)?,
             Paper::Phasor => phasor::reproduce(&mut session)?,
             Paper::Survey => survey::reproduce(&mut session)?,
+            Paper::GaborExample => gabor_example::reproduce(&mut session)?,
         }
         session
             .report

@@ -1,5 +1,6 @@
 //! Turns a target power spectrum into a procedural model: Local Random-Phase noise by example
-//! (Gilet, Sauvage, Vanhoey, Dischler & Ghazanfarpour 2014, §4).
+//! (Gilet, Sauvage, Vanhoey, Dischler & Ghazanfarpour 2014, §4), and Gabor noise by example
+//! (Galerne et al. 2012, [`gabor_fit`]).
 //!
 //! A power spectrum — measured from an image ([`fit_image`]), given as an array ([`fit_psd`]) or
 //! a formula ([`fit_target`]) — becomes an [`LrpNoise`](spectex_model::LrpNoise) in these
@@ -48,6 +49,7 @@ pub mod erosion;
 mod error;
 mod fit;
 mod from_target;
+pub mod gabor_fit;
 pub mod grid;
 pub mod kmeans;
 pub mod shrink;
@@ -65,6 +67,7 @@ pub mod unit_tests {
     pub use crate::erosion::tests as erosion;
     pub use crate::fit::tests as fit;
     pub use crate::from_target::tests as from_target;
+    pub use crate::gabor_fit::tests as gabor_fit;
     pub use crate::grid::tests as grid;
     pub use crate::kmeans::tests as kmeans;
     pub use crate::shrink::tests as shrink;
@@ -81,5 +84,6 @@ pub use fit::{
     stratify,
 };
 pub use from_target::LrpFromTarget;
+pub use gabor_fit::{GaborFit, GaborFitOptions, fit_gabor, fit_gabor_psd};
 pub use stratify::Partition;
 pub use texture::{TextureOptions, TextureReport, false_colour_fraction, fit_texture};

@@ -94,11 +94,30 @@ pub fn gabor(m: &GaborNoise, x: f64, y: f64) -> GaborReference {
                 let ox = f64::from(prng.next_f32());
                 let oy = f64::from(prng.next_f32());
                 let kw = f64::from(m.amplitude) * (2.0 * f64::from(prng.next_f32()) - 1.0);
-                let theta = match m.orientation {
-                    Orientation::Anisotropic { angle } => f64::from(angle),
-                    Orientation::Isotropic { min, max } => {
+                // The frequency vector, cycles per pixel.
+                let (fx, fy) = match &m.orientation {
+                    &Orientation::Anisotropic { angle } => {
+                        let theta = f64::from(angle);
+                        (f0 * theta.cos(), f0 * theta.sin())
+                    }
+                    &Orientation::Isotropic { min, max } => {
                         let u = f64::from(prng.next_f32());
-                        f64::from(min) + u * (f64::from(max) - f64::from(min))
+                        let theta = f64::from(min) + u * (f64::from(max) - f64::from(min));
+                        (f0 * theta.cos(), f0 * theta.sin())
+                    }
+                    Orientation::Spectrum {
+                        frequencies,
+                        weights,
+                    } => {
+                        // The component whose cumulative interval holds u, by a linear scan
+                        // (the evaluators search the table otherwise).
+                        let u = prng.next_f32();
+                        let cumulative = spectex_model::cumulative_weights(weights);
+                        let k = cumulative
+                            .iter()
+                            .position(|&c| u < c)
+                            .unwrap_or(cumulative.len() - 1);
+                        (f64::from(frequencies[k][0]), f64::from(frequencies[k][1]))
                     }
                 };
                 let (dx, dy) = (x - (f64::from(i) + ox) * r, y - (f64::from(j) + oy) * r);
@@ -107,7 +126,7 @@ pub fn gabor(m: &GaborNoise, x: f64, y: f64) -> GaborReference {
                     out.near_edge = true;
                 }
                 if d2 < r * r {
-                    let phase = TAU * f0 * (theta.cos() * dx + theta.sin() * dy);
+                    let phase = TAU * (fx * dx + fy * dy);
                     out.value += kw * (-PI * a * a * d2).exp() * phase.cos();
                     out.weight_sum += kw.abs();
                 }

@@ -1153,3 +1153,66 @@ fn periodic_renders_tile_seamlessly() {
         std::fs::remove_file(f).unwrap();
     }
 }
+
+/// `--method gabor`: the built-in (colour) exemplar's luminance becomes a Gabor noise by
+/// example with its components, `synth` renders it, and bad options name themselves.
+#[test]
+fn fit_and_synth_gabor_noise_by_example() {
+    let dir = scratch("gabor-example");
+    let model = dir.join("gabor.json");
+    spectex_ok(&[
+        "fit",
+        "-o",
+        s(&model),
+        "--method",
+        "gabor",
+        "--grid",
+        "8",
+        "--seed",
+        "4",
+    ]);
+    let text = std::fs::read_to_string(&model).unwrap();
+    let spectex_model::Model::Gabor(g) = spectex_model::from_json(&text).unwrap() else {
+        panic!("fit --method gabor wrote {text}")
+    };
+    assert!(matches!(
+        g.orientation,
+        spectex_model::Orientation::Spectrum { .. }
+    ));
+    assert_eq!(g.seed, 4);
+    let png = dir.join("gabor.png");
+    spectex_ok(&[
+        "synth",
+        "-o",
+        s(&png),
+        "--method",
+        "gabor",
+        "--grid",
+        "8",
+        "--size",
+        "64x48",
+    ]);
+    assert!(png.is_file());
+    // The failures in a directory of their own: nothing may be left there.
+    let dir = scratch("gabor-example-bad");
+    let out = spectex(&[
+        "fit",
+        "-o",
+        s(&dir.join("bad.json")),
+        "--method",
+        "gabor",
+        "--grid",
+        "60",
+    ]);
+    assert_fails(&out, &dir, &["grid = 60", "4..=48", "--grid"]);
+    let out = spectex(&[
+        "fit",
+        "-o",
+        s(&dir.join("bad.json")),
+        "--method",
+        "gabor",
+        "--structure",
+        "0.2",
+    ]);
+    assert_fails(&out, &dir, &["--method gabor"]);
+}

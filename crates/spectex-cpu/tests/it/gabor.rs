@@ -26,9 +26,35 @@ use std::f64::consts::{PI, TAU};
 /// This is a worst-case bound, linear in the number of terms; the measured errors are below a
 /// tenth of it (the tests print the worst ratio with `--nocapture`).
 fn tolerance(m: &GaborNoise, r: &GaborReference) -> f64 {
-    let f_cell = f64::from(m.frequency) * m.kernel_radius();
+    let f_cell = largest_frequency(m) * m.kernel_radius();
     let per_weight = 3.5e-6 + 2e-7 + TAU * f_cell * 6e-7 + 50.0 * 6e-8;
     per_weight * r.weight_sum + 2f64.powi(-23) * r.value.abs()
+}
+
+/// The largest `|f|` an impulse may have, cycles per pixel: `F₀`, or a spectrum's largest.
+fn largest_frequency(m: &GaborNoise) -> f64 {
+    match &m.orientation {
+        Orientation::Spectrum { frequencies, .. } => frequencies
+            .iter()
+            .map(|f| f64::from(f[0]).hypot(f64::from(f[1])))
+            .fold(0.0, f64::max),
+        _ => f64::from(m.frequency),
+    }
+}
+
+/// A Gabor noise by example: four components (one of weight 0, never drawn), one at the
+/// largest frequency the model accepts.
+fn spectrum_model(seed: u32, ipk: f32) -> GaborNoise {
+    model(
+        seed,
+        ipk,
+        0.06,
+        0.0,
+        Orientation::Spectrum {
+            frequencies: vec![[0.1, 0.02], [-0.05, 0.2], [0.3, -0.3], [0.0, 0.5]],
+            weights: vec![2.0, 1.0, 0.0, 0.5],
+        },
+    )
 }
 
 /// Compares `eval` with the reference at every point; at most 1% of the points may be skipped
@@ -127,6 +153,7 @@ fn reference_models() -> Vec<(&'static str, GaborNoise)> {
             "renormalised count (λ ≈ 95)",
             model(8, 300.0, 0.1, 0.0625, aniso(0.2)),
         ),
+        ("spectrum (by example)", spectrum_model(9, 24.0)),
     ]
 }
 
@@ -334,6 +361,67 @@ fn mean_and_variance_match_campbells_theorem() {
             m.seed
         );
     }
+}
+
+/// Gabor noise by example: the sample variance of many independent samples against Campbell's
+/// theorem over the component marks, `Var = λ_d/3 · Σ_k p_k ∫g_k²` with `p_k = w_k/Σw` and
+/// `∫g_k²` the anisotropic kernel's integral at `F₀ = |f_k|` (this file's 1000² grid), and
+/// that against the model's own `amplitude · unit_std_dev()` (the model crate's 400² grid).
+/// Tolerance: 5 standard errors, as above.
+#[test]
+fn spectrum_variance_matches_campbell_and_unit_std_dev() {
+    let m = spectrum_model(51, 24.0);
+    let Orientation::Spectrum {
+        frequencies,
+        weights,
+    } = &m.orientation
+    else {
+        unreachable!("a spectrum model")
+    };
+    let total: f64 = weights.iter().map(|&w| f64::from(w)).sum();
+    let r = m.kernel_radius();
+    let density = f64::from(m.impulses_per_kernel) / (PI * r * r);
+    let (mut var, mut kappa4) = (0.0, 0.0);
+    for (f, &w) in frequencies.iter().zip(weights) {
+        let mut one = m.clone();
+        one.frequency = f64::from(f[0]).hypot(f64::from(f[1])) as f32;
+        one.orientation = Orientation::Anisotropic { angle: 0.0 };
+        let p = f64::from(w) / total;
+        var += p * density / 3.0 * kernel_power_integral(&one, 2);
+        kappa4 += p * density / 5.0 * kernel_power_integral(&one, 4);
+    }
+    let model_var = (f64::from(m.amplitude) * m.unit_std_dev()).powi(2);
+    assert!(
+        (model_var / var - 1.0).abs() < 1e-3,
+        "unit_std_dev gives variance {model_var}, Campbell's integral {var}"
+    );
+    let g = GaborEvaluator::new(&m);
+    let side = 256;
+    let pitch = 2.0 * r + 1.0;
+    let mut row = vec![0.0f32; side];
+    let (mut s1, mut s2) = (0.0f64, 0.0f64);
+    for iy in 0..side {
+        g.eval_row(-7000.0 + iy as f64 * pitch, 321.5, pitch, &mut row);
+        for &v in &row {
+            let v = f64::from(v) - f64::from(m.mean);
+            s1 += v;
+            s2 += v * v;
+        }
+    }
+    let n = (side * side) as f64;
+    let mean_dev = s1 / n;
+    let sample_var = s2 / n - mean_dev * mean_dev;
+    let se_var = ((kappa4 + 2.0 * var * var) / n).sqrt();
+    println!(
+        "spectrum: variance {sample_var:.5} vs {var:.5} ({:+.2}%, tolerance {:.2}%)",
+        100.0 * (sample_var / var - 1.0),
+        500.0 * se_var / var
+    );
+    assert!(
+        (sample_var - var).abs() < 5.0 * se_var,
+        "seed {}: variance {sample_var} vs Campbell {var} (standard error {se_var})",
+        m.seed
+    );
 }
 
 // ---------------------------------------------------------------------------------------------

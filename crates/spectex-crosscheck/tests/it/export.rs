@@ -995,7 +995,9 @@ fn check_file(context: &GpuContext, file: &Path, all: bool, only: Option<&[Strin
         },
         ..ExportOptions::default()
     };
-    let first = if matches!(model, Model::Islamic(_)) {
+    // A tiling texture's texels and tables are a storage buffer's for any real exemplar (and
+    // as constants, initialised per invocation, take lavapipe minutes a frame).
+    let first = if matches!(model, Model::Islamic(_) | Model::Tiling(_)) {
         export(&model, &islamic_buffer)
     } else {
         export(&model, &ExportOptions::default())

@@ -7,7 +7,7 @@ spectex_testkit::unit_tests! {
     report: a_failure_writes_three_images_and_two_reports;
     tolerance_classic: classic_slope_bounds_hold_on_fine_renders, a_3d_noise_is_checked_off_its_lattice_planes, simplex_bounds_cover_a_scan_of_the_kernel, classic_bounds_follow_their_derivation;
     tolerance_combine: a_sum_adds_its_operands_bounds_and_a_maximum_takes_the_largest, crossed_waves_are_judged_by_their_operands_verdicts_and_the_operation, a_bounded_combination_keeps_the_generic_criterion, a_threshold_has_no_bound_and_a_smoothstep_scales_by_its_slope;
-    tolerance_gabor: gabor_bound_grows_with_impulses;
+    tolerance_gabor: gabor_bound_grows_with_impulses, gabor_spectrum_bound_is_that_of_its_largest_frequency;
     tolerance_islamic: bounds_are_far_below_a_pixel;
     tolerance_lrp: kaiser_bessel_slope_is_plausible, lrp_bound_scales_with_amplitude_and_terms;
     tolerance: spectral_bound_is_attained_by_a_scaled_signal;

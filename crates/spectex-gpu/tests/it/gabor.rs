@@ -56,7 +56,31 @@ fn models() -> Vec<(&'static str, GaborNoise)> {
             "renormalised count (λ ≈ 95)",
             model(8, 300.0, 0.1, 0.0625, aniso(0.2)),
         ),
+        (
+            "spectrum (by example)",
+            model(
+                9,
+                24.0,
+                0.06,
+                0.0,
+                Orientation::Spectrum {
+                    frequencies: vec![[0.1, 0.02], [-0.05, 0.2], [0.3, -0.3], [0.0, 0.5]],
+                    weights: vec![2.0, 1.0, 0.0, 0.5],
+                },
+            ),
+        ),
     ]
+}
+
+/// The largest `|f|` an impulse may have, cycles per pixel: `F₀`, or a spectrum's largest.
+fn largest_frequency(m: &GaborNoise) -> f64 {
+    match &m.orientation {
+        Orientation::Spectrum { frequencies, .. } => frequencies
+            .iter()
+            .map(|f| f64::from(f[0]).hypot(f64::from(f[1])))
+            .fold(0.0, f64::max),
+        _ => f64::from(m.frequency),
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -72,7 +96,7 @@ fn models() -> Vec<(&'static str, GaborNoise)> {
 ///   `cos_turns`' 1e-6;
 /// - summation in 8 lanes and a 3-level tree: ≤ `50·2⁻²⁴·Σ|K·w|`.
 fn tolerance(m: &GaborNoise, r: &GaborReference) -> f64 {
-    let f_cell = f64::from(m.frequency) * m.kernel_radius();
+    let f_cell = largest_frequency(m) * m.kernel_radius();
     let per_weight = 4.5e-6 + 1e-6 + TAU * f_cell * (6e-7 + 1.5e-6) + 50.0 * 6e-8;
     per_weight * r.weight_sum + 2f64.powi(-23) * r.value.abs()
 }
@@ -104,12 +128,25 @@ fn cpu_transcription(m: &GaborNoise, x: f64, y: f64) -> f32 {
                 let ox = prng.next_f32();
                 let oy = prng.next_f32();
                 let w = 2.0 * prng.next_f32() - 1.0;
-                let (fx, fy) = match m.orientation {
-                    Orientation::Anisotropic { angle } => {
+                let (fx, fy) = match &m.orientation {
+                    &Orientation::Anisotropic { angle } => {
                         let (sin, cos) = f64::from(angle).sin_cos();
                         ((f_cell * cos) as f32, (f_cell * sin) as f32)
                     }
-                    Orientation::Isotropic { min, max } => {
+                    Orientation::Spectrum {
+                        frequencies,
+                        weights,
+                    } => {
+                        let c = spectex_model::cumulative_weights(weights);
+                        let u = prng.next_f32();
+                        let k = c.iter().position(|&c| u < c).unwrap_or(c.len() - 1);
+                        let f = frequencies[k];
+                        (
+                            (f64::from(f[0]) * radius) as f32,
+                            (f64::from(f[1]) * radius) as f32,
+                        )
+                    }
+                    &Orientation::Isotropic { min, max } => {
                         let t_min = (f64::from(min) / TAU).rem_euclid(1.0) as f32;
                         let span = ((f64::from(max) - f64::from(min)) / TAU) as f32;
                         let turns = t_min + prng.next_f32() * span;

@@ -124,6 +124,17 @@ impl GaborNoiseBuilder {
         self
     }
 
+    /// Gabor noise by example: each impulse draws its frequency vector `frequencies[k]` (cycles
+    /// per pixel) with probability `weights[k] / Σ weights` ([`Orientation::Spectrum`]).
+    pub fn spectrum(mut self, frequencies: Vec<[f32; 2]>, weights: Vec<f32>) -> Self {
+        self.orientation = Orientation::Spectrum {
+            frequencies,
+            weights,
+        };
+        self.frequency = 0.0;
+        self
+    }
+
     /// Mean impulses per kernel footprint, `[0.01, 1000]`.
     pub fn impulses_per_kernel(mut self, impulses_per_kernel: f32) -> Self {
         self.impulses_per_kernel = impulses_per_kernel;
