@@ -101,7 +101,7 @@ pub(crate) fn bevy_check(ws: &Workspace) -> Result<()> {
 }
 
 /// The papers `cargo xtask reproduce` knows (spectex-reproduce's `Paper::ALL`).
-const PAPERS: &[&str] = &["lrp", "rpn", "phasor", "survey", "gabor-example"];
+const PAPERS: &[&str] = &["lrp", "rpn", "phasor", "survey", "gabor-example", "tiling"];
 
 /// `cargo xtask reproduce [PAPER…] [--quick] [--no-gpu]`: builds spectex-reproduce in release
 /// and runs it into `target/reproduce/`. The arguments are checked here first, so a typo costs

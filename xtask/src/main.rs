@@ -99,7 +99,7 @@ const COMMANDS: &[(&str, &str)] = &[
         "reproduce",
         "the papers' figures and claims regenerated and judged into target/reproduce/ \
          (index.html, report.md, claims.json): `cargo xtask reproduce [PAPER…] [--quick] \
-         [--no-gpu]`, papers lrp, rpn, phasor, survey, gabor-example (all by default); exits 1 when a claim \
+         [--no-gpu]`, papers lrp, rpn, phasor, survey, gabor-example, tiling (all by default); exits 1 when a claim \
          recorded as reproduced no longer holds",
     ),
     (

@@ -24,6 +24,16 @@ struct Vertex {
     rotation: [f32; 2],
 }
 
+/// A mip level as a tap reads it: `2⁻ˡ`, `(1 − 2⁻ˡ)/2`, its first texel and sides.
+#[derive(Debug, Clone, Copy)]
+struct TapLevel {
+    inv: f32,
+    bias: f32,
+    offset: usize,
+    width: u32,
+    height: u32,
+}
+
 /// A tiling-and-blending texture prepared for evaluation.
 #[derive(Debug, Clone)]
 pub struct TilingEvaluator {
@@ -36,6 +46,7 @@ pub struct TilingEvaluator {
     lo: u32,
     spans: [u32; 2],
     tables: TilingTables,
+    levels: Vec<TapLevel>,
     mean: [f32; 3],
     basis: [[f32; 3]; 3],
 }
@@ -44,7 +55,14 @@ pub struct TilingEvaluator {
 fn rhombus(cx: i32, fx: f32, cy: i32, fy: f32) -> (i32, i32, f32, f32) {
     let e = cy.rem_euclid(2);
     let t = fx - 0.5 * (e as f32 + fy);
-    let ft = t.floor();
+    // ⌊t⌋ for t in (−1, 1] without a libm call.
+    let ft = if t < 0.0 {
+        -1.0
+    } else if t >= 1.0 {
+        1.0
+    } else {
+        0.0
+    };
     let m0 = cx
         .wrapping_sub(cy.wrapping_sub(e) / 2)
         .wrapping_add(ft as i32);
@@ -76,6 +94,22 @@ impl TilingEvaluator {
                 basis[i][c] = model.basis[i * nc + c];
             }
         }
+        let tables = model.tables();
+        let levels = tables
+            .levels
+            .iter()
+            .enumerate()
+            .map(|(l, lv)| {
+                let inv = 1.0 / (1u32 << l) as f32;
+                TapLevel {
+                    inv,
+                    bias: 0.5 * (1.0 - inv),
+                    offset: lv.offset as usize,
+                    width: lv.width,
+                    height: lv.height,
+                }
+            })
+            .collect();
         Some(Self {
             seed: model.seed,
             channels: nc,
@@ -85,7 +119,8 @@ impl TilingEvaluator {
             row: lattice.row as f32,
             lo,
             spans,
-            tables: model.tables(),
+            tables,
+            levels,
             mean,
             basis,
         })
@@ -110,22 +145,21 @@ impl TilingEvaluator {
         }
     }
 
-    /// The bilinear tap of level `level` at `q` texels of level 0.
-    fn tap(&self, level: usize, q: [f32; 2]) -> [f32; 4] {
-        let lv = self.tables.levels[level];
-        let inv = 1.0 / (1u32 << level) as f32;
-        let bias = 0.5 * (1.0 - inv);
+    /// The bilinear tap of level `level` at `q` texels of level 0 (`⌊x⌋` of the clamped,
+    /// non-negative coordinates as a truncation: the same value without a libm call).
+    #[inline]
+    fn tap(&self, level: &TapLevel, q: [f32; 2]) -> [f32; 4] {
         let axis = |q: f32, n: u32| {
-            let x = (q * inv - bias).clamp(0.0, (n - 1) as f32);
-            let i = (x.floor() as u32).min(n - 2);
+            let x = (q * level.inv - level.bias).clamp(0.0, (n - 1) as f32);
+            let i = (x as u32).min(n - 2);
             (i as usize, x - i as f32)
         };
-        let (ix, fx) = axis(q[0], lv.width);
-        let (iy, fy) = axis(q[1], lv.height);
-        let w = lv.width as usize;
-        let at = lv.offset as usize + iy * w + ix;
-        let t = &self.tables.texels;
-        let (t00, t10, t01, t11) = (t[at], t[at + 1], t[at + w], t[at + w + 1]);
+        let (ix, fx) = axis(q[0], level.width);
+        let (iy, fy) = axis(q[1], level.height);
+        let w = level.width as usize;
+        let at = level.offset + iy * w + ix;
+        let t = &self.tables.texels[at..at + w + 2];
+        let (t00, t10, t01, t11) = (t[0], t[1], t[w], t[w + 1]);
         let mut out = [0.0f32; 4];
         for c in 0..4 {
             let top = t00[c] + fx * (t10[c] - t00[c]);
@@ -140,7 +174,8 @@ impl TilingEvaluator {
         let lut = self.tables.lut(level, c, self.channels);
         let scale = (LUT_ENTRIES - 1) as f32 / (2.0 * LUT_RANGE);
         let x = (g.clamp(-LUT_RANGE, LUT_RANGE) + LUT_RANGE) * scale;
-        let i = (x.floor() as usize).min(LUT_ENTRIES - 2);
+        // x ≥ 0: the truncation is ⌊x⌋.
+        let i = (x as usize).min(LUT_ENTRIES - 2);
         let f = x - i as f32;
         lut[i] + f * (lut[i + 1] - lut[i])
     }
@@ -154,6 +189,7 @@ impl TilingEvaluator {
         draw: &impl Fn(i32, i32) -> Vertex,
     ) -> [f32; 3] {
         let (corners, w) = triangle(u, v);
+        let tap_level = &self.levels[level];
         let mut taps = [[0.0f32; 4]; 3];
         for (tap, &(a, b)) in taps.iter_mut().zip(&corners) {
             let vertex = draw(m0.wrapping_add(a), k0.wrapping_add(b));
@@ -166,7 +202,7 @@ impl TilingEvaluator {
             } else {
                 (dx, dy)
             };
-            *tap = self.tap(level, [vertex.offset[0] + rx, vertex.offset[1] + ry]);
+            *tap = self.tap(tap_level, [vertex.offset[0] + rx, vertex.offset[1] + ry]);
         }
         let nc = self.channels;
         let mut t = [0.0f32; 3];

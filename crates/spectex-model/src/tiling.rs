@@ -14,9 +14,10 @@
 //! makes them; a model file stands alone.
 //!
 //! **The lattice** ([`Lattice`]) is the triangle grid of Heitz & Neyret: vertex `(m, k)` at
-//! `((m + k/2)·side, k·row)` pixels, `row = side·√3/2` (equilateral triangles of side `side`
-//! = [`TilingTexture::tile`]; a periodic model stretches both to divide its period,
-//! [`TilingTexture::lattice`]). A position `p` is split per axis as every kind splits it
+//! `((m + k/2)·side, k·row)` pixels, with `side` the even integer nearest
+//! [`TilingTexture::tile`] and `row = round(side·√3/2)` (triangles within 0.3% of equilateral
+//! from a side of 16, every vertex on a whole pixel: [`TilingTexture::lattice`] says why); a
+//! periodic model stretches both to divide its period. A position `p` is split per axis as every kind splits it
 //! ([`crate::grid::locate_cell`]): `(cx, fx)` with side `side`, `(cy, fy)` with side `row`. With
 //! `e = cy mod 2` and `t = fx − ½(e + fy)` (f32), the rhombus is `m₀ = cx − (cy − e)/2 + ⌊t⌋`,
 //! `k₀ = cy`, its local coordinates `u = t − ⌊t⌋`, `v = fy` (exact integers, one f32 rounding:
@@ -244,20 +245,27 @@ pub fn mip_level(footprint: Option<f64>, levels: usize) -> (usize, f32) {
 }
 
 impl TilingTexture {
-    /// The lattice: equilateral triangles of side `tile`, or with `period` the nearest lattice
+    /// The lattice: nearly equilateral triangles of side `tile` on the pixel grid (module docs),
+    /// or with `period` the nearest lattice
     /// dividing it (`C = round(W/tile)` vertices per row, `K = 2·round(H/(tile·√3))` rows), `None`
     /// when that stretches the side or the row by more than [`TILING_PERIOD_TOLERANCE`].
     #[must_use]
     pub fn lattice(&self, period: Option<Period>) -> Option<Lattice> {
-        let side = f64::from(self.tile);
-        let row = side * 3f64.sqrt() / 2.0;
         let Some(period) = period else {
+            // Aligned to the pixel grid: an even side and a whole row spacing, so that every
+            // vertex is a whole pixel and a render at scale 1 reads whole texels. Heitz & Neyret
+            // place the lattice in the exemplar's uv space, unaligned: there every tap
+            // interpolates, and bilinear interpolation lowers the Gaussianised taps' variance
+            // (to ¼ halfway between four independent texels), so the blend's histogram narrows.
+            let side = (2.0 * (f64::from(self.tile) / 2.0).round()).max(2.0);
             return Some(Lattice {
                 side,
-                row,
+                row: (side * 3f64.sqrt() / 2.0).round(),
                 wrap: None,
             });
         };
+        let side = f64::from(self.tile);
+        let row = side * 3f64.sqrt() / 2.0;
         let c = crate::period::cells_in(f64::from(period.width), side);
         let pairs = crate::period::cells_in(f64::from(period.height), 2.0 * row);
         let fitted_side = f64::from(period.width) / c as f64;
@@ -580,7 +588,10 @@ pub mod tests {
         };
         // Reach 8: offsets from 8 to 15 − 8 = 7, none: the exemplar is smaller than the tile.
         assert_eq!(field(ramp(16, 8.0)), "tiling.tile");
-        assert!(ramp(16, 7.0).validate().is_ok(), "offsets 7..=8");
+        // Side 6, rows 5 apart, reach 6: offsets 6..=9.
+        assert!(ramp(16, 6.0).validate().is_ok());
+        // 7 rounds to an even side of 8: no room.
+        assert_eq!(field(ramp(16, 7.0)), "tiling.tile");
         assert_eq!(field(ramp(4, 1.0)), "tiling.width");
         let mut m = ramp(16, 4.0);
         m.gaussian[5] = f32::NAN;

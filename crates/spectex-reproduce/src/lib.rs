@@ -32,6 +32,7 @@ mod report;
 mod rpn;
 pub mod survey;
 pub mod table1;
+pub mod tiling;
 
 pub use report::write_report;
 
@@ -93,16 +94,20 @@ pub enum Paper {
     Survey,
     /// Galerne, Lagae, Lefebvre & Drettakis 2012, Gabor noise by example.
     GaborExample,
+    /// Heitz & Neyret 2018, tiling and blending by example, and the four by-example methods
+    /// side by side.
+    Tiling,
 }
 
 impl Paper {
     /// Every paper, in report order.
-    pub const ALL: [Paper; 5] = [
+    pub const ALL: [Paper; 6] = [
         Paper::Lrp,
         Paper::Rpn,
         Paper::Phasor,
         Paper::Survey,
         Paper::GaborExample,
+        Paper::Tiling,
     ];
 
     /// The short name used on the command line and in file names.
@@ -114,6 +119,7 @@ impl Paper {
             Paper::Phasor => "phasor",
             Paper::Survey => "survey",
             Paper::GaborExample => "gabor-example",
+            Paper::Tiling => "tiling",
         }
     }
 
@@ -140,6 +146,11 @@ impl Paper {
             Paper::GaborExample => {
                 "Galerne, Lagae, Lefebvre, Drettakis 2012: Gabor noise by example (SIGGRAPH \
                  2012; not in ../shared/papers: its equations were checked from public copies)"
+            }
+            Paper::Tiling => {
+                "Heitz & Neyret 2018: High-performance by-example noise using a \
+                 histogram-preserving blending operator (HPG 2018; with Deliot & Heitz 2019 and \
+                 Mikkelsen 2022; not in ../shared/papers)"
             }
         }
     }
@@ -530,6 +541,7 @@ pub fn run(config: &Config, progress: &mut dyn FnMut(&str)) -> Result<Report> {
             Paper::Phasor => phasor::reproduce(&mut session)?,
             Paper::Survey => survey::reproduce(&mut session)?,
             Paper::GaborExample => gabor_example::reproduce(&mut session)?,
+            Paper::Tiling => tiling::reproduce(&mut session)?,
         }
         session
             .report

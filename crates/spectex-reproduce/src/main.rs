@@ -12,7 +12,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use spectex_reproduce::{Config, Effort, Paper, run, write_report};
 
 const USAGE: &str = "usage: spectex-reproduce [PAPER…] [--quick | --tiny] [--out DIR] [--no-gpu]\n\
-                     papers: lrp, rpn, phasor, survey, gabor-example (all when none is named)";
+                     papers: lrp, rpn, phasor, survey, gabor-example, tiling (all when none is named)";
 
 fn main() -> ExitCode {
     match main_inner() {

@@ -1,11 +1,14 @@
 //! Tiling and blending by example (Heitz & Neyret 2018; Deliot & Heitz 2019): an exemplar
 //! becomes a [`TilingTexture`] — its colours decorrelated by PCA, each channel Gaussianised by
-//! rank (`g = Φ⁻¹((r + ½)/n)` for the value of rank `r` among `n`, ties by position), and the
-//! inverse tabulated: `T⁻¹(g)` is the channel's sorted values read at rank `Φ(g)·n − ½`
-//! (linear between ranks, clamped to the extremes).
+//! rank (`g = Φ⁻¹(p)`, `p` the value's rank among the values weighed by how often a render's
+//! taps read each texel, [`tap_density`]; ties by position), and the inverse tabulated: `T⁻¹(g)`
+//! is the channel's sorted values read at rank `Φ(g)·n − ½` (linear between ranks, clamped to
+//! the extremes), so a render's histogram is the exemplar's.
 
 use ndarray::ArrayView3;
-use spectex_model::tiling::{Blend, LUT_ENTRIES, MAX_SIDE, MIN_SIDE, TilingTexture, lut_node};
+use spectex_model::tiling::{
+    Blend, LUT_ENTRIES, Lattice, MAX_SIDE, MIN_SIDE, TilingTexture, lut_node,
+};
 
 use crate::SamplingError;
 use crate::texture::colour_pca;
@@ -90,18 +93,82 @@ pub fn normal_quantile(p: f64) -> f64 {
     x - u / (1.0 + x * u / 2.0)
 }
 
-/// Gaussianises one channel: the standard normal score of each value's rank, and the channel's
-/// values sorted.
-fn gaussianise(values: &[f64]) -> (Vec<f64>, Vec<f64>) {
+/// Gaussianises one channel: the standard normal score of each value's rank among the values
+/// weighed by `density` (a texel's share of the taps, [`tap_density`]), and the channel's values
+/// sorted. With the density, a render's taps — not the exemplar's texels — are standard normal:
+/// the taps read the exemplar's centre more often than its border, and an exemplar whose border
+/// differs from its centre would otherwise shift the output's histogram.
+fn gaussianise(values: &[f64], density: &[f64]) -> (Vec<f64>, Vec<f64>) {
     let n = values.len();
     let mut order: Vec<usize> = (0..n).collect();
     order.sort_by(|&a, &b| values[a].total_cmp(&values[b]).then(a.cmp(&b)));
+    let total: f64 = density.iter().sum();
     let mut scores = vec![0.0; n];
-    for (r, &i) in order.iter().enumerate() {
-        scores[i] = normal_quantile((r as f64 + 0.5) / n as f64);
+    let mut below = 0.0;
+    for &i in &order {
+        let p = ((below + 0.5 * density[i]) / total).clamp(1e-12, 1.0 - 1e-12);
+        scores[i] = normal_quantile(p);
+        below += density[i];
     }
     let sorted = order.iter().map(|&i| values[i]).collect();
     (scores, sorted)
+}
+
+/// How often a render at scale 1 reads each texel of a `width × height` exemplar: a tap reads
+/// `o + d`, the vertex's offset `o` uniform over the whole texels `[lo, lo + span]` per axis
+/// ([`Lattice::spans`]) and the displacement `d` uniform over the whole pixels of the hexagon of
+/// the vertex's six triangles (`|α|, |β|, |α + β| ≤ 1` in lattice coordinates `d = α·a₁ + β·a₂`):
+/// the box of offsets summed over the hexagon's pixels, by a difference array.
+#[must_use]
+pub fn tap_density(width: usize, height: usize, lattice: &Lattice) -> Vec<f64> {
+    let Some((lo, [sx, sy])) = lattice.spans(width as u32, height as u32) else {
+        return vec![1.0; width * height];
+    };
+    let (lo, sx, sy) = (lo as i64, i64::from(sx), i64::from(sy));
+    let reach = lattice.reach().ceil() as i64;
+    let (w, h) = (width as i64, height as i64);
+    let mut diff = vec![0.0f64; ((w + 1) * (h + 1)) as usize];
+    let mut add = |x: i64, y: i64, v: f64| {
+        if (0..=w).contains(&x) && (0..=h).contains(&y) {
+            diff[(y * (w + 1) + x) as usize] += v;
+        }
+    };
+    for dy in -reach..=reach {
+        for dx in -reach..=reach {
+            let beta = dy as f64 / lattice.row;
+            let alpha = dx as f64 / lattice.side - beta / 2.0;
+            if alpha.abs() > 1.0 || beta.abs() > 1.0 || (alpha + beta).abs() > 1.0 {
+                continue;
+            }
+            let (x0, x1) = ((lo + dx).clamp(0, w - 1), (lo + sx + dx).clamp(0, w - 1));
+            let (y0, y1) = ((lo + dy).clamp(0, h - 1), (lo + sy + dy).clamp(0, h - 1));
+            add(x0, y0, 1.0);
+            add(x1 + 1, y0, -1.0);
+            add(x0, y1 + 1, -1.0);
+            add(x1 + 1, y1 + 1, 1.0);
+        }
+    }
+    let stride = (w + 1) as usize;
+    for y in 0..=h as usize {
+        for x in 0..=w as usize {
+            let left = if x > 0 { diff[y * stride + x - 1] } else { 0.0 };
+            let up = if y > 0 {
+                diff[(y - 1) * stride + x]
+            } else {
+                0.0
+            };
+            let corner = if x > 0 && y > 0 {
+                diff[(y - 1) * stride + x - 1]
+            } else {
+                0.0
+            };
+            diff[y * stride + x] += left + up - corner;
+        }
+    }
+    (0..height)
+        .flat_map(|y| (0..width).map(move |x| (x, y)))
+        .map(|(x, y)| diff[y * stride + x].max(0.0))
+        .collect()
 }
 
 /// `T⁻¹` at the table's nodes: the sorted values at rank `Φ(g)·n − ½`.
@@ -160,7 +227,7 @@ pub fn fit_tiling(
             });
         }
     }
-    let tile = options.tile.unwrap_or((w.min(h) / 4) as f32);
+    let tile = options.tile.unwrap_or((w.min(h) / 8) as f32);
     let largest = ((w.min(h) - 1) / 2) as f64;
     if !tile.is_finite() || tile < 1.0 || f64::from(tile) > largest {
         return Err(SamplingError::OutOfRange {
@@ -177,6 +244,22 @@ pub fn fit_tiling(
         let m = image.sum() / (w * h) as f64;
         (vec![m], [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
     };
+    // The lattice the model will have (validated below with the model): its taps' density.
+    let probe = TilingTexture {
+        seed: 0,
+        width: w as u32,
+        height: h as u32,
+        channels: 1,
+        tile,
+        blend: options.blend,
+        gaussian: Vec::new(),
+        lut: Vec::new(),
+        mean: Vec::new(),
+        basis: Vec::new(),
+    };
+    let density = probe
+        .lattice(None)
+        .map_or_else(|| vec![1.0; w * h], |l| tap_density(w, h, &l));
     let mut gaussian = vec![0.0f32; w * h * nc];
     let mut lut = Vec::with_capacity(nc * LUT_ENTRIES);
     let mut spread = 0.0f64;
@@ -190,7 +273,7 @@ pub fn fit_tiling(
                     .sum()
             })
             .collect();
-        let (scores, sorted) = gaussianise(&values);
+        let (scores, sorted) = gaussianise(&values, &density);
         spread = spread.max(sorted[sorted.len() - 1] - sorted[0]);
         for (i, s) in scores.iter().enumerate() {
             gaussian[i * nc + c] = *s as f32;

@@ -58,3 +58,25 @@ fn a_constant_contrast_cosine_has_no_low_variance_energy() {
     assert!(variance_low_fraction(beat.view(), 1.0 / 16.0, &mut fft) > 0.3);
     assert!((ring_power_peak(cosine.view(), &mut fft) - 0.125).abs() < 1e-12);
 }
+
+#[test]
+fn wasserstein1_of_a_shift_is_the_shift_and_of_a_copy_zero() {
+    let a: Vec<f64> = (0..1000).map(|k| ((k * 37) % 101) as f64).collect();
+    let shifted: Vec<f64> = a.iter().map(|v| v + 2.5).collect();
+    assert!((wasserstein1(&a, &shifted) - 2.5).abs() < 1e-9);
+    assert!(wasserstein1(&a, &a).abs() < 1e-12);
+    // A sample and the same values twice over have one distribution.
+    let twice: Vec<f64> = a.iter().chain(&a).copied().collect();
+    assert!(wasserstein1(&a, &twice) < 0.05);
+    // Uniform on [0, 1] against the point mass at 0: E|U| = 1/2.
+    let u: Vec<f64> = (0..10_000).map(|k| (k as f64 + 0.5) / 10_000.0).collect();
+    assert!((wasserstein1(&u, &[0.0]) - 0.5).abs() < 1e-3);
+}
+
+#[test]
+fn gradient_magnitude_of_a_plane_is_its_slope() {
+    let a = ndarray::Array2::from_shape_fn((6, 7), |(y, x)| 3.0 * x as f64 - 4.0 * y as f64);
+    let g = gradient_magnitudes(a.view());
+    assert_eq!(g.dim(), (4, 5));
+    assert!(g.iter().all(|v| (v - 5.0).abs() < 1e-12));
+}
