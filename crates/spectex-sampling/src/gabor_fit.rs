@@ -36,7 +36,7 @@
 //! read do not print its constant, so this one is ours, derived here.
 
 use ndarray::{Array2, ArrayView2};
-use spectex_model::GaborNoise;
+use spectex_model::{Combine, CombineOp, GaborNoise, Model};
 
 use crate::SamplingError;
 use crate::fit::exemplar_psd;
@@ -58,6 +58,10 @@ pub struct GaborFitOptions {
     pub impulses_per_kernel: f32,
     /// The noise's seed.
     pub seed: u32,
+    /// Bandwidths, `1..=4`: 1 is one bandwidth on the `1/n` grid; each further one halves the
+    /// grid's spacing and the bandwidth near the zero frequency (module docs), no finer than the
+    /// Welch block's bins.
+    pub bandwidths: u32,
 }
 
 impl GaborFitOptions {
@@ -70,6 +74,9 @@ impl GaborFitOptions {
     pub const DEFAULT_IMPULSES_PER_KERNEL: f32 = 32.0;
     /// The project's default seed.
     pub const DEFAULT_SEED: u32 = spectex_model::DEFAULT_SEED;
+    /// Four bandwidths: down to a lobe of `1/(16n)` cycles per pixel near the zero frequency,
+    /// which a 1/f² spectrum (a height map's) needs.
+    pub const DEFAULT_BANDWIDTHS: u32 = 4;
 
     /// Checks every option against its range.
     ///
@@ -88,6 +95,13 @@ impl GaborFitOptions {
                 parameter: "sparsity",
                 value: self.sparsity,
                 range: "[0, 1)",
+            });
+        }
+        if !(1..=MAX_BANDWIDTHS).contains(&self.bandwidths) {
+            return Err(SamplingError::OutOfRange {
+                parameter: "bandwidths",
+                value: f64::from(self.bandwidths),
+                range: "1..=4 bandwidths",
             });
         }
         let ipk = f64::from(self.impulses_per_kernel);
@@ -109,6 +123,7 @@ impl Default for GaborFitOptions {
             sparsity: Self::DEFAULT_SPARSITY,
             impulses_per_kernel: Self::DEFAULT_IMPULSES_PER_KERNEL,
             seed: Self::DEFAULT_SEED,
+            bandwidths: Self::DEFAULT_BANDWIDTHS,
         }
     }
 }
@@ -116,8 +131,9 @@ impl Default for GaborFitOptions {
 /// A fitted Gabor noise by example and how well its Gaussians match the spectrum.
 #[derive(Debug, Clone, PartialEq)]
 pub struct GaborFit {
-    /// The validated model (mean and variance the exemplar's).
-    pub model: GaborNoise,
+    /// The validated noises, one per bandwidth that kept a Gaussian, the coarsest (the `1/n`
+    /// grid's) first; their sum ([`GaborFit::model`]) has the exemplar's mean and variance.
+    pub noises: Vec<GaborNoise>,
     /// Candidates the fit kept (the model's components).
     pub components: usize,
     /// Candidates considered.
@@ -126,6 +142,34 @@ pub struct GaborFit {
     pub relative_residual: f64,
     /// The candidate grid `n` used (the option, capped at the Welch block).
     pub grid: u32,
+}
+
+/// Most bandwidths of a fit ([`GaborFitOptions::bandwidths`]).
+pub const MAX_BANDWIDTHS: u32 = 4;
+
+/// A finer bandwidth's candidates lie within this many of its grid steps of the zero frequency
+/// (4 steps of the next coarser grid, 8 of its lobes' standard deviations).
+const FINE_REACH: f64 = 8.0;
+
+impl GaborFit {
+    /// The model: the one noise, or the sum ([`CombineOp::Add`]) of one noise per bandwidth
+    /// (the paper's bandwidth-quantized Gabor noise), costing the sum of their kernel
+    /// evaluations.
+    ///
+    /// # Errors
+    /// [`SamplingError::Model`] if the sum is refused (more than 8 operands: never, at most
+    /// [`MAX_BANDWIDTHS`]).
+    pub fn model(&self) -> Result<Model, SamplingError> {
+        match self.noises.as_slice() {
+            [one] => Ok(Model::Gabor(one.clone())),
+            many => Ok(Combine::builder()
+                .op(CombineOp::Add)
+                .operands(many.iter().cloned().map(Model::Gabor).collect())
+                .build()
+                .map_err(SamplingError::Model)?
+                .into()),
+        }
+    }
 }
 
 /// Fits a Gabor noise by example to one grey channel: its Welch spectrum, variance and mean
@@ -213,9 +257,25 @@ pub fn fit_gabor_psd(
         });
     }
     let n = (options.grid as usize).min(t);
-    let bandwidth = std::f64::consts::PI.sqrt() / n as f64;
-    let candidates = candidates(n);
-    let basis = Basis::new(&candidates, t, bandwidth);
+    // Every bandwidth's grid `n_s = n·2^s` (at most the block's bins, and a ≥ 0.001) and its
+    // candidates: the whole half disc for the coarsest, `|f| ≤ 8/n_s` for the finer ones.
+    let mut scales: Vec<(usize, usize)> = Vec::new(); // (grid, first candidate)
+    let mut all: Vec<([f32; 2], f64)> = Vec::new();
+    for s in 0..options.bandwidths {
+        let ns = n << s;
+        if s > 0 && ns > t.min(1024) {
+            break;
+        }
+        let a = std::f64::consts::PI.sqrt() / ns as f64;
+        scales.push((ns, all.len()));
+        all.extend(
+            candidates(ns)
+                .into_iter()
+                .filter(|f| s == 0 || f64::from(f[0]).hypot(f64::from(f[1])) * ns as f64 <= FINE_REACH)
+                .map(|f| (f, a)),
+        );
+    }
+    let basis = Basis::new(&all, t);
     // Relative least squares: each bin weighted by 1/(its 5×5 average power + a floor), so a
     // spectrum's weak tail counts as much as its strong peak (the shape distance is L1).
     let smooth = spectex_spectrum::normalised_smoothed(target.view());
@@ -244,33 +304,62 @@ pub fn fit_gabor_psd(
         .sum::<f64>()
         .sqrt();
 
-    let largest = c.iter().copied().fold(0.0, f64::max);
-    let kept: Vec<([f32; 2], f32)> = candidates
-        .iter()
-        .zip(&c)
-        .filter(|&(_, &ck)| ck > 0.0 && (ck / largest) as f32 > 0.0)
-        .map(|(f, &ck)| (*f, (ck / largest) as f32))
-        .collect();
-    if kept.is_empty() {
+    // Per bandwidth: its kept components (weights relative to its largest) and its power
+    // `E_s = Σ c_k·|B_k|` (the lobes' whole sum, zero frequency included: the noise's variance).
+    let mut groups: Vec<(usize, Vec<([f32; 2], f32)>, f64)> = Vec::new();
+    for (s, &(ns, first)) in scales.iter().enumerate() {
+        let last = scales.get(s + 1).map_or(all.len(), |&(_, f)| f);
+        let range = first..last;
+        let largest = c[range.clone()].iter().copied().fold(0.0, f64::max);
+        let kept: Vec<([f32; 2], f32)> = range
+            .clone()
+            .filter(|&k| c[k] > 0.0 && (c[k] / largest) as f32 > 0.0)
+            .map(|k| (all[k].0, (c[k] / largest) as f32))
+            .collect();
+        let power: f64 = range.map(|k| c[k] * basis.power[k]).sum();
+        if !kept.is_empty() && power > 0.0 {
+            groups.push((ns, kept, power));
+        }
+    }
+    if groups.is_empty() {
         return Err(SamplingError::NoEnergy {
             parameter: "power spectrum",
         });
     }
-    let (frequencies, weights): (Vec<[f32; 2]>, Vec<f32>) = kept.into_iter().unzip();
-    let components = frequencies.len();
-    let model = GaborNoise::builder()
-        .seed(options.seed)
-        .mean(mean as f32)
-        .bandwidth(bandwidth as f32)
-        .impulses_per_kernel(options.impulses_per_kernel)
-        .spectrum(frequencies, weights)
-        .std_dev(variance.sqrt() as f32)
-        .build()
-        .map_err(SamplingError::Model)?;
+    let total_power: f64 = groups.iter().map(|g| g.2).sum();
+    // The impulses per kernel are shared in proportion to the variances (at least a tenth of an
+    // equal share each), so the sum costs what one noise of `impulses_per_kernel` would.
+    let floor_share = 0.1 / groups.len() as f64;
+    let shares: Vec<f64> = groups
+        .iter()
+        .map(|g| (g.2 / total_power).max(floor_share))
+        .collect();
+    let share_sum: f64 = shares.iter().sum();
+    let mut noises = Vec::with_capacity(groups.len());
+    let mut components = 0;
+    for (s, ((ns, kept, power), share)) in groups.into_iter().zip(shares).enumerate() {
+        let (frequencies, weights): (Vec<[f32; 2]>, Vec<f32>) = kept.into_iter().unzip();
+        components += frequencies.len();
+        let ipk = if s == 0 && share == share_sum {
+            options.impulses_per_kernel
+        } else {
+            (f64::from(options.impulses_per_kernel) * share / share_sum).max(0.01) as f32
+        };
+        let noise = GaborNoise::builder()
+            .seed(options.seed.wrapping_add(s as u32))
+            .mean(if s == 0 { mean as f32 } else { 0.0 })
+            .bandwidth((std::f64::consts::PI.sqrt() / ns as f64) as f32)
+            .impulses_per_kernel(ipk)
+            .spectrum(frequencies, weights)
+            .std_dev((variance * power / total_power).sqrt() as f32)
+            .build()
+            .map_err(SamplingError::Model)?;
+        noises.push(noise);
+    }
     Ok(GaborFit {
-        model,
+        noises,
         components,
-        candidates: candidates.len(),
+        candidates: all.len(),
         relative_residual: residual / norm,
         grid: n as u32,
     })
@@ -318,22 +407,28 @@ struct Basis {
     columns: Vec<Column>,
     /// Each column's lobe centres, in bins (signed, unwrapped).
     centres: Vec<Vec<[f64; 2]>>,
-    /// The reach of a lobe, bins.
-    reach: f64,
+    /// The reach of each column's lobes, bins.
+    reach: Vec<f64>,
+    /// Each column's sum over every bin, the zero frequency included.
+    power: Vec<f64>,
     t: usize,
 }
 
 impl Basis {
-    fn new(candidates: &[[f32; 2]], t: usize, a: f64) -> Self {
+    /// The columns of the candidates `(f, a)`: frequency, cycles per pixel, and bandwidth.
+    fn new(candidates: &[([f32; 2], f64)], t: usize) -> Self {
         let tf = t as f64;
-        // A lobe is e^{−|ω|²/(2σ²)} with σ = a/(2√π); beyond 6σ it is below 1.6e-8 of its peak.
-        let sigma = a / (2.0 * std::f64::consts::PI.sqrt());
-        let reach = (6.0 * sigma * tf).ceil();
         let mut scratch = vec![0.0f64; t * t];
         let mut touched: Vec<u32> = Vec::new();
         let mut columns = Vec::with_capacity(candidates.len());
         let mut centres = Vec::with_capacity(candidates.len());
-        for f in candidates {
+        let mut reaches = Vec::with_capacity(candidates.len());
+        let mut powers = Vec::with_capacity(candidates.len());
+        for &(f, a) in candidates {
+            // A lobe is e^{−|ω|²/(2σ²)} with σ = a/(2√π); beyond 6σ it is below 1.6e-8 of its
+            // peak.
+            let sigma = a / (2.0 * std::f64::consts::PI.sqrt());
+            let reach = (6.0 * sigma * tf).ceil();
             let f = [f64::from(f[0]), f64::from(f[1])];
             let cross =
                 2.0 * (-2.0 * std::f64::consts::PI * (f[0] * f[0] + f[1] * f[1]) / (a * a)).exp();
@@ -341,6 +436,7 @@ impl Basis {
             if cross > 1e-12 {
                 lobes.push(([0.0, 0.0], cross));
             }
+            let mut power = 0.0;
             for &(c, weight) in &lobes {
                 // Bins within `reach` of the centre, each at its nearest alias of the centre.
                 let (cx, cy) = (c[0] * tf, c[1] * tf);
@@ -350,6 +446,7 @@ impl Basis {
                     for x in x0..=x1.min(x0 + t as i64 - 1) {
                         let (dx, dy) = ((x as f64 - cx) / tf, (y as f64 - cy) / tf);
                         let g = (-2.0 * std::f64::consts::PI * (dx * dx + dy * dy) / (a * a)).exp();
+                        power += weight * g;
                         let k =
                             y.rem_euclid(t as i64) as usize * t + x.rem_euclid(t as i64) as usize;
                         if k == 0 {
@@ -370,11 +467,14 @@ impl Basis {
             touched.clear();
             columns.push(Column { entries });
             centres.push(lobes.iter().map(|(c, _)| [c[0] * tf, c[1] * tf]).collect());
+            reaches.push(reach);
+            powers.push(power);
         }
         Self {
             columns,
             centres,
-            reach,
+            reach: reaches,
+            power: powers,
             t,
         }
     }
@@ -389,7 +489,10 @@ impl Basis {
         self.centres[i].iter().any(|a| {
             self.centres[j]
                 .iter()
-                .any(|b| wrap(a[0] - b[0]).hypot(wrap(a[1] - b[1])) <= 2.0 * self.reach + 1.5)
+                .any(|b| {
+                    wrap(a[0] - b[0]).hypot(wrap(a[1] - b[1]))
+                        <= self.reach[i] + self.reach[j] + 1.5
+                })
         })
     }
 
