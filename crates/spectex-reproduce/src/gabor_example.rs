@@ -99,7 +99,7 @@ fn against_lrp(s: &mut Session<'_>) -> Result<()> {
             },
         )
         .ctx("Gabor noise by example fit")?;
-        let gabor = Model::Gabor(fitted.model.clone());
+        let gabor = fitted.model().ctx("Gabor noise by example model")?;
         let gabor_cost = Evaluator::new(&gabor)
             .ctx("Gabor evaluator")?
             .cost_per_pixel();
@@ -122,7 +122,8 @@ fn against_lrp(s: &mut Session<'_>) -> Result<()> {
         let (_, v_ex) = mean_variance(g.view());
         let (_, v_gabor) = mean_variance(gabor_img.view());
         rows.push(format!(
-            "| {name} | {lrp_cost:.1} | {gabor_cost:.1} | {d_lrp:.4} | {d_gabor:.4} | {} of {} | {:.3} | {:.3} |",
+            "| {name} | {lrp_cost:.1} | {gabor_cost:.1} | {d_lrp:.4} | {d_gabor:.4} | {} | {} of {} | {:.3} | {:.3} |",
+            fitted.noises.len(),
             fitted.components,
             fitted.candidates,
             fitted.relative_residual,
@@ -174,7 +175,8 @@ fn against_lrp(s: &mut Session<'_>) -> Result<()> {
     );
     let mut table = String::from(
         "| exemplar | LRP cosines/px | Gabor kernels/px | LRP distance | Gabor distance | \
-         Gaussians kept | fit residual | Gabor variance ratio |\n|---|---|---|---|---|---|---|---|\n",
+         bandwidths | Gaussians kept | fit residual | Gabor variance ratio |\n\
+         |---|---|---|---|---|---|---|---|---|\n",
     );
     for r in rows {
         table.push_str(&r);
@@ -184,8 +186,10 @@ fn against_lrp(s: &mut Session<'_>) -> Result<()> {
         "Figs. 1, 8 (noise by example)",
         format!(
             "Grey exemplars; LRP spectrum fit with J = {LRP_BUDGET} and Gabor noise by example \
-             (1/32 grid, sparsity 0.01, relative least squares) at equal evaluations per pixel, {side}² renders measured \
-             with the exemplar's Welch block."
+             (1/32 grid and up to 3 finer grids near the zero frequency, each halving the \
+             bandwidth, summed as bandwidth-quantized noise; sparsity 0.01, relative least \
+             squares) at equal evaluations per pixel, {side}² renders measured with the \
+             exemplar's Welch block."
         ),
         panels,
         Some(table),
