@@ -345,7 +345,9 @@ pub fn fit_gabor_psd(
 
     // Per bandwidth: its kept components (weights relative to its largest) and its power
     // `E_s = Σ c_k·|B_k|` (the lobes' whole sum, zero frequency included: the noise's variance).
-    let mut groups: Vec<(usize, Vec<([f32; 2], f32)>, f64)> = Vec::new();
+    /// A bandwidth's grid, kept `(frequency, relative weight)` and power `E_s`.
+    type Group = (usize, Vec<([f32; 2], f32)>, f64);
+    let mut groups: Vec<Group> = Vec::new();
     for (s, &(ns, first)) in scales.iter().enumerate() {
         let last = scales.get(s + 1).map_or(all.len(), |&(_, f)| f);
         let range = first..last;
