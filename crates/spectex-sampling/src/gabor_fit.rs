@@ -795,13 +795,11 @@ pub mod tests {
             seeds,
             vec![options.seed, options.seed + 1, options.seed + 2]
         );
-        match fit.model().unwrap() {
-            Model::Combine(c) => {
-                assert_eq!(c.op, CombineOp::Add);
-                assert_eq!(c.operands.len(), 3);
-            }
-            other => panic!("{other:?}"),
-        }
+        let Model::Combine(c) = fit.model().unwrap() else {
+            panic!("three bandwidths: not a sum")
+        };
+        assert_eq!(c.op, CombineOp::Add);
+        assert_eq!(c.operands, fit.noises.iter().cloned().map(Model::Gabor).collect::<Vec<_>>());
         // One bandwidth: the plain noise.
         let one = GaborFitOptions {
             bandwidths: 1,
