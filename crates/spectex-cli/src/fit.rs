@@ -41,6 +41,11 @@ pub struct FitArgs {
     /// is 9/π of it).
     #[arg(long, default_value_t = GaborFitOptions::DEFAULT_IMPULSES_PER_KERNEL)]
     impulses_per_kernel: f32,
+    /// Gabor by example: bandwidths, 1 to 4 (1: one bandwidth on the --grid; each further one
+    /// halves the spacing and the bandwidth near the zero frequency, and the model is the sum
+    /// of one noise per bandwidth sharing the impulses per kernel).
+    #[arg(long, default_value_t = GaborFitOptions::DEFAULT_BANDWIDTHS)]
+    bandwidths: u32,
     /// Tiling: side of the lattice's triangles, pixels (default: a quarter of the exemplar's
     /// smaller side; at most half of it).
     #[arg(long, value_name = "PX")]
@@ -174,6 +179,8 @@ impl FitArgs {
             sparsity: self.sparsity,
             impulses_per_kernel: self.impulses_per_kernel,
             seed: self.seed,
+            bandwidths: self.bandwidths,
+            ..GaborFitOptions::default()
         }
     }
 
@@ -212,7 +219,7 @@ enum Fitted {
     Noise(LrpNoise),
     Texture(TextureModel),
     Tiling(TilingTexture),
-    Gabor(Box<GaborFit>),
+    Gabor(Box<GaborFit>, Model),
 }
 
 impl Fitted {
@@ -221,7 +228,7 @@ impl Fitted {
             Self::Noise(noise) => noise.clone().into(),
             Self::Texture(texture) => texture.clone().into(),
             Self::Tiling(tiling) => tiling.clone().into(),
-            Self::Gabor(fit) => fit.model.clone().into(),
+            Self::Gabor(_, model) => model.clone(),
         }
     }
 }
@@ -245,9 +252,9 @@ fn fit_gabor(input: Option<&Path>, fit: &FitArgs) -> Result<(Fitted, (usize, usi
         ));
     }
     let options = fit.gabor_options();
-    options
-        .validate()
-        .map_err(|e| anyhow!("{e}; check --grid, --sparsity and --impulses-per-kernel"))?;
+    options.validate().map_err(|e| {
+        anyhow!("{e}; check --grid, --sparsity, --impulses-per-kernel and --bandwidths")
+    })?;
     let (loaded, name) = io::load_input(input)?;
     let (channels, h, w) = loaded.pixels.dim();
     let grey = if channels >= 3 {
@@ -262,7 +269,10 @@ fn fit_gabor(input: Option<&Path>, fit: &FitArgs) -> Result<(Fitted, (usize, usi
     };
     let fitted = spectex_sampling::fit_gabor(grey.view(), &options)
         .with_context(|| format!("cannot fit {name}"))?;
-    Ok((Fitted::Gabor(Box::new(fitted)), (w, h)))
+    let model = fitted
+        .model()
+        .with_context(|| format!("cannot fit {name}"))?;
+    Ok((Fitted::Gabor(Box::new(fitted), model), (w, h)))
 }
 
 /// `--method tiling`: the example's grey or RGB channels (an alpha channel is refused).
@@ -325,17 +335,23 @@ pub fn fit(cmd: &FitCommand) -> Result<()> {
     write_fitted_model(&cmd.output, &fitted.to_model(), cmd.fit.recorded())?;
     #[allow(clippy::print_stdout)] // reason: the command's result summary
     match &fitted {
-        Fitted::Gabor(fit) => {
+        Fitted::Gabor(fit, _) => {
+            let bandwidths: Vec<String> = fit
+                .noises
+                .iter()
+                .map(|g| format!("{:.4}", g.bandwidth))
+                .collect();
+            let cost: f64 = fit.noises.iter().map(|g| 9.0 * g.impulses_per_cell()).sum();
             println!(
-                "wrote {} (Gabor noise by example, {} of {} Gaussians on a 1/{} grid, \
-                 bandwidth a = {:.4}, relative residual {:.3}, {:.1} kernel evaluations per pixel)",
+                "wrote {} (Gabor noise by example, {} of {} Gaussians, coarsest grid 1/{}, \
+                 bandwidths a = {}, relative residual {:.3}, {:.1} kernel evaluations per pixel)",
                 cmd.output.display(),
                 fit.components,
                 fit.candidates,
                 fit.grid,
-                fit.model.bandwidth,
+                bandwidths.join(", "),
                 fit.relative_residual,
-                9.0 * fit.model.impulses_per_cell()
+                cost
             );
         }
         Fitted::Noise(m) => {

@@ -340,8 +340,8 @@ fn hann_dft(a: usize, n: usize) -> f64 {
 /// is the separable `[1/6, 2/3, 1/6]` blur; the eight bins next to it (a height map's first
 /// ring) lose what their taper puts on the block mean: a bin `(0, 1)` keeps `(1 − ½·½)² = 9/16`
 /// of the blur's share `4/9` at its own bin and puts `1/36` on its mirror `(0, −1)`.
-struct WelchOperator {
-    n: usize,
+pub(crate) struct WelchOperator {
+    pub(crate) n: usize,
 }
 
 impl WelchOperator {
@@ -383,7 +383,7 @@ impl WelchOperator {
     }
 
     /// `Σ_k K(f, k)·a(k)`: the expected Welch estimate of the spectrum `a`.
-    fn apply(&self, a: &ndarray::Array2<f64>) -> ndarray::Array2<f64> {
+    pub(crate) fn apply(&self, a: &ndarray::Array2<f64>) -> ndarray::Array2<f64> {
         let mut out = self.blur(a);
         for f in self.near_zero() {
             out[[f.0, f.1]] += self

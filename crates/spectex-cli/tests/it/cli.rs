@@ -1170,16 +1170,31 @@ fn fit_and_synth_gabor_noise_by_example() {
         "8",
         "--seed",
         "4",
+        "--bandwidths",
+        "1",
     ]);
     let text = std::fs::read_to_string(&model).unwrap();
     let spectex_model::Model::Gabor(g) = spectex_model::from_json(&text).unwrap() else {
-        panic!("fit --method gabor wrote {text}")
+        panic!("fit --method gabor --bandwidths 1 wrote {text}")
     };
     assert!(matches!(
         g.orientation,
         spectex_model::Orientation::Spectrum { .. }
     ));
     assert_eq!(g.seed, 4);
+    // Several bandwidths (the default): a sum of Gabor noises, seeds 4, 5, ….
+    spectex_ok(&["fit", "-o", s(&model), "--method", "gabor", "--seed", "4"]);
+    let text = std::fs::read_to_string(&model).unwrap();
+    let spectex_model::Model::Combine(c) = spectex_model::from_json(&text).unwrap() else {
+        panic!("fit --method gabor wrote {text}")
+    };
+    assert_eq!(c.op, spectex_model::combine::CombineOp::Add);
+    for (k, operand) in c.operands.iter().enumerate() {
+        let spectex_model::Model::Gabor(g) = operand else {
+            panic!("operand {k}: {operand:?}")
+        };
+        assert_eq!(g.seed, 4 + k as u32);
+    }
     let png = dir.join("gabor.png");
     spectex_ok(&[
         "synth",
@@ -1205,6 +1220,16 @@ fn fit_and_synth_gabor_noise_by_example() {
         "60",
     ]);
     assert_fails(&out, &dir, &["grid = 60", "4..=48", "--grid"]);
+    let out = spectex(&[
+        "fit",
+        "-o",
+        s(&dir.join("bad.json")),
+        "--method",
+        "gabor",
+        "--bandwidths",
+        "5",
+    ]);
+    assert_fails(&out, &dir, &["bandwidths = 5", "1..=4", "--bandwidths"]);
     let out = spectex(&[
         "fit",
         "-o",
