@@ -238,20 +238,18 @@ fn side_by_side(
         .0,
     );
     let lrp_cost = Evaluator::new(&lrp).ctx("LRP evaluator")?.cost_per_pixel();
-    let gabor = Model::Gabor(
-        fit_gabor(
-            ex_grey.view(),
-            &GaborFitOptions {
-                // Gabor's 9·ipk/π kernel evaluations a pixel equal to one LRP channel's 9J.
-                impulses_per_kernel: (f64::from(9 * LRP_BUDGET) * std::f64::consts::PI / 9.0)
-                    as f32,
-                seed: 1,
-                ..GaborFitOptions::default()
-            },
-        )
-        .ctx("Gabor noise by example fit")?
-        .model,
-    );
+    let gabor = fit_gabor(
+        ex_grey.view(),
+        &GaborFitOptions {
+            // Gabor's 9·ipk/π kernel evaluations a pixel equal to one LRP channel's 9J.
+            impulses_per_kernel: (f64::from(9 * LRP_BUDGET) * std::f64::consts::PI / 9.0) as f32,
+            seed: 1,
+            ..GaborFitOptions::default()
+        },
+    )
+    .ctx("Gabor noise by example fit")?
+    .model()
+    .ctx("Gabor noise by example model")?;
     let tiling = Model::Tiling(
         fit_tiling(
             img.view(),

@@ -799,7 +799,14 @@ pub mod tests {
             panic!("three bandwidths: not a sum")
         };
         assert_eq!(c.op, CombineOp::Add);
-        assert_eq!(c.operands, fit.noises.iter().cloned().map(Model::Gabor).collect::<Vec<_>>());
+        assert_eq!(
+            c.operands,
+            fit.noises
+                .iter()
+                .cloned()
+                .map(Model::Gabor)
+                .collect::<Vec<_>>()
+        );
         // One bandwidth: the plain noise.
         let one = GaborFitOptions {
             bandwidths: 1,

@@ -16,7 +16,7 @@ use crate::texture::colour_pca;
 /// Options of [`fit_tiling`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TilingOptions {
-    /// Side of the lattice's triangles, pixels; `None`: a quarter of the exemplar's smaller
+    /// Side of the lattice's triangles, pixels; `None`: an eighth of the exemplar's smaller
     /// side.
     pub tile: Option<f32>,
     /// The blend.
@@ -323,41 +323,92 @@ pub mod tests {
         assert!((normal_quantile(0.975) - 1.959_963_984_540_054).abs() < 1e-12);
     }
 
-    /// The table maps scores back to the values: `T⁻¹(T(v)) = v` at every pixel within the
-    /// table's interpolation, so the fit keeps the histogram.
-    pub fn the_table_inverts_the_gaussianisation() {
+    /// The table maps standard normal values to the exemplar's histogram: the table read at
+    /// the normal quantiles of `n` evenly spaced probabilities gives the exemplar's sorted
+    /// values; and the scores, weighed by the taps' density, are standard normal.
+    pub fn the_table_maps_normal_values_to_the_histogram() {
         let (h, w) = (24, 20);
         let image = Array3::from_shape_fn((1, h, w), |(_, y, x)| {
             let v = ((x * 7 + y * 13) % 17) as f64 / 16.0;
             v * v
         });
-        let m = fit_tiling(image.view(), &TilingOptions::default()).unwrap();
-        assert_eq!(m.tile, 5.0);
-        let lut = &m.lut[..LUT_ENTRIES];
-        let mean = f64::from(m.mean[0]);
-        for (i, &g) in m.gaussian.iter().enumerate() {
-            let back = spectex_model::tiling::lut_f64(lut, f64::from(g)) * f64::from(m.basis[0]);
-            let v = image[[0, i / w, i % w]];
-            // Between two table nodes the quantile moves by at most the gap between neighbouring
-            // sorted values; here those gaps are at most 33/256.
-            assert!(
-                (back + mean - v).abs() < 0.13,
-                "{i}: {back} + {mean} vs {v}"
-            );
-        }
-        // Sorted scores are the normal quantiles of the ranks: mean 0, variance near 1.
-        let n = m.gaussian.len() as f64;
-        let mean_g: f64 = m.gaussian.iter().map(|&g| f64::from(g)).sum::<f64>() / n;
-        let var_g: f64 = m
-            .gaussian
-            .iter()
-            .map(|&g| f64::from(g).powi(2))
-            .sum::<f64>()
-            / n;
-        assert!(
-            mean_g.abs() < 1e-6 && (var_g - 1.0).abs() < 0.03,
-            "{mean_g} {var_g}"
+        let m = fit_tiling(
+            image.view(),
+            &TilingOptions {
+                tile: Some(5.0),
+                ..TilingOptions::default()
+            },
+        )
+        .unwrap();
+        assert_eq!(
+            fit_tiling(image.view(), &TilingOptions::default())
+                .unwrap()
+                .tile,
+            2.0,
+            "an eighth of 20"
         );
+        let lut = &m.lut[..LUT_ENTRIES];
+        let (mean, scale) = (f64::from(m.mean[0]), f64::from(m.basis[0]));
+        let n = h * w;
+        let mut want: Vec<f64> = image.iter().copied().collect();
+        want.sort_by(f64::total_cmp);
+        for (k, v) in want.iter().enumerate() {
+            let g = normal_quantile((k as f64 + 0.5) / n as f64);
+            let back = mean + scale * spectex_model::tiling::lut_f64(lut, g);
+            // Between two table nodes the quantile moves by at most the gap between
+            // neighbouring sorted values (here at most 33/256).
+            assert!((back - v).abs() < 0.13, "{k}: {back} vs {v}");
+        }
+        let lattice = m.lattice(None).unwrap();
+        let density = tap_density(w, h, &lattice);
+        let total: f64 = density.iter().sum();
+        let moment = |p: i32| -> f64 {
+            m.gaussian
+                .iter()
+                .zip(&density)
+                .map(|(&g, d)| d * f64::from(g).powi(p))
+                .sum::<f64>()
+                / total
+        };
+        assert!(
+            moment(1).abs() < 1e-3 && (moment(2) - 1.0).abs() < 0.05,
+            "{} {}",
+            moment(1),
+            moment(2)
+        );
+    }
+
+    /// The density is the box of offsets summed over the hexagon's pixels: its total is the
+    /// hexagon's pixel count times the box's area, and it is largest at the centre.
+    pub fn tap_density_counts_every_tap_once() {
+        let lattice = Lattice {
+            side: 6.0,
+            row: 5.0,
+            wrap: None,
+        };
+        let (w, h) = (40usize, 30usize);
+        let d = tap_density(w, h, &lattice);
+        let (lo, [sx, sy]) = lattice.spans(w as u32, h as u32).unwrap();
+        assert_eq!(lo, 6);
+        let mut hexagon = 0.0;
+        for dy in -6i32..=6 {
+            for dx in -6i32..=6 {
+                let beta = f64::from(dy) / 5.0;
+                let alpha = f64::from(dx) / 6.0 - beta / 2.0;
+                if alpha.abs() <= 1.0 && beta.abs() <= 1.0 && (alpha + beta).abs() <= 1.0 {
+                    hexagon += 1.0;
+                }
+            }
+        }
+        let total: f64 = d.iter().sum();
+        let box_area = f64::from((sx + 1) * (sy + 1));
+        assert!(
+            (total - hexagon * box_area).abs() < 1e-6,
+            "{total} vs {}",
+            hexagon * box_area
+        );
+        // The middle of the left edge is read (by the hexagon's left corner), the corner never.
+        assert!(d[15 * w + 20] > d[15 * w] && d[15 * w] > 0.0 && d[0] == 0.0);
     }
 
     pub fn bad_exemplars_are_refused_by_name() {
