@@ -277,7 +277,7 @@ fn fit_gabor(input: Option<&Path>, fit: &FitArgs) -> Result<(Fitted, (usize, usi
 
 /// `--method tiling`: the example's grey or RGB channels (an alpha channel is refused).
 fn fit_tiling(input: Option<&Path>, fit: &FitArgs) -> Result<(Fitted, (usize, usize))> {
-    let (loaded, name) = io::load_input(input)?;
+    let (loaded, name) = io::load_input_as_is(input)?;
     let (_, h, w) = loaded.pixels.dim();
     if loaded.dropped_alpha {
         bail!(

@@ -612,6 +612,15 @@ pub const EXR_TILE: usize = 64;
 
 /// The sample named on the command line, or the built-in exemplar.
 pub(crate) fn load_input(input: Option<&Path>) -> Result<(Loaded, String)> {
+    let loaded = load_input_as_is(input)?;
+    if loaded.0.dropped_alpha {
+        eprintln!("note: the alpha channel of {} is ignored", loaded.1);
+    }
+    Ok(loaded)
+}
+
+/// [`load_input`] without its note on a dropped alpha channel: for a caller that refuses one.
+pub(crate) fn load_input_as_is(input: Option<&Path>) -> Result<(Loaded, String)> {
     let loaded = match input {
         Some(p) => (load(p)?, format!("'{}'", p.display())),
         None => (
@@ -622,8 +631,5 @@ pub(crate) fn load_input(input: Option<&Path>) -> Result<(Loaded, String)> {
             crate::exemplar::DEFAULT_EXEMPLAR_NAME.to_string(),
         ),
     };
-    if loaded.0.dropped_alpha {
-        eprintln!("note: the alpha channel of {} is ignored", loaded.1);
-    }
     Ok(loaded)
 }

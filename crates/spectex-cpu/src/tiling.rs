@@ -52,6 +52,7 @@ pub struct TilingEvaluator {
 }
 
 /// The rhombus of a position: `(m₀, k₀, u, v)` (module docs of `spectex_model::tiling`).
+#[inline(always)]
 fn rhombus(cx: i32, fx: f32, cy: i32, fy: f32) -> (i32, i32, f32, f32) {
     let e = cy.rem_euclid(2);
     let t = fx - 0.5 * (e as f32 + fy);
@@ -70,6 +71,7 @@ fn rhombus(cx: i32, fx: f32, cy: i32, fy: f32) -> (i32, i32, f32, f32) {
 }
 
 /// The three vertices `(a, b)` relative to the rhombus and their barycentric weights.
+#[inline(always)]
 fn triangle(u: f32, v: f32) -> ([(i32, i32); 3], [f32; 3]) {
     if u + v < 1.0 {
         ([(0, 0), (1, 0), (0, 1)], [(1.0 - u) - v, u, v])
@@ -127,6 +129,7 @@ impl TilingEvaluator {
     }
 
     /// The draws of vertex `(m, k)` (the randomness contract).
+    #[inline]
     fn vertex(&self, m: i32, k: i32) -> Vertex {
         let (m, k) = self.lattice.key(m, k);
         let mut prng = Prng::new(cell_hash(m, k, TILING_LAYER, self.seed));
@@ -147,7 +150,7 @@ impl TilingEvaluator {
 
     /// The bilinear tap of level `level` at `q` texels of level 0 (`⌊x⌋` of the clamped,
     /// non-negative coordinates as a truncation: the same value without a libm call).
-    #[inline]
+    #[inline(always)]
     fn tap(&self, level: &TapLevel, q: [f32; 2]) -> [f32; 4] {
         let axis = |q: f32, n: u32| {
             let x = (q * level.inv - level.bias).clamp(0.0, (n - 1) as f32);
@@ -170,6 +173,7 @@ impl TilingEvaluator {
     }
 
     /// `LUT_l` of channel `c` at `g`.
+    #[inline(always)]
     fn lookup(&self, level: usize, c: usize, g: f32) -> f32 {
         let lut = self.tables.lut(level, c, self.channels);
         let scale = (LUT_ENTRIES - 1) as f32 / (2.0 * LUT_RANGE);
@@ -182,6 +186,7 @@ impl TilingEvaluator {
 
     /// The texture at level `level` in the rhombus `(m0, k0)` at `(u, v)`, the vertices' draws
     /// from `draw` (output components in `out[..channels]`).
+    #[inline(always)]
     fn eval_level(
         &self,
         level: usize,

@@ -203,6 +203,7 @@ pub struct TilingTables {
 impl TilingTables {
     /// Level `l`'s table of channel `c`.
     #[must_use]
+    #[inline]
     pub fn lut(&self, level: usize, channel: usize, channels: usize) -> &[f32] {
         let start = (level * channels + channel) * LUT_ENTRIES;
         &self.luts[start..start + LUT_ENTRIES]

@@ -1241,3 +1241,99 @@ fn fit_and_synth_gabor_noise_by_example() {
     ]);
     assert_fails(&out, &dir, &["--method gabor"]);
 }
+
+/// `fit`/`synth --method tiling`: the built-in exemplar fits and renders; an exemplar smaller than
+/// the tile, too small, constant or with an alpha channel is refused by name with nothing
+/// written.
+#[test]
+fn fit_and_synth_tiling_by_example() {
+    let dir = scratch("tiling-example");
+    let model = dir.join("tiling.json");
+    spectex_ok(&[
+        "fit",
+        "-o",
+        s(&model),
+        "--method",
+        "tiling",
+        "--tile",
+        "24",
+        "--seed",
+        "5",
+    ]);
+    let text = std::fs::read_to_string(&model).unwrap();
+    let spectex_model::Model::Tiling(t) = spectex_model::from_json(&text).unwrap() else {
+        panic!("fit --method tiling wrote {text}")
+    };
+    assert_eq!((t.channels, t.tile, t.seed), (3, 24.0, 5));
+    let png = dir.join("tiling.png");
+    spectex_ok(&[
+        "synth",
+        "-o",
+        s(&png),
+        "--method",
+        "tiling",
+        "--blend",
+        "hex",
+        "--rotation",
+        "0.1",
+        "--size",
+        "64x48",
+    ]);
+    assert!(png.is_file());
+
+    let dir = scratch("tiling-example-bad");
+    let inputs = scratch("tiling-example-inputs");
+    let out = spectex(&[
+        "fit",
+        "-o",
+        s(&dir.join("bad.json")),
+        "--method",
+        "tiling",
+        "--tile",
+        "200",
+    ]);
+    assert_fails(&out, &dir, &["tile = 200", "--tile"]);
+    let small = inputs.join("small.png");
+    write_png(&small, 6, 40);
+    let out = spectex(&[
+        "fit",
+        s(&small),
+        "-o",
+        s(&dir.join("bad.json")),
+        "--method",
+        "tiling",
+    ]);
+    assert_fails(&out, &dir, &["image side = 6", "8 to 4096"]);
+    let constant = inputs.join("constant.png");
+    spectex_testkit::image_files::save(
+        &image::DynamicImage::from(image::GrayImage::from_pixel(32, 32, image::Luma([90]))),
+        &constant,
+    )
+    .unwrap();
+    let out = spectex(&[
+        "fit",
+        s(&constant),
+        "-o",
+        s(&dir.join("bad.json")),
+        "--method",
+        "tiling",
+    ]);
+    assert_fails(&out, &dir, &["image", "values vary"]);
+    let rgba = inputs.join("rgba.png");
+    spectex_testkit::image_files::save(
+        &image::DynamicImage::from(image::RgbaImage::from_fn(32, 32, |x, y| {
+            image::Rgba([(x * 7) as u8, (y * 5) as u8, 40, 128])
+        })),
+        &rgba,
+    )
+    .unwrap();
+    let out = spectex(&[
+        "synth",
+        s(&rgba),
+        "-o",
+        s(&dir.join("bad.png")),
+        "--method",
+        "tiling",
+    ]);
+    assert_fails(&out, &dir, &["alpha channel"]);
+}
