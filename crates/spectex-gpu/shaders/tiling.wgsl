@@ -3,9 +3,9 @@
 // crates/spectex-model/src/tiling.rs. Composed after common.wgsl.
 //
 // The host builds the exemplar's mip pyramid and each level's prefiltered look-up tables
-// (`TilingTexture::tables`, f64 rounded to f32, the CPU's bytes), and per tile each column's cell
-// on the lattice's side and each row's on its row spacing (the CPU's split). A pixel takes its
-// rhombus and triangle in integers and f32, draws its three vertices with the randomness
+// (`TilingTexture::tables`, f64 rounded to f32, the CPU's bytes), and per tile each column's and
+// row's whole pixel and fraction (the CPU's split, side 1). A pixel takes its rhombus and
+// triangle in integers and f32, draws its three vertices with the randomness
 // contract, reads three bilinear taps and blends them with the CPU's f32 operations in the
 // CPU's order; a compiler may contract a product-add the CPU rounds twice.
 
@@ -26,9 +26,9 @@ struct TilingParams {
     sharpness: u32,
     /// The hex blend's largest rotation, turns (0: none).
     rotation: f32,
-    /// The lattice's side and row spacing, pixels.
-    side: f32,
-    row: f32,
+    /// The lattice's side (even) and row spacing, whole pixels.
+    side: i32,
+    row: i32,
     /// A periodic lattice's vertices per row and rows (0: not periodic).
     wrap_c: i32,
     wrap_rows: i32,
@@ -49,11 +49,12 @@ struct TilingParams {
     basis0: vec4<f32>,
     basis1: vec4<f32>,
     basis2: vec4<f32>,
-    /// 1/side and 1/row (f32 of the f64 values), for a warp's displacement.
+    /// 1/side and 1/row (f32 of the f64 values).
     inv_side: f32,
     inv_row: f32,
-    _pad1: u32,
-    _pad2: u32,
+    /// The exemplar's sides (level 0), texels.
+    ex_width: u32,
+    ex_height: u32,
 }
 
 /// Entries of each look-up table (spectex_model::tiling::LUT_ENTRIES).
@@ -68,9 +69,9 @@ const TILING_LUT_ENTRIES: u32 = 1024u;
 @group(0) @binding(4) var<storage, read> rows: array<GridAxis>;
 @group(0) @binding(5) var<storage, read_write> output: array<f32>;
 
-/// A vertex's draws: its offset (texels) and rotation (cos, sin).
+/// A vertex's draws: its offset (whole texels) and rotation (cos, sin).
 struct TilingVertex {
-    offset: vec2<f32>,
+    offset: vec2<i32>,
     rotation: vec2<f32>,
 }
 
@@ -97,7 +98,7 @@ fn tiling_vertex(m: i32, k: i32) -> TilingVertex {
         let theta = params.rotation * (2.0f * unit_f32(prng_next_u32(&prng)) - 1.0f);
         rotation = vec2<f32>(cos_turns(theta), cos_turns(theta - 0.25f));
     }
-    return TilingVertex(vec2<f32>(f32(ox), f32(oy)), rotation);
+    return TilingVertex(vec2<i32>(i32(ox), i32(oy)), rotation);
 }
 
 /// The bilinear tap of `level` at q texels of level 0.
@@ -120,6 +121,23 @@ fn tiling_tap(level: vec4<u32>, q: vec2<f32>) -> vec4<f32> {
     return top + fy * (bottom - top);
 }
 
+/// The texel (x, y) of level 0 and its right and lower neighbours weighed by phi (bilinear:
+/// phi = 0 gives the texel's own bits, as the CPU's shortcut does).
+fn tiling_texel(x: i32, y: i32, phi: vec2<f32>) -> vec4<f32> {
+    let w = params.ex_width;
+    let xu = u32(x);
+    let yu = u32(y);
+    let x1 = min(xu + 1u, w - 1u);
+    let y1 = min(yu + 1u, params.ex_height - 1u);
+    let t00 = texels[yu * w + xu];
+    let t10 = texels[yu * w + x1];
+    let t01 = texels[y1 * w + xu];
+    let t11 = texels[y1 * w + x1];
+    let top = t00 + phi.x * (t10 - t00);
+    let bottom = t01 + phi.x * (t11 - t01);
+    return top + phi.y * (bottom - top);
+}
+
 /// LUT_l of channel c at g.
 fn tiling_lookup(l: u32, c: u32, g: f32) -> f32 {
     let base = (l * params.channels + c) * TILING_LUT_ENTRIES;
@@ -135,29 +153,40 @@ fn tiling_add(a: i32, b: i32) -> i32 {
     return bitcast<i32>(bitcast<u32>(a) + bitcast<u32>(b));
 }
 
-/// The texture at `level` in the rhombus (m0, k0) at (u, v).
-fn tiling_level(level: vec4<u32>, m0: i32, k0: i32, u: f32, v: f32) -> vec3<f32> {
+/// ⌊a/b⌋ for b > 0.
+fn tiling_div(a: i32, b: i32) -> i32 {
+    let q = a / b;
+    return select(q, q - 1, a - q * b < 0);
+}
+
+/// The texture at `level` at the pixel in rhombus (m0, k0) at (u, v), (dx, dy) whole pixels
+/// from vertex (m0, k0) and fractions phi.
+fn tiling_level(level: vec4<u32>, m0: i32, k0: i32, u: f32, v: f32, dx: i32, dy: i32, phi: vec2<f32>) -> vec3<f32> {
     var corners = array<vec2<i32>, 3>(vec2<i32>(0, 0), vec2<i32>(1, 0), vec2<i32>(0, 1));
     var w = vec3<f32>((1.0f - u) - v, u, v);
     if (!(u + v < 1.0f)) {
         corners = array<vec2<i32>, 3>(vec2<i32>(1, 1), vec2<i32>(0, 1), vec2<i32>(1, 0));
         w = vec3<f32>((u + v) - 1.0f, 1.0f - u, 1.0f - v);
     }
+    let half = params.side / 2;
     var taps: array<vec4<f32>, 3>;
     for (var i = 0u; i < 3u; i++) {
         let a = corners[i];
         let vertex = tiling_vertex(tiling_add(m0, a.x), tiling_add(k0, a.y));
-        let da = u - f32(a.x);
-        let db = v - f32(a.y);
-        let dx = (da + 0.5f * db) * params.side;
-        let dy = db * params.row;
-        var r = vec2<f32>(dx, dy);
+        let ddx = dx - a.x * params.side - a.y * half;
+        let ddy = dy - a.y * params.row;
+        let o = vertex.offset;
         if (tiling_rotates()) {
+            let fx = f32(ddx) + phi.x;
+            let fy = f32(ddy) + phi.y;
             let c = vertex.rotation.x;
             let s = vertex.rotation.y;
-            r = vec2<f32>(c * dx - s * dy, s * dx + c * dy);
+            taps[i] = tiling_tap(level, vec2<f32>(f32(o.x) + (c * fx - s * fy), f32(o.y) + (s * fx + c * fy)));
+        } else if (level.w == 0u) {
+            taps[i] = tiling_texel(o.x + ddx, o.y + ddy, phi);
+        } else {
+            taps[i] = tiling_tap(level, vec2<f32>(f32(o.x + ddx) + phi.x, f32(o.y + ddy) + phi.y));
         }
-        taps[i] = tiling_tap(level, vertex.offset + r);
     }
     let nc = params.channels;
     var t = vec3<f32>(0.0f, 0.0f, 0.0f);
@@ -192,20 +221,32 @@ fn tiling_level(level: vec4<u32>, m0: i32, k0: i32, u: f32, v: f32) -> vec3<f32>
     return out;
 }
 
-/// The texture at a pixel located on the lattice (column: side, row: row spacing).
+/// The texture at a pixel located on the pixel grid (its column and row: whole pixel and
+/// fraction), split on the lattice in integers as the CPU splits it.
 fn tiling_value(column: GridAxis, row: GridAxis) -> vec3<f32> {
     if (column.valid == 0u || row.valid == 0u) {
         return params.mean.xyz;
     }
-    let e = wrap_cell(row.cell, 2);
-    let t = column.offset - 0.5f * (f32(e) + row.offset);
-    let ft = floor(t);
-    let m0 = tiling_add(bitcast<i32>(bitcast<u32>(column.cell) - bitcast<u32>((row.cell - e) / 2)), i32(ft));
-    let u = t - ft;
-    let v = row.offset;
-    let v0 = tiling_level(params.level0, m0, row.cell, u, v);
+    let cy = tiling_div(row.cell, params.row);
+    let ry = row.cell - cy * params.row;
+    let v = (f32(ry) + row.offset) * params.inv_row;
+    let a = column.cell - cy * (params.side / 2);
+    let cx = tiling_div(a, params.side);
+    let rx = a - cx * params.side;
+    let t = (f32(rx) + column.offset) * params.inv_side - 0.5f * v;
+    var ft = 0;
+    if (t < 0.0f) {
+        ft = -1;
+    } else if (t >= 1.0f) {
+        ft = 1;
+    }
+    let m0 = tiling_add(cx, ft);
+    let u = t - f32(ft);
+    let dx = rx - ft * params.side;
+    let phi = vec2<f32>(column.offset, row.offset);
+    let v0 = tiling_level(params.level0, m0, cy, u, v, dx, ry, phi);
     if (params.two_levels == 1u) {
-        let v1 = tiling_level(params.level1, m0, row.cell, u, v);
+        let v1 = tiling_level(params.level1, m0, cy, u, v, dx, ry, phi);
         return v0 + params.mix * (v1 - v0);
     }
     return v0;
@@ -221,8 +262,8 @@ fn tiling_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     var row = rows[gid.y];
     if (warp_params.enabled == 1u) {
         let d = warp_displacement[index];
-        let cx = warp_relocate(column.cell, column.offset, d.x * params.inv_side);
-        let cy = warp_relocate(row.cell, row.offset, d.y * params.inv_row);
+        let cx = warp_relocate(column.cell, column.offset, d.x);
+        let cy = warp_relocate(row.cell, row.offset, d.y);
         column.cell = cx.cell;
         column.offset = cx.offset;
         row.cell = cy.cell;
@@ -237,8 +278,8 @@ fn tiling_main(@builtin(global_invocation_id) gid: vec3<u32>) {
 
 // ---- export glue: `spectex export --wgsl` (after export/split.wgsl) ----
 // The exported entry of tiling and blending (after the kernel above and export/split.wgsl):
-// lattice 0 of the export tables is the lattice's side (columns), lattice 1 its row spacing
-// (rows). The texels and tables are the storage buffer's `texels` and `luts` (its layout is in
+// lattice 0 of the export tables is the pixel grid (side 1: the whole pixel and its fraction,
+// which the kernel splits on the triangle lattice in integers). The texels and tables are the storage buffer's `texels` and `luts` (its layout is in
 // the module's header); the export evaluates level 0 (a point sample: a caller minifying the
 // texture filters it as it would any texture). The exporter replaces TILING_VALUE with the
 // return type (f32 or vec3<f32>) and TILING_RESULT with the value's components.
@@ -246,6 +287,6 @@ fn tiling_main(@builtin(global_invocation_id) gid: vec3<u32>) {
 /// The texture at the position `cell + offset` (pixels).
 fn tiling_sample_cell(cell: vec2<i32>, offset: vec2<f32>) -> TILING_VALUE {
     let at = export_normalise(cell, offset);
-    let v = tiling_value(export_grid_axis(at.n.x, at.u.x, 0u), export_grid_axis(at.n.y, at.u.y, 1u));
+    let v = tiling_value(export_grid_axis(at.n.x, at.u.x, 0u), export_grid_axis(at.n.y, at.u.y, 0u));
     return TILING_RESULT;
 }

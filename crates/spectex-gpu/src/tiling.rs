@@ -1,10 +1,10 @@
 //! Tiling and blending on the device (`shaders/tiling.wgsl`): the host builds the exemplar's
 //! pyramid and prefiltered tables once (`TilingTexture::tables`, the CPU's bytes) and, per tile,
-//! each column's cell on the lattice's side and each row's on its row spacing (the CPU's split)
+//! each column's and row's whole pixel and fraction (the CPU's split)
 //! and the tile's mip levels (`spectex_model::tiling::mip_level` of its footprint).
 //!
 //! The export (the glue of `shaders/tiling.wgsl`): the uniform, the texels and the tables; the
-//! lattice's side and row spacing are the export's lattices 0 and 1. The texels and tables
+//! pixel grid is the export's lattice 0. The texels and tables
 //! exceed the constants' limit for any real exemplar, so an exported tiling texture reads them
 //! from the storage buffer (`spectex export --wgsl --tables buffer`): `texels` (one `vec4<f32>`
 //! per texel of every mip level: the Gaussianised channels, then zeros) and `luts` (per level and
@@ -40,8 +40,9 @@ wgsl_struct! {
         blend: u32,
         sharpness: u32,
         rotation: f32,
-        side: f32,
-        row: f32,
+        /// Whole pixels (the side even).
+        side: i32,
+        row: i32,
         /// A periodic lattice's vertices per row and rows, 0 when not periodic.
         wrap_c: i32,
         wrap_rows: i32,
@@ -62,8 +63,9 @@ wgsl_struct! {
         basis2: [f32; 4],
         inv_side: f32,
         inv_row: f32,
-        _pad1: u32,
-        _pad2: u32,
+        /// The exemplar's sides (level 0).
+        ex_width: u32,
+        ex_height: u32,
     }
 }
 
@@ -72,8 +74,6 @@ wgsl_struct! {
 #[derive(Debug, Clone)]
 pub(crate) struct TilingKernel {
     params: TilingParams,
-    side: f64,
-    row: f64,
     levels: Vec<Level>,
     period: Option<Period>,
 }
@@ -136,8 +136,8 @@ pub(crate) fn pack(
         blend,
         sharpness,
         rotation,
-        side: lattice.side as f32,
-        row: lattice.row as f32,
+        side: lattice.side as i32,
+        row: lattice.row as i32,
         wrap_c,
         wrap_rows,
         two_levels: 0,
@@ -154,13 +154,11 @@ pub(crate) fn pack(
         basis2: basis[2],
         inv_side: (1.0 / lattice.side) as f32,
         inv_row: (1.0 / lattice.row) as f32,
-        _pad1: 0,
-        _pad2: 0,
+        ex_width: model.width,
+        ex_height: model.height,
     };
     let kernel = TilingKernel {
         params,
-        side: lattice.side,
-        row: lattice.row,
         levels: tables.levels.clone(),
         period,
     };
@@ -229,8 +227,25 @@ impl ShaderKernel for TilingKernel {
             level1: level_record(&self.levels, level + 1),
             ..self.params
         };
-        let columns = cell_axis(self.side, tile.width, periodic_columns(tile, self.period));
-        let rows = cell_axis(self.row, tile.height, periodic_rows(tile, self.period));
+        // Whole pixels and fractions (the CPU's `locate_cell(x, 1.0)`), valid below 2³⁰.
+        let usable = |mut axis: Vec<CellAxis>| {
+            for a in &mut axis {
+                if a.cell.unsigned_abs() >= 1 << 30 {
+                    *a = bytemuck::Zeroable::zeroed();
+                }
+            }
+            axis
+        };
+        let columns = usable(cell_axis(
+            1.0,
+            tile.width,
+            periodic_columns(tile, self.period),
+        ));
+        let rows = usable(cell_axis(
+            1.0,
+            tile.height,
+            periodic_rows(tile, self.period),
+        ));
         Ok(TileTables::new(
             &params,
             vec![
@@ -249,7 +264,8 @@ impl ExportKind for TilingTexture {
 
     fn export_parts(&self, _z: f64) -> Result<ExportNode, GpuError> {
         let (kernel, tables) = pack(self, None)?;
-        let lattices = vec![kernel.side, kernel.row];
+        // The pixel grid: the glue splits on the triangle lattice in integers.
+        let lattices = vec![1.0];
         let (value, result) = if self.channels == 3 {
             ("vec3<f32>", "v")
         } else {

@@ -17,20 +17,24 @@
 //! `((m + k/2)·side, k·row)` pixels, with `side` the even integer nearest
 //! [`TilingTexture::tile`] and `row = round(side·√3/2)` (triangles within 0.3% of equilateral
 //! from a side of 16, every vertex on a whole pixel: [`TilingTexture::lattice`] says why); a
-//! periodic model stretches both to divide its period. A position `p` is split per axis as every kind splits it
-//! ([`crate::grid::locate_cell`]): `(cx, fx)` with side `side`, `(cy, fy)` with side `row`. With
-//! `e = cy mod 2` and `t = fx − ½(e + fy)` (f32), the rhombus is `m₀ = cx − (cy − e)/2 + ⌊t⌋`,
-//! `k₀ = cy`, its local coordinates `u = t − ⌊t⌋`, `v = fy` (exact integers, one f32 rounding:
-//! as precise at 10⁷ as at the origin). If `u + v < 1` the triangle's vertices are `(m₀, k₀)`,
-//! `(m₀+1, k₀)`, `(m₀, k₀+1)` with barycentric weights `(1 − u) − v`, `u`, `v`; else
-//! `(m₀+1, k₀+1)`, `(m₀, k₀+1)`, `(m₀+1, k₀)` with `(u + v) − 1`, `1 − u`, `1 − v`. The
-//! displacement from vertex `(m₀ + a, k₀ + b)` to `p` is `d = (((u − a) + ½(v − b))·side,
-//! (v − b)·row)` (f32), shorter than the lattice's reach ([`Lattice::reach`]).
+//! periodic model takes the nearest such lattice that divides its period. A position is split
+//! on the pixel grid ([`crate::grid::locate_cell`], side 1): `(X, φx)`, `(Y, φy)`; with
+//! `h = side/2`, in integers `cy = ⌊Y/row⌋`, `ry = Y − cy·row`, `a = X − cy·h`,
+//! `cx = ⌊a/side⌋`, `rx = a − cx·side`, and in f32 `v = (ry + φy)·ρ`,
+//! `t = (rx + φx)·σ − ½·v` (`ρ`, `σ` the f32 of `1/row`, `1/side`). The rhombus is
+//! `m₀ = cx + ⌊t⌋`, `k₀ = cy`, `u = t − ⌊t⌋`. If `u + v < 1` the triangle's vertices are
+//! `(m₀, k₀)`, `(m₀+1, k₀)`, `(m₀, k₀+1)` with barycentric weights `(1 − u) − v`, `u`, `v`;
+//! else `(m₀+1, k₀+1)`, `(m₀, k₀+1)`, `(m₀+1, k₀)` with `(u + v) − 1`, `1 − u`, `1 − v`. The
+//! displacement from vertex `(m₀ + a′, k₀ + b)` to the position is `D + φ` with the whole
+//! pixels `D = (rx − ⌊t⌋·side − a′·side − b·h, ry − b·row)`, exact at any distance from the
+//! origin (`|X|, |Y| < 2³⁰`; beyond, or NaN, the value is the mean).
 //!
-//! **A tap** reads the Gaussianised exemplar at `q = o + d` texels, `o` the vertex's offset
-//! (below), by bilinear interpolation at mip level `l` ([`TilingTables`]): `q_l = q·2⁻ˡ −
-//! (1 − 2⁻ˡ)/2`, clamped to `[0, n_l − 1]`. With the hex option the tap reads `R(θ)·d` instead of
-//! `d`, `R(θ)` the rotation by the vertex's angle `θ` (`cos_turns(θ)`, `cos_turns(θ − ¼)`).
+//! **A tap** reads the Gaussianised exemplar at `o + D + φ` texels, `o` the vertex's offset
+//! (below). At level 0 without rotation: the texel `o + D` and its neighbours weighed by `φ`
+//! (bilinear; a render on the pixel grid reads the texel itself). Otherwise in f32 at
+//! `q = f32(o + D) + φ`, or with the hex option's rotation `q = f32(o) + R(θ)·(f32(D) + φ)`
+//! (`R(θ)` by `cos_turns(θ)`, `cos_turns(θ − ¼)`), read bilinearly at mip level `l`
+//! ([`TilingTables`]): `q_l = q·2⁻ˡ − (1 − 2⁻ˡ)/2`, clamped to `[0, n_l − 1]`.
 //!
 //! **The blend** ([`Blend`]): Heitz & Neyret's variance-preserving blend of the three taps
 //! `G = (w₀g₀ + w₁g₁ + w₂g₂) / √(w₀² + w₁² + w₂²)` per channel (their Eq. for a zero-mean
@@ -131,9 +135,10 @@ pub struct TilingTexture {
 /// The triangle lattice of a model ([`TilingTexture::lattice`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Lattice {
-    /// Cell side along `x`, pixels: the distance between neighbouring vertices of a lattice row.
+    /// Cell side along `x`, pixels: the distance between neighbouring vertices of a lattice row
+    /// (an even whole number, so that every vertex is a whole pixel).
     pub side: f64,
-    /// Distance between lattice rows, pixels.
+    /// Distance between lattice rows, pixels (a whole number).
     pub row: f64,
     /// A periodic lattice's vertices per row `C` and rows `K` (even), else `None`.
     pub wrap: Option<(i32, i32)>,
@@ -247,9 +252,8 @@ pub fn mip_level(footprint: Option<f64>, levels: usize) -> (usize, f32) {
 
 impl TilingTexture {
     /// The lattice: nearly equilateral triangles of side `tile` on the pixel grid (module docs),
-    /// or with `period` the nearest lattice
-    /// dividing it (`C = round(W/tile)` vertices per row, `K = 2·round(H/(tile·√3))` rows), `None`
-    /// when that stretches the side or the row by more than [`TILING_PERIOD_TOLERANCE`].
+    /// or with `period` the nearest such lattice dividing it (`None` when none is within
+    /// [`TILING_PERIOD_TOLERANCE`] of the model's side and row spacing).
     #[must_use]
     pub fn lattice(&self, period: Option<Period>) -> Option<Lattice> {
         let Some(period) = period else {
@@ -265,20 +269,44 @@ impl TilingTexture {
                 wrap: None,
             });
         };
-        let side = f64::from(self.tile);
-        let row = side * 3f64.sqrt() / 2.0;
-        let c = crate::period::cells_in(f64::from(period.width), side);
-        let pairs = crate::period::cells_in(f64::from(period.height), 2.0 * row);
-        let fitted_side = f64::from(period.width) / c as f64;
-        let fitted_row = f64::from(period.height) / (2 * pairs) as f64;
-        let close = |a: f64, b: f64| (a / b - 1.0).abs() <= TILING_PERIOD_TOLERANCE;
-        (close(fitted_side, side) && close(fitted_row, row) && c < i64::from(i32::MAX / 4)).then(
-            || Lattice {
-                side: fitted_side,
-                row: fitted_row,
-                wrap: Some((c as i32, (2 * pairs) as i32)),
-            },
-        )
+        // A periodic lattice stays on the pixel grid: its side the even divisor of the period's
+        // width nearest the model's, its row spacing the divisor of half the period's height
+        // nearest the model's (an even number of rows), each within the tolerance.
+        let base = self.lattice(None)?;
+        let nearest = |n: u32, want: f64, even: bool| -> Option<f64> {
+            let mut best: Option<f64> = None;
+            let mut consider = |d: u32| {
+                let d = f64::from(d);
+                if (!even || d % 2.0 == 0.0)
+                    && (d / want - 1.0).abs() <= TILING_PERIOD_TOLERANCE
+                    && best.is_none_or(|b| (d - want).abs() < (b - want).abs())
+                {
+                    best = Some(d);
+                }
+            };
+            let mut i = 1u32;
+            while u64::from(i) * u64::from(i) <= u64::from(n) {
+                if n.is_multiple_of(i) {
+                    consider(i);
+                    consider(n / i);
+                }
+                i += 1;
+            }
+            best
+        };
+        if !period.height.is_multiple_of(2) {
+            return None;
+        }
+        let side = nearest(period.width, base.side, true)?;
+        let row = nearest(period.height / 2, base.row, false)?;
+        Some(Lattice {
+            side,
+            row,
+            wrap: Some((
+                (f64::from(period.width) / side) as i32,
+                (f64::from(period.height) / row) as i32,
+            )),
+        })
     }
 
     /// Number of mip levels: while both sides stay at least 2 texels, up to [`MAX_LEVELS`].
@@ -535,17 +563,18 @@ impl crate::ModelKind for TilingTexture {
             Err(ModelError::Period {
                 period: period.to_string(),
                 kind: "tiling",
-                requirement: format!(
-                    "the triangle lattice (side {} px, rows {:.1} px apart) must divide the \
-                     period within 25% and still fit the {}×{} exemplar: use a period of about \
-                     a multiple of {} × {:.1} pixels",
-                    self.tile,
-                    f64::from(self.tile) * 3f64.sqrt(),
-                    self.width,
-                    self.height,
-                    self.tile,
-                    f64::from(self.tile) * 3f64.sqrt()
-                ),
+                requirement: {
+                    let (side, row) = self.lattice(None).map_or((0.0, 0.0), |l| (l.side, l.row));
+                    format!(
+                        "the triangle lattice (side {side} px, rows {row} px apart) must divide \
+                         the period, with a side within 25% of {side} dividing its width and a \
+                         row spacing within 25% of {row} dividing half its height, and still \
+                         fit the {}×{} exemplar: use a period of a multiple of {side} × {}",
+                        self.width,
+                        self.height,
+                        2.0 * row
+                    )
+                },
             })
         }
     }
@@ -618,9 +647,17 @@ pub mod tests {
         let m = ramp(64, 8.0);
         let period = Period::new(96, 84).unwrap();
         let l = m.lattice(Some(period)).unwrap();
+        // Side 8 divides 96; rows round(8·√3/2) = 7 apart divide 42.
+        assert_eq!((l.side, l.row), (8.0, 7.0));
         let (c, rows) = l.wrap.unwrap();
         assert_eq!(c as f64 * l.side, 96.0);
         assert_eq!(f64::from(rows) * l.row, 84.0);
+        // 100 = 10 × 10 (side 10, 25% above 8); 64/2 = 32: rows 8 apart (7 + 14%).
+        let other = m.lattice(Some(Period::new(100, 64).unwrap())).unwrap();
+        assert_eq!(
+            (other.side, other.row, other.wrap),
+            (10.0, 8.0, Some((10, 8)))
+        );
         for (mm, k) in [(0, 0), (3, 5), (-2, -1), (7, 13)] {
             // The vertex one period to the right, and one period down (n_y cells further left
             // along the row index), have the same key.

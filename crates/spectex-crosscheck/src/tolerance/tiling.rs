@@ -111,7 +111,8 @@ pub fn tiling(m: &TilingTexture) -> Vec<Tolerance> {
 /// - hex blend: `t = Σ p̂ᵢ·LUT(gᵢ)` with `p̂ᵢ = wᵢᵞ/Σwⱼᵞ`: `|∇LUT(gᵢ)| ≤ T·√2·D`, and
 ///   `|∇p̂ᵢ| = γ·p̂ᵢ·|∇wᵢ/wᵢ − Σⱼ p̂ⱼ∇wⱼ/wⱼ| ≤ 2γ·3ᵞ/a` (`p̂ᵢ/wᵢ ≤ 1/Σwⱼᵞ ≤ 3ᵞ`), times the
 ///   spread `2L` of the table values, for each of the 3 weights;
-/// - the output sums the channels with `Σ_c |B_ic|`; the grid is the lattice's side.
+/// - the output sums the channels with `Σ_c |B_ic|`; the grid is the pixel grid (positions are
+///   split there, the lattice in integers).
 #[must_use]
 pub fn regularity(m: &TilingTexture) -> Regularity {
     let tables = m.tables();
@@ -142,7 +143,6 @@ pub fn regularity(m: &TilingTexture) -> Regularity {
     let scale = (LUT_ENTRIES - 1) as f64 / (2.0 * f64::from(LUT_RANGE));
     let slope_t = scale * step;
     let lattice = m.lattice(None);
-    let side = lattice.map_or(1.0, |l| l.side);
     // The smallest altitude: the row spacing, or for a stretched lattice the side times the
     // sine of the smallest angle, at least row·side/longest edge.
     let altitude = lattice.map_or(1.0, |l| l.row * l.side / l.reach());
@@ -167,11 +167,12 @@ pub fn regularity(m: &TilingTexture) -> Regularity {
         slope = slope.max(b * channel);
         magnitude = magnitude.max(f64::from(m.mean[i].abs()) + b * l_max);
     }
+    // The grid positions are located on: the pixel grid (the lattice is split in integers).
     Regularity {
         slope,
         jump: 0.0,
         magnitude,
-        cell: side,
+        cell: 1.0,
     }
 }
 

@@ -75,7 +75,7 @@ fn wasserstein1_of_a_shift_is_the_shift_and_of_a_copy_zero() {
 
 #[test]
 fn gradient_magnitude_of_a_plane_is_its_slope() {
-    let a = ndarray::Array2::from_shape_fn((6, 7), |(y, x)| 3.0 * x as f64 - 4.0 * y as f64);
+    let a = Array2::from_shape_fn((6, 7), |(y, x)| 3.0 * x as f64 - 4.0 * y as f64);
     let g = gradient_magnitudes(a.view());
     assert_eq!(g.dim(), (4, 5));
     assert!(g.iter().all(|v| (v - 5.0).abs() < 1e-12));
