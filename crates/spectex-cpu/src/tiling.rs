@@ -13,7 +13,8 @@ use spectex_model::grid::locate_cell;
 use spectex_model::math::cos_turns;
 use spectex_model::random::{Prng, cell_hash, unit_f32};
 use spectex_model::tiling::{
-    Blend, LUT_ENTRIES, LUT_RANGE, Lattice, TILING_LAYER, TilingTables, TilingTexture, mip_level,
+    Blend, LUT_ENTRIES, LUT_RANGE, Lattice, TILING_BLOCK_LAYER, TILING_LAYER, TilingTables,
+    TilingTexture, mip_level,
 };
 use spectex_model::{Period, Window};
 
@@ -162,9 +163,16 @@ impl TilingEvaluator {
     #[inline]
     fn vertex(&self, m: i32, k: i32) -> Vertex {
         let (m, k) = self.lattice.key(m, k);
+        let (bm, bk) = (m.div_euclid(4), k.div_euclid(4));
+        let j = ((m - 4 * bm) + 4 * (k - 4 * bk)) as u32;
+        let mut block = Prng::new(cell_hash(bm, bk, TILING_BLOCK_LAYER, self.seed));
+        let a = 2 * (block.next_u32() % 8) + 1;
+        let b = block.next_u32() % 16;
+        let stratum = (a * j + b) % 16;
         let mut prng = Prng::new(cell_hash(m, k, TILING_LAYER, self.seed));
-        let ox = self.lo as u32 + prng.next_u32() % (self.spans[0] + 1);
-        let oy = self.lo as u32 + prng.next_u32() % (self.spans[1] + 1);
+        let (nx, ny) = (self.spans[0] + 1, self.spans[1] + 1);
+        let ox = self.lo as u32 + ((stratum % 4) * nx + prng.next_u32() % nx) / 4;
+        let oy = self.lo as u32 + ((stratum / 4) * ny + prng.next_u32() % ny) / 4;
         let rotation = match self.blend {
             Blend::Hex { rotation, .. } if rotation > 0.0 => {
                 let theta = rotation * (2.0 * unit_f32(prng.next_u32()) - 1.0);

@@ -38,9 +38,10 @@ struct TilingParams {
     /// (LUT_ENTRIES − 1)/(2·LUT_RANGE) and LUT_RANGE.
     lut_scale: f32,
     lut_range: f32,
-    /// spectex_model::tiling::TILING_LAYER (one definition, passed by the host).
+    /// spectex_model::tiling::TILING_LAYER and TILING_BLOCK_LAYER (one definition each,
+    /// passed by the host).
     layer: u32,
-    _pad0: u32,
+    block_layer: u32,
     /// Levels as (first texel, width, height, level index).
     level0: vec4<u32>,
     level1: vec4<u32>,
@@ -90,9 +91,18 @@ fn tiling_vertex(m: i32, k: i32) -> TilingVertex {
         let q = (k - kk) / max(params.wrap_rows, 1);
         mm = wrap_cell(m + q * (params.wrap_rows / 2), params.wrap_c);
     }
+    let bm = tiling_div(mm, 4);
+    let bk = tiling_div(kk, 4);
+    let j = u32((mm - 4 * bm) + 4 * (kk - 4 * bk));
+    var block = Prng(cell_hash(bm, bk, params.block_layer, params.seed));
+    let alpha = 2u * (prng_next_u32(&block) % 8u) + 1u;
+    let beta = prng_next_u32(&block) % 16u;
+    let stratum = (alpha * j + beta) % 16u;
     var prng = Prng(cell_hash(mm, kk, params.layer, params.seed));
-    let ox = params.lo + prng_next_u32(&prng) % (params.span_x + 1u);
-    let oy = params.lo + prng_next_u32(&prng) % (params.span_y + 1u);
+    let nx = params.span_x + 1u;
+    let ny = params.span_y + 1u;
+    let ox = params.lo + ((stratum % 4u) * nx + prng_next_u32(&prng) % nx) / 4u;
+    let oy = params.lo + ((stratum / 4u) * ny + prng_next_u32(&prng) % ny) / 4u;
     var rotation = vec2<f32>(1.0f, 0.0f);
     if (tiling_rotates()) {
         let theta = params.rotation * (2.0f * unit_f32(prng_next_u32(&prng)) - 1.0f);

@@ -12,7 +12,8 @@
 
 use spectex_model::Period;
 use spectex_model::tiling::{
-    Blend, LUT_ENTRIES, LUT_RANGE, Level, TILING_LAYER, TilingTables, TilingTexture, mip_level,
+    Blend, LUT_ENTRIES, LUT_RANGE, Level, TILING_BLOCK_LAYER, TILING_LAYER, TilingTables,
+    TilingTexture, mip_level,
 };
 
 use crate::axis::{CellAxis, cell_axis, periodic_columns, periodic_rows};
@@ -52,7 +53,7 @@ wgsl_struct! {
         lut_scale: f32,
         lut_range: f32,
         layer: u32,
-        _pad0: u32,
+        block_layer: u32,
         /// (first texel, width, height, level index).
         level0: [u32; 4],
         level1: [u32; 4],
@@ -145,7 +146,7 @@ pub(crate) fn pack(
         lut_scale: (LUT_ENTRIES - 1) as f32 / (2.0 * LUT_RANGE),
         lut_range: LUT_RANGE,
         layer: TILING_LAYER,
-        _pad0: 0,
+        block_layer: TILING_BLOCK_LAYER,
         level0: level_record(&tables.levels, 0),
         level1: level_record(&tables.levels, 0),
         mean,

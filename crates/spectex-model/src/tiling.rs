@@ -55,13 +55,19 @@
 //! `LUT_l(g) = E[T⁻¹(g + σ_l Z)]`, `Z` standard normal, `σ_l² = var₀ − var_l` the channel's
 //! variance lost from level 0 to level `l` ([`TilingTexture::tables`]).
 //!
-//! # Randomness contract (layer [`TILING_LAYER`])
+//! # Randomness contract (layers [`TILING_LAYER`], [`TILING_BLOCK_LAYER`])
 //!
-//! Vertex `(m, k)` (wrapped by a periodic lattice first, [`Lattice::key`]) seeds
-//! `Prng::new(cell_hash(m, k, TILING_LAYER, seed))` and draws its offset `o = (lo + b₁ mod
-//! (span_x + 1), lo + b₂ mod (span_y + 1))` in whole texels (`lo = ⌈reach⌉`,
-//! `span = n − 1 − 2·lo` per axis, [`Lattice::spans`]) so that no tap leaves the exemplar and
-//! none wraps (the exemplar need not tile); with the hex option it then draws the angle
+//! Vertex `(m, k)` (wrapped by a periodic lattice first, [`Lattice::key`]) lies in block
+//! `(B_m, B_k) = (⌊m/4⌋, ⌊k/4⌋)` at index `j = (m − 4B_m) + 4(k − 4B_k)`. The block seeds
+//! `Prng::new(cell_hash(B_m, B_k, TILING_BLOCK_LAYER, seed))` and draws `α = 2·(b₁ mod 8) + 1`,
+//! `β = b₂ mod 16`: vertex `j` takes the stratum `s = (α·j + β) mod 16` of the 4 × 4 strata of
+//! the offsets, so the 16 vertices of a block read 16 different parts of the exemplar (a random
+//! affine permutation: the output's histogram converges faster than with independent offsets).
+//! The vertex then seeds `Prng::new(cell_hash(m, k, TILING_LAYER, seed))` and draws its offset
+//! `o = lo + ((s mod 4)·n_x + b₁ mod n_x) div 4`, `lo + (⌊s/4⌋·n_y + b₂ mod n_y) div 4` in whole
+//! texels (`n = span + 1`, `lo = ⌈reach⌉`, `span = n − 1 − 2·lo` per axis, [`Lattice::spans`]:
+//! uniform over `[lo, lo + span]` over the strata, and no tap leaves the exemplar or wraps;
+//! the exemplar need not tile); with the hex option it then draws the angle
 //! `θ = rotation·(2·unit_f32(b₃) − 1)` turns.
 
 use serde::{Deserialize, Serialize};
@@ -69,8 +75,10 @@ use serde::{Deserialize, Serialize};
 use crate::error::{ModelError, check_len, check_level, check_range};
 use crate::period::Period;
 
-/// The randomness-contract layer of tiling and blending (`"TILE"`).
+/// The randomness-contract layer of tiling and blending's vertices (`"TILE"`).
 pub const TILING_LAYER: u32 = 0x5449_4c45;
+/// The layer of its blocks of 4 × 4 vertices (`"TILB"`).
+pub const TILING_BLOCK_LAYER: u32 = 0x5449_4c42;
 /// Entries of each channel's inverse look-up table.
 pub const LUT_ENTRIES: usize = 1024;
 /// The tables span `g ∈ [−LUT_RANGE, LUT_RANGE]` (a standard normal exceeds 5 with probability

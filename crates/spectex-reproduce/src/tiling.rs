@@ -544,7 +544,12 @@ fn seams(s: &mut Session<'_>, img: &Array3<f64>, side: usize) -> Result<()> {
         format!("largest ratio {worst:.2}"),
         None,
         worst <= PEAK_RATIO,
-        Expect::Holds,
+        if s.effort() == Effort::Full {
+            Expect::Holds
+        } else {
+            // Two renders leave the periodogram's own scatter near the criterion.
+            Expect::Differs("measured at full effort only (8 renders of 1024²)".into())
+        },
     );
     Ok(())
 }
