@@ -602,7 +602,7 @@ pub mod tests {
 
     /// A valid grey model: a 16² exemplar of a ramp of standard-normal-ish values and the
     /// identity table (`T⁻¹(g) = g`).
-    pub fn ramp(side: u32, tile: f32) -> TilingTexture {
+    fn ramp(side: u32, tile: f32) -> TilingTexture {
         let n = (side * side) as usize;
         TilingTexture {
             seed: 3,

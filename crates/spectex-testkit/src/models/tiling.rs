@@ -34,7 +34,8 @@ pub fn tiling(o: Odds) -> BoxedStrategy<TilingTexture> {
         .prop_map(
             |((seed, width, height), channels, tile, blend, (a, b, g, sorted, short))| {
                 let nc = channels as usize;
-                let n = (width.min(64) * height.min(64)) as usize * nc - usize::from(short);
+                let n = ((width.min(64) * height.min(64)) as usize * nc)
+                    .saturating_sub(usize::from(short));
                 let gaussian = (0..n)
                     .map(|k| {
                         if k % 3 == 0 {
