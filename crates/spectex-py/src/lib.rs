@@ -32,6 +32,7 @@ use pyo3::prelude::*;
 fn _spectex(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<model::PyModel>()?;
     m.add_function(wrap_pyfunction!(spectra::fit, m)?)?;
+    m.add_function(wrap_pyfunction!(spectra::fit_tiling, m)?)?;
     m.add_function(wrap_pyfunction!(spectra::rpn, m)?)?;
     m.add_function(wrap_pyfunction!(spectra::analyze, m)?)?;
     m.add_function(wrap_pyfunction!(builders::default_model, m)?)?;

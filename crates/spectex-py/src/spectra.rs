@@ -5,7 +5,9 @@ use ndarray::{Array2, Array3, ArrayView3, Axis};
 use numpy::{PyArray1, PyArray2, PyArray3};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use spectex_model::tiling::Blend;
 use spectex_model::{Fit, Model};
+use spectex_sampling::tiling::TilingOptions;
 use spectex_sampling::{FitMethod, FitOptions, TextureOptions};
 use spectex_spectrum::{
     Fft2, NoiseKind, Rpn, RpnOptions, centered, log_magnitude_spectrum, periodic_smooth,
@@ -15,6 +17,70 @@ use spectex_spectrum::{
 use crate::errors::{guard, value_error};
 use crate::image_in::exemplar;
 use crate::model::PyModel;
+
+/// Tiling and blending by example (Heitz & Neyret 2018, with Deliot & Heitz's PCA channels and
+/// prefiltered tables): the exemplar's tiles on a triangle lattice, blended so that its
+/// histogram is kept. The same model as ``spectex fit --method tiling``.
+///
+/// ``image``: an array of shape (H, W) or (H, W, 3) (sides 8 to 4096) or a path; ``tile``: the
+/// triangles' side in pixels (default an eighth of the smaller side; at most half of it);
+/// ``blend``: ``"variance"`` (histogram-preserving) or ``"hex"`` (Mikkelsen's hex-tiling, with
+/// ``sharpness`` γ from 1 to 32 and ``rotation`` up to 0.5 turns); ``seed``.
+///
+/// Example::
+///
+///     >>> import numpy as np, spectex
+///     >>> model = spectex.fit_tiling(np.random.default_rng(0).random((64, 64, 3)), tile=8)
+///     >>> model.kind, model.render(32, 32).shape
+///     ('tiling', (32, 32, 3))
+#[pyfunction]
+#[pyo3(signature = (image, tile = None, blend = "variance", sharpness = 7, rotation = 0.0, seed = 0))]
+pub(crate) fn fit_tiling(
+    py: Python<'_>,
+    image: &Bound<'_, PyAny>,
+    tile: Option<f32>,
+    blend: &str,
+    sharpness: i64,
+    rotation: f32,
+    seed: i64,
+) -> PyResult<PyModel> {
+    let seed = u32::try_from(seed).map_err(|_| {
+        value_error(format!(
+            "seed = {seed} is outside its valid range 0 to 2^32 - 1"
+        ))
+    })?;
+    let blend = match blend {
+        "variance" => Blend::Variance,
+        "hex" => Blend::Hex {
+            sharpness: u32::try_from(sharpness).map_err(|_| {
+                value_error(format!(
+                    "sharpness = {sharpness} is outside its valid range 1 to 32"
+                ))
+            })?,
+            rotation,
+        },
+        other => {
+            return Err(value_error(format!(
+                "blend = '{other}' is not a blend; valid: 'variance', 'hex'"
+            )));
+        }
+    };
+    let options = TilingOptions { tile, blend, seed };
+    let exemplar = exemplar("image", image)?;
+    let view = exemplar.view()?;
+    let model = py.detach(|| {
+        guard(|| {
+            spectex_sampling::tiling::fit_tiling(view, &options)
+                .map(Model::Tiling)
+                .map_err(value_error)
+        })
+    })?;
+    Ok(PyModel {
+        model,
+        period: None,
+        fit: None,
+    })
+}
 
 /// Fits a model to an exemplar (Gilet et al. 2014): Local Random-Phase noise for a grey
 /// exemplar, a texture model for a colour one or with ``structure``, ``turbulence`` or

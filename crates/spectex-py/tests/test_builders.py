@@ -43,6 +43,8 @@ def test_every_kind_has_a_builder():
     # are made of other models.
     made = {b().kind for b in builders()} | {"combine", "warp"}
     made.add(spectex.fit(np.random.default_rng(0).random((16, 16, 3)), budget=4, strata=1).kind)
+    # Tiling and blending is fitted too (spectex.fit_tiling).
+    made.add(spectex.fit_tiling(np.random.default_rng(0).random((16, 16, 3))).kind)
     assert made == set(spectex.KIND_NAMES)
 
 

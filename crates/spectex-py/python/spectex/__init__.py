@@ -15,7 +15,7 @@ Example::
     dtype('float32')
 """
 
-from ._spectex import GPU, KIND_NAMES, Model, analyze, fit, rpn
+from ._spectex import GPU, KIND_NAMES, Model, analyze, fit, fit_tiling, rpn
 from . import noise, simulate
 from .noise import combine, warp
 
@@ -36,6 +36,7 @@ __all__ = [
     "analyze",
     "combine",
     "fit",
+    "fit_tiling",
     "gabor",
     "islamic",
     "matrix",

@@ -52,6 +52,14 @@ def fit(
     seed: int = 0,
     method: Literal["spectrum", "paper"] = "spectrum",
 ) -> Model: ...
+def fit_tiling(
+    image: ImageLike,
+    tile: Optional[float] = None,
+    blend: Literal["variance", "hex"] = "variance",
+    sharpness: int = 7,
+    rotation: float = 0.0,
+    seed: int = 0,
+) -> Model: ...
 def rpn(image: ImageLike, size: Optional[Tuple[int, int]] = None, seed: int = 0, adsn: bool = False) -> npt.NDArray[np.float64]: ...
 def analyze(image: ImageLike) -> Dict[str, Any]: ...
 
