@@ -46,7 +46,7 @@ pub struct FitArgs {
     /// of one noise per bandwidth sharing the impulses per kernel).
     #[arg(long, default_value_t = GaborFitOptions::DEFAULT_BANDWIDTHS)]
     bandwidths: u32,
-    /// Tiling: side of the lattice's triangles, pixels (default: an eighth of the exemplar's
+    /// Tiling: side of the lattice's triangles, pixels (default: a sixth of the exemplar's
     /// smaller side; at most half of it).
     #[arg(long, value_name = "PX")]
     tile: Option<f32>,

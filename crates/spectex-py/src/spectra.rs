@@ -23,7 +23,7 @@ use crate::model::PyModel;
 /// histogram is kept. The same model as ``spectex fit --method tiling``.
 ///
 /// ``image``: an array of shape (H, W) or (H, W, 3) (sides 8 to 4096) or a path; ``tile``: the
-/// triangles' side in pixels (default an eighth of the smaller side; at most half of it);
+/// triangles' side in pixels (default a sixth of the smaller side; at most half of it);
 /// ``blend``: ``"variance"`` (histogram-preserving) or ``"hex"`` (Mikkelsen's hex-tiling, with
 /// ``sharpness`` γ from 1 to 32 and ``rotation`` up to 0.5 turns); ``seed``.
 ///

@@ -16,7 +16,7 @@ use crate::texture::colour_pca;
 /// Options of [`fit_tiling`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TilingOptions {
-    /// Side of the lattice's triangles, pixels; `None`: an eighth of the exemplar's smaller
+    /// Side of the lattice's triangles, pixels; `None`: a sixth of the exemplar's smaller
     /// side.
     pub tile: Option<f32>,
     /// The blend.
@@ -227,7 +227,7 @@ pub fn fit_tiling(
             });
         }
     }
-    let tile = options.tile.unwrap_or((w.min(h) / 8) as f32);
+    let tile = options.tile.unwrap_or((w.min(h) / 6) as f32);
     let largest = ((w.min(h) - 1) / 2) as f64;
     if !tile.is_finite() || tile < 1.0 || f64::from(tile) > largest {
         return Err(SamplingError::OutOfRange {
@@ -344,8 +344,8 @@ pub mod tests {
             fit_tiling(image.view(), &TilingOptions::default())
                 .unwrap()
                 .tile,
-            2.0,
-            "an eighth of 20"
+            3.0,
+            "a sixth of 20"
         );
         let lut = &m.lut[..LUT_ENTRIES];
         let (mean, scale) = (f64::from(m.mean[0]), f64::from(m.basis[0]));
