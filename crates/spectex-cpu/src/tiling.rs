@@ -20,6 +20,9 @@ use spectex_model::{Period, Window};
 
 use crate::{CpuError, CpuKind, RowKernel};
 
+/// Pixels of a row evaluated together by the variance blend's lanes.
+const LANES: usize = 8;
+
 /// Largest `|X|`, `|Y|` (pixels) a position may have: the integer split stays within `i32`.
 const MAX_PIXEL: i32 = 1 << 30;
 
@@ -363,6 +366,77 @@ impl TilingEvaluator {
         out
     }
 
+    /// Up to [`LANES`] pixels of a row, the variance blend at level 0 without rotation: the
+    /// taps per pixel, then the blend, the tables and the basis across the pixels (the
+    /// operations of [`Self::eval_level`] in its order: the same bits).
+    #[inline(always)]
+    fn variance_lanes(
+        &self,
+        columns: &[Option<ColumnSpot>],
+        row: &RowSpot,
+        draw: &impl Fn(i32, i32) -> Vertex,
+        out: &mut [f32],
+    ) {
+        let nc = self.channels;
+        let half = self.side / 2;
+        // An invalid lane keeps the weights (1, 0, 0) and zero taps: finite, then discarded.
+        let mut w = [[1.0f32; LANES], [0.0f32; LANES], [0.0f32; LANES]];
+        let mut g = [[[0.0f32; LANES]; 3]; 3];
+        let mut valid = [false; LANES];
+        for (i, column) in columns.iter().enumerate() {
+            let Some(c) = column else { continue };
+            let spot = self.spot(c, row);
+            valid[i] = true;
+            let (corners, wt) = triangle(spot.u, spot.v);
+            for (k, &(a, b)) in corners.iter().enumerate() {
+                w[k][i] = wt[k];
+                let vertex = draw(spot.m0.wrapping_add(a), spot.k0.wrapping_add(b));
+                let dx = spot.dx - a * self.side - b * half;
+                let dy = spot.dy - b * self.row;
+                let [ox, oy] = vertex.offset;
+                let tap = self.tap_texel(ox + dx, oy + dy, spot.phi);
+                for (ch, gc) in g.iter_mut().enumerate() {
+                    gc[k][i] = tap[ch];
+                }
+            }
+        }
+        let mut scale = [0.0f32; LANES];
+        for (i, s) in scale.iter_mut().enumerate() {
+            *s = ((w[0][i] * w[0][i] + w[1][i] * w[1][i]) + w[2][i] * w[2][i]).sqrt();
+        }
+        let table_scale = (LUT_ENTRIES - 1) as f32 / (2.0 * LUT_RANGE);
+        let mut t = [[0.0f32; LANES]; 3];
+        for ch in 0..nc {
+            let lut = &self.tables.lut(0, ch, nc)[..LUT_ENTRIES];
+            let gc = &g[ch];
+            let mut x = [0.0f32; LANES];
+            for i in 0..LANES {
+                let blended =
+                    ((w[0][i] * gc[0][i] + w[1][i] * gc[1][i]) + w[2][i] * gc[2][i]) / scale[i];
+                x[i] = (blended.clamp(-LUT_RANGE, LUT_RANGE) + LUT_RANGE) * table_scale;
+            }
+            for i in 0..LANES {
+                // x ≥ 0: the truncation is ⌊x⌋.
+                let j = (x[i] as usize).min(LUT_ENTRIES - 2);
+                let f = x[i] - j as f32;
+                t[ch][i] = lut[j] + f * (lut[j + 1] - lut[j]);
+            }
+        }
+        for (i, px) in out.chunks_exact_mut(nc).enumerate() {
+            if !valid[i] {
+                px.copy_from_slice(&self.mean[..nc]);
+                continue;
+            }
+            for (o, v) in px.iter_mut().enumerate() {
+                let mut acc = self.mean[o];
+                for (ch, tc) in t.iter().enumerate().take(nc) {
+                    acc += self.basis[o][ch] * tc[i];
+                }
+                *v = acc;
+            }
+        }
+    }
+
     /// One pixel from its spot (`None`: outside the usable range), the window's level and
     /// mixing weight.
     #[inline(always)]
@@ -457,6 +531,8 @@ impl RowKernel for TilingEvaluator {
             return self.eval_rows_reference(window, first, out);
         }
         let mut cache: Vec<Vertex> = Vec::with_capacity(2 * span as usize);
+        // The common case in lanes: the variance blend at level 0 without rotation.
+        let lanes = matches!(self.blend, Blend::Variance) && !self.rotates && level == (0, 0.0);
         for (r, line) in out.chunks_exact_mut(width * nc).enumerate() {
             let Some(row) = pixel(window.y(first + r)).map(|y| self.row_spot(y)) else {
                 for px in line.chunks_exact_mut(nc) {
@@ -476,6 +552,12 @@ impl RowKernel for TilingEvaluator {
                 let i = m.wrapping_sub(m_lo) as usize + if k == cy { 0 } else { span as usize };
                 cache[i]
             };
+            if lanes {
+                for (px, cols) in line.chunks_mut(LANES * nc).zip(columns.chunks(LANES)) {
+                    self.variance_lanes(cols, &row, &draw, px);
+                }
+                continue;
+            }
             for (px, column) in line.chunks_exact_mut(nc).zip(&columns) {
                 let spot = column.as_ref().map(|c| self.spot(c, &row));
                 self.pixel(spot, level, &draw, px);
