@@ -119,14 +119,7 @@ impl TilingEvaluator {
         let lattice = model.lattice(period)?;
         let (lo, spans) = lattice.spans(model.width, model.height)?;
         let nc = model.channels as usize;
-        let mut mean = [0.0f32; 3];
-        let mut basis = [[0.0f32; 3]; 3];
-        for i in 0..nc {
-            mean[i] = model.mean[i];
-            for c in 0..nc {
-                basis[i][c] = model.basis[i * nc + c];
-            }
-        }
+        let (mean, basis) = model.colour();
         let tables = model.tables();
         let levels = tables
             .levels

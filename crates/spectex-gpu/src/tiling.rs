@@ -108,15 +108,10 @@ pub(crate) fn pack(
     let (lo, spans) = lattice
         .spans(model.width, model.height)
         .ok_or_else(refused)?;
-    let nc = model.channels as usize;
-    let mut mean = [0.0f32; 4];
-    let mut basis = [[0.0f32; 4]; 3];
-    for i in 0..nc {
-        mean[i] = model.mean[i];
-        for c in 0..nc {
-            basis[i][c] = model.basis[i * nc + c];
-        }
-    }
+    // vec4<f32> rows, w unused.
+    let (mean3, basis3) = model.colour();
+    let pad = |v: [f32; 3]| [v[0], v[1], v[2], 0.0];
+    let (mean, basis) = (pad(mean3), basis3.map(pad));
     let (blend, sharpness, rotation) = match model.blend {
         Blend::Variance => (0, 1, 0.0),
         Blend::Hex {

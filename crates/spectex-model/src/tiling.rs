@@ -153,6 +153,22 @@ pub struct Lattice {
 }
 
 impl Lattice {
+    /// The lattice of triangles of side `tile` on the pixel grid: an even side (at least 2) and
+    /// a whole row spacing. Aligned so that every vertex is a whole pixel and a render at scale
+    /// 1 reads whole texels. Heitz & Neyret place the lattice in the exemplar's uv space,
+    /// unaligned: there every tap interpolates, and bilinear interpolation lowers the
+    /// Gaussianised taps' variance (to ¼ halfway between four independent texels), so the
+    /// blend's histogram narrows.
+    #[must_use]
+    pub fn of_tile(tile: f32) -> Self {
+        let side = (2.0 * (f64::from(tile) / 2.0).round()).max(2.0);
+        Self {
+            side,
+            row: (side * 3f64.sqrt() / 2.0).round(),
+            wrap: None,
+        }
+    }
+
     /// The longest displacement from a vertex to a point of its six triangles: the longest
     /// edge, `max(side, √(side²/4 + row²))`.
     #[must_use]
@@ -265,22 +281,12 @@ impl TilingTexture {
     #[must_use]
     pub fn lattice(&self, period: Option<Period>) -> Option<Lattice> {
         let Some(period) = period else {
-            // Aligned to the pixel grid: an even side and a whole row spacing, so that every
-            // vertex is a whole pixel and a render at scale 1 reads whole texels. Heitz & Neyret
-            // place the lattice in the exemplar's uv space, unaligned: there every tap
-            // interpolates, and bilinear interpolation lowers the Gaussianised taps' variance
-            // (to ¼ halfway between four independent texels), so the blend's histogram narrows.
-            let side = (2.0 * (f64::from(self.tile) / 2.0).round()).max(2.0);
-            return Some(Lattice {
-                side,
-                row: (side * 3f64.sqrt() / 2.0).round(),
-                wrap: None,
-            });
+            return Some(Lattice::of_tile(self.tile));
         };
         // A periodic lattice stays on the pixel grid: its side the even divisor of the period's
         // width nearest the model's, its row spacing the divisor of half the period's height
         // nearest the model's (an even number of rows), each within the tolerance.
-        let base = self.lattice(None)?;
+        let base = Lattice::of_tile(self.tile);
         let nearest = |n: u32, want: f64, even: bool| -> Option<f64> {
             let mut best: Option<f64> = None;
             let mut consider = |d: u32| {
@@ -315,6 +321,22 @@ impl TilingTexture {
                 (f64::from(period.height) / row) as i32,
             )),
         })
+    }
+
+    /// The colour mean and basis by rows, padded to 3 channels with zeros (what both evaluators
+    /// apply: `out_i = mean_i + Σ_c basis[i][c]·t_c`).
+    #[must_use]
+    pub fn colour(&self) -> ([f32; 3], [[f32; 3]; 3]) {
+        let nc = (self.channels as usize).min(3);
+        let mut mean = [0.0f32; 3];
+        let mut basis = [[0.0f32; 3]; 3];
+        for i in 0..nc {
+            mean[i] = self.mean[i];
+            for c in 0..nc {
+                basis[i][c] = self.basis[i * nc + c];
+            }
+        }
+        (mean, basis)
     }
 
     /// Number of mip levels: while both sides stay at least 2 texels, up to [`MAX_LEVELS`].

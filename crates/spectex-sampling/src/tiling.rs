@@ -10,6 +10,8 @@ use spectex_model::tiling::{
     Blend, LUT_ENTRIES, Lattice, MAX_SIDE, MIN_SIDE, TilingTexture, lut_node,
 };
 
+use spectex_spectrum::{standard_normal_cdf, standard_normal_quantile};
+
 use crate::SamplingError;
 use crate::texture::colour_pca;
 
@@ -35,64 +37,6 @@ impl Default for TilingOptions {
     }
 }
 
-/// `Φ(x)`, the standard normal CDF, from `erfc`.
-#[must_use]
-pub fn normal_cdf(x: f64) -> f64 {
-    0.5 * libm::erfc(-x / std::f64::consts::SQRT_2)
-}
-
-/// `Φ⁻¹(p)` for `p ∈ (0, 1)`: Acklam's rational approximation (relative error 1.2·10⁻⁹) and one
-/// Halley step on `Φ` (full f64 precision).
-#[must_use]
-pub fn normal_quantile(p: f64) -> f64 {
-    const A: [f64; 6] = [
-        -3.969_683_028_665_376e1,
-        2.209_460_984_245_205e2,
-        -2.759_285_104_469_687e2,
-        1.383_577_518_672_69e2,
-        -3.066_479_806_614_716e1,
-        2.506_628_277_459_239,
-    ];
-    const B: [f64; 5] = [
-        -5.447_609_879_822_406e1,
-        1.615_858_368_580_409e2,
-        -1.556_989_798_598_866e2,
-        6.680_131_188_771_972e1,
-        -1.328_068_155_288_572e1,
-    ];
-    const C: [f64; 6] = [
-        -7.784_894_002_430_293e-3,
-        -3.223_964_580_411_365e-1,
-        -2.400_758_277_161_838,
-        -2.549_732_539_343_734,
-        4.374_664_141_464_968,
-        2.938_163_982_698_783,
-    ];
-    const D: [f64; 4] = [
-        7.784_695_709_041_462e-3,
-        3.224_671_290_700_398e-1,
-        2.445_134_137_142_996,
-        3.754_408_661_907_416,
-    ];
-    let tail = |q: f64| {
-        (((((C[0] * q + C[1]) * q + C[2]) * q + C[3]) * q + C[4]) * q + C[5])
-            / ((((D[0] * q + D[1]) * q + D[2]) * q + D[3]) * q + 1.0)
-    };
-    let x = if p < 0.024_25 {
-        tail((-2.0 * p.ln()).sqrt())
-    } else if p > 1.0 - 0.024_25 {
-        -tail((-2.0 * (1.0 - p).ln()).sqrt())
-    } else {
-        let q = p - 0.5;
-        let r = q * q;
-        (((((A[0] * r + A[1]) * r + A[2]) * r + A[3]) * r + A[4]) * r + A[5]) * q
-            / (((((B[0] * r + B[1]) * r + B[2]) * r + B[3]) * r + B[4]) * r + 1.0)
-    };
-    let e = normal_cdf(x) - p;
-    let u = e * (2.0 * std::f64::consts::PI).sqrt() * (x * x / 2.0).exp();
-    x - u / (1.0 + x * u / 2.0)
-}
-
 /// Gaussianises one channel: the standard normal score of each value's rank among the values
 /// weighed by `density` (a texel's share of the taps, [`tap_density`]), and the channel's values
 /// sorted. With the density, a render's taps — not the exemplar's texels — are standard normal:
@@ -107,7 +51,7 @@ fn gaussianise(values: &[f64], density: &[f64]) -> (Vec<f64>, Vec<f64>) {
     let mut below = 0.0;
     for &i in &order {
         let p = ((below + 0.5 * density[i]) / total).clamp(1e-12, 1.0 - 1e-12);
-        scores[i] = normal_quantile(p);
+        scores[i] = standard_normal_quantile(p);
         below += density[i];
     }
     let sorted = order.iter().map(|&i| values[i]).collect();
@@ -176,7 +120,8 @@ fn inverse_table(sorted: &[f64]) -> Vec<f32> {
     let n = sorted.len();
     (0..LUT_ENTRIES)
         .map(|k| {
-            let rank = (normal_cdf(lut_node(k)) * n as f64 - 0.5).clamp(0.0, (n - 1) as f64);
+            let rank =
+                (standard_normal_cdf(lut_node(k)) * n as f64 - 0.5).clamp(0.0, (n - 1) as f64);
             let i = (rank.floor() as usize).min(n.saturating_sub(2));
             let f = rank - i as f64;
             let hi = sorted[(i + 1).min(n - 1)];
@@ -244,22 +189,8 @@ pub fn fit_tiling(
         let m = image.sum() / (w * h) as f64;
         (vec![m], [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
     };
-    // The lattice the model will have (validated below with the model): its taps' density.
-    let probe = TilingTexture {
-        seed: 0,
-        width: w as u32,
-        height: h as u32,
-        channels: 1,
-        tile,
-        blend: options.blend,
-        gaussian: Vec::new(),
-        lut: Vec::new(),
-        mean: Vec::new(),
-        basis: Vec::new(),
-    };
-    let density = probe
-        .lattice(None)
-        .map_or_else(|| vec![1.0; w * h], |l| tap_density(w, h, &l));
+    // The taps' density on the lattice the model will have (validated below with the model).
+    let density = tap_density(w, h, &Lattice::of_tile(tile));
     let mut gaussian = vec![0.0f32; w * h * nc];
     let mut lut = Vec::with_capacity(nc * LUT_ENTRIES);
     let mut spread = 0.0f64;
@@ -314,15 +245,6 @@ pub mod tests {
     use super::*;
     use ndarray::Array3;
 
-    pub fn normal_quantile_inverts_the_cdf() {
-        for &p in &[1e-9, 1e-4, 0.02, 0.3, 0.5, 0.77, 0.99, 1.0 - 1e-7] {
-            let x = normal_quantile(p);
-            assert!((normal_cdf(x) - p).abs() < 1e-14 * p.max(1e-3), "{p}");
-        }
-        // Φ(1.959963984540054) = 0.975 (the textbook two-sided 95% point).
-        assert!((normal_quantile(0.975) - 1.959_963_984_540_054).abs() < 1e-12);
-    }
-
     /// The table maps standard normal values to the exemplar's histogram: the table read at
     /// the normal quantiles of `n` evenly spaced probabilities gives the exemplar's sorted
     /// values; and the scores, weighed by the taps' density, are standard normal.
@@ -353,7 +275,7 @@ pub mod tests {
         let mut want: Vec<f64> = image.iter().copied().collect();
         want.sort_by(f64::total_cmp);
         for (k, v) in want.iter().enumerate() {
-            let g = normal_quantile((k as f64 + 0.5) / n as f64);
+            let g = standard_normal_quantile((k as f64 + 0.5) / n as f64);
             let back = mean + scale * spectex_model::tiling::lut_f64(lut, g);
             // Between two table nodes the quantile moves by at most the gap between
             // neighbouring sorted values (here at most 33/256).

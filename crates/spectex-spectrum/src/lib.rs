@@ -37,8 +37,8 @@ pub use error::SpectrumError;
 pub use fft::{Fft2, FftFloat, centered, signed_frequency};
 pub use metrics::{
     excess_kurtosis, fraction_above_gaussian_quantile, gradient_magnitudes, log_log_fit, luminance,
-    mean_variance, normalised_smoothed, ring_power_peak, shape_distance, standard_normal_quantile,
-    variance_low_fraction, wasserstein1,
+    mean_variance, normalised_smoothed, ring_power_peak, shape_distance, standard_normal_cdf,
+    standard_normal_quantile, variance_low_fraction, wasserstein1,
 };
 pub use periodic::{PeriodicSmooth, interior_laplacian, periodic_laplacian, periodic_smooth};
 pub use rpn::{
