@@ -2,12 +2,16 @@
 //! randomness contract are in [`spectex_model::tiling`].
 //!
 //! A pixel is the model's integer and f32 formula step by step (no fused products), so any
-//! window, band of rows and thread gives the same bits. The fast path ([`TilingEvaluator`]'s
-//! `eval_rows`) draws the vertices of a row's two lattice rows once per row instead of three
-//! times per pixel, divides each column by the lattice's side once per band, and reads a tap's
-//! texel alone where the pixel's fraction is zero (the bilinear weights are then exactly 0: the
-//! same bits); the reference path does each per pixel. A texel is four f32 lanes (the channels,
-//! then zeros), so the bilinear taps are the same operations on every lane.
+//! window, band of rows, thread and SIMD level gives the same bits. The fast path
+//! ([`TilingEvaluator`]'s `eval_rows`) draws the vertices of a row's two lattice rows once per
+//! row instead of three times per pixel, divides each column by the lattice's side once per
+//! band, and reads a tap's texel alone where the pixel's fraction is zero (the bilinear weights
+//! are then exactly 0: the same bits). For the variance blend at scale 1 it works a row at a
+//! time: runs of pixels in one triangle copy their taps from the exemplar's channel planes,
+//! then the blend, the tables and the basis run across the row in SIMD lanes (AVX2 or AVX-512
+//! where the CPU has them). The reference path does each step per pixel. A texel is four f32
+//! lanes (the channels, then zeros), so the bilinear taps are the same operations on every
+//! lane.
 
 use spectex_model::grid::locate_cell;
 use spectex_model::math::cos_turns;
@@ -18,10 +22,8 @@ use spectex_model::tiling::{
 };
 use spectex_model::{Period, Window};
 
+use crate::lrp::Simd;
 use crate::{CpuError, CpuKind, RowKernel};
-
-/// Pixels of a row evaluated together by the variance blend's lanes.
-const LANES: usize = 8;
 
 /// Largest `|X|`, `|Y|` (pixels) a position may have: the integer split stays within `i32`.
 const MAX_PIXEL: i32 = 1 << 30;
@@ -91,9 +93,12 @@ pub struct TilingEvaluator {
     lo: i32,
     spans: [u32; 2],
     tables: TilingTables,
+    /// Level 0's texels channel by channel (`width·height` values each), for runs of taps.
+    planes: Vec<f32>,
     levels: Vec<TapLevel>,
     mean: [f32; 3],
     basis: [[f32; 3]; 3],
+    simd: Simd,
 }
 
 /// A position on the pixel grid, `None` outside the usable range.
@@ -148,11 +153,40 @@ impl TilingEvaluator {
             inv_row: (1.0 / lattice.row) as f32,
             lo: lo as i32,
             spans,
+            planes: (0..nc)
+                .flat_map(|c| {
+                    let n = (model.width * model.height) as usize;
+                    tables.texels[..n].iter().map(move |t| t[c])
+                })
+                .collect(),
             tables,
             levels,
             mean,
             basis,
+            simd: Simd::detect(),
         })
+    }
+
+    /// Forces the portable path (`false`) or AVX2 when the CPU has it (`true`); for tests
+    /// comparing the code paths.
+    #[doc(hidden)]
+    pub fn set_avx2(&mut self, enabled: bool) {
+        self.simd = if enabled && Simd::detect() != Simd::Portable {
+            Simd::Avx2
+        } else {
+            Simd::Portable
+        };
+    }
+
+    /// Uses AVX-512 when the CPU has it (`true`, the default), else the level below; for tests
+    /// comparing the code paths. Returns whether AVX-512 is in use.
+    #[doc(hidden)]
+    pub fn set_avx512(&mut self, enabled: bool) -> bool {
+        self.simd = Simd::detect();
+        if !enabled && self.simd == Simd::Avx512 {
+            self.simd = Simd::Avx2;
+        }
+        self.simd == Simd::Avx512
     }
 
     /// The draws of vertex `(m, k)` (the randomness contract).
@@ -359,74 +393,123 @@ impl TilingEvaluator {
         out
     }
 
-    /// Up to [`LANES`] pixels of a row, the variance blend at level 0 without rotation: the
-    /// taps per pixel, then the blend, the tables and the basis across the pixels (the
-    /// operations of [`Self::eval_level`] in its order: the same bits).
+    /// A row's taps for the variance blend at level 0 without rotation, into `scratch`: the
+    /// three weights, then per channel the three taps, `columns.len()` values each (a pixel
+    /// outside the usable range keeps the weights `(1, 0, 0)` and zero taps: finite, replaced
+    /// by the mean afterwards). Returns whether any pixel was outside.
+    ///
+    /// Consecutive pixels in one triangle whose columns are consecutive whole pixels (`φ = 0`:
+    /// a render at scale 1 on the pixel grid) read consecutive texels of the same three rows of
+    /// the exemplar: such a run's taps are copied from the channels' planes at once. Any other
+    /// pixel reads its taps alone ([`Self::tap_texel`]). Either way the values are the texels'
+    /// bits or the same bilinear operations.
     #[inline(always)]
-    fn variance_lanes(
+    fn variance_taps(
         &self,
         columns: &[Option<ColumnSpot>],
         row: &RowSpot,
         draw: &impl Fn(i32, i32) -> Vertex,
-        out: &mut [f32],
-    ) {
+        scratch: &mut [f32],
+    ) -> bool {
+        let n = columns.len();
         let nc = self.channels;
         let half = self.side / 2;
-        // An invalid lane keeps the weights (1, 0, 0) and zero taps: finite, then discarded.
-        let mut w = [[1.0f32; LANES], [0.0f32; LANES], [0.0f32; LANES]];
-        let mut g = [[[0.0f32; LANES]; 3]; 3];
-        let mut valid = [false; LANES];
+        let plane = self.levels[0].width as usize * self.levels[0].height as usize;
+        let stride = self.levels[0].width as i32;
+        let (w, g) = scratch.split_at_mut(3 * n);
+        let (w0, w12) = w.split_at_mut(n);
+        let (w1, w2) = w12.split_at_mut(n);
+        // The run being gathered: its first pixel, the key (m₀, upper) and the first texel of
+        // each tap (`None`: no run, the next pixel starts one); and the next texel expected.
+        let mut run: Option<(usize, (i32, bool), [i32; 3])> = None;
+        let mut next_dx = 0;
+        let flush = |run: Option<(usize, (i32, bool), [i32; 3])>, end: usize, g: &mut [f32]| {
+            let Some((first, _, at)) = run else { return };
+            let len = end - first;
+            for (k, &at) in at.iter().enumerate() {
+                let at = at as usize;
+                for ch in 0..nc {
+                    g[(3 * ch + k) * n + first..][..len]
+                        .copy_from_slice(&self.planes[ch * plane + at..][..len]);
+                }
+            }
+        };
+        let mut outside = false;
         for (i, column) in columns.iter().enumerate() {
-            let Some(c) = column else { continue };
+            let Some(c) = column else {
+                flush(run.take(), i, g);
+                (w0[i], w1[i], w2[i]) = (1.0, 0.0, 0.0);
+                for k in 0..3 * nc {
+                    g[k * n + i] = 0.0;
+                }
+                outside = true;
+                continue;
+            };
             let spot = self.spot(c, row);
-            valid[i] = true;
             let (corners, wt) = triangle(spot.u, spot.v);
+            (w0[i], w1[i], w2[i]) = (wt[0], wt[1], wt[2]);
+            let key = (spot.m0, corners[0] != (0, 0));
+            if spot.phi == [0.0, 0.0] {
+                if matches!(run, Some((_, k, _)) if k == key) && spot.dx == next_dx {
+                    next_dx += 1;
+                    continue;
+                }
+                flush(run.take(), i, g);
+                let at = corners.map(|(a, b)| {
+                    let [ox, oy] = draw(spot.m0.wrapping_add(a), spot.k0.wrapping_add(b)).offset;
+                    (oy + spot.dy - b * self.row) * stride + ox + spot.dx - a * self.side - b * half
+                });
+                run = Some((i, key, at));
+                next_dx = spot.dx + 1;
+                continue;
+            }
+            flush(run.take(), i, g);
             for (k, &(a, b)) in corners.iter().enumerate() {
-                w[k][i] = wt[k];
                 let vertex = draw(spot.m0.wrapping_add(a), spot.k0.wrapping_add(b));
                 let dx = spot.dx - a * self.side - b * half;
                 let dy = spot.dy - b * self.row;
                 let [ox, oy] = vertex.offset;
                 let tap = self.tap_texel(ox + dx, oy + dy, spot.phi);
-                for (ch, gc) in g.iter_mut().enumerate() {
-                    gc[k][i] = tap[ch];
+                for (ch, v) in tap.iter().enumerate().take(nc) {
+                    g[(3 * ch + k) * n + i] = *v;
                 }
             }
         }
-        let mut scale = [0.0f32; LANES];
-        for (i, s) in scale.iter_mut().enumerate() {
-            *s = ((w[0][i] * w[0][i] + w[1][i] * w[1][i]) + w[2][i] * w[2][i]).sqrt();
-        }
-        let table_scale = (LUT_ENTRIES - 1) as f32 / (2.0 * LUT_RANGE);
-        let mut t = [[0.0f32; LANES]; 3];
-        for ch in 0..nc {
-            let lut = &self.tables.lut(0, ch, nc)[..LUT_ENTRIES];
-            let gc = &g[ch];
-            let mut x = [0.0f32; LANES];
-            for i in 0..LANES {
-                let blended =
-                    ((w[0][i] * gc[0][i] + w[1][i] * gc[1][i]) + w[2][i] * gc[2][i]) / scale[i];
-                x[i] = (blended.clamp(-LUT_RANGE, LUT_RANGE) + LUT_RANGE) * table_scale;
-            }
-            for i in 0..LANES {
-                // x ≥ 0: the truncation is ⌊x⌋.
-                let j = (x[i] as usize).min(LUT_ENTRIES - 2);
-                let f = x[i] - j as f32;
-                t[ch][i] = lut[j] + f * (lut[j + 1] - lut[j]);
-            }
-        }
-        for (i, px) in out.chunks_exact_mut(nc).enumerate() {
-            if !valid[i] {
-                px.copy_from_slice(&self.mean[..nc]);
-                continue;
-            }
-            for (o, v) in px.iter_mut().enumerate() {
-                let mut acc = self.mean[o];
-                for (ch, tc) in t.iter().enumerate().take(nc) {
-                    acc += self.basis[o][ch] * tc[i];
-                }
-                *v = acc;
-            }
+        flush(run, n, g);
+        outside
+    }
+
+    /// The blend, the tables and the basis of a row whose taps [`Self::variance_taps`] wrote,
+    /// on the SIMD level chosen (every level the same operations in the order of
+    /// [`Self::eval_level`]: the same bits).
+    fn variance_blend(&self, scratch: &[f32], out: &mut [f32]) {
+        let luts: [&[f32]; 3] =
+            std::array::from_fn(|c| self.tables.lut(0, c.min(self.channels - 1), self.channels));
+        let row = BlendRow {
+            luts: luts.map(|l| <&[f32; LUT_ENTRIES]>::try_from(l).unwrap_or(&NO_TABLE)),
+            mean: self.mean,
+            basis: self.basis,
+            scratch,
+        };
+        match (self.simd, self.channels) {
+            #[cfg(target_arch = "x86_64")]
+            #[allow(unsafe_code)]
+            // SAFETY: `Simd::Avx512` is chosen only when the CPU reports AVX-512F at run time.
+            (Simd::Avx512, 3) => unsafe { blend_row_avx512::<3>(&row, out) },
+            #[cfg(target_arch = "x86_64")]
+            #[allow(unsafe_code)]
+            // SAFETY: as above.
+            (Simd::Avx512, _) => unsafe { blend_row_avx512::<1>(&row, out) },
+            #[cfg(target_arch = "x86_64")]
+            #[allow(unsafe_code)]
+            // SAFETY: `Simd::Avx2` is chosen only when the CPU reports AVX2 at run time.
+            (Simd::Avx2, 3) => unsafe { blend_row_avx2::<3>(&row, out) },
+            #[cfg(target_arch = "x86_64")]
+            #[allow(unsafe_code)]
+            // SAFETY: as above.
+            (Simd::Avx2, _) => unsafe { blend_row_avx2::<1>(&row, out) },
+            (_, 3) => blend_row::<3>(&row, out),
+            _ => blend_row::<1>(&row, out),
         }
     }
 
@@ -452,6 +535,70 @@ impl TilingEvaluator {
             }
         } else {
             out.copy_from_slice(&v0[..self.channels]);
+        }
+    }
+}
+
+/// What [`blend_row`] reads: a level's tables (channel 0's in the unused places of a grey
+/// model), the colour basis and a row's scratch from [`TilingEvaluator::variance_taps`].
+struct BlendRow<'a> {
+    luts: [&'a [f32; LUT_ENTRIES]; 3],
+    mean: [f32; 3],
+    basis: [[f32; 3]; 3],
+    scratch: &'a [f32],
+}
+
+/// Never read: what a table of the wrong length (impossible: [`TilingTables::lut`] slices
+/// exactly [`LUT_ENTRIES`]) would be replaced by instead of a panic in a row kernel.
+static NO_TABLE: [f32; LUT_ENTRIES] = [0.0; LUT_ENTRIES];
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn blend_row_avx2<const NC: usize>(row: &BlendRow<'_>, out: &mut [f32]) {
+    blend_row::<NC>(row, out);
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+fn blend_row_avx512<const NC: usize>(row: &BlendRow<'_>, out: &mut [f32]) {
+    blend_row::<NC>(row, out);
+}
+
+/// The variance blend of `NC` channels over a row: `Σ wₖ·gₖ / ‖w‖`, the table, then the basis,
+/// each pixel by the operations of [`TilingEvaluator::eval_level`] in its order (plain `*`,
+/// `+`, `/`, `sqrt`, min/max and truncation: no contraction, the same bits in any lane).
+/// `inline(always)` so that each SIMD wrapper compiles its own copy. A table index is
+/// `min(⌊x⌋, N − 2)` with `0 ≤ x`, so masking it by `N − 1` (a power of two) changes nothing
+/// and lets the compiler drop the bounds checks from the gathers.
+#[inline(always)]
+fn blend_row<const NC: usize>(row: &BlendRow<'_>, out: &mut [f32]) {
+    const MASK: usize = LUT_ENTRIES - 1;
+    let n = out.len() / NC;
+    let s = row.scratch;
+    let (w0, w1, w2) = (&s[..n], &s[n..2 * n], &s[2 * n..3 * n]);
+    let g: [[&[f32]; 3]; NC] =
+        std::array::from_fn(|c| std::array::from_fn(|k| &s[(3 + 3 * c + k) * n..][..n]));
+    let table_scale = (LUT_ENTRIES - 1) as f32 / (2.0 * LUT_RANGE);
+    let out = &mut out[..n * NC];
+    for (i, px) in out.chunks_exact_mut(NC).enumerate() {
+        let scale = ((w0[i] * w0[i] + w1[i] * w1[i]) + w2[i] * w2[i]).sqrt();
+        let mut t = [0.0f32; NC];
+        for (c, tc) in t.iter_mut().enumerate() {
+            let blended = ((w0[i] * g[c][0][i] + w1[i] * g[c][1][i]) + w2[i] * g[c][2][i]) / scale;
+            let x = (blended.clamp(-LUT_RANGE, LUT_RANGE) + LUT_RANGE) * table_scale;
+            // 0 ≤ x ≤ N − 1: the truncation is ⌊x⌋.
+            let j = (x as i32).min(LUT_ENTRIES as i32 - 2);
+            let f = x - j as f32;
+            let lut = row.luts[c];
+            let (a, b) = (lut[j as usize & MASK], lut[(j + 1) as usize & MASK]);
+            *tc = a + f * (b - a);
+        }
+        for (o, v) in px.iter_mut().enumerate() {
+            let mut acc = row.mean[o];
+            for (c, tc) in t.iter().enumerate() {
+                acc += row.basis[o][c] * tc;
+            }
+            *v = acc;
         }
     }
 }
@@ -526,6 +673,11 @@ impl RowKernel for TilingEvaluator {
         let mut cache: Vec<Vertex> = Vec::with_capacity(2 * span as usize);
         // The common case in lanes: the variance blend at level 0 without rotation.
         let lanes = matches!(self.blend, Blend::Variance) && !self.rotates && level == (0, 0.0);
+        let mut scratch = if lanes {
+            vec![0.0f32; 3 * (1 + nc) * width]
+        } else {
+            Vec::new()
+        };
         for (r, line) in out.chunks_exact_mut(width * nc).enumerate() {
             let Some(row) = pixel(window.y(first + r)).map(|y| self.row_spot(y)) else {
                 for px in line.chunks_exact_mut(nc) {
@@ -546,8 +698,14 @@ impl RowKernel for TilingEvaluator {
                 cache[i]
             };
             if lanes {
-                for (px, cols) in line.chunks_mut(LANES * nc).zip(columns.chunks(LANES)) {
-                    self.variance_lanes(cols, &row, &draw, px);
+                let outside = self.variance_taps(&columns, &row, &draw, &mut scratch);
+                self.variance_blend(&scratch, line);
+                if outside {
+                    for (px, column) in line.chunks_exact_mut(nc).zip(&columns) {
+                        if column.is_none() {
+                            px.copy_from_slice(&self.mean[..nc]);
+                        }
+                    }
                 }
                 continue;
             }

@@ -12,7 +12,8 @@
 )]
 
 use spectex_cpu::classic::ClassicEvaluator;
-use spectex_cpu::{Evaluator, PhasorEvaluator, Window};
+use spectex_cpu::tiling::TilingEvaluator;
+use spectex_cpu::{Evaluator, PhasorEvaluator, RowKernel, Window};
 use spectex_model::Model;
 use spectex_model::classic::{
     Basis, ClassicNoise, FeaturePoints, Fractal, FractalKind, Metric, Worley,
@@ -192,6 +193,70 @@ fn table_models() -> Vec<(String, ClassicNoise, f64)> {
         }
     }
     models
+}
+
+/// The tiling kernel's rows (runs of whole-pixel taps copied from the channels' planes, the
+/// blend on each SIMD level) against its reference path, pixel by pixel: whole pixels near the
+/// origin and at 10⁷, half pixels (every tap read alone), magnified (runs and lone taps
+/// alternate), and columns past the usable range (the mean) beside valid ones.
+#[test]
+fn tiling_rows_match_the_reference_at_every_simd_level() {
+    let windows = [
+        (
+            "whole pixels",
+            Window::new(300, 40).at([-517.0, 283.0], 1.0),
+        ),
+        (
+            "whole pixels at 1e7",
+            Window::new(257, 9).at([1.0e7, -1.0e7 + 3.0], 1.0),
+        ),
+        ("half pixels", Window::new(120, 7).at([0.5, 11.0], 1.0)),
+        ("magnified", Window::new(150, 12).at([-40.0, 7.0], 0.5)),
+        (
+            "past the range",
+            Window::new(90, 3).at([f64::from(1u32 << 30) - 45.0, 0.0], 1.0),
+        ),
+    ];
+    let mut compared = 0;
+    for case in testdata_cases() {
+        let Model::Tiling(m) = &case.model else {
+            continue;
+        };
+        let mut eval = TilingEvaluator::new(m, None).unwrap();
+        let levels: [SimdLevel<TilingEvaluator>; 3] = [
+            ("portable", |e| {
+                e.set_avx2(false);
+                true
+            }),
+            ("avx2", |e| {
+                e.set_avx2(true);
+                true
+            }),
+            ("avx512", |e| e.set_avx512(true)),
+        ];
+        for (level, set) in levels {
+            if !set(&mut eval) {
+                continue;
+            }
+            for (name, window) in &windows {
+                let n = window.width * window.height * m.channels as usize;
+                let (mut fast, mut reference) = (vec![0.0f32; n], vec![0.0f32; n]);
+                eval.eval_rows(window, 0, &mut fast);
+                eval.eval_rows_reference(window, 0, &mut reference);
+                if let Some((i, a, b)) = first_difference(&fast, &reference) {
+                    panic!(
+                        "{} on {level}, {name}: value {i} is {a:e}, the reference's {b:e}",
+                        case.name
+                    );
+                }
+                compared += 1;
+            }
+        }
+    }
+    assert!(
+        compared >= 2 * 2 * windows.len(),
+        "compared {compared} renders"
+    );
 }
 
 /// The classic evaluator's SIMD levels: portable, AVX2 (where the CPU has it) and the widest.
