@@ -95,6 +95,9 @@ pub struct TilingEvaluator {
     tables: TilingTables,
     /// Level 0's texels channel by channel (`width·height` values each), for runs of taps.
     planes: Vec<f32>,
+    /// Level 0's tables as arrays (channel 0's in the unused places of a grey model), so the
+    /// lanes index them without bounds checks.
+    luts0: Box<[[f32; LUT_ENTRIES]; 3]>,
     levels: Vec<TapLevel>,
     mean: [f32; 3],
     basis: [[f32; 3]; 3],
@@ -159,6 +162,10 @@ impl TilingEvaluator {
                     tables.texels[..n].iter().map(move |t| t[c])
                 })
                 .collect(),
+            luts0: Box::new(std::array::from_fn(|c| {
+                let lut = tables.lut(0, c.min(nc - 1), nc);
+                std::array::from_fn(|k| lut[k])
+            })),
             tables,
             levels,
             mean,
@@ -483,10 +490,8 @@ impl TilingEvaluator {
     /// on the SIMD level chosen (every level the same operations in the order of
     /// [`Self::eval_level`]: the same bits).
     fn variance_blend(&self, scratch: &[f32], out: &mut [f32]) {
-        let luts: [&[f32]; 3] =
-            std::array::from_fn(|c| self.tables.lut(0, c.min(self.channels - 1), self.channels));
         let row = BlendRow {
-            luts: luts.map(|l| <&[f32; LUT_ENTRIES]>::try_from(l).unwrap_or(&NO_TABLE)),
+            luts: &self.luts0,
             mean: self.mean,
             basis: self.basis,
             scratch,
@@ -539,18 +544,14 @@ impl TilingEvaluator {
     }
 }
 
-/// What [`blend_row`] reads: a level's tables (channel 0's in the unused places of a grey
-/// model), the colour basis and a row's scratch from [`TilingEvaluator::variance_taps`].
+/// What [`blend_row`] reads: level 0's tables, the colour basis and a row's scratch from
+/// [`TilingEvaluator::variance_taps`].
 struct BlendRow<'a> {
-    luts: [&'a [f32; LUT_ENTRIES]; 3],
+    luts: &'a [[f32; LUT_ENTRIES]; 3],
     mean: [f32; 3],
     basis: [[f32; 3]; 3],
     scratch: &'a [f32],
 }
-
-/// Never read: what a table of the wrong length (impossible: [`TilingTables::lut`] slices
-/// exactly [`LUT_ENTRIES`]) would be replaced by instead of a panic in a row kernel.
-static NO_TABLE: [f32; LUT_ENTRIES] = [0.0; LUT_ENTRIES];
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
@@ -589,7 +590,7 @@ fn blend_row<const NC: usize>(row: &BlendRow<'_>, out: &mut [f32]) {
             // 0 ≤ x ≤ N − 1: the truncation is ⌊x⌋.
             let j = (x as i32).min(LUT_ENTRIES as i32 - 2);
             let f = x - j as f32;
-            let lut = row.luts[c];
+            let lut = &row.luts[c];
             let (a, b) = (lut[j as usize & MASK], lut[(j + 1) as usize & MASK]);
             *tc = a + f * (b - a);
         }
