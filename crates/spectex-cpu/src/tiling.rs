@@ -400,121 +400,150 @@ impl TilingEvaluator {
         out
     }
 
-    /// A row's taps for the variance blend at level 0 without rotation, into `scratch`: the
-    /// three weights, then per channel the three taps, `columns.len()` values each (a pixel
-    /// outside the usable range keeps the weights `(1, 0, 0)` and zero taps: finite, replaced
-    /// by the mean afterwards). Returns whether any pixel was outside.
-    ///
-    /// Consecutive pixels in one triangle whose columns are consecutive whole pixels (`φ = 0`:
-    /// a render at scale 1 on the pixel grid) read consecutive texels of the same three rows of
-    /// the exemplar: such a run's taps are copied from the channels' planes at once. Any other
-    /// pixel reads its taps alone ([`Self::tap_texel`]). Either way the values are the texels'
-    /// bits or the same bilinear operations.
-    #[inline(always)]
-    fn variance_taps(
+    /// A row of the variance blend at level 0 without rotation, on the SIMD level chosen
+    /// (every level the same operations in the order of [`Self::eval_level`]: the same bits).
+    fn variance_row(
         &self,
-        columns: &[Option<ColumnSpot>],
+        cols: &Columns,
         row: &RowSpot,
         draw: &impl Fn(i32, i32) -> Vertex,
-        scratch: &mut [f32],
-    ) -> bool {
-        let n = columns.len();
-        let nc = self.channels;
-        let half = self.side / 2;
-        let plane = self.levels[0].width as usize * self.levels[0].height as usize;
-        let stride = self.levels[0].width as i32;
-        let (w, g) = scratch.split_at_mut(3 * n);
-        let (w0, w12) = w.split_at_mut(n);
-        let (w1, w2) = w12.split_at_mut(n);
-        // The run being gathered: its first pixel, the key (m₀, upper) and the first texel of
-        // each tap (`None`: no run, the next pixel starts one); and the next texel expected.
-        let mut run: Option<(usize, (i32, bool), [i32; 3])> = None;
-        let mut next_dx = 0;
-        let flush = |run: Option<(usize, (i32, bool), [i32; 3])>, end: usize, g: &mut [f32]| {
-            let Some((first, _, at)) = run else { return };
-            let len = end - first;
-            for (k, &at) in at.iter().enumerate() {
-                let at = at as usize;
-                for ch in 0..nc {
-                    g[(3 * ch + k) * n + first..][..len]
-                        .copy_from_slice(&self.planes[ch * plane + at..][..len]);
-                }
-            }
-        };
-        let mut outside = false;
-        for (i, column) in columns.iter().enumerate() {
-            let Some(c) = column else {
-                flush(run.take(), i, g);
-                (w0[i], w1[i], w2[i]) = (1.0, 0.0, 0.0);
-                for k in 0..3 * nc {
-                    g[k * n + i] = 0.0;
-                }
-                outside = true;
-                continue;
-            };
-            let spot = self.spot(c, row);
-            let (corners, wt) = triangle(spot.u, spot.v);
-            (w0[i], w1[i], w2[i]) = (wt[0], wt[1], wt[2]);
-            let key = (spot.m0, corners[0] != (0, 0));
-            if spot.phi == [0.0, 0.0] {
-                if matches!(run, Some((_, k, _)) if k == key) && spot.dx == next_dx {
-                    next_dx += 1;
-                    continue;
-                }
-                flush(run.take(), i, g);
-                let at = corners.map(|(a, b)| {
-                    let [ox, oy] = draw(spot.m0.wrapping_add(a), spot.k0.wrapping_add(b)).offset;
-                    (oy + spot.dy - b * self.row) * stride + ox + spot.dx - a * self.side - b * half
-                });
-                run = Some((i, key, at));
-                next_dx = spot.dx + 1;
-                continue;
-            }
-            flush(run.take(), i, g);
-            for (k, &(a, b)) in corners.iter().enumerate() {
-                let vertex = draw(spot.m0.wrapping_add(a), spot.k0.wrapping_add(b));
-                let dx = spot.dx - a * self.side - b * half;
-                let dy = spot.dy - b * self.row;
-                let [ox, oy] = vertex.offset;
-                let tap = self.tap_texel(ox + dx, oy + dy, spot.phi);
-                for (ch, v) in tap.iter().enumerate().take(nc) {
-                    g[(3 * ch + k) * n + i] = *v;
-                }
-            }
-        }
-        flush(run, n, g);
-        outside
-    }
-
-    /// The blend, the tables and the basis of a row whose taps [`Self::variance_taps`] wrote,
-    /// on the SIMD level chosen (every level the same operations in the order of
-    /// [`Self::eval_level`]: the same bits).
-    fn variance_blend(&self, scratch: &[f32], out: &mut [f32]) {
-        let row = BlendRow {
-            luts: &self.luts0,
-            mean: self.mean,
-            basis: self.basis,
-            scratch,
-        };
+        lanes: &mut RowLanes,
+        out: &mut [f32],
+    ) {
         match (self.simd, self.channels) {
             #[cfg(target_arch = "x86_64")]
             #[allow(unsafe_code)]
             // SAFETY: `Simd::Avx512` is chosen only when the CPU reports AVX-512F at run time.
-            (Simd::Avx512, 3) => unsafe { blend_row_avx512::<3>(&row, out) },
+            (Simd::Avx512, 3) => unsafe {
+                variance_row_avx512::<3>(self, cols, row, draw, lanes, out)
+            },
             #[cfg(target_arch = "x86_64")]
             #[allow(unsafe_code)]
             // SAFETY: as above.
-            (Simd::Avx512, _) => unsafe { blend_row_avx512::<1>(&row, out) },
+            (Simd::Avx512, _) => unsafe {
+                variance_row_avx512::<1>(self, cols, row, draw, lanes, out)
+            },
             #[cfg(target_arch = "x86_64")]
             #[allow(unsafe_code)]
             // SAFETY: `Simd::Avx2` is chosen only when the CPU reports AVX2 at run time.
-            (Simd::Avx2, 3) => unsafe { blend_row_avx2::<3>(&row, out) },
+            (Simd::Avx2, 3) => unsafe { variance_row_avx2::<3>(self, cols, row, draw, lanes, out) },
             #[cfg(target_arch = "x86_64")]
             #[allow(unsafe_code)]
             // SAFETY: as above.
-            (Simd::Avx2, _) => unsafe { blend_row_avx2::<1>(&row, out) },
-            (_, 3) => blend_row::<3>(&row, out),
-            _ => blend_row::<1>(&row, out),
+            (Simd::Avx2, _) => unsafe { variance_row_avx2::<1>(self, cols, row, draw, lanes, out) },
+            (_, 3) => self.variance_lanes::<3>(cols, row, draw, lanes, out),
+            _ => self.variance_lanes::<1>(cols, row, draw, lanes, out),
+        }
+    }
+
+    /// [`Self::variance_row`]'s work in three passes over the row: the pixels' spots and
+    /// weights (lanes), their taps, then the blend, the tables and the basis (lanes).
+    /// `inline(always)` so that each SIMD wrapper compiles its own copy.
+    #[inline(always)]
+    fn variance_lanes<const NC: usize>(
+        &self,
+        cols: &Columns,
+        row: &RowSpot,
+        draw: &impl Fn(i32, i32) -> Vertex,
+        lanes: &mut RowLanes,
+        out: &mut [f32],
+    ) {
+        let n = cols.q.len();
+        let RowLanes { u, w, m0, dx, g } = lanes;
+        let (u, m0, dx) = (&mut u[..n], &mut m0[..n], &mut dx[..n]);
+        let [w0, w1, w2] = w;
+        let (w0, w1, w2) = (&mut w0[..n], &mut w1[..n], &mut w2[..n]);
+        let (q, r, phi) = (&cols.q[..n], &cols.r[..n], &cols.phi[..n]);
+        for i in 0..n {
+            let spot = self.spot(
+                &ColumnSpot {
+                    q: q[i],
+                    r: r[i],
+                    phi: phi[i],
+                },
+                row,
+            );
+            let (_, wt) = triangle(spot.u, spot.v);
+            (u[i], m0[i], dx[i]) = (spot.u, spot.m0, spot.dx);
+            (w0[i], w1[i], w2[i]) = (wt[0], wt[1], wt[2]);
+        }
+        self.variance_taps::<NC>(cols, row, draw, u, m0, dx, g);
+        blend_row::<NC>(
+            &BlendRow {
+                luts: &self.luts0,
+                mean: self.mean,
+                basis: self.basis,
+                w: [w0, w1, w2],
+                g,
+            },
+            out,
+        );
+    }
+
+    /// The row's taps into `g`: per channel the three taps, `n` values each. Pixels in one
+    /// triangle whose columns are consecutive whole pixels (`φ = 0`: a render at scale 1 on
+    /// the pixel grid) read consecutive texels of the same three rows of the exemplar: such a
+    /// run's taps are copied from the channels' planes at once. In any other row each pixel
+    /// reads its taps alone ([`Self::tap_texel`]). Either way the values are the texels' bits
+    /// or the same bilinear operations.
+    #[inline(always)]
+    #[allow(
+        clippy::too_many_arguments,
+        reason = "the row's lanes, split for the passes"
+    )]
+    fn variance_taps<const NC: usize>(
+        &self,
+        cols: &Columns,
+        row: &RowSpot,
+        draw: &impl Fn(i32, i32) -> Vertex,
+        u: &[f32],
+        m0: &[i32],
+        dx: &[i32],
+        g: &mut [f32],
+    ) {
+        let n = u.len();
+        let half = self.side / 2;
+        let corners = |i: usize| triangle(u[i], row.v).0;
+        if !(cols.whole && row.phi == 0.0) {
+            for i in 0..n {
+                for (k, &(a, b)) in corners(i).iter().enumerate() {
+                    let vertex = draw(m0[i].wrapping_add(a), row.cy.wrapping_add(b));
+                    let [ox, oy] = vertex.offset;
+                    let x = ox + dx[i] - a * self.side - b * half;
+                    let y = oy + row.ry - b * self.row;
+                    let tap = self.tap_texel(x, y, [cols.phi[i], row.phi]);
+                    for (ch, v) in tap.iter().enumerate().take(NC) {
+                        g[(3 * ch + k) * n + i] = *v;
+                    }
+                }
+            }
+            return;
+        }
+        let plane = self.levels[0].width as usize * self.levels[0].height as usize;
+        let stride = self.levels[0].width as i32;
+        let mut i = 0;
+        while i < n {
+            // A run: the pixels after `i` in its triangle at the next texels.
+            let upper = u[i] + row.v >= 1.0;
+            let mut end = i + 1;
+            while end < n
+                && m0[end] == m0[i]
+                && (u[end] + row.v >= 1.0) == upper
+                && dx[end] == dx[i] + (end - i) as i32
+            {
+                end += 1;
+            }
+            for (k, &(a, b)) in corners(i).iter().enumerate() {
+                let [ox, oy] = draw(m0[i].wrapping_add(a), row.cy.wrapping_add(b)).offset;
+                let at =
+                    (oy + row.ry - b * self.row) * stride + ox + dx[i] - a * self.side - b * half;
+                let at = at as usize;
+                for ch in 0..NC {
+                    g[(3 * ch + k) * n + i..][..end - i]
+                        .copy_from_slice(&self.planes[ch * plane + at..][..end - i]);
+                }
+            }
+            i = end;
         }
     }
 
@@ -544,41 +573,84 @@ impl TilingEvaluator {
     }
 }
 
-/// What [`blend_row`] reads: level 0's tables, the colour basis and a row's scratch from
-/// [`TilingEvaluator::variance_taps`].
-struct BlendRow<'a> {
-    luts: &'a [[f32; LUT_ENTRIES]; 3],
-    mean: [f32; 3],
-    basis: [[f32; 3]; 3],
-    scratch: &'a [f32],
+/// A band's columns for the row lanes: [`ColumnSpot`]'s fields, one array each, and whether
+/// every `φx` is 0.
+struct Columns {
+    q: Vec<i32>,
+    r: Vec<i32>,
+    phi: Vec<f32>,
+    whole: bool,
+}
+
+/// A row's lanes: the pixels' `u`, weights, `m₀` and `dx`, and per channel the three taps
+/// (`3·channels` arrays, one after the other).
+struct RowLanes {
+    u: Vec<f32>,
+    w: [Vec<f32>; 3],
+    m0: Vec<i32>,
+    dx: Vec<i32>,
+    g: Vec<f32>,
+}
+
+impl RowLanes {
+    fn new(n: usize, channels: usize) -> Self {
+        Self {
+            u: vec![0.0; n],
+            w: std::array::from_fn(|_| vec![0.0; n]),
+            m0: vec![0; n],
+            dx: vec![0; n],
+            g: vec![0.0; 3 * channels * n],
+        }
+    }
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-fn blend_row_avx2<const NC: usize>(row: &BlendRow<'_>, out: &mut [f32]) {
-    blend_row::<NC>(row, out);
+fn variance_row_avx2<const NC: usize>(
+    e: &TilingEvaluator,
+    cols: &Columns,
+    row: &RowSpot,
+    draw: &impl Fn(i32, i32) -> Vertex,
+    lanes: &mut RowLanes,
+    out: &mut [f32],
+) {
+    e.variance_lanes::<NC>(cols, row, draw, lanes, out);
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f")]
-fn blend_row_avx512<const NC: usize>(row: &BlendRow<'_>, out: &mut [f32]) {
-    blend_row::<NC>(row, out);
+fn variance_row_avx512<const NC: usize>(
+    e: &TilingEvaluator,
+    cols: &Columns,
+    row: &RowSpot,
+    draw: &impl Fn(i32, i32) -> Vertex,
+    lanes: &mut RowLanes,
+    out: &mut [f32],
+) {
+    e.variance_lanes::<NC>(cols, row, draw, lanes, out);
+}
+
+/// What [`blend_row`] reads: level 0's tables, the colour basis, and a row's weights and taps.
+struct BlendRow<'a> {
+    luts: &'a [[f32; LUT_ENTRIES]; 3],
+    mean: [f32; 3],
+    basis: [[f32; 3]; 3],
+    w: [&'a [f32]; 3],
+    g: &'a [f32],
 }
 
 /// The variance blend of `NC` channels over a row: `Σ wₖ·gₖ / ‖w‖`, the table, then the basis,
 /// each pixel by the operations of [`TilingEvaluator::eval_level`] in its order (plain `*`,
 /// `+`, `/`, `sqrt`, min/max and truncation: no contraction, the same bits in any lane).
-/// `inline(always)` so that each SIMD wrapper compiles its own copy. A table index is
-/// `min(⌊x⌋, N − 2)` with `0 ≤ x`, so masking it by `N − 1` (a power of two) changes nothing
-/// and lets the compiler drop the bounds checks from the gathers.
+/// A table index is `min(⌊x⌋, N − 2)` with `0 ≤ x`, so masking it by `N − 1` (a power of two)
+/// changes nothing and lets the compiler drop the bounds checks from the gathers.
 #[inline(always)]
 fn blend_row<const NC: usize>(row: &BlendRow<'_>, out: &mut [f32]) {
     const MASK: usize = LUT_ENTRIES - 1;
     let n = out.len() / NC;
-    let s = row.scratch;
-    let (w0, w1, w2) = (&s[..n], &s[n..2 * n], &s[2 * n..3 * n]);
+    let [w0, w1, w2] = row.w.map(|w| &w[..n]);
     let g: [[&[f32]; 3]; NC] =
-        std::array::from_fn(|c| std::array::from_fn(|k| &s[(3 + 3 * c + k) * n..][..n]));
+        std::array::from_fn(|c| std::array::from_fn(|k| &row.g[(3 * c + k) * n..][..n]));
     let table_scale = (LUT_ENTRIES - 1) as f32 / (2.0 * LUT_RANGE);
     let out = &mut out[..n * NC];
     for (i, px) in out.chunks_exact_mut(NC).enumerate() {
@@ -672,12 +744,23 @@ impl RowKernel for TilingEvaluator {
             return self.eval_rows_reference(window, first, out);
         }
         let mut cache: Vec<Vertex> = Vec::with_capacity(2 * span as usize);
-        // The common case in lanes: the variance blend at level 0 without rotation.
-        let lanes = matches!(self.blend, Blend::Variance) && !self.rotates && level == (0, 0.0);
-        let mut scratch = if lanes {
-            vec![0.0f32; 3 * (1 + nc) * width]
+        // The common case in lanes: the variance blend at level 0 without rotation, every
+        // column within the usable range.
+        let lanes = matches!(self.blend, Blend::Variance)
+            && !self.rotates
+            && level == (0, 0.0)
+            && columns.iter().all(Option::is_some);
+        let (cols, mut scratch) = if lanes {
+            let valid = || columns.iter().flatten();
+            let cols = Columns {
+                q: valid().map(|c| c.q).collect(),
+                r: valid().map(|c| c.r).collect(),
+                phi: valid().map(|c| c.phi).collect(),
+                whole: valid().all(|c| c.phi == 0.0),
+            };
+            (Some(cols), Some(RowLanes::new(width, nc)))
         } else {
-            Vec::new()
+            (None, None)
         };
         for (r, line) in out.chunks_exact_mut(width * nc).enumerate() {
             let Some(row) = pixel(window.y(first + r)).map(|y| self.row_spot(y)) else {
@@ -698,16 +781,8 @@ impl RowKernel for TilingEvaluator {
                 let i = m.wrapping_sub(m_lo) as usize + if k == cy { 0 } else { span as usize };
                 cache[i]
             };
-            if lanes {
-                let outside = self.variance_taps(&columns, &row, &draw, &mut scratch);
-                self.variance_blend(&scratch, line);
-                if outside {
-                    for (px, column) in line.chunks_exact_mut(nc).zip(&columns) {
-                        if column.is_none() {
-                            px.copy_from_slice(&self.mean[..nc]);
-                        }
-                    }
-                }
+            if let (Some(cols), Some(scratch)) = (&cols, &mut scratch) {
+                self.variance_row(cols, &row, &draw, scratch, line);
                 continue;
             }
             for (px, column) in line.chunks_exact_mut(nc).zip(&columns) {
