@@ -189,6 +189,11 @@ async function main() {
     console.log(`browser: slider moved: view at pixel ${sv.px},${sv.py}; ${redraw.tiles.coarse} coarse + ${redraw.tiles.fine} fine tiles (fewest ${fewest})`);
     if (sv.px % 256 === 0 || sv.py % 256 === 0) fail(`slider: the view at pixel ${sv.px},${sv.py} is on the world's grid; the check needs one off it`);
     if (redraw.tiles.coarse !== fewest || redraw.tiles.fine !== fewest) fail('slider: the redraw loaded more tiles than the view needs: the grid is not anchored to it');
+    // The view's top-left pixel is the corner of a tile (here the map's centre is a fraction of
+    // a pixel, which Leaflet floors where the map rounds).
+    const anchor = await page.evaluate(() => window.spectex.anchor());
+    const mod = (a) => ((a % 256) + 256) % 256;
+    if (anchor.x !== mod(sv.px) || anchor.y !== mod(sv.py)) fail(`slider: the grid's offset ${anchor.x},${anchor.y} is not the view's top-left pixel ${sv.px},${sv.py} mod 256`);
     const edited = path.join(OUT, 'edited.json');
     fs.writeFileSync(edited, await page.evaluate(async () => (await fetch('/api/model.json')).text()));
     const slid = await check(page, 'slider', edited, zoomed);

@@ -10,7 +10,11 @@
   let version = 0;
   let map = null, fine = null, coarse = null, seams = null;
   // What the browser test reads: the last redraw's times and the number of tiles loaded.
-  window.spectex = { redraws: [], tilesLoaded: 0, ready: false, view: () => viewWindow() };
+  // `anchor`: the tile grid's offset at the current zoom (see `Layer`).
+  window.spectex = {
+    redraws: [], tilesLoaded: 0, ready: false, view: () => viewWindow(),
+    anchor: () => fine.offset(map.getZoom()),
+  };
   performance.setResourceTimingBufferSize(2000);
 
   async function api(path, body) {
@@ -87,8 +91,19 @@
     // while a level loads goes by coordinates alone; with levels of different offsets they are
     // kept a little less exactly, and still drawn where they belong.)
     _getTiledPixelBounds(center) {
-      const b = L.TileLayer.prototype._getTiledPixelBounds.call(this, center);
-      const o = this.offset(this._tileZoom, b.min);
+      const map = this._map, z = this._tileZoom;
+      let b = L.TileLayer.prototype._getTiledPixelBounds.call(this, center);
+      // At the view's own zoom, the view's pixels exactly: Leaflet floors the centre's pixel here
+      // where the map rounds the top-left corner, so with a centre half a pixel off (as zooming
+      // out by the buttons leaves it) `b` began a pixel before the view, and the grid anchored
+      // there left the view's last column (1024 wide) or row without a tile.
+      const zoom = map._animatingZoom ? Math.max(map._animateToZoom, map.getZoom()) : map.getZoom();
+      if (map.getZoomScale(zoom, z) === 1) {
+        const size = map.getSize();
+        const topLeft = map.project(center, z).subtract(size.divideBy(2)).round();
+        b = L.bounds(topLeft, topLeft.add(size));
+      }
+      const o = this.offset(z, b.min);
       return L.bounds(b.min.subtract(o), b.max.subtract(o));
     },
 
