@@ -181,6 +181,19 @@ async function main() {
     }, redraws, 60000);
     const redraw = await page.evaluate(() => window.spectex.redraws[window.spectex.redraws.length - 1]);
     console.log(`browser: slider moved: redrawn (zoomed out 16x) in ${Math.round(redraw.fine)} ms, coarse tiles in ${Math.round(redraw.coarse)} ms`);
+    // A redraw anchors the tile grid to the view: this one (panned, then zoomed out around its
+    // centre, so off the world's 256-pixel grid) loads the fewest tiles a view of its size can
+    // have, as one at the origin does, in each layer.
+    const sv = await page.evaluate(() => window.spectex.view());
+    const fewest = Math.ceil(sv.w / 256) * Math.ceil(sv.h / 256);
+    console.log(`browser: slider moved: view at pixel ${sv.px},${sv.py}; ${redraw.tiles.coarse} coarse + ${redraw.tiles.fine} fine tiles (fewest ${fewest})`);
+    if (sv.px % 256 === 0 || sv.py % 256 === 0) fail(`slider: the view at pixel ${sv.px},${sv.py} is on the world's grid; the check needs one off it`);
+    if (redraw.tiles.coarse !== fewest || redraw.tiles.fine !== fewest) fail('slider: the redraw loaded more tiles than the view needs: the grid is not anchored to it');
+    // The view's top-left pixel is the corner of a tile (here the map's centre is a fraction of
+    // a pixel, which Leaflet floors where the map rounds).
+    const anchor = await page.evaluate(() => window.spectex.anchor());
+    const mod = (a) => ((a % 256) + 256) % 256;
+    if (anchor.x !== mod(sv.px) || anchor.y !== mod(sv.py)) fail(`slider: the grid's offset ${anchor.x},${anchor.y} is not the view's top-left pixel ${sv.px},${sv.py} mod 256`);
     const edited = path.join(OUT, 'edited.json');
     fs.writeFileSync(edited, await page.evaluate(async () => (await fetch('/api/model.json')).text()));
     const slid = await check(page, 'slider', edited, zoomed);

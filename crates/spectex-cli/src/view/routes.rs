@@ -999,9 +999,12 @@ fn plane_and_period(q: &Query) -> Result<(f64, Option<Period>, bool), HttpError>
     Ok((z, period, filter))
 }
 
-/// `GET /tile/{zoom}/{tx}/{ty}.png?v&filter&z&periodic&s&q&size`.
+/// `GET /tile/{zoom}/{tx}/{ty}.png?v&filter&z&periodic&s&q&size&ox&oy`.
 fn tile_request(shared: &Shared, path: &str, query: &str) -> Result<Routed, HttpError> {
-    let q = Query::parse(query, &["v", "filter", "z", "periodic", "s", "q", "size"])?;
+    let q = Query::parse(
+        query,
+        &["v", "filter", "z", "periodic", "s", "q", "size", "ox", "oy"],
+    )?;
     let parts: Vec<&str> = path["/tile/".len()..].split('/').collect();
     let [zoom, tx, ty] = parts.as_slice() else {
         return Err(HttpError::bad("a tile is /tile/ZOOM/X/Y.png"));
@@ -1030,7 +1033,7 @@ fn tile_request(shared: &Shared, path: &str, query: &str) -> Result<Routed, Http
         .choice("size", "256", &TILE_SIZES)?
         .parse()
         .map_err(|_| HttpError::status(500, "internal: a tile size is not a number"))?;
-    // Tiles whose corner stays within ±2^30 model pixels.
+    // Tiles whose corner stays within ±2^30 model pixels (also with an offset, under a tile).
     let max_tile = (MAX_POSITION / (size as f64 * scale)).floor() as i64 - 1;
     let tx = int("x", tx, -max_tile, max_tile)?;
     let ty = int("y", ty, -max_tile, max_tile)?;
@@ -1042,12 +1045,27 @@ fn tile_request(shared: &Shared, path: &str, query: &str) -> Result<Routed, Http
     if version != current {
         return Err(stale(current));
     }
+    // The grid's offset, in pixels of a full-resolution tile: the page anchors its grid to
+    // the view (so an unaligned view needs no more tiles than an aligned one). A coarse tile
+    // takes its fine twin's offset in those same pixels, so the two cover one region.
+    let max_offset = TILE as i64 - 1;
+    let ox = q.int_in("ox", Some(0), 0, max_offset)?;
+    let oy = q.int_in("oy", Some(0), 0, max_offset)?;
     let side = size as f64 * scale;
+    // A power of two times a whole number of pixels: the corner is exact, as `--offset` of the
+    // same numbers is.
+    let pixel = side / TILE as f64;
     let window = Window::new(size, size)
-        .at([tx as f64 * side, ty as f64 * side], scale)
+        .at(
+            [
+                tx as f64 * side + ox as f64 * pixel,
+                ty as f64 * side + oy as f64 * pixel,
+            ],
+            scale,
+        )
         .filtered(filter_flag(!filter));
     let key = format!(
-        "{version}/{zoom}/{size}/{tx}/{ty}/{filter}/{}/{:?}",
+        "{version}/{zoom}/{size}/{tx}/{ty}/{ox}/{oy}/{filter}/{}/{:?}",
         z.to_bits(),
         period.map(|p| p.to_array())
     );

@@ -204,6 +204,48 @@ fn tiles_and_renders_are_the_bytes_of_spectex_render() {
             &["--size", "64x64", "--offset", "768,-256", "--scale", "4"],
             "png",
         ),
+        // A grid anchored to the view (`ox`, `oy`: its offset in pixels of a fine tile): at
+        // the origin, at 1e7 exactly (tile 39062 plus 128 pixels), and zoomed out 16× (16
+        // model pixels a pixel).
+        (
+            "/tile/0/0/0.png?v=1&ox=44&oy=181",
+            &["--size", "256x256", "--offset", "44,181"],
+            "png",
+        ),
+        (
+            "/tile/0/39062/39062.png?v=1&ox=128&oy=128",
+            &["--size", "256x256", "--offset", "1e7,1e7"],
+            "png",
+        ),
+        (
+            "/tile/0/39062/39061.png?v=1&ox=129&oy=255",
+            &["--size", "256x256", "--offset", "10000001,9999871"],
+            "png",
+        ),
+        (
+            "/tile/-4/-1/2.png?v=1&ox=3&oy=100",
+            &[
+                "--size",
+                "256x256",
+                "--offset",
+                "-4048,9792",
+                "--scale",
+                "16",
+            ],
+            "png",
+        ),
+        // The coarse twin of the anchored tile (0, 3, -1), ox = 6, oy = 255: the same region,
+        // (774, -1) to (1030, 255), at a quarter of the resolution.
+        (
+            "/tile/0/3/-1.png?v=1&ox=6&oy=255",
+            &["--size", "256x256", "--offset", "774,-1"],
+            "png",
+        ),
+        (
+            "/tile/-2/3/-1.png?v=1&q=c&size=64&ox=6&oy=255",
+            &["--size", "64x64", "--offset", "774,-1", "--scale", "4"],
+            "png",
+        ),
         // Zoomed out 16×, filtered (the default) and not.
         (
             "/tile/-4/-1/2.png?v=1",
@@ -407,6 +449,35 @@ fn bad_parameters_are_400_naming_the_field() {
             None,
             400,
             "size = '100' is not one of 64, 256",
+        ),
+        // The grid's offset: a whole number of pixels within one tile.
+        (
+            "GET",
+            "/tile/0/0/0.png?v=1&ox=NaN",
+            None,
+            400,
+            "ox = 'NaN' is not a whole number; give one in [0, 255]",
+        ),
+        (
+            "GET",
+            "/tile/0/0/0.png?v=1&oy=-1",
+            None,
+            400,
+            "oy = -1 is outside its valid range [0, 255]",
+        ),
+        (
+            "GET",
+            "/tile/-2/0/0.png?v=1&q=c&size=64&ox=256",
+            None,
+            400,
+            "ox = 256 is outside its valid range [0, 255]",
+        ),
+        (
+            "GET",
+            "/tile/0/0/0.png?v=1&oy=2.5",
+            None,
+            400,
+            "oy = '2.5' is not a whole number",
         ),
         (
             "GET",

@@ -10,7 +10,11 @@
   let version = 0;
   let map = null, fine = null, coarse = null, seams = null;
   // What the browser test reads: the last redraw's times and the number of tiles loaded.
-  window.spectex = { redraws: [], tilesLoaded: 0, ready: false, view: () => viewWindow() };
+  // `anchor`: the tile grid's offset at the current zoom (see `Layer`).
+  window.spectex = {
+    redraws: [], tilesLoaded: 0, ready: false, view: () => viewWindow(),
+    anchor: () => fine.offset(map.getZoom()),
+  };
   performance.setResourceTimingBufferSize(2000);
 
   async function api(path, body) {
@@ -23,8 +27,11 @@
     return text ? JSON.parse(text) : null;
   }
 
-  function tileQuery(q, size) {
-    const p = new URLSearchParams({ v: version, filter: opts.filter ? 1 : 0, z: opts.z, s: session, q });
+  // `offset`: the tile grid's (see `Layer`), in screen pixels, which are the pixels of a fine tile.
+  function tileQuery(q, size, offset) {
+    const p = new URLSearchParams({
+      v: version, filter: opts.filter ? 1 : 0, z: opts.z, s: session, q, ox: offset.x, oy: offset.y,
+    });
     if (size) p.set('size', size);
     if (opts.periodic) p.set('periodic', opts.periodic);
     return p.toString();
@@ -39,9 +46,80 @@
     return p.toString();
   }
 
+  // The tile grid is anchored to the view: when a redraw starts, each zoom level's grid is
+  // shifted so that the view's top-left pixel is a tile corner. A grid fixed in world space
+  // needs 5 × 5 tiles of 256² for an unaligned 1024² view (1.56 times its area, and the redraw's
+  // time with it); anchored, 4 × 4 as at the origin. `grid` maps a zoom level to its offset: the
+  // screen pixel, in [0, tile), where tile (0, 0) of that level starts. A new map for each
+  // redraw; a level first shown after it is aligned with the view then (lazily), and pans keep
+  // the offsets, so the tiles already loaded stay where they are. A layer keeps the map it last
+  // redrew with, for its tiles never move: the fine layer keeps its old tiles, and their map,
+  // until it redraws once the coarse tiles are in. Both layers redraw with the same map, so a
+  // coarse tile and its fine twin share coordinates and region.
+  let grid = new Map();
+  const mod = (a, n) => ((a % n) + n) % n;
   const Layer = L.TileLayer.extend({
+    initialize(url, options) {
+      L.TileLayer.prototype.initialize.call(this, url, options);
+      this._grid = grid;
+    },
+
+    redraw() {
+      // The old tiles go (their `tileunload` naming their old offset) before the map changes.
+      if (this._map) this._removeAllTiles();
+      this._grid = grid;
+      return L.TileLayer.prototype.redraw.call(this);
+    },
+
+    // The offset of zoom level `z`. A level new to the map is aligned with `topLeft`, the view's
+    // top-left pixel at `z` (by default, the view's now).
+    offset(z, topLeft) {
+      let o = this._grid.get(z);
+      if (!o) {
+        const t = this.getTileSize();
+        const tl = topLeft || this._map.getPixelBounds(this._map.getCenter(), z).min;
+        o = L.point(mod(Math.round(tl.x), t.x), mod(Math.round(tl.y), t.y));
+        this._grid.set(z, o);
+      }
+      return o;
+    },
+
+    // Leaflet maps tile coordinates to pixels here (`_getTiledPixelBounds` gives `_update` the
+    // pixels to cover, whose tile range, keep-buffer and pruning follow; `_getTilePos` places a
+    // tile; `_tileCoordsToNwSe` gives its bounds): each shifted by the level's offset, so the
+    // rest of GridLayer sees a grid of whole tiles. (Retaining a parent or child level's tiles
+    // while a level loads goes by coordinates alone; with levels of different offsets they are
+    // kept a little less exactly, and still drawn where they belong.)
+    _getTiledPixelBounds(center) {
+      const map = this._map, z = this._tileZoom;
+      let b = L.TileLayer.prototype._getTiledPixelBounds.call(this, center);
+      // At the view's own zoom, the view's pixels exactly: Leaflet floors the centre's pixel here
+      // where the map rounds the top-left corner, so with a centre half a pixel off (as zooming
+      // out by the buttons leaves it) `b` began a pixel before the view, and the grid anchored
+      // there left the view's last column (1024 wide) or row without a tile.
+      const zoom = map._animatingZoom ? Math.max(map._animateToZoom, map.getZoom()) : map.getZoom();
+      if (map.getZoomScale(zoom, z) === 1) {
+        const size = map.getSize();
+        const topLeft = map.project(center, z).subtract(size.divideBy(2)).round();
+        b = L.bounds(topLeft, topLeft.add(size));
+      }
+      const o = this.offset(z, b.min);
+      return L.bounds(b.min.subtract(o), b.max.subtract(o));
+    },
+
+    _getTilePos(coords) {
+      return L.TileLayer.prototype._getTilePos.call(this, coords).add(this.offset(coords.z));
+    },
+
+    _tileCoordsToNwSe(coords) {
+      const size = this.getTileSize();
+      const nw = coords.scaleBy(size).add(this.offset(coords.z));
+      return [this._map.unproject(nw, coords.z), this._map.unproject(nw.add(size), coords.z)];
+    },
+
     getTileUrl(c) {
-      return `/tile/${this._getZoomForUrl()}/${c.x}/${c.y}.png?${tileQuery(this.options.q, this.options.size)}`;
+      const q = tileQuery(this.options.q, this.options.size, this.offset(c.z));
+      return `/tile/${this._getZoomForUrl()}/${c.x}/${c.y}.png?${q}`;
     },
   });
 
@@ -118,6 +196,7 @@
   let onCoarse = null, onFine = null;
   function redraw() {
     const t0 = performance.now();
+    grid = new Map();
     const record = { coarse: null, fine: null, tiles: null };
     window.spectex.redraws.push(record);
     $('timing').textContent = 'drawing…';
@@ -152,12 +231,17 @@
   // there is no GPU: headless Chromium spent as much CPU on a redraw's two dozen frames as the
   // server spent rendering it. So during a redraw the new fine tiles are shown in batches, at
   // most one per BATCH_MS and the last ones at once; and a coarse tile whose fine twin (same
-  // coordinates) is shown is hidden rather than drawn beneath it. Pans and zooms show tiles as
-  // Leaflet does.
+  // coordinates and grid offset) is shown is hidden rather than drawn beneath it. Pans and
+  // zooms show tiles as Leaflet does.
   const BATCH_MS = 100;
   let holding = false;
   function showInBatches() {
-    const key = (c) => `${c.x}:${c.y}:${c.z}`;
+    // (The offset too: between a redraw's start and the fine layer's redraw the two layers'
+    // grids differ, and a fine tile of the same coordinates is no twin.)
+    const key = (e) => {
+      const c = e.coords, o = e.target.offset(c.z);
+      return `${c.x}:${c.y}:${c.z}:${o.x}:${o.y}`;
+    };
     const held = new Map(), shown = new Set(), coarseTiles = new Map();
     let timer = null;
     const show = (k, el) => {
@@ -172,7 +256,7 @@
       held.clear();
     };
     fine.on('tileload', (e) => {
-      const k = key(e.coords);
+      const k = key(e);
       if (!holding) { show(k, e.tile); return; }
       e.tile.classList.add('held');
       held.set(k, e.tile);
@@ -180,17 +264,17 @@
     });
     fine.on('load', () => { holding = false; showHeld(); });
     fine.on('tileunload', (e) => {
-      const k = key(e.coords);
+      const k = key(e);
       held.delete(k);
       shown.delete(k);
       coarseTiles.get(k)?.classList.remove('covered');
     });
     coarse.on('tileload', (e) => {
-      const k = key(e.coords);
+      const k = key(e);
       coarseTiles.set(k, e.tile);
       e.tile.classList.toggle('covered', shown.has(k));
     });
-    coarse.on('tileunload', (e) => { coarseTiles.delete(key(e.coords)); });
+    coarse.on('tileunload', (e) => { coarseTiles.delete(key(e)); });
   }
 
   function setStatus(text) { $('status').textContent = text; }
