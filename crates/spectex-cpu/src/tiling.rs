@@ -658,9 +658,14 @@ fn blend_row<const NC: usize>(row: &BlendRow<'_>, out: &mut [f32]) {
         let mut t = [0.0f32; NC];
         for (c, tc) in t.iter_mut().enumerate() {
             let blended = ((w0[i] * g[c][0][i] + w1[i] * g[c][1][i]) + w2[i] * g[c][2][i]) / scale;
-            let x = (blended.clamp(-LUT_RANGE, LUT_RANGE) + LUT_RANGE) * table_scale;
-            // 0 ≤ x ≤ N − 1: the truncation is ⌊x⌋.
-            let j = (x as i32).min(LUT_ENTRIES as i32 - 2);
+            // `clamp` by `max` then `min`, which also turn a NaN (impossible: the taps of a
+            // valid model are finite) into −R: the same values, and 0 ≤ x ≤ N − 1 always.
+            #[allow(clippy::manual_clamp, reason = "clamp keeps a NaN; max and min do not")]
+            let x = (blended.max(-LUT_RANGE).min(LUT_RANGE) + LUT_RANGE) * table_scale;
+            // SAFETY: 0 ≤ x ≤ N − 1 (above), so x is finite and within i32; the plain truncation
+            // is ⌊x⌋ without the saturating cast's checks.
+            #[allow(unsafe_code)]
+            let j = unsafe { x.to_int_unchecked::<i32>() }.min(LUT_ENTRIES as i32 - 2);
             let f = x - j as f32;
             let lut = &row.luts[c];
             let (a, b) = (lut[j as usize & MASK], lut[(j + 1) as usize & MASK]);
