@@ -113,6 +113,25 @@ impl Simd {
         }
         Self::Portable
     }
+
+    /// The portable level (`false`) or AVX2 where the CPU has it (`true`): what an
+    /// evaluator's `set_avx2` selects for tests comparing the code paths.
+    pub(crate) fn up_to_avx2(enabled: bool) -> Self {
+        if enabled && Self::detect() != Self::Portable {
+            Self::Avx2
+        } else {
+            Self::Portable
+        }
+    }
+
+    /// The widest level the CPU has, or the one below AVX-512 when `!enabled`: what an
+    /// evaluator's `set_avx512` selects.
+    pub(crate) fn with_avx512(enabled: bool) -> Self {
+        match Self::detect() {
+            Self::Avx512 if !enabled => Self::Avx2,
+            level => level,
+        }
+    }
 }
 
 /// The random draws of one lattice row of one stratum, for the lattice columns a window needs.
@@ -291,21 +310,14 @@ impl LrpEvaluator {
     /// comparing the code paths.
     #[doc(hidden)]
     pub fn set_avx2(&mut self, enabled: bool) {
-        self.simd = if enabled && Simd::detect() != Simd::Portable {
-            Simd::Avx2
-        } else {
-            Simd::Portable
-        };
+        self.simd = Simd::up_to_avx2(enabled);
     }
 
     /// Uses AVX-512 when the CPU has it (`true`, the default), else the level below; for tests
     /// comparing the code paths. Returns whether AVX-512 is in use.
     #[doc(hidden)]
     pub fn set_avx512(&mut self, enabled: bool) -> bool {
-        self.simd = Simd::detect();
-        if !enabled && self.simd == Simd::Avx512 {
-            self.simd = Simd::Avx2;
-        }
+        self.simd = Simd::with_avx512(enabled);
         self.simd == Simd::Avx512
     }
 

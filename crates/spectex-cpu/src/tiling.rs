@@ -178,21 +178,14 @@ impl TilingEvaluator {
     /// comparing the code paths.
     #[doc(hidden)]
     pub fn set_avx2(&mut self, enabled: bool) {
-        self.simd = if enabled && Simd::detect() != Simd::Portable {
-            Simd::Avx2
-        } else {
-            Simd::Portable
-        };
+        self.simd = Simd::up_to_avx2(enabled);
     }
 
     /// Uses AVX-512 when the CPU has it (`true`, the default), else the level below; for tests
     /// comparing the code paths. Returns whether AVX-512 is in use.
     #[doc(hidden)]
     pub fn set_avx512(&mut self, enabled: bool) -> bool {
-        self.simd = Simd::detect();
-        if !enabled && self.simd == Simd::Avx512 {
-            self.simd = Simd::Avx2;
-        }
+        self.simd = Simd::with_avx512(enabled);
         self.simd == Simd::Avx512
     }
 

@@ -35,6 +35,45 @@ fn windows() -> Vec<(&'static str, Window)> {
 /// A SIMD level by name and how to select it on an evaluator (`false`: the CPU lacks it).
 type SimdLevel<E> = (&'static str, fn(&mut E) -> bool);
 
+/// The row kernels whose SIMD level tests choose (`set_avx2`, `set_avx512`).
+trait SimdChoice {
+    fn set_avx2(&mut self, enabled: bool);
+    fn set_avx512(&mut self, enabled: bool) -> bool;
+}
+
+impl SimdChoice for PhasorEvaluator {
+    fn set_avx2(&mut self, enabled: bool) {
+        PhasorEvaluator::set_avx2(self, enabled);
+    }
+    fn set_avx512(&mut self, enabled: bool) -> bool {
+        PhasorEvaluator::set_avx512(self, enabled)
+    }
+}
+
+impl SimdChoice for TilingEvaluator {
+    fn set_avx2(&mut self, enabled: bool) {
+        TilingEvaluator::set_avx2(self, enabled);
+    }
+    fn set_avx512(&mut self, enabled: bool) -> bool {
+        TilingEvaluator::set_avx512(self, enabled)
+    }
+}
+
+/// Portable, AVX2 and AVX-512 (where the CPU has them) for a row kernel.
+fn row_kernel_levels<E: SimdChoice>() -> [SimdLevel<E>; 3] {
+    [
+        ("portable", |e| {
+            e.set_avx2(false);
+            true
+        }),
+        ("avx2", |e| {
+            e.set_avx2(true);
+            true
+        }),
+        ("avx512", |e| e.set_avx512(true)),
+    ]
+}
+
 /// The first index where `a` and `b` differ in bits, with both values.
 fn first_difference(a: &[f32], b: &[f32]) -> Option<(usize, f32, f32)> {
     assert_eq!(a.len(), b.len());
@@ -77,18 +116,7 @@ fn phasor_rows_match_the_per_pixel_sum_at_every_simd_level() {
             continue;
         };
         let mut eval = PhasorEvaluator::new(m, case.z);
-        let levels: [SimdLevel<PhasorEvaluator>; 3] = [
-            ("portable", |e| {
-                e.set_avx2(false);
-                true
-            }),
-            ("avx2", |e| {
-                e.set_avx2(true);
-                true
-            }),
-            ("avx512", |e| e.set_avx512(true)),
-        ];
-        for (level, set) in levels {
+        for (level, set) in row_kernel_levels() {
             if !set(&mut eval) {
                 continue;
             }
@@ -223,18 +251,7 @@ fn tiling_rows_match_the_reference_at_every_simd_level() {
             continue;
         };
         let mut eval = TilingEvaluator::new(m, None).unwrap();
-        let levels: [SimdLevel<TilingEvaluator>; 3] = [
-            ("portable", |e| {
-                e.set_avx2(false);
-                true
-            }),
-            ("avx2", |e| {
-                e.set_avx2(true);
-                true
-            }),
-            ("avx512", |e| e.set_avx512(true)),
-        ];
-        for (level, set) in levels {
+        for (level, set) in row_kernel_levels() {
             if !set(&mut eval) {
                 continue;
             }
