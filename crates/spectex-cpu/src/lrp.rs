@@ -469,9 +469,11 @@ fn stratum_row_avx512<const FILTERED: bool>(
 /// support's chord of the row only, `L` consecutive pixels at a time. Pixels outside the support
 /// that share a group get an exact `+0` (the window is exactly 0 there), so every pixel sums the
 /// same non-zero terms in the same order whatever group it falls in: any tiling of a window, and
-/// any lane count, gives the same bits. `inline(always)` so that each SIMD wrapper compiles its
-/// own copy; the arithmetic is the same in all. `FILTERED`: each cosine is multiplied by its
-/// gain (a minified render); without it the loop is exactly the unfiltered one.
+/// any lane count, gives the same bits. A chord of at most `L/4` pixels (a minified row) is
+/// added pixel by pixel with the point's cosines in the lanes ([`chord_pixel`]): the same
+/// operations again. `inline(always)` so that each SIMD wrapper compiles its own copy; the
+/// arithmetic is the same in all. `FILTERED`: each cosine is multiplied by its gain (a
+/// minified render); without it the loop is exactly the unfiltered one.
 #[inline(always)]
 fn stratum_row<const L: usize, const FILTERED: bool>(
     s: &PreparedStratum,
@@ -507,6 +509,20 @@ fn stratum_row<const L: usize, const FILTERED: bool>(
             };
             let base = col * j;
             let (fxs, cs) = (&row.fx[base..base + j], &offsets[base..base + j]);
+            let gs = if FILTERED {
+                &row.gain[base..base + j]
+            } else {
+                &[][..]
+            };
+            // A chord of a few pixels (a minified row, where a point's support spans a pixel
+            // or two): lanes over the point's cosines, pixel by pixel, instead of a group of
+            // pixel lanes mostly past the chord.
+            if (i_hi - i_lo + 1) * 4 <= L {
+                for i in i_lo..=i_hi {
+                    sum[i] += chord_pixel::<L, FILTERED>(window.x(i), lx, dy2, s, fxs, cs, gs);
+                }
+                continue;
+            }
             let mut start = i_lo;
             while start <= i_hi {
                 let mut dx = [0.0f32; L];
@@ -521,7 +537,6 @@ fn stratum_row<const L: usize, const FILTERED: bool>(
                 }
                 let mut acc = [0.0f32; L];
                 if FILTERED {
-                    let gs = &row.gain[base..base + j];
                     for ((&fx, &c), &g) in fxs.iter().zip(cs).zip(gs) {
                         for lane in 0..L {
                             acc[lane] += g * cos_turns(fx * dx[lane] + c);
@@ -542,6 +557,43 @@ fn stratum_row<const L: usize, const FILTERED: bool>(
             }
         }
     }
+}
+
+/// What one lattice point adds to the pixel at `x` ([`stratum_row`]'s `w·acc` for that
+/// pixel): the point's cosines `L` at a time in lanes, then summed in their order, so each
+/// operation is the one the pixel's lane performs there (the same bits).
+#[inline(always)]
+#[allow(clippy::too_many_arguments, reason = "one point's row slices and the row's terms")]
+fn chord_pixel<const L: usize, const FILTERED: bool>(
+    x: f64,
+    lx: f64,
+    dy2: f32,
+    s: &PreparedStratum,
+    fxs: &[f32],
+    cs: &[f32],
+    gs: &[f32],
+) -> f32 {
+    let dx = (x - lx) as f32;
+    let r2 = (dx * dx + dy2) * s.inv_delta2;
+    let w = kaiser_bessel_r2(r2);
+    let mut acc = 0.0f32;
+    for (k, (fx, c)) in fxs.chunks(L).zip(cs.chunks(L)).enumerate() {
+        let mut lanes = [0.0f32; L];
+        let (mut fxl, mut cl, mut gl) = ([0.0f32; L], [0.0f32; L], [0.0f32; L]);
+        fxl[..fx.len()].copy_from_slice(fx);
+        cl[..c.len()].copy_from_slice(c);
+        if FILTERED {
+            gl[..fx.len()].copy_from_slice(&gs[k * L..][..fx.len()]);
+        }
+        for lane in 0..L {
+            let t = cos_turns(fxl[lane] * dx + cl[lane]);
+            lanes[lane] = if FILTERED { gl[lane] * t } else { t };
+        }
+        for t in &lanes[..fx.len()] {
+            acc += t;
+        }
+    }
+    w * acc
 }
 
 /// `r²/Δ²` of pixel `i` from a lattice point at `lx`, in f32 exactly as the lanes compute it.
