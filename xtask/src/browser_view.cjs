@@ -203,6 +203,9 @@ async function main() {
     await page.press('#goto-text', 'Enter');
     await until(page, () => window.spectex.view().x === 1e7, undefined, 10000);
     const far = await check(page, 'goto-1e7', edited, slid);
+    // The jump dropped every tile: the grid is anchored to the new view, as at a redraw.
+    const jumped = await page.evaluate(() => ({ a: window.spectex.anchor(), v: window.spectex.view() }));
+    if (jumped.a.x !== mod(jumped.v.px) || jumped.a.y !== mod(jumped.v.py)) fail(`goto-1e7: the grid's offset ${jumped.a.x},${jumped.a.y} is not the view's top-left pixel ${jumped.v.px},${jumped.v.py} mod 256`);
     for (let i = 0; i < 4; i++) {
       const z = await page.evaluate(() => window.spectex.view().scale);
       await page.click('.leaflet-control-zoom-in');

@@ -576,6 +576,14 @@
     seams = L.layerGroup().addTo(map);
     window.spectex.map = map;
     fine.once('load', () => { window.spectex.ready = true; });
+    // A jump (go to, or a view set farther than a pan reaches) makes Leaflet drop every tile
+    // (`viewprereset`, after the layers' own handlers have removed them): the new view's grid is
+    // anchored afresh, as at a redraw, so that it too needs the fewest tiles.
+    map.on('viewprereset', () => {
+      grid = new Map();
+      fine._grid = grid;
+      coarse._grid = grid;
+    });
     map.on('moveend', () => { showWhere(); drawSeams(); postView(); });
     map.on('mousemove', (e) => {
       setStatus(`pointer at ${fmt(e.latlng.lng)}, ${fmt(-e.latlng.lat)}`);
