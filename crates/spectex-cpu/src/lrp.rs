@@ -563,7 +563,10 @@ fn stratum_row<const L: usize, const FILTERED: bool>(
 /// pixel): the point's cosines `L` at a time in lanes, then summed in their order, so each
 /// operation is the one the pixel's lane performs there (the same bits).
 #[inline(always)]
-#[allow(clippy::too_many_arguments, reason = "one point's row slices and the row's terms")]
+#[allow(
+    clippy::too_many_arguments,
+    reason = "one point's row slices and the row's terms"
+)]
 fn chord_pixel<const L: usize, const FILTERED: bool>(
     x: f64,
     lx: f64,
