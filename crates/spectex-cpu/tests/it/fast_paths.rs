@@ -116,24 +116,7 @@ fn phasor_rows_match_the_per_pixel_sum_at_every_simd_level() {
             continue;
         };
         let mut eval = PhasorEvaluator::new(m, case.z);
-        for (level, set) in row_kernel_levels() {
-            if !set(&mut eval) {
-                continue;
-            }
-            for (name, window) in windows() {
-                let mut fast = vec![0.0f32; window.width * window.height];
-                let mut reference = fast.clone();
-                eval.eval_rows(&window, 0, &mut fast);
-                eval.eval_rows_reference(&window, 0, &mut reference);
-                if let Some((i, a, b)) = first_difference(&fast, &reference) {
-                    panic!(
-                        "{} on {level}, {name}: value {i} is {a:e}, the reference's {b:e}",
-                        case.name
-                    );
-                }
-                compared += 1;
-            }
-        }
+        compared += compare_rows(&case.name, &mut eval, row_kernel_levels(), &windows());
     }
     assert!(
         compared >= 5 * 2 * windows().len(),
@@ -251,24 +234,7 @@ fn tiling_rows_match_the_reference_at_every_simd_level() {
             continue;
         };
         let mut eval = TilingEvaluator::new(m, None).unwrap();
-        for (level, set) in row_kernel_levels() {
-            if !set(&mut eval) {
-                continue;
-            }
-            for (name, window) in &windows {
-                let n = window.width * window.height * m.channels as usize;
-                let (mut fast, mut reference) = (vec![0.0f32; n], vec![0.0f32; n]);
-                eval.eval_rows(window, 0, &mut fast);
-                eval.eval_rows_reference(window, 0, &mut reference);
-                if let Some((i, a, b)) = first_difference(&fast, &reference) {
-                    panic!(
-                        "{} on {level}, {name}: value {i} is {a:e}, the reference's {b:e}",
-                        case.name
-                    );
-                }
-                compared += 1;
-            }
-        }
+        compared += compare_rows(&case.name, &mut eval, row_kernel_levels(), &windows);
     }
     assert!(
         compared >= 2 * 2 * windows.len(),
@@ -294,16 +260,30 @@ fn classic_levels() -> [SimdLevel<ClassicEvaluator>; 3] {
 /// Renders `m` on the plane `z` over `windows` at every SIMD level the CPU has and panics at
 /// the first value that differs in bits from the reference path; the number of renders compared.
 fn compare_classic_rows(name: &str, m: &ClassicNoise, z: f64, windows: &[(&str, Window)]) -> usize {
-    let mut eval = ClassicEvaluator::new(m, z);
-    let levels = classic_levels();
+    compare_rows(
+        name,
+        &mut ClassicEvaluator::new(m, z),
+        classic_levels(),
+        windows,
+    )
+}
+
+/// Renders `windows` on `eval`'s fast and reference paths at each of `levels` the CPU has and
+/// panics at the first value whose bits differ; the number of renders compared.
+fn compare_rows<E: RowKernel>(
+    name: &str,
+    eval: &mut E,
+    levels: [SimdLevel<E>; 3],
+    windows: &[(&str, Window)],
+) -> usize {
     let mut compared = 0;
     for (level, set) in levels {
-        if !set(&mut eval) {
+        if !set(eval) {
             continue;
         }
         for (window_name, window) in windows {
-            let mut fast = vec![0.0f32; window.width * window.height];
-            let mut reference = fast.clone();
+            let n = window.width * window.height * eval.output_channels();
+            let (mut fast, mut reference) = (vec![0.0f32; n], vec![0.0f32; n]);
             eval.eval_rows(window, 0, &mut fast);
             eval.eval_rows_reference(window, 0, &mut reference);
             if let Some((i, a, b)) = first_difference(&fast, &reference) {
