@@ -37,12 +37,7 @@ fn exemplars(s: &mut Session<'_>) -> Result<Vec<(String, Array2<f64>)>> {
             )]);
         }
         Effort::Quick => &["skimage_gravel.png"],
-        Effort::Full => &[
-            "skimage_gravel.png",
-            "astex_ambientcg_sand_height_512.png",
-            "skimage_grass.png",
-            "astex_ambientcg_dirt_height_512.png",
-        ],
+        Effort::Full => &crate::NOISE_EXEMPLARS,
     };
     let mut out = Vec::new();
     for name in names {

@@ -442,6 +442,15 @@ impl Session<'_> {
     }
 }
 
+/// The grey exemplars of noise by example (`../shared/testdata/textures/`): LRP's and Gabor
+/// noise by example's claims, and the side-by-side table of the by-example methods.
+pub(crate) const NOISE_EXEMPLARS: [&str; 4] = [
+    "skimage_gravel.png",
+    "astex_ambientcg_sand_height_512.png",
+    "skimage_grass.png",
+    "astex_ambientcg_dirt_height_512.png",
+];
+
 /// The built-in exemplar `crates/spectex-cli/default_exemplar.png` (256² RGB, made by the project).
 pub(crate) fn builtin_exemplar() -> Result<Array3<f64>> {
     load_planes(&Path::new(env!("CARGO_MANIFEST_DIR")).join("../spectex-cli/default_exemplar.png"))

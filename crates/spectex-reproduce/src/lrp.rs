@@ -586,12 +586,7 @@ fn noise_by_example(s: &mut Session<'_>) -> Result<()> {
     let names: &[&'static str] = match s.effort() {
         Effort::Tiny => &[],
         Effort::Quick => &["skimage_gravel.png"],
-        Effort::Full => &[
-            "skimage_gravel.png",
-            "astex_ambientcg_sand_height_512.png",
-            "skimage_grass.png",
-            "astex_ambientcg_dirt_height_512.png",
-        ],
+        Effort::Full => &crate::NOISE_EXEMPLARS,
     };
     let side = s.effort().side();
     let mut fft = Fft2::new();

@@ -54,20 +54,20 @@ const COLOUR: [&str; 4] = [
     "swadsack_ambientcg_mossyrock_512.jpg",
     "terrain3d_ambientcg_cliffrock_512.png",
 ];
-/// The grey exemplars of the side-by-side table (Gabor noise by example's).
-const GREY: [&str; 4] = [
-    "skimage_gravel.png",
-    "astex_ambientcg_sand_height_512.png",
-    "skimage_grass.png",
-    "astex_ambientcg_dirt_height_512.png",
-];
 
 pub(crate) fn reproduce(s: &mut Session<'_>) -> Result<()> {
     s.step("tiling and blending, and the four methods side by side");
     let (names, side): (Vec<&str>, usize) = match s.effort() {
         Effort::Tiny => (Vec::new(), 128),
         Effort::Quick => (vec![COLOUR[2]], 512),
-        Effort::Full => (COLOUR.iter().chain(&GREY).copied().collect(), 1024),
+        Effort::Full => (
+            COLOUR
+                .iter()
+                .chain(&crate::NOISE_EXEMPLARS)
+                .copied()
+                .collect(),
+            1024,
+        ),
     };
     let mut exemplars = Vec::new();
     for name in names {

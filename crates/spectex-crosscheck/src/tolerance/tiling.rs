@@ -30,6 +30,14 @@ const INDEX_ROUNDINGS: f64 = 2.0;
 /// product-add and the difference).
 const LOOKUP_ROUNDINGS: f64 = 2.0;
 
+/// The largest magnitude of the Gaussianised exemplar's values.
+fn gaussian_max(m: &TilingTexture) -> f64 {
+    m.gaussian
+        .iter()
+        .map(|g| f64::from(g.abs()))
+        .fold(0.0, f64::max)
+}
+
 /// The tables' largest step between neighbouring entries and largest magnitude, over every
 /// level and channel.
 fn lut_bounds(tables: &TilingTables) -> (f64, f64) {
@@ -65,11 +73,7 @@ fn lut_bounds(tables: &TilingTables) -> (f64, f64) {
 pub fn tiling(m: &TilingTexture) -> Vec<Tolerance> {
     let u = F32_UNIT_ROUNDOFF;
     let tables = m.tables();
-    let g_max = m
-        .gaussian
-        .iter()
-        .map(|g| f64::from(g.abs()))
-        .fold(0.0, f64::max);
+    let g_max = gaussian_max(m);
     let (step, l_max) = lut_bounds(&tables);
     let reach = m.lattice(None).map_or(0.0, |l| l.reach());
     let mut e_tap = TAP_ROUNDINGS * u * g_max;
@@ -134,11 +138,7 @@ pub fn regularity(m: &TilingTexture) -> Regularity {
             }
         }
     }
-    let g_max = m
-        .gaussian
-        .iter()
-        .map(|g| f64::from(g.abs()))
-        .fold(0.0, f64::max);
+    let g_max = gaussian_max(m);
     let (step, l_max) = lut_bounds(&tables);
     let scale = (LUT_ENTRIES - 1) as f64 / (2.0 * f64::from(LUT_RANGE));
     let slope_t = scale * step;
