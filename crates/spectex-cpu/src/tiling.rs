@@ -735,13 +735,14 @@ impl RowKernel for TilingEvaluator {
             return self.eval_rows_reference(window, first, out);
         };
         // A row's vertices lie in lattice rows cy and cy + 1 at m within
-        // `[q_lo − q_h − 2, q_hi − q_h + 2]`: drawn once per row unless the row spans far more
+        // `[q_lo − q_h − 2, q_hi − q_h + 2]`: drawn once per lattice row unless the row spans far more
         // vertices than pixels (a minified window), where each pixel draws its own.
         let span = i64::from(hi) - i64::from(lo) + 5;
         if span > 4 * width as i64 + 16 {
             return self.eval_rows_reference(window, first, out);
         }
         let mut cache: Vec<Vertex> = Vec::with_capacity(2 * span as usize);
+        let mut cached: Option<i32> = None;
         // The common case in lanes: the variance blend at level 0 without rotation, every
         // column within the usable range.
         let lanes = matches!(self.blend, Blend::Variance)
@@ -768,11 +769,16 @@ impl RowKernel for TilingEvaluator {
                 continue;
             };
             let m_lo = lo.wrapping_sub(row.shift_q).wrapping_sub(2);
-            cache.clear();
-            for k in [row.cy, row.cy.wrapping_add(1)] {
-                for i in 0..span as i32 {
-                    cache.push(self.vertex(m_lo.wrapping_add(i), k));
+            // Rows of one lattice row (`m_lo` follows from `cy`) share their vertices: drawn
+            // when `cy` changes.
+            if cached != Some(row.cy) {
+                cache.clear();
+                for k in [row.cy, row.cy.wrapping_add(1)] {
+                    for i in 0..span as i32 {
+                        cache.push(self.vertex(m_lo.wrapping_add(i), k));
+                    }
                 }
+                cached = Some(row.cy);
             }
             let cy = row.cy;
             let draw = |m: i32, k: i32| {
