@@ -74,27 +74,39 @@ pub(crate) fn render(
                 Some(p) => spectex_gpu::GpuEvaluator::periodic_at_z(&context, model, z, p),
             }
             .map_err(|e| anyhow!("{e}; try --device cpu"))?;
-            crate::interrupt::watch();
-            let start = std::time::Instant::now();
-            let mut pixels = vec![0.0f32; window.width * window.height * gpu.output_channels()];
-            let stats = gpu
-                .render_into(window, &mut pixels)
-                .map_err(|e| anyhow!("{e}; try --device cpu"))?;
-            let seconds = start.elapsed().as_secs_f64();
-            crate::interrupt::check()?;
-            if pixels.len() != out.row_len() * window.height {
+            let samples = out.row_len() * window.height;
+            let values = window.width * window.height * gpu.output_channels();
+            if values != samples {
                 return Err(anyhow!(
-                    "internal: the GPU rendered {} values for {} samples",
-                    pixels.len(),
-                    out.row_len() * window.height
+                    "internal: the GPU renders {values} values for {samples} samples"
                 ));
             }
-            let clipped = out.fill(window.height.max(1), |_, band| band.store(&pixels));
+            crate::interrupt::watch();
+            let start = std::time::Instant::now();
+            // The device writes the file's samples itself: a PNG's levels (the CPU's
+            // quantisation, exactly, and its count of clamped values) read back at 1 or 2 bytes
+            // a value, an OpenEXR's f32 values straight into the samples.
+            use io::SampleData;
+            use spectex_gpu::OutputFormat;
+            let (format, bytes): (OutputFormat, &mut [u8]) = match &mut out.data {
+                SampleData::U8(v) => (OutputFormat::Unorm8, v),
+                SampleData::U16(v) => (OutputFormat::Unorm16, bytemuck::cast_slice_mut(v)),
+                SampleData::F32(v) => (OutputFormat::F32, bytemuck::cast_slice_mut(v)),
+            };
+            let stats = gpu
+                .render_bytes_into(window, format, bytes)
+                .map_err(|e| anyhow!("{e}; try --device cpu"))?;
+            if let SampleData::U16(v) = &mut out.data {
+                // The device's levels are little-endian (a no-op on little-endian hosts).
+                v.iter_mut().for_each(|level| *level = u16::from_le(*level));
+            }
+            let seconds = start.elapsed().as_secs_f64();
+            crate::interrupt::check()?;
             Ok(Rendered {
                 device: format!("GPU {}", context.adapter_name()),
                 seconds,
                 kernel_seconds: stats.kernel_seconds,
-                clipped,
+                clipped: stats.clipped.map_or(0, |n| n as usize),
             })
         }
         None => {

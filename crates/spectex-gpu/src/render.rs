@@ -32,10 +32,11 @@ pub enum OutputFormat {
     F32,
     /// IEEE binary16 (2 bytes each), round to nearest; magnitudes past 65504 clamped to it.
     F16,
-    /// 8-bit unorm (1 byte each), the CPU's PNG quantisation `round(clamp(v, 0, 1) · 255)`,
-    /// within one level of the CPU's bytes (the device rounds in f32, the CPU in f64).
+    /// 8-bit unorm (1 byte each), the CPU's PNG quantisation `round(clamp(v, 0, 1) · 255)`
+    /// with halves up, exactly (the device computes the level in integers, as exact as the
+    /// CPU's f64): the bytes of the `f32` render quantised by the CPU.
     Unorm8,
-    /// 16-bit unorm (2 bytes each), `round(clamp(v, 0, 1) · 65535)`, within one level.
+    /// 16-bit unorm (2 bytes each), `round(clamp(v, 0, 1) · 65535)`, exactly as [`Self::Unorm8`].
     Unorm16,
 }
 
@@ -75,6 +76,11 @@ pub struct RenderStats {
     /// Bytes copied from the device to the host (0 for a render into a device buffer, but
     /// for the timestamps).
     pub bytes_read_back: u64,
+    /// Values the output format clamped, counted on the device, for a packed render read back
+    /// to the host ([`OutputFormat::Unorm8`] and [`OutputFormat::Unorm16`]: outside `[0, 1]`
+    /// or NaN, as the CPU's PNG writer counts them; [`OutputFormat::F16`]: magnitudes past
+    /// 65504 or NaN); `None` for `f32` and for renders that stay on the device.
+    pub clipped: Option<u64>,
 }
 
 impl RenderStats {
@@ -142,6 +148,9 @@ impl Packers {
     }
 }
 
+/// Bytes of a tile's count of clamped values (one `u32`).
+const CLIPPED_BYTES: u64 = 4;
+
 /// One slot of the ring: a tile's values, its packed words, and the host-visible copy.
 #[derive(Debug)]
 struct Slot {
@@ -150,7 +159,10 @@ struct Slot {
     values: wgpu::Buffer,
     /// The tile packed by `output.wgsl` (half the values' size, enough for every packing).
     packed: wgpu::Buffer,
-    /// What comes back to the host: a tile's bytes, then a timestamp pair.
+    /// The packing's count of clamped values in the tile (`output.wgsl`'s `clipped`).
+    clipped: wgpu::Buffer,
+    /// What comes back to the host: a tile's bytes, then a timestamp pair and the count of
+    /// clamped values, where recorded.
     readback: wgpu::Buffer,
     /// Where the slot's timestamp pair is resolved.
     stamps: Option<wgpu::Buffer>,
@@ -184,9 +196,14 @@ impl Ring {
                     bytes.div_ceil(2).next_multiple_of(4),
                     U::STORAGE | U::COPY_SRC,
                 ),
+                clipped: gpu.empty(
+                    "spectex tile clipped",
+                    CLIPPED_BYTES,
+                    U::STORAGE | U::COPY_SRC | U::COPY_DST,
+                ),
                 readback: gpu.empty(
                     "spectex tile readback",
-                    bytes + TIMESTAMP_PAIR_BYTES,
+                    bytes + TIMESTAMP_PAIR_BYTES + CLIPPED_BYTES,
                     U::MAP_READ | U::COPY_DST,
                 ),
                 stamps: gpu.timestamps.then(|| {
@@ -319,6 +336,25 @@ struct Pending {
     bytes: usize,
     /// Where the timestamp pair sits in the readback, when the dispatch was timed here.
     stamps_at: Option<usize>,
+    /// Where the count of clamped values sits in the readback, when counted.
+    clipped_at: Option<usize>,
+}
+
+/// What [`record_all`] gathered from the tiles it read back.
+#[derive(Debug, Default, Clone, Copy)]
+struct ReadBack {
+    bytes: u64,
+    /// Clamped values, where the tiles' packing counted them.
+    clipped: Option<u64>,
+}
+
+impl ReadBack {
+    fn add(&mut self, tile: Self) {
+        self.bytes += tile.bytes;
+        if let Some(n) = tile.clipped {
+            *self.clipped.get_or_insert(0) += n;
+        }
+    }
 }
 
 /// Renders `tiles` of `window` through `kernel` into `sink`, in `format`, on `ring`.
@@ -339,10 +375,10 @@ pub(crate) fn run(
     let result = run_scoped(gpu, kernel, packers, ring, window, tiles, format, &mut sink);
     // A failed submission shows as a failed map: the scope then says what failed.
     let popped = scope.pop();
-    let bytes_read_back = match (result, popped) {
+    let read_back = match (result, popped) {
         (_, Err(scoped)) => return Err(scoped),
         (Err(e), Ok(())) => return Err(e),
-        (Ok(bytes), Ok(())) => bytes,
+        (Ok(read_back), Ok(())) => read_back,
     };
     Ok(RenderStats {
         seconds: start.elapsed().as_secs_f64(),
@@ -350,7 +386,8 @@ pub(crate) fn run(
             .timestamps
             .then(|| gpu.clock_nanos().saturating_sub(clock) as f64 * 1e-9),
         tiles: tiles.len(),
-        bytes_read_back,
+        bytes_read_back: read_back.bytes,
+        clipped: read_back.clipped,
     })
 }
 
@@ -433,7 +470,7 @@ impl Prepared<'_> {
     }
 }
 
-/// [`run`] inside its error scope: the bytes read back. The tiles' host parts are prepared on
+/// [`run`] inside its error scope: what was read back. The tiles' host parts are prepared on
 /// up to one worker thread per core (less one for this thread), so a kind whose tables cost
 /// the host (a phasor's drawn kernels, a texture's passes) keeps the device busy, and a
 /// composite kind's tiles (a warp's, a combination's) render side by side.
@@ -447,7 +484,7 @@ fn run_scoped(
     tiles: &[Tile],
     format: OutputFormat,
     sink: &mut Sink<'_>,
-) -> Result<u64, GpuError> {
+) -> Result<ReadBack, GpuError> {
     let cores = std::thread::available_parallelism().map_or(1, usize::from);
     let workers = cores.saturating_sub(1).clamp(1, 16).min(tiles.len());
     let prepared = Prepared {
@@ -482,18 +519,18 @@ fn record_all(
     format: OutputFormat,
     sink: &mut Sink<'_>,
     prepared: &Prepared<'_>,
-) -> Result<u64, GpuError> {
+) -> Result<ReadBack, GpuError> {
     let channels = kernel.output_channels();
     let per_value = format.bytes_per_value();
     let pack = packers.pack(gpu, format)?;
     let mut pending: VecDeque<Pending> = VecDeque::with_capacity(RING_SLOTS);
-    let mut read_back = 0u64;
+    let mut read_back = ReadBack::default();
     for (k, tile) in tiles.iter().enumerate() {
         let tables = prepared.take(k)?;
         if pending.len() == RING_SLOTS
             && let Some(done) = pending.pop_front()
         {
-            read_back += finish(gpu, ring, tiles, done, sink)?;
+            read_back.add(finish(gpu, ring, tiles, done, sink)?);
         }
         let slot_index = k % RING_SLOTS;
         let slot = &ring.slots[slot_index];
@@ -528,6 +565,7 @@ fn record_all(
         let source = match &pack {
             None => &slot.values,
             Some(pipeline) => {
+                encoder.clear_buffer(&slot.clipped, 0, None);
                 encode_pack(gpu, &mut encoder, pipeline, slot, values as u32)?;
                 &slot.packed
             }
@@ -570,6 +608,13 @@ fn record_all(
             );
             stamps_at = Some(readback_at as usize);
         }
+        // A packed tile read back to the host brings its count of clamped values along.
+        let mut clipped_at = None;
+        if pack.is_some() && matches!(sink, Sink::Host(_)) {
+            let at = copied + TIMESTAMP_PAIR_BYTES;
+            encoder.copy_buffer_to_buffer(&slot.clipped, 0, &slot.readback, at, CLIPPED_BYTES);
+            clipped_at = Some(at as usize);
+        }
         let submission = gpu.queue.submit([encoder.finish()]);
         let mapping = (matches!(sink, Sink::Host(_)) || stamps_at.is_some())
             .then(|| Mapping::ask(&slot.readback));
@@ -580,29 +625,30 @@ fn record_all(
             mapping,
             bytes,
             stamps_at,
+            clipped_at,
         });
     }
     while let Some(done) = pending.pop_front() {
-        read_back += finish(gpu, ring, tiles, done, sink)?;
+        read_back.add(finish(gpu, ring, tiles, done, sink)?);
     }
     Ok(read_back)
 }
 
-/// Waits for a pending tile, hands its bytes to a host sink and clocks its timestamps; the
-/// bytes read back.
+/// Waits for a pending tile, hands its bytes to a host sink, clocks its timestamps and reads
+/// its count of clamped values; what was read back.
 fn finish(
     gpu: &Gpu,
     ring: &Ring,
     tiles: &[Tile],
     done: Pending,
     sink: &mut Sink<'_>,
-) -> Result<u64, GpuError> {
+) -> Result<ReadBack, GpuError> {
     let Some(mapping) = done.mapping else {
-        return Ok(0);
+        return Ok(ReadBack::default());
     };
     let readback = &ring.slots[done.slot].readback;
     mapping.wait(&gpu.device, &gpu.lost, Some(done.submission))?;
-    let mut read = 0;
+    let mut read = ReadBack::default();
     {
         let view = readback
             .slice(..)
@@ -611,11 +657,16 @@ fn finish(
         if let Sink::Host(write) = sink {
             let tile = &tiles[done.tile];
             write(tile.at, &tile.window, &view[..done.bytes]);
-            read += done.bytes as u64;
+            read.bytes += done.bytes as u64;
         }
         if let Some(at) = done.stamps_at {
             gpu.clock_pairs(&view[at..at + TIMESTAMP_PAIR_BYTES as usize]);
-            read += TIMESTAMP_PAIR_BYTES;
+            read.bytes += TIMESTAMP_PAIR_BYTES;
+        }
+        if let Some(at) = done.clipped_at {
+            let count: [u8; 4] = view[at..at + 4].try_into().unwrap_or_default();
+            read.clipped = Some(u64::from(u32::from_le_bytes(count)));
+            read.bytes += CLIPPED_BYTES;
         }
     }
     readback.unmap();
@@ -643,7 +694,17 @@ fn encode_pack(
     };
     let target = slot.packed.as_entire_binding();
     let tile = (u64::from(count), target, [across, groups.div_ceil(across)]);
-    encode_output_pass(gpu, encoder, "spectex pack", pipeline, &params, slot, tile)
+    let counter = Some(&slot.clipped);
+    encode_output_pass(
+        gpu,
+        encoder,
+        "spectex pack",
+        pipeline,
+        &params,
+        slot,
+        tile,
+        counter,
+    )
 }
 
 /// Records the store of a slot's tile values into a caller's storage texture.
@@ -668,12 +729,23 @@ fn encode_store(
     let values = u64::from(width) * u64::from(height) * channels as u64;
     let target = wgpu::BindingResource::TextureView(view);
     let tile = (values, target, [width.div_ceil(8), height.div_ceil(8)]);
-    encode_output_pass(gpu, encoder, "spectex store", pipeline, &params, slot, tile)
+    encode_output_pass(
+        gpu,
+        encoder,
+        "spectex store",
+        pipeline,
+        &params,
+        slot,
+        tile,
+        None,
+    )
 }
 
 /// Records one dispatch of an output pass (a packing of `output.wgsl` or a texture store):
 /// `params` at binding 0, the slot's first `values` values at binding 1, `target` at binding 2,
-/// over `groups` workgroups; `tile` is `(values, target, groups)`.
+/// over `groups` workgroups; `tile` is `(values, target, groups)`; a packing's count of clamped
+/// values, `counter`, at binding 3.
+#[allow(clippy::too_many_arguments)]
 fn encode_output_pass<P: bytemuck::Pod>(
     gpu: &Gpu,
     encoder: &mut wgpu::CommandEncoder,
@@ -682,6 +754,7 @@ fn encode_output_pass<P: bytemuck::Pod>(
     params: &P,
     slot: &Slot,
     (values, target, groups): (u64, wgpu::BindingResource<'_>, [u32; 2]),
+    counter: Option<&wgpu::Buffer>,
 ) -> Result<(), GpuError> {
     let layout = pipeline
         .layouts
@@ -692,23 +765,30 @@ fn encode_output_pass<P: bytemuck::Pod>(
         bytemuck::bytes_of(params),
         wgpu::BufferUsages::UNIFORM,
     );
+    let mut entries = vec![
+        wgpu::BindGroupEntry {
+            binding: 0,
+            resource: uniform.as_entire_binding(),
+        },
+        wgpu::BindGroupEntry {
+            binding: 1,
+            resource: leading(&slot.values, 4 * values.max(1)),
+        },
+        wgpu::BindGroupEntry {
+            binding: 2,
+            resource: target,
+        },
+    ];
+    if let Some(counter) = counter {
+        entries.push(wgpu::BindGroupEntry {
+            binding: 3,
+            resource: counter.as_entire_binding(),
+        });
+    }
     let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some(label),
         layout,
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: uniform.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: leading(&slot.values, 4 * values.max(1)),
-            },
-            wgpu::BindGroupEntry {
-                binding: 2,
-                resource: target,
-            },
-        ],
+        entries: &entries,
     });
     let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
         label: Some(label),
@@ -786,6 +866,126 @@ pub mod tests {
 
     pub fn pack_params_match_the_wgsl() {
         assert_matches_wgsl::<super::PackParams>("output", "PackParams");
+    }
+
+    /// The CPU's PNG level of `v` for `bits` 8 or 16: `round(clamp(v, 0, 1) · L)` in f64,
+    /// where `v · L` is exact, halves up (`spectex-cli`'s `level8`, `level16`).
+    fn cpu_level(v: f32, bits: u32) -> u32 {
+        let levels = f64::from((1u32 << bits) - 1);
+        (f64::from(v).clamp(0.0, 1.0) * levels + 0.5).floor() as u32
+    }
+
+    /// Values at and around every half level of 8 and 16 bits (the f32 neighbours where f32
+    /// arithmetic rounds `v · L` across the half), the ends, NaN, infinities, negatives,
+    /// subnormals and binary16's largest value: what `pack` makes of `values` in `format`,
+    /// and the count of values it clamped.
+    fn pack_on_device(
+        gpu: &super::Gpu,
+        values: &[f32],
+        format: super::OutputFormat,
+    ) -> (Vec<u8>, Option<u64>) {
+        let packers = super::Packers::default();
+        let pipeline = packers.pack(gpu, format).unwrap().unwrap();
+        let ring = super::Ring::new(gpu, values.len() as u64);
+        let slot = &ring.slots[0];
+        gpu.queue
+            .write_buffer(&slot.values, 0, bytemuck::cast_slice(values));
+        let mut encoder = gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+        encoder.clear_buffer(&slot.clipped, 0, None);
+        super::encode_pack(gpu, &mut encoder, &pipeline, slot, values.len() as u32).unwrap();
+        let bytes = values.len() * format.bytes_per_value();
+        let copied = (bytes as u64).next_multiple_of(4);
+        encoder.copy_buffer_to_buffer(&slot.packed, 0, &slot.readback, 0, copied);
+        encoder.copy_buffer_to_buffer(&slot.clipped, 0, &slot.readback, copied, 4);
+        gpu.queue.submit([encoder.finish()]);
+        let all =
+            crate::pipeline::read_buffer(&gpu.device, &slot.readback, &gpu.lost, None).unwrap();
+        let at = copied as usize;
+        let count = u32::from_le_bytes(all[at..at + 4].try_into().unwrap());
+        (all[..bytes].to_vec(), Some(u64::from(count)))
+    }
+
+    /// Every unorm level the device packs is the CPU's level of the same f32 value, exactly,
+    /// at and next to every half level (where a rounding of `v · L` in f32 lands a level
+    /// apart), and the device counts the values the CPU counts as clipped; binary16 counts
+    /// what it clamps. Skips with a message without a GPU (fails when `SPECTEX_REQUIRE_GPU=1`).
+    pub fn packing_is_the_cpus_quantisation_and_counts_what_it_clamps() {
+        let context = match crate::GpuContext::new() {
+            Ok(c) => c,
+            Err(e) if std::env::var("SPECTEX_REQUIRE_GPU").is_ok_and(|v| v == "1") => {
+                panic!("SPECTEX_REQUIRE_GPU=1 but no GPU: {e}")
+            }
+            Err(e) => {
+                eprintln!("SKIPPED packing_is_the_cpus_quantisation: {e}");
+                return;
+            }
+        };
+        let gpu = super::Gpu::new(&context);
+        let specials = [
+            0.0,
+            -0.0,
+            1.0,
+            f32::NAN,
+            -1.0,
+            2.0,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            1e-40,
+            1.0 - f32::EPSILON / 2.0,
+            65504.0,
+            65505.0,
+            -70000.0,
+        ];
+        for (format, bits) in [
+            (super::OutputFormat::Unorm8, 8u32),
+            (super::OutputFormat::Unorm16, 16),
+        ] {
+            let levels = (1u32 << bits) - 1;
+            let mut values: Vec<f32> = specials.to_vec();
+            for k in 0..levels {
+                let half = ((f64::from(k) + 0.5) / f64::from(levels)) as f32;
+                let (mut up, mut down) = (half, half);
+                values.push(half);
+                for _ in 0..3 {
+                    up = f32::from_bits(up.to_bits() + 1);
+                    down = f32::from_bits(down.to_bits() - 1);
+                    values.extend([up, down]);
+                }
+            }
+            // The smallest levels: every 97th f32 from 2^(−bits−3) to 2^(−bits+3).
+            let (lo, hi) = (
+                (2f32).powi(-(bits as i32) - 3).to_bits(),
+                (2f32).powi(-(bits as i32) + 3).to_bits(),
+            );
+            values.extend((lo..hi).step_by(97).map(f32::from_bits));
+            let (bytes, clipped) = pack_on_device(&gpu, &values, format);
+            let mut naive_misses = 0;
+            for (i, &v) in values.iter().enumerate() {
+                let level = if bits == 8 {
+                    u32::from(bytes[i])
+                } else {
+                    u32::from(u16::from_le_bytes([bytes[2 * i], bytes[2 * i + 1]]))
+                };
+                assert_eq!(level, cpu_level(v, bits), "{format:?} of {v:e}");
+                let naive = (v.clamp(0.0, 1.0) * levels as f32 + 0.5).floor();
+                naive_misses += usize::from(naive != cpu_level(v, bits) as f32);
+            }
+            // The values do sit where f32 rounding fails: the test can tell.
+            assert!(
+                naive_misses > 0,
+                "{format:?}: no value next to a half level"
+            );
+            let outside = values.iter().filter(|v| !(0.0..=1.0).contains(*v)).count();
+            assert_eq!(clipped, Some(outside as u64), "{format:?}");
+        }
+        let (_, clipped) = pack_on_device(&gpu, &specials, super::OutputFormat::F16);
+        let past = specials
+            .iter()
+            .filter(|v| v.is_nan() || v.abs() > 65504.0)
+            .count();
+        assert_eq!(clipped, Some(past as u64), "f16");
     }
 
     /// The store shader of every texture format parses and validates, and its uniform has the
