@@ -5,10 +5,11 @@
 //
 // What the host does (crates/spectex-gpu/src/texture.rs), so this shader needs no f64:
 // - each channel's random-phase strata (with its mean) and each turbulence stratum are rendered
-//   by lrp.wgsl for the same tile; the host sums |n_S| per axis in stratum order and applies
-//   `Turbulence::displacement` in f32, exactly the CPU's operations, and uploads the results as
-//   `values`: plane c < channels holds channel c's strata, planes `channels` and `channels + 1`
-//   the x and y displacements (0 without turbulence, as on the CPU);
+//   by lrp.wgsl for the same tile, on the device in the tile's submission (or on the host's
+//   request for a displaced tile), as planes of `values`: plane c < channels holds channel c's
+//   strata, the next `turbulence_strata` planes the x turbulence strata, then those of y; this
+//   shader sums |n_S| per axis in stratum order and applies `Turbulence::displacement` in f32,
+//   exactly the CPU's operations (0 without turbulence, as on the CPU);
 // - per column the placement cell and offset `(cx, sx) = locate_cell(x, T/2)` in f64, per row
 //   `(cy, sy)` likewise (the CPU's expression, so the same bits);
 // - per channel the structure's Δ_R = T/b, 1/Δ_R and 1/N as f32 (powers of two, exact).
@@ -44,8 +45,9 @@ struct TextureParams {
     /// (`Structure::eval_filtered`).
     filtered: u32,
     footprint: f32,
-    _pad0: u32,
-    _pad1: u32,
+    /// Turbulence::sigma and centre: the displacement σ·(Σ_S |n_S| − centre).
+    turbulence_sigma: f32,
+    turbulence_centre: f32,
     /// The colour basis' mean (xyz).
     colour_mean: vec4<f32>,
     /// Row i maps the channels to component i (xyz).
@@ -54,8 +56,10 @@ struct TextureParams {
     /// wrapped modulo them, wrap_cell in common.wgsl, as on the CPU); 0 when not periodic.
     cells_x: i32,
     cells_y: i32,
-    _pad2: u32,
-    _pad3: u32,
+    /// 1 when the model has turbulence (else the displacement is 0).
+    turbulence: u32,
+    /// Turbulence strata per axis (planes of `values` after the channels').
+    turbulence_strata: u32,
 }
 
 /// One channel's structure, packed by the host.
@@ -90,9 +94,10 @@ const PLACEMENT_BLEND: f32 = 0.125f;
 @group(0) @binding(2) var<storage, read> blocks: array<vec2<u32>>;
 /// (k_x, k_y, A, φ) of every fixed cosine; k as f32 (exact, |k| ≤ 4096).
 @group(0) @binding(3) var<storage, read> cosines: array<vec4<f32>>;
-/// (channels + 2) planes of width·height values: strata per channel, then displacement x, y.
 /// Every channel's mipmap of block means (`Structure::mean_mipmap`): levels b², (b/2)², …, 1.
 @group(0) @binding(4) var<storage, read> block_means: array<f32>;
+/// (channels + 2·turbulence_strata) planes of width·height values: strata per channel, then
+/// the turbulence strata of x, then of y.
 @group(0) @binding(5) var<storage, read> values: array<f32>;
 @group(0) @binding(6) var<storage, read> columns: array<PlacementAxis>;
 @group(0) @binding(7) var<storage, read> rows: array<PlacementAxis>;
@@ -284,7 +289,18 @@ fn texture_main(@builtin(global_invocation_id) gid: vec3<u32>) {
         column = PlacementAxis(x.cell, x.offset);
         row = PlacementAxis(y.cell, y.offset);
     }
-    let d = vec2<f32>(values[nc * n + pixel], values[(nc + 1u) * n + pixel]);
+    // Σ_S |n_S| per axis in stratum order, then σ·(Σ − centre): the CPU's f32 operations.
+    var d = vec2<f32>(0.0f, 0.0f);
+    if (params.turbulence == 1u) {
+        let strata_per_axis = params.turbulence_strata;
+        for (var axis = 0u; axis < 2u; axis++) {
+            var sum = 0.0f;
+            for (var s = 0u; s < strata_per_axis; s++) {
+                sum += abs(values[(nc + axis * strata_per_axis + s) * n + pixel]);
+            }
+            d[axis] = params.turbulence_sigma * (sum - params.turbulence_centre);
+        }
+    }
     var strata = array<f32, 3>(0.0f, 0.0f, 0.0f);
     for (var c = 0u; c < nc; c++) {
         strata[c] = values[c * n + pixel];

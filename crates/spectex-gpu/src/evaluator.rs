@@ -6,7 +6,7 @@ use std::sync::Mutex;
 
 use spectex_model::{Model, Period};
 
-use crate::kernel::{GpuKernel, GpuKind};
+use crate::kernel::{GpuKernel, GpuKind, PreparedTile};
 use crate::pipeline::Gpu;
 use crate::render::{self, OutputFormat, Packers, RenderStats, Ring, Sink, Tile};
 use crate::{GpuContext, GpuError, GpuWindow};
@@ -413,6 +413,38 @@ impl GpuEvaluator {
             *guard = None;
         }
         result
+    }
+
+    /// The host's part of `tile`'s undisplaced render, for [`encode_pass`](Self::encode_pass)
+    /// into another kernel's dispatches (a texture's LRP strata).
+    pub(crate) fn prepare_pass(&self, tile: &GpuWindow) -> Result<PreparedTile, GpuError> {
+        self.kernel.prepare_tile(tile)
+    }
+
+    /// Records `tile`'s dispatch, whose host part `prepared` is, into `encoder`, writing its
+    /// values from the start of `output` (a composite kind's values are copied there); `timer`
+    /// writes the dispatch's timestamps.
+    pub(crate) fn encode_pass(
+        &self,
+        tile: &GpuWindow,
+        prepared: PreparedTile,
+        encoder: &mut wgpu::CommandEncoder,
+        output: &wgpu::Buffer,
+        timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) -> Result<(), GpuError> {
+        match prepared {
+            PreparedTile::Tables(tables) => self
+                .kernel
+                .encode_tile(tile, tables, encoder, output, timer),
+            PreparedTile::Values(values) => {
+                let bytes: &[u8] = bytemuck::cast_slice(&values);
+                let upload =
+                    self.gpu
+                        .buffer("spectex pass values", bytes, wgpu::BufferUsages::COPY_SRC);
+                encoder.copy_buffer_to_buffer(&upload, 0, output, 0, bytes.len() as u64);
+                Ok(())
+            }
+        }
     }
 
     /// One tile (which fits [`tile_size`](Self::tile_size)) at positions displaced by

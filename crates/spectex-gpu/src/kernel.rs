@@ -221,6 +221,27 @@ pub(crate) trait ShaderKernel: fmt::Debug + Send + Sync + 'static {
         displacement: Option<&[f32]>,
         limit: u64,
     ) -> Result<TileTables, GpuError>;
+
+    /// Records the dispatches of other kernels that fill the tile's table left to the device
+    /// ([`Table::filled_on_device`]) before the kind's own: `passes`, the host parts
+    /// [`tile_tables`](Self::tile_tables) prepared for them, write into `target`; `timer`
+    /// writes the first pass's start. Called for every tile whose tables leave one to the device.
+    ///
+    /// # Errors
+    /// [`GpuError::Validation`] for a kind without passes of its own.
+    fn encode_passes(
+        &self,
+        tile: &GpuWindow,
+        passes: Vec<PreparedTile>,
+        encoder: &mut wgpu::CommandEncoder,
+        target: &wgpu::Buffer,
+        timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) -> Result<(), GpuError> {
+        let _ = (tile, passes, encoder, target, timer);
+        Err(GpuError::Validation(
+            "a kernel without passes of its own was given passes to record".to_owned(),
+        ))
+    }
 }
 
 /// What [`GpuKernel::prepare_tile`] makes of a tile on the host.
@@ -240,6 +261,9 @@ pub(crate) struct Table {
     /// Its bytes: at least one record, since a binding may not be smaller than one element of
     /// the array the shader declares (the layout derived from the shader says so).
     pub bytes: Vec<u8>,
+    /// The size of a table the tile's passes write on the device ([`TileTables::passes`]),
+    /// uploaded from nowhere: `bytes` is then empty.
+    pub on_device: Option<u64>,
 }
 
 impl Table {
@@ -251,17 +275,34 @@ impl Table {
         } else {
             bytemuck::cast_slice(records).to_vec()
         };
-        Self { label, bytes }
+        Self {
+            label,
+            bytes,
+            on_device: None,
+        }
+    }
+
+    /// A table of `size` bytes that the tile's passes fill on the device, where the host
+    /// uploads nothing ([`ShaderKernel::encode_passes`]).
+    pub(crate) fn filled_on_device(label: &'static str, size: u64) -> Self {
+        Self {
+            label,
+            bytes: Vec::new(),
+            on_device: Some(size.max(4)),
+        }
     }
 }
 
 /// What a [`ShaderKernel`] uploads for one tile.
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 pub(crate) struct TileTables {
     /// The uniform of binding 0 (the shader's params struct) as bytes.
     pub uniform: Vec<u8>,
     /// The per-tile storage tables, in binding order (the columns and rows last).
     pub tables: Vec<Table>,
+    /// Host parts of other kernels' dispatches that fill the table left to the device, in
+    /// the order [`ShaderKernel::encode_passes`] records them (a texture's LRP strata).
+    pub passes: Vec<PreparedTile>,
 }
 
 impl TileTables {
@@ -270,6 +311,7 @@ impl TileTables {
         Self {
             uniform: bytemuck::bytes_of(uniform).to_vec(),
             tables,
+            passes: Vec::new(),
         }
     }
 }

@@ -250,11 +250,16 @@ impl<K: ShaderKernel> Shaded<K> {
 
     /// Records the dispatch of `tile` (displaced by `displacement` when given, with the
     /// kind's `tables` for it) writing the first `tile`-many values of `output`, with `timer`
-    /// writing its timestamps.
+    /// writing its timestamps; first the kind's passes that fill a table on the device (then
+    /// timed from the first pass's start to the dispatch's end).
     fn record(
         &self,
         tile: &GpuWindow,
-        TileTables { uniform, tables }: TileTables,
+        TileTables {
+            uniform,
+            tables,
+            passes,
+        }: TileTables,
         displacement: Option<&[f32]>,
         encoder: &mut wgpu::CommandEncoder,
         output: &wgpu::Buffer,
@@ -264,7 +269,49 @@ impl<K: ShaderKernel> Shaded<K> {
         let (width, height) = (tile.width, tile.height);
         let output_bytes = 4 * (width * height * self.kind.output_channels()) as u64;
         let uniform = gpu.buffer("params", &uniform, wgpu::BufferUsages::UNIFORM);
-        let per_tile: Vec<wgpu::Buffer> = tables.iter().map(|t| gpu.storage(t)).collect();
+        let per_tile: Vec<wgpu::Buffer> = tables
+            .iter()
+            .map(|t| match t.on_device {
+                Some(size) => gpu.empty(
+                    t.label,
+                    size,
+                    wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                ),
+                None => gpu.storage(t),
+            })
+            .collect();
+        let mut timer = timer;
+        let target = tables
+            .iter()
+            .zip(&per_tile)
+            .find_map(|(t, b)| t.on_device.map(|_| b));
+        if !passes.is_empty() && target.is_none() {
+            return Err(GpuError::Validation(format!(
+                "{}: passes without a table for them to fill",
+                K::SHADER
+            )));
+        }
+        if let Some(target) = target {
+            // With passes, the timer starts at the first one and ends with the dispatch.
+            let (start, end) = match timer {
+                Some(t) if !passes.is_empty() => (
+                    Some(wgpu::ComputePassTimestampWrites {
+                        query_set: t.query_set,
+                        beginning_of_pass_write_index: t.beginning_of_pass_write_index,
+                        end_of_pass_write_index: None,
+                    }),
+                    Some(wgpu::ComputePassTimestampWrites {
+                        query_set: t.query_set,
+                        beginning_of_pass_write_index: None,
+                        end_of_pass_write_index: t.end_of_pass_write_index,
+                    }),
+                ),
+                other => (None, other),
+            };
+            self.kind
+                .encode_passes(tile, passes, encoder, target, start)?;
+            timer = end;
+        }
         let mut entries: Vec<wgpu::BindGroupEntry<'_>> = std::iter::once(&uniform)
             .chain(&self.resident)
             .chain(&per_tile)

@@ -1,7 +1,11 @@
 //! Textures by example on the device (`shaders/texture.wgsl`): the structures packed into tables
 //! once, the random-phase strata and turbulence strata as LRP evaluators on the same device, and
-//! per tile the strata values, the turbulence displacement (summed and scaled here in the CPU's
-//! f32 order) and the placement cells of every column and row (f64, `locate_cell`).
+//! per tile the placement cells of every column and row (f64, `locate_cell`) and the planes of
+//! the LRP passes' values: each channel's strata, then each turbulence stratum. An undisplaced
+//! tile's passes run on the device in the tile's own submission, writing their planes into the
+//! texture's table (nothing comes back to the host between them); a displaced one (a warp's
+//! base) renders them on the host's request with its displacement. The shader sums the
+//! turbulence strata and scales the sum in the CPU's f32 order.
 //!
 //! The texture by example's export (the glue of `shaders/texture.wgsl`): its own shader's parts
 //! and the LRP models (strata and turbulence) whose values it reads; the placement cell is
@@ -13,9 +17,9 @@ use spectex_model::{LrpNoise, Model, Period, TextureModel};
 
 use crate::axis::{periodic_columns, periodic_rows};
 use crate::export::{ExportKind, ExportNode, ExportNodeOf, ExportParts, TextureExport};
-use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
+use crate::kernel::{GpuKernel, GpuKind, PreparedTile, ShaderKernel, Table, TileTables};
 use crate::layout::wgsl_struct;
-use crate::pipeline::{Shaded, binding_limit};
+use crate::pipeline::{Gpu, Shaded, binding_limit};
 use crate::shaders::{ShaderFile, kernel_and_glue};
 use crate::{GpuContext, GpuError, GpuEvaluator, GpuWindow};
 
@@ -43,9 +47,9 @@ wgsl_struct! {
         /// (`Structure::eval_filtered`).
         filtered: u32,
         footprint: f32,
-        // Padding: `colour_mean` starts the next 16-byte row in the WGSL struct.
-        _pad0: u32,
-        _pad1: u32,
+        /// `Turbulence::sigma` and `centre`: the displacement `σ·(Σ_S |n_S| − centre)`.
+        turbulence_sigma: f32,
+        turbulence_centre: f32,
         /// The colour basis' mean (a `vec4<f32>`, `w` unused).
         colour_mean: [f32; 4],
         /// Row `i` maps the channels to component `i` (`vec4<f32>` rows, `w` unused).
@@ -54,8 +58,11 @@ wgsl_struct! {
         /// `wrap_cell`), 0 when not periodic.
         cells_x: i32,
         cells_y: i32,
-        _pad2: u32,
-        _pad3: u32,
+        /// 1 when the model has turbulence (else the displacement is 0, as on the CPU).
+        turbulence: u32,
+        /// Turbulence strata per axis: planes of the values after the channels' (x's, then
+        /// y's).
+        turbulence_strata: u32,
     }
 }
 
@@ -97,6 +104,14 @@ pub(crate) struct TextureKernel {
     /// The period of a periodic model: positions reduced modulo it, the strata and turbulence
     /// periodic LRP noises (the CPU's `TextureEvaluator::new_periodic`).
     period: Option<Period>,
+    /// The device, for the planes of channels without strata (their mean, uploaded).
+    gpu: Gpu,
+}
+
+/// One plane of a tile's values: an LRP pass, or a channel's mean where it has no strata.
+enum Plane<'a> {
+    Lrp(&'a GpuEvaluator),
+    Mean(f32),
 }
 
 /// The structure tables of a texture: a [`ChannelStructure`] per channel, the `(start, count)`
@@ -225,6 +240,7 @@ impl GpuKind for TextureModel {
             strata,
             turbulence,
             period,
+            gpu: Gpu::new(context),
         };
         Shaded::boxed(
             context,
@@ -266,6 +282,18 @@ impl TextureKernel {
             .flatten()
             .chain(self.turbulence.iter().flatten())
     }
+
+    /// The planes of a tile's values, in order: each channel's strata (or mean), then the
+    /// turbulence strata of x, then of y.
+    fn planes(&self) -> impl Iterator<Item = Plane<'_>> {
+        let channels = self
+            .model
+            .channels
+            .iter()
+            .zip(&self.strata)
+            .map(|(ch, e)| e.as_ref().map_or(Plane::Mean(ch.mean), Plane::Lrp));
+        channels.chain(self.turbulence.iter().flatten().map(Plane::Lrp))
+    }
 }
 
 impl ShaderKernel for TextureKernel {
@@ -276,19 +304,20 @@ impl ShaderKernel for TextureKernel {
         self.channels()
     }
 
-    /// Quarter-megapixel tiles: the host sums its passes and scales its displacement per pixel, so a render prepares many tiles in parallel.
-    fn tile_pixels(&self) -> Option<usize> {
-        Some(1 << 18)
-    }
-
     fn axis_bytes(&self) -> u64 {
         size_of::<PlacementAxis>() as u64
     }
 
-    /// The largest per-pixel buffer holds the strata of every channel and the two
-    /// displacements.
+    /// Megapixel tiles: each tile in flight holds its planes twice on the device (each pass's
+    /// own buffer and the texture's table), 2·4·planes bytes a pixel.
+    fn tile_pixels(&self) -> Option<usize> {
+        Some(1 << 20)
+    }
+
+    /// The largest per-pixel buffer holds the planes of every channel and every turbulence
+    /// stratum.
     fn pixel_bytes(&self) -> u64 {
-        4 * (self.channels() as u64 + 2)
+        4 * self.planes().count() as u64
     }
 
     /// Each LRP pass renders the same tile in one dispatch: it must fit them all.
@@ -306,8 +335,9 @@ impl ShaderKernel for TextureKernel {
         Ok([width, height])
     }
 
-    /// Renders the tile's strata and turbulence on the device (at positions displaced by a
-    /// warp's `displacement`, if any) and builds the texture pass's tables.
+    /// The placement tables and the LRP passes' planes: undisplaced, the passes' host parts,
+    /// recorded on the device before the texture's dispatch ([`Self::encode_passes`]);
+    /// displaced by a warp's `displacement`, the planes rendered now.
     fn tile_tables(
         &self,
         tile: &GpuWindow,
@@ -316,32 +346,30 @@ impl ShaderKernel for TextureKernel {
     ) -> Result<TileTables, GpuError> {
         let n = tile.width * tile.height;
         let nc = self.channels();
-        // `channels + 2` planes: strata per channel, then the x and y displacements.
-        let mut values: Vec<f32> = Vec::with_capacity((nc + 2) * n);
-        for (ch, evaluator) in self.model.channels.iter().zip(&self.strata) {
-            match evaluator {
-                Some(e) => values.extend(e.render_tile_displaced(tile, displacement)?),
-                None => values.resize(values.len() + n, ch.mean),
-            }
-        }
-        // Σ_S |n_S| per axis in stratum order, then σ(Σ − centre): the CPU's f32 operations.
-        for evaluators in &self.turbulence {
-            let mut sum = vec![0.0f32; n];
-            for e in evaluators {
-                for (s, v) in sum
-                    .iter_mut()
-                    .zip(e.render_tile_displaced(tile, displacement)?)
-                {
-                    *s += v.abs();
+        let planes = self.planes().count();
+        let mut passes = Vec::new();
+        let values = match displacement {
+            None => {
+                for plane in self.planes() {
+                    if let Plane::Lrp(e) = plane {
+                        passes.push(e.prepare_pass(tile)?);
+                    }
                 }
+                Table::filled_on_device("texture values", 4 * (planes * n) as u64)
             }
-            if let Some(t) = &self.model.turbulence {
-                for s in &mut sum {
-                    *s = t.displacement(*s);
+            Some(_) => {
+                let mut values: Vec<f32> = Vec::with_capacity(planes * n);
+                for plane in self.planes() {
+                    match plane {
+                        Plane::Lrp(e) => {
+                            values.extend(e.render_tile_displaced(tile, displacement)?)
+                        }
+                        Plane::Mean(mean) => values.resize(values.len() + n, mean),
+                    }
                 }
+                Table::new("texture values", &values)
             }
-            values.extend(sum);
-        }
+        };
         let side = self.model.placement_cell();
         let axis = |count: usize, position: &dyn Fn(usize) -> f64| -> Vec<PlacementAxis> {
             (0..count)
@@ -369,22 +397,69 @@ impl ShaderKernel for TextureKernel {
             footprint: tile.footprint().map_or(0.0, |f| f as f32),
             cells_x: cells[0],
             cells_y: cells[1],
+            turbulence_strata: self.turbulence[0].len() as u32,
             ..bytemuck::Zeroable::zeroed()
         };
+        if let Some(t) = &self.model.turbulence {
+            params.turbulence = 1;
+            params.turbulence_sigma = t.sigma;
+            params.turbulence_centre = t.centre;
+        }
         if let Some(c) = &self.model.colour {
             for i in 0..3 {
                 params.colour_mean[i] = c.mean[i];
                 params.basis[i][..3].copy_from_slice(&c.basis[i]);
             }
         }
-        Ok(TileTables::new(
+        let mut tables = TileTables::new(
             &params,
             vec![
-                Table::new("texture values", &values),
+                values,
                 Table::new("texture columns", &columns),
                 Table::new("texture rows", &rows),
             ],
-        ))
+        );
+        tables.passes = passes;
+        Ok(tables)
+    }
+
+    /// Each LRP pass into a plane of `target` (through a buffer of its own, copied into
+    /// place), a channel's mean uploaded into its plane: all before the texture's dispatch in
+    /// the same submission.
+    fn encode_passes(
+        &self,
+        tile: &GpuWindow,
+        passes: Vec<PreparedTile>,
+        encoder: &mut wgpu::CommandEncoder,
+        target: &wgpu::Buffer,
+        mut timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) -> Result<(), GpuError> {
+        let n = tile.width * tile.height;
+        let plane_bytes = 4 * n as u64;
+        let mut passes = passes.into_iter();
+        for (k, plane) in self.planes().enumerate() {
+            let at = k as u64 * plane_bytes;
+            match plane {
+                Plane::Mean(mean) => {
+                    self.gpu
+                        .queue
+                        .write_buffer(target, at, bytemuck::cast_slice(&vec![mean; n]));
+                }
+                Plane::Lrp(e) => {
+                    let prepared = passes.next().ok_or_else(|| {
+                        GpuError::Validation("texture: fewer passes than LRP planes".to_owned())
+                    })?;
+                    let plane = self.gpu.empty(
+                        "texture pass",
+                        plane_bytes,
+                        wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                    );
+                    e.encode_pass(tile, prepared, encoder, &plane, timer.take())?;
+                    encoder.copy_buffer_to_buffer(&plane, 0, target, at, plane_bytes);
+                }
+            }
+        }
+        Ok(())
     }
 }
 
