@@ -436,6 +436,9 @@ impl GpuEvaluator {
             PreparedTile::Tables(tables) => self
                 .kernel
                 .encode_tile(tile, tables, encoder, output, timer),
+            PreparedTile::Chain { operands, base } => self
+                .kernel
+                .encode_chain(tile, operands, base, encoder, output, timer),
             PreparedTile::Values(values) => {
                 let bytes: &[u8] = bytemuck::cast_slice(&values);
                 let upload =
@@ -445,6 +448,34 @@ impl GpuEvaluator {
                 Ok(())
             }
         }
+    }
+
+    /// Whether this model can be displaced by a displacement that stays on the device.
+    pub(crate) fn displaced_on_device(&self) -> bool {
+        self.kernel.displaced_on_device()
+    }
+
+    /// The host part of `tile`'s dispatch displaced on the device.
+    pub(crate) fn prepare_device_displaced(
+        &self,
+        tile: &GpuWindow,
+    ) -> Result<crate::kernel::TileTables, GpuError> {
+        self.kernel.prepare_device_displaced(tile)
+    }
+
+    /// Records `tile`'s dispatch displaced by `displacement`, a device buffer of `(dx, dy)`
+    /// per pixel that earlier passes of the same submission write.
+    pub(crate) fn encode_device_displaced(
+        &self,
+        tile: &GpuWindow,
+        tables: crate::kernel::TileTables,
+        encoder: &mut wgpu::CommandEncoder,
+        output: &wgpu::Buffer,
+        displacement: &wgpu::Buffer,
+        timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) -> Result<(), GpuError> {
+        self.kernel
+            .encode_device_displaced(tile, tables, encoder, output, displacement, timer)
     }
 
     /// One tile (which fits [`tile_size`](Self::tile_size)) at positions displaced by

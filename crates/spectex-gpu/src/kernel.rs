@@ -157,6 +157,91 @@ pub(crate) trait GpuKernel: fmt::Debug + Send + Sync {
     fn tile_pixels(&self) -> Option<usize> {
         None
     }
+
+    /// Records a composite kind's tile whose host part is a [`PreparedTile::Chain`]: its
+    /// operands' dispatches, its composition, and its base's dispatch, writing the values from
+    /// the start of `output`, with `timer` spanning them.
+    ///
+    /// # Errors
+    /// [`GpuError::Validation`] for a kernel that prepares no chain.
+    fn encode_chain(
+        &self,
+        tile: &GpuWindow,
+        operands: Vec<PreparedTile>,
+        base: Option<TileTables>,
+        encoder: &mut wgpu::CommandEncoder,
+        output: &wgpu::Buffer,
+        timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) -> Result<(), GpuError> {
+        let _ = (tile, operands, base, encoder, output, timer);
+        Err(GpuError::Validation(
+            "a kernel without a chain of its own was given one to record".to_owned(),
+        ))
+    }
+
+    /// Whether the kernel can be displaced by a displacement that stays on the device
+    /// ([`encode_device_displaced`](Self::encode_device_displaced)): its host part does not
+    /// read the displacement (a phasor's cell box and a Voronoi search do).
+    fn displaced_on_device(&self) -> bool {
+        false
+    }
+
+    /// The host part of `tile` for [`encode_device_displaced`](Self::encode_device_displaced).
+    ///
+    /// # Errors
+    /// As [`render_tile`](Self::render_tile); [`GpuError::Validation`] where
+    /// [`displaced_on_device`](Self::displaced_on_device) is false.
+    fn prepare_device_displaced(&self, tile: &GpuWindow) -> Result<TileTables, GpuError> {
+        let _ = tile;
+        Err(GpuError::Validation(
+            "this kernel is not displaced on the device".to_owned(),
+        ))
+    }
+
+    /// Records `tile`'s dispatch displaced by `displacement` (`(dx, dy)` per pixel, `f32`, on
+    /// the device), with `tables` from [`prepare_device_displaced`](Self::prepare_device_displaced).
+    ///
+    /// # Errors
+    /// As [`prepare_device_displaced`](Self::prepare_device_displaced).
+    fn encode_device_displaced(
+        &self,
+        tile: &GpuWindow,
+        tables: TileTables,
+        encoder: &mut wgpu::CommandEncoder,
+        output: &wgpu::Buffer,
+        displacement: &wgpu::Buffer,
+        timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) -> Result<(), GpuError> {
+        let _ = (tile, tables, encoder, output, displacement, timer);
+        Err(GpuError::Validation(
+            "this kernel is not displaced on the device".to_owned(),
+        ))
+    }
+}
+
+/// `timer` split in two: one that writes only its start (for the first of several passes) and
+/// one that writes only its end (for the last).
+pub(crate) fn split_timer(
+    timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
+) -> (
+    Option<wgpu::ComputePassTimestampWrites<'_>>,
+    Option<wgpu::ComputePassTimestampWrites<'_>>,
+) {
+    match timer {
+        Some(t) => (
+            Some(wgpu::ComputePassTimestampWrites {
+                query_set: t.query_set,
+                beginning_of_pass_write_index: t.beginning_of_pass_write_index,
+                end_of_pass_write_index: None,
+            }),
+            Some(wgpu::ComputePassTimestampWrites {
+                query_set: t.query_set,
+                beginning_of_pass_write_index: None,
+                end_of_pass_write_index: t.end_of_pass_write_index,
+            }),
+        ),
+        None => (None, None),
+    }
 }
 
 /// A kind rendered by a compute shader of its own: everything kind-specific about it, and
@@ -172,6 +257,9 @@ pub(crate) trait ShaderKernel: fmt::Debug + Send + Sync + 'static {
     const SHADER: &'static str;
     /// Its compute entry point.
     const ENTRY_POINT: &'static str;
+    /// Whether [`tile_tables`](Self::tile_tables) reads the displacement (a phasor's cell box,
+    /// a Voronoi search, a texture's passes): such a kind is displaced from the host only.
+    const TABLES_READ_DISPLACEMENT: bool = false;
 
     /// Values per pixel in the output, interleaved.
     fn output_channels(&self) -> usize {
@@ -251,6 +339,12 @@ pub(crate) enum PreparedTile {
     Tables(TileTables),
     /// A composite kind's values (`f32`, row-major, channels interleaved).
     Values(Vec<f32>),
+    /// A composite kind's operands' host parts and its base's tables, recorded with its
+    /// composition on the device ([`GpuKernel::encode_chain`]): a warp's x and y, and its base.
+    Chain {
+        operands: Vec<PreparedTile>,
+        base: Option<TileTables>,
+    },
 }
 
 /// One storage table as the device receives it.

@@ -125,5 +125,6 @@ pub mod unit_tests {
     pub use crate::texture::tests as texture;
     pub use crate::tiling::tests as tiling;
     pub use crate::voronoi::tests as voronoi;
+    pub use crate::warp::tests as warp;
     pub use crate::wavelet::tests as wavelet;
 }

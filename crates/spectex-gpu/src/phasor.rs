@@ -272,6 +272,7 @@ impl PhasorKernel {
 impl ShaderKernel for PhasorKernel {
     const SHADER: &'static str = "phasor";
     const ENTRY_POINT: &'static str = "phasor_main";
+    const TABLES_READ_DISPLACEMENT: bool = true;
 
     /// Quarter-megapixel tiles: its kernel cells are drawn on the host per tile, so a render prepares many tiles in parallel.
     fn tile_pixels(&self) -> Option<usize> {

@@ -10,7 +10,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, mpsc};
 
 use crate::cache::{CachedPipeline, LostFlag, PipelineCache};
-use crate::kernel::{GpuKernel, PreparedTile, ShaderKernel, Table, TileTables};
+use crate::kernel::{GpuKernel, PreparedTile, ShaderKernel, Table, TileTables, split_timer};
 use crate::layout::wgsl_struct;
 use crate::{GpuContext, GpuError, GpuWindow, wgsl_source};
 
@@ -161,34 +161,50 @@ pub(crate) fn compute_pipeline(
     groups: u32,
     source: impl FnOnce() -> Option<String>,
 ) -> Result<CachedPipeline, GpuError> {
-    let device = &gpu.device;
     gpu.pipelines.get_or_build(key, || {
         let (shader, entry) = key;
         let source = source().ok_or_else(|| {
             GpuError::Validation(format!("shader {shader} missing from the registry"))
         })?;
-        let scope = ErrorScopes::push(device);
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(shader),
-            source: wgpu::ShaderSource::Wgsl(source.into()),
-        });
-        // The layout is the shader's own. A derived layout leaves out bindings the entry point
-        // does not use; the shader test `model_shaders_use_every_binding_in_the_host_order`
-        // keeps every declared binding used, so the host may bind them all.
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some(shader),
-            layout: None,
-            module: &module,
-            entry_point: Some(entry),
-            compilation_options: wgpu::PipelineCompilationOptions::default(),
-            cache: None,
-        });
-        let layouts = (0..groups)
-            .map(|g| pipeline.get_bind_group_layout(g))
-            .collect();
-        scope.pop()?;
-        Ok(CachedPipeline { pipeline, layouts })
+        build_pipeline(gpu, shader, source, entry, groups)
     })
+}
+
+/// The compute pipeline of `entry` in the WGSL `source` (labelled `label`), with the layouts
+/// of its first `groups` bind groups, built now and not cached (a shader written for one
+/// model: a combination's).
+///
+/// # Errors
+/// [`GpuError::Validation`] if the device rejects the shader.
+pub(crate) fn build_pipeline(
+    gpu: &Gpu,
+    label: &str,
+    source: String,
+    entry: &str,
+    groups: u32,
+) -> Result<CachedPipeline, GpuError> {
+    let device = &gpu.device;
+    let scope = ErrorScopes::push(device);
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some(label),
+        source: wgpu::ShaderSource::Wgsl(source.into()),
+    });
+    // The layout is the shader's own. A derived layout leaves out bindings the entry point
+    // does not use; the shader test `model_shaders_use_every_binding_in_the_host_order`
+    // keeps every declared binding used, so the host may bind them all.
+    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(label),
+        layout: None,
+        module: &module,
+        entry_point: Some(entry),
+        compilation_options: wgpu::PipelineCompilationOptions::default(),
+        cache: None,
+    });
+    let layouts = (0..groups)
+        .map(|g| pipeline.get_bind_group_layout(g))
+        .collect();
+    scope.pop()?;
+    Ok(CachedPipeline { pipeline, layouts })
 }
 
 /// A [`ShaderKernel`] on the device: its pipeline (layouts derived from the shader), its tables
@@ -233,7 +249,7 @@ impl<K: ShaderKernel> Shaded<K> {
             })?;
         let scope = ErrorScopes::push(&gpu.device);
         let resident = resident.iter().map(|t| gpu.storage(t)).collect();
-        let still = warp_group(&gpu, &warp_layout, None);
+        let still = warp_group(&gpu, &warp_layout, Displacement::None);
         let queries = gpu.query_set(1);
         scope.pop()?;
         Ok(Box::new(Self {
@@ -260,7 +276,7 @@ impl<K: ShaderKernel> Shaded<K> {
             tables,
             passes,
         }: TileTables,
-        displacement: Option<&[f32]>,
+        displacement: Displacement<'_>,
         encoder: &mut wgpu::CommandEncoder,
         output: &wgpu::Buffer,
         timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
@@ -293,20 +309,10 @@ impl<K: ShaderKernel> Shaded<K> {
         }
         if let Some(target) = target {
             // With passes, the timer starts at the first one and ends with the dispatch.
-            let (start, end) = match timer {
-                Some(t) if !passes.is_empty() => (
-                    Some(wgpu::ComputePassTimestampWrites {
-                        query_set: t.query_set,
-                        beginning_of_pass_write_index: t.beginning_of_pass_write_index,
-                        end_of_pass_write_index: None,
-                    }),
-                    Some(wgpu::ComputePassTimestampWrites {
-                        query_set: t.query_set,
-                        beginning_of_pass_write_index: None,
-                        end_of_pass_write_index: t.end_of_pass_write_index,
-                    }),
-                ),
-                other => (None, other),
+            let (start, end) = if passes.is_empty() {
+                (None, timer)
+            } else {
+                split_timer(timer)
             };
             self.kind
                 .encode_passes(tile, passes, encoder, target, start)?;
@@ -330,7 +336,10 @@ impl<K: ShaderKernel> Shaded<K> {
             layout: &self.model_layout,
             entries: &entries,
         });
-        let displaced = displacement.map(|d| warp_group(gpu, &self.warp_layout, Some(d)));
+        let displaced = match displacement {
+            Displacement::None => None,
+            d => Some(warp_group(gpu, &self.warp_layout, d)),
+        };
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("spectex tile"),
             timestamp_writes: timer,
@@ -347,15 +356,26 @@ impl<K: ShaderKernel> Shaded<K> {
     }
 }
 
-/// Bind group 1 of a dispatch: displaced by `displacement` (pixels, `(dx, dy)` per pixel) or
-/// not, where the displacement is one unused (0, 0) (a binding holds at least one element).
+/// Where a dispatch's displacement (pixels, `(dx, dy)` per pixel, row-major over the tile) is.
+#[derive(Clone, Copy)]
+pub(crate) enum Displacement<'a> {
+    /// Not displaced.
+    None,
+    /// On the host, uploaded with the dispatch.
+    Host(&'a [f32]),
+    /// On the device, written by earlier passes of the same submission.
+    Device(&'a wgpu::Buffer),
+}
+
+/// Bind group 1 of a dispatch: displaced by `displacement` or not, where the displacement is
+/// one unused (0, 0) (a binding holds at least one element).
 fn warp_group(
     gpu: &Gpu,
     layout: &wgpu::BindGroupLayout,
-    displacement: Option<&[f32]>,
+    displacement: Displacement<'_>,
 ) -> wgpu::BindGroup {
     let params = WarpParams {
-        enabled: u32::from(displacement.is_some()),
+        enabled: u32::from(!matches!(displacement, Displacement::None)),
         ..bytemuck::Zeroable::zeroed()
     };
     let uniform = gpu.buffer(
@@ -363,10 +383,18 @@ fn warp_group(
         bytemuck::bytes_of(&params),
         wgpu::BufferUsages::UNIFORM,
     );
-    let values = gpu.storage(&Table::new(
-        "warp displacement",
-        displacement.unwrap_or(&[0.0f32, 0.0][..]),
-    ));
+    let uploaded;
+    let values = match displacement {
+        Displacement::Device(buffer) => buffer,
+        Displacement::Host(d) => {
+            uploaded = gpu.storage(&Table::new("warp displacement", d));
+            &uploaded
+        }
+        Displacement::None => {
+            uploaded = gpu.storage(&Table::new("warp displacement", &[0.0f32, 0.0]));
+            &uploaded
+        }
+    };
     gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("spectex warp"),
         layout,
@@ -429,7 +457,34 @@ impl<K: ShaderKernel> GpuKernel for Shaded<K> {
         output: &wgpu::Buffer,
         timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) -> Result<(), GpuError> {
-        self.record(tile, tables, None, encoder, output, timer)
+        self.record(tile, tables, Displacement::None, encoder, output, timer)
+    }
+
+    fn displaced_on_device(&self) -> bool {
+        !K::TABLES_READ_DISPLACEMENT
+    }
+
+    fn prepare_device_displaced(&self, tile: &GpuWindow) -> Result<TileTables, GpuError> {
+        if K::TABLES_READ_DISPLACEMENT {
+            return Err(GpuError::Validation(format!(
+                "{}: its tables read the displacement, which stays on the device",
+                K::SHADER
+            )));
+        }
+        self.kind.tile_tables(tile, None, self.gpu.binding_limit())
+    }
+
+    fn encode_device_displaced(
+        &self,
+        tile: &GpuWindow,
+        tables: TileTables,
+        encoder: &mut wgpu::CommandEncoder,
+        output: &wgpu::Buffer,
+        displacement: &wgpu::Buffer,
+        timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) -> Result<(), GpuError> {
+        let displaced = Displacement::Device(displacement);
+        self.record(tile, tables, displaced, encoder, output, timer)
     }
 
     fn tile_pixels(&self) -> Option<usize> {
@@ -474,7 +529,8 @@ impl<K: ShaderKernel> GpuKernel for Shaded<K> {
         let tables = self
             .kind
             .tile_tables(tile, displacement, gpu.binding_limit())?;
-        self.record(tile, tables, displacement, &mut encoder, &output, timer)?;
+        let displaced = displacement.map_or(Displacement::None, Displacement::Host);
+        self.record(tile, tables, displaced, &mut encoder, &output, timer)?;
         encoder.copy_buffer_to_buffer(&output, 0, &readback, 0, output_bytes);
         if let Some(set) = &self.queries {
             let resolved = gpu.empty(

@@ -541,18 +541,22 @@ fn record_all(
                 label: Some("spectex render"),
             });
         let pair = 2 * slot_index as u32;
-        let direct = matches!(tables, PreparedTile::Tables(_));
+        let direct = !matches!(tables, PreparedTile::Values(_));
+        let timer = ring
+            .queries
+            .as_ref()
+            .map(|set| wgpu::ComputePassTimestampWrites {
+                query_set: set,
+                beginning_of_pass_write_index: Some(pair),
+                end_of_pass_write_index: Some(pair + 1),
+            });
         match tables {
             PreparedTile::Tables(tables) => {
-                let timer = ring
-                    .queries
-                    .as_ref()
-                    .map(|set| wgpu::ComputePassTimestampWrites {
-                        query_set: set,
-                        beginning_of_pass_write_index: Some(pair),
-                        end_of_pass_write_index: Some(pair + 1),
-                    });
                 kernel.encode_tile(&tile.window, tables, &mut encoder, &slot.values, timer)?;
+            }
+            PreparedTile::Chain { operands, base } => {
+                let output = &slot.values;
+                kernel.encode_chain(&tile.window, operands, base, &mut encoder, output, timer)?;
             }
             PreparedTile::Values(host) => {
                 // A composite kind: its operands' passes ran (and were timed) on a worker; the

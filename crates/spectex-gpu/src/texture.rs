@@ -299,6 +299,7 @@ impl TextureKernel {
 impl ShaderKernel for TextureKernel {
     const SHADER: &'static str = "texture";
     const ENTRY_POINT: &'static str = "texture_main";
+    const TABLES_READ_DISPLACEMENT: bool = true;
 
     fn output_channels(&self) -> usize {
         self.channels()

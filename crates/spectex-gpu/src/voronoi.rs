@@ -164,6 +164,7 @@ pub(crate) fn pack(model: &VoronoiNoise, period: Option<Period>) -> VoronoiKerne
 impl ShaderKernel for VoronoiKernel {
     const SHADER: &'static str = "voronoi";
     const ENTRY_POINT: &'static str = "voronoi_main";
+    const TABLES_READ_DISPLACEMENT: bool = true;
 
     fn output_channels(&self) -> usize {
         self.model.output.channels()

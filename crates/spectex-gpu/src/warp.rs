@@ -1,17 +1,37 @@
-//! Domain warping on the device: a [`Warp`] has no shader of its own. Per tile it renders x and y
-//! (displaced themselves when the warp is), applies [`Warp::displacement`] on the host in f32,
-//! and renders its base displaced by the sum through the base's own shader (`common.wgsl`'s
-//! displacement convention, bind group 1 of every model shader).
+//! Domain warping on the device: a [`Warp`] has no model shader of its own. Per tile it renders
+//! x and y, applies [`Warp::displacement`] in f32, and renders its base displaced by it through
+//! the base's own shader (`common.wgsl`'s displacement convention, bind group 1 of every model
+//! shader). Where the base's host part does not read the displacement, all of it is recorded in
+//! the tile's one submission: x's and y's dispatches, `compose.wgsl`'s `warp_displace`, and the
+//! base's dispatch reading the displacement from the device. Otherwise (a phasor, Voronoi or
+//! texture base), and for a warp displaced itself, the host composes: x and y rendered (displaced
+//! when the warp is), the displacement applied and added to the outer one, the base rendered.
 //!
 //! A warp's export: its three models, composed by the glue of `shaders/warp.wgsl` (the emitter
 //! writes the composition, `Emitter::node`).
 
 use spectex_model::{Model, Period, Warp};
 
+use crate::cache::CachedPipeline;
 use crate::export::{ExportKind, ExportNode, parts};
-use crate::kernel::{GpuKernel, GpuKind};
+use crate::kernel::{GpuKernel, GpuKind, PreparedTile, TileTables, split_timer};
+use crate::layout::wgsl_struct;
+use crate::pipeline::{Gpu, compute_pipeline};
 use crate::shaders::{ShaderFile, kernel_and_glue};
-use crate::{GpuContext, GpuError, GpuEvaluator, GpuWindow};
+use crate::{GpuContext, GpuError, GpuEvaluator, GpuWindow, wgsl_source};
+
+wgsl_struct! {
+    /// `ComposeParams` of `compose.wgsl`.
+    pub(crate) struct ComposeParams {
+        count: u32,
+        per_row: u32,
+        strength: f32,
+        max_warp: f32,
+    }
+}
+
+/// Workgroup size of `compose.wgsl`'s entry points.
+const COMPOSE_WORKGROUP: u32 = 64;
 
 /// A warp's three sub-evaluators.
 #[derive(Debug)]
@@ -25,6 +45,9 @@ pub(crate) struct WarpKernel {
     /// The period of a periodic warp: its three models are periodic (each reduces its own
     /// positions), so its window is never out of range.
     period: Option<Period>,
+    gpu: Gpu,
+    /// `compose.wgsl`'s `warp_displace`, where the base is displaced on the device.
+    displace: Option<CachedPipeline>,
 }
 
 impl GpuKind for Warp {
@@ -40,13 +63,23 @@ impl GpuKind for Warp {
         period: Option<Period>,
     ) -> Result<Box<dyn GpuKernel>, GpuError> {
         let sub = |m: &Model| GpuEvaluator::prepared_with_period(context, m, z, period);
+        let gpu = Gpu::new(context);
+        let base = sub(&self.base)?;
+        let displace = if base.displaced_on_device() {
+            let key = ("compose", "warp_displace");
+            Some(compute_pipeline(&gpu, key, 1, || wgsl_source("compose"))?)
+        } else {
+            None
+        };
         Ok(Box::new(WarpKernel {
             model: self.clone(),
             whole: Model::Warp(self.clone()),
-            base: sub(&self.base)?,
+            base,
             x: sub(&self.x)?,
             y: sub(&self.y)?,
             period,
+            gpu,
+            displace,
         }))
     }
 }
@@ -66,10 +99,109 @@ impl GpuKernel for WarpKernel {
         Ok(size)
     }
 
-    /// Quarter-megapixel tiles: the host composes every tile, so a render spreads them over
-    /// the cores.
+    /// Quarter-megapixel tiles where the host composes every tile, so a render spreads them
+    /// over the cores; megapixel ones where the device does (a tile in flight holds x, y and the
+    /// displacement, 16 bytes a pixel, beside its output).
     fn tile_pixels(&self) -> Option<usize> {
-        Some(1 << 18)
+        Some(if self.displace.is_some() {
+            1 << 20
+        } else {
+            1 << 18
+        })
+    }
+
+    /// On the device where the base is displaced there: x's and y's host parts and the
+    /// base's tables (point-sampled, as [`render_tile`](Self::render_tile)); else the host's
+    /// composition.
+    fn prepare_tile(&self, tile: &GpuWindow) -> Result<PreparedTile, GpuError> {
+        if self.displace.is_none() {
+            return self.render_tile(tile, None).map(PreparedTile::Values);
+        }
+        let base_tile = tile.filtered(spectex_model::Filter::Off);
+        Ok(PreparedTile::Chain {
+            operands: vec![self.x.prepare_pass(tile)?, self.y.prepare_pass(tile)?],
+            base: Some(self.base.prepare_device_displaced(&base_tile)?),
+        })
+    }
+
+    /// x and y into planes of their own, `warp_displace` into the displacement, then the
+    /// base displaced by it into `output`: one submission, nothing read back.
+    fn encode_chain(
+        &self,
+        tile: &GpuWindow,
+        operands: Vec<PreparedTile>,
+        base: Option<TileTables>,
+        encoder: &mut wgpu::CommandEncoder,
+        output: &wgpu::Buffer,
+        timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) -> Result<(), GpuError> {
+        let invalid = || GpuError::Validation("warp: a chain of another shape".to_owned());
+        let (Some(pipeline), Some(base), Ok([x, y])) = (
+            &self.displace,
+            base,
+            <[PreparedTile; 2]>::try_from(operands),
+        ) else {
+            return Err(invalid());
+        };
+        let layout = pipeline.layouts.first().ok_or_else(invalid)?;
+        let gpu = &self.gpu;
+        let n = tile.width * tile.height;
+        use wgpu::BufferUsages as U;
+        let plane = |label| gpu.empty(label, 4 * n.max(1) as u64, U::STORAGE | U::COPY_DST);
+        let (vx, vy) = (plane("warp x"), plane("warp y"));
+        let displacement = gpu.empty("warp displacement", 8 * n.max(1) as u64, U::STORAGE);
+        // The start is written by x's dispatch where it has one, else by the composition.
+        let (start, end) = split_timer(timer);
+        let (x_timer, compose_timer) = if matches!(x, PreparedTile::Values(_)) {
+            (None, start)
+        } else {
+            (start, None)
+        };
+        self.x.encode_pass(tile, x, encoder, &vx, x_timer)?;
+        self.y.encode_pass(tile, y, encoder, &vy, None)?;
+        let groups = (n as u32).div_ceil(COMPOSE_WORKGROUP).max(1);
+        let across = groups.min(gpu.limits.max_compute_workgroups_per_dimension.max(1));
+        let params = ComposeParams {
+            count: n as u32,
+            per_row: across * COMPOSE_WORKGROUP,
+            strength: self.model.strength,
+            max_warp: spectex_model::MAX_WARP,
+        };
+        let uniform = gpu.buffer("warp compose", bytemuck::bytes_of(&params), U::UNIFORM);
+        let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("spectex warp compose"),
+            layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: uniform.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: vx.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: vy.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: displacement.as_entire_binding(),
+                },
+            ],
+        });
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("spectex warp compose"),
+                timestamp_writes: compose_timer,
+            });
+            pass.set_pipeline(&pipeline.pipeline);
+            pass.set_bind_group(0, &group, &[]);
+            pass.dispatch_workgroups(across, groups.div_ceil(across), 1);
+        }
+        let base_tile = tile.filtered(spectex_model::Filter::Off);
+        self.base
+            .encode_device_displaced(&base_tile, base, encoder, output, &displacement, end)
     }
 
     /// A periodic warp's positions are reduced into the period (the CPU's `PeriodicKernel`
@@ -118,5 +250,15 @@ impl ExportKind for Warp {
             y: Box::new(parts(&self.y, z)?),
             strength: self.strength,
         })
+    }
+}
+
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+pub mod tests {
+    use crate::layout::check::assert_matches_wgsl;
+
+    pub fn compose_params_match_the_wgsl() {
+        assert_matches_wgsl::<super::ComposeParams>("compose", "ComposeParams");
     }
 }
