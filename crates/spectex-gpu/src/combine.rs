@@ -1,7 +1,9 @@
-//! Combinations on the device: a [`Combine`] has no shader of its own. Per tile it renders
-//! every operand through its own kernel (displaced when the combination is) and applies
-//! [`CombineOp::apply`](spectex_model::combine::CombineOp::apply) on the host in f32, the
-//! CPU's expression, as a warp applies its displacement.
+//! Combinations on the device: a [`Combine`] has no model shader of its own. An undisplaced
+//! tile records every operand's dispatch into a plane of its own and then a combination pass
+//! written for the model (the export's WGSL of
+//! [`CombineOp::apply`](spectex_model::combine::CombineOp::apply), the same operations in the
+//! same order) in the tile's one submission. A displaced one (a warp's base) renders its
+//! operands displaced and applies the operation on the host in f32, the CPU's expression.
 //!
 //! A combination's export (the glue of `shaders/combine.wgsl`): like a warp, a composition — each
 //! operand is exported as its own prefixed model, and the glue's `combine_sample_cell`
@@ -10,10 +12,78 @@
 
 use spectex_model::{Combine, Model, ModelKind, Period};
 
+use std::fmt::Write as _;
+
+use crate::cache::CachedPipeline;
+use crate::export::emitter::{combine_constants, combine_expression};
 use crate::export::{ExportKind, ExportNode, parts};
-use crate::kernel::{GpuKernel, GpuKind};
-use crate::shaders::{ShaderFile, kernel_and_glue};
+use crate::kernel::{GpuKernel, GpuKind, PreparedTile, TileTables, split_timer};
+use crate::layout::wgsl_struct;
+use crate::pipeline::{Gpu, build_pipeline, leading};
+use crate::shaders::{ShaderFile, kernel_and_glue, wgsl_source};
 use crate::{GpuContext, GpuError, GpuEvaluator, GpuWindow};
+
+wgsl_struct! {
+    /// `CombinePass` of the combination pass ([`pass_wgsl`]).
+    pub(crate) struct CombinePass {
+        count: u32,
+        per_row: u32,
+        _pad0: u32,
+        _pad1: u32,
+    }
+}
+
+/// Workgroup size of the combination pass.
+const PASS_WORKGROUP: u32 = 64;
+
+/// The combination pass of `op` over operands of `widths` channels into `channels`:
+/// `common.wgsl`, the glue's functions and constants (`shaders/combine.wgsl`), and an entry
+/// point that reads operand `k`'s value at a pixel from its plane of `operands` and writes the
+/// operation's channels.
+pub(crate) fn pass_wgsl(
+    op: &spectex_model::combine::CombineOp,
+    widths: &[usize],
+    channels: usize,
+) -> Option<String> {
+    let mut code = wgsl_source("common")?;
+    code.push_str(<Combine as ExportKind>::GLUE);
+    code.push_str(&combine_constants(op));
+    code.push_str(
+        "\nstruct CombinePass {\n    count: u32,\n    per_row: u32,\n    _pad0: u32,\n    \
+         _pad1: u32,\n}\n\n\
+         @group(0) @binding(0) var<uniform> combine_pass: CombinePass;\n\
+         /// Operand k's values, channels interleaved, one plane after another.\n\
+         @group(0) @binding(1) var<storage, read> operands: array<f32>;\n\
+         @group(0) @binding(2) var<storage, read_write> combined: array<f32>;\n\n\
+         @compute @workgroup_size(64, 1, 1)\n\
+         fn combine_main(@builtin(global_invocation_id) gid: vec3<u32>) {\n    \
+         let p = gid.y * combine_pass.per_row + gid.x;\n    \
+         let n = combine_pass.count;\n    \
+         if (p >= n) {\n        return;\n    }\n",
+    );
+    let mut plane = 0;
+    for (k, &w) in widths.iter().enumerate() {
+        if w == 1 {
+            let _ = writeln!(code, "    let v{k} = operands[{plane}u * n + p];");
+        } else {
+            let _ = writeln!(
+                code,
+                "    let v{k} = vec3<f32>(operands[{plane}u * n + 3u * p], \
+                 operands[{plane}u * n + 3u * p + 1u], operands[{plane}u * n + 3u * p + 2u]);"
+            );
+        }
+        plane += w;
+    }
+    for c in 0..channels {
+        let _ = writeln!(
+            code,
+            "    combined[{channels}u * p + {c}u] = {};",
+            combine_expression(op, widths, c)
+        );
+    }
+    code.push_str("}\n");
+    Some(code)
+}
 
 /// A combination's operand evaluators.
 #[derive(Debug)]
@@ -25,6 +95,9 @@ pub(crate) struct CombineKernel {
     /// The period of a periodic combination: every operand is periodic (each reduces its own
     /// positions), so its window is never out of range.
     period: Option<Period>,
+    gpu: Gpu,
+    /// The combination pass, built for this model ([`pass_wgsl`]).
+    pass: CachedPipeline,
 }
 
 impl GpuKind for Combine {
@@ -43,11 +116,19 @@ impl GpuKind for Combine {
             .iter()
             .map(|m| GpuEvaluator::prepared_with_period(context, m, z, period))
             .collect::<Result<Vec<_>, _>>()?;
+        let widths: Vec<usize> = operands.iter().map(GpuEvaluator::output_channels).collect();
+        let source = pass_wgsl(&self.op, &widths, self.output_channels()).ok_or_else(|| {
+            GpuError::Validation("common.wgsl missing from the registry".to_owned())
+        })?;
+        let gpu = Gpu::new(context);
+        let pass = build_pipeline(&gpu, "spectex combine", source, "combine_main", 1)?;
         Ok(Box::new(CombineKernel {
             model: self.clone(),
             whole: Model::Combine(self.clone()),
             operands,
             period,
+            gpu,
+            pass,
         }))
     }
 }
@@ -67,10 +148,109 @@ impl GpuKernel for CombineKernel {
         Ok(size)
     }
 
-    /// Quarter-megapixel tiles: the host composes every tile, so a render spreads them over
-    /// the cores.
+    /// Megapixel tiles: a tile in flight holds every operand's plane on the device twice
+    /// (its own buffer and the combination's input) beside its output.
     fn tile_pixels(&self) -> Option<usize> {
-        Some(1 << 18)
+        Some(1 << 20)
+    }
+
+    /// Every operand's host part, for [`encode_chain`](Self::encode_chain).
+    fn prepare_tile(&self, tile: &GpuWindow) -> Result<PreparedTile, GpuError> {
+        Ok(PreparedTile::Chain {
+            operands: self
+                .operands
+                .iter()
+                .map(|e| e.prepare_pass(tile))
+                .collect::<Result<_, _>>()?,
+            base: None,
+        })
+    }
+
+    /// Each operand into its own buffer, copied into its plane of the combination's input,
+    /// then the combination pass into `output`: one submission, nothing read back.
+    fn encode_chain(
+        &self,
+        tile: &GpuWindow,
+        operands: Vec<PreparedTile>,
+        _base: Option<TileTables>,
+        encoder: &mut wgpu::CommandEncoder,
+        output: &wgpu::Buffer,
+        timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) -> Result<(), GpuError> {
+        if operands.len() != self.operands.len() {
+            return Err(GpuError::Validation(
+                "combine: a chain of another shape".to_owned(),
+            ));
+        }
+        let gpu = &self.gpu;
+        use wgpu::BufferUsages as U;
+        let n = tile.width * tile.height;
+        let planes: usize = self
+            .operands
+            .iter()
+            .map(GpuEvaluator::output_channels)
+            .sum();
+        let input = gpu.empty(
+            "combine operands",
+            4 * (planes * n).max(1) as u64,
+            U::STORAGE | U::COPY_DST,
+        );
+        // The timer starts with the first operand's dispatch where it has one (else with the
+        // combination) and ends with the combination.
+        let (mut first_timer, pass_timer) = match operands.first() {
+            Some(PreparedTile::Values(_)) | None => (None, timer),
+            Some(_) => split_timer(timer),
+        };
+        let mut at = 0u64;
+        for (e, prepared) in self.operands.iter().zip(operands) {
+            let bytes = 4 * (e.output_channels() * n) as u64;
+            let own = gpu.empty(
+                "combine operand",
+                bytes.max(4),
+                U::STORAGE | U::COPY_SRC | U::COPY_DST,
+            );
+            e.encode_pass(tile, prepared, encoder, &own, first_timer.take())?;
+            encoder.copy_buffer_to_buffer(&own, 0, &input, at, bytes);
+            at += bytes;
+        }
+        let layout = self.pass.layouts.first().ok_or_else(|| {
+            GpuError::Validation("combine: its pass has no bind group".to_owned())
+        })?;
+        let groups = (n as u32).div_ceil(PASS_WORKGROUP).max(1);
+        let across = groups.min(gpu.limits.max_compute_workgroups_per_dimension.max(1));
+        let params = CombinePass {
+            count: n as u32,
+            per_row: across * PASS_WORKGROUP,
+            ..bytemuck::Zeroable::zeroed()
+        };
+        let uniform = gpu.buffer("combine pass", bytemuck::bytes_of(&params), U::UNIFORM);
+        let values = 4 * (self.output_channels() * n).max(1) as u64;
+        let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("spectex combine"),
+            layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: uniform.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: input.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: leading(output, values),
+                },
+            ],
+        });
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("spectex combine"),
+            timestamp_writes: pass_timer,
+        });
+        pass.set_pipeline(&self.pass.pipeline);
+        pass.set_bind_group(0, &group, &[]);
+        pass.dispatch_workgroups(across, groups.div_ceil(across), 1);
+        Ok(())
     }
 
     /// A periodic combination's positions are reduced into the period.
@@ -132,5 +312,85 @@ impl ExportKind for Combine {
                 .collect::<Result<_, _>>()?,
             channels: self.output_channels(),
         })
+    }
+}
+
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(clippy::unwrap_used, reason = "a test fails loudly")]
+pub mod tests {
+    use spectex_model::combine::{CombineOp, RampStop};
+
+    /// The combination pass of every operation (grey and colour operands, a colour ramp)
+    /// parses and validates with naga, and its uniform has the Rust record's size.
+    pub fn passes_of_every_operation_validate() {
+        let stop = |at, c| RampStop {
+            at,
+            colour: [c, 0.5, 1.0 - c],
+        };
+        let cases: Vec<(CombineOp, Vec<usize>, usize)> = vec![
+            (CombineOp::Add, vec![1, 1, 1], 1),
+            (CombineOp::Multiply, vec![3, 3], 3),
+            (CombineOp::Min, vec![1, 1], 1),
+            (CombineOp::Max, vec![3, 3], 3),
+            (CombineOp::Mix, vec![3, 3, 1], 3),
+            (
+                CombineOp::Smoothstep {
+                    edges: [0.25, 0.75],
+                },
+                vec![1],
+                1,
+            ),
+            (
+                CombineOp::AbsFold {
+                    offset: -0.8,
+                    step: 0.4,
+                    folds: 3,
+                },
+                vec![1],
+                1,
+            ),
+            (CombineOp::SinFold { gain: 3.0 }, vec![3], 3),
+            (
+                CombineOp::Histogram {
+                    domain: [-1.0, 1.0],
+                    table: vec![0.0, 0.1, 0.5, 1.0],
+                },
+                vec![1],
+                1,
+            ),
+            (
+                CombineOp::Ramp {
+                    stops: vec![stop(0.0, 0.0), stop(0.5, 0.7)],
+                },
+                vec![1],
+                3,
+            ),
+        ];
+        for (op, widths, channels) in cases {
+            let source = super::pass_wgsl(&op, &widths, channels).unwrap();
+            let module = naga::front::wgsl::parse_str(&source)
+                .unwrap_or_else(|e| panic!("{op:?}:\n{}", e.emit_to_string(&source)));
+            naga::valid::Validator::new(
+                naga::valid::ValidationFlags::all(),
+                naga::valid::Capabilities::default(),
+            )
+            .validate(&module)
+            .unwrap_or_else(|e| panic!("{op:?}:\n{}", e.emit_to_string(&source)));
+            let params = module
+                .types
+                .iter()
+                .find(|(_, t)| t.name.as_deref() == Some("CombinePass"))
+                .map(|(_, t)| t.inner.size(module.to_ctx()));
+            assert_eq!(
+                params,
+                Some(size_of::<super::CombinePass>() as u32),
+                "{op:?}"
+            );
+            assert!(
+                source.contains(&format!("combined[{channels}u * p + {}u]", channels - 1)),
+                "{op:?}: every channel written"
+            );
+        }
     }
 }

@@ -220,28 +220,32 @@ pub(crate) trait GpuKernel: fmt::Debug + Send + Sync {
 }
 
 /// `timer` split in two: one that writes only its start (for the first of several passes) and
-/// one that writes only its end (for the last).
+/// one that writes only its end (for the last); a half with nothing to write is `None` (a
+/// timer split already, handed to a pass that splits it again).
 pub(crate) fn split_timer(
     timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
 ) -> (
     Option<wgpu::ComputePassTimestampWrites<'_>>,
     Option<wgpu::ComputePassTimestampWrites<'_>>,
 ) {
-    match timer {
-        Some(t) => (
-            Some(wgpu::ComputePassTimestampWrites {
-                query_set: t.query_set,
-                beginning_of_pass_write_index: t.beginning_of_pass_write_index,
-                end_of_pass_write_index: None,
-            }),
-            Some(wgpu::ComputePassTimestampWrites {
-                query_set: t.query_set,
-                beginning_of_pass_write_index: None,
-                end_of_pass_write_index: t.end_of_pass_write_index,
-            }),
-        ),
-        None => (None, None),
-    }
+    let Some(t) = timer else {
+        return (None, None);
+    };
+    let start = t
+        .beginning_of_pass_write_index
+        .map(|index| wgpu::ComputePassTimestampWrites {
+            query_set: t.query_set,
+            beginning_of_pass_write_index: Some(index),
+            end_of_pass_write_index: None,
+        });
+    let end = t
+        .end_of_pass_write_index
+        .map(|index| wgpu::ComputePassTimestampWrites {
+            query_set: t.query_set,
+            beginning_of_pass_write_index: None,
+            end_of_pass_write_index: Some(index),
+        });
+    (start, end)
 }
 
 /// A kind rendered by a compute shader of its own: everything kind-specific about it, and

@@ -627,8 +627,10 @@ fn channel(k: usize, width: usize, c: usize) -> String {
 }
 
 /// The WGSL expression of `op` for output channel `c` over the operands of `widths`
-/// (`CombineOp::apply`, the same operations in the same order).
-fn expression(op: &CombineOp, widths: &[usize], c: usize) -> String {
+/// (`CombineOp::apply`, the same operations in the same order), operand `k` read from `v<k>`
+/// (an `f32`, or a `vec3<f32>` for 3 channels): the export's `combine_sample_cell` and the
+/// compute path's combination pass (`crate::combine`).
+pub(crate) fn combine_expression(op: &CombineOp, widths: &[usize], c: usize) -> String {
     let ch = |k: usize, c: usize| channel(k, widths[k], c);
     let fold = |f: &dyn Fn(String, String) -> String| {
         (1..widths.len()).fold(ch(0, c), |acc, k| f(acc, ch(k, c)))
@@ -669,6 +671,45 @@ fn expression(op: &CombineOp, widths: &[usize], c: usize) -> String {
     }
 }
 
+/// The constant tables of a combination's glue (`shaders/combine.wgsl`): a histogram's table and
+/// a ramp's stops, or one unused entry of each.
+pub(crate) fn combine_constants(op: &CombineOp) -> String {
+    let (knots, stops) = tables(op);
+    let mut code = String::new();
+    let _ = write!(
+        code,
+        "\nconst combine_knots: u32 = {n}u;\n\
+         var<private> combine_table: array<f32, {n}> = array<f32, {n}>({});\n\
+         const combine_stops: u32 = {s}u;\n\
+         var<private> combine_stops_at: array<f32, {s}> = array<f32, {s}>({});\n\
+         var<private> combine_stops_colour: array<vec3<f32>, {s}> = \
+         array<vec3<f32>, {s}>({});\n",
+        knots
+            .iter()
+            .map(|v| float(*v))
+            .collect::<Vec<_>>()
+            .join(", "),
+        stops
+            .iter()
+            .map(|s| float(s.at))
+            .collect::<Vec<_>>()
+            .join(", "),
+        stops
+            .iter()
+            .map(|s| format!(
+                "vec3<f32>({}, {}, {})",
+                float(s.colour[0]),
+                float(s.colour[1]),
+                float(s.colour[2])
+            ))
+            .collect::<Vec<_>>()
+            .join(", "),
+        n = knots.len(),
+        s = stops.len(),
+    );
+    code
+}
+
 impl Emitter<'_> {
     /// Emits a combination's operands (each its own model), then its glue and
     /// `combine_sample_cell` under its own prefix; returns that function's name.
@@ -694,40 +735,9 @@ impl Emitter<'_> {
             "model {k}: a combination (glue shaders/combine.wgsl) of the models before it"
         ));
         let prefix = format!("spectex_m{k}_");
-        let (knots, stops) = tables(op);
         self.constant_bytes += combine_table_bytes(op) as usize;
         let mut code = export_shader("combine");
-        let _ = write!(
-            code,
-            "\nconst combine_knots: u32 = {n}u;\n\
-             var<private> combine_table: array<f32, {n}> = array<f32, {n}>({});\n\
-             const combine_stops: u32 = {s}u;\n\
-             var<private> combine_stops_at: array<f32, {s}> = array<f32, {s}>({});\n\
-             var<private> combine_stops_colour: array<vec3<f32>, {s}> = \
-             array<vec3<f32>, {s}>({});\n",
-            knots
-                .iter()
-                .map(|v| float(*v))
-                .collect::<Vec<_>>()
-                .join(", "),
-            stops
-                .iter()
-                .map(|s| float(s.at))
-                .collect::<Vec<_>>()
-                .join(", "),
-            stops
-                .iter()
-                .map(|s| format!(
-                    "vec3<f32>({}, {}, {})",
-                    float(s.colour[0]),
-                    float(s.colour[1]),
-                    float(s.colour[2])
-                ))
-                .collect::<Vec<_>>()
-                .join(", "),
-            n = knots.len(),
-            s = stops.len(),
-        );
+        code.push_str(&combine_constants(op));
         let _ = write!(
             code,
             "\n/// The combination at the position `cell + offset` (pixels): its operands there, \
@@ -737,7 +747,9 @@ impl Emitter<'_> {
         for (k, name) in names.iter().enumerate() {
             let _ = writeln!(code, "    let v{k} = {name}(cell, offset);");
         }
-        let exprs: Vec<String> = (0..channels).map(|c| expression(op, &widths, c)).collect();
+        let exprs: Vec<String> = (0..channels)
+            .map(|c| combine_expression(op, &widths, c))
+            .collect();
         if channels == 1 {
             let _ = writeln!(code, "    return {};\n}}", exprs[0]);
         } else {
