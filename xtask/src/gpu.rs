@@ -360,11 +360,14 @@ const VULKAN_DEBS: &[&str] = &[
 ];
 
 /// The script the report folder carries: unpacks, runs the models bench and the CLI on every
-/// model, prints the table. `$1` is the window side (default 4096).
+/// model, prints the table, then the CLI's PNG renders and the exported modules' bench (compute
+/// and render pipeline at 1920×1080 and 3840×2160, with the LRP J = 50 row). `$1` is the window
+/// side (default 4096).
 const REPORT_SCRIPT: &str = r#"#!/usr/bin/env bash
 # spectex GPU report: every testdata model through the CLI (GPU end to end and kernel-only) and the
 # models bench (GPU kernel-only, end to end, CPU all threads), then one Markdown table.
 # Run from the repository root: bash target/gpu-report/run.sh [SIDE]
+# (EXPORT_SIZES="WxH …" changes the export bench's grids; SPECTEX_BENCH_MODELS=a,b its models.)
 set -uo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 side="${1:-4096}"
@@ -389,6 +392,18 @@ for m in "$models"/*.json; do
   printf 'cli\t%s\t%s\t%s\n' "$name" "${e2e:--}" "${kernel:--}" | tee -a "$out/cli.tsv"
 done
 "$work/xtask" gpu-table "$out/models.tsv" "$out/cli.tsv" --size "$side" | tee "$out/gpu.md"
+echo "== CLI, ${side}², 8-bit PNG (levels packed on the device) =="
+for m in classic-perlin-fbm lrp-ring; do
+  timeout 60 "$work/spectex" render "$models/$m.json" --size "${side}x${side}" --device gpu -o "$work/x.png" 2>&1 | grep -o '[0-9.]* Mpix/s.*' | sed "s/^/$m: /" | tee -a "$out/cli-png.txt"
+done
+echo "== exported modules: compute shader and render pipeline, 1920x1080 and 3840x2160 =="
+for size in ${EXPORT_SIZES:-1920x1080 3840x2160}; do
+  for render in 0 1; do
+    SPECTEX_BENCH_SIZE="$size" SPECTEX_BENCH_RENDER="$render" SPECTEX_BENCH_MODELS_DIR="$models" \
+      CARGO_TARGET_DIR="$out/export-$size-$render" timeout 90 "$work/export" --bench \
+      | tee "$out/export-$size-$render.txt"
+  done
+done
 "#;
 
 /// `cargo xtask gpu-report`: builds what the GPU machine needs (it has no Rust) into
@@ -403,11 +418,11 @@ pub(crate) fn gpu_report(ws: &Workspace) -> Result<()> {
     }
     fs::create_dir_all(&stage)?;
     run_command(&mut ws.cargo(&["build", "--release", "-p", "spectex-cli", "-p", "xtask"]))?;
-    let bench = bench_executable(ws)?;
     for (from, name) in [
         (target.join("release/spectex"), "spectex"),
         (target.join("release/xtask"), "xtask"),
-        (bench, "models"),
+        (bench_executable(ws, "models")?, "models"),
+        (bench_executable(ws, "export")?, "export"),
     ] {
         let to = stage.join(name);
         fs::copy(&from, &to).with_context(|| format!("copying {}", from.display()))?;
@@ -420,7 +435,7 @@ pub(crate) fn gpu_report(ws: &Workspace) -> Result<()> {
             .arg(dir.join("bin.tar.xz"))
             .arg("-C")
             .arg(&stage)
-            .args(["spectex", "xtask", "models"]),
+            .args(["spectex", "xtask", "models", "export"]),
     )?;
     fs::remove_dir_all(&stage)?;
     let debs = dir.join("debs");
@@ -464,28 +479,28 @@ fn folder_bytes(path: &Path) -> u64 {
     }
 }
 
-/// Builds the models bench (release profile) and returns its executable.
-fn bench_executable(ws: &Workspace) -> Result<PathBuf> {
+/// Builds spectex-crosscheck's bench `name` (release profile) and returns its executable.
+fn bench_executable(ws: &Workspace, name: &str) -> Result<PathBuf> {
     let output = ws
         .cargo(&[
             "bench",
             "-p",
             "spectex-crosscheck",
             "--bench",
-            "models",
+            name,
             "--no-run",
             "--message-format=json",
         ])
         .stderr(Stdio::inherit())
         .output()
-        .context("building the models bench")?;
+        .with_context(|| format!("building the {name} bench"))?;
     if !output.status.success() {
-        bail!("building the models bench failed");
+        bail!("building the {name} bench failed");
     }
     compiler_artifacts(&String::from_utf8_lossy(&output.stdout))
-        .filter(|a| a.target.name == "models")
+        .filter(|a| a.target.name == name)
         .find_map(|a| a.executable)
-        .context("cargo did not name the models bench's executable")
+        .with_context(|| format!("cargo did not name the {name} bench's executable"))
 }
 
 #[cfg(test)]

@@ -80,9 +80,10 @@ const COMMANDS: &[(&str, &str)] = &[
     (
         "gpu-report",
         "builds what a GPU machine without Rust needs to measure spectex there into \
-         target/gpu-report/ (release CLI, models bench and xtask stripped and compressed, the \
-         Vulkan loader's .deb files, run.sh): `bash target/gpu-report/run.sh [SIDE]` there prints \
-         every testdata model's GPU kernel-only, GPU end-to-end (bench and CLI) and CPU Mpix/s",
+         target/gpu-report/ (release CLI, models and export benches and xtask stripped and \
+         compressed, the Vulkan loader's .deb files, run.sh): `bash target/gpu-report/run.sh \
+         [SIDE]` there prints every testdata model's GPU kernel-only, GPU end-to-end (bench and \
+         CLI) and CPU Mpix/s, and each exported module's cost in calibration cosines",
     ),
     (
         "gpu-table",

@@ -7,7 +7,9 @@
 //!
 //! `cal-cos/eval = (ms − ms_empty) / evaluations / ((ms_cal − ms_empty) / 450)`,
 //!
-//! the model's time per evaluation in units of one polynomial cosine. Evaluations per pixel
+//! the model's time per evaluation in units of one polynomial cosine. A last row,
+//! `bench-lrp-j50`, times the GPU bench's LRP model (J = 50, 4 strata) and says its time as a
+//! multiple of the calibration's. Evaluations per pixel
 //! are the project's own count, `spectex_cpu::Evaluator::cost_per_pixel` (cosines for LRP,
 //! kernels for Gabor and phasor, octaves for classic noise — times the cells searched for
 //! Worley —, lattice or tile evaluations for the other kinds): the reason this bench lives
@@ -23,6 +25,8 @@
 //!   `1000,2000`; `10000000,10000000` times the far-from-origin case the exports keep precise);
 //! - `SPECTEX_BENCH_REPS=n`: repetitions per shader (default 9);
 //! - `SPECTEX_BENCH_MODELS=a,b`: only the models whose name contains one of these;
+//! - `SPECTEX_BENCH_MODELS_DIR=<folder>`: the models' folder (default the repository's
+//!   `testdata/models`; the GPU report's script sets it, as it runs away from the checkout);
 //! - `SPECTEX_BENCH_ALL=1`: also the models lavapipe compiles for minutes (left out on CPU
 //!   adapters otherwise, as in the export render test);
 //! - `SPECTEX_BENCH_FILE=<a .wgsl file>`: time this module (e.g. an export edited by hand)
@@ -66,6 +70,9 @@ const SLOW_ON_CPU_ADAPTERS: &[&str] = &[
     "warp-texture-colour",
     "warp-wavelet-by-fbm",
 ];
+
+/// The row of the GPU bench's LRP model (J = 50, 4 strata; not a testdata file).
+const BENCH_LRP: &str = "bench-lrp-j50";
 
 /// Cosines per pixel of the calibration shader.
 const CAL_COSINES: u32 = 450;
@@ -574,10 +581,17 @@ fn main() {
     );
     print!("{md}");
 
-    let dir = PathBuf::from(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../testdata/models"
-    ));
+    // The models' folder: `SPECTEX_BENCH_MODELS_DIR` where the bench runs away from its
+    // checkout (the GPU report's machine), else the repository's `testdata/models`.
+    let dir = std::env::var_os("SPECTEX_BENCH_MODELS_DIR").map_or_else(
+        || {
+            PathBuf::from(concat!(
+                env!("CARGO_MANIFEST_DIR"),
+                "/../../testdata/models"
+            ))
+        },
+        PathBuf::from,
+    );
     let file_override = std::env::var_os("SPECTEX_BENCH_FILE").map(PathBuf::from);
     let mut files: Vec<PathBuf> = match &file_override {
         Some(path) => {
@@ -594,11 +608,24 @@ fn main() {
     };
     files.retain(|p| p.extension().is_some_and(|e| e == "json"));
     files.sort();
-    for file in files {
-        let case = file
-            .file_stem()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_default();
+    let mut cases: Vec<(String, Option<PathBuf>)> = files
+        .into_iter()
+        .map(|file| {
+            let case = file
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            (case, Some(file))
+        })
+        .collect();
+    if file_override.is_none() {
+        // The GPU bench's model (`spectex-gpu`'s `gpu` bench, the CPU's `eval` bench): LRP
+        // with J = 50 cosines over 4 strata, whose export the issue times against the
+        // calibration.
+        cases.push((BENCH_LRP.to_owned(), None));
+    }
+    let mut bench_lrp_ms = None;
+    for (case, file) in cases {
         if !filter.is_empty() && !filter.iter().any(|f| case.contains(f.as_str())) {
             continue;
         }
@@ -609,10 +636,13 @@ fn main() {
         {
             continue;
         }
-        let Ok(model) = std::fs::read_to_string(&file)
-            .map_err(|e| e.to_string())
-            .and_then(|t| spectex_model::from_json(&t).map_err(|e| e.to_string()))
-        else {
+        let model = match &file {
+            Some(file) => std::fs::read_to_string(file)
+                .map_err(|e| e.to_string())
+                .and_then(|t| spectex_model::from_json(&t).map_err(|e| e.to_string())),
+            None => Ok(Model::Lrp(spectex_model::fixtures::lrp_four_strata(50))),
+        };
+        let Ok(model) = model else {
             eprintln!("{case}: unreadable");
             continue;
         };
@@ -640,6 +670,14 @@ fn main() {
             .map(|e| e.cost_per_pixel())
             .unwrap_or(f64::NAN);
         let row = match time_shader(&gpu, setup, &body, &tables) {
+            Ok(t) if case == BENCH_LRP => {
+                bench_lrp_ms = Some(t.ms());
+                format!(
+                    "| {case} | {evaluations:.1} | {:.3} | {:.2} |",
+                    t.ms(),
+                    cosines(t.ms(), evaluations, empty.ms(), cal.ms())
+                )
+            }
             Ok(t) => format!(
                 "| {case} | {evaluations:.1} | {:.3} | {:.2} |",
                 t.ms(),
@@ -652,6 +690,17 @@ fn main() {
         };
         println!("{row}");
         md.push_str(&row);
+        md.push('\n');
+    }
+    if let Some(ms) = bench_lrp_ms {
+        let line = format!(
+            "\n{BENCH_LRP} (LRP J = 50, 4 strata): {ms:.3} ms, {:.2}× the 450-cosine calibration \
+             ({:.3} ms)",
+            ms / cal.ms(),
+            cal.ms()
+        );
+        println!("{line}");
+        md.push_str(&line);
         md.push('\n');
     }
     let target = std::env::var_os("CARGO_TARGET_DIR")
