@@ -6,7 +6,8 @@
 //! and the chart:
 //!
 //! `model, name, evaluations/px, GPU kernel Mpix/s (or -), GPU end-to-end Mpix/s, CPU Mpix/s,
-//! tiles, bytes read back per pixel`
+//! tiles, bytes read back per pixel, GPU end-to-end Mpix/s as 8-bit unorm` (the levels of a
+//! PNG packed on the device, a quarter of the bytes read back)
 //! and `frame, name, side, GPU kernel ms (or -), GPU end-to-end ms`, fields separated by tabs.
 //!
 //! `cargo bench -p spectex-crosscheck --bench models -- --bench [--size N] [--repeat R]
@@ -91,14 +92,15 @@ fn main() -> Result<()> {
         let stem = name.trim_end_matches(".json");
         match measure(&context, &model, side, options.repeat) {
             Ok(m) => println!(
-                "model\t{stem}\t{:.1}\t{}\t{:.2}\t{:.2}\t{}\t{:.2}",
+                "model\t{stem}\t{:.1}\t{}\t{:.2}\t{:.2}\t{}\t{:.2}\t{:.2}",
                 m.evaluations,
                 m.kernel
                     .map_or_else(|| "-".to_owned(), |k| format!("{k:.2}")),
                 m.gpu,
                 m.cpu,
                 m.tiles,
-                m.bytes_per_pixel
+                m.bytes_per_pixel,
+                m.unorm8
             ),
             Err(e) => eprintln!("{stem}: skipped: {e:#}"),
         }
@@ -133,6 +135,8 @@ struct Measured {
     cpu: f64,
     tiles: usize,
     bytes_per_pixel: f64,
+    /// GPU end to end as 8-bit unorm.
+    unorm8: f64,
 }
 
 /// Mpix/s of one model: the best of `repeat` renders after a warm-up, on each evaluator.
@@ -150,6 +154,13 @@ fn measure(context: &GpuContext, model: &Model, side: usize, repeat: usize) -> R
         }
     }
     let best = best.context("no timed render")?;
+    let mut levels = vec![0u8; out.len()];
+    let mut unorm8 = f64::INFINITY;
+    for _ in 0..repeat.max(1) {
+        let format = spectex_gpu::OutputFormat::Unorm8;
+        let stats = gpu.render_bytes_into(&window, format, &mut levels)?;
+        unorm8 = unorm8.min(stats.seconds);
+    }
     let mut cpu_out = vec![0.0f32; pixels * cpu.output_channels()];
     let mut cpu_best = f64::INFINITY;
     for _ in 0..repeat.min(2) {
@@ -164,6 +175,7 @@ fn measure(context: &GpuContext, model: &Model, side: usize, repeat: usize) -> R
         cpu: pixels as f64 / cpu_best / 1e6,
         tiles: best.tiles,
         bytes_per_pixel: best.bytes_read_back as f64 / pixels as f64,
+        unorm8: pixels as f64 / unorm8 / 1e6,
     })
 }
 
