@@ -1,9 +1,13 @@
-//! Combinations on the device: a [`Combine`] has no model shader of its own. An undisplaced
-//! tile records every operand's dispatch into a plane of its own and then a combination pass
-//! written for the model (the export's WGSL of
+//! Combinations on the device: a [`Combine`] has no model shader of its own. Where WGSL
+//! computes its operation exactly as the CPU does ([`exact_in_wgsl`]: sums, products, minima,
+//! maxima, folds), an undisplaced tile records every operand's dispatch into a plane of its own
+//! and then a combination pass written for the model (the export's WGSL of
 //! [`CombineOp::apply`](spectex_model::combine::CombineOp::apply), the same operations in the
-//! same order) in the tile's one submission. A displaced one (a warp's base) renders its
-//! operands displaced and applies the operation on the host in f32, the CPU's expression.
+//! same order) in the tile's one submission. Otherwise, and for a displaced combination (a
+//! warp's base), it renders its operands and applies the operation on the host in f32, the
+//! CPU's expression: the cross-check holds the GPU's combination to `CombineOp::apply` of the
+//! GPU's operands bit for bit, and a shader compiler may fuse a multiply and an add (a mix, a
+//! ramp, a smoothstep, a table lookup, a sine) into one rounding.
 //!
 //! A combination's export (the glue of `shaders/combine.wgsl`): like a warp, a composition — each
 //! operand is exported as its own prefixed model, and the glue's `combine_sample_cell`
@@ -31,6 +35,18 @@ wgsl_struct! {
         _pad0: u32,
         _pad1: u32,
     }
+}
+
+/// Whether the combination pass computes `op` bit for bit as `CombineOp::apply` does on any
+/// device: only additions, multiplications, subtractions, absolute values, minima and maxima,
+/// none of which a compiler may contract with another (for finite operands; WGSL leaves `min`
+/// and `max` of NaN to the device).
+pub(crate) fn exact_in_wgsl(op: &spectex_model::combine::CombineOp) -> bool {
+    use spectex_model::combine::CombineOp as Op;
+    matches!(
+        op,
+        Op::Add | Op::Multiply | Op::Min | Op::Max | Op::AbsFold { .. }
+    )
 }
 
 /// Workgroup size of the combination pass.
@@ -96,8 +112,9 @@ pub(crate) struct CombineKernel {
     /// positions), so its window is never out of range.
     period: Option<Period>,
     gpu: Gpu,
-    /// The combination pass, built for this model ([`pass_wgsl`]).
-    pass: CachedPipeline,
+    /// The combination pass, built for this model ([`pass_wgsl`]) where its operation is
+    /// [`exact_in_wgsl`].
+    pass: Option<CachedPipeline>,
 }
 
 impl GpuKind for Combine {
@@ -117,11 +134,21 @@ impl GpuKind for Combine {
             .map(|m| GpuEvaluator::prepared_with_period(context, m, z, period))
             .collect::<Result<Vec<_>, _>>()?;
         let widths: Vec<usize> = operands.iter().map(GpuEvaluator::output_channels).collect();
-        let source = pass_wgsl(&self.op, &widths, self.output_channels()).ok_or_else(|| {
-            GpuError::Validation("common.wgsl missing from the registry".to_owned())
-        })?;
         let gpu = Gpu::new(context);
-        let pass = build_pipeline(&gpu, "spectex combine", source, "combine_main", 1)?;
+        let pass = if exact_in_wgsl(&self.op) {
+            let source = pass_wgsl(&self.op, &widths, self.output_channels()).ok_or_else(|| {
+                GpuError::Validation("common.wgsl missing from the registry".to_owned())
+            })?;
+            Some(build_pipeline(
+                &gpu,
+                "spectex combine",
+                source,
+                "combine_main",
+                1,
+            )?)
+        } else {
+            None
+        };
         Ok(Box::new(CombineKernel {
             model: self.clone(),
             whole: Model::Combine(self.clone()),
@@ -148,14 +175,23 @@ impl GpuKernel for CombineKernel {
         Ok(size)
     }
 
-    /// Megapixel tiles: a tile in flight holds every operand's plane on the device twice
-    /// (its own buffer and the combination's input) beside its output.
+    /// Megapixel tiles where the device combines (a tile in flight holds every operand's plane
+    /// twice, its own buffer and the combination's input, beside its output); quarter-megapixel
+    /// ones where the host does, so a render spreads them over the cores.
     fn tile_pixels(&self) -> Option<usize> {
-        Some(1 << 20)
+        Some(if self.pass.is_some() {
+            1 << 20
+        } else {
+            1 << 18
+        })
     }
 
-    /// Every operand's host part, for [`encode_chain`](Self::encode_chain).
+    /// Every operand's host part, for [`encode_chain`](Self::encode_chain), where the device
+    /// combines; else the host's combination.
     fn prepare_tile(&self, tile: &GpuWindow) -> Result<PreparedTile, GpuError> {
+        if self.pass.is_none() {
+            return self.render_tile(tile, None).map(PreparedTile::Values);
+        }
         Ok(PreparedTile::Chain {
             operands: self
                 .operands
@@ -177,6 +213,11 @@ impl GpuKernel for CombineKernel {
         output: &wgpu::Buffer,
         timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) -> Result<(), GpuError> {
+        let Some(pipeline) = self.pass.as_ref() else {
+            return Err(GpuError::Validation(
+                "combine: a chain for an operation the host applies".to_owned(),
+            ));
+        };
         if operands.len() != self.operands.len() {
             return Err(GpuError::Validation(
                 "combine: a chain of another shape".to_owned(),
@@ -213,7 +254,7 @@ impl GpuKernel for CombineKernel {
             encoder.copy_buffer_to_buffer(&own, 0, &input, at, bytes);
             at += bytes;
         }
-        let layout = self.pass.layouts.first().ok_or_else(|| {
+        let layout = pipeline.layouts.first().ok_or_else(|| {
             GpuError::Validation("combine: its pass has no bind group".to_owned())
         })?;
         let groups = (n as u32).div_ceil(PASS_WORKGROUP).max(1);
@@ -247,7 +288,7 @@ impl GpuKernel for CombineKernel {
             label: Some("spectex combine"),
             timestamp_writes: pass_timer,
         });
-        pass.set_pipeline(&self.pass.pipeline);
+        pass.set_pipeline(&pipeline.pipeline);
         pass.set_bind_group(0, &group, &[]);
         pass.dispatch_workgroups(across, groups.div_ceil(across), 1);
         Ok(())

@@ -1,7 +1,7 @@
 //! Combinations: their tolerance and regularity composed from their operands'.
 //!
 //! Both evaluators apply the same f32 operation (`spectex_model::combine::CombineOp::apply`,
-//! on the host for the GPU) to operand values that differ by at most the operands' bounds, so
+//! or its exact WGSL twin on the GPU) to operand values that differ by at most the operands' bounds, so
 //! `|f̃(a) − f̃(a')| ≤ L·|a − a'| + 2ε`, with `L` the operation's Lipschitz constant over the
 //! operands' range and `ε` its own f32 evaluation error (counted once per side). Operand
 //! magnitudes come from their [`Regularity`]; an operation that needs one and an operand
@@ -13,7 +13,9 @@
 //! [`companions`](CheckKind::companions) are its operands (each followed by its own
 //! companions), every operand must pass its own kind's criterion, and on each evaluator the
 //! combination's value must be `CombineOp::apply` of that evaluator's operand values, bit for
-//! bit (both evaluators compose exactly so: the CPU per row, the GPU on the host). An operand
+//! bit (both evaluators compose exactly so: the CPU per row, the GPU in a pass of its own for
+//! the operations WGSL computes exactly — sums, products, minima, maxima, folds — and on the
+//! host for the others). An operand
 //! judged by the generic criterion is held to its max and mean bounds there (its spectral
 //! bound needs the window's shape, which a verdict does not see; the operand's own
 //! cross-check keeps it).
