@@ -83,23 +83,8 @@ pub(crate) fn render(
             }
             crate::interrupt::watch();
             let start = std::time::Instant::now();
-            // The device writes the file's samples itself: a PNG's levels (the CPU's
-            // quantisation, exactly, and its count of clamped values) read back at 1 or 2 bytes
-            // a value, an OpenEXR's f32 values straight into the samples.
-            use io::SampleData;
-            use spectex_gpu::OutputFormat;
-            let (format, bytes): (OutputFormat, &mut [u8]) = match &mut out.data {
-                SampleData::U8(v) => (OutputFormat::Unorm8, v),
-                SampleData::U16(v) => (OutputFormat::Unorm16, bytemuck::cast_slice_mut(v)),
-                SampleData::F32(v) => (OutputFormat::F32, bytemuck::cast_slice_mut(v)),
-            };
-            let stats = gpu
-                .render_bytes_into(window, format, bytes)
-                .map_err(|e| anyhow!("{e}; try --device cpu"))?;
-            if let SampleData::U16(v) = &mut out.data {
-                // The device's levels are little-endian (a no-op on little-endian hosts).
-                v.iter_mut().for_each(|level| *level = u16::from_le(*level));
-            }
+            let stats =
+                gpu_samples(&gpu, window, out).map_err(|e| anyhow!("{e}; try --device cpu"))?;
             let seconds = start.elapsed().as_secs_f64();
             crate::interrupt::check()?;
             Ok(Rendered {
@@ -149,6 +134,29 @@ pub(crate) fn render(
             })
         }
     }
+}
+
+/// Renders `window` on `gpu` straight into `out`, the output's samples: a PNG's levels packed
+/// on the device (the CPU's quantisation, exactly, with its count of clamped values) and read
+/// back at 1 or 2 bytes a value, an OpenEXR's f32 values. `out` holds the window's samples.
+pub(crate) fn gpu_samples(
+    gpu: &spectex_gpu::GpuEvaluator,
+    window: &Window,
+    out: &mut io::Samples,
+) -> Result<spectex_gpu::RenderStats, spectex_gpu::GpuError> {
+    use io::SampleData;
+    use spectex_gpu::OutputFormat;
+    let (format, bytes): (OutputFormat, &mut [u8]) = match &mut out.data {
+        SampleData::U8(v) => (OutputFormat::Unorm8, v),
+        SampleData::U16(v) => (OutputFormat::Unorm16, bytemuck::cast_slice_mut(v)),
+        SampleData::F32(v) => (OutputFormat::F32, bytemuck::cast_slice_mut(v)),
+    };
+    let stats = gpu.render_bytes_into(window, format, bytes)?;
+    if let SampleData::U16(v) = &mut out.data {
+        // The device's levels are little-endian (a no-op on little-endian hosts).
+        v.iter_mut().for_each(|level| *level = u16::from_le(*level));
+    }
+    Ok(stats)
 }
 
 /// What bands of a CPU render report, summed over bands.

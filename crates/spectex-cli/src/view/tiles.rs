@@ -70,13 +70,15 @@ impl Renderer {
     ) -> Result<Option<Samples>> {
         self.cpu.check_window(window).map_err(|e| anyhow!("{e}"))?;
         let mut samples = Samples::new(format, window.width, window.height, self.channels())?;
-        if self.gpu.is_some() {
+        if let Some(gpu) = &self.gpu {
             if stop() {
                 return Ok(None);
             }
-            let mut values = vec![0.0f32; samples.row_len() * window.height];
-            self.values_into(window, 0, &mut values)?;
-            samples.fill(window.height.max(1), |_, band| band.store(&values));
+            let gpu = gpu
+                .lock()
+                .map_err(|_| anyhow!("internal: a GPU render panicked"))?;
+            crate::device::gpu_samples(&gpu, window, &mut samples)
+                .map_err(|e| anyhow!("{e}; start the view with --device cpu"))?;
             return Ok(Some(samples));
         }
         let stopped = AtomicBool::new(false);
