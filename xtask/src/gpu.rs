@@ -30,6 +30,8 @@ pub(crate) struct ModelSpeed {
     pub tiles: Option<(usize, f64)>,
     /// GPU end to end as 8-bit unorm (levels packed on the device), where printed.
     pub unorm8: Option<f64>,
+    /// Host preparation per tile in ms (summed over the render's worker threads), where printed.
+    pub host_ms: Option<f64>,
     /// The CLI's own figures on the GPU (end to end, kernels), where measured.
     pub cli: Option<(f64, Option<f64>)>,
 }
@@ -68,7 +70,7 @@ pub(crate) fn parse_figures(text: &str) -> Figures {
         let fields: Vec<&str> = line.split('\t').collect();
         match fields.as_slice() {
             ["adapter", name, ..] => figures.adapter = Some((*name).to_owned()),
-            ["model", name, evaluations, kernel, gpu, cpu, rest @ ..] if rest.len() <= 3 => {
+            ["model", name, evaluations, kernel, gpu, cpu, rest @ ..] if rest.len() <= 4 => {
                 let parsed = (|| {
                     Some(ModelSpeed {
                         name: (*name).to_owned(),
@@ -83,7 +85,11 @@ pub(crate) fn parse_figures(text: &str) -> Figures {
                             _ => None,
                         },
                         unorm8: match rest {
-                            [_, _, unorm8] => number(Some(unorm8))?,
+                            [_, _, unorm8, ..] => number(Some(unorm8))?,
+                            _ => None,
+                        },
+                        host_ms: match rest {
+                            [_, _, _, host] => number(Some(host))?,
                             _ => None,
                         },
                         cli: None,
@@ -132,6 +138,7 @@ pub(crate) fn markdown(figures: &Figures, side: Option<usize>) -> String {
     let with_cli = figures.models.iter().any(|m| m.cli.is_some());
     let with_tiles = figures.models.iter().any(|m| m.tiles.is_some());
     let with_unorm8 = figures.models.iter().any(|m| m.unorm8.is_some());
+    let with_host = figures.models.iter().any(|m| m.host_ms.is_some());
     let _ = writeln!(
         md,
         "Mpix/s{size}; GPU / CPU is end to end against end to end.\n"
@@ -143,6 +150,9 @@ pub(crate) fn markdown(figures: &Figures, side: Option<usize>) -> String {
     if with_unorm8 {
         md.push_str(" GPU end to end, 8-bit |");
     }
+    if with_host {
+        md.push_str(" host ms / tile |");
+    }
     if with_cli {
         md.push_str(" CLI GPU end to end | CLI GPU kernels |");
     }
@@ -151,6 +161,9 @@ pub(crate) fn markdown(figures: &Figures, side: Option<usize>) -> String {
         md.push_str(" ---: | ---: | ---: |");
     }
     if with_unorm8 {
+        md.push_str(" ---: |");
+    }
+    if with_host {
         md.push_str(" ---: |");
     }
     if with_cli {
@@ -182,6 +195,12 @@ pub(crate) fn markdown(figures: &Figures, side: Option<usize>) -> String {
         }
         if with_unorm8 {
             let _ = write!(md, " {} |", cell(m.unorm8));
+        }
+        if with_host {
+            let host = m
+                .host_ms
+                .map_or_else(|| "—".to_owned(), |h| format!("{h:.3}"));
+            let _ = write!(md, " {host} |");
         }
         if with_cli {
             let (e, k) = m.cli.map_or((None, None), |(e, k)| (Some(e), k));
@@ -526,7 +545,7 @@ mod tests {
     #[test]
     fn bench_and_cli_lines_make_one_table() {
         let text = "adapter\tNVIDIA H200\tkernel-only\t16 CPU threads\n\
-                    model\tlrp-ring\t45.0\t2000.50\t1000.25\t200.00\t4\t4.00\t1800.75\n\
+                    model\tlrp-ring\t45.0\t2000.50\t1000.25\t200.00\t4\t4.00\t1800.75\t0.125\n\
                     model\tclassic-perlin-fbm\t5.0\t-\t94.00\t907.00\n\
                     model\tbroken\tx\t1\t2\t3\n\
                     frame\ttexture-synthetic-grey\t128\t0.050\t0.400\n\
@@ -543,16 +562,17 @@ mod tests {
         assert_eq!(figures.models[0].tiles, Some((4, 4.0)));
         assert_eq!(figures.models[0].unorm8, Some(1800.75));
         assert_eq!(figures.models[1].unorm8, None);
+        assert_eq!(figures.models[0].host_ms, Some(0.125));
         let md = markdown(&figures, Some(4096));
         assert!(
             md.contains(
-                "| lrp-ring | 45.0 | 2000.50 | 1000.25 | 200.00 | 5.00 | 0.50 | 4 | 4.00 | 1800.75 | 900.50 | 1900.00 |"
+                "| lrp-ring | 45.0 | 2000.50 | 1000.25 | 200.00 | 5.00 | 0.50 | 4 | 4.00 | 1800.75 | 0.125 | 900.50 | 1900.00 |"
             ),
             "{md}"
         );
         assert!(
             md.contains(
-                "| classic-perlin-fbm | 5.0 | — | 94.00 | 907.00 | 0.10 | — | — | — | — | 90.00 | — |"
+                "| classic-perlin-fbm | 5.0 | — | 94.00 | 907.00 | 0.10 | — | — | — | — | — | 90.00 | — |"
             ),
             "{md}"
         );

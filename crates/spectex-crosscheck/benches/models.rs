@@ -6,8 +6,9 @@
 //! and the chart:
 //!
 //! `model, name, evaluations/px, GPU kernel Mpix/s (or -), GPU end-to-end Mpix/s, CPU Mpix/s,
-//! tiles, bytes read back per pixel, GPU end-to-end Mpix/s as 8-bit unorm` (the levels of a
-//! PNG packed on the device, a quarter of the bytes read back)
+//! tiles, bytes read back per pixel, GPU end-to-end Mpix/s as 8-bit unorm, host ms per tile`
+//! (the unorm figure: the levels of a PNG packed on the device, a quarter of the bytes read
+//! back; the host figure: the tiles' preparation on the worker threads, `RenderStats::host_seconds`)
 //! and `frame, name, side, GPU kernel ms (or -), GPU end-to-end ms`, fields separated by tabs.
 //!
 //! `cargo bench -p spectex-crosscheck --bench models -- --bench [--size N] [--repeat R]
@@ -92,7 +93,7 @@ fn main() -> Result<()> {
         let stem = name.trim_end_matches(".json");
         match measure(&context, &model, side, options.repeat) {
             Ok(m) => println!(
-                "model\t{stem}\t{:.1}\t{}\t{:.2}\t{:.2}\t{}\t{:.2}\t{:.2}",
+                "model\t{stem}\t{:.1}\t{}\t{:.2}\t{:.2}\t{}\t{:.2}\t{:.2}\t{:.3}",
                 m.evaluations,
                 m.kernel
                     .map_or_else(|| "-".to_owned(), |k| format!("{k:.2}")),
@@ -100,7 +101,8 @@ fn main() -> Result<()> {
                 m.cpu,
                 m.tiles,
                 m.bytes_per_pixel,
-                m.unorm8
+                m.unorm8,
+                m.host_ms_per_tile
             ),
             Err(e) => eprintln!("{stem}: skipped: {e:#}"),
         }
@@ -137,6 +139,8 @@ struct Measured {
     bytes_per_pixel: f64,
     /// GPU end to end as 8-bit unorm.
     unorm8: f64,
+    /// Host preparation per tile, ms (summed over the workers).
+    host_ms_per_tile: f64,
 }
 
 /// Mpix/s of one model: the best of `repeat` renders after a warm-up, on each evaluator.
@@ -176,6 +180,7 @@ fn measure(context: &GpuContext, model: &Model, side: usize, repeat: usize) -> R
         tiles: best.tiles,
         bytes_per_pixel: best.bytes_read_back as f64 / pixels as f64,
         unorm8: pixels as f64 / unorm8 / 1e6,
+        host_ms_per_tile: best.host_seconds * 1e3 / best.tiles.max(1) as f64,
     })
 }
 

@@ -7,7 +7,7 @@
 //! time beside its end-to-end time ([`RenderStats`]).
 
 use std::collections::{BTreeMap, VecDeque};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Condvar, Mutex, MutexGuard, PoisonError};
 use std::time::Instant;
 
@@ -81,6 +81,11 @@ pub struct RenderStats {
     /// or NaN, as the CPU's PNG writer counts them; [`OutputFormat::F16`]: magnitudes past
     /// 65504 or NaN); `None` for `f32` and for renders that stay on the device.
     pub clipped: Option<u64>,
+    /// Seconds the host spent preparing the tiles (uniforms and tables, a phasor's drawn cells,
+    /// the operands' host parts of a chain, or a composite kind's whole host composition, its
+    /// operands' renders included), summed over the worker threads that do it beside the
+    /// dispatches: what the host's part of the render costs.
+    pub host_seconds: f64,
 }
 
 impl RenderStats {
@@ -346,6 +351,8 @@ struct ReadBack {
     bytes: u64,
     /// Clamped values, where the tiles' packing counted them.
     clipped: Option<u64>,
+    /// Seconds of tile preparation on the workers.
+    host_seconds: f64,
 }
 
 impl ReadBack {
@@ -388,6 +395,7 @@ pub(crate) fn run(
         tiles: tiles.len(),
         bytes_read_back: read_back.bytes,
         clipped: read_back.clipped,
+        host_seconds: read_back.host_seconds,
     })
 }
 
@@ -400,6 +408,8 @@ struct Prepared<'a> {
     next: AtomicUsize,
     state: Mutex<PreparedState>,
     changed: Condvar,
+    /// Nanoseconds the workers spent in `prepare_tile`.
+    host_nanos: AtomicU64,
 }
 
 #[derive(Default)]
@@ -435,6 +445,7 @@ impl Prepared<'_> {
             drop(state);
             // A panic in a worker would leave the recording thread waiting for this tile: it
             // becomes the tile's error instead.
+            let started = Instant::now();
             let tables = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
                 self.kernel.prepare_tile(&self.tiles[k].window)
             }))
@@ -443,6 +454,8 @@ impl Prepared<'_> {
                     "preparing tile {k} on a worker thread panicked"
                 )))
             });
+            let nanos = u64::try_from(started.elapsed().as_nanos()).unwrap_or(u64::MAX);
+            self.host_nanos.fetch_add(nanos, Ordering::Relaxed);
             self.lock().ready.insert(k, tables);
             self.changed.notify_all();
         }
@@ -494,6 +507,7 @@ fn run_scoped(
         next: AtomicUsize::new(0),
         state: Mutex::new(PreparedState::default()),
         changed: Condvar::new(),
+        host_nanos: AtomicU64::new(0),
     };
     std::thread::scope(|scope| {
         for _ in 0..workers {
@@ -503,7 +517,10 @@ fn run_scoped(
             gpu, kernel, packers, ring, window, tiles, format, sink, &prepared,
         );
         prepared.stop();
-        result
+        result.map(|read_back| ReadBack {
+            host_seconds: prepared.host_nanos.load(Ordering::Relaxed) as f64 * 1e-9,
+            ..read_back
+        })
     })
 }
 

@@ -234,7 +234,8 @@ fn outputs_that_do_not_fit_are_typed_errors() {
 }
 
 /// Where the device has timestamp queries, a render's kernel time is positive and within its
-/// end-to-end time (the device cannot compute longer than the call waits for it).
+/// end-to-end time (the device cannot compute longer than the call waits for it); the host's
+/// preparation of the tiles is timed too, within the end-to-end time times the workers.
 #[test]
 fn timestamps_time_the_kernels_within_the_render() {
     let Some(context) = common::gpu_or_skip("timestamps") else {
@@ -246,6 +247,11 @@ fn timestamps_time_the_kernels_within_the_render() {
     let mut out = vec![0.0f32; 48 * 40];
     let stats = gpu.render_into(&window, &mut out).unwrap();
     assert_eq!(stats.tiles, 9);
+    let workers = std::thread::available_parallelism().map_or(1, usize::from) as f64;
+    assert!(
+        stats.host_seconds > 0.0 && stats.host_seconds <= stats.seconds * workers,
+        "{stats:?}"
+    );
     assert_eq!(
         stats.bytes_read_back,
         4 * 48 * 40 + if context.has_timestamps() { 9 * 16 } else { 0 }
