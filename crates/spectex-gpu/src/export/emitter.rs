@@ -330,9 +330,13 @@ impl Emitter<'_> {
             map.insert(name.clone(), format!("{prefix}{name}"));
         }
         map.insert("spectex_tables".to_owned(), "spectex_tables".to_owned());
-        for (name, value) in &parts.substitutions {
-            map.insert((*name).to_owned(), value.clone());
-        }
+        // A replacement's own names are the chunk's (a call of the glue's functions).
+        let substitutions: Vec<(String, String)> = parts
+            .substitutions
+            .iter()
+            .map(|(name, value)| ((*name).to_owned(), rename(value, &map, &accessors)))
+            .collect();
+        map.extend(substitutions);
         let mut out = format!(
             "\n// ---- spectex: model {k}, {shader}.wgsl, prefix {prefix} ----\n",
             shader = parts.shader

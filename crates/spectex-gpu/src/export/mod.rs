@@ -101,7 +101,8 @@ pub(crate) struct ExportParts {
     lattices: Vec<f64>,
     /// Further small constants the glue reads (WGSL declarations, prefixed like the rest).
     constants: String,
-    /// Placeholders of the glue and their replacements (not prefixed).
+    /// Placeholders of the glue and their replacements (WGSL whose names are the chunk's,
+    /// prefixed like the glue).
     substitutions: Vec<(&'static str, String)>,
 }
 
