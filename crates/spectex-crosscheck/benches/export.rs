@@ -30,8 +30,8 @@
 //! - `SPECTEX_BENCH_ALL=1`: also the models lavapipe compiles for minutes (left out on CPU
 //!   adapters otherwise, as in the export render test);
 //! - `SPECTEX_BENCH_FILE=<a .wgsl file>`: time this module (e.g. an export edited by hand)
-//!   instead of exporting, with the evaluations of the testdata model of the same name (the
-//!   file name up to its first dot);
+//!   instead of exporting, with the evaluations (and, for a model over `MAX_TABLE_BYTES`, the
+//!   storage buffer) of the testdata model of the same name (the file name up to its first dot);
 //! - `SPECTEX_BENCH_DUMP=<folder>`: write each timed module there, named after its model (to
 //!   read or edit and time again with `SPECTEX_BENCH_FILE`);
 //! - `SPECTEX_BENCH_RENDER=1`: time every shader (calibrations included) as a full-screen
@@ -647,9 +647,10 @@ fn main() {
             continue;
         };
         let exported = match &file_override {
+            // The model's own tables: a module edited by hand reads the same storage buffer.
             Some(path) => std::fs::read_to_string(path)
-                .map(|wgsl| (wgsl, Vec::new()))
-                .map_err(|e| GpuError::Validation(format!("{}: {e}", path.display()))),
+                .map_err(|e| GpuError::Validation(format!("{}: {e}", path.display())))
+                .and_then(|wgsl| Ok((wgsl, model_module(&model)?.1))),
             None => model_module(&model),
         };
         if let (Some(dir), Ok((wgsl, _))) = (std::env::var_os("SPECTEX_BENCH_DUMP"), &exported) {

@@ -658,26 +658,34 @@ fn classic_export_axis(s: ClassicExportSplits, u: f32, o: u32) -> ClassicAxis {
     return axis;
 }
 
-/// The noise at the position `cell + offset` (pixels), octaves summed in the CPU's order.
+/// Octave `o`'s term added to `acc` (and `previous`, the ridged chain) at the point `at`, the
+/// coordinates' splits `sx` and `sy` moved from octave `o − 1`'s lattices to octave `o`'s.
+fn classic_export_octave(o: u32, at: ExportPoint, sx: ptr<function, ClassicExportSplits>, sy: ptr<function, ClassicExportSplits>, acc: ptr<function, f32>, previous: ptr<function, f32>) {
+    if (o > 0u) {
+        if (classic_export_halving == 1u) {
+            *sx = classic_export_halve_splits(*sx, o);
+            *sy = classic_export_halve_splits(*sy, o);
+        } else {
+            *sx = classic_export_splits(at.n.x, o);
+            *sy = classic_export_splits(at.n.y, o);
+        }
+    }
+    let column = classic_export_axis(*sx, at.u.x, o);
+    let row = classic_export_axis(*sy, at.u.y, o);
+    classic_octave(o, column, row, vec2<f32>(0.0f), acc, previous);
+}
+
+/// The noise at the position `cell + offset` (pixels), octaves summed in the CPU's order. The
+/// exporter writes the octaves out, `CLASSIC_EXPORT_OCTAVES` = one `classic_export_octave`
+/// call per octave with its index as a literal: every table of the module is then read at a
+/// constant index, which a driver folds (an octave loop's counter would keep the tables in
+/// per-invocation memory, initialised per pixel).
 fn classic_sample_cell(cell: vec2<i32>, offset: vec2<f32>) -> f32 {
     let at = export_normalise(cell, offset);
     var acc = 0.0f;
     var previous = 0.0f;
     var sx = classic_export_splits(at.n.x, 0u);
     var sy = classic_export_splits(at.n.y, 0u);
-    for (var o = 0u; o < params.octaves; o++) {
-        if (o > 0u) {
-            if (classic_export_halving == 1u) {
-                sx = classic_export_halve_splits(sx, o);
-                sy = classic_export_halve_splits(sy, o);
-            } else {
-                sx = classic_export_splits(at.n.x, o);
-                sy = classic_export_splits(at.n.y, o);
-            }
-        }
-        let column = classic_export_axis(sx, at.u.x, o);
-        let row = classic_export_axis(sy, at.u.y, o);
-        classic_octave(o, column, row, vec2<f32>(0.0f), &acc, &previous);
-    }
+    CLASSIC_EXPORT_OCTAVES
     return params.mean + params.amplitude * acc;
 }

@@ -359,21 +359,23 @@ fn voronoi_export_value(cell: vec2<i32>, offset: vec2<f32>) -> vec3<f32> {
     }
 }
 
-/// The site of the 3D cell `c`: offset x, y, z (cell units) and the ID
-/// (`VoronoiNoise::jittered3`).
-fn voronoi_export_site3(c: vec3<i32>) -> vec4<f32> {
-    let plane = cell_hash(c.z, 0, VORONOI_EXPORT_LAYER, voronoi_export_seed);
-    var prng = Prng(cell_hash(c.x, c.y, VORONOI_EXPORT_LAYER, plane));
+/// The row key of the 3D cells `(·, y, z)`: `cell_hash(x, y, VORO, plane)` is
+/// `cell_hash_in_row(x, key)` with the plane's hash `plane = cell_hash(z, 0, VORO, seed)`
+/// (`VoronoiNoise::jittered3`), taken once per plane and row searched instead of per cell.
+fn voronoi_export_row3(y: i32, z: i32) -> u32 {
+    let plane = cell_hash(z, 0, VORONOI_EXPORT_LAYER, voronoi_export_seed);
+    return row_key(y, layer_key(VORONOI_EXPORT_LAYER, plane));
+}
+
+/// The site of the 3D cell `(x, y, z)` whose row key (`voronoi_export_row3(y, z)`) is `row`:
+/// offset x, y, z (cell units) and the ID (`VoronoiNoise::jittered3`).
+fn voronoi_export_site3(x: i32, row: u32) -> vec4<f32> {
+    var prng = Prng(cell_hash_in_row(x, row));
     let ox = 0.5f + voronoi_export_jitter * (prng_next_f32(&prng) - 0.5f);
     let oy = 0.5f + voronoi_export_jitter * (prng_next_f32(&prng) - 0.5f);
     let oz = 0.5f + voronoi_export_jitter * (prng_next_f32(&prng) - 0.5f);
     let id = prng_next_f32(&prng);
     return vec4<f32>(ox, oy, oz, id);
-}
-
-/// The 3D cell `c + o` with i32 wrapping per axis.
-fn voronoi_export_add3(c: vec3<i32>, o: vec3<i32>) -> vec3<i32> {
-    return vec3<i32>(voronoi_export_add(c.x, o.x), voronoi_export_add(c.y, o.y), voronoi_export_add(c.z, o.z));
 }
 
 /// The 3D diagram at offset `f` in cell `c` (voronoi_main3's search).
@@ -400,6 +402,7 @@ fn voronoi_export_value3(c: vec3<i32>, f: vec3<f32>) -> vec3<f32> {
                 if (voronoi_gap2(dj, f.y) + gk > select(best, second, want_second)) {
                     continue;
                 }
+                let row = voronoi_export_row3(voronoi_export_add(c.y, dj), voronoi_export_add(c.z, dk));
                 for (var di = -r; di <= r; di++) {
                     if (sweep == 1 && abs(di) <= 1 && abs(dj) <= 1 && abs(dk) <= 1) {
                         continue;
@@ -408,7 +411,7 @@ fn voronoi_export_value3(c: vec3<i32>, f: vec3<f32>) -> vec3<f32> {
                     if (bound > select(best, second, want_second)) {
                         continue;
                     }
-                    let site = voronoi_export_site3(voronoi_export_add3(c, vec3<i32>(di, dj, dk)));
+                    let site = voronoi_export_site3(voronoi_export_add(c.x, di), row);
                     let d = vec3<f32>((f32(di) + site.x) - f.x, (f32(dj) + site.y) - f.y, (f32(dk) + site.z) - f.z);
                     let d2 = d.x * d.x + d.y * d.y + d.z * d.z;
                     let k = ((dk + 4) * 9 + (dj + 4)) * 9 + (di + 4);
@@ -448,6 +451,7 @@ fn voronoi_export_value3(c: vec3<i32>, f: vec3<f32>) -> vec3<f32> {
                         if (voronoi_gap2(dj, f.y) + gk > limit) {
                             continue;
                         }
+                        let row = voronoi_export_row3(voronoi_export_add(c.y, dj), voronoi_export_add(c.z, dk));
                         for (var di = -r; di <= r; di++) {
                             if (sweep == 1 && abs(di) <= 1 && abs(dj) <= 1 && abs(dk) <= 1) {
                                 continue;
@@ -456,7 +460,7 @@ fn voronoi_export_value3(c: vec3<i32>, f: vec3<f32>) -> vec3<f32> {
                             if (bound > limit) {
                                 continue;
                             }
-                            let site = voronoi_export_site3(voronoi_export_add3(c, vec3<i32>(di, dj, dk)));
+                            let site = voronoi_export_site3(voronoi_export_add(c.x, di), row);
                             let d = vec3<f32>((f32(di) + site.x) - f.x, (f32(dj) + site.y) - f.y, (f32(dk) + site.z) - f.z);
                             let e = d - dn;
                             let e2 = e.x * e.x + e.y * e.y + e.z * e.z;

@@ -372,7 +372,14 @@ impl ExportKind for ClassicNoise {
         .with_constants(format!(
             "/// 1: every octave's lattices are the previous octave's halved exactly (split once).\n\
              const classic_export_halving: u32 = {halving}u;\n"
-        )))
+        ))
+        .with_substitutions(vec![(
+            "CLASSIC_EXPORT_OCTAVES",
+            (0..octaves.len())
+                .map(|o| format!("classic_export_octave({o}u, at, &sx, &sy, &acc, &previous);"))
+                .collect::<Vec<_>>()
+                .join("\n    "),
+        )]))
     }
 }
 

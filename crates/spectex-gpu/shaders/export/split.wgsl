@@ -13,14 +13,45 @@
 //                                      split is an integer division instead),
 // with w_k = 2^k the weight of bit k of n's two's complement (w_31 = −2^31). Summing the terms
 // of n's set bits, the remainder reduced by Δ at each step, gives n = q·Δ + r with q wrapped to
-// 32 bits like the CPU's i32 cells.
+// 32 bits like the CPU's i32 cells. That sum is a 32-step loop reading the tables at a
+// data-dependent index: the fallback, for lattices below 1 pixel or above 2²⁴ (whose tables
+// are the only ones emitted). Every other lattice is split in closed form (`export_modular`):
+//     export_modular[l]                Δ_l rounded to f32 as M·2^−s (M an integer ≤ 2²⁴,
+//                                      0 ≤ s ≤ 23), 2^s mod M, ⌊2^s / M⌋, f32(Δ_l − f32(Δ_l)),
+// n = q_a·M + a in integers, then a·2^s = (a·⌊2^s/M⌋)·M + a·(2^s mod M) with the last product
+// reduced mod M from an f32 estimate of its quotient and the exact u32 residue: the exact
+// quotient and remainder of n by f32(Δ_l), what the tables sum where Δ_l is an f32; where
+// it is not, the remainder then takes `q·(Δ_l − f32(Δ_l))` off (a number below 2⁻²⁴·|n|) in
+// one rounding and carries into the neighbouring cell if that crosses it.
 //
 // Exactness: where Δ is an f32 (LRP's Δ_s, a texton cell), every remainder is a multiple of
 // Δ's last-bit unit below Δ, hence an f32, and each step (r + r_k, or r − (Δ − r_k) when that
-// reaches Δ) is exact: r is n mod Δ exactly, whatever n. Where Δ is only an f64 (a Gabor
-// kernel radius), each table remainder carries at most half an f32 ulp of Δ, so r is within
-// 16 ulp(Δ) of the truth. Either way the error does not grow with |n|: a point at 10⁷ pixels is
+// reaches Δ) is exact: r is n mod Δ exactly, whatever n; the closed form's integer remainder
+// times 2^−s is the same number. Where Δ is only an f64 (a Gabor kernel radius, simplex's skew
+// lattices), each table remainder carries at most half an f32 ulp of Δ, so r is within 16
+// ulp(Δ) of the truth; the closed form's, within two roundings of a number below Δ plus
+// 2⁻⁴⁸·|n|. Either way the error does not grow with |n| beyond that: a point at 10⁷ pixels is
 // located as precisely as one at the origin.
+
+/// A lattice's closed-form split (see the header): `f32(Δ) = modulus·2^−s`.
+struct ExportModular {
+    /// M (0: the lattice is split by the tables).
+    modulus: i32,
+    /// 1/M rounded to f32 (the estimates of quotients by M).
+    inv_modulus: f32,
+    /// 2^s.
+    power: u32,
+    /// 2^s mod M.
+    power_rem: u32,
+    /// ⌊2^s / M⌋.
+    power_quot: u32,
+    /// (2^s mod M)/M rounded to f32.
+    power_frac: f32,
+    /// 2^−s.
+    scale: f32,
+    /// Δ − f32(Δ) rounded to f32 (0 where Δ is an f32).
+    low: f32,
+}
 
 /// An integer coordinate's lattice cell and its remainder `n − cell·Δ` in `[0, Δ)`.
 struct ExportSplit {
@@ -47,6 +78,9 @@ fn export_split(n: i32, lattice: u32) -> ExportSplit {
         }
         return ExportSplit(q, f32(r));
     }
+    if (export_modular[lattice].modulus != 0i) {
+        return export_split_modular(n, lattice);
+    }
     let bits = bitcast<u32>(n);
     var q = 0u;
     var r = 0.0f;
@@ -67,6 +101,65 @@ fn export_split(n: i32, lattice: u32) -> ExportSplit {
     return ExportSplit(bitcast<i32>(q), r);
 }
 
+/// `export_split` of a lattice of side 1 to 2²⁴ pixels in closed form (see the header).
+fn export_split_modular(n: i32, lattice: u32) -> ExportSplit {
+    let k = export_modular[lattice];
+    let m = k.modulus;
+    // n = qa·M + a, 0 ≤ a < M: an f32 estimate of the quotient (off by at most 2⁻²²·|n|/M + 1),
+    // the exact residue under it (i32 wrapping), a second estimate from that residue (below
+    // 2²⁴ in magnitude, so off by at most one) and a last compare.
+    var qa = i32(floor(f32(n) * k.inv_modulus));
+    var a = n - qa * m;
+    let qb = i32(floor(f32(a) * k.inv_modulus));
+    a -= qb * m;
+    qa += qb;
+    if (a < 0i) {
+        a += m;
+        qa -= 1i;
+    } else if (a >= m) {
+        a -= m;
+        qa += 1i;
+    }
+    // a·2^s = (a·⌊2^s/M⌋ + t)·M + r with a·(2^s mod M) = t·M + r: t estimated in f32 (a·b/M <
+    // 2²⁴, off by at most 3), r the exact u32 residue a·b − t·M (true value below 2²⁶ in
+    // magnitude), corrected by one more estimate (off by at most one) and a compare.
+    let au = bitcast<u32>(a);
+    var t = i32(floor(f32(a) * k.power_frac));
+    var r = bitcast<i32>(au * k.power_rem - bitcast<u32>(t) * bitcast<u32>(m));
+    let tc = i32(floor(f32(r) * k.inv_modulus));
+    r -= tc * m;
+    t += tc;
+    if (r < 0i) {
+        r += m;
+        t -= 1i;
+    } else if (r >= m) {
+        r -= m;
+        t += 1i;
+    }
+    // ⌊n·2^s / M⌋ = qa·2^s + a·⌊2^s/M⌋ + t (wrapping, like the CPU's i32 cells).
+    var at = ExportSplit(
+        bitcast<i32>(bitcast<u32>(qa) * k.power + au * k.power_quot + bitcast<u32>(t)),
+        f32(r) * k.scale,
+    );
+    if (k.low != 0.0f) {
+        // Δ = f32(Δ) + low: n = cell·Δ + (rem − cell·low), moved into [0, f32(Δ)).
+        let side = export_sides[lattice];
+        at.rem = at.rem - f32(at.cell) * k.low;
+        for (var guard = 0u; guard < 4096u; guard++) {
+            if (at.rem < 0.0f) {
+                at.rem = at.rem + side;
+                at.cell = bitcast<i32>(bitcast<u32>(at.cell) - 1u);
+            } else if (at.rem >= side) {
+                at.rem = at.rem - side;
+                at.cell = bitcast<i32>(bitcast<u32>(at.cell) + 1u);
+            } else {
+                break;
+            }
+        }
+    }
+    return at;
+}
+
 /// The point `n + u` (`u` in `[0, 1)`, see `export_normalise`) on lattice `lattice`: its cell
 /// and `rem` such that the point's offset from the cell's corner is `rem + u`, in `[0, Δ)`
 /// (the carry of `u` into the next cells is taken here, exactly: `Δ − rem` and `rem − Δ` are
@@ -79,6 +172,14 @@ fn export_locate(n: i32, u: f32, lattice: u32) -> ExportSplit {
 fn export_carry(split: ExportSplit, u: f32, lattice: u32) -> ExportSplit {
     var at = split;
     let side = export_sides[lattice];
+    if (side > 1.0f) {
+        // At most one carry, the loop's first step without a loop: after it `rem` is at most
+        // 0, so the loop's next test `u < Δ − rem` holds (`Δ − rem` ≥ Δ > 1 ≥ u).
+        let carry = u >= side - at.rem;
+        at.rem = select(at.rem, at.rem - side, carry);
+        at.cell = select(at.cell, bitcast<i32>(bitcast<u32>(at.cell) + 1u), carry);
+        return at;
+    }
     // At most ⌈1/Δ⌉ + 1 carries for u < 1; the bound only guards against a non-finite u.
     for (var guard = 0u; guard < 4096u; guard++) {
         if (u < side - at.rem) {

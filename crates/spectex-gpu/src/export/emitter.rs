@@ -248,11 +248,21 @@ impl Emitter<'_> {
             };
             tables.push_str(&decl);
         }
-        let (sides, quotients, remainders) = lattice_tables(&parts.lattices);
+        let modular: Vec<Option<Modular>> = parts.lattices.iter().map(|&s| modular(s)).collect();
+        let (sides, quotients, remainders) = split_tables(&parts.lattices);
         let inverses: Vec<f32> = parts.lattices.iter().map(|s| (1.0 / s) as f32).collect();
         let whole = whole_sides(&parts.lattices);
-        self.constant_bytes +=
-            4 * (sides.len() + inverses.len() + quotients.len() + remainders.len() + whole.len());
+        self.constant_bytes += lattice_bytes(&parts.lattices) as usize;
+        let modular_values = if modular.is_empty() {
+            "ExportModular()".to_owned()
+        } else {
+            join(modular.iter().map(|m| m.unwrap_or_default().wgsl()))
+        };
+        let _ = writeln!(
+            tables,
+            "var<private> export_modular: array<ExportModular, {n}> = array<ExportModular, {n}>({modular_values});",
+            n = modular.len().max(1)
+        );
         let _ = writeln!(
             tables,
             "var<private> export_whole: array<u32, {n}> = array<u32, {n}>({});",
@@ -310,6 +320,7 @@ impl Emitter<'_> {
                     "export_sides",
                     "export_inv_sides",
                     "export_whole",
+                    "export_modular",
                     "export_quotients",
                     "export_remainders",
                 ]
@@ -319,9 +330,13 @@ impl Emitter<'_> {
             map.insert(name.clone(), format!("{prefix}{name}"));
         }
         map.insert("spectex_tables".to_owned(), "spectex_tables".to_owned());
-        for (name, value) in &parts.substitutions {
-            map.insert((*name).to_owned(), value.clone());
-        }
+        // A replacement's own names are the chunk's (a call of the glue's functions).
+        let substitutions: Vec<(String, String)> = parts
+            .substitutions
+            .iter()
+            .map(|(name, value)| ((*name).to_owned(), rename(value, &map, &accessors)))
+            .collect();
+        map.extend(substitutions);
         let mut out = format!(
             "\n// ---- spectex: model {k}, {shader}.wgsl, prefix {prefix} ----\n",
             shader = parts.shader
@@ -550,6 +565,93 @@ fn lattice_tables(sides: &[f64]) -> (Vec<f32>, Vec<u32>, Vec<f32>) {
     }
     let sides = sides.iter().map(|&s| s as f32).collect();
     (sides, quotients, remainders)
+}
+
+/// [`lattice_tables`] where some lattice needs them ([`modular`] is `None`), else one zero
+/// quotient and remainder: the loop reading them is then never run.
+fn split_tables(lattices: &[f64]) -> (Vec<f32>, Vec<u32>, Vec<f32>) {
+    let (sides, quotients, remainders) = lattice_tables(lattices);
+    if lattices.iter().all(|&s| modular(s).is_some()) {
+        (sides, vec![0], vec![0.0])
+    } else {
+        (sides, quotients, remainders)
+    }
+}
+
+/// Bytes of the lattice split's tables (`export/split.wgsl`) for lattices of sides `lattices`:
+/// per lattice its side, inverse and `ExportModular`, the 32-step tables (or their zero
+/// entries) and `export_whole`'s words.
+pub(super) fn lattice_bytes(lattices: &[f64]) -> u64 {
+    let (sides, quotients, remainders) = split_tables(lattices);
+    4 * (2 * sides.len()
+        + quotients.len()
+        + remainders.len()
+        + whole_sides(lattices).len()
+        + MODULAR_WORDS * lattices.len().max(1)) as u64
+}
+
+/// Words of one `ExportModular` (`export/split.wgsl`).
+const MODULAR_WORDS: usize = 8;
+
+/// A lattice's closed-form split (`export/split.wgsl`'s `ExportModular`): `f32(Δ) = M·2^−s`.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+struct Modular {
+    /// M, 2 to 2²⁴.
+    modulus: u32,
+    /// s, 0 to 23.
+    shift: u32,
+    /// Δ − f32(Δ), rounded to f32.
+    low: f32,
+}
+
+impl Modular {
+    /// 2^s.
+    fn power(self) -> u32 {
+        1 << self.shift
+    }
+
+    /// The `ExportModular(…)` constructor of WGSL (all zero: the table split).
+    fn wgsl(self) -> String {
+        if self.modulus == 0 {
+            return "ExportModular()".to_owned();
+        }
+        let (m, p) = (self.modulus, self.power());
+        format!(
+            "ExportModular({m}i, {}, {p}u, {}u, {}u, {}, {}, {})",
+            float((1.0 / f64::from(m)) as f32),
+            p % m,
+            p / m,
+            float((f64::from(p % m) / f64::from(m)) as f32),
+            float((1.0 / f64::from(p)) as f32),
+            float(self.low),
+        )
+    }
+}
+
+/// The closed-form split of a lattice of side `side` (f64 pixels), where `f32(side)` is 1 to
+/// 2²⁴ (`M·2^−s` with `2 ≤ M ≤ 2²⁴`, `s ≤ 23`); `None` elsewhere (the tables split it).
+fn modular(side: f64) -> Option<Modular> {
+    let hi = side as f32;
+    if !(side.is_finite() && (1.0..=16_777_216.0).contains(&hi)) {
+        return None;
+    }
+    let hi = f64::from(hi);
+    let mut shift = 0;
+    while (hi * f64::from(1u32 << shift)).fract() != 0.0 || hi * f64::from(1u32 << shift) < 2.0 {
+        shift += 1;
+        if shift > 23 {
+            return None;
+        }
+    }
+    let modulus = hi * f64::from(1u32 << shift);
+    if modulus > 16_777_216.0 {
+        return None;
+    }
+    Some(Modular {
+        modulus: modulus as u32,
+        shift,
+        low: (side - hi) as f32,
+    })
 }
 
 /// `export/split.wgsl`'s `export_whole`: bit `l % 32` of word `l / 32` set where lattice `l`'s
@@ -796,6 +898,162 @@ pub mod tests {
             assert_eq!(i64::from(q[k]), want_q.rem_euclid(1 << 32), "bit {k}");
             assert_eq!(f64::from(r[k]), want_r, "bit {k}");
             assert!((0.0..9.5).contains(&want_r));
+        }
+    }
+
+    /// `export/split.wgsl`'s `export_split_modular` in the same f32 and wrapping integer
+    /// operations (no contraction: the shader may fuse `rem − cell·low`, one rounding fewer).
+    fn split_modular(n: i32, side: f64) -> (i32, f32) {
+        let k = modular(side).unwrap();
+        let m = k.modulus as i32;
+        let inv = (1.0 / f64::from(k.modulus)) as f32;
+        let p = k.power();
+        let frac = (f64::from(p % k.modulus) / f64::from(k.modulus)) as f32;
+        let mut qa = (n as f32 * inv).floor() as i32;
+        let mut a = n.wrapping_sub(qa.wrapping_mul(m));
+        let qb = (a as f32 * inv).floor() as i32;
+        a -= qb * m;
+        qa = qa.wrapping_add(qb);
+        if a < 0 {
+            a += m;
+            qa = qa.wrapping_sub(1);
+        } else if a >= m {
+            a -= m;
+            qa = qa.wrapping_add(1);
+        }
+        let au = a as u32;
+        let mut t = (a as f32 * frac).floor() as i32;
+        let mut r = au
+            .wrapping_mul(p % k.modulus)
+            .wrapping_sub((t as u32).wrapping_mul(m as u32)) as i32;
+        let tc = (r as f32 * inv).floor() as i32;
+        r -= tc * m;
+        t += tc;
+        if r < 0 {
+            r += m;
+            t -= 1;
+        } else if r >= m {
+            r -= m;
+            t += 1;
+        }
+        let mut cell = (qa as u32)
+            .wrapping_mul(p)
+            .wrapping_add(au.wrapping_mul(p / k.modulus))
+            .wrapping_add(t as u32) as i32;
+        let mut rem = r as f32 * (1.0 / f64::from(p)) as f32;
+        if k.low != 0.0 {
+            let s = side as f32;
+            rem -= cell as f32 * k.low;
+            loop {
+                if rem < 0.0 {
+                    rem += s;
+                    cell = cell.wrapping_sub(1);
+                } else if rem >= s {
+                    rem -= s;
+                    cell = cell.wrapping_add(1);
+                } else {
+                    break;
+                }
+            }
+        }
+        (cell, rem)
+    }
+
+    /// `export/split.wgsl`'s 32-step table sum.
+    fn split_tables_sum(n: i32, side: f64) -> (i32, f32) {
+        let (sides, q, rk) = lattice_tables(&[side]);
+        let s = sides[0];
+        let (mut qs, mut r) = (0u32, 0.0f32);
+        for k in 0..32 {
+            if (n as u32 >> k) & 1 == 1 {
+                qs = qs.wrapping_add(q[k]);
+                let room = s - rk[k];
+                if r >= room {
+                    r -= room;
+                    qs = qs.wrapping_add(1);
+                } else {
+                    r += rk[k];
+                }
+            }
+        }
+        (qs as i32, r)
+    }
+
+    /// The closed-form split is the tables' exact split where the side is an f32, and within
+    /// a few f32 roundings of the f64 truth where it is not (simplex's skew lattices, a Gabor
+    /// radius), however far n is from the origin.
+    pub fn modular_split_is_exact_for_f32_sides() {
+        let f2 = (3f64.sqrt() - 1.0) / 2.0;
+        let sides = [
+            9.5,
+            20.0 / (1.0 + f2),
+            20.0 / f2,
+            10.0 / (1.0 + f2),
+            32.0 / f2,
+            1.0,
+            1.0 + 1e-9,
+            1.5,
+            3.0,
+            16.000_001,
+            13.370_000_839_233_398,
+            13.37,
+            97.125,
+            4_095.999_7,
+            16_777_215.0,
+            1_234.567_891_234,
+        ];
+        let mut ns: Vec<i32> = vec![
+            0,
+            1,
+            -1,
+            2,
+            -2,
+            7,
+            i32::MAX,
+            i32::MIN,
+            i32::MIN + 1,
+            i32::MAX - 1,
+            10_000_000,
+            -10_000_000,
+            10_000_123,
+            16_777_216,
+            16_777_217,
+            -16_777_217,
+        ];
+        let mut x = 0x9E37_79B9u32;
+        for _ in 0..4000 {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            ns.push(x as i32);
+            ns.push((x as i32) >> (x % 31));
+        }
+        for &side in &sides {
+            assert!(modular(side).is_some(), "{side}");
+            let s = side as f32;
+            for &n in &ns {
+                let (cell, rem) = split_modular(n, side);
+                assert!((0.0..s).contains(&rem), "{side} {n}: {rem}");
+                if f64::from(s) == side {
+                    assert_eq!((cell, rem), split_tables_sum(n, side), "{side} {n}");
+                } else {
+                    // The truth n − cell·Δ (cell wrapped to i32 as the CPU's): within a few
+                    // roundings of a number below Δ.
+                    let want = f64::from(n) - f64::from(cell) * side;
+                    let ulp = f64::from(s) * 2f64.powi(-23);
+                    assert!(
+                        (f64::from(rem) - want).abs()
+                            <= 2.0 * ulp + f64::from(n).abs() * 2f64.powi(-46),
+                        "{side} {n}: {rem} vs {want}"
+                    );
+                    let (_, table_rem) = split_tables_sum(n, side);
+                    let _ = table_rem;
+                }
+            }
+        }
+        // Lattices the closed form leaves to the tables.
+        for side in [0.5, 0.999, 16_777_218.0, 3e9, f64::INFINITY] {
+            assert!(modular(side).is_none(), "{side}");
         }
     }
 }

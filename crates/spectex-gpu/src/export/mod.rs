@@ -101,7 +101,8 @@ pub(crate) struct ExportParts {
     lattices: Vec<f64>,
     /// Further small constants the glue reads (WGSL declarations, prefixed like the rest).
     constants: String,
-    /// Placeholders of the glue and their replacements (not prefixed).
+    /// Placeholders of the glue and their replacements (WGSL whose names are the chunk's,
+    /// prefixed like the glue).
     substitutions: Vec<(&'static str, String)>,
 }
 
@@ -406,8 +407,8 @@ fn spectex_sample(p: vec2<f32>) -> {ret} {{
     })
 }
 
-/// Bytes of tables of a node: every binding but the uniform, per lattice a side, its
-/// inverse and 32 quotient and remainder words, and a bit of `export_whole` per lattice.
+/// Bytes of tables of a node: every binding but the uniform and the lattice split's tables
+/// (`emitter::lattice_bytes`).
 pub(super) fn node_bytes(node: &ExportNode) -> u64 {
     match node {
         ExportNode::Leaf(parts) => {
@@ -417,8 +418,7 @@ pub(super) fn node_bytes(node: &ExportNode) -> u64 {
                 .skip(1)
                 .map(|b| b.len() as u64)
                 .sum::<u64>()
-                + 4 * 66 * parts.lattices.len() as u64
-                + 4 * parts.lattices.len().div_ceil(32).max(1) as u64
+                + emitter::lattice_bytes(&parts.lattices)
         }
         ExportNode::Texture(t) => {
             node_bytes(&ExportNode::Leaf(t.leaf.clone()))

@@ -22,6 +22,7 @@ spectex_testkit::unit_tests! {
     voronoi: params_match_the_wgsl;
     wavelet: records_match_the_wgsl;
     warp: compose_params_match_the_wgsl;
-    export_emitter: whole_sides_are_integers_up_to_2_pow_24, lattice_tables_decompose_every_bit_weight;
+    export_emitter: whole_sides_are_integers_up_to_2_pow_24, lattice_tables_decompose_every_bit_weight,
+        modular_split_is_exact_for_f32_sides;
     export_wgsl_text: members_naga_would_rename_get_a_letter_suffix_everywhere, rename_skips_members_fields_and_comments, rename_turns_buffer_tables_into_accessor_calls, strip_removes_bindings_and_entry_points;
 }
