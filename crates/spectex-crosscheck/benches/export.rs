@@ -69,6 +69,9 @@ const SLOW_ON_CPU_ADAPTERS: &[&str] = &[
     "warp-classic-fbm",
     "warp-texture-colour",
     "warp-wavelet-by-fbm",
+    // LRP J = 50 over 4 strata: lavapipe's LLVM spends minutes in `buildCoroutineFrame`
+    // since the lattice splits are written out in closed form.
+    "bench-lrp-j50",
 ];
 
 /// The row of the GPU bench's LRP model (J = 50, 4 strata; not a testdata file).
