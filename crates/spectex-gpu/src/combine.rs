@@ -23,7 +23,7 @@ use crate::export::emitter::{combine_constants, combine_expression};
 use crate::export::{ExportKind, ExportNode, parts};
 use crate::kernel::{GpuKernel, GpuKind, PreparedTile, TileTables, split_timer};
 use crate::layout::wgsl_struct;
-use crate::pipeline::{Gpu, build_pipeline, leading};
+use crate::pipeline::{Gpu, build_pipeline, encode_pass, flat_grid, leading};
 use crate::shaders::{ShaderFile, kernel_and_glue, wgsl_source};
 use crate::{GpuContext, GpuError, GpuEvaluator, GpuWindow};
 
@@ -254,44 +254,16 @@ impl GpuKernel for CombineKernel {
             encoder.copy_buffer_to_buffer(&own, 0, &input, at, bytes);
             at += bytes;
         }
-        let layout = pipeline.layouts.first().ok_or_else(|| {
-            GpuError::Validation("combine: its pass has no bind group".to_owned())
-        })?;
-        let groups = (n as u32).div_ceil(PASS_WORKGROUP).max(1);
-        let across = groups.min(gpu.limits.max_compute_workgroups_per_dimension.max(1));
+        let (per_row, grid) = flat_grid(gpu, n as u32, PASS_WORKGROUP);
         let params = CombinePass {
             count: n as u32,
-            per_row: across * PASS_WORKGROUP,
+            per_row,
             ..bytemuck::Zeroable::zeroed()
         };
-        let uniform = gpu.buffer("combine pass", bytemuck::bytes_of(&params), U::UNIFORM);
         let values = 4 * (self.output_channels() * n).max(1) as u64;
-        let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("spectex combine"),
-            layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: uniform.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: input.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: leading(output, values),
-                },
-            ],
-        });
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("spectex combine"),
-            timestamp_writes: pass_timer,
-        });
-        pass.set_pipeline(&pipeline.pipeline);
-        pass.set_bind_group(0, &group, &[]);
-        pass.dispatch_workgroups(across, groups.div_ceil(across), 1);
-        Ok(())
+        let bindings = vec![input.as_entire_binding(), leading(output, values)];
+        let pass = ("spectex combine", pipeline);
+        encode_pass(gpu, encoder, pass, &params, bindings, grid, pass_timer)
     }
 
     /// A periodic combination's positions are reduced into the period.

@@ -207,6 +207,61 @@ pub(crate) fn build_pipeline(
     Ok(CachedPipeline { pipeline, layouts })
 }
 
+/// `count` invocations in workgroups of `workgroup` laid out on a 2D grid (one dimension of a
+/// dispatch is limited): the invocations per grid row, which the shader multiplies its row by,
+/// and the grid.
+pub(crate) fn flat_grid(gpu: &Gpu, count: u32, workgroup: u32) -> (u32, [u32; 2]) {
+    let groups = count.div_ceil(workgroup).max(1);
+    let across = groups.min(gpu.limits.max_compute_workgroups_per_dimension.max(1));
+    (across * workgroup, [across, groups.div_ceil(across)])
+}
+
+/// Records one dispatch of `pipeline` (one bind group) over `groups` workgroups: `params` as
+/// the uniform at binding 0, then `bindings` at 1, 2, …, with `timer` writing its timestamps.
+///
+/// # Errors
+/// [`GpuError::Validation`] for a pipeline without a bind group.
+pub(crate) fn encode_pass<P: bytemuck::Pod>(
+    gpu: &Gpu,
+    encoder: &mut wgpu::CommandEncoder,
+    (label, pipeline): (&str, &CachedPipeline),
+    params: &P,
+    bindings: Vec<wgpu::BindingResource<'_>>,
+    groups: [u32; 2],
+    timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
+) -> Result<(), GpuError> {
+    let layout = pipeline
+        .layouts
+        .first()
+        .ok_or_else(|| GpuError::Validation(format!("{label}: its pipeline has no bind group")))?;
+    let uniform = gpu.buffer(
+        label,
+        bytemuck::bytes_of(params),
+        wgpu::BufferUsages::UNIFORM,
+    );
+    let entries: Vec<wgpu::BindGroupEntry<'_>> = std::iter::once(uniform.as_entire_binding())
+        .chain(bindings)
+        .enumerate()
+        .map(|(binding, resource)| wgpu::BindGroupEntry {
+            binding: binding as u32,
+            resource,
+        })
+        .collect();
+    let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout,
+        entries: &entries,
+    });
+    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+        label: Some(label),
+        timestamp_writes: timer,
+    });
+    pass.set_pipeline(&pipeline.pipeline);
+    pass.set_bind_group(0, &group, &[]);
+    pass.dispatch_workgroups(groups[0], groups[1], 1);
+    Ok(())
+}
+
 /// A [`ShaderKernel`] on the device: its pipeline (layouts derived from the shader), its tables
 /// packed once, the bind group of an undisplaced dispatch made once, and the dispatch of a
 /// tile. The [`GpuKernel`] of every kind with a shader.

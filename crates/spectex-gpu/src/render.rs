@@ -14,7 +14,10 @@ use std::time::Instant;
 use crate::cache::CachedPipeline;
 use crate::kernel::{GpuKernel, PreparedTile};
 use crate::layout::wgsl_struct;
-use crate::pipeline::{ErrorScopes, Gpu, Mapping, TIMESTAMP_PAIR_BYTES, compute_pipeline, leading};
+use crate::pipeline::{
+    ErrorScopes, Gpu, Mapping, TIMESTAMP_PAIR_BYTES, compute_pipeline, encode_pass, flat_grid,
+    leading,
+};
 use crate::{GpuError, GpuWindow, wgsl_source};
 
 /// Tiles in flight: tile k + 1 (and k + 2) compute while tile k is mapped and copied out.
@@ -704,17 +707,14 @@ fn encode_pack(
 ) -> Result<(), GpuError> {
     // Every packing puts at most 4 and at least 2 values in a word; the pipeline's entry point
     // knows which, so size the grid for the larger count of words (extra invocations return).
-    let words = count.div_ceil(2);
-    let groups = words.div_ceil(PACK_WORKGROUP).max(1);
-    let max = gpu.limits.max_compute_workgroups_per_dimension.max(1);
-    let across = groups.min(max);
+    let (words_per_row, grid) = flat_grid(gpu, count.div_ceil(2), PACK_WORKGROUP);
     let params = PackParams {
         count,
-        words_per_row: across * PACK_WORKGROUP,
+        words_per_row,
         ..bytemuck::Zeroable::zeroed()
     };
     let target = slot.packed.as_entire_binding();
-    let tile = (u64::from(count), target, [across, groups.div_ceil(across)]);
+    let tile = (u64::from(count), target, grid);
     let counter = Some(&slot.clipped);
     encode_output_pass(
         gpu,
@@ -777,48 +777,17 @@ fn encode_output_pass<P: bytemuck::Pod>(
     (values, target, groups): (u64, wgpu::BindingResource<'_>, [u32; 2]),
     counter: Option<&wgpu::Buffer>,
 ) -> Result<(), GpuError> {
-    let layout = pipeline
-        .layouts
-        .first()
-        .ok_or_else(|| GpuError::Validation(format!("{label}: its pipeline has no bind group")))?;
-    let uniform = gpu.buffer(
-        label,
-        bytemuck::bytes_of(params),
-        wgpu::BufferUsages::UNIFORM,
-    );
-    let mut entries = vec![
-        wgpu::BindGroupEntry {
-            binding: 0,
-            resource: uniform.as_entire_binding(),
-        },
-        wgpu::BindGroupEntry {
-            binding: 1,
-            resource: leading(&slot.values, 4 * values.max(1)),
-        },
-        wgpu::BindGroupEntry {
-            binding: 2,
-            resource: target,
-        },
-    ];
-    if let Some(counter) = counter {
-        entries.push(wgpu::BindGroupEntry {
-            binding: 3,
-            resource: counter.as_entire_binding(),
-        });
-    }
-    let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some(label),
-        layout,
-        entries: &entries,
-    });
-    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-        label: Some(label),
-        timestamp_writes: None,
-    });
-    pass.set_pipeline(&pipeline.pipeline);
-    pass.set_bind_group(0, &group, &[]);
-    pass.dispatch_workgroups(groups[0], groups[1], 1);
-    Ok(())
+    let mut bindings = vec![leading(&slot.values, 4 * values.max(1)), target];
+    bindings.extend(counter.map(wgpu::Buffer::as_entire_binding));
+    encode_pass(
+        gpu,
+        encoder,
+        (label, pipeline),
+        params,
+        bindings,
+        groups,
+        None,
+    )
 }
 
 /// Records the copy of a tile's bytes from `source` into a caller's `buffer`, row-major over

@@ -16,7 +16,7 @@ use crate::cache::CachedPipeline;
 use crate::export::{ExportKind, ExportNode, parts};
 use crate::kernel::{GpuKernel, GpuKind, PreparedTile, TileTables, split_timer};
 use crate::layout::wgsl_struct;
-use crate::pipeline::{Gpu, compute_pipeline};
+use crate::pipeline::{Gpu, compute_pipeline, encode_pass, flat_grid};
 use crate::shaders::{ShaderFile, kernel_and_glue};
 use crate::{GpuContext, GpuError, GpuEvaluator, GpuWindow, wgsl_source};
 
@@ -143,7 +143,6 @@ impl GpuKernel for WarpKernel {
         ) else {
             return Err(invalid());
         };
-        let layout = pipeline.layouts.first().ok_or_else(invalid)?;
         let gpu = &self.gpu;
         let n = tile.width * tile.height;
         use wgpu::BufferUsages as U;
@@ -159,46 +158,20 @@ impl GpuKernel for WarpKernel {
         };
         self.x.encode_pass(tile, x, encoder, &vx, x_timer)?;
         self.y.encode_pass(tile, y, encoder, &vy, None)?;
-        let groups = (n as u32).div_ceil(COMPOSE_WORKGROUP).max(1);
-        let across = groups.min(gpu.limits.max_compute_workgroups_per_dimension.max(1));
+        let (per_row, grid) = flat_grid(gpu, n as u32, COMPOSE_WORKGROUP);
         let params = ComposeParams {
             count: n as u32,
-            per_row: across * COMPOSE_WORKGROUP,
+            per_row,
             strength: self.model.strength,
             max_warp: spectex_model::MAX_WARP,
         };
-        let uniform = gpu.buffer("warp compose", bytemuck::bytes_of(&params), U::UNIFORM);
-        let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("spectex warp compose"),
-            layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: uniform.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: vx.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: vy.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: displacement.as_entire_binding(),
-                },
-            ],
-        });
-        {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("spectex warp compose"),
-                timestamp_writes: compose_timer,
-            });
-            pass.set_pipeline(&pipeline.pipeline);
-            pass.set_bind_group(0, &group, &[]);
-            pass.dispatch_workgroups(across, groups.div_ceil(across), 1);
-        }
+        let bindings = vec![
+            vx.as_entire_binding(),
+            vy.as_entire_binding(),
+            displacement.as_entire_binding(),
+        ];
+        let pass = ("spectex warp compose", pipeline);
+        encode_pass(gpu, encoder, pass, &params, bindings, grid, compose_timer)?;
         let base_tile = tile.filtered(spectex_model::Filter::Off);
         self.base
             .encode_device_displaced(&base_tile, base, encoder, output, &displacement, end)
