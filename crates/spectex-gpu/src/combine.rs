@@ -334,8 +334,10 @@ impl ExportKind for Combine {
 pub mod tests {
     use spectex_model::combine::{CombineOp, RampStop};
 
+    use crate::layout::check::assert_source_matches_wgsl;
+
     /// The combination pass of every operation (grey and colour operands, a colour ramp)
-    /// parses and validates with naga, and its uniform has the Rust record's size.
+    /// parses and validates with naga, and its uniform has the Rust record's fields and size.
     pub fn passes_of_every_operation_validate() {
         let stop = |at, c| RampStop {
             at,
@@ -382,24 +384,8 @@ pub mod tests {
         ];
         for (op, widths, channels) in cases {
             let source = super::pass_wgsl(&op, &widths, channels).unwrap();
-            let module = naga::front::wgsl::parse_str(&source)
-                .unwrap_or_else(|e| panic!("{op:?}:\n{}", e.emit_to_string(&source)));
-            naga::valid::Validator::new(
-                naga::valid::ValidationFlags::all(),
-                naga::valid::Capabilities::default(),
-            )
-            .validate(&module)
-            .unwrap_or_else(|e| panic!("{op:?}:\n{}", e.emit_to_string(&source)));
-            let params = module
-                .types
-                .iter()
-                .find(|(_, t)| t.name.as_deref() == Some("CombinePass"))
-                .map(|(_, t)| t.inner.size(module.to_ctx()));
-            assert_eq!(
-                params,
-                Some(size_of::<super::CombinePass>() as u32),
-                "{op:?}"
-            );
+            let name = format!("combine pass of {op:?}");
+            assert_source_matches_wgsl::<super::CombinePass>(&name, &source, "CombinePass");
             assert!(
                 source.contains(&format!("combined[{channels}u * p + {}u]", channels - 1)),
                 "{op:?}: every channel written"

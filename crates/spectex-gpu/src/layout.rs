@@ -55,10 +55,32 @@ pub(crate) mod check {
     pub(crate) fn assert_matches_wgsl<T: WgslStruct>(shader: &str, wgsl_name: &str) {
         let source = crate::wgsl_source(shader)
             .unwrap_or_else(|| panic!("{shader} is not in the shader registry"));
-        let module = naga::front::wgsl::parse_str(&source).unwrap_or_else(|e| {
+        assert_source_matches_wgsl::<T>(shader, &source, wgsl_name);
+    }
+
+    /// [`assert_matches_wgsl`] of a module written at run time (`source`, named `shader` in
+    /// the messages: a texture store shader, a combination pass), which must also pass naga's
+    /// validation.
+    pub(crate) fn assert_source_matches_wgsl<T: WgslStruct>(
+        shader: &str,
+        source: &str,
+        wgsl_name: &str,
+    ) {
+        let module = naga::front::wgsl::parse_str(source).unwrap_or_else(|e| {
             panic!(
                 "{shader}.wgsl does not parse:\n{}",
-                e.emit_to_string(&source)
+                e.emit_to_string(source)
+            )
+        });
+        naga::valid::Validator::new(
+            naga::valid::ValidationFlags::all(),
+            naga::valid::Capabilities::default(),
+        )
+        .validate(&module)
+        .unwrap_or_else(|e| {
+            panic!(
+                "{shader}.wgsl does not validate:\n{}",
+                e.emit_to_string(source)
             )
         });
         let mut layouter = naga::proc::Layouter::default();

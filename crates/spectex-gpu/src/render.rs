@@ -852,7 +852,7 @@ fn check_aligned(value: u64, what: &'static str) -> Result<(), GpuError> {
 #[doc(hidden)]
 #[allow(clippy::unwrap_used, reason = "a test fails loudly")]
 pub mod tests {
-    use crate::layout::check::assert_matches_wgsl;
+    use crate::layout::check::{assert_matches_wgsl, assert_source_matches_wgsl};
 
     pub fn pack_params_match_the_wgsl() {
         assert_matches_wgsl::<super::PackParams>("output", "PackParams");
@@ -984,24 +984,7 @@ pub mod tests {
         for &format in super::TEXTURE_FORMATS {
             let name = super::texture_format_name(format).unwrap_or("?");
             let source = super::store_wgsl(name);
-            let module = naga::front::wgsl::parse_str(&source)
-                .unwrap_or_else(|e| panic!("{name}:\n{}", e.emit_to_string(&source)));
-            naga::valid::Validator::new(
-                naga::valid::ValidationFlags::all(),
-                naga::valid::Capabilities::default(),
-            )
-            .validate(&module)
-            .unwrap_or_else(|e| panic!("{name}:\n{}", e.emit_to_string(&source)));
-            let params = module
-                .types
-                .iter()
-                .find(|(_, t)| t.name.as_deref() == Some("StoreParams"))
-                .map(|(_, t)| t.inner.size(module.to_ctx()));
-            assert_eq!(
-                params,
-                Some(size_of::<super::StoreParams>() as u32),
-                "{name}"
-            );
+            assert_source_matches_wgsl::<super::StoreParams>(name, &source, "StoreParams");
         }
     }
 }
