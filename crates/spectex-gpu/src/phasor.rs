@@ -28,7 +28,7 @@ use spectex_model::grid::locate_cell;
 use spectex_model::math::{cos_turns, sin_turns};
 use spectex_model::phasor_kernels::DIRECTION_LAYER;
 use spectex_model::phasor_kernels::{Impulse, PhasorKernels};
-use spectex_model::{Field, ModelKind, Period, PhasorNoise, PhasorOutput, Profile};
+use spectex_model::{Field, FieldGrid, ModelKind, Period, PhasorNoise, PhasorOutput, Profile};
 
 use crate::axis::{CellAxes, CellAxis, periodic_columns, periodic_rows};
 use crate::export::{ExportKind, ExportNode, ExportParts, float};
@@ -402,31 +402,50 @@ impl ShaderKernel for PhasorKernel {
             }
         }
         let mut pixel_params: Vec<f32> = Vec::new();
-        if self.per_pixel {
+        let fields = [&self.duty_a, &self.duty_b, &self.weight];
+        if self.per_pixel && displacement.is_none() {
+            // Undisplaced pixels lie on a grid: each field's columns located once (`FieldGrid`,
+            // the same values as `unit_at`'s, bit for bit).
+            pixel_params.resize(3 * width * height, 0.0);
+            let xs: Vec<f64> = (0..width).map(&column_x).collect();
+            for (f, field) in fields.iter().enumerate() {
+                let Some(field) = field else { continue };
+                let grid = FieldGrid::new(field, xs.clone(), self.z);
+                for j in 0..height {
+                    let row = &mut pixel_params[3 * j * width..3 * (j + 1) * width];
+                    grid.row(row_y(j), |i, v| row[3 * i + f] = v.clamp(0.0, 1.0) as f32);
+                }
+            }
+        } else if self.per_pixel {
             pixel_params.reserve(3 * width * height);
             for j in 0..height {
                 for i in 0..width {
                     let [x, y] = displaced(i, j);
                     let p = [x, y, self.z];
-                    pixel_params.extend([
-                        unit_at(self.duty_a.as_ref(), p),
-                        unit_at(self.duty_b.as_ref(), p),
-                        unit_at(self.weight.as_ref(), p),
-                    ]);
+                    pixel_params.extend(fields.map(|f| unit_at(f.as_ref(), p)));
                 }
             }
         }
         // A minified render's harmonic scale per pixel, `u = F(p)·s` rounded to f32 as the CPU
         // rounds it; an unused 0 when unfiltered.
-        let harmonic_scale: Vec<f32> = match tile.footprint() {
-            Some(s) => (0..height)
+        let harmonic_scale: Vec<f32> = match (tile.footprint(), displacement) {
+            (Some(s), None) => {
+                let grid =
+                    FieldGrid::new(&self.frequency, (0..width).map(&column_x).collect(), self.z);
+                let mut scale = vec![0.0; width * height];
+                for (j, row) in scale.chunks_exact_mut(width).enumerate() {
+                    grid.row(row_y(j), |i, f| row[i] = (f * s) as f32);
+                }
+                scale
+            }
+            (Some(s), Some(_)) => (0..height)
                 .flat_map(|j| (0..width).map(move |i| (i, j)))
                 .map(|(i, j)| {
                     let [x, y] = displaced(i, j);
                     (self.frequency.at(x, y, self.z) * s) as f32
                 })
                 .collect(),
-            None => vec![0.0],
+            (None, _) => vec![0.0],
         };
         Ok(TileTables::new(
             &params,

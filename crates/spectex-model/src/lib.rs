@@ -78,7 +78,7 @@ pub use lrp::{LrpNoiseBuilder, MAX_COSINES, MAX_STRATA, MAX_TABLE, Stratum};
 pub use matrix::MatrixTransformBuilder;
 pub use period::Period;
 pub use phasor::{
-    COHERENT_BANDWIDTH_RATIO, COHERENT_SPREAD, Field, Harmonic, MAX_FIELD_SIDE,
+    COHERENT_BANDWIDTH_RATIO, COHERENT_SPREAD, Field, FieldGrid, Harmonic, MAX_FIELD_SIDE,
     MAX_PROFILE_SAMPLES, PHASOR_PERIOD_TOLERANCE, PHASOR_TRUNCATION, PhasorNoiseBuilder,
     PhasorOrientation, PhasorOutput, Profile, RAMP_EXTENT,
 };

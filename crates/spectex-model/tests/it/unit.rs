@@ -16,7 +16,7 @@ spectex_testkit::unit_tests! {
     math: fract_turns_is_exact, cos_turns_matches_f64_cos, window_matches_the_model_definition, window_is_one_at_the_centre, exp_poly_matches_f64_exp, exp_poly_reduction_constants_and_clamping, atan2_turns_matches_f64;
     matrix: lucas_and_fibonacci_numbers, inverse_times_matrix_is_the_identity, invalid_matrices_are_refused_by_field, json_round_trip;
     period: reduce_is_exact_and_one_period_apart_agrees, wrap_and_cells, parse_and_range;
-    phasor: valid_model_and_named_errors, fields_repeat_with_periods_their_repeat_divides, image_field_interpolates_and_wraps, radius_and_density;
+    phasor: valid_model_and_named_errors, field_grids_read_what_at_reads, fields_repeat_with_periods_their_repeat_divides, image_field_interpolates_and_wraps, radius_and_density;
     phasor_kernels: two_lobes_switch_sign_beyond_a_right_angle, gradient_orientation_follows_the_image, layers_are_independent_in_3d_only;
     random: hash_matches_independent_reference, prng_stream_matches_independent_reference, permute_is_a_bijection_on_a_window, uniform_floats_are_in_range_and_exact, neighbouring_cells_are_uniform, hash_avalanche, hoisted_keys_compose_to_the_cell_hash, seeds_layers_and_axes_decorrelate;
     simulation: bs_rules_parse_and_bad_ones_name_the_field, out_of_range_fields_are_named, files_round_trip_and_check_their_version, pearson_rates_per_pixel;
