@@ -453,12 +453,14 @@ impl VoronoiNoise {
         // The jitter square: a relaxed seed stays where a jittered one may lie.
         let half = 0.5 * f64::from(self.jitter);
         let (lo, hi) = ((0.5 - half).max(0.0), (0.5 + half).min(MAX_OFFSET));
+        let mut others = Vec::with_capacity(((2 * ring + 1) * (2 * ring + 1)) as usize);
+        let mut buffers = ClipBuffers::default();
         for _ in 0..self.lloyd_iterations {
             let mut moved = points.clone();
             for y in ring..ring + b {
                 for x in ring..ring + b {
                     let p = points[index(x, y)];
-                    let mut others = Vec::with_capacity(48);
+                    others.clear();
                     for yy in y - ring..=y + ring {
                         for xx in x - ring..=x + ring {
                             if (xx, yy) != (x, y) {
@@ -466,7 +468,7 @@ impl VoronoiNoise {
                             }
                         }
                     }
-                    let c = voronoi_centroid(p, &others);
+                    let c = voronoi_centroid_in(p, &others, &mut buffers);
                     moved[index(x, y)] = [
                         x as f64 + (c[0] - x as f64).clamp(lo, hi),
                         y as f64 + (c[1] - y as f64).clamp(lo, hi),
@@ -963,23 +965,67 @@ pub fn search3_full<'a>(
 /// (Sutherland–Hodgman), then the polygon's area-weighted centroid.
 #[must_use]
 pub fn voronoi_centroid(p: [f64; 2], others: &[[f64; 2]]) -> [f64; 2] {
+    voronoi_centroid_in(p, others, &mut ClipBuffers::default())
+}
+
+/// The polygons of [`voronoi_centroid`], kept between calls.
+#[derive(Debug, Default)]
+struct ClipBuffers {
+    poly: Vec<[f64; 2]>,
+    out: Vec<[f64; 2]>,
+    /// The clip's `(v − m)·n` of each vertex.
+    sides: Vec<f64>,
+}
+
+/// [`voronoi_centroid`] with its polygons in `buffers`.
+///
+/// A half-plane that holds the whole polygon is skipped: every vertex `v` has
+/// `(v − m)·n = (v − p)·n − |n|²/2 ≤ |n|·(|v − p| − |n|/2)`, below 0 when the polygon's
+/// farthest vertex from `p` is nearer than `|n|/2`, and the clip would then keep every vertex
+/// and add none, returning the polygon as it was. The test keeps a margin (`|n|² > 4r²(1 +
+/// 10⁻⁶) + 10⁻⁶`, so that the exact `(v − m)·n` is below −2.5·10⁻⁷) far above the roundings
+/// of the clip's `side` (about 10⁻¹³ for a block's coordinates), so the result is the same bits
+/// as clipping by every plane. Seeds are visited in the caller's order; most of the far ones
+/// no longer cut once the near ones have.
+fn voronoi_centroid_in(p: [f64; 2], others: &[[f64; 2]], buffers: &mut ClipBuffers) -> [f64; 2] {
     let h = 2.0;
-    let mut poly = vec![
+    let ClipBuffers { poly, out, sides } = buffers;
+    poly.clear();
+    poly.extend([
         [p[0] - h, p[1] - h],
         [p[0] + h, p[1] - h],
         [p[0] + h, p[1] + h],
         [p[0] - h, p[1] + h],
-    ];
+    ]);
+    let farthest2 = |poly: &[[f64; 2]]| {
+        poly.iter()
+            .map(|v| (v[0] - p[0]) * (v[0] - p[0]) + (v[1] - p[1]) * (v[1] - p[1]))
+            .fold(0.0, f64::max)
+    };
+    let mut reach2 = farthest2(poly);
     for q in others {
         // Keep x with (x − m)·(q − p) ≤ 0, m the midpoint.
         let n = [q[0] - p[0], q[1] - p[1]];
+        if n[0] * n[0] + n[1] * n[1] > 4.0 * reach2 * (1.0 + 1e-6) + 1e-6 {
+            continue;
+        }
         let m = [(q[0] + p[0]) * 0.5, (q[1] + p[1]) * 0.5];
-        let side = |v: &[f64; 2]| (v[0] - m[0]) * n[0] + (v[1] - m[1]) * n[1];
-        let mut out = Vec::with_capacity(poly.len() + 1);
-        for k in 0..poly.len() {
-            let a = poly[k];
-            let b = poly[(k + 1) % poly.len()];
-            let (sa, sb) = (side(&a), side(&b));
+        // Each vertex's side once (the same expression for either end of an edge).
+        sides.clear();
+        sides.extend(
+            poly.iter()
+                .map(|v| (v[0] - m[0]) * n[0] + (v[1] - m[1]) * n[1]),
+        );
+        if sides.iter().all(|&s| s <= 0.0) {
+            // Every vertex kept and no edge crossing: the clip's output is the polygon.
+            continue;
+        }
+        out.clear();
+        let len = poly.len();
+        for k in 0..len {
+            let next = if k + 1 == len { 0 } else { k + 1 };
+            let (a, b) = (poly[k], poly[next]);
+            let (sa, sb) = (sides[k], sides[next]);
             if sa <= 0.0 {
                 out.push(a);
             }
@@ -988,10 +1034,11 @@ pub fn voronoi_centroid(p: [f64; 2], others: &[[f64; 2]]) -> [f64; 2] {
                 out.push([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]);
             }
         }
-        poly = out;
+        std::mem::swap(poly, out);
         if poly.is_empty() {
             return p;
         }
+        reach2 = farthest2(poly);
     }
     let (mut area, mut cx, mut cy) = (0.0, 0.0, 0.0);
     for k in 0..poly.len() {
@@ -1333,6 +1380,96 @@ pub mod tests {
                 );
             }
         }
+    }
+
+    /// Sutherland–Hodgman by every half-plane, none skipped: the reference the clip's skip
+    /// must reproduce bit for bit.
+    fn centroid_by_every_plane(p: [f64; 2], others: &[[f64; 2]]) -> [f64; 2] {
+        let h = 2.0;
+        let mut poly = vec![
+            [p[0] - h, p[1] - h],
+            [p[0] + h, p[1] - h],
+            [p[0] + h, p[1] + h],
+            [p[0] - h, p[1] + h],
+        ];
+        for q in others {
+            let n = [q[0] - p[0], q[1] - p[1]];
+            let m = [(q[0] + p[0]) * 0.5, (q[1] + p[1]) * 0.5];
+            let side = |v: &[f64; 2]| (v[0] - m[0]) * n[0] + (v[1] - m[1]) * n[1];
+            let mut out = Vec::new();
+            for k in 0..poly.len() {
+                let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
+                let (sa, sb) = (side(&a), side(&b));
+                if sa <= 0.0 {
+                    out.push(a);
+                }
+                if (sa < 0.0 && sb > 0.0) || (sa > 0.0 && sb < 0.0) {
+                    let t = sa / (sa - sb);
+                    out.push([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]);
+                }
+            }
+            poly = out;
+            if poly.is_empty() {
+                return p;
+            }
+        }
+        let (mut area, mut cx, mut cy) = (0.0, 0.0, 0.0);
+        for k in 0..poly.len() {
+            let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
+            let cross = a[0] * b[1] - b[0] * a[1];
+            area += cross;
+            cx += (a[0] + b[0]) * cross;
+            cy += (a[1] + b[1]) * cross;
+        }
+        if area.abs() < 1e-300 {
+            return p;
+        }
+        [cx / (3.0 * area), cy / (3.0 * area)]
+    }
+
+    /// The clip that skips half-planes holding the whole polygon gives the bits of the clip by
+    /// every plane: jittered seeds at every jitter (1 puts seeds on shared cell borders), their
+    /// neighbourhoods in the relaxation's order, and seeds that coincide or nearly do.
+    pub fn skipped_half_planes_change_no_centroid() {
+        let mut checked = 0;
+        for jitter in [0.0, 0.3, 1.0] {
+            let m = VoronoiNoise {
+                jitter,
+                ..VoronoiNoise::default()
+            };
+            let seed = |i: i64, j: i64| {
+                let (o, _) = m.jittered(i, j);
+                [i as f64 + f64::from(o[0]), j as f64 + f64::from(o[1])]
+            };
+            let mut buffers = ClipBuffers::default();
+            for cy in -12..12i64 {
+                for cx in -12..12i64 {
+                    let p = seed(cx, cy);
+                    let mut others = Vec::new();
+                    for j in cy - 3..=cy + 3 {
+                        for i in cx - 3..=cx + 3 {
+                            if (i, j) != (cx, cy) {
+                                others.push(seed(i, j));
+                            }
+                        }
+                    }
+                    // A seed on p, and one a rounding away from it.
+                    if (cx + cy) % 5 == 0 {
+                        others[10] = p;
+                        others[30] = [p[0] + 1e-12, p[1] - 3e-13];
+                    }
+                    let fast = voronoi_centroid_in(p, &others, &mut buffers);
+                    let slow = centroid_by_every_plane(p, &others);
+                    assert!(
+                        fast[0].to_bits() == slow[0].to_bits()
+                            && fast[1].to_bits() == slow[1].to_bits(),
+                        "jitter {jitter}, cell ({cx}, {cy}): {fast:?} against {slow:?}"
+                    );
+                    checked += 1;
+                }
+            }
+        }
+        assert_eq!(checked, 3 * 24 * 24);
     }
 
     pub fn relaxation_stays_in_the_cells_and_evens_the_spacing() {
