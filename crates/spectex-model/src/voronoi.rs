@@ -1040,6 +1040,12 @@ fn voronoi_centroid_in(p: [f64; 2], others: &[[f64; 2]], buffers: &mut ClipBuffe
         }
         reach2 = farthest2(poly);
     }
+    polygon_centroid(poly, p)
+}
+
+/// The area-weighted centroid of the polygon `poly` (vertices in order), `p` for a degenerate
+/// one.
+fn polygon_centroid(poly: &[[f64; 2]], p: [f64; 2]) -> [f64; 2] {
     let (mut area, mut cx, mut cy) = (0.0, 0.0, 0.0);
     for k in 0..poly.len() {
         let a = poly[k];
@@ -1353,22 +1359,27 @@ pub mod tests {
         [sx / count, sy / count]
     }
 
+    /// Cell `(cx, cy)`'s jittered seed and its 48 neighbours', in the relaxation's order.
+    fn neighbourhood(m: &VoronoiNoise, cx: i64, cy: i64) -> ([f64; 2], Vec<[f64; 2]>) {
+        let seed = |i: i64, j: i64| {
+            let (o, _) = m.jittered(i, j);
+            [i as f64 + f64::from(o[0]), j as f64 + f64::from(o[1])]
+        };
+        let mut others = Vec::new();
+        for j in cy - 3..=cy + 3 {
+            for i in cx - 3..=cx + 3 {
+                if (i, j) != (cx, cy) {
+                    others.push(seed(i, j));
+                }
+            }
+        }
+        (seed(cx, cy), others)
+    }
+
     pub fn clipped_centroids_match_dense_sampling() {
         let m = VoronoiNoise::default();
         for (cx, cy) in [(0i64, 0i64), (5, -3), (-40, 17)] {
-            let seed = |i: i64, j: i64| {
-                let (o, _) = m.jittered(i, j);
-                [i as f64 + f64::from(o[0]), j as f64 + f64::from(o[1])]
-            };
-            let p = seed(cx, cy);
-            let mut others = Vec::new();
-            for j in cy - 3..=cy + 3 {
-                for i in cx - 3..=cx + 3 {
-                    if (i, j) != (cx, cy) {
-                        others.push(seed(i, j));
-                    }
-                }
-            }
+            let (p, others) = neighbourhood(&m, cx, cy);
             let exact = voronoi_centroid(p, &others);
             let sampled = sampled_centroid(p, &others);
             // 400² samples over 4 × 4 cells: a sample spacing of 0.01, the centroid's error
@@ -1382,8 +1393,8 @@ pub mod tests {
         }
     }
 
-    /// Sutherland–Hodgman by every half-plane, none skipped: the reference the clip's skip
-    /// must reproduce bit for bit.
+    /// Sutherland–Hodgman by every half-plane, none skipped (then the same polygon centroid):
+    /// the reference the clip's skip must reproduce bit for bit.
     fn centroid_by_every_plane(p: [f64; 2], others: &[[f64; 2]]) -> [f64; 2] {
         let h = 2.0;
         let mut poly = vec![
@@ -1413,18 +1424,7 @@ pub mod tests {
                 return p;
             }
         }
-        let (mut area, mut cx, mut cy) = (0.0, 0.0, 0.0);
-        for k in 0..poly.len() {
-            let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
-            let cross = a[0] * b[1] - b[0] * a[1];
-            area += cross;
-            cx += (a[0] + b[0]) * cross;
-            cy += (a[1] + b[1]) * cross;
-        }
-        if area.abs() < 1e-300 {
-            return p;
-        }
-        [cx / (3.0 * area), cy / (3.0 * area)]
+        polygon_centroid(&poly, p)
     }
 
     /// The clip that skips half-planes holding the whole polygon gives the bits of the clip by
@@ -1437,22 +1437,10 @@ pub mod tests {
                 jitter,
                 ..VoronoiNoise::default()
             };
-            let seed = |i: i64, j: i64| {
-                let (o, _) = m.jittered(i, j);
-                [i as f64 + f64::from(o[0]), j as f64 + f64::from(o[1])]
-            };
             let mut buffers = ClipBuffers::default();
             for cy in -12..12i64 {
                 for cx in -12..12i64 {
-                    let p = seed(cx, cy);
-                    let mut others = Vec::new();
-                    for j in cy - 3..=cy + 3 {
-                        for i in cx - 3..=cx + 3 {
-                            if (i, j) != (cx, cy) {
-                                others.push(seed(i, j));
-                            }
-                        }
-                    }
+                    let (p, mut others) = neighbourhood(&m, cx, cy);
                     // A seed on p, and one a rounding away from it.
                     if (cx + cy) % 5 == 0 {
                         others[10] = p;
