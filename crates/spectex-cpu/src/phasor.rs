@@ -54,7 +54,8 @@
 
 use spectex_model::phasor_kernels::{Impulse, PhasorKernels};
 use spectex_model::{
-    NEG_LN_20, Period, PhasorNoise, PhasorOrientation, PhasorOutput, Profile, Window,
+    Field, FieldGrid, NEG_LN_20, Period, PhasorNoise, PhasorOrientation, PhasorOutput, Profile,
+    Window,
 };
 
 use crate::lrp::Simd;
@@ -253,6 +254,15 @@ impl PhasorEvaluator {
         let mut re = vec![0.0f32; width + WIDE_LANES];
         let mut im = vec![0.0f32; width + WIDE_LANES];
         let mut rows = Vec::new();
+        // The profile's image fields (and a minified render's frequency) on this window's
+        // columns, read row by row: `Field::at`'s values, located once per column and row.
+        let fields = self.read_fields(footprint.is_some());
+        let xs: Vec<f64> = (0..width).map(|i| window.x(i)).collect();
+        let grids: Vec<FieldGrid<'_>> = fields
+            .iter()
+            .map(|f| FieldGrid::new(f, xs.clone(), self.z))
+            .collect();
+        let mut values = vec![vec![0.0f64; width]; fields.len()];
         for (r, line) in out.chunks_exact_mut(width).enumerate() {
             let y = window.y(first + r);
             let (Some(((c0, _), (c1, _))), Some((cj, uy)), Some((ck, uz))) =
@@ -266,14 +276,48 @@ impl PhasorEvaluator {
             im.fill(0.0);
             let at = RowAt { cj, ck, uy, uz };
             self.sum_row(&rows, &at, &lanes, &mut re, &mut im);
+            for (grid, row) in grids.iter().zip(&mut values) {
+                grid.row(y, |i, v| row[i] = v);
+            }
             for (i, v) in line.iter_mut().enumerate() {
                 *v = if located[i] {
-                    self.output(re[i], im[i], [window.x(i), y, self.z], footprint)
+                    let mut read = |f: &Field| match fields.iter().position(|g| std::ptr::eq(*g, f))
+                    {
+                        Some(k) => values[k][i],
+                        None => f.at(xs[i], y, self.z),
+                    };
+                    self.output(re[i], im[i], &mut read, footprint)
                 } else {
                     0.0
                 };
             }
         }
+    }
+
+    /// The image fields [`output`](Self::output) reads at each pixel: a profiled output's duty
+    /// cycles and blend weights, and with `minified` its frequency. (Constants and ramps cost
+    /// no more per pixel than read from a row.)
+    fn read_fields(&self, minified: bool) -> Vec<&Field> {
+        fn walk<'p>(profile: &'p Profile, out: &mut Vec<&'p Field>) {
+            match profile {
+                Profile::Square { duty } => out.push(duty),
+                Profile::Blend { a, b, weight } => {
+                    out.push(weight);
+                    walk(a, out);
+                    walk(b, out);
+                }
+                _ => {}
+            }
+        }
+        let mut fields = Vec::new();
+        if self.model.output == PhasorOutput::Profiled {
+            walk(&self.model.profile, &mut fields);
+            if minified {
+                fields.push(&self.model.frequency);
+            }
+        }
+        fields.retain(|f| matches!(f, Field::Image { .. }));
+        fields
     }
 
     /// Adds every impulse of `rows` to the pixels of one output row, at this evaluator's SIMD
@@ -350,7 +394,7 @@ impl PhasorEvaluator {
                     continue;
                 };
                 let (re, im) = sum_at(&rows, ci, cj, ck, [ux, uy, uz]);
-                *v = self.output(re, im, [x, y, self.z], footprint);
+                *v = self.output(re, im, &mut |f: &Field| f.at(x, y, self.z), footprint);
             }
         }
     }
@@ -364,16 +408,30 @@ impl PhasorEvaluator {
         out[0]
     }
 
-    /// The written value at `p`; `footprint`: a minified render's, which filters the profile's
-    /// harmonics at `u = F(p)·s` ([`spectex_model::filter`]'s `filtered_*`).
-    fn output(&self, re: f32, im: f32, p: [f64; 3], footprint: Option<f64>) -> f32 {
+    /// The written value at a pixel whose fields `read` gives (`Field::at` there, f64);
+    /// `footprint`: a minified render's, which filters the profile's harmonics at `u = F(p)·s`
+    /// ([`spectex_model::filter`]'s `filtered_*`).
+    fn output(
+        &self,
+        re: f32,
+        im: f32,
+        read: &mut dyn FnMut(&Field) -> f64,
+        footprint: Option<f64>,
+    ) -> f32 {
         let v = match self.model.output {
             PhasorOutput::Intensity => (re * re + im * im).sqrt(),
             PhasorOutput::Gabor => im,
             PhasorOutput::Phase => atan2_turns(im, re),
             PhasorOutput::Profiled => {
-                let u = footprint.map(|s| (self.model.frequency.at(p[0], p[1], p[2]) * s) as f32);
-                profile(&self.model.profile, re, im, p, u, &mut self.series.iter())
+                let u = footprint.map(|s| (read(&self.model.frequency) * s) as f32);
+                profile(
+                    &self.model.profile,
+                    re,
+                    im,
+                    read,
+                    u,
+                    &mut self.series.iter(),
+                )
             }
         };
         self.model.mean + self.model.amplitude * v
@@ -575,15 +633,15 @@ fn samples_series(shape: &Profile, out: &mut Vec<Vec<f32>>) {
     }
 }
 
-/// The profile of the phase at position `p`. The phase is only computed by the profiles that
-/// read it (the sine is `im / I` directly). `u`: the local frequency times the footprint of a
+/// The profile of the phase at a pixel whose fields `read` gives. The phase is only computed by
+/// the profiles that read it (the sine is `im / I` directly). `u`: the local frequency times the footprint of a
 /// minified render, which filters every profile's harmonics (`spectex_model::filter`);
 /// `series`: the `Samples` leaves' Fourier series, depth first ([`samples_series`]).
 fn profile(
     shape: &Profile,
     re: f32,
     im: f32,
-    p: [f64; 3],
+    read: &mut dyn FnMut(&Field) -> f64,
     u: Option<f32>,
     series: &mut std::slice::Iter<'_, Vec<f32>>,
 ) -> f32 {
@@ -595,7 +653,7 @@ fn profile(
             u.map_or(sine, |u| filter::filtered_sine(sine, u))
         }
         Profile::Square { duty } => {
-            let d = duty.at(p[0], p[1], p[2]).clamp(0.0, 1.0) as f32;
+            let d = read(duty).clamp(0.0, 1.0) as f32;
             match u {
                 Some(u) => filter::filtered_square(phase01(re, im), d, u),
                 None if phase01(re, im) < d => 1.0,
@@ -644,9 +702,9 @@ fn profile(
                 .sum()
         }
         Profile::Blend { a, b, weight } => {
-            let s = weight.at(p[0], p[1], p[2]).clamp(0.0, 1.0) as f32;
-            let va = profile(a, re, im, p, u, series);
-            let vb = profile(b, re, im, p, u, series);
+            let s = read(weight).clamp(0.0, 1.0) as f32;
+            let va = profile(a, re, im, read, u, series);
+            let vb = profile(b, re, im, read, u, series);
             (1.0 - s) * va + s * vb
         }
     }
