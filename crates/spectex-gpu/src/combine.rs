@@ -179,11 +179,7 @@ impl GpuKernel for CombineKernel {
     /// twice, its own buffer and the combination's input, beside its output); quarter-megapixel
     /// ones where the host does, so a render spreads them over the cores.
     fn tile_pixels(&self) -> Option<usize> {
-        Some(if self.pass.is_some() {
-            1 << 20
-        } else {
-            1 << 18
-        })
+        crate::kernel::composite_tile_pixels(self.pass.is_some())
     }
 
     /// Every operand's host part, for [`encode_chain`](Self::encode_chain), where the device

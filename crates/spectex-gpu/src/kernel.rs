@@ -336,6 +336,25 @@ pub(crate) trait ShaderKernel: fmt::Debug + Send + Sync + 'static {
     }
 }
 
+/// Pixels per tile of a kind whose host part grows with the tile (a phasor's drawn kernels,
+/// a composition done on the host): quarter-megapixel tiles, so a render prepares many of them
+/// in parallel ([`GpuKernel::tile_pixels`]).
+pub(crate) const HOST_TILE_PIXELS: usize = 1 << 18;
+
+/// Pixels per tile of a kind that holds several planes a pixel on the device while a tile is in
+/// flight (a chain's operands, a texture's passes): megapixel tiles.
+pub(crate) const CHAIN_TILE_PIXELS: usize = 1 << 20;
+
+/// [`GpuKernel::tile_pixels`] of a composite kind: [`CHAIN_TILE_PIXELS`] where the device
+/// composes its tiles in one submission, [`HOST_TILE_PIXELS`] where the host does.
+pub(crate) fn composite_tile_pixels(on_device: bool) -> Option<usize> {
+    Some(if on_device {
+        CHAIN_TILE_PIXELS
+    } else {
+        HOST_TILE_PIXELS
+    })
+}
+
 /// What [`GpuKernel::prepare_tile`] makes of a tile on the host.
 #[derive(Debug)]
 pub(crate) enum PreparedTile {

@@ -48,6 +48,30 @@ pub(crate) mod check {
 
     use super::WgslStruct;
 
+    /// `source` parsed and validated as wgpu has naga do it; a failure panics with naga's
+    /// excerpt of the source, annotated under the name `label`. Shared by the layout check and
+    /// the integration tests of the shaders and the exports.
+    pub fn validated_module(label: &str, source: &str) -> naga::Module {
+        let module = naga::front::wgsl::parse_str(source).unwrap_or_else(|e| {
+            panic!(
+                "{label} does not parse:\n{}",
+                e.emit_to_string_with_path(source, label)
+            )
+        });
+        naga::valid::Validator::new(
+            naga::valid::ValidationFlags::all(),
+            naga::valid::Capabilities::default(),
+        )
+        .validate(&module)
+        .unwrap_or_else(|e| {
+            panic!(
+                "{label} does not validate:\n{}",
+                e.emit_to_string_with_path(source, label)
+            )
+        });
+        module
+    }
+
     /// Panics unless the struct `wgsl_name` of the composed module `shader` has exactly the
     /// fields of `T` (names and byte offsets, as naga lays them out) and `T`'s size is the
     /// struct's array stride (its size rounded to its alignment: what one element of a
@@ -66,23 +90,7 @@ pub(crate) mod check {
         source: &str,
         wgsl_name: &str,
     ) {
-        let module = naga::front::wgsl::parse_str(source).unwrap_or_else(|e| {
-            panic!(
-                "{shader}.wgsl does not parse:\n{}",
-                e.emit_to_string(source)
-            )
-        });
-        naga::valid::Validator::new(
-            naga::valid::ValidationFlags::all(),
-            naga::valid::Capabilities::default(),
-        )
-        .validate(&module)
-        .unwrap_or_else(|e| {
-            panic!(
-                "{shader}.wgsl does not validate:\n{}",
-                e.emit_to_string(source)
-            )
-        });
+        let module = validated_module(&format!("{shader}.wgsl"), source);
         let mut layouter = naga::proc::Layouter::default();
         layouter
             .update(module.to_ctx())

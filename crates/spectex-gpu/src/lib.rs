@@ -128,4 +128,8 @@ pub mod unit_tests {
     pub use crate::voronoi::tests as voronoi;
     pub use crate::warp::tests as warp;
     pub use crate::wavelet::tests as wavelet;
+
+    /// A WGSL source parsed and validated as wgpu has naga do it, or a panic with naga's
+    /// annotated excerpt (for the integration tests of the shaders and the exports).
+    pub use crate::layout::check::validated_module;
 }

@@ -274,9 +274,10 @@ impl ShaderKernel for PhasorKernel {
     const ENTRY_POINT: &'static str = "phasor_main";
     const TABLES_READ_DISPLACEMENT: bool = true;
 
-    /// Quarter-megapixel tiles: its kernel cells are drawn on the host per tile, so a render prepares many tiles in parallel.
+    /// Quarter-megapixel tiles: its kernel cells are drawn on the host per tile, so a render
+    /// prepares many tiles in parallel.
     fn tile_pixels(&self) -> Option<usize> {
-        Some(1 << 18)
+        Some(crate::kernel::HOST_TILE_PIXELS)
     }
 
     fn axis_bytes(&self) -> u64 {

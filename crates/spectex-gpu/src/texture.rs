@@ -312,7 +312,7 @@ impl ShaderKernel for TextureKernel {
     /// Megapixel tiles: each tile in flight holds its planes twice on the device (each pass's
     /// own buffer and the texture's table), 2·4·planes bytes a pixel.
     fn tile_pixels(&self) -> Option<usize> {
-        Some(1 << 20)
+        Some(crate::kernel::CHAIN_TILE_PIXELS)
     }
 
     /// The largest per-pixel buffer holds the planes of every channel and every turbulence

@@ -103,11 +103,7 @@ impl GpuKernel for WarpKernel {
     /// over the cores; megapixel ones where the device does (a tile in flight holds x, y and the
     /// displacement, 16 bytes a pixel, beside its output).
     fn tile_pixels(&self) -> Option<usize> {
-        Some(if self.displace.is_some() {
-            1 << 20
-        } else {
-            1 << 18
-        })
+        crate::kernel::composite_tile_pixels(self.displace.is_some())
     }
 
     /// On the device where the base is displaced there: x's and y's host parts and the

@@ -108,8 +108,9 @@ impl Field {
                 min,
                 max,
             } => {
-                let g = bilinear_periodic(grey, *width, *height, x, y, f64::from(*pixel_size));
-                f64::from(*min) + g * (f64::from(*max) - f64::from(*min))
+                let size = f64::from(*pixel_size);
+                let (column, row) = (tap(x, *width, size), tap(y, *height, size));
+                image_value(grey, *width, column, row, [*min, *max])
             }
         }
     }
@@ -333,6 +334,13 @@ fn bilinear(grey: &[f32], w: usize, x: Option<Tap>, y: Option<Tap>) -> f64 {
     top * (1.0 - y.t) + bottom * y.t
 }
 
+/// An image field's value between its taps: `min + g·(max − min)` of the bilinear sample `g`
+/// ([`Field::at`] and [`FieldGrid::row`] alike).
+fn image_value(grey: &[f32], w: usize, x: Option<Tap>, y: Option<Tap>, range: [f32; 2]) -> f64 {
+    let [min, max] = range.map(f64::from);
+    min + bilinear(grey, w, x, y) * (max - min)
+}
+
 /// A field read on the grid of positions `(xs[i], y, z)`, row by row: each value is
 /// [`Field::at`]'s, bit for bit, but an image field's samples and fractions are located once
 /// per column and once per row instead of once per pixel (a division, a floor and a float
@@ -380,9 +388,8 @@ impl<'f> FieldGrid<'f> {
                 max,
             } => {
                 let row = tap(y, *height, f64::from(*pixel_size));
-                let (lo, span) = (f64::from(*min), f64::from(*max) - f64::from(*min));
                 for (i, &column) in self.columns.iter().enumerate() {
-                    each(i, lo + bilinear(grey, *width, column, row) * span);
+                    each(i, image_value(grey, *width, column, row, [*min, *max]));
                 }
             }
             field => {

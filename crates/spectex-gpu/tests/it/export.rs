@@ -52,24 +52,7 @@ fn model_files() -> Vec<PathBuf> {
 
 /// Parses and validates `source` as naga does for wgpu, panicking with the annotated source.
 fn validate(case: &str, source: &str) -> naga::Module {
-    let module = naga::front::wgsl::parse_str(source).unwrap_or_else(|e| {
-        panic!(
-            "{case}: export does not parse:\n{}",
-            e.emit_to_string(source)
-        )
-    });
-    naga::valid::Validator::new(
-        naga::valid::ValidationFlags::all(),
-        naga::valid::Capabilities::default(),
-    )
-    .validate(&module)
-    .unwrap_or_else(|e| {
-        panic!(
-            "{case}: export does not validate:\n{}",
-            e.emit_to_string(source)
-        )
-    });
-    module
+    spectex_gpu::unit_tests::validated_module(&format!("{case}: export"), source)
 }
 
 /// The checks of a module with no binding, or (`buffer`) exactly the tables' storage buffer.

@@ -25,24 +25,7 @@ fn shaders_dir() -> PathBuf {
 /// Parses and validates one composed module, panicking with naga's annotated source excerpt.
 fn validate(name: &str) -> naga::Module {
     let source = wgsl_source(name).unwrap();
-    let module = naga::front::wgsl::parse_str(&source).unwrap_or_else(|e| {
-        panic!(
-            "{name}.wgsl does not parse:\n{}",
-            e.emit_to_string_with_path(&source, &format!("{name}.wgsl (composed)"))
-        )
-    });
-    naga::valid::Validator::new(
-        naga::valid::ValidationFlags::all(),
-        naga::valid::Capabilities::default(),
-    )
-    .validate(&module)
-    .unwrap_or_else(|e| {
-        panic!(
-            "{name}.wgsl does not validate:\n{}",
-            e.emit_to_string_with_path(&source, &format!("{name}.wgsl (composed)"))
-        )
-    });
-    module
+    spectex_gpu::unit_tests::validated_module(&format!("{name}.wgsl (composed)"), &source)
 }
 
 #[test]
