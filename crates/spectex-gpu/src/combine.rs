@@ -1,18 +1,18 @@
-//! Combinations on the device: a [`Combine`] has no model shader of its own. Where WGSL
-//! computes its operation exactly as the CPU does ([`exact_in_wgsl`]: sums, products, minima,
-//! maxima, folds), an undisplaced tile records every operand's dispatch into a plane of its own
-//! and then a combination pass written for the model (the export's WGSL of
-//! [`CombineOp::apply`](spectex_model::combine::CombineOp::apply), the same operations in the
-//! same order) in the tile's one submission. Otherwise, and for a displaced combination (a
-//! warp's base), it renders its operands and applies the operation on the host in f32, the
-//! CPU's expression: the cross-check holds the GPU's combination to `CombineOp::apply` of the
-//! GPU's operands bit for bit, and a shader compiler may fuse a multiply and an add (a mix, a
-//! ramp, a smoothstep, a table lookup, a sine) into one rounding.
+//! Combinations on the device: a [`Combine`] has no model shader of its own. An undisplaced
+//! tile records every operand's dispatch into a plane of its own and then a combination pass
+//! written for the model ([`pass_wgsl`]: [`CombineOp::apply`](spectex_model::combine::CombineOp::apply),
+//! the same operations in the same order, in `shaders/exact.wgsl`'s integer IEEE arithmetic) in
+//! the tile's one submission. A shader's own float operations would not do: a compiler may
+//! fuse a multiply and an add (a mix, a ramp, a smoothstep, a table lookup, a sine) into one
+//! rounding, WGSL divides within 2.5 ulp and may flush subnormals; the exact arithmetic rounds
+//! as the CPU does, so the cross-check holds the GPU's combination to `CombineOp::apply` of the
+//! GPU's operands bit for bit. A displaced combination (a warp's base) renders its operands
+//! and applies the operation on the host in f32.
 //!
 //! A combination's export (the glue of `shaders/combine.wgsl`): like a warp, a composition — each
 //! operand is exported as its own prefixed model, and the glue's `combine_sample_cell`
 //! (written by the emitter, per operation and channel) evaluates them at the position and applies
-//! `CombineOp::apply`'s expression in WGSL (the compute path applies it on the host in f32).
+//! `CombineOp::apply`'s expression in the shader's own arithmetic, as cheap as WGSL makes it.
 
 use spectex_model::{Combine, Model, ModelKind, Period};
 
@@ -37,33 +37,56 @@ wgsl_struct! {
     }
 }
 
-/// Whether the combination pass computes `op` bit for bit as `CombineOp::apply` does on any
-/// device: only additions, multiplications, subtractions, absolute values, minima and maxima,
-/// none of which a compiler may contract with another (for finite operands; WGSL leaves `min`
-/// and `max` of NaN to the device).
-pub(crate) fn exact_in_wgsl(op: &spectex_model::combine::CombineOp) -> bool {
-    use spectex_model::combine::CombineOp as Op;
-    matches!(
-        op,
-        Op::Add | Op::Multiply | Op::Min | Op::Max | Op::AbsFold { .. }
-    )
+/// The exact twins of `combine_lookup` and `combine_ramp` (`shaders/combine.wgsl`'s glue):
+/// `shaders/exact.wgsl`'s arithmetic over the glue's tables, which that library, composed
+/// without them, cannot name.
+const EXACT_TABLE_OPS: &str = "
+/// spectex_model::combine::lookup over `combine_table`, in exact arithmetic.
+fn exact_lookup(d0: f32, d1: f32, v: f32) -> f32 {
+    let last = f32(combine_knots - 1u);
+    var x = exact_clamp(exact_mul(exact_div(exact_sub(v, d0), exact_sub(d1, d0)), last), 0.0f, last);
+    if (exact_is_nan(bitcast<u32>(x))) {
+        x = 0.0f;
+    }
+    let k = min(u32(floor(x)), combine_knots - 2u);
+    let f = exact_sub(x, f32(k));
+    let t0 = combine_table[k];
+    return exact_add(t0, exact_mul(exact_sub(combine_table[k + 1u], t0), f));
 }
+
+/// spectex_model::combine::ramp: channel `c` at `v` over the stops, in exact arithmetic.
+fn exact_ramp(v: f32, c: u32) -> f32 {
+    if (exact_is_nan(bitcast<u32>(v)) || v <= combine_stops_at[0]) {
+        return combine_stops_colour[0][c];
+    }
+    for (var i = 0u; i + 1u < combine_stops; i++) {
+        let a = combine_stops_at[i];
+        let b = combine_stops_at[i + 1u];
+        if (v < b) {
+            let f = exact_div(exact_sub(v, a), exact_sub(b, a));
+            let c0 = combine_stops_colour[i][c];
+            return exact_add(c0, exact_mul(exact_sub(combine_stops_colour[i + 1u][c], c0), f));
+        }
+    }
+    return combine_stops_colour[combine_stops - 1u][c];
+}
+";
 
 /// Workgroup size of the combination pass.
 const PASS_WORKGROUP: u32 = 64;
 
 /// The combination pass of `op` over operands of `widths` channels into `channels`:
-/// `common.wgsl`, the glue's functions and constants (`shaders/combine.wgsl`), and an entry
-/// point that reads operand `k`'s value at a pixel from its plane of `operands` and writes the
-/// operation's channels.
+/// `common.wgsl` and `exact.wgsl`, the glue's constants (`shaders/combine.wgsl`) and
+/// [`EXACT_TABLE_OPS`], and an entry point that reads operand `k`'s value at a pixel from its
+/// plane of `operands` and writes the operation's channels in exact arithmetic.
 pub(crate) fn pass_wgsl(
     op: &spectex_model::combine::CombineOp,
     widths: &[usize],
     channels: usize,
 ) -> Option<String> {
-    let mut code = wgsl_source("common")?;
-    code.push_str(<Combine as ExportKind>::GLUE);
+    let mut code = wgsl_source("exact")?;
     code.push_str(&combine_constants(op));
+    code.push_str(EXACT_TABLE_OPS);
     code.push_str(
         "\nstruct CombinePass {\n    count: u32,\n    per_row: u32,\n    _pad0: u32,\n    \
          _pad1: u32,\n}\n\n\
@@ -94,7 +117,7 @@ pub(crate) fn pass_wgsl(
         let _ = writeln!(
             code,
             "    combined[{channels}u * p + {c}u] = {};",
-            combine_expression(op, widths, c)
+            combine_expression(op, widths, c, true)
         );
     }
     code.push_str("}\n");
@@ -112,9 +135,8 @@ pub(crate) struct CombineKernel {
     /// positions), so its window is never out of range.
     period: Option<Period>,
     gpu: Gpu,
-    /// The combination pass, built for this model ([`pass_wgsl`]) where its operation is
-    /// [`exact_in_wgsl`].
-    pass: Option<CachedPipeline>,
+    /// The combination pass, built for this model ([`pass_wgsl`]).
+    pass: CachedPipeline,
 }
 
 impl GpuKind for Combine {
@@ -135,20 +157,10 @@ impl GpuKind for Combine {
             .collect::<Result<Vec<_>, _>>()?;
         let widths: Vec<usize> = operands.iter().map(GpuEvaluator::output_channels).collect();
         let gpu = Gpu::new(context);
-        let pass = if exact_in_wgsl(&self.op) {
-            let source = pass_wgsl(&self.op, &widths, self.output_channels()).ok_or_else(|| {
-                GpuError::Validation("common.wgsl missing from the registry".to_owned())
-            })?;
-            Some(build_pipeline(
-                &gpu,
-                "spectex combine",
-                source,
-                "combine_main",
-                1,
-            )?)
-        } else {
-            None
-        };
+        let source = pass_wgsl(&self.op, &widths, self.output_channels()).ok_or_else(|| {
+            GpuError::Validation("exact.wgsl missing from the registry".to_owned())
+        })?;
+        let pass = build_pipeline(&gpu, "spectex combine", source, "combine_main", 1)?;
         Ok(Box::new(CombineKernel {
             model: self.clone(),
             whole: Model::Combine(self.clone()),
@@ -175,19 +187,14 @@ impl GpuKernel for CombineKernel {
         Ok(size)
     }
 
-    /// Megapixel tiles where the device combines (a tile in flight holds every operand's plane
-    /// twice, its own buffer and the combination's input, beside its output); quarter-megapixel
-    /// ones where the host does, so a render spreads them over the cores.
+    /// Megapixel tiles: a tile in flight holds every operand's plane twice, its own buffer and
+    /// the combination's input, beside its output.
     fn tile_pixels(&self) -> Option<usize> {
-        crate::kernel::composite_tile_pixels(self.pass.is_some())
+        crate::kernel::composite_tile_pixels(true)
     }
 
-    /// Every operand's host part, for [`encode_chain`](Self::encode_chain), where the device
-    /// combines; else the host's combination.
+    /// Every operand's host part, for [`encode_chain`](Self::encode_chain).
     fn prepare_tile(&self, tile: &GpuWindow) -> Result<PreparedTile, GpuError> {
-        if self.pass.is_none() {
-            return self.render_tile(tile, None).map(PreparedTile::Values);
-        }
         Ok(PreparedTile::Chain {
             operands: self
                 .operands
@@ -209,11 +216,7 @@ impl GpuKernel for CombineKernel {
         output: &wgpu::Buffer,
         timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) -> Result<(), GpuError> {
-        let Some(pipeline) = self.pass.as_ref() else {
-            return Err(GpuError::Validation(
-                "combine: a chain for an operation the host applies".to_owned(),
-            ));
-        };
+        let pipeline = &self.pass;
         if operands.len() != self.operands.len() {
             return Err(GpuError::Validation(
                 "combine: a chain of another shape".to_owned(),
@@ -329,17 +332,251 @@ impl ExportKind for Combine {
 #[allow(clippy::unwrap_used, reason = "a test fails loudly")]
 pub mod tests {
     use spectex_model::combine::{CombineOp, RampStop};
+    use spectex_model::random::Prng;
 
     use crate::layout::check::assert_source_matches_wgsl;
+    use crate::pipeline::{Gpu, build_pipeline, encode_pass, flat_grid, read_buffer};
 
-    /// The combination pass of every operation (grey and colour operands, a colour ramp)
-    /// parses and validates with naga, and its uniform has the Rust record's fields and size.
-    pub fn passes_of_every_operation_validate() {
+    /// The device of the tests below, or `None` (skipped with a message) without one.
+    fn device(test: &str) -> Option<Gpu> {
+        match crate::GpuContext::new() {
+            Ok(c) => Some(Gpu::new(&c)),
+            Err(e) if std::env::var("SPECTEX_REQUIRE_GPU").is_ok_and(|v| v == "1") => {
+                panic!("SPECTEX_REQUIRE_GPU=1 but no GPU: {e}")
+            }
+            Err(e) => {
+                eprintln!("SKIPPED {test}: {e}");
+                None
+            }
+        }
+    }
+
+    /// Runs `combine_main` of `source` (the combination pass's bindings) over `count` pixels
+    /// whose operand planes are `planes`, and returns `outputs` values.
+    fn run_pass(
+        gpu: &Gpu,
+        source: String,
+        count: usize,
+        planes: &[f32],
+        outputs: usize,
+    ) -> Vec<f32> {
+        use wgpu::BufferUsages as U;
+        let pipeline = build_pipeline(gpu, "combine test", source, "combine_main", 1).unwrap();
+        let input = gpu.buffer("operands", bytemuck::cast_slice(planes), U::STORAGE);
+        let bytes = 4 * outputs as u64;
+        let output = gpu.empty("combined", bytes, U::STORAGE | U::COPY_SRC);
+        let readback = gpu.empty("readback", bytes, U::MAP_READ | U::COPY_DST);
+        let (per_row, grid) = flat_grid(gpu, count as u32, super::PASS_WORKGROUP);
+        let params = super::CombinePass {
+            count: count as u32,
+            per_row,
+            ..bytemuck::Zeroable::zeroed()
+        };
+        let mut encoder = gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+        let bindings = vec![input.as_entire_binding(), output.as_entire_binding()];
+        encode_pass(
+            gpu,
+            &mut encoder,
+            ("combine test", &pipeline),
+            &params,
+            bindings,
+            grid,
+            None,
+        )
+        .unwrap();
+        encoder.copy_buffer_to_buffer(&output, 0, &readback, 0, bytes);
+        gpu.queue.submit([encoder.finish()]);
+        let raw = read_buffer(&gpu.device, &readback, &gpu.lost, None).unwrap();
+        bytemuck::cast_slice(&raw).to_vec()
+    }
+
+    /// Bit-for-bit equality, any NaN for a NaN.
+    fn same(got: f32, want: f32) -> bool {
+        got.to_bits() == want.to_bits() || (got.is_nan() && want.is_nan())
+    }
+
+    /// `exact.wgsl`'s `a + b`, `a − b`, `a · b` and `a / b` are the CPU's f32 operations bit for
+    /// bit: random bit patterns (every class: zeros, subnormals, normals, infinities, NaNs),
+    /// near-equal pairs (cancellation), products and quotients that overflow or fall into and
+    /// below the subnormals, and the halfway cases of each rounding. Skips without a GPU.
+    pub fn exact_arithmetic_rounds_as_the_cpu() {
+        let Some(gpu) = device("exact_arithmetic_rounds_as_the_cpu") else {
+            return;
+        };
+        let mut prng = Prng::new(0x05ee_df32);
+        let mut pairs: Vec<(f32, f32)> = Vec::new();
+        let specials = [
+            0.0f32,
+            -0.0,
+            1.0,
+            -1.0,
+            0.5,
+            3.0,
+            f32::MIN_POSITIVE,
+            f32::from_bits(1),
+            f32::from_bits(0x007f_ffff),
+            f32::MAX,
+            -f32::MAX,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+            12_582_912.0,
+            1.0 + f32::EPSILON,
+            1.0 - f32::EPSILON / 2.0,
+        ];
+        for &a in &specials {
+            for &b in &specials {
+                pairs.push((a, b));
+            }
+        }
+        for _ in 0..60_000 {
+            // Any bits.
+            let a = f32::from_bits(prng.next_u32());
+            let b = f32::from_bits(prng.next_u32());
+            pairs.push((a, b));
+            // Exponents within a few of each other and of the ends of the range.
+            let e = |prng: &mut Prng, lo: u32, span: u32| {
+                let exp = lo + prng.next_u32() % span;
+                f32::from_bits((prng.next_u32() & 0x807f_ffff) | (exp.min(254) << 23))
+            };
+            let x = e(&mut prng, 100, 50);
+            pairs.push((x, e(&mut prng, 100, 50)));
+            // Near-equal: a few ulps apart, either sign.
+            let ulps = prng.next_u32() % 64;
+            let y =
+                f32::from_bits(x.to_bits().wrapping_add(ulps) ^ (prng.next_u32() & 0x8000_0000));
+            pairs.push((x, y));
+            // Tiny and huge: subnormal and overflowing results.
+            pairs.push((e(&mut prng, 0, 40), e(&mut prng, 90, 40)));
+            pairs.push((e(&mut prng, 200, 55), e(&mut prng, 100, 50)));
+            pairs.push((e(&mut prng, 0, 30), e(&mut prng, 0, 30)));
+        }
+        let count = pairs.len();
+        let mut planes = Vec::with_capacity(2 * count);
+        planes.extend(pairs.iter().map(|p| p.0));
+        planes.extend(pairs.iter().map(|p| p.1));
+        let source = format!(
+            "{}\n{}",
+            crate::wgsl_source("exact").unwrap(),
+            "struct CombinePass { count: u32, per_row: u32, _pad0: u32, _pad1: u32, }
+@group(0) @binding(0) var<uniform> combine_pass: CombinePass;
+@group(0) @binding(1) var<storage, read> operands: array<f32>;
+@group(0) @binding(2) var<storage, read_write> combined: array<f32>;
+@compute @workgroup_size(64, 1, 1)
+fn combine_main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let p = gid.y * combine_pass.per_row + gid.x;
+    let n = combine_pass.count;
+    if (p >= n) {
+        return;
+    }
+    let a = operands[p];
+    let b = operands[n + p];
+    combined[4u * p] = exact_add(a, b);
+    combined[4u * p + 1u] = exact_sub(a, b);
+    combined[4u * p + 2u] = exact_mul(a, b);
+    combined[4u * p + 3u] = exact_div(a, b);
+}
+"
+        );
+        let got = run_pass(&gpu, source, count, &planes, 4 * count);
+        let mut wrong = Vec::new();
+        for (i, &(a, b)) in pairs.iter().enumerate() {
+            for (k, (name, want)) in [("+", a + b), ("-", a - b), ("*", a * b), ("/", a / b)]
+                .into_iter()
+                .enumerate()
+            {
+                if !same(got[4 * i + k], want) {
+                    wrong.push(format!(
+                        "{a:e} {name} {b:e} ({:08x} {name} {:08x}): {:08x}, the CPU {:08x}",
+                        a.to_bits(),
+                        b.to_bits(),
+                        got[4 * i + k].to_bits(),
+                        want.to_bits()
+                    ));
+                }
+            }
+        }
+        assert!(
+            wrong.is_empty(),
+            "{} of {} differ, first: {:#?}",
+            wrong.len(),
+            4 * count,
+            &wrong[..wrong.len().min(8)]
+        );
+    }
+
+    /// The combination pass of every operation computes `CombineOp::apply` bit for bit on
+    /// operand values across and beyond each operation's range: its edges, knots and stops,
+    /// their neighbours, and random values. Skips without a GPU.
+    pub fn combination_passes_are_apply_bit_for_bit() {
+        let Some(gpu) = device("combination_passes_are_apply_bit_for_bit") else {
+            return;
+        };
+        let mut prng = Prng::new(0xc0_4b1e);
+        for (op, widths, channels) in cases() {
+            let mut anchors: Vec<f32> = vec![0.0, -0.0, 1.0, -1.0, 0.25, 0.75, 0.5, -0.8, 0.4];
+            match &op {
+                CombineOp::Smoothstep { edges } => anchors.extend(edges),
+                CombineOp::Histogram { domain, .. } => anchors.extend(domain),
+                CombineOp::Ramp { stops } => anchors.extend(stops.iter().map(|s| s.at)),
+                _ => {}
+            }
+            let mut values: Vec<f32> = Vec::new();
+            for &v in &anchors {
+                values.push(v);
+                values.push(f32::from_bits(v.to_bits().wrapping_add(1)));
+                values.push(f32::from_bits(v.to_bits().wrapping_sub(1)));
+            }
+            while values.len() < 4096 {
+                values.push(4.0 * prng.next_f32() - 2.0);
+            }
+            let count = values.len();
+            let planes_per_pixel: usize = widths.iter().sum();
+            // Operand planes of the pass: each channel a rotation of the values.
+            let mut planes = vec![0.0f32; planes_per_pixel * count];
+            let mut at = 0;
+            for (k, &w) in widths.iter().enumerate() {
+                for p in 0..count {
+                    for c in 0..w {
+                        planes[at + p * w + c] = values[(p + 17 * k + 5 * c) % count];
+                    }
+                }
+                at += w * count;
+            }
+            let source = super::pass_wgsl(&op, &widths, channels).unwrap();
+            let got = run_pass(&gpu, source, count, &planes, channels * count);
+            let mut at;
+            for p in 0..count {
+                at = 0;
+                let pixel: Vec<&[f32]> = widths
+                    .iter()
+                    .map(|&w| {
+                        let v = &planes[at + p * w..at + p * w + w];
+                        at += w * count;
+                        v
+                    })
+                    .collect();
+                for c in 0..channels {
+                    let want = op.apply(&pixel, c);
+                    let g = got[p * channels + c];
+                    assert!(
+                        same(g, want),
+                        "{op:?} at {pixel:?}, channel {c}: {g:e}, the CPU {want:e}"
+                    );
+                }
+            }
+        }
+    }
+
+    /// One of each operation: grey and colour operands, a colour ramp.
+    fn cases() -> Vec<(CombineOp, Vec<usize>, usize)> {
         let stop = |at, c| RampStop {
             at,
             colour: [c, 0.5, 1.0 - c],
         };
-        let cases: Vec<(CombineOp, Vec<usize>, usize)> = vec![
+        vec![
             (CombineOp::Add, vec![1, 1, 1], 1),
             (CombineOp::Multiply, vec![3, 3], 3),
             (CombineOp::Min, vec![1, 1], 1),
@@ -352,6 +589,7 @@ pub mod tests {
                 vec![1],
                 1,
             ),
+            (CombineOp::Smoothstep { edges: [0.3, 0.3] }, vec![1], 1),
             (
                 CombineOp::AbsFold {
                     offset: -0.8,
@@ -362,6 +600,7 @@ pub mod tests {
                 1,
             ),
             (CombineOp::SinFold { gain: 3.0 }, vec![3], 3),
+            (CombineOp::SinFold { gain: -1234.5 }, vec![1], 1),
             (
                 CombineOp::Histogram {
                     domain: [-1.0, 1.0],
@@ -372,13 +611,18 @@ pub mod tests {
             ),
             (
                 CombineOp::Ramp {
-                    stops: vec![stop(0.0, 0.0), stop(0.5, 0.7)],
+                    stops: vec![stop(0.0, 0.0), stop(0.5, 0.7), stop(0.9, 0.2)],
                 },
                 vec![1],
                 3,
             ),
-        ];
-        for (op, widths, channels) in cases {
+        ]
+    }
+
+    /// The combination pass of every operation (grey and colour operands, a colour ramp)
+    /// parses and validates with naga, and its uniform has the Rust record's fields and size.
+    pub fn passes_of_every_operation_validate() {
+        for (op, widths, channels) in cases() {
             let source = super::pass_wgsl(&op, &widths, channels).unwrap();
             let name = format!("combine pass of {op:?}");
             assert_source_matches_wgsl::<super::CombinePass>(&name, &source, "CombinePass");

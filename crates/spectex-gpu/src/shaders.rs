@@ -86,6 +86,12 @@ pub static SHADERS: LazyLock<Vec<ShaderFile>> = LazyLock::new(|| {
             entry_points: &["warp_displace"],
         },
         ShaderFile {
+            name: "exact",
+            source: include_str!("../shaders/exact.wgsl"),
+            needs_common: true,
+            entry_points: &[],
+        },
+        ShaderFile {
             name: "probe",
             source: include_str!("../shaders/probe.wgsl"),
             needs_common: true,

@@ -13,9 +13,8 @@
 //! [`companions`](CheckKind::companions) are its operands (each followed by its own
 //! companions), every operand must pass its own kind's criterion, and on each evaluator the
 //! combination's value must be `CombineOp::apply` of that evaluator's operand values, bit for
-//! bit (both evaluators compose exactly so: the CPU per row, the GPU in a pass of its own for
-//! the operations WGSL computes exactly — sums, products, minima, maxima, folds — and on the
-//! host for the others). An operand
+//! bit (both evaluators compose exactly so: the CPU per row, the GPU in a pass of its own in
+//! integer IEEE arithmetic, `exact.wgsl`, or on the host for a displaced combination). An operand
 //! judged by the generic criterion is held to its max and mean bounds there (its spectral
 //! bound needs the window's shape, which a verdict does not see; the operand's own
 //! cross-check keeps it).

@@ -730,13 +730,22 @@ fn channel(k: usize, width: usize, c: usize) -> String {
 
 /// The WGSL expression of `op` for output channel `c` over the operands of `widths`
 /// (`CombineOp::apply`, the same operations in the same order), operand `k` read from `v<k>`
-/// (an `f32`, or a `vec3<f32>` for 3 channels): the export's `combine_sample_cell` and the
-/// compute path's combination pass (`crate::combine`).
-pub(crate) fn combine_expression(op: &CombineOp, widths: &[usize], c: usize) -> String {
+/// (an `f32`, or a `vec3<f32>` for 3 channels): the export's `combine_sample_cell` in the
+/// shader's own arithmetic, and with `exact` the compute path's combination pass
+/// (`crate::combine`) in `exact.wgsl`'s.
+pub(crate) fn combine_expression(
+    op: &CombineOp,
+    widths: &[usize],
+    c: usize,
+    exact: bool,
+) -> String {
     let ch = |k: usize, c: usize| channel(k, widths[k], c);
     let fold = |f: &dyn Fn(String, String) -> String| {
         (1..widths.len()).fold(ch(0, c), |acc, k| f(acc, ch(k, c)))
     };
+    if exact {
+        return exact_expression(op, widths, c);
+    }
     match op {
         CombineOp::Add => fold(&|a, b| format!("({a} + {b})")),
         CombineOp::Multiply => fold(&|a, b| format!("({a} * {b})")),
@@ -770,6 +779,45 @@ pub(crate) fn combine_expression(op: &CombineOp, widths: &[usize], c: usize) -> 
             ch(0, c)
         ),
         CombineOp::Ramp { .. } => format!("combine_ramp({}, {c}u)", ch(0, 0)),
+    }
+}
+
+/// [`combine_expression`] in the exact arithmetic of `shaders/exact.wgsl` (the combination
+/// pass of `combine.rs`): the CPU's roundings on any device.
+fn exact_expression(op: &CombineOp, widths: &[usize], c: usize) -> String {
+    let ch = |k: usize, c: usize| channel(k, widths[k], c);
+    let fold =
+        |f: &str| (1..widths.len()).fold(ch(0, c), |acc, k| format!("{f}({acc}, {})", ch(k, c)));
+    match op {
+        CombineOp::Add => fold("exact_add"),
+        CombineOp::Multiply => fold("exact_mul"),
+        CombineOp::Min => fold("min"),
+        CombineOp::Max => fold("max"),
+        CombineOp::Mix => format!("exact_mix({}, {}, {})", ch(0, c), ch(1, c), ch(2, 0)),
+        CombineOp::Smoothstep { edges } => format!(
+            "exact_smoothstep({}, {}, {})",
+            float(edges[0]),
+            float(edges[1]),
+            ch(0, c)
+        ),
+        CombineOp::AbsFold {
+            offset,
+            step,
+            folds,
+        } => format!(
+            "exact_abs_fold({}, {}, {}, {folds}u)",
+            ch(0, c),
+            float(*offset),
+            float(*step)
+        ),
+        CombineOp::SinFold { gain } => format!("exact_sin_fold({}, {})", float(*gain), ch(0, c)),
+        CombineOp::Histogram { domain, .. } => format!(
+            "exact_lookup({}, {}, {})",
+            float(domain[0]),
+            float(domain[1]),
+            ch(0, c)
+        ),
+        CombineOp::Ramp { .. } => format!("exact_ramp({}, {c}u)", ch(0, 0)),
     }
 }
 
@@ -850,7 +898,7 @@ impl Emitter<'_> {
             let _ = writeln!(code, "    let v{k} = {name}(cell, offset);");
         }
         let exprs: Vec<String> = (0..channels)
-            .map(|c| combine_expression(op, &widths, c))
+            .map(|c| combine_expression(op, &widths, c, false))
             .collect();
         if channels == 1 {
             let _ = writeln!(code, "    return {};\n}}", exprs[0]);

@@ -1,0 +1,398 @@
+// exact.wgsl — IEEE 754 binary32 addition, subtraction, multiplication and division in integer
+// arithmetic, rounded to nearest, ties to even, with subnormals: the CPU's f32 operations bit
+// for bit on any device. A shader's own float operations are not that: WGSL lets a compiler
+// fuse a multiply and an add into one rounding (lavapipe does), divides within 2.5 ulp and may
+// flush subnormals. The combination pass (`combine.rs`) applies the operations that multiply
+// and add or divide (mix, smoothstep, a table lookup, a ramp, a sine), and the others, with
+// these, so the device composes exactly what `CombineOp::apply` computes (the table lookup and
+// the ramp, which read the pass's tables, are `combine.rs`'s `EXACT_TABLE_OPS`). A port of Berkeley SoftFloat 3e's
+// `f32_add`, `f32_sub`, `f32_mul` and `f32_div` (round-near-even only; a NaN result is the
+// quiet NaN 0x7FC00000). Composed after common.wgsl; a library, no entry point.
+
+/// The quiet NaN every invalid operation returns.
+const EXACT_NAN: u32 = 0x7fc00000u;
+
+fn exact_is_nan(a: u32) -> bool {
+    return (a & 0x7fffffffu) > 0x7f800000u;
+}
+
+/// `a >> dist`, with a 1 in bit 0 if any bit shifted out was 1 ("jamming").
+fn exact_shift_right_jam(a: u32, dist: u32) -> u32 {
+    if (dist == 0u) {
+        return a;
+    }
+    if (dist >= 31u) {
+        return select(0u, 1u, a != 0u);
+    }
+    return (a >> dist) | select(0u, 1u, (a << (32u - dist)) != 0u);
+}
+
+/// Sign, biased exponent minus one and a significand whose leading 1 is at bit 30 (7 bits for
+/// rounding below bit 23 of the result), rounded to nearest even and packed (SoftFloat's
+/// `softfloat_roundPackToF32`). The exponent may be below 0 (a subnormal result) or above
+/// 0xFD (an overflow to infinity).
+fn exact_round_pack(sign: u32, exp_in: i32, sig_in: u32) -> u32 {
+    var exp = exp_in;
+    var sig = sig_in;
+    var round_bits = sig & 0x7fu;
+    if (exp < 0) {
+        sig = exact_shift_right_jam(sig, u32(-exp));
+        exp = 0;
+        round_bits = sig & 0x7fu;
+    } else if (exp > 0xfd || (exp == 0xfd && sig + 0x40u >= 0x80000000u)) {
+        return sign | 0x7f800000u;
+    }
+    sig = (sig + 0x40u) >> 7u;
+    if (round_bits == 0x40u) {
+        sig = sig & ~1u;
+    }
+    if (sig == 0u) {
+        exp = 0;
+    }
+    return sign + (u32(exp) << 23u) + sig;
+}
+
+/// [`exact_round_pack`] of a significand with its leading 1 anywhere (SoftFloat's
+/// `softfloat_normRoundPackToF32`).
+fn exact_norm_round_pack(sign: u32, exp_in: i32, sig: u32) -> u32 {
+    let shift = i32(countLeadingZeros(sig)) - 1;
+    let exp = exp_in - shift;
+    if (shift >= 7 && exp >= 0 && exp < 0xfd) {
+        return sign + (u32(select(0, exp, sig != 0u)) << 23u) + (sig << u32(shift - 7));
+    }
+    return exact_round_pack(sign, exp, sig << u32(shift));
+}
+
+/// The sum of the magnitudes of `a` and `b` (same sign), with `a`'s sign.
+fn exact_add_mags(a: u32, b: u32) -> u32 {
+    let exp_a = i32((a >> 23u) & 0xffu);
+    var sig_a = a & 0x007fffffu;
+    let exp_b = i32((b >> 23u) & 0xffu);
+    var sig_b = b & 0x007fffffu;
+    let sign = a & 0x80000000u;
+    let diff = exp_a - exp_b;
+    var exp_z: i32;
+    var sig_z: u32;
+    if (diff == 0) {
+        if (exp_a == 0) {
+            return a + sig_b;
+        }
+        if (exp_a == 0xff) {
+            if ((sig_a | sig_b) != 0u) {
+                return EXACT_NAN;
+            }
+            return a;
+        }
+        exp_z = exp_a;
+        sig_z = 0x01000000u + sig_a + sig_b;
+        if ((sig_z & 1u) == 0u && exp_z < 0xfe) {
+            return sign + (u32(exp_z) << 23u) + (sig_z >> 1u);
+        }
+        sig_z = sig_z << 6u;
+    } else {
+        sig_a = sig_a << 6u;
+        sig_b = sig_b << 6u;
+        if (diff < 0) {
+            if (exp_b == 0xff) {
+                if (sig_b != 0u) {
+                    return EXACT_NAN;
+                }
+                return sign | 0x7f800000u;
+            }
+            exp_z = exp_b;
+            sig_a = sig_a + select(sig_a, 0x20000000u, exp_a != 0);
+            sig_a = exact_shift_right_jam(sig_a, u32(-diff));
+        } else {
+            if (exp_a == 0xff) {
+                if (sig_a != 0u) {
+                    return EXACT_NAN;
+                }
+                return a;
+            }
+            exp_z = exp_a;
+            sig_b = sig_b + select(sig_b, 0x20000000u, exp_b != 0);
+            sig_b = exact_shift_right_jam(sig_b, u32(diff));
+        }
+        sig_z = 0x20000000u + sig_a + sig_b;
+        if (sig_z < 0x40000000u) {
+            exp_z = exp_z - 1;
+            sig_z = sig_z << 1u;
+        }
+    }
+    return exact_round_pack(sign, exp_z, sig_z);
+}
+
+/// The difference of the magnitudes of `a` and `b` (same sign), signed from `a`'s sign.
+fn exact_sub_mags(a: u32, b: u32) -> u32 {
+    var exp_a = i32((a >> 23u) & 0xffu);
+    var sig_a = a & 0x007fffffu;
+    let exp_b = i32((b >> 23u) & 0xffu);
+    var sig_b = b & 0x007fffffu;
+    var sign = a & 0x80000000u;
+    let diff = exp_a - exp_b;
+    if (diff == 0) {
+        if (exp_a == 0xff) {
+            return EXACT_NAN;
+        }
+        var d = i32(sig_a) - i32(sig_b);
+        if (d == 0) {
+            return 0u;
+        }
+        if (exp_a != 0) {
+            exp_a = exp_a - 1;
+        }
+        if (d < 0) {
+            sign = sign ^ 0x80000000u;
+            d = -d;
+        }
+        var shift = i32(countLeadingZeros(u32(d))) - 8;
+        var exp_z = exp_a - shift;
+        if (exp_z < 0) {
+            shift = exp_a;
+            exp_z = 0;
+        }
+        return sign + (u32(exp_z) << 23u) + (u32(d) << u32(shift));
+    }
+    sig_a = sig_a << 7u;
+    sig_b = sig_b << 7u;
+    var exp_z: i32;
+    var sig_x: u32;
+    var sig_y: u32;
+    var dist: u32;
+    if (diff < 0) {
+        sign = sign ^ 0x80000000u;
+        if (exp_b == 0xff) {
+            if (sig_b != 0u) {
+                return EXACT_NAN;
+            }
+            return sign | 0x7f800000u;
+        }
+        exp_z = exp_b - 1;
+        sig_x = sig_b | 0x40000000u;
+        sig_y = sig_a + select(sig_a, 0x40000000u, exp_a != 0);
+        dist = u32(-diff);
+    } else {
+        if (exp_a == 0xff) {
+            if (sig_a != 0u) {
+                return EXACT_NAN;
+            }
+            return a;
+        }
+        exp_z = exp_a - 1;
+        sig_x = sig_a | 0x40000000u;
+        sig_y = sig_b + select(sig_b, 0x40000000u, exp_b != 0);
+        dist = u32(diff);
+    }
+    return exact_norm_round_pack(sign, exp_z, sig_x - exact_shift_right_jam(sig_y, dist));
+}
+
+/// `a + b` as the CPU rounds it.
+fn exact_add(x: f32, y: f32) -> f32 {
+    let a = bitcast<u32>(x);
+    let b = bitcast<u32>(y);
+    if (exact_is_nan(a) || exact_is_nan(b)) {
+        return bitcast<f32>(EXACT_NAN);
+    }
+    if (((a ^ b) & 0x80000000u) == 0u) {
+        return bitcast<f32>(exact_add_mags(a, b));
+    }
+    return bitcast<f32>(exact_sub_mags(a, b));
+}
+
+/// `a − b` as the CPU rounds it.
+fn exact_sub(x: f32, y: f32) -> f32 {
+    return exact_add(x, bitcast<f32>(bitcast<u32>(y) ^ 0x80000000u));
+}
+
+/// A subnormal significand (not 0) normalised: its exponent and its significand with the
+/// leading 1 at bit 23.
+fn exact_normalise(sig: u32) -> vec2<i32> {
+    let shift = i32(countLeadingZeros(sig)) - 8;
+    return vec2<i32>(1 - shift, bitcast<i32>(sig << u32(shift)));
+}
+
+/// The 64-bit product of `a` and `b` as (high word, low word).
+fn exact_mul_wide(a: u32, b: u32) -> vec2<u32> {
+    let a0 = a & 0xffffu;
+    let a1 = a >> 16u;
+    let b0 = b & 0xffffu;
+    let b1 = b >> 16u;
+    let p00 = a0 * b0;
+    let p01 = a0 * b1;
+    let p10 = a1 * b0;
+    let p11 = a1 * b1;
+    let mid = (p00 >> 16u) + (p01 & 0xffffu) + (p10 & 0xffffu);
+    let lo = (p00 & 0xffffu) | (mid << 16u);
+    let hi = p11 + (p01 >> 16u) + (p10 >> 16u) + (mid >> 16u);
+    return vec2<u32>(hi, lo);
+}
+
+/// `a · b` as the CPU rounds it.
+fn exact_mul(x: f32, y: f32) -> f32 {
+    let a = bitcast<u32>(x);
+    let b = bitcast<u32>(y);
+    if (exact_is_nan(a) || exact_is_nan(b)) {
+        return bitcast<f32>(EXACT_NAN);
+    }
+    let sign = (a ^ b) & 0x80000000u;
+    var exp_a = i32((a >> 23u) & 0xffu);
+    var sig_a = a & 0x007fffffu;
+    var exp_b = i32((b >> 23u) & 0xffu);
+    var sig_b = b & 0x007fffffu;
+    if (exp_a == 0xff || exp_b == 0xff) {
+        // Infinity times zero is invalid, times anything else infinite.
+        let other = select(b, a, exp_b == 0xff) & 0x7fffffffu;
+        if (other == 0u) {
+            return bitcast<f32>(EXACT_NAN);
+        }
+        return bitcast<f32>(sign | 0x7f800000u);
+    }
+    if (exp_a == 0) {
+        if (sig_a == 0u) {
+            return bitcast<f32>(sign);
+        }
+        let n = exact_normalise(sig_a);
+        exp_a = n.x;
+        sig_a = bitcast<u32>(n.y);
+    }
+    if (exp_b == 0) {
+        if (sig_b == 0u) {
+            return bitcast<f32>(sign);
+        }
+        let n = exact_normalise(sig_b);
+        exp_b = n.x;
+        sig_b = bitcast<u32>(n.y);
+    }
+    var exp_z = exp_a + exp_b - 0x7f;
+    let wide = exact_mul_wide((sig_a | 0x00800000u) << 7u, (sig_b | 0x00800000u) << 8u);
+    var sig_z = wide.x | select(0u, 1u, wide.y != 0u);
+    if (sig_z < 0x40000000u) {
+        exp_z = exp_z - 1;
+        sig_z = sig_z << 1u;
+    }
+    return bitcast<f32>(exact_round_pack(sign, exp_z, sig_z));
+}
+
+/// `a / b` as the CPU rounds it.
+fn exact_div(x: f32, y: f32) -> f32 {
+    let a = bitcast<u32>(x);
+    let b = bitcast<u32>(y);
+    if (exact_is_nan(a) || exact_is_nan(b)) {
+        return bitcast<f32>(EXACT_NAN);
+    }
+    let sign = (a ^ b) & 0x80000000u;
+    var exp_a = i32((a >> 23u) & 0xffu);
+    var sig_a = a & 0x007fffffu;
+    var exp_b = i32((b >> 23u) & 0xffu);
+    var sig_b = b & 0x007fffffu;
+    if (exp_a == 0xff) {
+        if (exp_b == 0xff) {
+            return bitcast<f32>(EXACT_NAN);
+        }
+        return bitcast<f32>(sign | 0x7f800000u);
+    }
+    if (exp_b == 0xff) {
+        return bitcast<f32>(sign);
+    }
+    if (exp_b == 0) {
+        if (sig_b == 0u) {
+            if (exp_a == 0 && sig_a == 0u) {
+                return bitcast<f32>(EXACT_NAN);
+            }
+            return bitcast<f32>(sign | 0x7f800000u);
+        }
+        let n = exact_normalise(sig_b);
+        exp_b = n.x;
+        sig_b = bitcast<u32>(n.y);
+    }
+    if (exp_a == 0) {
+        if (sig_a == 0u) {
+            return bitcast<f32>(sign);
+        }
+        let n = exact_normalise(sig_a);
+        exp_a = n.x;
+        sig_a = bitcast<u32>(n.y);
+    }
+    var exp_z = exp_a - exp_b + 0x7e;
+    sig_a = sig_a | 0x00800000u;
+    sig_b = sig_b | 0x00800000u;
+    // The quotient ⌊sig_a·2^s / sig_b⌋ (s = 31, or 30 when sig_a ≥ sig_b: 31 bits either way)
+    // by long division in 8-bit steps: the remainder stays below sig_b < 2^24, so shifted by 8
+    // it fits a u32.
+    var bits = 31u;
+    if (sig_a < sig_b) {
+        exp_z = exp_z - 1;
+    } else {
+        bits = 30u;
+    }
+    var q = sig_a / sig_b;
+    var r = sig_a % sig_b;
+    while (bits > 0u) {
+        let step = min(bits, 8u);
+        let t = r << step;
+        q = (q << step) | (t / sig_b);
+        r = t % sig_b;
+        bits = bits - step;
+    }
+    if ((q & 0x3fu) == 0u && r != 0u) {
+        q = q | 1u;
+    }
+    return bitcast<f32>(exact_round_pack(sign, exp_z, q));
+}
+
+// ---- CombineOp::apply's operations in exact arithmetic (spectex_model::combine) ----
+
+/// `f32::clamp`: NaN stays NaN (WGSL's clamp may not keep it).
+fn exact_clamp(v: f32, lo: f32, hi: f32) -> f32 {
+    var r = v;
+    if (v < lo) {
+        r = lo;
+    }
+    if (v > hi) {
+        r = hi;
+    }
+    return r;
+}
+
+/// `CombineOp::AbsFold`: `v − offset`, then `folds` times `|v − step|`.
+fn exact_abs_fold(value: f32, offset: f32, step: f32, folds: u32) -> f32 {
+    var v = exact_sub(value, offset);
+    for (var k = 0u; k < folds; k++) {
+        v = abs(exact_sub(v, step));
+    }
+    return v;
+}
+
+/// `CombineOp::Mix`: `a + (b − a)·t`.
+fn exact_mix(a: f32, b: f32, t: f32) -> f32 {
+    return exact_add(a, exact_mul(exact_sub(b, a), t));
+}
+
+/// spectex_model::combine::smoothstep.
+fn exact_smoothstep(e0: f32, e1: f32, v: f32) -> f32 {
+    if (e0 >= e1) {
+        return select(0.0f, 1.0f, v >= e0);
+    }
+    let s = exact_clamp(exact_div(exact_sub(v, e0), exact_sub(e1, e0)), 0.0f, 1.0f);
+    return exact_mul(exact_mul(s, s), exact_sub(3.0f, exact_mul(2.0f, s)));
+}
+
+/// spectex_model::math::cos_turns (its magic-number rounding, then the polynomial).
+fn exact_cos_turns(t: f32) -> f32 {
+    let rounded = exact_sub(exact_add(t, 12582912.0f), 12582912.0f);
+    let a = abs(exact_sub(t, rounded));
+    let far = a > 0.25f;
+    let b = select(a, exact_sub(0.5f, a), far);
+    let x = exact_mul(b, b);
+    var p = COS_TURNS_4;
+    p = exact_add(exact_mul(p, x), COS_TURNS_3);
+    p = exact_add(exact_mul(p, x), COS_TURNS_2);
+    p = exact_add(exact_mul(p, x), COS_TURNS_1);
+    p = exact_add(exact_mul(p, x), COS_TURNS_0);
+    return select(p, -p, far);
+}
+
+/// `CombineOp::SinFold`: spectex_model::math::sin_turns of `gain·v`.
+fn exact_sin_fold(gain: f32, v: f32) -> f32 {
+    return exact_cos_turns(exact_sub(exact_mul(gain, v), 0.25f));
+}
