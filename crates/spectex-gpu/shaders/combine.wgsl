@@ -8,6 +8,16 @@
 // `combine_stops`, `combine_stops_at`, `combine_stops_colour` (a ramp's stops, sorted; one
 // unused stop otherwise).
 
+/// `CombineOp::Mix`: `a + (b − a)·t`.
+fn combine_mix(a: f32, b: f32, t: f32) -> f32 {
+    return a + (b - a) * t;
+}
+
+/// `CombineOp::SinFold`: `sin_turns(gain·v)`.
+fn combine_sin_fold(gain: f32, v: f32) -> f32 {
+    return sin_turns(gain * v);
+}
+
 /// spectex_model::combine::smoothstep: `s·s·(3 − 2s)`, a threshold for equal edges.
 fn combine_smoothstep(e0: f32, e1: f32, v: f32) -> f32 {
     if (e0 >= e1) {

@@ -204,11 +204,16 @@ fn exact_sub(x: f32, y: f32) -> f32 {
     return exact_add(x, bitcast<f32>(bitcast<u32>(y) ^ 0x80000000u));
 }
 
-/// A subnormal significand (not 0) normalised: its exponent and its significand with the
-/// leading 1 at bit 23.
-fn exact_normalise(sig: u32) -> vec2<i32> {
+/// The exponent and the significand (its leading 1 at bit 23) of a finite, non-zero `a`, a
+/// subnormal normalised (its exponent then below 1).
+fn exact_unpack(a: u32) -> vec2<i32> {
+    let exp = i32((a >> 23u) & 0xffu);
+    let sig = a & 0x007fffffu;
+    if (exp != 0) {
+        return vec2<i32>(exp, i32(sig | 0x00800000u));
+    }
     let shift = i32(countLeadingZeros(sig)) - 8;
-    return vec2<i32>(1 - shift, bitcast<i32>(sig << u32(shift)));
+    return vec2<i32>(1 - shift, i32(sig << u32(shift)));
 }
 
 /// The 64-bit product of `a` and `b` as (high word, low word).
@@ -235,36 +240,20 @@ fn exact_mul(x: f32, y: f32) -> f32 {
         return bitcast<f32>(EXACT_NAN);
     }
     let sign = (a ^ b) & 0x80000000u;
-    var exp_a = i32((a >> 23u) & 0xffu);
-    var sig_a = a & 0x007fffffu;
-    var exp_b = i32((b >> 23u) & 0xffu);
-    var sig_b = b & 0x007fffffu;
-    if (exp_a == 0xff || exp_b == 0xff) {
+    let inf_a = (a & 0x7fffffffu) == 0x7f800000u;
+    let inf_b = (b & 0x7fffffffu) == 0x7f800000u;
+    let zero = (a & 0x7fffffffu) == 0u || (b & 0x7fffffffu) == 0u;
+    if (inf_a || inf_b) {
         // Infinity times zero is invalid, times anything else infinite.
-        let other = select(b, a, exp_b == 0xff) & 0x7fffffffu;
-        if (other == 0u) {
-            return bitcast<f32>(EXACT_NAN);
-        }
-        return bitcast<f32>(sign | 0x7f800000u);
+        return bitcast<f32>(select(sign | 0x7f800000u, EXACT_NAN, zero));
     }
-    if (exp_a == 0) {
-        if (sig_a == 0u) {
-            return bitcast<f32>(sign);
-        }
-        let n = exact_normalise(sig_a);
-        exp_a = n.x;
-        sig_a = bitcast<u32>(n.y);
+    if (zero) {
+        return bitcast<f32>(sign);
     }
-    if (exp_b == 0) {
-        if (sig_b == 0u) {
-            return bitcast<f32>(sign);
-        }
-        let n = exact_normalise(sig_b);
-        exp_b = n.x;
-        sig_b = bitcast<u32>(n.y);
-    }
-    var exp_z = exp_a + exp_b - 0x7f;
-    let wide = exact_mul_wide((sig_a | 0x00800000u) << 7u, (sig_b | 0x00800000u) << 8u);
+    let ua = exact_unpack(a);
+    let ub = exact_unpack(b);
+    var exp_z = ua.x + ub.x - 0x7f;
+    let wide = exact_mul_wide(u32(ua.y) << 7u, u32(ub.y) << 8u);
     var sig_z = wide.x | select(0u, 1u, wide.y != 0u);
     if (sig_z < 0x40000000u) {
         exp_z = exp_z - 1;
@@ -281,41 +270,25 @@ fn exact_div(x: f32, y: f32) -> f32 {
         return bitcast<f32>(EXACT_NAN);
     }
     let sign = (a ^ b) & 0x80000000u;
-    var exp_a = i32((a >> 23u) & 0xffu);
-    var sig_a = a & 0x007fffffu;
-    var exp_b = i32((b >> 23u) & 0xffu);
-    var sig_b = b & 0x007fffffu;
-    if (exp_a == 0xff) {
-        if (exp_b == 0xff) {
-            return bitcast<f32>(EXACT_NAN);
-        }
+    let inf_a = (a & 0x7fffffffu) == 0x7f800000u;
+    let inf_b = (b & 0x7fffffffu) == 0x7f800000u;
+    let zero_a = (a & 0x7fffffffu) == 0u;
+    let zero_b = (b & 0x7fffffffu) == 0u;
+    // ∞/∞ and 0/0 are invalid; ∞/y and x/0 infinite; x/∞ and 0/y zero.
+    if ((inf_a && inf_b) || (zero_a && zero_b)) {
+        return bitcast<f32>(EXACT_NAN);
+    }
+    if (inf_a || zero_b) {
         return bitcast<f32>(sign | 0x7f800000u);
     }
-    if (exp_b == 0xff) {
+    if (inf_b || zero_a) {
         return bitcast<f32>(sign);
     }
-    if (exp_b == 0) {
-        if (sig_b == 0u) {
-            if (exp_a == 0 && sig_a == 0u) {
-                return bitcast<f32>(EXACT_NAN);
-            }
-            return bitcast<f32>(sign | 0x7f800000u);
-        }
-        let n = exact_normalise(sig_b);
-        exp_b = n.x;
-        sig_b = bitcast<u32>(n.y);
-    }
-    if (exp_a == 0) {
-        if (sig_a == 0u) {
-            return bitcast<f32>(sign);
-        }
-        let n = exact_normalise(sig_a);
-        exp_a = n.x;
-        sig_a = bitcast<u32>(n.y);
-    }
-    var exp_z = exp_a - exp_b + 0x7e;
-    sig_a = sig_a | 0x00800000u;
-    sig_b = sig_b | 0x00800000u;
+    let ua = exact_unpack(a);
+    let ub = exact_unpack(b);
+    var exp_z = ua.x - ub.x + 0x7e;
+    let sig_a = u32(ua.y);
+    let sig_b = u32(ub.y);
     // The quotient ⌊sig_a·2^s / sig_b⌋ (s = 31, or 30 when sig_a ≥ sig_b: 31 bits either way)
     // by long division in 8-bit steps: the remainder stays below sig_b < 2^24, so shifted by 8
     // it fits a u32.

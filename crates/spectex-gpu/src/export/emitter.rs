@@ -740,62 +740,28 @@ pub(crate) fn combine_expression(
     exact: bool,
 ) -> String {
     let ch = |k: usize, c: usize| channel(k, widths[k], c);
-    let fold = |f: &dyn Fn(String, String) -> String| {
-        (1..widths.len()).fold(ch(0, c), |acc, k| f(acc, ch(k, c)))
+    // Sums and products in the shader's operators, or exact.wgsl's functions.
+    let fold = |infix: &str, call: &str| {
+        (1..widths.len()).fold(ch(0, c), |acc, k| {
+            if exact {
+                format!("{call}({acc}, {})", ch(k, c))
+            } else {
+                format!("({acc} {infix} {})", ch(k, c))
+            }
+        })
     };
-    if exact {
-        return exact_expression(op, widths, c);
-    }
-    match op {
-        CombineOp::Add => fold(&|a, b| format!("({a} + {b})")),
-        CombineOp::Multiply => fold(&|a, b| format!("({a} * {b})")),
-        CombineOp::Min => fold(&|a, b| format!("min({a}, {b})")),
-        CombineOp::Max => fold(&|a, b| format!("max({a}, {b})")),
-        CombineOp::Mix => {
-            let (a, b, t) = (ch(0, c), ch(1, c), ch(2, 0));
-            format!("{a} + ({b} - {a}) * {t}")
-        }
-        CombineOp::Smoothstep { edges } => format!(
-            "combine_smoothstep({}, {}, {})",
-            float(edges[0]),
-            float(edges[1]),
-            ch(0, c)
-        ),
-        CombineOp::AbsFold {
-            offset,
-            step,
-            folds,
-        } => format!(
-            "combine_abs_fold({}, {}, {}, {folds}u)",
-            ch(0, c),
-            float(*offset),
-            float(*step)
-        ),
-        CombineOp::SinFold { gain } => format!("sin_turns({} * {})", float(*gain), ch(0, c)),
-        CombineOp::Histogram { domain, .. } => format!(
-            "combine_lookup({}, {}, {})",
-            float(domain[0]),
-            float(domain[1]),
-            ch(0, c)
-        ),
-        CombineOp::Ramp { .. } => format!("combine_ramp({}, {c}u)", ch(0, 0)),
-    }
-}
-
-/// [`combine_expression`] in the exact arithmetic of `shaders/exact.wgsl` (the combination
-/// pass of `combine.rs`): the CPU's roundings on any device.
-fn exact_expression(op: &CombineOp, widths: &[usize], c: usize) -> String {
-    let ch = |k: usize, c: usize| channel(k, widths[k], c);
-    let fold =
+    let min_max =
         |f: &str| (1..widths.len()).fold(ch(0, c), |acc, k| format!("{f}({acc}, {})", ch(k, c)));
+    // The glue's `combine_<op>` or its exact twin `exact_<op>`.
+    let f = if exact { "exact_" } else { "combine_" };
     match op {
-        CombineOp::Add => fold("exact_add"),
-        CombineOp::Multiply => fold("exact_mul"),
-        CombineOp::Min => fold("min"),
-        CombineOp::Max => fold("max"),
-        CombineOp::Mix => format!("exact_mix({}, {}, {})", ch(0, c), ch(1, c), ch(2, 0)),
+        CombineOp::Add => fold("+", "exact_add"),
+        CombineOp::Multiply => fold("*", "exact_mul"),
+        CombineOp::Min => min_max("min"),
+        CombineOp::Max => min_max("max"),
+        CombineOp::Mix => format!("{f}mix({}, {}, {})", ch(0, c), ch(1, c), ch(2, 0)),
         CombineOp::Smoothstep { edges } => format!(
-            "exact_smoothstep({}, {}, {})",
+            "{f}smoothstep({}, {}, {})",
             float(edges[0]),
             float(edges[1]),
             ch(0, c)
@@ -805,19 +771,19 @@ fn exact_expression(op: &CombineOp, widths: &[usize], c: usize) -> String {
             step,
             folds,
         } => format!(
-            "exact_abs_fold({}, {}, {}, {folds}u)",
+            "{f}abs_fold({}, {}, {}, {folds}u)",
             ch(0, c),
             float(*offset),
             float(*step)
         ),
-        CombineOp::SinFold { gain } => format!("exact_sin_fold({}, {})", float(*gain), ch(0, c)),
+        CombineOp::SinFold { gain } => format!("{f}sin_fold({}, {})", float(*gain), ch(0, c)),
         CombineOp::Histogram { domain, .. } => format!(
-            "exact_lookup({}, {}, {})",
+            "{f}lookup({}, {}, {})",
             float(domain[0]),
             float(domain[1]),
             ch(0, c)
         ),
-        CombineOp::Ramp { .. } => format!("exact_ramp({}, {c}u)", ch(0, 0)),
+        CombineOp::Ramp { .. } => format!("{f}ramp({}, {c}u)", ch(0, 0)),
     }
 }
 
