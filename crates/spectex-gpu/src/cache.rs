@@ -17,19 +17,23 @@ pub(crate) struct CachedPipeline {
     pub layouts: Vec<wgpu::BindGroupLayout>,
 }
 
-/// The compute pipelines a context has built, by `(shader, entry point)`. A shader's source is
-/// fixed by its name, so every evaluator of a kind on the device shares one pipeline: building
+/// A pipeline's identity: shader, entry point and the values of its pipeline-overridable
+/// constants (`override` declarations: a kind's shape, which the driver folds).
+pub(crate) type PipelineKey = (&'static str, &'static str, Vec<(&'static str, u32)>);
+
+/// The compute pipelines a context has built, by [`PipelineKey`]. A shader's source is fixed by
+/// its name, so every evaluator of a kind and shape on the device shares one pipeline: building
 /// a pipeline compiles the shader (on lavapipe, LLVM: 0.1 s to seconds per shader), where a
 /// model's own data lives in its uniform and tables.
 #[derive(Debug, Default)]
-pub(crate) struct PipelineCache(Mutex<HashMap<(&'static str, &'static str), CachedPipeline>>);
+pub(crate) struct PipelineCache(Mutex<HashMap<PipelineKey, CachedPipeline>>);
 
 impl PipelineCache {
     /// The cached pipeline of `key`, or the one `build` makes (then cached). A poisoned lock (a
     /// panic while another thread held it) only loses the cache: the pipeline is built again.
     pub(crate) fn get_or_build<E>(
         &self,
-        key: (&'static str, &'static str),
+        key: PipelineKey,
         build: impl FnOnce() -> Result<CachedPipeline, E>,
     ) -> Result<CachedPipeline, E> {
         if let Some(hit) = self.0.lock().ok().and_then(|m| m.get(&key).cloned()) {

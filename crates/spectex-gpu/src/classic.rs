@@ -119,6 +119,9 @@ pub(crate) struct ClassicKernel {
     statistics: std::sync::OnceLock<spectex_model::filter::BasisStatistics>,
     /// The period of a periodic model: positions reduced modulo it.
     period: Option<Period>,
+    /// No shape constants (the uniform decides every branch, as in the export): the test's
+    /// reference for the specialised pipelines.
+    generic: bool,
 }
 
 /// `(⌊p⌋ as i32, f32(p − ⌊p⌋))`, the CPU's split (`spectex_cpu::classic`'s `locate`): exact in
@@ -231,6 +234,7 @@ fn pack_periodic(
             skew,
             statistics: std::sync::OnceLock::new(),
             period,
+            generic: false,
         },
         octaves,
     )
@@ -283,6 +287,20 @@ impl GpuKind for ClassicNoise {
 impl ShaderKernel for ClassicKernel {
     const SHADER: &'static str = "classic";
     const ENTRY_POINT: &'static str = "classic_main";
+
+    /// The model's basis, dimension, fractal and metric (`classic.wgsl`'s shape overrides).
+    fn constants(&self) -> Vec<(&'static str, u32)> {
+        let p = &self.params;
+        if self.generic {
+            return Vec::new();
+        }
+        vec![
+            ("CLASSIC_BASIS", p.basis),
+            ("CLASSIC_THREE_D", p.three_d),
+            ("CLASSIC_FRACTAL", p.fractal),
+            ("CLASSIC_METRIC", p.metric),
+        ]
+    }
 
     fn axis_bytes(&self) -> u64 {
         (size_of::<ClassicAxis>() * self.sides.len()) as u64
@@ -422,6 +440,89 @@ pub mod tests {
             }),
             amplitude: 0.5,
             mean: 0.25,
+        }
+    }
+
+    /// The shape constants the host sets are the shader's overrides, every one of them.
+    pub fn shape_constants_are_the_shaders_overrides() {
+        let source = crate::wgsl_source("classic").unwrap();
+        let module = crate::layout::check::validated_module("classic.wgsl", &source);
+        let mut declared: Vec<String> = module
+            .overrides
+            .iter()
+            .filter_map(|(_, o)| o.name.clone())
+            .collect();
+        declared.sort();
+        let (kernel, _) = pack(&model(Basis::Simplex, 3), 0.0);
+        let mut set: Vec<String> = kernel.constants().iter().map(|c| c.0.to_owned()).collect();
+        set.sort();
+        assert_eq!(set, declared);
+        let values: Vec<u32> = kernel.constants().iter().map(|c| c.1).collect();
+        let p = kernel.params;
+        assert_eq!(values, [p.basis, p.three_d, p.fractal, p.metric]);
+    }
+
+    /// A pipeline specialised to a model's shape renders the bits of the generic one (no
+    /// constants: every branch decided by the uniform), for every basis, 2D and 3D, every
+    /// fractal and Worley metric, far away and minified. Skips without a GPU (fails when
+    /// `SPECTEX_REQUIRE_GPU=1`).
+    pub fn specialised_pipelines_render_the_generic_bits() {
+        let context = match GpuContext::new() {
+            Ok(c) => c,
+            Err(e) if std::env::var("SPECTEX_REQUIRE_GPU").is_ok_and(|v| v == "1") => {
+                panic!("SPECTEX_REQUIRE_GPU=1 but no GPU: {e}")
+            }
+            Err(e) => {
+                eprintln!("SKIPPED specialised_pipelines_render_the_generic_bits: {e}");
+                return;
+            }
+        };
+        let worley = |metric| {
+            Basis::Worley(Worley {
+                metric,
+                coefficients: [-1.0, 1.0, 0.0, 0.0],
+                points: FeaturePoints::Poisson(2.0),
+            })
+        };
+        let mut models = Vec::new();
+        for basis in [
+            Basis::Gradient,
+            Basis::Simplex,
+            Basis::Value,
+            Basis::Kensler,
+            worley(Metric::Euclidean),
+            worley(Metric::Manhattan),
+            worley(Metric::Chebyshev),
+        ] {
+            for dimensions in [2, 3] {
+                models.push(model(basis.clone(), dimensions));
+            }
+        }
+        for kind in [FractalKind::Fbm, FractalKind::Turbulence] {
+            let mut m = model(Basis::Gradient, 2);
+            if let Some(f) = m.fractal.as_mut() {
+                f.kind = kind;
+            }
+            models.push(m);
+        }
+        let tiles = [
+            GpuWindow::new(23, 17).at([1.0e6, -3.0e5], 1.0),
+            GpuWindow::new(19, 13).at([-40.5, 7.25], 3.5),
+        ];
+        for m in &models {
+            for tile in &tiles {
+                let render = |generic: bool| {
+                    let (mut kernel, octaves) = pack(m, 12.5);
+                    kernel.generic = generic;
+                    let table = [Table::new("classic octaves", &octaves)];
+                    Shaded::boxed(&context, kernel, &table)
+                        .unwrap()
+                        .render_tile(tile, None)
+                        .unwrap()
+                };
+                let bits = |v: Vec<f32>| v.into_iter().map(f32::to_bits).collect::<Vec<_>>();
+                assert_eq!(bits(render(true)), bits(render(false)), "{m:?} {tile:?}");
+            }
         }
     }
 

@@ -160,7 +160,7 @@ impl GpuKind for Combine {
         let source = pass_wgsl(&self.op, &widths, self.output_channels()).ok_or_else(|| {
             GpuError::Validation("exact.wgsl missing from the registry".to_owned())
         })?;
-        let pass = build_pipeline(&gpu, "spectex combine", source, "combine_main", 1)?;
+        let pass = build_pipeline(&gpu, "spectex combine", source, ("combine_main", &[]), 1)?;
         Ok(Box::new(CombineKernel {
             model: self.clone(),
             whole: Model::Combine(self.clone()),
@@ -361,7 +361,8 @@ pub mod tests {
         outputs: usize,
     ) -> Vec<f32> {
         use wgpu::BufferUsages as U;
-        let pipeline = build_pipeline(gpu, "combine test", source, "combine_main", 1).unwrap();
+        let pipeline =
+            build_pipeline(gpu, "combine test", source, ("combine_main", &[]), 1).unwrap();
         let input = gpu.buffer("operands", bytemuck::cast_slice(planes), U::STORAGE);
         let bytes = 4 * outputs as u64;
         let output = gpu.empty("combined", bytes, U::STORAGE | U::COPY_SRC);

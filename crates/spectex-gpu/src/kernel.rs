@@ -270,6 +270,13 @@ pub(crate) trait ShaderKernel: fmt::Debug + Send + Sync + 'static {
         1
     }
 
+    /// The values of the shader's pipeline-overridable constants for this model: its shape
+    /// (a classic noise's basis, fractal and dimension), which the driver then folds, so it
+    /// compiles only the branches the model takes. One pipeline per shape, shared.
+    fn constants(&self) -> Vec<(&'static str, u32)> {
+        Vec::new()
+    }
+
     /// Bytes of the per-column (and per-row) tables for one tile column (row): what bounds a
     /// tile's side through the storage-binding limit.
     fn axis_bytes(&self) -> u64;

@@ -9,7 +9,7 @@
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, mpsc};
 
-use crate::cache::{CachedPipeline, LostFlag, PipelineCache};
+use crate::cache::{CachedPipeline, LostFlag, PipelineCache, PipelineKey};
 use crate::kernel::{GpuKernel, PreparedTile, ShaderKernel, Table, TileTables, split_timer};
 use crate::layout::wgsl_struct;
 use crate::{GpuContext, GpuError, GpuWindow, wgsl_source};
@@ -150,29 +150,30 @@ pub(crate) fn leading(buffer: &wgpu::Buffer, bytes: u64) -> wgpu::BindingResourc
     })
 }
 
-/// The compute pipeline of `(shader, entry)` on the device, from the context's cache or built
-/// from `source` (then cached), with the layouts of its first `groups` bind groups.
+/// The compute pipeline of `(shader, entry, constants)` on the device (`constants`: values of
+/// the shader's pipeline-overridable constants), from the context's cache or built from
+/// `source` (then cached), with the layouts of its first `groups` bind groups.
 ///
 /// # Errors
 /// [`GpuError::Validation`] if the device rejects the shader.
 pub(crate) fn compute_pipeline(
     gpu: &Gpu,
-    key: (&'static str, &'static str),
+    key: PipelineKey,
     groups: u32,
     source: impl FnOnce() -> Option<String>,
 ) -> Result<CachedPipeline, GpuError> {
+    let (shader, entry, constants) = key.clone();
     gpu.pipelines.get_or_build(key, || {
-        let (shader, entry) = key;
         let source = source().ok_or_else(|| {
             GpuError::Validation(format!("shader {shader} missing from the registry"))
         })?;
-        build_pipeline(gpu, shader, source, entry, groups)
+        build_pipeline(gpu, shader, source, (entry, &constants), groups)
     })
 }
 
-/// The compute pipeline of `entry` in the WGSL `source` (labelled `label`), with the layouts
-/// of its first `groups` bind groups, built now and not cached (a shader written for one
-/// model: a combination's).
+/// The compute pipeline of `entry` in the WGSL `source` (labelled `label`), its
+/// pipeline-overridable constants set to `constants`, with the layouts of its first `groups`
+/// bind groups, built now and not cached (a shader written for one model: a combination's).
 ///
 /// # Errors
 /// [`GpuError::Validation`] if the device rejects the shader.
@@ -180,9 +181,13 @@ pub(crate) fn build_pipeline(
     gpu: &Gpu,
     label: &str,
     source: String,
-    entry: &str,
+    (entry, constants): (&str, &[(&'static str, u32)]),
     groups: u32,
 ) -> Result<CachedPipeline, GpuError> {
+    let constants: Vec<(&str, f64)> = constants
+        .iter()
+        .map(|&(name, value)| (name, f64::from(value)))
+        .collect();
     let device = &gpu.device;
     let scope = ErrorScopes::push(device);
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -197,7 +202,10 @@ pub(crate) fn build_pipeline(
         layout: None,
         module: &module,
         entry_point: Some(entry),
-        compilation_options: wgpu::PipelineCompilationOptions::default(),
+        compilation_options: wgpu::PipelineCompilationOptions {
+            constants: &constants,
+            ..Default::default()
+        },
         cache: None,
     });
     let layouts = (0..groups)
@@ -294,10 +302,12 @@ impl<K: ShaderKernel> Shaded<K> {
         resident: &[Table],
     ) -> Result<Box<dyn GpuKernel>, GpuError> {
         let gpu = Gpu::new(context);
-        let CachedPipeline { pipeline, layouts } =
-            compute_pipeline(&gpu, (K::SHADER, K::ENTRY_POINT), 2, || {
-                wgsl_source(K::SHADER)
-            })?;
+        let CachedPipeline { pipeline, layouts } = compute_pipeline(
+            &gpu,
+            (K::SHADER, K::ENTRY_POINT, kind.constants()),
+            2,
+            || wgsl_source(K::SHADER),
+        )?;
         let [model_layout, warp_layout]: [wgpu::BindGroupLayout; 2] =
             layouts.try_into().map_err(|_| {
                 GpuError::Validation(format!("shader {} lacks bind group 1", K::SHADER))

@@ -133,7 +133,7 @@ impl Packers {
         if let Some((_, hit)) = list.iter().find(|(k, _)| *k == key) {
             return Ok(hit.clone());
         }
-        let built = compute_pipeline(gpu, key, 1, source)?;
+        let built = compute_pipeline(gpu, (key.0, key.1, Vec::new()), 1, source)?;
         list.push((key, built.clone()));
         Ok(built)
     }

@@ -66,7 +66,7 @@ impl GpuKind for Warp {
         let gpu = Gpu::new(context);
         let base = sub(&self.base)?;
         let displace = if base.displaced_on_device() {
-            let key = ("compose", "warp_displace");
+            let key = ("compose", "warp_displace", Vec::new());
             Some(compute_pipeline(&gpu, key, 1, || wgsl_source("compose"))?)
         } else {
             None

@@ -6,9 +6,11 @@ use std::collections::{HashMap, HashSet};
 
 /// `source` without its resource bindings (lines starting `@group(`, with the `///` doc lines
 /// just above them) and without its compute entry points (from `@compute` to the closing
-/// brace at the start of a line).
+/// brace at the start of a line), its pipeline-overridable constants made constants of their
+/// defaults (lines starting `override `: the module leaves nothing for its user's pipeline to
+/// set).
 pub(crate) fn strip(source: &str) -> String {
-    let mut kept: Vec<&str> = Vec::new();
+    let mut kept: Vec<std::borrow::Cow<'_, str>> = Vec::new();
     let mut in_entry = false;
     for line in source.lines() {
         if in_entry {
@@ -26,7 +28,10 @@ pub(crate) fn strip(source: &str) -> String {
             drop_doc_lines(&mut kept);
             continue;
         }
-        kept.push(line);
+        match line.strip_prefix("override ") {
+            Some(rest) => kept.push(format!("const {rest}").into()),
+            None => kept.push(line.into()),
+        }
     }
     let mut out = kept.join("\n");
     out.push('\n');
@@ -34,7 +39,7 @@ pub(crate) fn strip(source: &str) -> String {
 }
 
 /// Removes the `///` lines at the end of `kept` (the doc of a removed declaration).
-fn drop_doc_lines(kept: &mut Vec<&str>) {
+fn drop_doc_lines(kept: &mut Vec<std::borrow::Cow<'_, str>>) {
     while kept.last().is_some_and(|l| l.starts_with("///")) {
         kept.pop();
     }
@@ -284,8 +289,11 @@ pub mod tests {
     }
 
     pub fn strip_removes_bindings_and_entry_points() {
-        let src = "const A: u32 = 1u;\n/// doc\n@group(0) @binding(0) var<uniform> p: P;\n@compute @workgroup_size(8, 8, 1)\nfn main() {\n    let x = 1;\n}\nfn g() {}\n";
-        assert_eq!(strip(src), "const A: u32 = 1u;\nfn g() {}\n");
+        let src = "const A: u32 = 1u;\n/// doc\n@group(0) @binding(0) var<uniform> p: P;\n@compute @workgroup_size(8, 8, 1)\nfn main() {\n    let x = 1;\n}\nfn g() {}\noverride B: u32 = 7u;\n";
+        assert_eq!(
+            strip(src),
+            "const A: u32 = 1u;\nfn g() {}\nconst B: u32 = 7u;\n"
+        );
         assert_eq!(
             top_level_names("fn a(x: u32) {}\nconst B = 1;\nvar<private> c: u32;\nstruct D {}\n"),
             ["a", "B", "c", "D"]
