@@ -125,35 +125,27 @@ const SIMPLEX3_SCALE: f32 = 32.0f;
 const KENSLER2_SCALE: f32 = 0.16739757f;
 const KENSLER3_SCALE: f32 = 0.1369134f;
 
-// The model's shape, pipeline-overridable: the host sets these to its `params` values, one
-// pipeline per shape (`ShaderKernel::constants`), so the driver folds the switches and compiles
-// only the basis, fractal and metric the model takes; a kernel keeping every basis ran perlin
-// fBm 9× slower on lavapipe, bit for bit the same. NO_SHAPE, the default (and the export's,
-// where `params` is a constant anyway), reads the uniform.
-const NO_SHAPE: u32 = 0xffffffffu;
+// The model's shape (common.wgsl's "Shapes"): a kernel keeping every basis ran perlin fBm 9×
+// slower on lavapipe, bit for bit the same.
 override CLASSIC_BASIS: u32 = 0xffffffffu;
 override CLASSIC_THREE_D: u32 = 0xffffffffu;
 override CLASSIC_FRACTAL: u32 = 0xffffffffu;
 override CLASSIC_METRIC: u32 = 0xffffffffu;
 
-fn classic_shape(fixed: u32, uniform: u32) -> u32 {
-    return select(fixed, uniform, fixed == NO_SHAPE);
-}
-
 fn classic_basis() -> u32 {
-    return classic_shape(CLASSIC_BASIS, params.basis);
+    return shape_or(CLASSIC_BASIS, params.basis);
 }
 
 fn classic_three_d() -> u32 {
-    return classic_shape(CLASSIC_THREE_D, params.three_d);
+    return shape_or(CLASSIC_THREE_D, params.three_d);
 }
 
 fn classic_fractal() -> u32 {
-    return classic_shape(CLASSIC_FRACTAL, params.fractal);
+    return shape_or(CLASSIC_FRACTAL, params.fractal);
 }
 
 fn classic_metric() -> u32 {
-    return classic_shape(CLASSIC_METRIC, params.metric);
+    return shape_or(CLASSIC_METRIC, params.metric);
 }
 
 /// a + b on i32 with wrapping (as the CPU's wrapping_add).

@@ -116,6 +116,20 @@ fn prng_next_f32(prng: ptr<function, Prng>) -> f32 {
 }
 
 // ---------------------------------------------------------------------------------------------
+// Shapes. A kind's shader declares the fields of its uniform that fix a model's shape (a classic
+// noise's basis, a phasor's output) again as pipeline-overridable constants defaulting to
+// NO_SHAPE. The host sets them to the model's values (`ShaderKernel::constants`, one pipeline
+// per shape), so the driver folds the branches and compiles only the ones the model takes;
+// NO_SHAPE (the export's, where the uniform is a constant anyway) reads the uniform.
+
+const NO_SHAPE: u32 = 0xffffffffu;
+
+/// The shape constant `fixed`, or the uniform's `uniform` where it is NO_SHAPE.
+fn shape_or(fixed: u32, uniform: u32) -> u32 {
+    return select(fixed, uniform, fixed == NO_SHAPE);
+}
+
+// ---------------------------------------------------------------------------------------------
 // Scalar functions (twins of crates/spectex-model/src/math.rs).
 
 /// `t − round(t)` in [−0.5, 0.5], exact for |t| < 2^22.

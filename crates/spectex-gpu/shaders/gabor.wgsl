@@ -70,6 +70,14 @@ struct GaborComponent {
 @group(0) @binding(3) var<storage, read> rows: array<GridAxis>;
 @group(0) @binding(4) var<storage, read_write> output: array<f32>;
 
+// The model's shape (common.wgsl's "Shapes"): one direction, a range of angles or a spectrum's
+// components.
+override GABOR_DIRECTION_KIND: u32 = 0xffffffffu;
+
+fn gabor_direction_kind() -> u32 {
+    return shape_or(GABOR_DIRECTION_KIND, params.direction_kind);
+}
+
 /// The randomness-contract layer of Gabor impulses.
 const GABOR_LAYER: u32 = 0u;
 /// −ln 20 = ln 0.05: the Gaussian exponent per squared cell unit, −π a² r².
@@ -143,11 +151,11 @@ fn gabor_value(column: GridAxis, row: GridAxis) -> f32 {
                 let w = 2.0f * prng_next_f32(&prng) - 1.0f;
                 var fx = params.dir_a;
                 var fy = params.dir_b;
-                if (params.direction_kind == 1u) {
+                if (gabor_direction_kind() == 1u) {
                     let turns = params.dir_a + prng_next_f32(&prng) * params.dir_b;
                     fx = params.frequency_cells * cos_turns(turns);
                     fy = params.frequency_cells * cos_turns(turns - 0.25f);
-                } else if (params.direction_kind == 2u) {
+                } else if (gabor_direction_kind() == 2u) {
                     let c = components[pick_component(prng_next_f32(&prng))];
                     fx = c.fx;
                     fy = c.fy;

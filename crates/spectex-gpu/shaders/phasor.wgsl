@@ -77,6 +77,39 @@ struct PhasorImpulse {
 @group(0) @binding(7) var<storage, read> rows: array<GridAxis>;
 @group(0) @binding(8) var<storage, read_write> output: array<f32>;
 
+// The model's shape (common.wgsl's "Shapes"): its dimension, output, profiles and whether it
+// reads per-pixel parameters.
+override PHASOR_THREE_D: u32 = 0xffffffffu;
+override PHASOR_OUTPUT_KIND: u32 = 0xffffffffu;
+override PHASOR_PER_PIXEL: u32 = 0xffffffffu;
+override PHASOR_A_KIND: u32 = 0xffffffffu;
+override PHASOR_B_KIND: u32 = 0xffffffffu;
+override PHASOR_BLEND: u32 = 0xffffffffu;
+
+fn phasor_three_d() -> u32 {
+    return shape_or(PHASOR_THREE_D, params.three_d);
+}
+
+fn phasor_output_kind() -> u32 {
+    return shape_or(PHASOR_OUTPUT_KIND, params.output_kind);
+}
+
+fn phasor_per_pixel() -> u32 {
+    return shape_or(PHASOR_PER_PIXEL, params.per_pixel);
+}
+
+fn phasor_a_kind() -> u32 {
+    return shape_or(PHASOR_A_KIND, params.a_kind);
+}
+
+fn phasor_b_kind() -> u32 {
+    return shape_or(PHASOR_B_KIND, params.b_kind);
+}
+
+fn phasor_blend() -> u32 {
+    return shape_or(PHASOR_BLEND, params.blend);
+}
+
 /// spectex_model::filter's MAX_SQUARE_HARMONICS (`filter_response` is common.wgsl's).
 const MAX_SQUARE_HARMONICS: u32 = 64u;
 
@@ -233,9 +266,9 @@ fn phasor_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     var re = 0.0f;
     var im = 0.0f;
-    let layers = select(1, 3, params.three_d == 1u);
+    let layers = select(1, 3, phasor_three_d() == 1u);
     for (var l = 0; l < layers; l++) {
-        let sz = select(0, l - 1, params.three_d == 1u);
+        let sz = select(0, l - 1, phasor_three_d() == 1u);
         let dz = params.z_offset - f32(sz);
         for (var sy = -1; sy <= 1; sy++) {
             let dy = row.offset - f32(sy);
@@ -264,7 +297,7 @@ fn phasor_main(@builtin(global_invocation_id) gid: vec3<u32>) {
         }
     }
     var v = 0.0f;
-    switch params.output_kind {
+    switch phasor_output_kind() {
         case 1u: {
             v = atan2_turns(im, re);
         }
@@ -278,7 +311,7 @@ fn phasor_main(@builtin(global_invocation_id) gid: vec3<u32>) {
             var duty_a = params.duty_a;
             var duty_b = params.duty_b;
             var s = params.weight;
-            if (params.per_pixel == 1u) {
+            if (phasor_per_pixel() == 1u) {
                 duty_a = pixel_params[3u * index];
                 duty_b = pixel_params[3u * index + 1u];
                 s = pixel_params[3u * index + 2u];
@@ -287,9 +320,9 @@ fn phasor_main(@builtin(global_invocation_id) gid: vec3<u32>) {
             if (params.filtered == 1u) {
                 u = harmonic_scale[index];
             }
-            v = leaf(params.a_kind, params.a_start, params.a_len, duty_a, re, im, u);
-            if (params.blend == 1u) {
-                let b = leaf(params.b_kind, params.b_start, params.b_len, duty_b, re, im, u);
+            v = leaf(phasor_a_kind(), params.a_start, params.a_len, duty_a, re, im, u);
+            if (phasor_blend() == 1u) {
+                let b = leaf(phasor_b_kind(), params.b_start, params.b_len, duty_b, re, im, u);
                 v = (1.0f - s) * v + s * b;
             }
         }
@@ -448,7 +481,7 @@ var<private> phasor_export_dir_y: ExportSplit;
 /// the layer k into the seed first.
 fn phasor_export_prng(c: vec3<i32>) -> Prng {
     var seed = phasor_export_seed;
-    if (params.three_d == 1u) {
+    if (phasor_three_d() == 1u) {
         seed = cell_hash(c.z, 0i, 0u, seed);
     }
     return Prng(cell_hash(c.x, c.y, 0u, seed));
@@ -501,7 +534,7 @@ fn phasor_export_frequency(prng: ptr<function, Prng>, n: vec2<i32>, r: vec2<f32>
             u = phasor_export_coherent(n, r);
         }
         default: {
-            if (params.three_d == 1u) {
+            if (phasor_three_d() == 1u) {
                 let z = 2.0f * prng_next_f32(prng) - 1.0f;
                 let s = sqrt(max(1.0f - z * z, 0.0f));
                 let t = prng_next_f32(prng);
@@ -537,9 +570,9 @@ fn phasor_sample_cell(cell: vec2<i32>, offset: vec2<f32>) -> f32 {
     }
     var re = 0.0f;
     var im = 0.0f;
-    let layers = select(1, 3, params.three_d == 1u);
+    let layers = select(1, 3, phasor_three_d() == 1u);
     for (var l = 0; l < layers; l++) {
-        let sz = select(0, l - 1, params.three_d == 1u);
+        let sz = select(0, l - 1, phasor_three_d() == 1u);
         let dz = params.z_offset - f32(sz);
         for (var sy = -1; sy <= 1; sy++) {
             let dy = uy - f32(sy);
@@ -556,7 +589,7 @@ fn phasor_sample_cell(cell: vec2<i32>, offset: vec2<f32>) -> f32 {
                     let ox = prng_next_f32(&prng);
                     let oy = prng_next_f32(&prng);
                     var oz = 0.0f;
-                    if (params.three_d == 1u) {
+                    if (phasor_three_d() == 1u) {
                         oz = prng_next_f32(&prng);
                     }
                     // The impulse relative to the integer position `at.n`, pixels.
@@ -595,7 +628,7 @@ fn phasor_sample_cell(cell: vec2<i32>, offset: vec2<f32>) -> f32 {
         }
     }
     var v = 0.0f;
-    switch params.output_kind {
+    switch phasor_output_kind() {
         case 1u: {
             v = atan2_turns(im, re);
         }
@@ -615,9 +648,9 @@ fn phasor_sample_cell(cell: vec2<i32>, offset: vec2<f32>) -> f32 {
                 duty_b = clamp(phasor_export_duty_b(at.n, at.u), 0.0f, 1.0f);
                 w = clamp(phasor_export_weight(at.n, at.u), 0.0f, 1.0f);
             }
-            v = leaf(params.a_kind, params.a_start, params.a_len, duty_a, re, im, 0.0f);
-            if (params.blend == 1u) {
-                let b = leaf(params.b_kind, params.b_start, params.b_len, duty_b, re, im, 0.0f);
+            v = leaf(phasor_a_kind(), params.a_start, params.a_len, duty_a, re, im, 0.0f);
+            if (phasor_blend() == 1u) {
+                let b = leaf(phasor_b_kind(), params.b_start, params.b_len, duty_b, re, im, 0.0f);
                 v = (1.0f - w) * v + w * b;
             }
         }

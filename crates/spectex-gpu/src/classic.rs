@@ -288,18 +288,20 @@ impl ShaderKernel for ClassicKernel {
     const SHADER: &'static str = "classic";
     const ENTRY_POINT: &'static str = "classic_main";
 
-    /// The model's basis, dimension, fractal and metric (`classic.wgsl`'s shape overrides).
-    fn constants(&self) -> Vec<(&'static str, u32)> {
+    const SHAPE: &'static [&'static str] = &[
+        "CLASSIC_BASIS",
+        "CLASSIC_THREE_D",
+        "CLASSIC_FRACTAL",
+        "CLASSIC_METRIC",
+    ];
+
+    /// The model's basis, dimension, fractal and Worley metric.
+    fn shape(&self) -> Vec<u32> {
         let p = &self.params;
         if self.generic {
             return Vec::new();
         }
-        vec![
-            ("CLASSIC_BASIS", p.basis),
-            ("CLASSIC_THREE_D", p.three_d),
-            ("CLASSIC_FRACTAL", p.fractal),
-            ("CLASSIC_METRIC", p.metric),
-        ]
+        vec![p.basis, p.three_d, p.fractal, p.metric]
     }
 
     fn axis_bytes(&self) -> u64 {
@@ -443,23 +445,16 @@ pub mod tests {
         }
     }
 
-    /// The shape constants the host sets are the shader's overrides, every one of them.
+    /// The shape constants the host sets are the shader's overrides, every one of them, and
+    /// the model's values (classic, phasor, Gabor).
     pub fn shape_constants_are_the_shaders_overrides() {
-        let source = crate::wgsl_source("classic").unwrap();
-        let module = crate::layout::check::validated_module("classic.wgsl", &source);
-        let mut declared: Vec<String> = module
-            .overrides
-            .iter()
-            .filter_map(|(_, o)| o.name.clone())
-            .collect();
-        declared.sort();
+        use crate::layout::check::assert_shape_is_the_overrides;
+        assert_shape_is_the_overrides::<ClassicKernel>();
+        assert_shape_is_the_overrides::<crate::phasor::PhasorKernel>();
+        assert_shape_is_the_overrides::<crate::gabor::GaborKernel>();
         let (kernel, _) = pack(&model(Basis::Simplex, 3), 0.0);
-        let mut set: Vec<String> = kernel.constants().iter().map(|c| c.0.to_owned()).collect();
-        set.sort();
-        assert_eq!(set, declared);
-        let values: Vec<u32> = kernel.constants().iter().map(|c| c.1).collect();
         let p = kernel.params;
-        assert_eq!(values, [p.basis, p.three_d, p.fractal, p.metric]);
+        assert_eq!(kernel.shape(), [p.basis, p.three_d, p.fractal, p.metric]);
     }
 
     /// A pipeline specialised to a model's shape renders the bits of the generic one (no

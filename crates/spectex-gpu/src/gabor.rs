@@ -190,6 +190,13 @@ impl ShaderKernel for GaborKernel {
     const SHADER: &'static str = "gabor";
     const ENTRY_POINT: &'static str = "gabor_main";
 
+    const SHAPE: &'static [&'static str] = &["GABOR_DIRECTION_KIND"];
+
+    /// How impulses draw their direction.
+    fn shape(&self) -> Vec<u32> {
+        vec![self.params.direction_kind]
+    }
+
     fn axis_bytes(&self) -> u64 {
         size_of::<CellAxis>() as u64
     }

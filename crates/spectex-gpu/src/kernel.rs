@@ -270,11 +270,19 @@ pub(crate) trait ShaderKernel: fmt::Debug + Send + Sync + 'static {
         1
     }
 
-    /// The values of the shader's pipeline-overridable constants for this model: its shape
-    /// (a classic noise's basis, fractal and dimension), which the driver then folds, so it
-    /// compiles only the branches the model takes. One pipeline per shape, shared.
-    fn constants(&self) -> Vec<(&'static str, u32)> {
+    /// The shader's pipeline-overridable constants (`common.wgsl`'s "Shapes"): the uniform's
+    /// fields that fix a model's shape (a classic noise's basis, a phasor's output).
+    const SHAPE: &'static [&'static str] = &[];
+
+    /// This model's values of [`SHAPE`](Self::SHAPE), in its order: the driver folds them, so
+    /// it compiles only the branches the model takes. One pipeline per shape, shared.
+    fn shape(&self) -> Vec<u32> {
         Vec::new()
+    }
+
+    /// [`SHAPE`](Self::SHAPE) with this model's values: the pipeline's constants.
+    fn constants(&self) -> Vec<(&'static str, u32)> {
+        Self::SHAPE.iter().copied().zip(self.shape()).collect()
     }
 
     /// Bytes of the per-column (and per-row) tables for one tile column (row): what bounds a

@@ -72,6 +72,31 @@ pub(crate) mod check {
         module
     }
 
+    /// Panics unless `K::SHAPE` names exactly the pipeline-overridable constants of `K`'s
+    /// shader, each defaulting to `NO_SHAPE` (so a pipeline without them reads the uniform).
+    pub(crate) fn assert_shape_is_the_overrides<K: crate::kernel::ShaderKernel>() {
+        let source = crate::wgsl_source(K::SHADER).unwrap_or_default();
+        let module = validated_module(&format!("{}.wgsl", K::SHADER), &source);
+        let mut declared: Vec<&str> = Vec::new();
+        for (_, o) in module.overrides.iter() {
+            let name = o.name.as_deref().unwrap_or("?");
+            declared.push(name);
+            let default = o.init.map(|e| &module.global_expressions[e]);
+            assert!(
+                matches!(
+                    default,
+                    Some(naga::Expression::Literal(naga::Literal::U32(u32::MAX)))
+                ),
+                "{}.wgsl: {name} defaults to {default:?}, not NO_SHAPE",
+                K::SHADER
+            );
+        }
+        let mut shape = K::SHAPE.to_vec();
+        shape.sort_unstable();
+        declared.sort_unstable();
+        assert_eq!(shape, declared, "{}.wgsl's overrides", K::SHADER);
+    }
+
     /// Panics unless the struct `wgsl_name` of the composed module `shader` has exactly the
     /// fields of `T` (names and byte offsets, as naga lays them out) and `T`'s size is the
     /// struct's array stride (its size rounded to its alignment: what one element of a

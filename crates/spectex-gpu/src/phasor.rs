@@ -274,6 +274,28 @@ impl ShaderKernel for PhasorKernel {
     const ENTRY_POINT: &'static str = "phasor_main";
     const TABLES_READ_DISPLACEMENT: bool = true;
 
+    const SHAPE: &'static [&'static str] = &[
+        "PHASOR_THREE_D",
+        "PHASOR_OUTPUT_KIND",
+        "PHASOR_PER_PIXEL",
+        "PHASOR_A_KIND",
+        "PHASOR_B_KIND",
+        "PHASOR_BLEND",
+    ];
+
+    /// Dimension, output, per-pixel parameters, profiles and blend.
+    fn shape(&self) -> Vec<u32> {
+        let p = &self.params;
+        vec![
+            p.three_d,
+            p.output_kind,
+            p.per_pixel,
+            p.a_kind,
+            p.b_kind,
+            p.blend,
+        ]
+    }
+
     /// Quarter-megapixel tiles: its kernel cells are drawn on the host per tile, so a render
     /// prepares many tiles in parallel.
     fn tile_pixels(&self) -> Option<usize> {
