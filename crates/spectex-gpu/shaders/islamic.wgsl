@@ -46,6 +46,13 @@ struct IslamicParams {
 @group(0) @binding(3) var<storage, read> rows: array<vec2<f32>>;
 @group(0) @binding(4) var<storage, read_write> output: array<f32>;
 
+// The model's shape (common.wgsl's "Shapes").
+override ISLAMIC_OUTPUT: u32 = 0xffffffffu;
+
+fn islamic_output() -> u32 {
+    return shape_or(ISLAMIC_OUTPUT, params.output);
+}
+
 const SEGMENT_FLOATS: u32 = 7u;
 
 @compute @workgroup_size(8, 8, 1)
@@ -102,7 +109,7 @@ fn islamic_at(s: f32, t: f32, count: u32) -> f32 {
     }
     let d = sqrt(best) * params.cell;
     var value = 0.0f;
-    switch params.output {
+    switch islamic_output() {
         case 0u: {
             let half = 0.5f * params.line_width;
             let hi = min(d + 0.5f * params.footprint, half);

@@ -35,6 +35,13 @@ struct MatrixParams {
 @group(0) @binding(3) var<storage, read> rows: array<GridAxis>;
 @group(0) @binding(4) var<storage, read_write> output: array<f32>;
 
+// The model's shape (common.wgsl's "Shapes").
+override MATRIX_IMAGE: u32 = 0xffffffffu;
+
+fn matrix_image() -> u32 {
+    return shape_or(MATRIX_IMAGE, params.image);
+}
+
 /// The procedural source ⌊rings·|d|²/N²⌋ mod 2, d = 2s + 1 − N (spectex_model::matrix::rings_value).
 fn matrix_rings(s: vec2<u32>) -> f32 {
     let n = params.size;
@@ -61,7 +68,7 @@ fn matrix_main(@builtin(global_invocation_id) gid: vec3<u32>) {
         (params.a10 * qx + params.a11 * qy) % params.size,
     );
     var v: f32;
-    if (params.image == 1u) {
+    if (matrix_image() == 1u) {
         v = texels[s.y * params.size + s.x];
     } else {
         v = matrix_rings(s);
@@ -87,7 +94,7 @@ fn matrix_sample_cell(cell: vec2<i32>, offset: vec2<f32>) -> f32 {
         (params.a10 * qx + params.a11 * qy) % params.size,
     );
     var v: f32;
-    if (params.image == 1u) {
+    if (matrix_image() == 1u) {
         v = texels[s.y * params.size + s.x];
     } else {
         v = matrix_rings(s);

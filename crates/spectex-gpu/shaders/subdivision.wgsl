@@ -31,6 +31,13 @@ struct SubdivisionParams {
 @group(0) @binding(3) var<storage, read> rows: array<GridAxis>;
 @group(0) @binding(4) var<storage, read_write> output: array<f32>;
 
+// The model's shape (common.wgsl's "Shapes").
+override SUBDIVISION_CUBIC: u32 = 0xffffffffu;
+
+fn subdivision_cubic() -> u32 {
+    return shape_or(SUBDIVISION_CUBIC, params.cubic);
+}
+
 /// spectex_model::subdivision::SUBDIVISION_LAYER ("SUBD").
 const SUBDIVISION_LAYER: u32 = 0x53554244u;
 
@@ -60,7 +67,7 @@ fn subdivision_taps(q: i32) -> SubdivisionTaps {
     if ((q & 1i) == 0i) {
         return SubdivisionTaps(q >> 1u, vec4<f32>(1.0f, 0.0f, 0.0f, 0.0f), 1i);
     }
-    if (params.cubic == 1u) {
+    if (subdivision_cubic() == 1u) {
         return SubdivisionTaps((q >> 1u) - 1i, vec4<f32>(-0.0625f, 0.5625f, 0.5625f, -0.0625f), 4i);
     }
     return SubdivisionTaps(q >> 1u, vec4<f32>(0.5f, 0.5f, 0.0f, 0.0f), 2i);
@@ -68,7 +75,7 @@ fn subdivision_taps(q: i32) -> SubdivisionTaps {
 
 /// Stencil::final_weights at u: (1 − u, u) or Catmull–Rom's.
 fn subdivision_final_weights(u: f32) -> vec4<f32> {
-    if (params.cubic == 1u) {
+    if (subdivision_cubic() == 1u) {
         let u2 = u * u;
         let u3 = u * u * u;
         return vec4<f32>(
@@ -92,7 +99,7 @@ fn subdivision_value(cx: i32, tx: f32, cy: i32, ty: f32) -> f32 {
     var w = 2i;
     var r = 0i;
     var n_final = 2i;
-    if (params.cubic == 1u) {
+    if (subdivision_cubic() == 1u) {
         w = 6i;
         r = 1i;
         n_final = 4i;

@@ -62,6 +62,23 @@ struct TextonParams {
 @group(0) @binding(3) var<storage, read> rows: array<GridAxis>;
 @group(0) @binding(4) var<storage, read_write> output: array<f32>;
 
+// The model's shape (common.wgsl's "Shapes").
+override TEXTON_COMBINE: u32 = 0xffffffffu;
+override TEXTON_PLACEMENT: u32 = 0xffffffffu;
+override TEXTON_SPOT: u32 = 0xffffffffu;
+
+fn texton_combine() -> u32 {
+    return shape_or(TEXTON_COMBINE, params.combine);
+}
+
+fn texton_placement() -> u32 {
+    return shape_or(TEXTON_PLACEMENT, params.placement);
+}
+
+fn texton_spot() -> u32 {
+    return shape_or(TEXTON_SPOT, params.spot);
+}
+
 /// The randomness-contract layer of texton cells ("TEXT").
 const TEXTON_LAYER: u32 = 0x54455854u;
 /// Most textons in one cell.
@@ -110,10 +127,10 @@ fn spot_at(tx: f32, ty: f32, c: f32, s: f32, inv_a: f32, inv_b: f32) -> f32 {
     if (r2 >= 1.0f) {
         return 0.0f;
     }
-    if (params.spot == 0u) {
+    if (texton_spot() == 0u) {
         return sqrt(1.0f - r2);
     }
-    if (params.spot == 1u) {
+    if (texton_spot() == 1u) {
         return exp_poly(NEG_LN_20 * r2);
     }
     return bilinear(qu, qv);
@@ -146,7 +163,7 @@ fn texton_value(column: GridAxis, row: GridAxis) -> f32 {
             var prng = Prng(cell_hash(wrap_cell(cell_x, params.cells_x),
                 wrap_cell(cell_y, params.cells_y), TEXTON_LAYER, params.seed));
             var count = 1u;
-            if (params.placement == 1u) {
+            if (texton_placement() == 1u) {
                 let u = prng_next_f32(&prng);
                 count = 0u;
                 for (var k = 0u; k < MAX_TEXTONS_PER_CELL; k++) {
@@ -158,7 +175,7 @@ fn texton_value(column: GridAxis, row: GridAxis) -> f32 {
             for (var n = 0u; n < count; n++) {
                 var ox: f32;
                 var oy: f32;
-                if (params.placement == 1u) {
+                if (texton_placement() == 1u) {
                     ox = prng_next_f32(&prng);
                     oy = prng_next_f32(&prng);
                 } else {
@@ -174,7 +191,7 @@ fn texton_value(column: GridAxis, row: GridAxis) -> f32 {
                 let ty = row.offset - (f32(dj) + oy);
                 let contribution =
                     weight * spot_at(tx, ty, cos_turns(turns), sin_turns(turns), inv_a, inv_b);
-                if (params.combine == 0u) {
+                if (texton_combine() == 0u) {
                     acc += contribution;
                 } else if (contribution > acc) {
                     acc = contribution;

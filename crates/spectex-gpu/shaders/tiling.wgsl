@@ -70,6 +70,13 @@ const TILING_LUT_ENTRIES: u32 = 1024u;
 @group(0) @binding(4) var<storage, read> rows: array<GridAxis>;
 @group(0) @binding(5) var<storage, read_write> output: array<f32>;
 
+// The model's shape (common.wgsl's "Shapes").
+override TILING_BLEND: u32 = 0xffffffffu;
+
+fn tiling_blend() -> u32 {
+    return shape_or(TILING_BLEND, params.blend);
+}
+
 /// A vertex's draws: its offset (whole texels) and rotation (cos, sin).
 struct TilingVertex {
     offset: vec2<i32>,
@@ -77,7 +84,7 @@ struct TilingVertex {
 }
 
 fn tiling_rotates() -> bool {
-    return params.blend == 1u && params.rotation > 0.0f;
+    return tiling_blend() == 1u && params.rotation > 0.0f;
 }
 
 /// The draws of vertex (m, k), keyed modulo a periodic lattice (Lattice::key).
@@ -200,7 +207,7 @@ fn tiling_level(level: vec4<u32>, m0: i32, k0: i32, u: f32, v: f32, dx: i32, dy:
     }
     let nc = params.channels;
     var t = vec3<f32>(0.0f, 0.0f, 0.0f);
-    if (params.blend == 0u) {
+    if (tiling_blend() == 0u) {
         let norm = sqrt((w.x * w.x + w.y * w.y) + w.z * w.z);
         for (var c = 0u; c < nc; c++) {
             let g = (w.x * taps[0][c] + w.y * taps[1][c]) + w.z * taps[2][c];

@@ -41,6 +41,13 @@ struct VoronoiParams {
 @group(0) @binding(3) var<storage, read> rows: array<GridAxis>;
 @group(0) @binding(4) var<storage, read_write> output: array<f32>;
 
+// The model's shape (common.wgsl's "Shapes").
+override VORONOI_OUTPUT: u32 = 0xffffffffu;
+
+fn voronoi_output() -> u32 {
+    return shape_or(VORONOI_OUTPUT, params.output);
+}
+
 const SITE_FLOATS: u32 = 6u;
 
 /// Where the site of cell (cx, cy) starts in `sites`; the box covers every search.
@@ -51,9 +58,9 @@ fn site_base(cx: i32, cy: i32) -> u32 {
 }
 
 fn write_value(index: u32, base: u32, f1: f32, f2: f32, border: f32) {
-    let channels = select(1u, 3u, params.output == 4u);
+    let channels = select(1u, 3u, voronoi_output() == 4u);
     let at = index * channels;
-    switch params.output {
+    switch voronoi_output() {
         case 0u: {
             output[at] = sites[base + 2u];
         }
@@ -84,7 +91,7 @@ fn voronoi_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let column = at.column;
     let row = at.row;
     if (column.valid == 0u || row.valid == 0u || params.box_cols == 0u) {
-        let channels = select(1u, 3u, params.output == 4u);
+        let channels = select(1u, 3u, voronoi_output() == 4u);
         for (var c = 0u; c < channels; c++) {
             output[index * channels + c] = 0.0f;
         }
@@ -119,7 +126,7 @@ fn voronoi_main(@builtin(global_invocation_id) gid: vec3<u32>) {
         }
     }
     var border = 3.4028235e38f;
-    if (params.output == 2u) {
+    if (voronoi_output() == 2u) {
         for (var dj = -reach; dj <= reach; dj++) {
             for (var di = -reach; di <= reach; di++) {
                 let base = site_base(column.cell + di, row.cell + dj);
@@ -181,7 +188,7 @@ fn voronoi_delta3(c: vec3<i32>, o: vec3<i32>, f: vec3<f32>) -> vec3<f32> {
 /// order; the nearest is the smallest d², ties to the first cell in that order.
 fn voronoi_main3(index: u32, c: vec3<i32>, f: vec3<f32>) {
     let reach = params.reach;
-    let want_second = params.output == 3u;
+    let want_second = voronoi_output() == 3u;
     var best = 3.4028235e38f;
     var second = 3.4028235e38f;
     var key = 2147483647;
@@ -219,7 +226,7 @@ fn voronoi_main3(index: u32, c: vec3<i32>, f: vec3<f32>) {
     let f1 = sqrt(best);
     var border = 3.4028235e38f;
     var limit = 3.4028235e38f;
-    if (params.output == 2u) {
+    if (voronoi_output() == 2u) {
         for (var sweep = 0; sweep < 2; sweep++) {
             let r = select(reach, 1, sweep == 0);
             for (var dk = -r; dk <= r; dk++) {
@@ -319,7 +326,7 @@ fn voronoi_export_value(cell: vec2<i32>, offset: vec2<f32>) -> vec3<f32> {
             }
         }
     }
-    switch params.output {
+    switch voronoi_output() {
         case 0u: {
             return vec3<f32>(nearest.z, 0.0f, 0.0f);
         }
@@ -381,7 +388,7 @@ fn voronoi_export_site3(x: i32, row: u32) -> vec4<f32> {
 /// The 3D diagram at offset `f` in cell `c` (voronoi_main3's search).
 fn voronoi_export_value3(c: vec3<i32>, f: vec3<f32>) -> vec3<f32> {
     let reach = params.reach;
-    let want_second = params.output == 3u;
+    let want_second = voronoi_output() == 3u;
     var best = 3.4028235e38f;
     var second = 3.4028235e38f;
     var key = 2147483647;
@@ -429,7 +436,7 @@ fn voronoi_export_value3(c: vec3<i32>, f: vec3<f32>) -> vec3<f32> {
         }
     }
     let f1 = sqrt(best);
-    switch params.output {
+    switch voronoi_output() {
         case 0u: {
             return vec3<f32>(nearest.w, 0.0f, 0.0f);
         }

@@ -445,13 +445,19 @@ pub mod tests {
         }
     }
 
-    /// The shape constants the host sets are the shader's overrides, every one of them, and
-    /// the model's values (classic, phasor, Gabor).
+    /// The shape constants the host sets are the shader's overrides, every one of them, for
+    /// every kind with a shape, and a classic noise's are the model's values.
     pub fn shape_constants_are_the_shaders_overrides() {
         use crate::layout::check::assert_shape_is_the_overrides;
         assert_shape_is_the_overrides::<ClassicKernel>();
         assert_shape_is_the_overrides::<crate::phasor::PhasorKernel>();
         assert_shape_is_the_overrides::<crate::gabor::GaborKernel>();
+        assert_shape_is_the_overrides::<crate::voronoi::VoronoiKernel>();
+        assert_shape_is_the_overrides::<crate::texton::TextonKernel>();
+        assert_shape_is_the_overrides::<crate::tiling::TilingKernel>();
+        assert_shape_is_the_overrides::<crate::islamic::IslamicKernel>();
+        assert_shape_is_the_overrides::<crate::subdivision::SubdivisionKernel>();
+        assert_shape_is_the_overrides::<crate::matrix::MatrixKernel>();
         let (kernel, _) = pack(&model(Basis::Simplex, 3), 0.0);
         let p = kernel.params;
         assert_eq!(kernel.shape(), [p.basis, p.three_d, p.fractal, p.metric]);

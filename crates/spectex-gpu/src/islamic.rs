@@ -126,6 +126,13 @@ impl ShaderKernel for IslamicKernel {
     const SHADER: &'static str = "islamic";
     const ENTRY_POINT: &'static str = "islamic_main";
 
+    const SHAPE: &'static [&'static str] = &["ISLAMIC_OUTPUT"];
+
+    /// The model's output (the shader's shape overrides).
+    fn shape(&self) -> Vec<u32> {
+        vec![self.params.output]
+    }
+
     fn axis_bytes(&self) -> u64 {
         8
     }

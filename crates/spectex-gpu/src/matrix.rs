@@ -115,6 +115,13 @@ impl ShaderKernel for MatrixKernel {
     const SHADER: &'static str = "matrix";
     const ENTRY_POINT: &'static str = "matrix_main";
 
+    const SHAPE: &'static [&'static str] = &["MATRIX_IMAGE"];
+
+    /// The model's image (the shader's shape overrides).
+    fn shape(&self) -> Vec<u32> {
+        vec![self.params.image]
+    }
+
     fn axis_bytes(&self) -> u64 {
         size_of::<CellAxis>() as u64
     }

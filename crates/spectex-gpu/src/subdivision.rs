@@ -99,6 +99,13 @@ impl ShaderKernel for SubdivisionKernel {
     const SHADER: &'static str = "subdivision";
     const ENTRY_POINT: &'static str = "subdivision_main";
 
+    const SHAPE: &'static [&'static str] = &["SUBDIVISION_CUBIC"];
+
+    /// The model's cubic (the shader's shape overrides).
+    fn shape(&self) -> Vec<u32> {
+        vec![self.params.cubic]
+    }
+
     fn axis_bytes(&self) -> u64 {
         size_of::<CellAxis>() as u64
     }

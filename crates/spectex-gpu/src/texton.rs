@@ -161,6 +161,13 @@ impl ShaderKernel for TextonKernel {
     const SHADER: &'static str = "texton";
     const ENTRY_POINT: &'static str = "texton_main";
 
+    const SHAPE: &'static [&'static str] = &["TEXTON_COMBINE", "TEXTON_PLACEMENT", "TEXTON_SPOT"];
+
+    /// The model's combine, placement, spot (the shader's shape overrides).
+    fn shape(&self) -> Vec<u32> {
+        vec![self.params.combine, self.params.placement, self.params.spot]
+    }
+
     fn axis_bytes(&self) -> u64 {
         size_of::<CellAxis>() as u64
     }

@@ -194,6 +194,13 @@ impl ShaderKernel for TilingKernel {
     const SHADER: &'static str = "tiling";
     const ENTRY_POINT: &'static str = "tiling_main";
 
+    const SHAPE: &'static [&'static str] = &["TILING_BLEND"];
+
+    /// The model's blend (the shader's shape override; two_levels is the tile's footprint's).
+    fn shape(&self) -> Vec<u32> {
+        vec![self.params.blend]
+    }
+
     fn output_channels(&self) -> usize {
         self.params.channels as usize
     }

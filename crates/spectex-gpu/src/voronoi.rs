@@ -176,6 +176,13 @@ impl ShaderKernel for VoronoiKernel {
     const ENTRY_POINT: &'static str = "voronoi_main";
     const TABLES_READ_DISPLACEMENT: bool = true;
 
+    const SHAPE: &'static [&'static str] = &["VORONOI_OUTPUT"];
+
+    /// The model's output (the shader's shape overrides).
+    fn shape(&self) -> Vec<u32> {
+        vec![self.params.output]
+    }
+
     fn output_channels(&self) -> usize {
         self.model.output.channels()
     }
