@@ -356,7 +356,8 @@ impl ShaderKernel for ClassicKernel {
                     &faded.unwrap_or_else(|| vec![[0.0; 2]]),
                 ),
             ],
-        ))
+        )
+        .minified(params.filtered))
     }
 }
 

@@ -260,7 +260,8 @@ impl ShaderKernel for LrpKernel {
                 ),
                 Table::new("lrp gains", &gains),
             ],
-        ))
+        )
+        .minified(params.filtered))
     }
 }
 

@@ -481,7 +481,8 @@ impl ShaderKernel for PhasorKernel {
             .into_iter()
             .chain(axes.tables(["phasor columns", "phasor rows"]))
             .collect(),
-        ))
+        )
+        .minified(params.filtered))
     }
 }
 
