@@ -215,7 +215,7 @@ struct Located3 {
 /// CPU's split does, and the CPU keeps it); an offset outside (after a displacement is added
 /// here) moves to its own cell by the floor.
 fn lattice_position(column: ClassicAxis, row: ClassicAxis, octave: ClassicOctave, d: vec2<f32>) -> Located3 {
-    if (tile_warped()) {
+    if (warp_params.enabled == 1u) {
         // Domain warping (common.wgsl): the displacement in cells moves the plane's point.
         let x = warp_relocate(column.cell, column.offset, d.x * octave.inv_cell);
         let y = warp_relocate(row.cell, row.offset, d.y * octave.inv_cell);
@@ -248,7 +248,7 @@ fn simplex_position(column: ClassicAxis, row: ClassicAxis, octave: ClassicOctave
         + vec3<f32>(row.other_frac, row.own_frac, row.other_frac))
         + vec3<f32>(octave.z_other_frac, octave.z_other_frac, octave.z_own_frac);
     var moved = fractions;
-    if (tile_warped()) {
+    if (warp_params.enabled == 1u) {
         let dc = d * octave.inv_cell;
         let skew = select(SIMPLEX_F2, SIMPLEX_F3, classic_three_d() == 1u) * (dc.x + dc.y);
         moved = fractions + vec3<f32>(dc.x + skew, dc.y + skew, skew);
@@ -556,7 +556,7 @@ fn classic_octave(o: u32, column: ClassicAxis, row: ClassicAxis, d: vec2<f32>, a
     let octave = octaves[o];
     let w = octave.weight;
     var fade = vec2<f32>(0.0f);
-    if (tile_filtered(params.filtered)) {
+    if (params.filtered == 1u) {
         fade = faded[o];
         if (fade.x == 0.0f) {
             // Faded out: the basis is not evaluated, its expected term stays.
@@ -579,7 +579,7 @@ fn classic_octave(o: u32, column: ClassicAxis, row: ClassicAxis, d: vec2<f32>, a
     let n = basis(column, row, octave, o, d);
     switch classic_fractal() {
         case 1u: {
-            if (tile_filtered(params.filtered)) {
+            if (params.filtered == 1u) {
                 (*acc) += fade.x * abs(n) + fade.y;
             } else {
                 (*acc) += w * abs(n);
@@ -588,7 +588,7 @@ fn classic_octave(o: u32, column: ClassicAxis, row: ClassicAxis, d: vec2<f32>, a
         case 2u: {
             let r = params.ridge_offset - abs(n);
             var s = r * r;
-            if (tile_filtered(params.filtered)) {
+            if (params.filtered == 1u) {
                 s = fade.x * s + fade.y;
             }
             if (o > 0u) {
@@ -598,7 +598,7 @@ fn classic_octave(o: u32, column: ClassicAxis, row: ClassicAxis, d: vec2<f32>, a
             (*acc) += w * s;
         }
         default: {
-            if (tile_filtered(params.filtered)) {
+            if (params.filtered == 1u) {
                 (*acc) += fade.x * n + fade.y;
             } else {
                 (*acc) += w * n;
@@ -615,7 +615,7 @@ fn classic_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     var acc = 0.0f;
     var previous = 0.0f;
     var d = vec2<f32>(0.0f);
-    if (tile_warped()) {
+    if (warp_params.enabled == 1u) {
         d = warp_displacement[gid.y * params.width + gid.x];
     }
     for (var o = 0u; o < params.octaves; o++) {

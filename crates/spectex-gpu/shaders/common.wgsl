@@ -129,22 +129,6 @@ fn shape_or(fixed: u32, uniform: u32) -> u32 {
     return select(fixed, uniform, fixed == NO_SHAPE);
 }
 
-// A tile's variant, set per dispatch the same way (`pipeline::Shaded`, up to four pipelines a
-// shape): whether the tile is minified (the kind's `params.filtered`) and displaced
-// (`warp_params.enabled`), so an ordinary tile's shader holds neither path.
-override TILE_FILTERED: u32 = 0xffffffffu;
-override TILE_WARPED: u32 = 0xffffffffu;
-
-/// Whether the tile is displaced (group 1's `warp_params.enabled`).
-fn tile_warped() -> bool {
-    return shape_or(TILE_WARPED, warp_params.enabled) == 1u;
-}
-
-/// Whether the tile is minified, `filtered` being the kind's uniform field.
-fn tile_filtered(filtered: u32) -> bool {
-    return shape_or(TILE_FILTERED, filtered) == 1u;
-}
-
 // ---------------------------------------------------------------------------------------------
 // Scalar functions (twins of crates/spectex-model/src/math.rs).
 
@@ -350,7 +334,7 @@ struct GridPoint {
 /// untouched otherwise: the warp-relocation prologue of every shader on a cell grid.
 fn grid_point(column: GridAxis, row: GridAxis, index: u32, inv_side: f32) -> GridPoint {
     var at = GridPoint(column, row);
-    if (tile_warped()) {
+    if (warp_params.enabled == 1u) {
         let d = warp_displacement[index] * inv_side;
         let cx = warp_relocate(column.cell, column.offset, d.x);
         let cy = warp_relocate(row.cell, row.offset, d.y);

@@ -65,7 +65,7 @@ fn islamic_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let row = rows[gid.y];
     var s = column.x + row.x;
     var t = column.y + row.y;
-    if (tile_warped()) {
+    if (warp_params.enabled == 1u) {
         let d = warp_displacement[index];
         s = s + (params.a00 * d.x + params.a01 * d.y);
         t = t + (params.a10 * d.x + params.a11 * d.y);

@@ -133,7 +133,7 @@ fn lrp_stratum(s: u32, column: LatticeAxis, row: LatticeAxis) -> f32 {
                 let f = frequencies[index];
                 let phase = prng_next_f32(&prng);
                 let c = f.y * dy + phase;
-                if (tile_filtered(params.filtered)) {
+                if (params.filtered == 1u) {
                     cosines += gains[index] * cos_turns(f.x * dx + c);
                 } else {
                     cosines += cos_turns(f.x * dx + c);
@@ -154,7 +154,7 @@ fn lrp_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     for (var s = 0u; s < params.strata; s++) {
         var column = columns[s * params.width + gid.x];
         var row = rows[s * params.height + gid.y];
-        if (tile_warped()) {
+        if (warp_params.enabled == 1u) {
             let d = warp_displacement[gid.y * params.width + gid.x];
             column = lrp_displaced(column, d.x, strata[s].delta);
             row = lrp_displaced(row, d.y, strata[s].delta_y);

@@ -192,7 +192,7 @@ fn phase01(re: f32, im: f32) -> f32 {
 
 /// A profile leaf of the phase of (re, im).
 fn leaf(kind: u32, start: u32, len: u32, duty: f32, re: f32, im: f32, u: f32) -> f32 {
-    let filtered = tile_filtered(params.filtered);
+    let filtered = params.filtered == 1u;
     switch kind {
         case 0u: {
             let i = sqrt(re * re + im * im);
@@ -317,7 +317,7 @@ fn phasor_main(@builtin(global_invocation_id) gid: vec3<u32>) {
                 s = pixel_params[3u * index + 2u];
             }
             var u = 0.0f;
-            if (tile_filtered(params.filtered)) {
+            if (params.filtered == 1u) {
                 u = harmonic_scale[index];
             }
             v = leaf(phasor_a_kind(), params.a_start, params.a_len, duty_a, re, im, u);

@@ -280,7 +280,7 @@ fn texture_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let nc = params.channels;
     var column = columns[gid.x];
     var row = rows[gid.y];
-    if (tile_warped()) {
+    if (warp_params.enabled == 1u) {
         // Domain warping (common.wgsl): the placement cells move by the displacement in cells
         // of side T/2 (a power of two, so the scaling is exact).
         let dw = warp_displacement[pixel] * (2.0f / f32(params.period));
@@ -362,7 +362,7 @@ fn texture_value(column: PlacementAxis, row: PlacementAxis, strata: array<f32, 3
         var structure = 0.0f;
         if (s.present != 0u) {
             for (var k = 0u; k < count; k++) {
-                if (tile_filtered(params.filtered)) {
+                if (params.filtered == 1u) {
                     structure += weights[k] * structure_eval_filtered(s, qs[k], params.footprint);
                 } else {
                     structure += weights[k] * structure_eval(s, qs[k]);

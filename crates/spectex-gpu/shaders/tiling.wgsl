@@ -277,7 +277,7 @@ fn tiling_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let index = gid.y * params.width + gid.x;
     var column = columns[gid.x];
     var row = rows[gid.y];
-    if (tile_warped()) {
+    if (warp_params.enabled == 1u) {
         let d = warp_displacement[index];
         let cx = warp_relocate(column.cell, column.offset, d.x);
         let cy = warp_relocate(row.cell, row.offset, d.y);

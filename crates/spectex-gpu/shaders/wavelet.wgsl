@@ -101,14 +101,14 @@ fn wavelet_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     var acc = 0.0f;
     var d = vec2<f32>(0.0f);
-    if (tile_warped()) {
+    if (warp_params.enabled == 1u) {
         d = warp_displacement[gid.y * params.width + gid.x];
     }
     for (var b = 0u; b < params.bands; b++) {
         let band = bands[b];
         var column = columns[b * params.width + gid.x];
         var row = rows[b * params.height + gid.y];
-        if (tile_warped()) {
+        if (warp_params.enabled == 1u) {
             column = displaced(column, d.x, band.inv_side);
             row = displaced(row, d.y, band.inv_side);
         }

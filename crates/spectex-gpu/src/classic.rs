@@ -356,8 +356,7 @@ impl ShaderKernel for ClassicKernel {
                     &faded.unwrap_or_else(|| vec![[0.0; 2]]),
                 ),
             ],
-        )
-        .minified(params.filtered))
+        ))
     }
 }
 
@@ -465,9 +464,9 @@ pub mod tests {
     }
 
     /// A pipeline specialised to a model's shape renders the bits of the generic one (no
-    /// shape constants: every branch decided by the uniform), for every basis, 2D and 3D,
-    /// every fractal and Worley metric, far away; minified for gradient noise and the
-    /// fractals. Skips without a GPU (fails when `SPECTEX_REQUIRE_GPU=1`).
+    /// constants: every branch decided by the uniform), for every basis, 2D and 3D, every
+    /// fractal and Worley metric, far away and minified. Skips without a GPU (fails when
+    /// `SPECTEX_REQUIRE_GPU=1`).
     pub fn specialised_pipelines_render_the_generic_bits() {
         let context = match GpuContext::new() {
             Ok(c) => c,
@@ -511,11 +510,8 @@ pub mod tests {
             GpuWindow::new(23, 17).at([1.0e6, -3.0e5], 1.0),
             GpuWindow::new(19, 13).at([-40.5, 7.25], 3.5),
         ];
-        // The minified tile (its own pipeline variant, a compile each on lavapipe) for the
-        // first basis in 2D and 3D and the fractals; the far tile for every model.
-        for (k, m) in models.iter().enumerate() {
-            let minified = k < 2 || k + 2 >= models.len();
-            for tile in &tiles[..if minified { 2 } else { 1 }] {
+        for m in &models {
+            for tile in &tiles {
                 let render = |generic: bool| {
                     let (mut kernel, octaves) = pack(m, 12.5);
                     kernel.generic = generic;

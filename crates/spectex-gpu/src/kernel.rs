@@ -435,25 +435,15 @@ pub(crate) struct TileTables {
     /// Host parts of other kernels' dispatches that fill the table left to the device, in
     /// the order [`ShaderKernel::encode_passes`] records them (a texture's LRP strata).
     pub passes: Vec<PreparedTile>,
-    /// Whether the uniform says the tile is minified (its `filtered` field): the pipeline
-    /// variant that runs it (`common.wgsl`'s `TILE_FILTERED`).
-    pub filtered: bool,
 }
 
 impl TileTables {
-    /// These tables for a tile whose uniform's `filtered` field is `filtered`.
-    pub(crate) fn minified(mut self, filtered: u32) -> Self {
-        self.filtered = filtered == 1;
-        self
-    }
-
     /// A uniform record and the tile's tables.
     pub(crate) fn new<U: bytemuck::Pod>(uniform: &U, tables: Vec<Table>) -> Self {
         Self {
             uniform: bytemuck::bytes_of(uniform).to_vec(),
             tables,
             passes: Vec::new(),
-            filtered: false,
         }
     }
 }

@@ -72,8 +72,7 @@ pub(crate) mod check {
         module
     }
 
-    /// Panics unless `K::SHAPE` and the tile's variant (`TILE_FILTERED`, `TILE_WARPED`, which
-    /// `pipeline::Shaded` sets) name exactly the pipeline-overridable constants of `K`'s
+    /// Panics unless `K::SHAPE` names exactly the pipeline-overridable constants of `K`'s
     /// shader, each defaulting to `NO_SHAPE` (so a pipeline without them reads the uniform).
     pub(crate) fn assert_shape_is_the_overrides<K: crate::kernel::ShaderKernel>() {
         let source = crate::wgsl_source(K::SHADER).unwrap_or_default();
@@ -93,7 +92,6 @@ pub(crate) mod check {
             );
         }
         let mut shape = K::SHAPE.to_vec();
-        shape.extend(["TILE_FILTERED", "TILE_WARPED"]);
         shape.sort_unstable();
         declared.sort_unstable();
         assert_eq!(shape, declared, "{}.wgsl's overrides", K::SHADER);

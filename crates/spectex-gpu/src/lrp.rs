@@ -260,8 +260,7 @@ impl ShaderKernel for LrpKernel {
                 ),
                 Table::new("lrp gains", &gains),
             ],
-        )
-        .minified(params.filtered))
+        ))
     }
 }
 

@@ -481,8 +481,7 @@ impl ShaderKernel for PhasorKernel {
             .into_iter()
             .chain(axes.tables(["phasor columns", "phasor rows"]))
             .collect(),
-        )
-        .minified(params.filtered))
+        ))
     }
 }
 

@@ -270,31 +270,19 @@ pub(crate) fn encode_pass<P: bytemuck::Pod>(
     Ok(())
 }
 
-/// One pipeline of a kind's shape for one tile variant, `[minified, displaced]`
-/// (`common.wgsl`'s `TILE_FILTERED` and `TILE_WARPED`), with the layouts derived from it (a
-/// derived layout serves its own pipeline only) and its group 1 for an undisplaced tile.
+/// A [`ShaderKernel`] on the device: its pipeline (layouts derived from the shader), its tables
+/// packed once, the bind group of an undisplaced dispatch made once, and the dispatch of a
+/// tile. The [`GpuKernel`] of every kind with a shader.
 #[derive(Debug)]
-struct Variant {
+pub(crate) struct Shaded<K> {
+    gpu: Gpu,
     pipeline: wgpu::ComputePipeline,
     /// Group 0 of the shader: uniform, tables, output.
     model_layout: wgpu::BindGroupLayout,
     /// Group 1: the displacement of `common.wgsl`.
     warp_layout: wgpu::BindGroupLayout,
-    /// Group 1 of an undisplaced dispatch.
+    /// Group 1 of an undisplaced dispatch (every tile of a direct render).
     still: wgpu::BindGroup,
-}
-
-/// A [`ShaderKernel`] on the device: its pipelines (one per tile variant met, the ordinary
-/// one built first), its tables packed once, and the dispatch of a tile. The [`GpuKernel`] of
-/// every kind with a shader.
-#[derive(Debug)]
-pub(crate) struct Shaded<K> {
-    gpu: Gpu,
-    /// The pipelines built, by `[minified, displaced]`; `[false, false]` first.
-    variants: std::sync::Mutex<Vec<([bool; 2], Arc<Variant>)>>,
-    /// Whether the kind's shader reads `TILE_FILTERED` (else a minified tile runs the
-    /// ordinary pipeline).
-    filters: bool,
     /// The tables packed once, bound after the uniform.
     resident: Vec<wgpu::Buffer>,
     /// One timestamp pair for [`render_tile`](GpuKernel::render_tile)'s dispatches.
@@ -314,59 +302,31 @@ impl<K: ShaderKernel> Shaded<K> {
         resident: &[Table],
     ) -> Result<Box<dyn GpuKernel>, GpuError> {
         let gpu = Gpu::new(context);
-        let filters = wgsl_source(K::SHADER).is_some_and(|s| s.contains("tile_filtered(params"));
-        let ordinary = Self::variant(&gpu, &kind, [false, false])?;
+        let CachedPipeline { pipeline, layouts } = compute_pipeline(
+            &gpu,
+            (K::SHADER, K::ENTRY_POINT, kind.constants()),
+            2,
+            || wgsl_source(K::SHADER),
+        )?;
+        let [model_layout, warp_layout]: [wgpu::BindGroupLayout; 2] =
+            layouts.try_into().map_err(|_| {
+                GpuError::Validation(format!("shader {} lacks bind group 1", K::SHADER))
+            })?;
         let scope = ErrorScopes::push(&gpu.device);
         let resident = resident.iter().map(|t| gpu.storage(t)).collect();
+        let still = warp_group(&gpu, &warp_layout, Displacement::None);
         let queries = gpu.query_set(1);
         scope.pop()?;
         Ok(Box::new(Self {
-            variants: std::sync::Mutex::new(vec![([false, false], Arc::new(ordinary))]),
-            filters,
+            pipeline,
+            model_layout,
+            warp_layout,
+            still,
             resident,
             queries,
             kind,
             gpu,
         }))
-    }
-
-    /// The pipeline of `kind`'s shape for the tile variant `[minified, displaced]`, from the
-    /// context's cache or built.
-    fn variant(gpu: &Gpu, kind: &K, [filtered, warped]: [bool; 2]) -> Result<Variant, GpuError> {
-        let mut constants = kind.constants();
-        constants.push(("TILE_FILTERED", u32::from(filtered)));
-        constants.push(("TILE_WARPED", u32::from(warped)));
-        let CachedPipeline { pipeline, layouts } =
-            compute_pipeline(gpu, (K::SHADER, K::ENTRY_POINT, constants), 2, || {
-                wgsl_source(K::SHADER)
-            })?;
-        let [model_layout, warp_layout]: [wgpu::BindGroupLayout; 2] =
-            layouts.try_into().map_err(|_| {
-                GpuError::Validation(format!("shader {} lacks bind group 1", K::SHADER))
-            })?;
-        let still = warp_group(gpu, &warp_layout, Displacement::None);
-        Ok(Variant {
-            pipeline,
-            model_layout,
-            warp_layout,
-            still,
-        })
-    }
-
-    /// The pipeline of the tile variant `[minified, displaced]`, built on first use (a minified
-    /// tile of a kind that does not filter runs the unminified one).
-    fn pipeline_for(&self, [filtered, warped]: [bool; 2]) -> Result<Arc<Variant>, GpuError> {
-        let key = [filtered && self.filters, warped];
-        let mut variants = self
-            .variants
-            .lock()
-            .unwrap_or_else(std::sync::PoisonError::into_inner);
-        if let Some((_, v)) = variants.iter().find(|(k, _)| *k == key) {
-            return Ok(Arc::clone(v));
-        }
-        let built = Arc::new(Self::variant(&self.gpu, &self.kind, key)?);
-        variants.push((key, Arc::clone(&built)));
-        Ok(built)
     }
 
     /// Records the dispatch of `tile` (displaced by `displacement` when given, with the
@@ -380,7 +340,6 @@ impl<K: ShaderKernel> Shaded<K> {
             uniform,
             tables,
             passes,
-            filtered,
         }: TileTables,
         displacement: Displacement<'_>,
         encoder: &mut wgpu::CommandEncoder,
@@ -388,7 +347,6 @@ impl<K: ShaderKernel> Shaded<K> {
         timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) -> Result<(), GpuError> {
         let gpu = &self.gpu;
-        let variant = self.pipeline_for([filtered, !matches!(displacement, Displacement::None)])?;
         let (width, height) = (tile.width, tile.height);
         let output_bytes = 4 * (width * height * self.kind.output_channels()) as u64;
         let uniform = gpu.buffer("params", &uniform, wgpu::BufferUsages::UNIFORM);
@@ -440,20 +398,20 @@ impl<K: ShaderKernel> Shaded<K> {
         });
         let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("spectex tile"),
-            layout: &variant.model_layout,
+            layout: &self.model_layout,
             entries: &entries,
         });
         let displaced = match displacement {
             Displacement::None => None,
-            d => Some(warp_group(gpu, &variant.warp_layout, d)),
+            d => Some(warp_group(gpu, &self.warp_layout, d)),
         };
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("spectex tile"),
             timestamp_writes: timer,
         });
-        pass.set_pipeline(&variant.pipeline);
+        pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &bind_group, &[]);
-        pass.set_bind_group(1, displaced.as_ref().unwrap_or(&variant.still), &[]);
+        pass.set_bind_group(1, displaced.as_ref().unwrap_or(&self.still), &[]);
         pass.dispatch_workgroups(
             width.div_ceil(WORKGROUP_SIDE) as u32,
             height.div_ceil(WORKGROUP_SIDE) as u32,

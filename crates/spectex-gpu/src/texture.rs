@@ -419,8 +419,7 @@ impl ShaderKernel for TextureKernel {
                 Table::new("texture columns", &columns),
                 Table::new("texture rows", &rows),
             ],
-        )
-        .minified(params.filtered);
+        );
         tables.passes = passes;
         Ok(tables)
     }
