@@ -4,8 +4,8 @@
 // fuse a multiply and an add into one rounding (lavapipe does), divides within 2.5 ulp and may
 // flush subnormals. The combination pass (`combine.rs`) applies the operations that multiply
 // and add or divide (mix, smoothstep, a table lookup, a ramp, a sine), and the others, with
-// these, so the device composes exactly what `CombineOp::apply` computes (the table lookup and
-// the ramp, which read the pass's tables, are `combine.rs`'s `EXACT_TABLE_OPS`). A port of Berkeley SoftFloat 3e's
+// these: the end of this file defines the combination glue's `arith_*` with them, so the
+// device composes exactly what `CombineOp::apply` computes. A port of Berkeley SoftFloat 3e's
 // `f32_add`, `f32_sub`, `f32_mul` and `f32_div` (round-near-even only; a NaN result is the
 // quiet NaN 0x7FC00000). Composed after common.wgsl; a library, no entry point.
 
@@ -313,10 +313,26 @@ fn exact_div(x: f32, y: f32) -> f32 {
     return bitcast<f32>(exact_round_pack(sign, exp_z, q));
 }
 
-// ---- CombineOp::apply's operations in exact arithmetic (spectex_model::combine) ----
+// ---- The combination glue's arithmetic (shaders/combine.wgsl's `arith_*`), exactly ----
+
+fn arith_add(a: f32, b: f32) -> f32 {
+    return exact_add(a, b);
+}
+
+fn arith_sub(a: f32, b: f32) -> f32 {
+    return exact_sub(a, b);
+}
+
+fn arith_mul(a: f32, b: f32) -> f32 {
+    return exact_mul(a, b);
+}
+
+fn arith_div(a: f32, b: f32) -> f32 {
+    return exact_div(a, b);
+}
 
 /// `f32::clamp`: NaN stays NaN (WGSL's clamp may not keep it).
-fn exact_clamp(v: f32, lo: f32, hi: f32) -> f32 {
+fn arith_clamp(v: f32, lo: f32, hi: f32) -> f32 {
     var r = v;
     if (v < lo) {
         r = lo;
@@ -327,27 +343,14 @@ fn exact_clamp(v: f32, lo: f32, hi: f32) -> f32 {
     return r;
 }
 
-/// `CombineOp::AbsFold`: `v − offset`, then `folds` times `|v − step|`.
-fn exact_abs_fold(value: f32, offset: f32, step: f32, folds: u32) -> f32 {
-    var v = exact_sub(value, offset);
-    for (var k = 0u; k < folds; k++) {
-        v = abs(exact_sub(v, step));
-    }
-    return v;
+/// NaN told by its bits (a comparison with itself may be folded by a compiler assuming none).
+fn arith_is_nan(v: f32) -> bool {
+    return exact_is_nan(bitcast<u32>(v));
 }
 
-/// `CombineOp::Mix`: `a + (b − a)·t`.
-fn exact_mix(a: f32, b: f32, t: f32) -> f32 {
-    return exact_add(a, exact_mul(exact_sub(b, a), t));
-}
-
-/// spectex_model::combine::smoothstep.
-fn exact_smoothstep(e0: f32, e1: f32, v: f32) -> f32 {
-    if (e0 >= e1) {
-        return select(0.0f, 1.0f, v >= e0);
-    }
-    let s = exact_clamp(exact_div(exact_sub(v, e0), exact_sub(e1, e0)), 0.0f, 1.0f);
-    return exact_mul(exact_mul(s, s), exact_sub(3.0f, exact_mul(2.0f, s)));
+/// spectex_model::math::sin_turns, `cos_turns(t − ¼)`.
+fn arith_sin_turns(t: f32) -> f32 {
+    return exact_cos_turns(exact_sub(t, 0.25f));
 }
 
 /// spectex_model::math::cos_turns (its magic-number rounding, then the polynomial).
@@ -363,9 +366,4 @@ fn exact_cos_turns(t: f32) -> f32 {
     p = exact_add(exact_mul(p, x), COS_TURNS_1);
     p = exact_add(exact_mul(p, x), COS_TURNS_0);
     return select(p, -p, far);
-}
-
-/// `CombineOp::SinFold`: spectex_model::math::sin_turns of `gain·v`.
-fn exact_sin_fold(gain: f32, v: f32) -> f32 {
-    return exact_cos_turns(exact_sub(exact_mul(gain, v), 0.25f));
 }

@@ -37,56 +37,21 @@ wgsl_struct! {
     }
 }
 
-/// The exact twins of `combine_lookup` and `combine_ramp` (`shaders/combine.wgsl`'s glue):
-/// `shaders/exact.wgsl`'s arithmetic over the glue's tables, which that library, composed
-/// without them, cannot name.
-const EXACT_TABLE_OPS: &str = "
-/// spectex_model::combine::lookup over `combine_table`, in exact arithmetic.
-fn exact_lookup(d0: f32, d1: f32, v: f32) -> f32 {
-    let last = f32(combine_knots - 1u);
-    var x = exact_clamp(exact_mul(exact_div(exact_sub(v, d0), exact_sub(d1, d0)), last), 0.0f, last);
-    if (exact_is_nan(bitcast<u32>(x))) {
-        x = 0.0f;
-    }
-    let k = min(u32(floor(x)), combine_knots - 2u);
-    let f = exact_sub(x, f32(k));
-    let t0 = combine_table[k];
-    return exact_add(t0, exact_mul(exact_sub(combine_table[k + 1u], t0), f));
-}
-
-/// spectex_model::combine::ramp: channel `c` at `v` over the stops, in exact arithmetic.
-fn exact_ramp(v: f32, c: u32) -> f32 {
-    if (exact_is_nan(bitcast<u32>(v)) || v <= combine_stops_at[0]) {
-        return combine_stops_colour[0][c];
-    }
-    for (var i = 0u; i + 1u < combine_stops; i++) {
-        let a = combine_stops_at[i];
-        let b = combine_stops_at[i + 1u];
-        if (v < b) {
-            let f = exact_div(exact_sub(v, a), exact_sub(b, a));
-            let c0 = combine_stops_colour[i][c];
-            return exact_add(c0, exact_mul(exact_sub(combine_stops_colour[i + 1u][c], c0), f));
-        }
-    }
-    return combine_stops_colour[combine_stops - 1u][c];
-}
-";
-
 /// Workgroup size of the combination pass.
 const PASS_WORKGROUP: u32 = 64;
 
 /// The combination pass of `op` over operands of `widths` channels into `channels`:
-/// `common.wgsl` and `exact.wgsl`, the glue's constants (`shaders/combine.wgsl`) and
-/// [`EXACT_TABLE_OPS`], and an entry point that reads operand `k`'s value at a pixel from its
-/// plane of `operands` and writes the operation's channels in exact arithmetic.
+/// `common.wgsl` and `exact.wgsl` (whose `arith_*` the glue computes in), the glue's functions
+/// and constants (`shaders/combine.wgsl`), and an entry point that reads operand `k`'s value
+/// at a pixel from its plane of `operands` and writes the operation's channels.
 pub(crate) fn pass_wgsl(
     op: &spectex_model::combine::CombineOp,
     widths: &[usize],
     channels: usize,
 ) -> Option<String> {
     let mut code = wgsl_source("exact")?;
+    code.push_str(<Combine as ExportKind>::GLUE);
     code.push_str(&combine_constants(op));
-    code.push_str(EXACT_TABLE_OPS);
     code.push_str(
         "\nstruct CombinePass {\n    count: u32,\n    per_row: u32,\n    _pad0: u32,\n    \
          _pad1: u32,\n}\n\n\
@@ -117,7 +82,7 @@ pub(crate) fn pass_wgsl(
         let _ = writeln!(
             code,
             "    combined[{channels}u * p + {c}u] = {};",
-            combine_expression(op, widths, c, true)
+            combine_expression(op, widths, c)
         );
     }
     code.push_str("}\n");

@@ -729,39 +729,21 @@ fn channel(k: usize, width: usize, c: usize) -> String {
 }
 
 /// The WGSL expression of `op` for output channel `c` over the operands of `widths`
-/// (`CombineOp::apply`, the same operations in the same order), operand `k` read from `v<k>`
-/// (an `f32`, or a `vec3<f32>` for 3 channels): the export's `combine_sample_cell` in the
-/// shader's own arithmetic, and with `exact` the compute path's combination pass
-/// (`crate::combine`) in `exact.wgsl`'s.
-pub(crate) fn combine_expression(
-    op: &CombineOp,
-    widths: &[usize],
-    c: usize,
-    exact: bool,
-) -> String {
+/// (`CombineOp::apply`, the same operations in the same order, in the glue's `arith_*`),
+/// operand `k` read from `v<k>` (an `f32`, or a `vec3<f32>` for 3 channels): the export's
+/// `combine_sample_cell` and the compute path's combination pass (`crate::combine`).
+pub(crate) fn combine_expression(op: &CombineOp, widths: &[usize], c: usize) -> String {
     let ch = |k: usize, c: usize| channel(k, widths[k], c);
-    // Sums and products in the shader's operators, or exact.wgsl's functions.
-    let fold = |infix: &str, call: &str| {
-        (1..widths.len()).fold(ch(0, c), |acc, k| {
-            if exact {
-                format!("{call}({acc}, {})", ch(k, c))
-            } else {
-                format!("({acc} {infix} {})", ch(k, c))
-            }
-        })
-    };
-    let min_max =
+    let fold =
         |f: &str| (1..widths.len()).fold(ch(0, c), |acc, k| format!("{f}({acc}, {})", ch(k, c)));
-    // The glue's `combine_<op>` or its exact twin `exact_<op>`.
-    let f = if exact { "exact_" } else { "combine_" };
     match op {
-        CombineOp::Add => fold("+", "exact_add"),
-        CombineOp::Multiply => fold("*", "exact_mul"),
-        CombineOp::Min => min_max("min"),
-        CombineOp::Max => min_max("max"),
-        CombineOp::Mix => format!("{f}mix({}, {}, {})", ch(0, c), ch(1, c), ch(2, 0)),
+        CombineOp::Add => fold("arith_add"),
+        CombineOp::Multiply => fold("arith_mul"),
+        CombineOp::Min => fold("min"),
+        CombineOp::Max => fold("max"),
+        CombineOp::Mix => format!("combine_mix({}, {}, {})", ch(0, c), ch(1, c), ch(2, 0)),
         CombineOp::Smoothstep { edges } => format!(
-            "{f}smoothstep({}, {}, {})",
+            "combine_smoothstep({}, {}, {})",
             float(edges[0]),
             float(edges[1]),
             ch(0, c)
@@ -771,21 +753,56 @@ pub(crate) fn combine_expression(
             step,
             folds,
         } => format!(
-            "{f}abs_fold({}, {}, {}, {folds}u)",
+            "combine_abs_fold({}, {}, {}, {folds}u)",
             ch(0, c),
             float(*offset),
             float(*step)
         ),
-        CombineOp::SinFold { gain } => format!("{f}sin_fold({}, {})", float(*gain), ch(0, c)),
+        CombineOp::SinFold { gain } => {
+            format!("combine_sin_fold({}, {})", float(*gain), ch(0, c))
+        }
         CombineOp::Histogram { domain, .. } => format!(
-            "{f}lookup({}, {}, {})",
+            "combine_lookup({}, {}, {})",
             float(domain[0]),
             float(domain[1]),
             ch(0, c)
         ),
-        CombineOp::Ramp { .. } => format!("{f}ramp({}, {c}u)", ch(0, 0)),
+        CombineOp::Ramp { .. } => format!("combine_ramp({}, {c}u)", ch(0, 0)),
     }
 }
+
+/// The combination glue's `arith_*` in the shader's own operators, for an exported module:
+/// as cheap as WGSL makes it (a compiler may fuse a multiply and an add; the compute path's
+/// pass computes them in `exact.wgsl` instead).
+const SHADER_ARITHMETIC: &str = "
+fn arith_add(a: f32, b: f32) -> f32 {
+    return a + b;
+}
+
+fn arith_sub(a: f32, b: f32) -> f32 {
+    return a - b;
+}
+
+fn arith_mul(a: f32, b: f32) -> f32 {
+    return a * b;
+}
+
+fn arith_div(a: f32, b: f32) -> f32 {
+    return a / b;
+}
+
+fn arith_clamp(v: f32, lo: f32, hi: f32) -> f32 {
+    return clamp(v, lo, hi);
+}
+
+fn arith_is_nan(v: f32) -> bool {
+    return !(v == v);
+}
+
+fn arith_sin_turns(t: f32) -> f32 {
+    return sin_turns(t);
+}
+";
 
 /// The constant tables of a combination's glue (`shaders/combine.wgsl`): a histogram's table and
 /// a ramp's stops, or one unused entry of each.
@@ -853,6 +870,7 @@ impl Emitter<'_> {
         let prefix = format!("spectex_m{k}_");
         self.constant_bytes += combine_table_bytes(op) as usize;
         let mut code = export_shader("combine");
+        code.push_str(SHADER_ARITHMETIC);
         code.push_str(&combine_constants(op));
         let _ = write!(
             code,
@@ -864,7 +882,7 @@ impl Emitter<'_> {
             let _ = writeln!(code, "    let v{k} = {name}(cell, offset);");
         }
         let exprs: Vec<String> = (0..channels)
-            .map(|c| combine_expression(op, &widths, c, false))
+            .map(|c| combine_expression(op, &widths, c))
             .collect();
         if channels == 1 {
             let _ = writeln!(code, "    return {};\n}}", exprs[0]);
