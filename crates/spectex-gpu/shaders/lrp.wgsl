@@ -185,14 +185,20 @@ fn lrp_export_axis(n: i32, u: f32, s: u32) -> LatticeAxis {
     return axis;
 }
 
+/// Stratum `s`'s term at the position `n + u` (`lrp_stratum` on the axes located there).
+fn lrp_export_stratum(n: vec2<i32>, u: vec2<f32>, s: u32) -> f32 {
+    return lrp_stratum(s, lrp_export_axis(n.x, u.x, s), lrp_export_axis(n.y, u.y, s));
+}
+
 /// The noise at the position `cell + offset` (pixels), the strata summed in the CPU's order.
+/// The exporter writes the strata out, `LRP_EXPORT_STRATA` = one `lrp_export_stratum` call
+/// per stratum with its index as a literal (as classic.wgsl's octaves): a stratum's record
+/// and its sub-strata's table bounds are then constants, which a driver folds into the
+/// cosine loop (its trip count and each `% len` a constant), where a strata loop's counter
+/// would read them from per-invocation memory at every cosine.
 fn lrp_sample_cell(cell: vec2<i32>, offset: vec2<f32>) -> f32 {
     let at = export_normalise(cell, offset);
     var total = 0.0f;
-    for (var s = 0u; s < params.strata; s++) {
-        let column = lrp_export_axis(at.n.x, at.u.x, s);
-        let row = lrp_export_axis(at.n.y, at.u.y, s);
-        total += lrp_stratum(s, column, row);
-    }
+    LRP_EXPORT_STRATA
     return total + params.mean;
 }

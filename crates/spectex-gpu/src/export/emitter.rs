@@ -236,7 +236,8 @@ impl Emitter<'_> {
             };
             names.push(name.clone());
             let in_buffer = matches!(self.storage, TableStorage::Buffer { .. })
-                && !matches!(var.space, naga::AddressSpace::Uniform);
+                && !matches!(var.space, naga::AddressSpace::Uniform)
+                && !parts.constant_tables.contains(&name.as_str());
             let decl = if in_buffer {
                 accessors.insert(name.clone());
                 self.buffer_table(&module, &format!("{prefix}{name}"), &name, var.ty, bytes)?

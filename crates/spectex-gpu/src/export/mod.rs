@@ -104,6 +104,9 @@ pub(crate) struct ExportParts {
     /// Placeholders of the glue and their replacements (WGSL whose names are the chunk's,
     /// prefixed like the glue).
     substitutions: Vec<(&'static str, String)>,
+    /// Bindings kept as constants with [`TableStorage::Buffer`] too: small tables the glue
+    /// reads at literal indexes only (per octave, per stratum), which a driver then folds.
+    constant_tables: &'static [&'static str],
 }
 
 impl ExportParts {
@@ -128,6 +131,7 @@ impl ExportParts {
             lattices,
             constants: String::new(),
             substitutions: Vec::new(),
+            constant_tables: &[],
         }))
     }
 
@@ -148,6 +152,7 @@ impl ExportParts {
             lattices,
             constants: String::new(),
             substitutions: Vec::new(),
+            constant_tables: &[],
         }
     }
 }
@@ -205,6 +210,15 @@ impl ExportNode {
     pub(crate) fn with_substitutions(mut self, substitutions: Vec<(&'static str, String)>) -> Self {
         if let Self::Leaf(parts) = &mut self {
             parts.substitutions = substitutions;
+        }
+        self
+    }
+
+    /// Keeps these bindings (a leaf's) as constants in a storage-buffer export too
+    /// ([`ExportParts::constant_tables`]).
+    pub(crate) fn with_constant_tables(mut self, names: &'static [&'static str]) -> Self {
+        if let Self::Leaf(parts) = &mut self {
+            parts.constant_tables = names;
         }
         self
     }

@@ -141,7 +141,8 @@ fn every_exportable_model_validates_with_its_entry_points_and_no_binding() {
             );
             println!("{case}: {value} bytes of tables, over the export's {limit}: a buffer");
             let exported = export(&model, &buffer).unwrap_or_else(|e| panic!("{case}: {e}"));
-            // The buffer holds every table (the lattice split's few words stay constants).
+            // The buffer holds the tables (the lattice split's few words, and the small
+            // tables a glue reads at literal indexes, such as LRP's strata, stay constants).
             assert!(
                 exported.tables.len() as u64 > MAX_TABLE_BYTES
                     && exported.tables.len() as u64 <= *value,
