@@ -422,7 +422,7 @@ fn halving(lattices: &[f64]) -> bool {
 #[allow(clippy::unwrap_used, reason = "a test fails loudly")]
 pub mod tests {
     use super::*;
-    use crate::layout::check::assert_matches_wgsl;
+    use crate::layout::check::{assert_matches_wgsl, context_or_skip};
     use spectex_model::classic::{Fractal, Worley};
 
     fn model(basis: Basis, dimensions: u32) -> ClassicNoise {
@@ -466,15 +466,8 @@ pub mod tests {
     /// fractal and Worley metric, far away and minified. Skips without a GPU (fails when
     /// `SPECTEX_REQUIRE_GPU=1`).
     pub fn specialised_pipelines_render_the_generic_bits() {
-        let context = match GpuContext::new() {
-            Ok(c) => c,
-            Err(e) if std::env::var("SPECTEX_REQUIRE_GPU").is_ok_and(|v| v == "1") => {
-                panic!("SPECTEX_REQUIRE_GPU=1 but no GPU: {e}")
-            }
-            Err(e) => {
-                eprintln!("SKIPPED specialised_pipelines_render_the_generic_bits: {e}");
-                return;
-            }
+        let Some(context) = context_or_skip("specialised_pipelines_render_the_generic_bits") else {
+            return;
         };
         let worley = |metric| {
             Basis::Worley(Worley {

@@ -304,16 +304,7 @@ pub mod tests {
 
     /// The device of the tests below, or `None` (skipped with a message) without one.
     fn device(test: &str) -> Option<Gpu> {
-        match crate::GpuContext::new() {
-            Ok(c) => Some(Gpu::new(&c)),
-            Err(e) if std::env::var("SPECTEX_REQUIRE_GPU").is_ok_and(|v| v == "1") => {
-                panic!("SPECTEX_REQUIRE_GPU=1 but no GPU: {e}")
-            }
-            Err(e) => {
-                eprintln!("SKIPPED {test}: {e}");
-                None
-            }
-        }
+        crate::layout::check::context_or_skip(test).map(|c| Gpu::new(&c))
     }
 
     /// Runs `combine_main` of `source` (the combination pass's bindings) over `count` pixels

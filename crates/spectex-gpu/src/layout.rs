@@ -48,6 +48,22 @@ pub(crate) mod check {
 
     use super::WgslStruct;
 
+    /// A device for the unit test `test`, or `None` after printing why it skips; with
+    /// `SPECTEX_REQUIRE_GPU=1`, no device is a failure (tests/it/common's `gpu_or_skip`, for
+    /// the unit tests, which cannot reach it).
+    pub fn context_or_skip(test: &str) -> Option<crate::GpuContext> {
+        match crate::GpuContext::new() {
+            Ok(context) => Some(context),
+            Err(e) if std::env::var("SPECTEX_REQUIRE_GPU").is_ok_and(|v| v == "1") => {
+                panic!("{test}: SPECTEX_REQUIRE_GPU=1 but no GPU: {e}")
+            }
+            Err(e) => {
+                eprintln!("SKIPPED {test}: {e}");
+                None
+            }
+        }
+    }
+
     /// `source` parsed and validated as wgpu has naga do it; a failure panics with naga's
     /// excerpt of the source, annotated under the name `label`. Shared by the layout check and
     /// the integration tests of the shaders and the exports.

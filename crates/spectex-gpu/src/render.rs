@@ -902,15 +902,10 @@ pub mod tests {
     /// apart), and the device counts the values the CPU counts as clipped; binary16 counts
     /// what it clamps. Skips with a message without a GPU (fails when `SPECTEX_REQUIRE_GPU=1`).
     pub fn packing_is_the_cpus_quantisation_and_counts_what_it_clamps() {
-        let context = match crate::GpuContext::new() {
-            Ok(c) => c,
-            Err(e) if std::env::var("SPECTEX_REQUIRE_GPU").is_ok_and(|v| v == "1") => {
-                panic!("SPECTEX_REQUIRE_GPU=1 but no GPU: {e}")
-            }
-            Err(e) => {
-                eprintln!("SKIPPED packing_is_the_cpus_quantisation: {e}");
-                return;
-            }
+        let Some(context) = crate::layout::check::context_or_skip(
+            "packing_is_the_cpus_quantisation_and_counts_what_it_clamps",
+        ) else {
+            return;
         };
         let gpu = super::Gpu::new(&context);
         let specials = [
