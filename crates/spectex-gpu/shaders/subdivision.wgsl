@@ -56,21 +56,21 @@ fn subdivision_displacement(level: u32, c: vec2<i32>, k: vec2<i32>) -> f32 {
     return f32(i32(sum) - 510i);
 }
 
-/// Stencil::taps: the first parent index, the weights and their count for level index `q`.
+/// Stencil::taps: the first parent index and the weights for level index `q` (0 past the
+/// stencil's own count of taps).
 struct SubdivisionTaps {
     first: i32,
     w: vec4<f32>,
-    n: i32,
 }
 
 fn subdivision_taps(q: i32) -> SubdivisionTaps {
     if ((q & 1i) == 0i) {
-        return SubdivisionTaps(q >> 1u, vec4<f32>(1.0f, 0.0f, 0.0f, 0.0f), 1i);
+        return SubdivisionTaps(q >> 1u, vec4<f32>(1.0f, 0.0f, 0.0f, 0.0f));
     }
     if (subdivision_cubic() == 1u) {
-        return SubdivisionTaps((q >> 1u) - 1i, vec4<f32>(-0.0625f, 0.5625f, 0.5625f, -0.0625f), 4i);
+        return SubdivisionTaps((q >> 1u) - 1i, vec4<f32>(-0.0625f, 0.5625f, 0.5625f, -0.0625f));
     }
-    return SubdivisionTaps(q >> 1u, vec4<f32>(0.5f, 0.5f, 0.0f, 0.0f), 2i);
+    return SubdivisionTaps(q >> 1u, vec4<f32>(0.5f, 0.5f, 0.0f, 0.0f));
 }
 
 /// Stencil::final_weights at u: (1 − u, u) or Catmull–Rom's.
@@ -88,7 +88,23 @@ fn subdivision_final_weights(u: f32) -> vec4<f32> {
     return vec4<f32>(1.0f - u, u, 0.0f, 0.0f);
 }
 
-/// The texture at offset (tx, ty) of coarse cell (cx, cy).
+/// `v[k]` for `k` in 0..6, else `v[0]`, by selects: a loop reading `v` at a data-dependent index
+/// keeps the arrays in per-invocation memory (lavapipe gathers each element, a GPU spills them
+/// to local memory), where constant indexes keep them in registers.
+fn subdivision_pick(v: array<f32, 6>, k: i32) -> f32 {
+    var r = v[0];
+    r = select(r, v[1], k == 1i);
+    r = select(r, v[2], k == 2i);
+    r = select(r, v[3], k == 3i);
+    r = select(r, v[4], k == 4i);
+    r = select(r, v[5], k == 5i);
+    return r;
+}
+
+/// The texture at offset (tx, ty) of coarse cell (cx, cy). The stencil sums run over the
+/// stencil's largest tap count (`n_final`), past a tap's own count with weight 0, which adds
+/// an exact ±0 (every term is finite): the CPU's sums, with loops of constant length that a
+/// compiler unrolls, so `block` and `tmp` are read at constant indexes (`subdivision_pick`).
 fn subdivision_value(cx: i32, tx: f32, cy: i32, ty: f32) -> f32 {
     let levels = params.levels;
     let side = f32(1u << levels);
@@ -128,8 +144,8 @@ fn subdivision_value(cx: i32, tx: f32, cy: i32, ty: f32) -> f32 {
             let a = taps.first - po.x;
             for (var j = 0i; j < w; j = j + 1i) {
                 var s = 0.0f;
-                for (var t = 0i; t < taps.n; t = t + 1i) {
-                    s = s + taps.w[t] * block[j][a + t];
+                for (var t = 0i; t < n_final; t = t + 1i) {
+                    s = s + taps.w[t] * subdivision_pick(block[j], a + t);
                 }
                 tmp[j][i] = s;
             }
@@ -141,8 +157,9 @@ fn subdivision_value(cx: i32, tx: f32, cy: i32, ty: f32) -> f32 {
             for (var i = 0i; i < w; i = i + 1i) {
                 let qx = o.x + i;
                 var s = 0.0f;
-                for (var t = 0i; t < taps.n; t = t + 1i) {
-                    s = s + taps.w[t] * tmp[b + t][i];
+                let column = array<f32, 6>(tmp[0][i], tmp[1][i], tmp[2][i], tmp[3][i], tmp[4][i], tmp[5][i]);
+                for (var t = 0i; t < n_final; t = t + 1i) {
+                    s = s + taps.w[t] * subdivision_pick(column, b + t);
                 }
                 if (((qx | qy) & 1i) == 1i) {
                     let nx = subdivision_normalise(cx, qx, l);
