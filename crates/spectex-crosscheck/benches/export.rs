@@ -1,9 +1,11 @@
 //! The cost of an exported module (`spectex export --wgsl`) per evaluation, in calibration
 //! cosines: every exportable model of `testdata/models/` is wrapped in a compute shader that
 //! evaluates `spectex_sample_cell` once per pixel of a W×H grid and writes one f32 per pixel,
-//! and timed beside two calibration shaders of the same harness in the same run: one that only
-//! writes an f32 per pixel, and one that sums 450 polynomial cosines per pixel (their
-//! arguments depend on the pixel, so nothing folds). Per model:
+//! and timed beside calibration shaders of the same harness in the same run: one that only
+//! writes an f32 per pixel, one that sums 450 polynomial cosines per pixel (their arguments
+//! depend on the pixel, so nothing folds), and one that sums 450 draws of the randomness
+//! contract (its cost per draw, in cosines, is printed: the floor under kinds whose
+//! evaluations draw). Per model:
 //!
 //! `cal-cos/eval = (ms − ms_empty) / evaluations / ((ms_cal − ms_empty) / 450)`,
 //!
@@ -139,6 +141,24 @@ fn bench_value(cell: vec2<i32>, offset: vec2<f32>) -> f32 {
     for (var i = 0u; i < 450u; i++) {
         let k = f32(i);
         acc += bench_pcos(k * 0.618034f + x * (0.00137f + k * 1e-6f) + y * 0.00091f);
+    }
+    return acc;
+}
+";
+
+/// The draw calibration: 450 draws of the randomness contract (`prng_next_f32` of
+/// `common.wgsl`, composed before it: an LCG step, the RXS-M-XS permutation and a 24-bit
+/// float), summed. Every kind draws its impulses, phases and table indexes with them and the
+/// CPU's bytes fix how many an evaluation takes, so a draw's cost in calibration cosines
+/// bounds what an evaluation can cost from below (LRP: a cosine and two draws; Gabor: three
+/// draws, an exponential and a cosine; a phasor impulse: four draws, an exponential, a cosine
+/// and a sine).
+const DRAWS: &str = "
+fn bench_value(cell: vec2<i32>, offset: vec2<f32>) -> f32 {
+    var prng = Prng((bitcast<u32>(cell.x) * 73856093u) ^ bitcast<u32>(cell.y));
+    var acc = offset.x;
+    for (var i = 0u; i < 450u; i++) {
+        acc += prng_next_f32(&prng);
     }
     return acc;
 }
@@ -557,6 +577,8 @@ fn main() {
     };
     let empty = calibrate(EMPTY, "empty");
     let cal = calibrate(CALIBRATION, "cosine");
+    let common = spectex_gpu::shaders::wgsl_source("common").unwrap_or_default();
+    let draws = calibrate(&format!("{common}\n{DRAWS}"), "draw");
     let stage = if setup.render { "fragment" } else { "compute" };
     let timing = |t: Timing| match t.gpu {
         Some(g) => format!("{g:.3} (wall {:.3})", t.wall),
@@ -567,7 +589,8 @@ fn main() {
         md,
         "Export cost per evaluation on {} ({width}×{height}, first pixel at cell ({cx}, {cy}), \
          fastest of {} repetitions; ms from {}).\n\n\
-         Calibration, {stage}: empty {}, 450 polynomial cosines {} ms.",
+         Calibration, {stage}: empty {}, 450 polynomial cosines {} ms; 450 draws of the \
+         randomness contract {} ms: one draw costs {:.2} calibration cosines.",
         gpu.name,
         setup.reps,
         if gpu.timestamps {
@@ -577,6 +600,8 @@ fn main() {
         },
         timing(empty),
         timing(cal),
+        timing(draws),
+        cosines(draws.ms(), f64::from(CAL_COSINES), empty.ms(), cal.ms()),
     );
     let _ = writeln!(
         md,
