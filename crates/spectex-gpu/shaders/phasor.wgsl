@@ -12,7 +12,9 @@
 // A pixel sums, in the CPU's order (cell layers, rows, columns ascending; impulses in draw
 // order), g = exp_poly(−ln 20·s·|d|²) times cos and sin of t = f·d + ψ over the impulses with
 // s·|d|² < 1 (s the kernel's sharpness, 1 unless the bandwidth varies), d = (u − s) − o in cell units; then intensity, phase (atan2_turns) or a profile of
-// the phase. Profile parameters that vary in space (duty cycle, blend weight) come per pixel
+// the phase. Profile parameters that vary in space (duty cycle, blend weight) are read per
+// pixel from records per column and per row (`pixel_field`, in f32 where the CPU reads them
+// in f64; the cross-check bounds the difference), or, for a displaced tile, come per pixel
 // from the host, computed in f64 as the CPU does.
 
 struct PhasorParams {
@@ -53,6 +55,9 @@ struct PhasorParams {
     inv_side: f32,
     /// 1: a minified render, whose square profiles are filtered at `harmonic_scale[pixel]`.
     filtered: u32,
+    /// With per_pixel: 1 when `pixel_params` holds the fields' column and row records
+    /// (`pixel_field`), 0 when it holds each pixel's values (a displaced tile).
+    pixel_fields: u32,
 }
 
 /// One impulse: offset in its cell and ψ; frequency vector (turns per cell unit) and the
@@ -68,7 +73,8 @@ struct PhasorImpulse {
 /// (start, count) in `impulses` of each cell of the box, layer-major then row-major.
 @group(0) @binding(2) var<storage, read> cells: array<vec2<u32>>;
 @group(0) @binding(3) var<storage, read> impulses: array<PhasorImpulse>;
-/// Per pixel (when `per_pixel` = 1): duty of A, duty of B, blend weight.
+/// When `per_pixel` = 1: per pixel the duty of A, the duty of B and the blend weight; or,
+/// with `pixel_fields` = 1, those three fields' records (`pixel_field`).
 @group(0) @binding(4) var<storage, read> pixel_params: array<f32>;
 /// Per pixel (when `filtered` = 1): u = F(p)·s, the local frequency times the footprint, at
 /// which every profile's harmonics are weighted.
@@ -251,6 +257,47 @@ fn leaf(kind: u32, start: u32, len: u32, duty: f32, re: f32, im: f32, u: f32) ->
     }
 }
 
+/// Field `f` (0 duty of A, 1 duty of B, 2 blend weight) at column `x` and row `y` of the tile,
+/// from the records of spectex_gpu::phasor::device_fields: a header (kind, grey start, min,
+/// max − min) per field, then a record per field and column and per field and row. Kind 1
+/// (linear): the column's and the row's terms, each (·, ·, lo, hi), added as two-float
+/// numbers (Knuth's two-sum of the high parts, then the low parts) and rounded once, clamped;
+/// kind 2 (image): the bilinear interpolation of the image's grey samples between the
+/// records' taps (i0, i1, t) and (j0·w, j1·w, t) in spectex_model's order, min + g·(max − min),
+/// clamped; kind 0: `fallback`.
+fn pixel_field(f: u32, x: u32, y: u32, fallback: f32) -> f32 {
+    let header = 4u * f;
+    let column = 12u + 4u * (f * params.width + x);
+    let row = 12u + 12u * params.width + 4u * (f * params.height + y);
+    switch u32(pixel_params[header]) {
+        case 1u: {
+            let a = pixel_params[column + 3u];
+            let b = pixel_params[row + 3u];
+            let s = a + b;
+            let bb = s - a;
+            let err = (a - (s - bb)) + (b - bb);
+            let low = (err + pixel_params[column + 2u]) + pixel_params[row + 2u];
+            return clamp(s + low, 0.0f, 1.0f);
+        }
+        case 2u: {
+            let start = u32(pixel_params[header + 1u]);
+            let i0 = u32(pixel_params[column]);
+            let i1 = u32(pixel_params[column + 1u]);
+            let tx = pixel_params[column + 2u];
+            let j0 = start + u32(pixel_params[row]);
+            let j1 = start + u32(pixel_params[row + 1u]);
+            let ty = pixel_params[row + 2u];
+            let top = profile_data[j0 + i0] * (1.0f - tx) + profile_data[j0 + i1] * tx;
+            let bottom = profile_data[j1 + i0] * (1.0f - tx) + profile_data[j1 + i1] * tx;
+            let g = top * (1.0f - ty) + bottom * ty;
+            return clamp(pixel_params[header + 2u] + g * pixel_params[header + 3u], 0.0f, 1.0f);
+        }
+        default: {
+            return fallback;
+        }
+    }
+}
+
 @compute @workgroup_size(8, 8, 1)
 fn phasor_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (gid.x >= params.width || gid.y >= params.height) {
@@ -311,7 +358,11 @@ fn phasor_main(@builtin(global_invocation_id) gid: vec3<u32>) {
             var duty_a = params.duty_a;
             var duty_b = params.duty_b;
             var s = params.weight;
-            if (phasor_per_pixel() == 1u) {
+            if (phasor_per_pixel() == 1u && params.pixel_fields == 1u) {
+                duty_a = pixel_field(0u, gid.x, gid.y, duty_a);
+                duty_b = pixel_field(1u, gid.x, gid.y, duty_b);
+                s = pixel_field(2u, gid.x, gid.y, s);
+            } else if (phasor_per_pixel() == 1u) {
                 duty_a = pixel_params[3u * index];
                 duty_b = pixel_params[3u * index + 1u];
                 s = pixel_params[3u * index + 2u];

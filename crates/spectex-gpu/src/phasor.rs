@@ -1,7 +1,9 @@
 //! Phasor noise on the device (`shaders/phasor.wgsl`): the model's profile flattened into
 //! parameters and a data table, and per tile the box of kernel cells its pixels reach (drawn by
 //! `spectex_model::phasor_kernels`, the code the CPU evaluator uses) and, where the profile's
-//! fields vary in space, each pixel's duty cycles and blend weight (f64, as the CPU computes them).
+//! fields vary in space, their records per column and per row, from which the shader reads
+//! each pixel's duty cycles and blend weight ([`device_fields`]; a displaced tile's come per
+//! pixel, in f64, as the CPU computes them).
 //!
 //! Phasor noise's export (the glue of `shaders/phasor.wgsl`): the compute shader's uniform and
 //! profile data, and the constants and field functions the glue draws kernels with in the
@@ -81,6 +83,10 @@ wgsl_struct! {
         /// 1: a minified render, whose square profiles are filtered at the per-pixel `u` of
         /// the harmonic-scale table.
         filtered: u32,
+        /// With `per_pixel`: 1 when the pixel-parameter table holds the fields' column and
+        /// row records, read per pixel on the device ([`device_fields`]); 0 when it holds
+        /// each pixel's values (displaced tiles, whose positions are the host's).
+        pixel_fields: u32,
     }
 }
 
@@ -113,6 +119,8 @@ pub(crate) struct PhasorKernel {
     duty_a: Option<Field>,
     duty_b: Option<Field>,
     weight: Option<Field>,
+    /// Where each of those fields' grey samples start in the profile data (an image field).
+    grey_starts: [u32; 3],
     pub(crate) per_pixel: bool,
     /// `F`, for the harmonic scale `u = F(p)·s` of a minified render.
     frequency: Field,
@@ -187,6 +195,15 @@ pub(crate) fn pack(
     };
     let duty_b = b.as_ref().and_then(|b| b.duty.clone());
     let per_pixel = !(constant(&a.duty) && constant(&duty_b) && constant(&weight));
+    // The grey samples of image fields, after the profiles: the device interpolates them.
+    let grey_starts = [&a.duty, &duty_b, &weight].map(|f| match f {
+        Some(Field::Image { grey, .. }) if per_pixel => {
+            let start = data.len() as u32;
+            data.extend(grey);
+            start
+        }
+        _ => 0,
+    });
     let origin = [0.0; 3];
     let kernels = match period {
         None => PhasorKernels::new(model),
@@ -223,6 +240,7 @@ pub(crate) fn pack(
         duty_a: a.duty,
         duty_b,
         weight,
+        grey_starts,
         per_pixel,
         frequency: model.frequency.clone(),
         lambda: model.impulses_per_cell(),
@@ -427,18 +445,12 @@ impl ShaderKernel for PhasorKernel {
         let mut pixel_params: Vec<f32> = Vec::new();
         let fields = [&self.duty_a, &self.duty_b, &self.weight];
         if self.per_pixel && displacement.is_none() {
-            // Undisplaced pixels lie on a grid: each field's columns located once (`FieldGrid`,
-            // the same values as `unit_at`'s, bit for bit).
-            pixel_params.resize(3 * width * height, 0.0);
+            // Undisplaced pixels lie on a grid: the fields are read per pixel on the device
+            // from records per column and per row, O(width + height) here.
             let xs: Vec<f64> = (0..width).map(&column_x).collect();
-            for (f, field) in fields.iter().enumerate() {
-                let Some(field) = field else { continue };
-                let grid = FieldGrid::new(field, xs.clone(), self.z);
-                for j in 0..height {
-                    let row = &mut pixel_params[3 * j * width..3 * (j + 1) * width];
-                    grid.row(row_y(j), |i, v| row[3 * i + f] = v.clamp(0.0, 1.0) as f32);
-                }
-            }
+            let ys: Vec<f64> = (0..height).map(&row_y).collect();
+            pixel_params = device_fields(fields, self.grey_starts, &xs, &ys, self.z);
+            params.pixel_fields = 1;
         } else if self.per_pixel {
             pixel_params.reserve(3 * width * height);
             for j in 0..height {
@@ -483,6 +495,86 @@ impl ShaderKernel for PhasorKernel {
             .collect(),
         ))
     }
+}
+
+/// A linear field's term as a column's or row's record: `(·, ·, lo, hi)` with `hi = f32(v)`
+/// and `lo = f32(v − hi)`, so that the shader's sum of two terms (a two-float addition) is
+/// `v_column + v_row` to far below an f32 ulp, whatever their size far from the origin.
+fn split(v: f64) -> [f32; 4] {
+    let hi = v as f32;
+    [0.0, 0.0, (v - f64::from(hi)) as f32, hi]
+}
+
+/// Field `field`'s record of a column (`axis` 0, at `x = c`) or a row (1, at `y = c`) on
+/// the plane `z`, for [`device_fields`].
+fn field_record(field: &Field, c: f64, axis: usize, z: f64) -> [f32; 4] {
+    match field {
+        Field::Constant { value } if axis == 0 => [0.0, 0.0, 0.0, *value],
+        Field::Constant { .. } => [0.0; 4],
+        Field::Linear { value, gradient } => {
+            let [gx, gy, gz] = gradient.map(f64::from);
+            split(if axis == 0 {
+                (f64::from(*value) + gx * c) + gz * z
+            } else {
+                gy * c
+            })
+        }
+        Field::Image { width, .. } => {
+            let (i0, i1, t) = field.image_tap(c, axis).unwrap_or((0, 0, 0.0));
+            let stride = if axis == 0 { 1 } else { *width };
+            [(i0 * stride) as f32, (i1 * stride) as f32, t as f32, 0.0]
+        }
+    }
+}
+
+/// Words of one field's header in the pixel-parameter table of [`device_fields`].
+const FIELD_HEADER: usize = 4;
+/// Words of one column's or row's record in it.
+const FIELD_RECORD: usize = 4;
+
+/// The pixel-parameter table of an undisplaced tile whose profile fields vary, for
+/// `phasor.wgsl`'s `pixel_field` (a grid of columns `xs` and rows `ys` on the plane `z`):
+///
+/// - per field (duty A, duty B, blend weight) a header `(kind, grey start, min, max − min)`,
+///   kind 0 absent (the uniform's constant), 1 a sum of a column's and a row's term, 2 an image;
+/// - per field and column `(i0, i1, t, ·)` (an image) or `(·, ·, lo, hi)` (a linear field),
+///   then per field and row `(j0·w, j1·w, t, ·)` or `(·, ·, lo, hi)`.
+///
+/// An image field's value is the bilinear interpolation of its grey samples (at its start
+/// in the profile data) between the taps the CPU interpolates (`Field::image_tap`), mapped to
+/// `min + g·(max − min)`, in f32 where the CPU computes in f64. A linear field's is the sum
+/// of a column's term `value + g_x·x + g_z·z` and a row's `g_y·y`, each two f32 ([`split`])
+/// added as two-float numbers, so within an ulp of the CPU's f64 value rounded (a constant's
+/// column term is its value, its row term 0). Either is then clamped to `[0, 1]`. The
+/// cross-check bounds the difference (`spectex_crosscheck::tolerance::phasor`).
+fn device_fields(
+    fields: [&Option<Field>; 3],
+    grey_starts: [u32; 3],
+    xs: &[f64],
+    ys: &[f64],
+    z: f64,
+) -> Vec<f32> {
+    let (w, h) = (xs.len(), ys.len());
+    let mut table = vec![0.0f32; 3 * (FIELD_HEADER + FIELD_RECORD * (w + h))];
+    let (columns, rows) = (3 * FIELD_HEADER, 3 * (FIELD_HEADER + FIELD_RECORD * w));
+    for (f, field) in fields.into_iter().enumerate() {
+        let Some(field) = field else { continue };
+        let header = &mut table[FIELD_HEADER * f..FIELD_HEADER * (f + 1)];
+        header[0] = 1.0;
+        if let Field::Image { min, max, .. } = field {
+            let span = (f64::from(*max) - f64::from(*min)) as f32;
+            header.copy_from_slice(&[2.0, grey_starts[f] as f32, *min, span]);
+        }
+        for (i, &x) in xs.iter().enumerate() {
+            let at = columns + FIELD_RECORD * (f * w + i);
+            table[at..at + FIELD_RECORD].copy_from_slice(&field_record(field, x, 0, z));
+        }
+        for (j, &y) in ys.iter().enumerate() {
+            let at = rows + FIELD_RECORD * (f * h + j);
+            table[at..at + FIELD_RECORD].copy_from_slice(&field_record(field, y, 1, z));
+        }
+    }
+    table
 }
 
 // ---------------------------------------------------------------------------------------------

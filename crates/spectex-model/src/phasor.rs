@@ -115,6 +115,26 @@ impl Field {
         }
     }
 
+    /// An image field's taps along one axis (`axis` 0: columns at `x = c`, 1: rows at
+    /// `y = c`): the two samples [`at`](Self::at) interpolates between and its fraction, as
+    /// `(i0, i1, t)`; `None` for other fields or a position that is not finite (where `at`
+    /// reads sample 0). The axes are independent, so an evaluator on a grid of positions
+    /// locates each column and each row once and interpolates per pixel.
+    #[must_use]
+    pub fn image_tap(&self, c: f64, axis: usize) -> Option<(usize, usize, f64)> {
+        let Self::Image {
+            width,
+            height,
+            pixel_size,
+            ..
+        } = self
+        else {
+            return None;
+        };
+        let n = if axis == 0 { *width } else { *height };
+        tap(c, n, f64::from(*pixel_size)).map(|t| (t.i0, t.i1, t.t))
+    }
+
     /// The image field's gradient direction at `(x, y)` in radians (`atan2` of the grey level's
     /// central differences), or `None` for other fields or a flat spot.
     #[must_use]

@@ -15,14 +15,74 @@
 //!
 //! The kernels themselves (positions, directions, frequencies, phase offsets) are drawn by the
 //! same host code for both evaluators (`spectex_model::phasor_kernels`), so only the per-pixel
-//! f32 arithmetic can differ.
+//! f32 arithmetic can differ, and the profile's varying fields (duty cycles, blend weight),
+//! which the device reads per pixel in f32 ([`device_field_error`]): a duty cycle moves a
+//! square's jump, which is then not located; the weight adds [`weight_slack`] to the bound.
 
-use spectex_model::{Field, Model, PHASOR_TRUNCATION, PhasorNoise, PhasorOutput, Profile};
+use spectex_model::{
+    Field, MAX_POSITION, Model, PHASOR_TRUNCATION, PhasorNoise, PhasorOutput, Profile,
+};
 
 use super::{
     COS_ABS_ERROR, CheckKind, EXP_REL_ERROR, F32_UNIT_ROUNDOFF, PHASE_ROUNDINGS, Regularity,
     SUMMATION_ROUNDINGS, Tolerance, gaussian_slope, impulse_count,
 };
+
+/// Bound on `|device − CPU|` of a profile field read per pixel on the device (clamped to
+/// `[0, 1]`; spectex_gpu's `device_fields`), where the CPU evaluates it in f64 and rounds once:
+/// - a constant: exact;
+/// - a linear field: the column's and the row's f64 terms each split into two f32 and added as
+///   two-float numbers, rounded once: an ulp of the result (`2⁻²⁴` below 1), plus the split's
+///   and the low parts' roundings, `2⁻⁴⁴` of the terms' size (at most `|value| + |g|₁·2³⁰`,
+///   positions being below `MAX_POSITION`);
+/// - an image: the interpolation fraction rounded to f32 and the bilinear sum's six f32
+///   operations on samples in `[0, 1]` (`12·2⁻²⁴` in `g`, with the fractions' rounding), times
+///   the span `|max − min|`, and the map `min + g·span`'s two roundings and the CPU's own,
+///   `2·2⁻²⁴·max(1, |min|, |max|)`.
+#[must_use]
+pub fn device_field_error(field: &Field) -> f64 {
+    let u = F32_UNIT_ROUNDOFF;
+    match field {
+        Field::Constant { .. } => 0.0,
+        Field::Linear { value, gradient } => {
+            let terms = f64::from(value.abs())
+                + gradient.iter().map(|g| f64::from(g.abs())).sum::<f64>() * MAX_POSITION;
+            2.0 * u + terms * 2f64.powi(-44)
+        }
+        Field::Image { min, max, .. } => {
+            let (min, max) = (f64::from(*min), f64::from(*max));
+            u * (12.0 * (max - min).abs() + 2.0 * 1f64.max(min.abs()).max(max.abs()))
+        }
+    }
+}
+
+/// The largest magnitude of a profile leaf's value: 1 for the shapes, the samples' or the
+/// harmonics' sum otherwise.
+fn leaf_magnitude(profile: &Profile) -> f64 {
+    match profile {
+        Profile::Samples { values } => values
+            .iter()
+            .map(|v| f64::from(v.abs()))
+            .fold(1.0, f64::max),
+        Profile::Harmonics { terms } => terms.iter().map(|h| f64::from(h.weight.abs())).sum(),
+        Profile::Blend { a, b, .. } => leaf_magnitude(a).max(leaf_magnitude(b)),
+        _ => 1.0,
+    }
+}
+
+/// What a varying blend weight's device error adds to a profiled output's bound:
+/// `|amplitude|·δw·(|A| + |B|)`, `δw` its [`device_field_error`]; 0 otherwise.
+#[must_use]
+pub fn weight_slack(m: &PhasorNoise) -> f64 {
+    match (&m.profile, m.output) {
+        (Profile::Blend { a, b, weight }, PhasorOutput::Profiled) => {
+            f64::from(m.amplitude).abs()
+                * device_field_error(weight)
+                * (leaf_magnitude(a) + leaf_magnitude(b))
+        }
+        _ => 0.0,
+    }
+}
 
 /// Absolute error of `atan2_turns` on either side, turns (5e-8 measured bound, spectex-model).
 pub const ATAN_ERROR: f64 = 5e-8;
@@ -354,7 +414,15 @@ impl CheckKind for PhasorNoise {
         renders: &[(Vec<f32>, Vec<f32>)],
         footprint: Option<f64>,
     ) -> Option<Vec<String>> {
-        Some(judge_pixels(self, complex_bound(self), renders, footprint))
+        let (e, slack) = (complex_bound(self), weight_slack(self));
+        Some(judge_pixels_at(
+            self,
+            &|_| e,
+            &|_| slack,
+            &|_| None,
+            renders,
+            footprint,
+        ))
     }
 }
 

@@ -8,6 +8,7 @@ mod common;
 mod export;
 mod islamic;
 mod models;
+mod phasor_fields;
 mod simulations;
 mod subdivision;
 mod texture_fixtures;
