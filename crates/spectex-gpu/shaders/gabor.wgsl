@@ -61,7 +61,9 @@ struct GaborComponent {
     fx: f32,
     fy: f32,
     cumulative: f32,
-    _pad: u32,
+    /// Where `pick_component` starts for u in [k/n, (k + 1)/n): the number of cumulative
+    /// entries ≤ k/n, at most n − 1.
+    guide: u32,
 }
 
 @group(0) @binding(0) var<uniform> params: GaborParams;
@@ -101,19 +103,25 @@ fn poisson_count(prng: ptr<function, Prng>) -> u32 {
 }
 
 /// The component u picks: the number of cumulative entries ≤ u, at most n − 1 (CPU:
-/// spectex_model::pick_component).
+/// spectex_model::pick_component). From the guide of u's bucket, up while the entry is ≤ u,
+/// then down while the one before is > u: the count from any start (the entries do not
+/// decrease), in a step or two from the guide's, where a binary search takes log₂ n.
 fn pick_component(u: f32) -> u32 {
-    var lo = 0u;
-    var hi = params.components - 1u;
-    while (lo < hi) {
-        let mid = (lo + hi) / 2u;
-        if (components[mid].cumulative <= u) {
-            lo = mid + 1u;
-        } else {
-            hi = mid;
+    let last = params.components - 1u;
+    var i = components[min(u32(u * f32(params.components)), last)].guide;
+    loop {
+        if (i >= last || components[i].cumulative > u) {
+            break;
         }
+        i += 1u;
     }
-    return lo;
+    loop {
+        if (i == 0u || components[i - 1u].cumulative <= u) {
+            break;
+        }
+        i -= 1u;
+    }
+    return i;
 }
 
 /// One impulse's contribution at d_x = uxs − ox; 0 beyond the radius.

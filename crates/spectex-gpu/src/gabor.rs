@@ -66,7 +66,9 @@ wgsl_struct! {
         fy: f32,
         /// `C_k` of `spectex_model::cumulative_weights`.
         cumulative: f32,
-        _pad: u32,
+        /// Where `pick_component` starts for a uniform in `[k/n, (k + 1)/n)` (`n` components):
+        /// the number of `C_i ≤ k/n`, at most `n − 1` (a guide table, Chen and Asau 1974).
+        guide: u32,
     }
 }
 
@@ -117,14 +119,20 @@ pub(crate) fn pack(model: &GaborNoise, period: Option<Period>) -> GaborKernel {
             weights,
         } => {
             let cumulative = spectex_model::cumulative_weights(weights);
+            let n = cumulative.len();
+            let guide = |k: usize| {
+                let below = cumulative.partition_point(|&c| f64::from(c) <= k as f64 / n as f64);
+                below.min(n - 1) as u32
+            };
             components = frequencies
                 .iter()
-                .zip(cumulative)
-                .map(|(f, cumulative)| GaborComponent {
+                .zip(&cumulative)
+                .enumerate()
+                .map(|(k, (f, &cumulative))| GaborComponent {
                     fx: (f64::from(f[0]) * radius) as f32,
                     fy: (f64::from(f[1]) * radius) as f32,
                     cumulative,
-                    _pad: 0,
+                    guide: guide(k),
                 })
                 .collect();
             (2u32, 0.0, 0.0)

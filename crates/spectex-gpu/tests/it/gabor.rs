@@ -69,6 +69,32 @@ fn models() -> Vec<(&'static str, GaborNoise)> {
                 },
             ),
         ),
+        (
+            // `pick_component` from its guide table: uneven weights over 61 components, with
+            // runs of zero weights (equal cumulative entries) and a heavy last one.
+            "spectrum, 61 components",
+            model(
+                10,
+                24.0,
+                0.06,
+                0.0,
+                Orientation::Spectrum {
+                    frequencies: (0..61)
+                        .map(|k| {
+                            let a = k as f32 * 0.37;
+                            [0.2 * a.cos(), 0.2 * a.sin()]
+                        })
+                        .collect(),
+                    weights: (0..61)
+                        .map(|k| match k % 7 {
+                            0..=2 => 0.0,
+                            _ if k == 60 => 9.0,
+                            r => r as f32 * 0.3,
+                        })
+                        .collect(),
+                },
+            ),
+        ),
     ]
 }
 
