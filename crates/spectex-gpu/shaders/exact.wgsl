@@ -16,6 +16,14 @@ fn exact_is_nan(a: u32) -> bool {
     return (a & 0x7fffffffu) > 0x7f800000u;
 }
 
+fn exact_is_inf(a: u32) -> bool {
+    return (a & 0x7fffffffu) == 0x7f800000u;
+}
+
+fn exact_is_zero(a: u32) -> bool {
+    return (a & 0x7fffffffu) == 0u;
+}
+
 /// `a >> dist`, with a 1 in bit 0 if any bit shifted out was 1 ("jamming").
 fn exact_shift_right_jam(a: u32, dist: u32) -> u32 {
     if (dist == 0u) {
@@ -240,9 +248,9 @@ fn exact_mul(x: f32, y: f32) -> f32 {
         return bitcast<f32>(EXACT_NAN);
     }
     let sign = (a ^ b) & 0x80000000u;
-    let inf_a = (a & 0x7fffffffu) == 0x7f800000u;
-    let inf_b = (b & 0x7fffffffu) == 0x7f800000u;
-    let zero = (a & 0x7fffffffu) == 0u || (b & 0x7fffffffu) == 0u;
+    let inf_a = exact_is_inf(a);
+    let inf_b = exact_is_inf(b);
+    let zero = exact_is_zero(a) || exact_is_zero(b);
     if (inf_a || inf_b) {
         // Infinity times zero is invalid, times anything else infinite.
         return bitcast<f32>(select(sign | 0x7f800000u, EXACT_NAN, zero));
@@ -270,10 +278,10 @@ fn exact_div(x: f32, y: f32) -> f32 {
         return bitcast<f32>(EXACT_NAN);
     }
     let sign = (a ^ b) & 0x80000000u;
-    let inf_a = (a & 0x7fffffffu) == 0x7f800000u;
-    let inf_b = (b & 0x7fffffffu) == 0x7f800000u;
-    let zero_a = (a & 0x7fffffffu) == 0u;
-    let zero_b = (b & 0x7fffffffu) == 0u;
+    let inf_a = exact_is_inf(a);
+    let inf_b = exact_is_inf(b);
+    let zero_a = exact_is_zero(a);
+    let zero_b = exact_is_zero(b);
     // ∞/∞ and 0/0 are invalid; ∞/y and x/0 infinite; x/∞ and 0/y zero.
     if ((inf_a && inf_b) || (zero_a && zero_b)) {
         return bitcast<f32>(EXACT_NAN);

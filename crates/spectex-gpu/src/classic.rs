@@ -393,13 +393,9 @@ impl ExportKind for ClassicNoise {
             "/// 1: every octave's lattices are the previous octave's halved exactly (split once).\n\
              const classic_export_halving: u32 = {halving}u;\n"
         ))
-        .with_substitutions(vec![(
-            "CLASSIC_EXPORT_OCTAVES",
-            (0..octaves.len())
-                .map(|o| format!("classic_export_octave({o}u, at, &sx, &sy, &acc, &previous);"))
-                .collect::<Vec<_>>()
-                .join("\n    "),
-        )]))
+        .with_unrolled("CLASSIC_EXPORT_OCTAVES", octaves.len(), |o| {
+            format!("classic_export_octave({o}u, at, &sx, &sy, &acc, &previous);")
+        }))
     }
 }
 

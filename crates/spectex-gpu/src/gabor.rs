@@ -67,7 +67,7 @@ wgsl_struct! {
         /// `C_k` of `spectex_model::cumulative_weights`.
         cumulative: f32,
         /// Where `pick_component` starts for a uniform in `[k/n, (k + 1)/n)` (`n` components):
-        /// the number of `C_i ≤ k/n`, at most `n − 1` (a guide table, Chen and Asau 1974).
+        /// `spectex_model::pick_component` of `k/n` (a guide table, Chen and Asau 1974).
         guide: u32,
     }
 }
@@ -119,11 +119,10 @@ pub(crate) fn pack(model: &GaborNoise, period: Option<Period>) -> GaborKernel {
             weights,
         } => {
             let cumulative = spectex_model::cumulative_weights(weights);
-            let n = cumulative.len();
-            let guide = |k: usize| {
-                let below = cumulative.partition_point(|&c| f64::from(c) <= k as f64 / n as f64);
-                below.min(n - 1) as u32
-            };
+            // The CPU's pick at each bucket's lower edge (any start gives the shader the same
+            // pick; this one is a step or two from it).
+            let n = cumulative.len() as f32;
+            let guide = |k: usize| spectex_model::pick_component(&cumulative, k as f32 / n) as u32;
             components = frequencies
                 .iter()
                 .zip(&cumulative)

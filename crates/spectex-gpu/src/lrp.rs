@@ -278,12 +278,10 @@ impl ExportKind for LrpNoise {
         // table bounds constants even when the frequencies go to a buffer: lrp-gravel's export
         // (4 strata, J = 3) ran in half the time on lavapipe (27 → 13 calibration cosines an
         // evaluation, `cargo bench -p spectex-crosscheck --bench export`).
-        let strata = (0..kernel.deltas.len())
-            .map(|s| format!("total += lrp_export_stratum(at.n, at.u, {s}u);"))
-            .collect::<Vec<_>>()
-            .join("\n    ");
         Ok(ExportParts::of(&kernel, &tables, lattices, "lrp")?
-            .with_substitutions(vec![("LRP_EXPORT_STRATA", strata)])
+            .with_unrolled("LRP_EXPORT_STRATA", kernel.deltas.len(), |s| {
+                format!("total += lrp_export_stratum(at.n, at.u, {s}u);")
+            })
             .with_constant_tables(&["strata", "tables"]))
     }
 }
@@ -294,6 +292,37 @@ impl ExportKind for LrpNoise {
 pub mod tests {
     use super::*;
     use crate::layout::check::assert_matches_wgsl;
+
+    /// A binding kept constant that the shader does not declare is an error, not a silent
+    /// no-op (`ExportParts::with_constant_tables`).
+    pub fn an_unknown_constant_table_is_refused() {
+        use crate::export::{ExportOptions, TableStorage, emit};
+        use spectex_model::Stratum;
+        let m = LrpNoise {
+            seed: 3,
+            mean: 0.5,
+            strata: vec![Stratum {
+                window_width: 4.0,
+                amplitude: 1.0,
+                sub_strata: vec![vec![[0.1, 0.2], [0.3, 0.0]]],
+            }],
+        };
+        let model = spectex_model::Model::Lrp(m.clone());
+        let options = ExportOptions {
+            tables: TableStorage::Buffer {
+                group: 3,
+                binding: 100,
+            },
+            ..ExportOptions::default()
+        };
+        let node = m.export_parts(0.0).unwrap();
+        assert!(emit(&model, &node, &options).is_ok());
+        let wrong = node.with_constant_tables(&["strata", "no_such_table"]);
+        match emit(&model, &wrong, &options) {
+            Err(GpuError::Validation(why)) => assert!(why.contains("no_such_table"), "{why}"),
+            other => panic!("{other:?}"),
+        }
+    }
 
     pub fn records_match_the_wgsl() {
         assert_matches_wgsl::<LrpParams>("lrp", "LrpParams");

@@ -225,6 +225,17 @@ impl Emitter<'_> {
             })
             .collect();
         globals.sort_by_key(|(b, _)| *b);
+        // A name kept constant that the shader does not bind would silently keep nothing.
+        if let Some(unknown) = parts.constant_tables.iter().find(|name| {
+            !globals
+                .iter()
+                .any(|(_, v)| v.name.as_deref() == Some(**name))
+        }) {
+            return Err(GpuError::Validation(format!(
+                "{}.wgsl: no binding `{unknown}` to keep constant",
+                parts.shader
+            )));
+        }
         let mut names = Vec::new();
         // Tables read from the storage buffer through accessor functions.
         let mut accessors = HashSet::new();

@@ -214,6 +214,20 @@ impl ExportNode {
         self
     }
 
+    /// Replaces the glue's placeholder `name` with `count` statements, `statement(i)` for the
+    /// literal index `i` in order: a loop written out, so every table the loop's body reads at
+    /// the index is read at a constant one, which a driver folds (classic's octaves, LRP's
+    /// strata).
+    pub(crate) fn with_unrolled(
+        self,
+        name: &'static str,
+        count: usize,
+        statement: impl Fn(usize) -> String,
+    ) -> Self {
+        let body = (0..count).map(statement).collect::<Vec<_>>().join("\n    ");
+        self.with_substitutions(vec![(name, body)])
+    }
+
     /// Keeps these bindings (a leaf's) as constants in a storage-buffer export too
     /// ([`ExportParts::constant_tables`]).
     pub(crate) fn with_constant_tables(mut self, names: &'static [&'static str]) -> Self {
@@ -342,8 +356,18 @@ pub fn export(model: &Model, options: &ExportOptions) -> Result<Export, GpuError
             range: "finite, |z| ≤ 2³⁰ pixels",
         });
     }
-    let node = parts(model, z)?;
-    let needed = node_bytes(&node);
+    emit(model, &parts(model, z)?, options)
+}
+
+/// The module of `model` from its export parts `node` (what [`export`] does after taking
+/// them).
+pub(crate) fn emit(
+    model: &Model,
+    node: &ExportNode,
+    options: &ExportOptions,
+) -> Result<Export, GpuError> {
+    let z = options.z;
+    let needed = node_bytes(node);
     match options.tables {
         TableStorage::Constants if needed > MAX_TABLE_BYTES => {
             return Err(GpuError::LimitsExceeded {
@@ -383,7 +407,7 @@ pub fn export(model: &Model, options: &ExportOptions) -> Result<Export, GpuError
         _ => "vec3<f32>",
     };
     let mut chunks = String::new();
-    let top = emitter.node(&node, ret, &mut chunks)?;
+    let top = emitter.node(node, ret, &mut chunks)?;
     let mut out = header(model, &emitter, ret, z);
     out.push_str("\n// ---- spectex: common functions (common.wgsl), prefix spectex_ ----\n");
     out.push_str(&rename(&common_body, &common_map, &HashSet::new()));
