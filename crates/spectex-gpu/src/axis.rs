@@ -6,9 +6,9 @@
 use spectex_model::Period;
 use spectex_model::period::reduce;
 
-use crate::GpuWindow;
-use crate::kernel::Table;
+use crate::kernel::{Table, TileDisplacement};
 use crate::layout::wgsl_struct;
+use crate::{GpuError, GpuWindow};
 
 /// Column positions of a window for the axis tables, reduced modulo the period's width for a periodic model
 /// ([`spectex_model::period::reduce`], exact: the CPU's reduced positions).
@@ -97,23 +97,32 @@ impl CellAxes {
     }
 
     /// The lowest and highest cell along x and y (`None` where there is none) of the pixels of
-    /// `tile` (the tile these axes were made for): of the valid columns and rows, or, with a
-    /// displacement (pixels, `(dx, dy)` per pixel, row-major), of every pixel's reduced position
-    /// plus its displacement, summed and located in f64 as the CPU locates it.
+    /// `tile` (the tile these axes were made for), located in f64 as the CPU locates them:
+    /// - undisplaced: of the valid columns and rows;
+    /// - with each pixel's displacement: of every pixel's reduced position plus its
+    ///   displacement;
+    /// - with only the displacement's range: of the lowest reduced position plus the lowest
+    ///   displacement and the highest plus the highest, a box that holds every displaced
+    ///   pixel's cell (locating is monotonic), at most a range's width wider than that of the
+    ///   pixels themselves.
+    ///
+    /// # Errors
+    /// [`GpuError::Window`] where a range's extreme lies beyond the cells' range (the warp's
+    /// window check keeps every displaced position within it).
     pub(crate) fn cell_range(
         &self,
         tile: &GpuWindow,
-        displacement: Option<&[f32]>,
-    ) -> [Option<(i32, i32)>; 2] {
+        displacement: TileDisplacement<'_>,
+    ) -> Result<[Option<(i32, i32)>; 2], GpuError> {
         let mut range: [Option<(i32, i32)>; 2] = [None, None];
         let mut widen = |axis: usize, c: i32| {
             let (lo, hi) = range[axis].unwrap_or((c, c));
             range[axis] = Some((lo.min(c), hi.max(c)));
         };
+        let column_x = periodic_columns(tile, self.period);
+        let row_y = periodic_rows(tile, self.period);
         match displacement {
-            Some(d) => {
-                let column_x = periodic_columns(tile, self.period);
-                let row_y = periodic_rows(tile, self.period);
+            TileDisplacement::Pixels(d) => {
                 for j in 0..tile.height {
                     for i in 0..tile.width {
                         let k = 2 * (j * tile.width + i);
@@ -129,7 +138,33 @@ impl CellAxes {
                     }
                 }
             }
-            None => {
+            TileDisplacement::Within(within) => {
+                let extremes = |n: usize, at: &dyn Fn(usize) -> f64| {
+                    (0..n)
+                        .map(at)
+                        .fold([f64::INFINITY, f64::NEG_INFINITY], |[lo, hi], v| {
+                            [lo.min(v), hi.max(v)]
+                        })
+                };
+                let axes = [
+                    (extremes(tile.width, &column_x), within.x, "displaced x"),
+                    (extremes(tile.height, &row_y), within.y, "displaced y"),
+                ];
+                for (axis, ([lo, hi], [d_lo, d_hi], name)) in axes.into_iter().enumerate() {
+                    for v in [lo + f64::from(d_lo), hi + f64::from(d_hi)] {
+                        let (c, _) = spectex_model::grid::locate_cell(v, self.side).ok_or({
+                            GpuError::Window {
+                                parameter: name,
+                                value: v,
+                                range: "|position / cell side| < 2147483646 \
+                                        (spectex_model::grid::MAX_CELL)",
+                            }
+                        })?;
+                        widen(axis, c);
+                    }
+                }
+            }
+            TileDisplacement::None => {
                 for (axis, records) in [&self.columns, &self.rows].into_iter().enumerate() {
                     for r in records.iter().filter(|r| r.valid == 1) {
                         widen(axis, r.cell);
@@ -137,7 +172,7 @@ impl CellAxes {
                 }
             }
         }
-        range
+        Ok(range)
     }
 }
 
@@ -162,11 +197,43 @@ pub mod tests {
     pub fn cell_range_covers_the_pixels_and_their_displacements() {
         let tile = GpuWindow::new(2, 1);
         let axes = CellAxes::new(2.0, &tile, None);
-        assert_eq!(axes.cell_range(&tile, None), [Some((0, 0)), Some((0, 0))]);
+        let none = TileDisplacement::None;
+        assert_eq!(
+            axes.cell_range(&tile, none).unwrap(),
+            [Some((0, 0)), Some((0, 0))]
+        );
         let d = [3.0, 0.0, -5.0, 1.0];
         assert_eq!(
-            axes.cell_range(&tile, Some(&d)),
+            axes.cell_range(&tile, TileDisplacement::Pixels(&d))
+                .unwrap(),
             [Some((-2, 1)), Some((0, 0))]
+        );
+    }
+
+    /// The same tile with only the range of those displacements, dx in [−5, 3] and dy in
+    /// [0, 1]: the box runs from the lowest column plus the lowest dx, 0 − 5 = −5 (cell −3),
+    /// to the highest plus the highest, 1 + 3 = 4 (cell 2), and from y = 0 (cell 0) to 1 + 0
+    /// (cell 0); it holds the per-pixel box above. A range reaching past the cells' range is
+    /// refused, naming the axis.
+    pub fn cell_range_of_a_displacement_range_holds_every_pixel() {
+        let tile = GpuWindow::new(2, 1);
+        let axes = CellAxes::new(2.0, &tile, None);
+        let within = |x, y| TileDisplacement::Within(crate::kernel::DisplacementRange { x, y });
+        assert_eq!(
+            axes.cell_range(&tile, within([-5.0, 3.0], [0.0, 1.0]))
+                .unwrap(),
+            [Some((-3, 2)), Some((0, 0))]
+        );
+        let far = axes.cell_range(&tile, within([0.0, 0.0], [0.0, 1e10]));
+        assert!(
+            matches!(
+                far,
+                Err(GpuError::Window {
+                    parameter: "displaced y",
+                    ..
+                })
+            ),
+            "{far:?}"
         );
     }
 

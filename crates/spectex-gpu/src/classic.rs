@@ -15,7 +15,7 @@ use spectex_model::random::layer_key;
 
 use crate::axis::{periodic_columns, periodic_rows};
 use crate::export::{ExportKind, ExportNode, ExportParts};
-use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
+use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileDisplacement, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
 use crate::shaders::{ShaderFile, kernel_and_glue};
@@ -311,7 +311,7 @@ impl ShaderKernel for ClassicKernel {
     fn tile_tables(
         &self,
         tile: &GpuWindow,
-        _displacement: Option<&[f32]>,
+        _displacement: TileDisplacement<'_>,
         _limit: u64,
     ) -> Result<TileTables, GpuError> {
         // The CPU's (scale, constant) per octave, from the same function; an unused pair when

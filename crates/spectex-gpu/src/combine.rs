@@ -203,7 +203,7 @@ impl GpuKernel for CombineKernel {
         // The timer starts with the first operand's dispatch where it has one (else with the
         // combination) and ends with the combination.
         let (mut first_timer, pass_timer) = match operands.first() {
-            Some(PreparedTile::Values(_)) | None => (None, timer),
+            Some(PreparedTile::Values(_) | PreparedTile::OnDevice(_)) | None => (None, timer),
             Some(_) => split_timer(timer),
         };
         let mut at = 0u64;

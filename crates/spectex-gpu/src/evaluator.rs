@@ -439,6 +439,10 @@ impl GpuEvaluator {
             PreparedTile::Chain { operands, base } => self
                 .kernel
                 .encode_chain(tile, operands, base, encoder, output, timer),
+            PreparedTile::OnDevice(values) => {
+                encoder.copy_buffer_to_buffer(&values, 0, output, 0, values.size());
+                Ok(())
+            }
             PreparedTile::Values(values) => {
                 let bytes: &[u8] = bytemuck::cast_slice(&values);
                 let upload =
@@ -450,17 +454,20 @@ impl GpuEvaluator {
         }
     }
 
-    /// Whether this model can be displaced by a displacement that stays on the device.
-    pub(crate) fn displaced_on_device(&self) -> bool {
-        self.kernel.displaced_on_device()
+    /// What this model's host part reads of a displacement: whether, and how, it can be
+    /// displaced by a displacement that stays on the device.
+    pub(crate) fn displacement_read(&self) -> crate::kernel::DisplacementRead {
+        self.kernel.displacement_read()
     }
 
-    /// The host part of `tile`'s dispatch displaced on the device.
+    /// The host part of `tile`'s dispatch displaced on the device, by a displacement within
+    /// `range` where the model reads its range.
     pub(crate) fn prepare_device_displaced(
         &self,
         tile: &GpuWindow,
+        range: Option<crate::kernel::DisplacementRange>,
     ) -> Result<crate::kernel::TileTables, GpuError> {
-        self.kernel.prepare_device_displaced(tile)
+        self.kernel.prepare_device_displaced(tile, range)
     }
 
     /// Records `tile`'s dispatch displaced by `displacement`, a device buffer of `(dx, dy)`

@@ -179,20 +179,28 @@ pub(crate) trait GpuKernel: fmt::Debug + Send + Sync {
         ))
     }
 
-    /// Whether the kernel can be displaced by a displacement that stays on the device
-    /// ([`encode_device_displaced`](Self::encode_device_displaced)): its host part does not
-    /// read the displacement (a phasor's cell box and a Voronoi search do).
-    fn displaced_on_device(&self) -> bool {
-        false
+    /// What the kernel's host part reads of a displacement, so whether a warp over it may keep
+    /// the displacement on the device ([`encode_device_displaced`](Self::encode_device_displaced)):
+    /// not at all, its range only (a phasor's cell box, a Voronoi search), or every pixel's
+    /// (a composite kind, a texture's passes, a phasor's varying fields): then the host
+    /// composes.
+    fn displacement_read(&self) -> DisplacementRead {
+        DisplacementRead::Pixels
     }
 
-    /// The host part of `tile` for [`encode_device_displaced`](Self::encode_device_displaced).
+    /// The host part of `tile` for [`encode_device_displaced`](Self::encode_device_displaced),
+    /// given the displacement's `range` (read back from the device) where the kernel reads it.
     ///
     /// # Errors
     /// As [`render_tile`](Self::render_tile); [`GpuError::Validation`] where
-    /// [`displaced_on_device`](Self::displaced_on_device) is false.
-    fn prepare_device_displaced(&self, tile: &GpuWindow) -> Result<TileTables, GpuError> {
-        let _ = tile;
+    /// [`displacement_read`](Self::displacement_read) is [`DisplacementRead::Pixels`], or is
+    /// [`DisplacementRead::Range`] and `range` is `None`.
+    fn prepare_device_displaced(
+        &self,
+        tile: &GpuWindow,
+        range: Option<DisplacementRange>,
+    ) -> Result<TileTables, GpuError> {
+        let _ = (tile, range);
         Err(GpuError::Validation(
             "this kernel is not displaced on the device".to_owned(),
         ))
@@ -261,9 +269,13 @@ pub(crate) trait ShaderKernel: fmt::Debug + Send + Sync + 'static {
     const SHADER: &'static str;
     /// Its compute entry point.
     const ENTRY_POINT: &'static str;
-    /// Whether [`tile_tables`](Self::tile_tables) reads the displacement (a phasor's cell box,
-    /// a Voronoi search, a texture's passes): such a kind is displaced from the host only.
-    const TABLES_READ_DISPLACEMENT: bool = false;
+    /// What [`tile_tables`](Self::tile_tables) reads of a displacement: nothing (the shader
+    /// moves each pixel), its range (a phasor's cell box, a Voronoi search: a warp then keeps
+    /// the displacement on the device and reads back 16 bytes), or every pixel's (a texture's
+    /// passes, a phasor's varying fields: displaced from the host only).
+    fn displacement_read(&self) -> DisplacementRead {
+        DisplacementRead::Nothing
+    }
 
     /// Values per pixel in the output, interleaved.
     fn output_channels(&self) -> usize {
@@ -316,8 +328,9 @@ pub(crate) trait ShaderKernel: fmt::Debug + Send + Sync + 'static {
         Ok(size)
     }
 
-    /// The uniform and the per-tile tables of `tile` (displaced by `displacement` when given,
-    /// which a kind drawing cells on the host must cover); `limit` bounds one storage buffer.
+    /// The uniform and the per-tile tables of `tile` (displaced by `displacement`, which a kind
+    /// drawing cells on the host must cover; a kind is given no more than its
+    /// [`displacement_read`](Self::displacement_read)); `limit` bounds one storage buffer.
     ///
     /// # Errors
     /// [`GpuError::LimitsExceeded`] for a table over `limit`; a kind running passes of its own
@@ -325,14 +338,16 @@ pub(crate) trait ShaderKernel: fmt::Debug + Send + Sync + 'static {
     fn tile_tables(
         &self,
         tile: &GpuWindow,
-        displacement: Option<&[f32]>,
+        displacement: TileDisplacement<'_>,
         limit: u64,
     ) -> Result<TileTables, GpuError>;
 
     /// Records the dispatches of other kernels that fill the tile's table left to the device
     /// ([`Table::filled_on_device`]) before the kind's own: `passes`, the host parts
-    /// [`tile_tables`](Self::tile_tables) prepared for them, write into `target`; `timer`
-    /// writes the first pass's start. Called for every tile whose tables leave one to the device.
+    /// [`tile_tables`](Self::tile_tables) prepared for them, write into `target`, displaced by
+    /// `displacement` where given (the device's displacement of the kind's own dispatch, a
+    /// warp's); `timer` writes the first pass's start. Called for every tile whose tables leave
+    /// one to the device.
     ///
     /// # Errors
     /// [`GpuError::Validation`] for a kind without passes of its own.
@@ -341,10 +356,10 @@ pub(crate) trait ShaderKernel: fmt::Debug + Send + Sync + 'static {
         tile: &GpuWindow,
         passes: Vec<PreparedTile>,
         encoder: &mut wgpu::CommandEncoder,
-        target: &wgpu::Buffer,
+        (target, displacement): (&wgpu::Buffer, Option<&wgpu::Buffer>),
         timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) -> Result<(), GpuError> {
-        let _ = (tile, passes, encoder, target, timer);
+        let _ = (tile, passes, encoder, target, displacement, timer);
         Err(GpuError::Validation(
             "a kernel without passes of its own was given passes to record".to_owned(),
         ))
@@ -370,6 +385,52 @@ pub(crate) fn composite_tile_pixels(on_device: bool) -> Option<usize> {
     })
 }
 
+/// What a kernel's host part reads of a displacement of its positions
+/// ([`GpuKernel::displacement_read`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum DisplacementRead {
+    /// Nothing: the shader moves each pixel by its displacement.
+    Nothing,
+    /// Its range: the cells the displaced pixels reach.
+    Range,
+    /// Every pixel's.
+    Pixels,
+}
+
+/// The range of a tile's displacements (pixels): `dx` in `[x[0], x[1]]`, `dy` in
+/// `[y[0], y[1]]`, the exact extremes of the device's `f32` values.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct DisplacementRange {
+    pub x: [f32; 2],
+    pub y: [f32; 2],
+}
+
+/// What a tile's host part is told of a displacement of its positions (a warp's base).
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum TileDisplacement<'a> {
+    /// Not displaced.
+    None,
+    /// Each pixel's `(dx, dy)` (pixels, interleaved, row-major over the tile).
+    Pixels(&'a [f32]),
+    /// Only their range: the displacement itself stays on the device.
+    Within(DisplacementRange),
+}
+
+impl<'a> TileDisplacement<'a> {
+    /// Whether the positions are displaced at all.
+    pub(crate) fn is_some(&self) -> bool {
+        !matches!(self, Self::None)
+    }
+
+    /// Each pixel's displacement, where the host has it.
+    pub(crate) fn pixels(&self) -> Option<&'a [f32]> {
+        match *self {
+            Self::Pixels(d) => Some(d),
+            _ => None,
+        }
+    }
+}
+
 /// What [`GpuKernel::prepare_tile`] makes of a tile on the host.
 #[derive(Debug)]
 pub(crate) enum PreparedTile {
@@ -377,8 +438,12 @@ pub(crate) enum PreparedTile {
     Tables(TileTables),
     /// A composite kind's values (`f32`, row-major, channels interleaved).
     Values(Vec<f32>),
+    /// Values a worker's submission left on the device (`f32`, row-major, channels
+    /// interleaved): a warp's displacement, whose range the worker read back.
+    OnDevice(wgpu::Buffer),
     /// A composite kind's operands' host parts and its base's tables, recorded with its
-    /// composition on the device ([`GpuKernel::encode_chain`]): a warp's x and y, and its base.
+    /// composition on the device ([`GpuKernel::encode_chain`]): a warp's x and y (or its
+    /// displacement already on the device), and its base.
     Chain {
         operands: Vec<PreparedTile>,
         base: Option<TileTables>,

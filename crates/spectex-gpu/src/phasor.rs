@@ -34,7 +34,10 @@ use spectex_model::{Field, FieldGrid, ModelKind, Period, PhasorNoise, PhasorOutp
 
 use crate::axis::{CellAxes, CellAxis, periodic_columns, periodic_rows};
 use crate::export::{ExportKind, ExportNode, ExportParts, float};
-use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables, halve_tile_to_fit};
+use crate::kernel::{
+    DisplacementRead, GpuKernel, GpuKind, ShaderKernel, Table, TileDisplacement, TileTables,
+    halve_tile_to_fit,
+};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
 use crate::shaders::{ShaderFile, kernel_and_glue};
@@ -290,7 +293,6 @@ impl PhasorKernel {
 impl ShaderKernel for PhasorKernel {
     const SHADER: &'static str = "phasor";
     const ENTRY_POINT: &'static str = "phasor_main";
-    const TABLES_READ_DISPLACEMENT: bool = true;
 
     const SHAPE: &'static [&'static str] = &[
         "PHASOR_THREE_D",
@@ -300,6 +302,16 @@ impl ShaderKernel for PhasorKernel {
         "PHASOR_B_KIND",
         "PHASOR_BLEND",
     ];
+
+    /// The cell box reads a displacement's range; varying profile fields and a minified
+    /// tile's harmonic scale are read per displaced pixel on the host.
+    fn displacement_read(&self) -> DisplacementRead {
+        if self.per_pixel {
+            DisplacementRead::Pixels
+        } else {
+            DisplacementRead::Range
+        }
+    }
 
     /// Dimension, output, per-pixel parameters, profiles and blend.
     fn shape(&self) -> Vec<u32> {
@@ -344,16 +356,30 @@ impl ShaderKernel for PhasorKernel {
         }))
     }
 
-    /// Draws the tile's cell box and builds its tables. With a per-pixel `displacement`, the box
-    /// covers every displaced pixel's cells (one more cell on each side than the f64 cells, for
-    /// the shader's f32 relocation) and the profile parameters are read at the displaced
-    /// positions, as the CPU reads them.
+    /// Draws the tile's cell box and builds its tables. Displaced, the box covers every
+    /// displaced pixel's cells (one more cell on each side than the f64 cells, for the shader's
+    /// f32 relocation), from each pixel's displacement or from their range; with each pixel's,
+    /// the profile parameters are read at the displaced positions, as the CPU reads them.
+    ///
+    /// # Errors
+    /// Besides the tables' limits, [`GpuError::Validation`] for a displacement's range alone
+    /// where the tables need each pixel's ([`ShaderKernel::displacement_read`], a minified
+    /// tile's harmonic scale).
     fn tile_tables(
         &self,
         tile: &GpuWindow,
-        displacement: Option<&[f32]>,
+        displacement: TileDisplacement<'_>,
         limit: u64,
     ) -> Result<TileTables, GpuError> {
+        let per_pixel_needed = self.per_pixel || tile.footprint().is_some();
+        if per_pixel_needed && matches!(displacement, TileDisplacement::Within(_)) {
+            return Err(GpuError::Validation(
+                "phasor: varying fields or a minified tile need each pixel's displacement, \
+                 not its range"
+                    .to_owned(),
+            ));
+        }
+        let pixels = displacement.pixels();
         let side = self.side();
         let (width, height) = (tile.width, tile.height);
         // The pixels' positions, reduced modulo the period of a periodic model.
@@ -361,7 +387,7 @@ impl ShaderKernel for PhasorKernel {
         let row_y = periodic_rows(tile, self.period);
         let axes = CellAxes::new(side, tile, self.period);
         let displaced = |i: usize, j: usize| -> [f64; 2] {
-            match displacement {
+            match pixels {
                 Some(d) => {
                     let k = 2 * (j * width + i);
                     [
@@ -373,7 +399,7 @@ impl ShaderKernel for PhasorKernel {
             }
         };
         // The cell range of the pixels; of displaced ones widened by one cell (f32 relocation).
-        let [x_range, y_range] = axes.cell_range(tile, displacement).map(|r| {
+        let [x_range, y_range] = axes.cell_range(tile, displacement)?.map(|r| {
             let widen = i32::from(displacement.is_some());
             r.map(|(lo, hi)| (lo.saturating_sub(widen), hi.saturating_add(widen)))
         });
@@ -444,7 +470,7 @@ impl ShaderKernel for PhasorKernel {
         }
         let mut pixel_params: Vec<f32> = Vec::new();
         let fields = [&self.duty_a, &self.duty_b, &self.weight];
-        if self.per_pixel && displacement.is_none() {
+        if self.per_pixel && pixels.is_none() {
             // Undisplaced pixels lie on a grid: the fields are read per pixel on the device
             // from records per column and per row, O(width + height) here.
             let xs: Vec<f64> = (0..width).map(&column_x).collect();
@@ -463,7 +489,7 @@ impl ShaderKernel for PhasorKernel {
         }
         // A minified render's harmonic scale per pixel, `u = F(p)·s` rounded to f32 as the CPU
         // rounds it; an unused 0 when unfiltered.
-        let harmonic_scale: Vec<f32> = match (tile.footprint(), displacement) {
+        let harmonic_scale: Vec<f32> = match (tile.footprint(), pixels) {
             (Some(s), None) => {
                 let grid =
                     FieldGrid::new(&self.frequency, (0..width).map(&column_x).collect(), self.z);

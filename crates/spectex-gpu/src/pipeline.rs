@@ -10,7 +10,10 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, mpsc};
 
 use crate::cache::{CachedPipeline, LostFlag, PipelineCache, PipelineKey};
-use crate::kernel::{GpuKernel, PreparedTile, ShaderKernel, Table, TileTables, split_timer};
+use crate::kernel::{
+    DisplacementRange, DisplacementRead, GpuKernel, PreparedTile, ShaderKernel, Table,
+    TileDisplacement, TileTables, split_timer,
+};
 use crate::layout::wgsl_struct;
 use crate::{GpuContext, GpuError, GpuWindow, wgsl_source};
 
@@ -379,8 +382,12 @@ impl<K: ShaderKernel> Shaded<K> {
             } else {
                 split_timer(timer)
             };
+            let on_device = match displacement {
+                Displacement::Device(buffer) => Some(buffer),
+                Displacement::None | Displacement::Host(_) => None,
+            };
             self.kind
-                .encode_passes(tile, passes, encoder, target, start)?;
+                .encode_passes(tile, passes, encoder, (target, on_device), start)?;
             timer = end;
         }
         let mut entries: Vec<wgpu::BindGroupEntry<'_>> = std::iter::once(&uniform)
@@ -510,7 +517,7 @@ impl<K: ShaderKernel> GpuKernel for Shaded<K> {
 
     fn prepare_tile(&self, tile: &GpuWindow) -> Result<PreparedTile, GpuError> {
         self.kind
-            .tile_tables(tile, None, self.gpu.binding_limit())
+            .tile_tables(tile, TileDisplacement::None, self.gpu.binding_limit())
             .map(PreparedTile::Tables)
     }
 
@@ -525,18 +532,28 @@ impl<K: ShaderKernel> GpuKernel for Shaded<K> {
         self.record(tile, tables, Displacement::None, encoder, output, timer)
     }
 
-    fn displaced_on_device(&self) -> bool {
-        !K::TABLES_READ_DISPLACEMENT
+    fn displacement_read(&self) -> DisplacementRead {
+        self.kind.displacement_read()
     }
 
-    fn prepare_device_displaced(&self, tile: &GpuWindow) -> Result<TileTables, GpuError> {
-        if K::TABLES_READ_DISPLACEMENT {
-            return Err(GpuError::Validation(format!(
-                "{}: its tables read the displacement, which stays on the device",
-                K::SHADER
-            )));
-        }
-        self.kind.tile_tables(tile, None, self.gpu.binding_limit())
+    fn prepare_device_displaced(
+        &self,
+        tile: &GpuWindow,
+        range: Option<DisplacementRange>,
+    ) -> Result<TileTables, GpuError> {
+        let displacement = match (self.kind.displacement_read(), range) {
+            (DisplacementRead::Nothing, _) => TileDisplacement::None,
+            (DisplacementRead::Range, Some(range)) => TileDisplacement::Within(range),
+            (read, _) => {
+                return Err(GpuError::Validation(format!(
+                    "{}: its tables read the displacement ({read:?}), which stays on the \
+                     device without its range",
+                    K::SHADER
+                )));
+            }
+        };
+        self.kind
+            .tile_tables(tile, displacement, self.gpu.binding_limit())
     }
 
     fn encode_device_displaced(
@@ -591,9 +608,8 @@ impl<K: ShaderKernel> GpuKernel for Shaded<K> {
                 end_of_pass_write_index: Some(1),
             });
         // Built first: a texture runs its LRP passes here, each in its own error scope.
-        let tables = self
-            .kind
-            .tile_tables(tile, displacement, gpu.binding_limit())?;
+        let seen = displacement.map_or(TileDisplacement::None, TileDisplacement::Pixels);
+        let tables = self.kind.tile_tables(tile, seen, gpu.binding_limit())?;
         let displaced = displacement.map_or(Displacement::None, Displacement::Host);
         self.record(tile, tables, displaced, &mut encoder, &output, timer)?;
         encoder.copy_buffer_to_buffer(&output, 0, &readback, 0, output_bytes);

@@ -561,7 +561,7 @@ fn record_all(
                 label: Some("spectex render"),
             });
         let pair = 2 * slot_index as u32;
-        let direct = !matches!(tables, PreparedTile::Values(_));
+        let direct = !matches!(tables, PreparedTile::Values(_) | PreparedTile::OnDevice(_));
         let timer = ring
             .queries
             .as_ref()
@@ -577,6 +577,9 @@ fn record_all(
             PreparedTile::Chain { operands, base } => {
                 let output = &slot.values;
                 kernel.encode_chain(&tile.window, operands, base, &mut encoder, output, timer)?;
+            }
+            PreparedTile::OnDevice(values) => {
+                encoder.copy_buffer_to_buffer(&values, 0, &slot.values, 0, values.size());
             }
             PreparedTile::Values(host) => {
                 // A composite kind: its operands' passes ran (and were timed) on a worker; the

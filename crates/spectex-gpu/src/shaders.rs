@@ -83,7 +83,7 @@ pub static SHADERS: LazyLock<Vec<ShaderFile>> = LazyLock::new(|| {
             name: "compose",
             source: include_str!("../shaders/compose.wgsl"),
             needs_common: false,
-            entry_points: &["warp_displace"],
+            entry_points: &["warp_displace", "warp_displace_range"],
         },
         ShaderFile {
             name: "exact",

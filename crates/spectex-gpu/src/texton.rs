@@ -10,7 +10,7 @@ use spectex_model::{Period, TextonNoise};
 
 use crate::axis::{CellAxes, CellAxis};
 use crate::export::{ExportKind, ExportNode, ExportParts};
-use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
+use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileDisplacement, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
 use crate::shaders::{ShaderFile, kernel_and_glue};
@@ -175,7 +175,7 @@ impl ShaderKernel for TextonKernel {
     fn tile_tables(
         &self,
         tile: &GpuWindow,
-        _displacement: Option<&[f32]>,
+        _displacement: TileDisplacement<'_>,
         _limit: u64,
     ) -> Result<TileTables, GpuError> {
         let params = TextonParams {

@@ -17,7 +17,9 @@ use spectex_model::{LrpNoise, Model, Period, TextureModel};
 
 use crate::axis::{periodic_columns, periodic_rows};
 use crate::export::{ExportKind, ExportNode, ExportNodeOf, ExportParts, TextureExport};
-use crate::kernel::{GpuKernel, GpuKind, PreparedTile, ShaderKernel, Table, TileTables};
+use crate::kernel::{
+    GpuKernel, GpuKind, PreparedTile, ShaderKernel, Table, TileDisplacement, TileTables,
+};
 use crate::layout::wgsl_struct;
 use crate::pipeline::{Gpu, Shaded, binding_limit};
 use crate::shaders::{ShaderFile, kernel_and_glue};
@@ -299,8 +301,6 @@ impl TextureKernel {
 impl ShaderKernel for TextureKernel {
     const SHADER: &'static str = "texture";
     const ENTRY_POINT: &'static str = "texture_main";
-    const TABLES_READ_DISPLACEMENT: bool = true;
-
     fn output_channels(&self) -> usize {
         self.channels()
     }
@@ -337,12 +337,13 @@ impl ShaderKernel for TextureKernel {
     }
 
     /// The placement tables and the LRP passes' planes: undisplaced, the passes' host parts,
-    /// recorded on the device before the texture's dispatch ([`Self::encode_passes`]);
-    /// displaced by a warp's `displacement`, the planes rendered now.
+    /// recorded on the device before the texture's dispatch ([`Self::encode_passes`], displaced
+    /// there by a displacement on the device, so a warp keeps it there); displaced by each
+    /// pixel's displacement from the host, the planes rendered now.
     fn tile_tables(
         &self,
         tile: &GpuWindow,
-        displacement: Option<&[f32]>,
+        displacement: TileDisplacement<'_>,
         _limit: u64,
     ) -> Result<TileTables, GpuError> {
         let n = tile.width * tile.height;
@@ -350,7 +351,12 @@ impl ShaderKernel for TextureKernel {
         let planes = self.planes().count();
         let mut passes = Vec::new();
         let values = match displacement {
-            None => {
+            TileDisplacement::Within(_) => {
+                return Err(GpuError::Validation(
+                    "texture: its passes need each pixel's displacement, not its range".to_owned(),
+                ));
+            }
+            TileDisplacement::None => {
                 for plane in self.planes() {
                     if let Plane::Lrp(e) = plane {
                         passes.push(e.prepare_pass(tile)?);
@@ -358,13 +364,11 @@ impl ShaderKernel for TextureKernel {
                 }
                 Table::filled_on_device("texture values", 4 * (planes * n) as u64)
             }
-            Some(_) => {
+            TileDisplacement::Pixels(d) => {
                 let mut values: Vec<f32> = Vec::with_capacity(planes * n);
                 for plane in self.planes() {
                     match plane {
-                        Plane::Lrp(e) => {
-                            values.extend(e.render_tile_displaced(tile, displacement)?)
-                        }
+                        Plane::Lrp(e) => values.extend(e.render_tile_displaced(tile, Some(d))?),
                         Plane::Mean(mean) => values.resize(values.len() + n, mean),
                     }
                 }
@@ -432,7 +436,7 @@ impl ShaderKernel for TextureKernel {
         tile: &GpuWindow,
         passes: Vec<PreparedTile>,
         encoder: &mut wgpu::CommandEncoder,
-        target: &wgpu::Buffer,
+        (target, displacement): (&wgpu::Buffer, Option<&wgpu::Buffer>),
         mut timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) -> Result<(), GpuError> {
         let n = tile.width * tile.height;
@@ -455,7 +459,20 @@ impl ShaderKernel for TextureKernel {
                         plane_bytes,
                         wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
                     );
-                    e.encode_pass(tile, prepared, encoder, &plane, timer.take())?;
+                    match (displacement, prepared) {
+                        (None, prepared) => {
+                            e.encode_pass(tile, prepared, encoder, &plane, timer.take())?;
+                        }
+                        (Some(d), PreparedTile::Tables(tables)) => {
+                            let timer = timer.take();
+                            e.encode_device_displaced(tile, tables, encoder, &plane, d, timer)?;
+                        }
+                        (Some(_), _) => {
+                            return Err(GpuError::Validation(
+                                "texture: a displaced pass of another shape".to_owned(),
+                            ));
+                        }
+                    }
                     encoder.copy_buffer_to_buffer(&plane, 0, target, at, plane_bytes);
                 }
             }

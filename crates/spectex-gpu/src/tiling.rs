@@ -18,7 +18,7 @@ use spectex_model::tiling::{
 
 use crate::axis::{CellAxis, cell_axis, periodic_columns, periodic_rows};
 use crate::export::{ExportKind, ExportNode, ExportParts};
-use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables};
+use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileDisplacement, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
 use crate::shaders::{ShaderFile, kernel_and_glue};
@@ -217,7 +217,7 @@ impl ShaderKernel for TilingKernel {
     fn tile_tables(
         &self,
         tile: &GpuWindow,
-        _displacement: Option<&[f32]>,
+        _displacement: TileDisplacement<'_>,
         _limit: u64,
     ) -> Result<TileTables, GpuError> {
         let (level, mix) = mip_level(tile.footprint(), self.levels.len());

@@ -26,7 +26,10 @@ use spectex_model::voronoi::{BlockCache, VoronoiNoise, VoronoiOutput};
 
 use crate::axis::{CellAxes, CellAxis};
 use crate::export::{ExportKind, ExportNode, ExportParts, float};
-use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileTables, halve_tile_to_fit};
+use crate::kernel::{
+    DisplacementRead, GpuKernel, GpuKind, ShaderKernel, Table, TileDisplacement, TileTables,
+    halve_tile_to_fit,
+};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
 use crate::shaders::{ShaderFile, kernel_and_glue};
@@ -174,9 +177,12 @@ pub(crate) fn pack(model: &VoronoiNoise, period: Option<Period>) -> VoronoiKerne
 impl ShaderKernel for VoronoiKernel {
     const SHADER: &'static str = "voronoi";
     const ENTRY_POINT: &'static str = "voronoi_main";
-    const TABLES_READ_DISPLACEMENT: bool = true;
-
     const SHAPE: &'static [&'static str] = &["VORONOI_OUTPUT"];
+
+    /// The box of sites covers the displaced pixels' cells: their range is enough.
+    fn displacement_read(&self) -> DisplacementRead {
+        DisplacementRead::Range
+    }
 
     /// The model's output (the shader's shape overrides).
     fn shape(&self) -> Vec<u32> {
@@ -214,7 +220,7 @@ impl ShaderKernel for VoronoiKernel {
     fn tile_tables(
         &self,
         tile: &GpuWindow,
-        displacement: Option<&[f32]>,
+        displacement: TileDisplacement<'_>,
         limit: u64,
     ) -> Result<TileTables, GpuError> {
         let side = self.side();
@@ -222,7 +228,7 @@ impl ShaderKernel for VoronoiKernel {
         let period = self.period.map(|(p, _)| p);
         let axes = CellAxes::new(side, tile, period);
         let range = axes
-            .cell_range(tile, displacement)
+            .cell_range(tile, displacement)?
             .map(|r| r.map(|(lo, hi)| (i64::from(lo), i64::from(hi))));
         let margin = i64::from(self.params.reach) + i64::from(displacement.is_some());
         let mut params = VoronoiParams {

@@ -40,7 +40,7 @@ use std::sync::LazyLock;
 use spectex_model::{Model, ModelKind};
 
 use crate::GpuError;
-use crate::kernel::{ShaderKernel, Table};
+use crate::kernel::{ShaderKernel, Table, TileDisplacement};
 
 use emitter::{Emitter, header};
 pub(crate) use values::float;
@@ -119,7 +119,11 @@ impl ExportParts {
         lattices: Vec<f64>,
         glue: &'static str,
     ) -> Result<ExportNode, GpuError> {
-        let tile = kernel.tile_tables(&crate::GpuWindow::new(1, 1), None, u64::MAX)?;
+        let tile = kernel.tile_tables(
+            &crate::GpuWindow::new(1, 1),
+            TileDisplacement::None,
+            u64::MAX,
+        )?;
         let mut bindings = vec![tile.uniform];
         bindings.extend(resident.iter().map(|t| t.bytes.clone()));
         bindings.extend(tile.tables.into_iter().map(|t| t.bytes));

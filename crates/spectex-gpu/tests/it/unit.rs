@@ -3,7 +3,7 @@
 
 spectex_testkit::unit_tests! {
     spectex_gpu;
-    axis: cell_axis_splits_cells_and_rejects_out_of_range, cell_range_covers_the_pixels_and_their_displacements, cell_axis_matches_its_wgsl_twin;
+    axis: cell_axis_splits_cells_and_rejects_out_of_range, cell_range_covers_the_pixels_and_their_displacements, cell_range_of_a_displacement_range_holds_every_pixel, cell_axis_matches_its_wgsl_twin;
     combine: passes_of_every_operation_validate, exact_arithmetic_rounds_as_the_cpu, combination_passes_are_apply_bit_for_bit;
     classic: records_match_the_wgsl, shape_constants_are_the_shaders_overrides, specialised_pipelines_render_the_generic_bits, skew_parts_add_up_to_the_skewed_coordinate, params_and_octaves_carry_the_model, halving_needs_every_lattice_halved_exactly;
     gabor: params_match_the_wgsl;
@@ -21,7 +21,7 @@ spectex_testkit::unit_tests! {
     texture: records_match_the_wgsl;
     voronoi: params_match_the_wgsl;
     wavelet: records_match_the_wgsl;
-    warp: compose_params_match_the_wgsl;
+    warp: compose_params_match_the_wgsl, ordered_words_decode_to_their_values, displacement_range_is_the_exact_extremes, a_displacement_kept_on_the_device_is_the_host_composition;
     export_emitter: whole_sides_are_integers_up_to_2_pow_24, lattice_tables_decompose_every_bit_weight,
         modular_split_is_exact_for_f32_sides;
     export_wgsl_text: members_naga_would_rename_get_a_letter_suffix_everywhere, rename_skips_members_fields_and_comments, rename_turns_buffer_tables_into_accessor_calls, strip_removes_bindings_and_entry_points;
