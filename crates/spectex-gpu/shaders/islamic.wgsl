@@ -75,38 +75,45 @@ fn islamic_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     output[index] = islamic_at(s, t, params.segments);
 }
 
-/// The pattern at the lattice fractions `(s, t)` in `[0, 1]`: the CPU's segment loop over the
-/// first `count` segments (IslamicGeometry::nearest) and output formula (output_value).
-fn islamic_at(s: f32, t: f32, count: u32) -> f32 {
-    let qx = s * params.e1x + t * params.e2x;
-    let qy = s * params.e1y + t * params.e2y;
-    var best = 3.4028235e38f;
-    var odd = false;
-    for (var k = 0u; k < count; k++) {
-        let base = k * SEGMENT_FLOATS;
-        let ax = segments[base];
-        let ay = segments[base + 1u];
-        let by = segments[base + 3u];
-        let dx = segments[base + 4u];
-        let dy = segments[base + 5u];
-        let inv = segments[base + 6u];
-        let px = qx - ax;
-        let py = qy - ay;
-        let h = clamp((px * dx + py * dy) * inv, 0.0f, 1.0f);
-        let ex = px - dx * h;
-        let ey = py - dy * h;
-        let d2 = ex * ex + ey * ey;
-        if (d2 < best) {
-            best = d2;
-        }
-        let up = ay <= qy;
-        if (up != (by <= qy)) {
-            let cross = dx * py - dy * px;
-            if ((up && cross > 0.0f) || (!up && cross < 0.0f)) {
-                odd = !odd;
-            }
+/// The point of the lattice fractions `(s, t)` in the pattern's unit cell.
+fn islamic_point(s: f32, t: f32) -> vec2<f32> {
+    return vec2<f32>(s * params.e1x + t * params.e2x, s * params.e1y + t * params.e2y);
+}
+
+/// One step of the CPU's segment loop (IslamicGeometry::nearest) at the point `q`, for the
+/// segment from `a` along `d` (`inv` = 1/|d|², `by` the y of its end): the squared distance
+/// kept in `best` where smaller, and the parity of the crossings of a ray from `q` towards +x
+/// flipped in `odd`.
+fn islamic_segment(
+    q: vec2<f32>,
+    a: vec2<f32>,
+    by: f32,
+    d: vec2<f32>,
+    inv: f32,
+    best: ptr<function, f32>,
+    odd: ptr<function, bool>,
+) {
+    let px = q.x - a.x;
+    let py = q.y - a.y;
+    let h = clamp((px * d.x + py * d.y) * inv, 0.0f, 1.0f);
+    let ex = px - d.x * h;
+    let ey = py - d.y * h;
+    let d2 = ex * ex + ey * ey;
+    if (d2 < *best) {
+        *best = d2;
+    }
+    let up = a.y <= q.y;
+    if (up != (by <= q.y)) {
+        let cross = d.x * py - d.y * px;
+        if ((up && cross > 0.0f) || (!up && cross < 0.0f)) {
+            *odd = !*odd;
         }
     }
+}
+
+/// The CPU's output formula (output_value) of the nearest squared distance `best` (in cell
+/// units) and the crossings' parity `odd`.
+fn islamic_value(best: f32, odd: bool) -> f32 {
     let d = sqrt(best) * params.cell;
     var value = 0.0f;
     switch islamic_output() {
@@ -125,6 +132,21 @@ fn islamic_at(s: f32, t: f32, count: u32) -> f32 {
         }
     }
     return value;
+}
+
+/// The pattern at the lattice fractions `(s, t)` in `[0, 1]`: the CPU's segment loop over the
+/// first `count` segments of the table and its output formula.
+fn islamic_at(s: f32, t: f32, count: u32) -> f32 {
+    let q = islamic_point(s, t);
+    var best = 3.4028235e38f;
+    var odd = false;
+    for (var k = 0u; k < count; k++) {
+        let base = k * SEGMENT_FLOATS;
+        let a = vec2<f32>(segments[base], segments[base + 1u]);
+        let d = vec2<f32>(segments[base + 4u], segments[base + 5u]);
+        islamic_segment(q, a, segments[base + 3u], d, segments[base + 6u], &best, &odd);
+    }
+    return islamic_value(best, odd);
 }
 
 // ---- export glue: `spectex export --wgsl` (after export/split.wgsl) ----
@@ -157,6 +179,20 @@ fn islamic_export_fixed_sum(n: i32, table: u32) -> u32 {
     return acc;
 }
 
+/// The pattern at the lattice fractions `(s, t)`: `islamic_at` with its loop written out by
+/// the exporter, `ISLAMIC_EXPORT_SEGMENTS` = one `islamic_segment` call per segment with the
+/// segment's values as literals, which a driver folds into the arithmetic. A loop would read
+/// the segment table from per-invocation memory at its counter (about 5 calibration cosines a
+/// segment on lavapipe, against 1 written out), and lavapipe compiled the 3024-float private
+/// table of islamic-31212-filled for minutes where a loop could be unrolled.
+fn islamic_export_at(s: f32, t: f32) -> f32 {
+    let q = islamic_point(s, t);
+    var best = 3.4028235e38f;
+    var odd = false;
+    ISLAMIC_EXPORT_SEGMENTS
+    return islamic_value(best, odd);
+}
+
 /// The pattern at the position `cell + offset` (pixels).
 fn islamic_sample_cell(cell: vec2<i32>, offset: vec2<f32>) -> f32 {
     let at = export_normalise(cell, offset);
@@ -168,11 +204,5 @@ fn islamic_sample_cell(cell: vec2<i32>, offset: vec2<f32>) -> f32 {
     var t = f32(tf) * 0x1p-32f + (params.a10 * at.u.x + params.a11 * at.u.y);
     s = s - floor(s);
     t = t - floor(t);
-    // The segment count plus an opaque zero (the sign bit of u, which is never negative), so
-    // that a compiler does not unroll the loop over hundreds of constant segments. (A
-    // precaution: lavapipe's slow compile of islamic-31212-filled, over 8 minutes, persisted
-    // with it and came from the 3024-float table as a private array; through the storage
-    // buffer the module compiles and renders in about a second.)
-    let opaque = bitcast<u32>(at.u.x) >> 31u;
-    return islamic_at(s, t, params.segments + opaque);
+    return islamic_export_at(s, t);
 }

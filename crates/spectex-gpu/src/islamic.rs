@@ -3,15 +3,19 @@
 //! split, `spectex_model::islamic::LatticeMap`); the shader sums them and runs the CPU's
 //! segment loop and output formula.
 //!
-//! The Islamic pattern's export (the glue of `shaders/islamic.wgsl`): the compute shader's uniform
-//! and segment table, and the fixed-point tables with which the glue forms the lattice
-//! fractions `frac(A·p + c)` of a position (the compute path's host splits them in f64).
+//! The Islamic pattern's export (the glue of `shaders/islamic.wgsl`): the compute shader's uniform,
+//! the segment loop written out with each segment's values as literals (a loop over the table
+//! cost about 5 calibration cosines a segment on lavapipe, written out 0.5–2), and the
+//! fixed-point tables with which the glue forms the lattice fractions `frac(A·p + c)` of a
+//! position (the compute path's host splits them in f64).
 
 use spectex_model::Period;
-use spectex_model::islamic::{IslamicOutput, IslamicPattern, LatticeMap, footprint};
+use spectex_model::islamic::{
+    IslamicOutput, IslamicPattern, LatticeMap, SEGMENT_FLOATS, footprint,
+};
 
 use crate::axis::{periodic_columns, periodic_rows};
-use crate::export::{ExportKind, ExportNode, ExportParts};
+use crate::export::{ExportKind, ExportNode, ExportParts, float};
 use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileDisplacement, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::Shaded;
@@ -208,13 +212,30 @@ impl ExportKind for IslamicPattern {
             fixed(map.c[0]),
             fixed(map.c[1]),
         );
+        // The segment loop written out, each segment's values as literals (the glue's
+        // `islamic_export_at`).
+        let segment = |k: usize| {
+            let [ax, ay, _bx, by, dx, dy, inv] =
+                std::array::from_fn(|i| float(segments[7 * k + i]));
+            format!(
+                "islamic_segment(q, vec2<f32>({ax}, {ay}), {by}, vec2<f32>({dx}, {dy}), {inv}, \
+                 &best, &odd);"
+            )
+        };
+        let count = segments.len() / SEGMENT_FLOATS;
+        // The table the compute path's loop reads is one unused zero record here.
+        let unread: &[f32] = &[];
         Ok(ExportParts::of(
             &kernel,
-            &[Table::new("islamic segments", &segments)],
+            &[Table::new("islamic segments", unread)],
             Vec::new(),
             "islamic",
         )?
-        .with_constants(constants))
+        .with_constants(constants)
+        .with_unrolled("ISLAMIC_EXPORT_SEGMENTS", count, segment)
+        // Only the compute path, unused here, reads the tables (the segments written out, a
+        // position's fractions summed from the fixed-point tables): a buffer export binds none.
+        .with_constant_tables(&["segments", "columns", "rows"]))
     }
 }
 

@@ -983,22 +983,17 @@ fn check_file(context: &GpuContext, file: &Path, all: bool, only: Option<&[Strin
     }
     let model: Model = spectex_model::from_json(&std::fs::read_to_string(file).unwrap())
         .unwrap_or_else(|e| panic!("{case}: {e}"));
-    // Islamic patterns render through the storage buffer: their segment table (thousands
-    // of f32 read at a loop index) as a `var<private>` array is lowered by lavapipe into
-    // branch trees that LLVM compiled for over 8 minutes (islamic-31212-filled, 3024
-    // floats); the buffer export is the same module reading the same bytes from memory.
-    // The constant form is validated by spectex-gpu's export test.
-    let islamic_buffer = ExportOptions {
-        tables: TableStorage::Buffer {
-            group: TABLES_GROUP,
-            binding: TABLES_BINDING,
-        },
-        ..ExportOptions::default()
-    };
     // A tiling texture's texels and tables are a storage buffer's for any real exemplar (and
     // as constants, initialised per invocation, take lavapipe minutes a frame).
-    let first = if matches!(model, Model::Islamic(_) | Model::Tiling(_)) {
-        export(&model, &islamic_buffer)
+    let first = if matches!(model, Model::Tiling(_)) {
+        let buffer = ExportOptions {
+            tables: TableStorage::Buffer {
+                group: TABLES_GROUP,
+                binding: TABLES_BINDING,
+            },
+            ..ExportOptions::default()
+        };
+        export(&model, &buffer)
     } else {
         export(&model, &ExportOptions::default())
     };
