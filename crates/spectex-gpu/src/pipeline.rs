@@ -588,52 +588,73 @@ impl<K: ShaderKernel> GpuKernel for Shaded<K> {
             output_bytes,
             wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
         );
-        let timed = self.queries.is_some();
-        let readback = gpu.empty(
-            "spectex readback",
-            output_bytes + if timed { TIMESTAMP_PAIR_BYTES } else { 0 },
-            wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        );
-        let mut encoder = gpu
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("spectex tile"),
-            });
-        let timer = self
-            .queries
-            .as_ref()
-            .map(|set| wgpu::ComputePassTimestampWrites {
-                query_set: set,
-                beginning_of_pass_write_index: Some(0),
-                end_of_pass_write_index: Some(1),
-            });
         // Built first: a texture runs its LRP passes here, each in its own error scope.
         let seen = displacement.map_or(TileDisplacement::None, TileDisplacement::Pixels);
         let tables = self.kind.tile_tables(tile, seen, gpu.binding_limit())?;
         let displaced = displacement.map_or(Displacement::None, Displacement::Host);
-        self.record(tile, tables, displaced, &mut encoder, &output, timer)?;
-        encoder.copy_buffer_to_buffer(&output, 0, &readback, 0, output_bytes);
-        if let Some(set) = &self.queries {
-            let resolved = gpu.empty(
-                "spectex timestamps",
-                TIMESTAMP_PAIR_BYTES,
-                wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-            );
-            encoder.resolve_query_set(set, 0..2, &resolved, 0);
-            encoder.copy_buffer_to_buffer(
-                &resolved,
-                0,
-                &readback,
-                output_bytes,
-                TIMESTAMP_PAIR_BYTES,
-            );
-        }
-        let index = gpu.queue.submit([encoder.finish()]);
-        let bytes = read_buffer(&gpu.device, &readback, &gpu.lost, Some(index))?;
-        let (data, stamps) = bytes.split_at(output_bytes as usize);
-        gpu.clock_pairs(stamps);
-        Ok(bytemuck::pod_collect_to_vec(data))
+        let bytes = submit_and_read(
+            gpu,
+            self.queries.as_ref(),
+            (&output, output_bytes),
+            |encoder, timer| self.record(tile, tables, displaced, encoder, &output, timer),
+        )?;
+        Ok(bytemuck::pod_collect_to_vec(&bytes))
     }
+}
+
+/// Records passes with `record` (given a timer of one pair of `queries`, where the device has
+/// timestamps) in a submission of their own, and reads back the first `bytes` bytes of
+/// `source` once it is done, its time added to the context's clock: a dispatch whose values
+/// the host needs now (a tile the host composes, a warp's displacement range).
+///
+/// # Errors
+/// What `record` returns; [`GpuError::DeviceLost`] where the device is lost or the map fails.
+pub(crate) fn submit_and_read(
+    gpu: &Gpu,
+    queries: Option<&wgpu::QuerySet>,
+    (source, bytes): (&wgpu::Buffer, u64),
+    record: impl FnOnce(
+        &mut wgpu::CommandEncoder,
+        Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) -> Result<(), GpuError>,
+) -> Result<Vec<u8>, GpuError> {
+    use wgpu::BufferUsages as U;
+    let stamps = if queries.is_some() {
+        TIMESTAMP_PAIR_BYTES
+    } else {
+        0
+    };
+    let readback = gpu.empty(
+        "spectex readback",
+        bytes + stamps,
+        U::MAP_READ | U::COPY_DST,
+    );
+    let mut encoder = gpu
+        .device
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("spectex read back"),
+        });
+    let timer = queries.map(|set| wgpu::ComputePassTimestampWrites {
+        query_set: set,
+        beginning_of_pass_write_index: Some(0),
+        end_of_pass_write_index: Some(1),
+    });
+    record(&mut encoder, timer)?;
+    encoder.copy_buffer_to_buffer(source, 0, &readback, 0, bytes);
+    if let Some(set) = queries {
+        let resolved = gpu.empty(
+            "spectex timestamps",
+            TIMESTAMP_PAIR_BYTES,
+            U::QUERY_RESOLVE | U::COPY_SRC,
+        );
+        encoder.resolve_query_set(set, 0..2, &resolved, 0);
+        encoder.copy_buffer_to_buffer(&resolved, 0, &readback, bytes, TIMESTAMP_PAIR_BYTES);
+    }
+    let index = gpu.queue.submit([encoder.finish()]);
+    let mut read = read_buffer(&gpu.device, &readback, &gpu.lost, Some(index))?;
+    gpu.clock_pairs(&read[bytes as usize..]);
+    read.truncate(bytes as usize);
+    Ok(read)
 }
 
 /// Validation and out-of-memory error scopes around a group of device calls.

@@ -86,8 +86,9 @@ pub struct RenderStats {
     pub clipped: Option<u64>,
     /// Seconds the host spent preparing the tiles (uniforms and tables, a phasor's drawn cells,
     /// the operands' host parts of a chain, or a composite kind's whole host composition, its
-    /// operands' renders included), summed over the worker threads that do it beside the
-    /// dispatches: what the host's part of the render costs.
+    /// operands' renders included; a warp whose base reads its displacement's range waits
+    /// there for x, y and the displacement on the device), summed over the worker threads that
+    /// do it beside the dispatches: what the host's part of the render costs.
     pub host_seconds: f64,
 }
 

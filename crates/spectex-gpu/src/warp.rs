@@ -26,7 +26,7 @@ use crate::kernel::{
 };
 use crate::layout::wgsl_struct;
 use crate::pipeline::{
-    ErrorScopes, Gpu, TIMESTAMP_PAIR_BYTES, compute_pipeline, encode_pass, flat_grid, read_buffer,
+    ErrorScopes, Gpu, compute_pipeline, encode_pass, flat_grid, submit_and_read,
 };
 use crate::shaders::{ShaderFile, kernel_and_glue};
 use crate::{GpuContext, GpuError, GpuEvaluator, GpuWindow, wgsl_source};
@@ -207,52 +207,16 @@ impl WarpKernel {
             U::STORAGE | U::COPY_SRC,
         );
         let range = gpu.empty("warp range", RANGE_BYTES, U::STORAGE | U::COPY_SRC);
-        let stamps = if self.queries.is_some() {
-            TIMESTAMP_PAIR_BYTES
-        } else {
-            0
-        };
-        let readback = gpu.empty(
-            "warp range readback",
-            RANGE_BYTES + stamps,
-            U::MAP_READ | U::COPY_DST,
+        let read = submit_and_read(
+            gpu,
+            self.queries.as_ref(),
+            (&range, RANGE_BYTES),
+            |encoder, timer| {
+                self.encode_displacement(tile, [x, y], encoder, &displacement, Some(&range), timer)
+            },
         );
-        let mut encoder = gpu
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("spectex warp range"),
-            });
-        let timer = self
-            .queries
-            .as_ref()
-            .map(|set| wgpu::ComputePassTimestampWrites {
-                query_set: set,
-                beginning_of_pass_write_index: Some(0),
-                end_of_pass_write_index: Some(1),
-            });
-        self.encode_displacement(
-            tile,
-            [x, y],
-            &mut encoder,
-            &displacement,
-            Some(&range),
-            timer,
-        )?;
-        encoder.copy_buffer_to_buffer(&range, 0, &readback, 0, RANGE_BYTES);
-        if let Some(set) = &self.queries {
-            let resolved = gpu.empty(
-                "spectex timestamps",
-                TIMESTAMP_PAIR_BYTES,
-                U::QUERY_RESOLVE | U::COPY_SRC,
-            );
-            encoder.resolve_query_set(set, 0..2, &resolved, 0);
-            encoder.copy_buffer_to_buffer(&resolved, 0, &readback, RANGE_BYTES, stamps);
-        }
-        let index = gpu.queue.submit([encoder.finish()]);
-        let read = read_buffer(&gpu.device, &readback, &gpu.lost, Some(index));
         scope.pop()?;
         let bytes = read?;
-        gpu.clock_pairs(&bytes[RANGE_BYTES as usize..]);
         Ok((displacement, decode_range(&bytes)?))
     }
 }
@@ -407,6 +371,7 @@ pub mod tests {
 
     use super::*;
     use crate::layout::check::{assert_matches_wgsl, context_or_skip};
+    use crate::pipeline::read_buffer;
 
     pub fn compose_params_match_the_wgsl() {
         assert_matches_wgsl::<ComposeParams>("compose", "ComposeParams");
