@@ -435,10 +435,11 @@ pub mod tests {
             let mut model =
                 spectex_model::from_json(&std::fs::read_to_string(path).unwrap()).unwrap();
             fn stronger(model: &mut Model) {
-                match model {
-                    Model::Warp(w) => w.strength *= 20.0,
-                    Model::Combine(c) => c.operands.iter_mut().for_each(stronger),
-                    _ => {}
+                if let Model::Warp(w) = model {
+                    w.strength *= 20.0;
+                }
+                if let Model::Combine(c) = model {
+                    c.operands.iter_mut().for_each(stronger);
                 }
             }
             stronger(&mut model);
