@@ -399,10 +399,12 @@ const VULKAN_DEBS: &[&str] = &[
 /// and render pipeline at 1920×1080 and 3840×2160, with the LRP J = 50 row). `$1` is the window
 /// side (default 4096).
 const REPORT_SCRIPT: &str = r#"#!/usr/bin/env bash
-# spectex GPU report: every testdata model through the CLI (GPU end to end and kernel-only) and the
-# models bench (GPU kernel-only, end to end, CPU all threads), then one Markdown table.
+# spectex GPU report: spectex-gpu's tests and the CPU/GPU cross-check on this GPU, every testdata
+# model through the CLI (GPU end to end and kernel-only) and the models bench (GPU kernel-only,
+# end to end, CPU all threads), then one Markdown table.
 # Run from the repository root: bash target/gpu-report/run.sh [SIDE]
-# (EXPORT_SIZES="WxH …" changes the export bench's grids; SPECTEX_BENCH_MODELS=a,b its models.)
+# (EXPORT_SIZES="WxH …" changes the export bench's grids; SPECTEX_BENCH_MODELS=a,b its models;
+# TESTS=0 skips the tests.)
 set -uo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 side="${1:-4096}"
@@ -415,6 +417,20 @@ export XDG_RUNTIME_DIR="$work/xdg"; mkdir -m 700 -p "$XDG_RUNTIME_DIR"
 tar -xJf "$here/bin.tar.xz" -C "$work"
 models="$(pwd)/testdata/models"
 [ -d "$models" ] || { echo "run from the repository root (testdata/models missing)"; exit 1; }
+if [ "${TESTS:-1}" = 1 ]; then
+  echo "== spectex-gpu's tests and the cross-check, on this machine's GPU =="
+  # The test binaries read files under the building machine's repository root (their
+  # CARGO_MANIFEST_DIR): that path is made to lead here.
+  root="$(cat "$work/build-root")"
+  if [ "$root" != "$(pwd)" ] && [ ! -e "$root" ]; then
+    mkdir -p "$(dirname "$root")" && ln -s "$(pwd)" "$root"
+  fi
+  for t in gpu-tests crosscheck-tests; do
+    SPECTEX_REQUIRE_GPU=1 timeout 240 "$work/$t" > "$out/$t.txt" 2>&1
+    echo "$t: exit $? ($(grep -c '^test .* ok$' "$out/$t.txt") ok lines); $(grep -E '^test result' "$out/$t.txt" | tail -n 1)"
+    grep -E 'panicked at|FAILED' "$out/$t.txt" | head -n 20
+  done
+fi
 echo "== models bench, ${side}² =="
 timeout 240 "$work/models" --bench --size "$side" --repeat 2 --models "$models" | tee "$out/models.tsv"
 echo "== CLI, ${side}² =="
@@ -453,24 +469,37 @@ pub(crate) fn gpu_report(ws: &Workspace) -> Result<()> {
     }
     fs::create_dir_all(&stage)?;
     run_command(&mut ws.cargo(&["build", "--release", "-p", "spectex-cli", "-p", "xtask"]))?;
+    let names = [
+        "spectex",
+        "xtask",
+        "models",
+        "export",
+        "gpu-tests",
+        "crosscheck-tests",
+    ];
     for (from, name) in [
-        (target.join("release/spectex"), "spectex"),
-        (target.join("release/xtask"), "xtask"),
-        (bench_executable(ws, "models")?, "models"),
-        (bench_executable(ws, "export")?, "export"),
+        (target.join("release/spectex"), names[0]),
+        (target.join("release/xtask"), names[1]),
+        (bench_executable(ws, "models")?, names[2]),
+        (bench_executable(ws, "export")?, names[3]),
+        (test_executable(ws, "spectex-gpu")?, names[4]),
+        (test_executable(ws, "spectex-crosscheck")?, names[5]),
     ] {
         let to = stage.join(name);
         fs::copy(&from, &to).with_context(|| format!("copying {}", from.display()))?;
         // Stripping only shrinks the folder: without `strip` the binaries still work.
         let _ = Command::new("strip").arg(&to).status();
     }
+    // Where the test binaries look for the repository's files (see the script).
+    fs::write(stage.join("build-root"), ws.root.display().to_string())?;
     run_command(
         Command::new("tar")
             .arg("-cJf")
             .arg(dir.join("bin.tar.xz"))
             .arg("-C")
             .arg(&stage)
-            .args(["spectex", "xtask", "models", "export"]),
+            .args(names)
+            .arg("build-root"),
     )?;
     fs::remove_dir_all(&stage)?;
     let debs = dir.join("debs");
@@ -512,6 +541,31 @@ fn folder_bytes(path: &Path) -> u64 {
     } else {
         path.metadata().map_or(0, |m| m.len())
     }
+}
+
+/// Builds `package`'s integration test binary `it` (the test profile, as CI builds it) and
+/// returns its executable.
+fn test_executable(ws: &Workspace, package: &str) -> Result<PathBuf> {
+    let output = ws
+        .cargo(&[
+            "test",
+            "-p",
+            package,
+            "--test",
+            "it",
+            "--no-run",
+            "--message-format=json",
+        ])
+        .stderr(Stdio::inherit())
+        .output()
+        .with_context(|| format!("building {package}'s tests"))?;
+    if !output.status.success() {
+        bail!("building {package}'s tests failed");
+    }
+    compiler_artifacts(&String::from_utf8_lossy(&output.stdout))
+        .filter(|a| a.target.name == "it")
+        .find_map(|a| a.executable)
+        .with_context(|| format!("cargo did not name {package}'s test executable"))
 }
 
 /// Builds spectex-crosscheck's bench `name` (release profile) and returns its executable.

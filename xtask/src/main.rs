@@ -79,11 +79,12 @@ const COMMANDS: &[(&str, &str)] = &[
     ),
     (
         "gpu-report",
-        "builds what a GPU machine without Rust needs to measure spectex there into \
-         target/gpu-report/ (release CLI, models and export benches and xtask stripped and \
-         compressed, the Vulkan loader's .deb files, run.sh): `bash target/gpu-report/run.sh \
-         [SIDE]` there prints every testdata model's GPU kernel-only, GPU end-to-end (bench and \
-         CLI) and CPU Mpix/s, and each exported module's cost in calibration cosines",
+        "builds what a GPU machine without Rust needs to test and measure spectex there into \
+         target/gpu-report/ (release CLI, models and export benches, spectex-gpu's and the \
+         cross-check's tests and xtask stripped and compressed, the Vulkan loader's .deb files, \
+         run.sh): `bash target/gpu-report/run.sh [SIDE]` there runs the tests on that GPU and \
+         prints every testdata model's GPU kernel-only, GPU end-to-end (bench and CLI) and CPU \
+         Mpix/s, and each exported module's cost in calibration cosines",
     ),
     (
         "gpu-table",
