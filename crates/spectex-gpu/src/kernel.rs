@@ -182,8 +182,7 @@ pub(crate) trait GpuKernel: fmt::Debug + Send + Sync {
     /// What the kernel's host part reads of a displacement, so whether a warp over it may keep
     /// the displacement on the device ([`encode_device_displaced`](Self::encode_device_displaced)):
     /// not at all, its range only (a phasor's cell box, a Voronoi search), or every pixel's
-    /// (a composite kind, a texture's passes, a phasor's varying fields): then the host
-    /// composes.
+    /// (a composite kind, a phasor's varying fields): then the host composes.
     fn displacement_read(&self) -> DisplacementRead {
         DisplacementRead::Pixels
     }
@@ -270,9 +269,10 @@ pub(crate) trait ShaderKernel: fmt::Debug + Send + Sync + 'static {
     /// Its compute entry point.
     const ENTRY_POINT: &'static str;
     /// What [`tile_tables`](Self::tile_tables) reads of a displacement: nothing (the shader
-    /// moves each pixel), its range (a phasor's cell box, a Voronoi search: a warp then keeps
-    /// the displacement on the device and reads back 16 bytes), or every pixel's (a texture's
-    /// passes, a phasor's varying fields: displaced from the host only).
+    /// moves each pixel; a texture's passes read the device's displacement too), its range (a
+    /// phasor's cell box, a Voronoi search: a warp then keeps the displacement on the device
+    /// and reads back 16 bytes), or every pixel's (a phasor's varying fields: displaced from
+    /// the host only).
     fn displacement_read(&self) -> DisplacementRead {
         DisplacementRead::Nothing
     }

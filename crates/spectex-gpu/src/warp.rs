@@ -3,15 +3,15 @@
 //! the base's own shader (`common.wgsl`'s displacement convention, bind group 1 of every model
 //! shader). How depends on what the base's host part reads of the displacement
 //! ([`DisplacementRead`]):
-//! - nothing: all of it is recorded in the tile's one submission: x's and y's dispatches,
-//!   `compose.wgsl`'s `warp_displace`, and the base's dispatch reading the displacement from the
-//!   device;
+//! - nothing (LRP, classic noise, a texture, whose LRP passes read it on the device too …): all
+//!   of it is recorded in the tile's one submission: x's and y's dispatches, `compose.wgsl`'s
+//!   `warp_displace`, and the base's dispatch reading the displacement from the device;
 //! - its range (a phasor's cell box, a Voronoi search): a worker submits x, y and
 //!   `warp_displace_range`, reads back the displacement's range (16 bytes), builds the base's
 //!   tables for it, and the tile's submission records the base displaced by the displacement
 //!   left on the device;
-//! - every pixel's (a texture, a phasor's varying fields, a composite base), and for a warp
-//!   displaced itself: the host composes: x and y rendered (displaced when the warp is), the
+//! - every pixel's (a phasor's varying fields, a composite base), and for a warp displaced
+//!   itself: the host composes: x and y rendered (displaced when the warp is), the
 //!   displacement applied and added to the outer one, the base rendered.
 //!
 //! A warp's export: its three models, composed by the glue of `shaders/warp.wgsl` (the emitter
