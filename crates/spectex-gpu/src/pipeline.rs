@@ -602,6 +602,13 @@ impl<K: ShaderKernel> GpuKernel for Shaded<K> {
     }
 }
 
+thread_local! {
+    /// Nanoseconds this thread has waited in [`submit_and_read`] for the device: what a
+    /// render's workers subtract from their tiles' preparation time (`render.rs`), so that it
+    /// counts the host's work.
+    pub(crate) static DEVICE_WAIT_NANOS: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+}
+
 /// Records passes with `record` (given a timer of one pair of `queries`, where the device has
 /// timestamps) in a submission of their own, and reads back the first `bytes` bytes of
 /// `source` once it is done, its time added to the context's clock: a dispatch whose values
@@ -651,7 +658,11 @@ pub(crate) fn submit_and_read(
         encoder.copy_buffer_to_buffer(&resolved, 0, &readback, bytes, TIMESTAMP_PAIR_BYTES);
     }
     let index = gpu.queue.submit([encoder.finish()]);
-    let mut read = read_buffer(&gpu.device, &readback, &gpu.lost, Some(index))?;
+    let waiting = std::time::Instant::now();
+    let read = read_buffer(&gpu.device, &readback, &gpu.lost, Some(index));
+    let waited = u64::try_from(waiting.elapsed().as_nanos()).unwrap_or(u64::MAX);
+    DEVICE_WAIT_NANOS.with(|w| w.set(w.get().saturating_add(waited)));
+    let mut read = read?;
     gpu.clock_pairs(&read[bytes as usize..]);
     read.truncate(bytes as usize);
     Ok(read)

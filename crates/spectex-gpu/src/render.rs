@@ -6,6 +6,7 @@
 //! queries (where the device has them) time every dispatch, so a render reports its kernel-only
 //! time beside its end-to-end time ([`RenderStats`]).
 
+use std::cell::Cell;
 use std::collections::{BTreeMap, VecDeque};
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Condvar, Mutex, MutexGuard, PoisonError};
@@ -15,8 +16,8 @@ use crate::cache::CachedPipeline;
 use crate::kernel::{GpuKernel, PreparedTile};
 use crate::layout::wgsl_struct;
 use crate::pipeline::{
-    ErrorScopes, Gpu, Mapping, TIMESTAMP_PAIR_BYTES, compute_pipeline, encode_pass, flat_grid,
-    leading,
+    DEVICE_WAIT_NANOS, ErrorScopes, Gpu, Mapping, TIMESTAMP_PAIR_BYTES, compute_pipeline,
+    encode_pass, flat_grid, leading,
 };
 use crate::{GpuError, GpuWindow, wgsl_source};
 
@@ -85,10 +86,10 @@ pub struct RenderStats {
     /// 65504 or NaN); `None` for `f32` and for renders that stay on the device.
     pub clipped: Option<u64>,
     /// Seconds the host spent preparing the tiles (uniforms and tables, a phasor's drawn cells,
-    /// the operands' host parts of a chain, or a composite kind's whole host composition, its
-    /// operands' renders included; a warp whose base reads its displacement's range waits
-    /// there for x, y and the displacement on the device), summed over the worker threads that
-    /// do it beside the dispatches: what the host's part of the render costs.
+    /// the operands' host parts of a chain, or a composite kind's whole host composition),
+    /// summed over the worker threads that do it beside the dispatches, less their waits for
+    /// the device (a composition's operands read back, a warp's displacement range): what the
+    /// host's part of the render costs.
     pub host_seconds: f64,
 }
 
@@ -450,6 +451,7 @@ impl Prepared<'_> {
             // A panic in a worker would leave the recording thread waiting for this tile: it
             // becomes the tile's error instead.
             let started = Instant::now();
+            let waited_before = DEVICE_WAIT_NANOS.with(Cell::get);
             let tables = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
                 self.kernel.prepare_tile(&self.tiles[k].window)
             }))
@@ -458,8 +460,14 @@ impl Prepared<'_> {
                     "preparing tile {k} on a worker thread panicked"
                 )))
             });
+            // The host's work: the time spent waiting for the device (a warp's range, a tile
+            // the host composes) is the device's.
+            let waited = DEVICE_WAIT_NANOS
+                .with(Cell::get)
+                .saturating_sub(waited_before);
             let nanos = u64::try_from(started.elapsed().as_nanos()).unwrap_or(u64::MAX);
-            self.host_nanos.fetch_add(nanos, Ordering::Relaxed);
+            self.host_nanos
+                .fetch_add(nanos.saturating_sub(waited), Ordering::Relaxed);
             self.lock().ready.insert(k, tables);
             self.changed.notify_all();
         }
