@@ -546,50 +546,33 @@ fn folder_bytes(path: &Path) -> u64 {
 /// Builds `package`'s integration test binary `it` (the test profile, as CI builds it) and
 /// returns its executable.
 fn test_executable(ws: &Workspace, package: &str) -> Result<PathBuf> {
-    let output = ws
-        .cargo(&[
-            "test",
-            "-p",
-            package,
-            "--test",
-            "it",
-            "--no-run",
-            "--message-format=json",
-        ])
-        .stderr(Stdio::inherit())
-        .output()
-        .with_context(|| format!("building {package}'s tests"))?;
-    if !output.status.success() {
-        bail!("building {package}'s tests failed");
-    }
-    compiler_artifacts(&String::from_utf8_lossy(&output.stdout))
-        .filter(|a| a.target.name == "it")
-        .find_map(|a| a.executable)
-        .with_context(|| format!("cargo did not name {package}'s test executable"))
+    let what = format!("{package}'s tests");
+    built_executable(ws, &["test", "-p", package, "--test", "it"], "it", &what)
 }
 
 /// Builds spectex-crosscheck's bench `name` (release profile) and returns its executable.
 fn bench_executable(ws: &Workspace, name: &str) -> Result<PathBuf> {
+    let args = ["bench", "-p", "spectex-crosscheck", "--bench", name];
+    built_executable(ws, &args, name, &format!("the {name} bench"))
+}
+
+/// Runs `cargo <args> --no-run` and returns the executable of its target `target` (`what`
+/// names it in errors).
+fn built_executable(ws: &Workspace, args: &[&str], target: &str, what: &str) -> Result<PathBuf> {
+    let mut args = args.to_vec();
+    args.extend(["--no-run", "--message-format=json"]);
     let output = ws
-        .cargo(&[
-            "bench",
-            "-p",
-            "spectex-crosscheck",
-            "--bench",
-            name,
-            "--no-run",
-            "--message-format=json",
-        ])
+        .cargo(&args)
         .stderr(Stdio::inherit())
         .output()
-        .with_context(|| format!("building the {name} bench"))?;
+        .with_context(|| format!("building {what}"))?;
     if !output.status.success() {
-        bail!("building the {name} bench failed");
+        bail!("building {what} failed");
     }
     compiler_artifacts(&String::from_utf8_lossy(&output.stdout))
-        .filter(|a| a.target.name == name)
+        .filter(|a| a.target.name == target)
         .find_map(|a| a.executable)
-        .with_context(|| format!("cargo did not name the {name} bench's executable"))
+        .with_context(|| format!("cargo did not name {what}'s executable"))
 }
 
 #[cfg(test)]

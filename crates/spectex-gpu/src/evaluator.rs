@@ -432,26 +432,8 @@ impl GpuEvaluator {
         output: &wgpu::Buffer,
         timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) -> Result<(), GpuError> {
-        match prepared {
-            PreparedTile::Tables(tables) => self
-                .kernel
-                .encode_tile(tile, tables, encoder, output, timer),
-            PreparedTile::Chain { operands, base } => self
-                .kernel
-                .encode_chain(tile, operands, base, encoder, output, timer),
-            PreparedTile::OnDevice(values) => {
-                encoder.copy_buffer_to_buffer(&values, 0, output, 0, values.size());
-                Ok(())
-            }
-            PreparedTile::Values(values) => {
-                let bytes: &[u8] = bytemuck::cast_slice(&values);
-                let upload =
-                    self.gpu
-                        .buffer("spectex pass values", bytes, wgpu::BufferUsages::COPY_SRC);
-                encoder.copy_buffer_to_buffer(&upload, 0, output, 0, bytes.len() as u64);
-                Ok(())
-            }
-        }
+        let kernel = self.kernel.as_ref();
+        render::encode_prepared(&self.gpu, kernel, tile, prepared, encoder, output, timer)
     }
 
     /// What this model's host part reads of a displacement: whether, and how, it can be

@@ -579,24 +579,18 @@ fn record_all(
                 beginning_of_pass_write_index: Some(pair),
                 end_of_pass_write_index: Some(pair + 1),
             });
-        match tables {
-            PreparedTile::Tables(tables) => {
-                kernel.encode_tile(&tile.window, tables, &mut encoder, &slot.values, timer)?;
-            }
-            PreparedTile::Chain { operands, base } => {
-                let output = &slot.values;
-                kernel.encode_chain(&tile.window, operands, base, &mut encoder, output, timer)?;
-            }
-            PreparedTile::OnDevice(values) => {
-                encoder.copy_buffer_to_buffer(&values, 0, &slot.values, 0, values.size());
-            }
-            PreparedTile::Values(host) => {
-                // A composite kind: its operands' passes ran (and were timed) on a worker; the
-                // values go up, ordered before this submission, and take the same way out.
-                gpu.queue
-                    .write_buffer(&slot.values, 0, bytemuck::cast_slice(&host));
-            }
-        }
+        // A composite kind's values made on a worker (its operands' passes ran, and were
+        // timed, there) go up and take the same way out.
+        let output = &slot.values;
+        encode_prepared(
+            gpu,
+            kernel,
+            &tile.window,
+            tables,
+            &mut encoder,
+            output,
+            timer,
+        )?;
         let bytes = values * per_value;
         let source = match &pack {
             None => &slot.values,
@@ -668,6 +662,39 @@ fn record_all(
         read_back.add(finish(gpu, ring, tiles, done, sink)?);
     }
     Ok(read_back)
+}
+
+/// Records the dispatches of `tile`, whose host part is `prepared`, through `kernel` into
+/// `encoder`, its values written from the start of `output`; values made on the host or left
+/// on the device by a worker are copied there. `timer` writes the dispatches' timestamps.
+///
+/// # Errors
+/// What the kernel's `encode_tile` or `encode_chain` returns.
+pub(crate) fn encode_prepared(
+    gpu: &Gpu,
+    kernel: &dyn GpuKernel,
+    tile: &GpuWindow,
+    prepared: PreparedTile,
+    encoder: &mut wgpu::CommandEncoder,
+    output: &wgpu::Buffer,
+    timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
+) -> Result<(), GpuError> {
+    match prepared {
+        PreparedTile::Tables(tables) => kernel.encode_tile(tile, tables, encoder, output, timer),
+        PreparedTile::Chain { operands, base } => {
+            kernel.encode_chain(tile, operands, base, encoder, output, timer)
+        }
+        PreparedTile::OnDevice(values) => {
+            encoder.copy_buffer_to_buffer(&values, 0, output, 0, values.size());
+            Ok(())
+        }
+        PreparedTile::Values(values) => {
+            let bytes: &[u8] = bytemuck::cast_slice(&values);
+            let upload = gpu.buffer("spectex values", bytes, wgpu::BufferUsages::COPY_SRC);
+            encoder.copy_buffer_to_buffer(&upload, 0, output, 0, bytes.len() as u64);
+            Ok(())
+        }
+    }
 }
 
 /// Waits for a pending tile, hands its bytes to a host sink, clocks its timestamps and reads

@@ -459,20 +459,16 @@ impl ShaderKernel for TextureKernel {
                         plane_bytes,
                         wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
                     );
+                    let timer = timer.take();
                     match (displacement, prepared) {
-                        (None, prepared) => {
-                            e.encode_pass(tile, prepared, encoder, &plane, timer.take())?;
-                        }
+                        (None, prepared) => e.encode_pass(tile, prepared, encoder, &plane, timer),
                         (Some(d), PreparedTile::Tables(tables)) => {
-                            let timer = timer.take();
-                            e.encode_device_displaced(tile, tables, encoder, &plane, d, timer)?;
+                            e.encode_device_displaced(tile, tables, encoder, &plane, d, timer)
                         }
-                        (Some(_), _) => {
-                            return Err(GpuError::Validation(
-                                "texture: a displaced pass of another shape".to_owned(),
-                            ));
-                        }
-                    }
+                        (Some(_), _) => Err(GpuError::Validation(
+                            "texture: a displaced pass of another shape".to_owned(),
+                        )),
+                    }?;
                     encoder.copy_buffer_to_buffer(&plane, 0, target, at, plane_bytes);
                 }
             }

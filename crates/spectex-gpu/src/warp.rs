@@ -60,8 +60,6 @@ pub(crate) struct WarpKernel {
     /// `compose.wgsl`'s `warp_displace`, or `warp_displace_range` where the base reads the
     /// displacement's range: where the base is displaced on the device.
     displace: Option<CachedPipeline>,
-    /// Whether the base's tables read the displacement's range (read back per tile).
-    ranged: bool,
     /// One timestamp pair for a ranged tile's first submission, made on a worker.
     queries: Option<wgpu::QuerySet>,
 }
@@ -119,8 +117,11 @@ impl GpuKind for Warp {
                 compute_pipeline(&gpu, key, 1, || wgsl_source("compose"))
             })
             .transpose()?;
-        let ranged = read == DisplacementRead::Range;
-        let queries = if ranged { gpu.query_set(1) } else { None };
+        let queries = if read == DisplacementRead::Range {
+            gpu.query_set(1)
+        } else {
+            None
+        };
         Ok(Box::new(WarpKernel {
             model: self.clone(),
             whole: Model::Warp(self.clone()),
@@ -130,13 +131,17 @@ impl GpuKind for Warp {
             period,
             gpu,
             displace,
-            ranged,
             queries,
         }))
     }
 }
 
 impl WarpKernel {
+    /// Whether the base's tables read the displacement's range (read back per tile).
+    fn ranged(&self) -> bool {
+        self.base.displacement_read() == DisplacementRead::Range
+    }
+
     /// Records x's and y's dispatches into planes of their own and the composition into
     /// `displacement` (and, given `range`, `warp_displace_range`'s maxima into it, zero
     /// before); `timer` writes its start at the first pass and its end at the composition.
@@ -253,7 +258,7 @@ impl GpuKernel for WarpKernel {
         }
         let base_tile = tile.filtered(spectex_model::Filter::Off);
         let operands = vec![self.x.prepare_pass(tile)?, self.y.prepare_pass(tile)?];
-        if !self.ranged {
+        if !self.ranged() {
             return Ok(PreparedTile::Chain {
                 operands,
                 base: Some(self.base.prepare_device_displaced(&base_tile, None)?),
@@ -288,10 +293,10 @@ impl GpuKernel for WarpKernel {
         let base_tile = tile.filtered(spectex_model::Filter::Off);
         let mut operands = operands.into_iter();
         match (operands.next(), operands.next(), operands.next()) {
-            (Some(PreparedTile::OnDevice(displacement)), None, None) if self.ranged => self
+            (Some(PreparedTile::OnDevice(displacement)), None, None) if self.ranged() => self
                 .base
                 .encode_device_displaced(&base_tile, base, encoder, output, &displacement, timer),
-            (Some(x), Some(y), None) if !self.ranged => {
+            (Some(x), Some(y), None) if !self.ranged() => {
                 let n = tile.width * tile.height;
                 let displacement = self.gpu.empty(
                     "warp displacement",
