@@ -155,14 +155,21 @@ fn wavelet_export_axis(n: i32, u: f32, b: u32, axis: u32) -> WaveletAxis {
     return WaveletAxis(index, fraction);
 }
 
-/// The noise at the position `cell + offset` (pixels), bands summed in the CPU's order.
+/// Band `b`'s term `a_b · s_b` at the point `at`.
+fn wavelet_export_band(at: ExportPoint, b: u32) -> f32 {
+    let column = wavelet_export_axis(at.n.x, at.u.x, b, 0u);
+    let row = wavelet_export_axis(at.n.y, at.u.y, b, 1u);
+    return bands[b].amplitude * band_value(bands[b], column, row);
+}
+
+/// The noise at the position `cell + offset` (pixels), bands summed in the CPU's order. The
+/// exporter writes the bands out, `WAVELET_EXPORT_BANDS` = one `wavelet_export_band` term per
+/// band with its index as a literal (as classic.wgsl's octaves): a band's lattice, offsets
+/// and record are then constants, where a band loop's counter would read them from
+/// per-invocation memory.
 fn wavelet_sample_cell(cell: vec2<i32>, offset: vec2<f32>) -> f32 {
     let at = export_normalise(cell, offset);
     var acc = 0.0f;
-    for (var b = 0u; b < params.bands; b++) {
-        let column = wavelet_export_axis(at.n.x, at.u.x, b, 0u);
-        let row = wavelet_export_axis(at.n.y, at.u.y, b, 1u);
-        acc = acc + bands[b].amplitude * band_value(bands[b], column, row);
-    }
+    WAVELET_EXPORT_BANDS
     return params.mean + acc;
 }

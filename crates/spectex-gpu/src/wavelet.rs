@@ -206,7 +206,16 @@ impl ExportKind for WaveletNoise {
             offsets.join(", "),
             n = offsets.len()
         );
-        Ok(ExportParts::of(&kernel, &tables, lattices, "wavelet")?.with_constants(constants))
+        // The bands written out (`WAVELET_EXPORT_BANDS`, wavelet.wgsl's glue), their records
+        // constants even when the tile goes to a buffer: wavelet-3d-multiband's export (4
+        // bands) ran in 0.58 of the time on lavapipe (5.7 → 3.3 calibration cosines an
+        // evaluation, `cargo bench -p spectex-crosscheck --bench export`).
+        Ok(ExportParts::of(&kernel, &tables, lattices, "wavelet")?
+            .with_constants(constants)
+            .with_unrolled("WAVELET_EXPORT_BANDS", kernel.bands.len(), |b| {
+                format!("acc = acc + wavelet_export_band(at, {b}u);")
+            })
+            .with_constant_tables(&["bands", "columns", "rows"]))
     }
 }
 

@@ -143,11 +143,11 @@ fn every_exportable_model_validates_with_its_entry_points_and_no_binding() {
             let exported = export(&model, &buffer).unwrap_or_else(|e| panic!("{case}: {e}"));
             // The buffer holds the tables (the lattice split's few words, and the small
             // tables a glue reads at literal indexes, such as LRP's strata, stay constants).
+            // Kept constant: at most a few KiB (wavelet-2d's tile alone is the 64 KiB limit).
+            let buffered = exported.tables.len() as u64;
             assert!(
-                exported.tables.len() as u64 > MAX_TABLE_BYTES
-                    && exported.tables.len() as u64 <= *value,
-                "{case}: {} bytes in the buffer for {value} bytes of tables",
-                exported.tables.len()
+                buffered <= *value && *value - buffered <= 4096,
+                "{case}: {buffered} bytes in the buffer for {value} bytes of tables"
             );
             check_module(&case, &model, &exported.wgsl, true);
             too_large.push(case);
