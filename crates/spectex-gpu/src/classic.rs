@@ -293,15 +293,22 @@ impl ShaderKernel for ClassicKernel {
         "CLASSIC_THREE_D",
         "CLASSIC_FRACTAL",
         "CLASSIC_METRIC",
+        "CLASSIC_PERIODIC",
     ];
 
-    /// The model's basis, dimension, fractal and Worley metric.
+    /// The model's basis, dimension, fractal and Worley metric, and whether it is periodic.
     fn shape(&self) -> Vec<u32> {
         let p = &self.params;
         if self.generic {
             return Vec::new();
         }
-        vec![p.basis, p.three_d, p.fractal, p.metric]
+        vec![
+            p.basis,
+            p.three_d,
+            p.fractal,
+            p.metric,
+            u32::from(self.period.is_some()),
+        ]
     }
 
     fn axis_bytes(&self) -> u64 {
