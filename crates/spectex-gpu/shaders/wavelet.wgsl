@@ -50,6 +50,21 @@ struct WaveletAxis {
 @group(0) @binding(4) var<storage, read> rows: array<WaveletAxis>;
 @group(0) @binding(5) var<storage, read_write> output: array<f32>;
 
+// The model's shape (common.wgsl's "Shapes"): its dimension and tile side. A uniform's made
+// lavapipe run wavelet-2d at a third of this speed (the 3D sum's branch and the index
+// arithmetic by a runtime side), bit for bit the same.
+override WAVELET_DIMENSIONS: u32 = 0xffffffffu;
+override WAVELET_TILE: u32 = 0xffffffffu;
+
+fn wavelet_dimensions() -> u32 {
+    return shape_or(WAVELET_DIMENSIONS, params.dimensions);
+}
+
+/// The tile side `n`.
+fn wavelet_tile() -> u32 {
+    return shape_or(WAVELET_TILE, params.n);
+}
+
 /// Quadratic B-spline weights of samples m − 1, m, m + 1 (spectex_model::wavelet::spline_weights).
 fn spline_weights(f: f32) -> vec3<f32> {
     let g = 1.0f - f;
@@ -60,14 +75,14 @@ fn spline_weights(f: f32) -> vec3<f32> {
 
 /// i + 1 mod n for i < n.
 fn next_index(i: u32) -> u32 {
-    return select(i + 1u, 0u, i + 1u == params.n);
+    return select(i + 1u, 0u, i + 1u == wavelet_tile());
 }
 
 /// The plane value at (i, j) of a band: the tile in 2D, the z-weighted sum of three layers in 3D.
 fn plane(i: u32, j: u32, band: WaveletBand) -> f32 {
-    let n = params.n;
+    let n = wavelet_tile();
     let o = j * n + i;
-    if (params.dimensions == 2u) {
+    if (wavelet_dimensions() == 2u) {
         return tile[o];
     }
     let wz = spline_weights(band.z_fraction);
@@ -90,7 +105,7 @@ fn row_value(i: u32, j0: u32, wy: vec3<f32>, band: WaveletBand) -> f32 {
 /// shift is at most MAX_WARP samples, the index below n ≤ 256).
 fn displaced(a: WaveletAxis, d: f32, inv_side: f32) -> WaveletAxis {
     let moved = warp_relocate(i32(a.index), a.fraction, d * inv_side);
-    let n = i32(params.n);
+    let n = i32(wavelet_tile());
     return WaveletAxis(u32(((moved.cell % n) + n) % n), moved.offset);
 }
 
@@ -149,9 +164,9 @@ fn wavelet_export_axis(n: i32, u: f32, b: u32, axis: u32) -> WaveletAxis {
     } else {
         fraction = (r + u) * export_inv_sides[b];
     }
-    let tile = i32(params.n);
+    let tile = i32(wavelet_tile());
     let wrapped = u32(((m % tile) + tile) % tile);
-    let index = (wrapped + wavelet_export_offsets[2u * b + axis] + params.n - 1u) % params.n;
+    let index = (wrapped + wavelet_export_offsets[2u * b + axis] + wavelet_tile() - 1u) % wavelet_tile();
     return WaveletAxis(index, fraction);
 }
 

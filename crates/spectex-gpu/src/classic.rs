@@ -462,6 +462,7 @@ pub mod tests {
         assert_shape_is_the_overrides::<crate::islamic::IslamicKernel>();
         assert_shape_is_the_overrides::<crate::subdivision::SubdivisionKernel>();
         assert_shape_is_the_overrides::<crate::matrix::MatrixKernel>();
+        assert_shape_is_the_overrides::<crate::wavelet::WaveletKernel>();
     }
 
     /// A pipeline specialised to a model's shape renders the bits of the generic one (no

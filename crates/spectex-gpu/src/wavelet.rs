@@ -148,6 +148,13 @@ impl ShaderKernel for WaveletKernel {
     const SHADER: &'static str = "wavelet";
     const ENTRY_POINT: &'static str = "wavelet_main";
 
+    const SHAPE: &'static [&'static str] = &["WAVELET_DIMENSIONS", "WAVELET_TILE"];
+
+    /// The model's dimension and tile side.
+    fn shape(&self) -> Vec<u32> {
+        vec![self.dimensions, self.n]
+    }
+
     fn axis_bytes(&self) -> u64 {
         (size_of::<WaveletAxis>() * self.bands.len()) as u64
     }
