@@ -39,7 +39,10 @@ struct IslamicParams {
 
 @group(0) @binding(0) var<uniform> params: IslamicParams;
 /// Seven floats per segment: a.x, a.y, b.x, b.y, d.x, d.y, 1/|d|².
-@group(0) @binding(1) var<storage, read> segments: array<f32>;
+/// Two vec4 per segment, (a_x, a_y, b_x, b_y) and (d_x, d_y, ι, 0), read at the loop's counter
+/// by every invocation alike: a uniform (lavapipe read the storage table lane by lane, at a
+/// third of this speed). 2048 segments at most, 64 KiB (`UNIFORM_SEGMENTS` of islamic.rs).
+@group(0) @binding(1) var<uniform> segments: array<vec4<f32>, 4096>;
 /// Per column: (frac(A00·x), frac(A10·x)).
 @group(0) @binding(2) var<storage, read> columns: array<vec2<f32>>;
 /// Per row: (frac(A01·y + c0), frac(A11·y + c1)).
@@ -52,8 +55,6 @@ override ISLAMIC_OUTPUT: u32 = 0xffffffffu;
 fn islamic_output() -> u32 {
     return shape_or(ISLAMIC_OUTPUT, params.output);
 }
-
-const SEGMENT_FLOATS: u32 = 7u;
 
 @compute @workgroup_size(8, 8, 1)
 fn islamic_main(@builtin(global_invocation_id) gid: vec3<u32>) {
@@ -141,10 +142,9 @@ fn islamic_at(s: f32, t: f32, count: u32) -> f32 {
     var best = 3.4028235e38f;
     var odd = false;
     for (var k = 0u; k < count; k++) {
-        let base = k * SEGMENT_FLOATS;
-        let a = vec2<f32>(segments[base], segments[base + 1u]);
-        let d = vec2<f32>(segments[base + 4u], segments[base + 5u]);
-        islamic_segment(q, a, segments[base + 3u], d, segments[base + 6u], &best, &odd);
+        let ab = segments[2u * k];
+        let d = segments[2u * k + 1u];
+        islamic_segment(q, ab.xy, ab.w, d.xy, d.z, &best, &odd);
     }
     return islamic_value(best, odd);
 }

@@ -83,12 +83,30 @@ impl GpuKind for IslamicPattern {
         period: Option<Period>,
     ) -> Result<Box<dyn GpuKernel>, GpuError> {
         let (kernel, segments) = pack(self, period);
-        Shaded::boxed(
-            context,
-            kernel,
-            &[Table::new("islamic segments", &segments)],
-        )
+        Shaded::boxed(context, kernel, &[uniform_segments(&segments)?])
     }
+}
+
+/// The segments `islamic.wgsl`'s uniform table holds (two vec4 each, 64 KiB: a uniform
+/// binding's guaranteed size); a pattern has a few hundred (3.12.12: 432).
+const UNIFORM_SEGMENTS: usize = 2048;
+
+/// The segment table (seven f32 per segment) as `islamic.wgsl`'s uniform reads it:
+/// `(a_x, a_y, b_x, b_y)`, `(d_x, d_y, ι, 0)` per segment.
+///
+/// # Errors
+/// [`GpuError::LimitsExceeded`] for more than [`UNIFORM_SEGMENTS`] segments.
+fn uniform_segments(segments: &[f32]) -> Result<Table, GpuError> {
+    let records: Vec<[f32; 4]> = segments
+        .chunks_exact(SEGMENT_FLOATS)
+        .flat_map(|s| [[s[0], s[1], s[2], s[3]], [s[4], s[5], s[6], 0.0]])
+        .collect();
+    Table::uniform(
+        "islamic segments",
+        "records of an Islamic pattern's segment table (two a segment)",
+        &records,
+        2 * UNIFORM_SEGMENTS,
+    )
 }
 
 /// The kernel of an Islamic pattern, its positions reduced modulo `period` when given, and its
@@ -224,7 +242,7 @@ impl ExportKind for IslamicPattern {
         };
         let count = segments.len() / SEGMENT_FLOATS;
         // The table the compute path's loop reads is one unused zero record here.
-        let unread: &[f32] = &[];
+        let unread: &[[f32; 4]] = &[];
         Ok(ExportParts::of(
             &kernel,
             &[Table::new("islamic segments", unread)],
@@ -248,6 +266,25 @@ pub mod tests {
 
     pub fn params_match_the_wgsl() {
         assert_matches_wgsl::<IslamicParams>("islamic", "IslamicParams");
+    }
+
+    /// The uniform table holds each segment's seven values where the shader reads them, pads
+    /// to the binding's 64 KiB, and refuses one segment more than it holds, naming the limit.
+    pub fn uniform_segments_hold_the_table_or_name_the_limit() {
+        let segments: Vec<f32> = (0..2 * SEGMENT_FLOATS).map(|i| i as f32).collect();
+        let table = uniform_segments(&segments).unwrap();
+        assert_eq!(table.bytes.len(), 65536);
+        let records: &[[f32; 4]] = bytemuck::cast_slice(&table.bytes);
+        assert_eq!(records[2], [7.0, 8.0, 9.0, 10.0]);
+        assert_eq!(records[3], [11.0, 12.0, 13.0, 0.0]);
+        assert!(records[4..].iter().all(|r| *r == [0.0; 4]));
+        let over = vec![0.0f32; (UNIFORM_SEGMENTS + 1) * SEGMENT_FLOATS];
+        match uniform_segments(&over) {
+            Err(GpuError::LimitsExceeded { value, limit, .. }) => {
+                assert_eq!((value, limit), (4098, 4096));
+            }
+            other => panic!("{other:?}"),
+        }
     }
 
     /// The glue's sum of the set bits' table entries, modulo 2³² (`islamic_export_fixed_sum`),

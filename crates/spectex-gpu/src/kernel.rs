@@ -479,6 +479,35 @@ impl Table {
         }
     }
 
+    /// The records `records` for a shader's `var<uniform>` array of `capacity` records (a
+    /// table every invocation reads at the same index, which a GPU serves from its constant
+    /// cache and lavapipe without a gather), zero-padded to that size, as a uniform binding
+    /// must be at least the array it declares.
+    ///
+    /// # Errors
+    /// [`GpuError::LimitsExceeded`] naming `what` for more than `capacity` records.
+    pub(crate) fn uniform<T: bytemuck::Pod>(
+        label: &'static str,
+        what: &'static str,
+        records: &[T],
+        capacity: usize,
+    ) -> Result<Self, GpuError> {
+        if records.len() > capacity {
+            return Err(GpuError::LimitsExceeded {
+                what,
+                value: records.len() as u64,
+                limit: capacity as u64,
+            });
+        }
+        let mut bytes: Vec<u8> = bytemuck::cast_slice(records).to_vec();
+        bytes.resize(capacity * size_of::<T>(), 0);
+        Ok(Self {
+            label,
+            bytes,
+            on_device: None,
+        })
+    }
+
     /// A table of `size` bytes that the tile's passes fill on the device, where the host
     /// uploads nothing ([`ShaderKernel::encode_passes`]).
     pub(crate) fn filled_on_device(label: &'static str, size: u64) -> Self {

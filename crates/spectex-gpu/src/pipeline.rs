@@ -103,9 +103,11 @@ impl Gpu {
         })
     }
 
-    /// A read-only storage buffer holding `table`.
+    /// A read-only buffer holding `table`, bound as the shader declares it: storage, or
+    /// uniform ([`Table::uniform`]).
     fn storage(&self, table: &Table) -> wgpu::Buffer {
-        self.buffer(table.label, &table.bytes, wgpu::BufferUsages::STORAGE)
+        use wgpu::BufferUsages as U;
+        self.buffer(table.label, &table.bytes, U::STORAGE | U::UNIFORM)
     }
 
     /// A query set of `pairs` timestamp pairs, where the device has timestamps.

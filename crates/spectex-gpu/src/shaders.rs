@@ -144,7 +144,8 @@ pub mod tests {
     /// layout holds only the bindings its entry point uses, while the host binds every binding
     /// the file declares (`pipeline::Shaded`): so in a model shader (composed after
     /// `common.wgsl`, one entry point) that entry point must use them all. Group 0 must also follow the convention the
-    /// host binds by: the uniform at 0, read-only tables at 1, 2, … and the output last; group 1
+    /// host binds by: the uniform at 0, read-only tables at 1, 2, … (storage, or a uniform
+    /// array: `kernel::Table::uniform`) and the output last; group 1
     /// is `common.wgsl`'s displacement. (The probe's two entry points bind disjoint halves of
     /// its group 0, and its tests bind each half on its own.)
     pub fn model_shaders_use_every_binding_in_the_host_order() {
@@ -189,6 +190,7 @@ pub mod tests {
                 let want = match k {
                     0 => AddressSpace::Uniform,
                     k if k == last => write,
+                    _ if space == AddressSpace::Uniform => space,
                     _ => read,
                 };
                 assert_eq!(

@@ -253,7 +253,9 @@ impl Emitter<'_> {
                 accessors.insert(name.clone());
                 self.buffer_table(&module, &format!("{prefix}{name}"), &name, var.ty, bytes)?
             } else {
-                if !matches!(var.space, naga::AddressSpace::Uniform) {
+                // Tables, not the params uniform (a uniform table is an array).
+                let array = matches!(module.types[var.ty].inner, naga::TypeInner::Array { .. });
+                if array || !matches!(var.space, naga::AddressSpace::Uniform) {
                     self.constant_bytes += bytes.len();
                 }
                 declaration(&module, &name, var.ty, bytes)?

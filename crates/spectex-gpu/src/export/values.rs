@@ -25,9 +25,11 @@ pub(super) fn declaration(
     bytes: &[u8],
 ) -> Result<String, GpuError> {
     match &module.types[ty].inner {
+        // A storage table, or a uniform one of a fixed capacity (`Table::uniform`): the
+        // records given, however many the binding holds.
         naga::TypeInner::Array {
             base,
-            size: naga::ArraySize::Dynamic,
+            size: naga::ArraySize::Dynamic | naga::ArraySize::Constant(_),
             stride,
         } => {
             let stride = *stride as usize;

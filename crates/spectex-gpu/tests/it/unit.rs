@@ -7,7 +7,8 @@ spectex_testkit::unit_tests! {
     combine: passes_of_every_operation_validate, exact_arithmetic_rounds_as_the_cpu, combination_passes_are_apply_bit_for_bit;
     classic: records_match_the_wgsl, shape_constants_are_the_shaders_overrides, specialised_pipelines_render_the_generic_bits, skew_parts_add_up_to_the_skewed_coordinate, params_and_octaves_carry_the_model, halving_needs_every_lattice_halved_exactly;
     gabor: params_match_the_wgsl;
-    islamic: params_match_the_wgsl, fixed_point_sums_are_the_fraction_of_a_times_n;
+    islamic: params_match_the_wgsl, fixed_point_sums_are_the_fraction_of_a_times_n,
+        uniform_segments_hold_the_table_or_name_the_limit;
     lrp: records_match_the_wgsl, lattice_offsets_are_the_rounded_f64_differences, pack_concatenates_tables_in_order, an_unknown_constant_table_is_refused;
     matrix: params_match_the_wgsl;
     tiling: params_match_the_wgsl;
