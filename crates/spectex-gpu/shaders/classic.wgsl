@@ -86,6 +86,8 @@ struct ClassicOctave {
     /// y enter the hash wrapped modulo them (wrap_cell, common.wgsl), as on the CPU.
     cells_x: i32,
     cells_y: i32,
+    /// To a 16-byte stride, as a uniform array's element must be.
+    _pad0: u32,
 }
 
 /// One column (or row) of the tile for one octave: p = x / c_o split as ⌊p⌋ and f32(p − ⌊p⌋);
@@ -101,7 +103,9 @@ struct ClassicAxis {
 }
 
 @group(0) @binding(0) var<uniform> params: ClassicParams;
-@group(0) @binding(1) var<storage, read> octaves: array<ClassicOctave>;
+/// Read by every invocation at the same octave: a uniform (lavapipe read the storage table
+/// lane by lane). MAX_OCTAVES (spectex_model::classic) records.
+@group(0) @binding(1) var<uniform> octaves: array<ClassicOctave, 16>;
 @group(0) @binding(2) var<storage, read> columns: array<ClassicAxis>;
 @group(0) @binding(3) var<storage, read> rows: array<ClassicAxis>;
 /// Per octave: (scale, constant) of a minified render; read only when params.filtered == 1.

@@ -86,6 +86,8 @@ wgsl_struct! {
         /// lattice coordinates entering the hash wrap modulo them (`wrap_cell`).
         cells_x: i32,
         cells_y: i32,
+        /// To a 16-byte stride, as a uniform array's element must be.
+        _pad0: u32,
     }
 }
 
@@ -132,6 +134,17 @@ fn split(p: f64) -> (i32, f32) {
     (cell as i64 as i32, (p - cell) as f32)
 }
 
+/// The octave records as `classic.wgsl`'s uniform table of `MAX_OCTAVES` (a validated model has
+/// no more).
+fn octave_table(octaves: &[ClassicOctave]) -> Result<Table, GpuError> {
+    Table::uniform(
+        "classic octaves",
+        "octaves of a classic noise",
+        octaves,
+        spectex_model::classic::MAX_OCTAVES as usize,
+    )
+}
+
 /// Packs a validated model for the plane `z` (ignored in 2D): the kernel and the octave table.
 pub(crate) fn pack(model: &ClassicNoise, z: f64) -> (ClassicKernel, Vec<ClassicOctave>) {
     pack_periodic(model, z, None)
@@ -170,6 +183,7 @@ fn pack_periodic(
             inv_cell: (1.0 / side) as f32,
             cells_x: period.map_or(0, |p| p.cells(side)[0] as i32),
             cells_y: period.map_or(0, |p| p.cells(side)[1] as i32),
+            _pad0: 0,
         });
     }
     let kind = model.fractal.as_ref().map(|f| f.kind);
@@ -280,7 +294,7 @@ impl GpuKind for ClassicNoise {
         period: Option<Period>,
     ) -> Result<Box<dyn GpuKernel>, GpuError> {
         let (kernel, octaves) = pack_periodic(self, z, period);
-        Shaded::boxed(context, kernel, &[Table::new("classic octaves", &octaves)])
+        Shaded::boxed(context, kernel, &[octave_table(&octaves)?])
     }
 }
 
@@ -510,7 +524,7 @@ pub mod tests {
                 let render = |generic: bool| {
                     let (mut kernel, octaves) = pack(m, 12.5);
                     kernel.generic = generic;
-                    let table = [Table::new("classic octaves", &octaves)];
+                    let table = [octave_table(&octaves).unwrap()];
                     Shaded::boxed(&context, kernel, &table)
                         .unwrap()
                         .render_tile(tile, None)
@@ -571,8 +585,9 @@ pub mod tests {
         // The bytes the device receives: the CDF starts at word 24, the octave's cell at word 1.
         let words: &[u32] = bytemuck::cast_slice(std::slice::from_ref(&p));
         assert_eq!(words[24..40], cdf.map(f32::to_bits));
-        // Octaves are eleven words: octave 1's plane cell is word 11 + 1.
-        assert_eq!(bytemuck::cast_slice::<_, u32>(&octaves)[11 + 1], 5);
+        // Octaves are twelve words (a uniform array's 16-byte stride): octave 1's plane cell
+        // is word 12 + 1.
+        assert_eq!(bytemuck::cast_slice::<_, u32>(&octaves)[12 + 1], 5);
         assert_eq!((o.cells_x, o.cells_y), (0, 0));
         // Periodic with 64 × 32: octave 1's cells of 8 pixels, 8 × 4 per period.
         let (_, periodic) = pack_periodic(
