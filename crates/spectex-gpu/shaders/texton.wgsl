@@ -66,6 +66,8 @@ struct TextonParams {
 override TEXTON_COMBINE: u32 = 0xffffffffu;
 override TEXTON_PLACEMENT: u32 = 0xffffffffu;
 override TEXTON_SPOT: u32 = 0xffffffffu;
+/// The cells searched beyond the pixel's own: the search loops' bound.
+override TEXTON_REACH: u32 = 0xffffffffu;
 
 fn texton_combine() -> u32 {
     return shape_or(TEXTON_COMBINE, params.combine);
@@ -77,6 +79,10 @@ fn texton_placement() -> u32 {
 
 fn texton_spot() -> u32 {
     return shape_or(TEXTON_SPOT, params.spot);
+}
+
+fn texton_reach() -> i32 {
+    return i32(shape_or(TEXTON_REACH, u32(params.reach)));
 }
 
 /// The randomness-contract layer of texton cells ("TEXT").
@@ -154,7 +160,7 @@ fn texton_value(column: GridAxis, row: GridAxis) -> f32 {
     if (column.valid == 0u || row.valid == 0u) {
         return params.mean;
     }
-    let reach = params.reach;
+    let reach = texton_reach();
     var acc = 0.0f;
     for (var dj = -reach; dj <= reach; dj++) {
         let cell_y = bitcast<i32>(bitcast<u32>(row.cell) + bitcast<u32>(dj));

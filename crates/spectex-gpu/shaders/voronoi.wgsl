@@ -48,6 +48,21 @@ fn voronoi_output() -> u32 {
     return shape_or(VORONOI_OUTPUT, params.output);
 }
 
+/// The search's reach and the dimension (1 for 3D) fold too: as uniforms, the search's loop
+/// bounds and the 3D branch were data (cell ID ran at 0.6× this speed on lavapipe).
+override VORONOI_REACH: u32 = 0xffffffffu;
+override VORONOI_THREE_D: u32 = 0xffffffffu;
+
+/// Cells searched beyond the pixel's own.
+fn voronoi_reach() -> i32 {
+    return i32(shape_or(VORONOI_REACH, u32(params.reach)));
+}
+
+/// A 3D diagram (its box has planes).
+fn voronoi_three_d() -> bool {
+    return shape_or(VORONOI_THREE_D, u32(params.box_depth > 0u)) == 1u;
+}
+
 const SITE_FLOATS: u32 = 6u;
 
 /// Where the site of cell (cx, cy) starts in `sites`; the box covers every search.
@@ -97,12 +112,12 @@ fn voronoi_main(@builtin(global_invocation_id) gid: vec3<u32>) {
         }
         return;
     }
-    if (params.box_depth > 0u) {
+    if (voronoi_three_d()) {
         voronoi_main3(index, vec3<i32>(column.cell, row.cell, params.z_cell),
             vec3<f32>(column.offset, row.offset, params.z_offset));
         return;
     }
-    let reach = params.reach;
+    let reach = voronoi_reach();
     let fx = column.offset;
     let fy = row.offset;
     var best = 3.4028235e38f;
@@ -187,7 +202,7 @@ fn voronoi_delta3(c: vec3<i32>, o: vec3<i32>, f: vec3<f32>) -> vec3<f32> {
 /// then the others within the reach whose bound can beat what was found, each in (dk, dj, di)
 /// order; the nearest is the smallest d², ties to the first cell in that order.
 fn voronoi_main3(index: u32, c: vec3<i32>, f: vec3<f32>) {
-    let reach = params.reach;
+    let reach = voronoi_reach();
     let want_second = voronoi_output() == 3u;
     var best = 3.4028235e38f;
     var second = 3.4028235e38f;
@@ -302,10 +317,10 @@ fn voronoi_export_value(cell: vec2<i32>, offset: vec2<f32>) -> vec3<f32> {
     // The CPU's offsets in cell units, `x/C − ⌊x/C⌋` rounded once from f64.
     let fx = (cx.rem + at.u.x) * export_inv_sides[0];
     let fy = (cy.rem + at.u.y) * export_inv_sides[0];
-    if (params.box_depth > 0u) {
+    if (voronoi_three_d()) {
         return voronoi_export_value3(vec3<i32>(cx.cell, cy.cell, params.z_cell), vec3<f32>(fx, fy, params.z_offset));
     }
-    let reach = params.reach;
+    let reach = voronoi_reach();
     var best = 3.4028235e38f;
     var second = 3.4028235e38f;
     var nearest = vec3<f32>(0.0f);
@@ -387,7 +402,7 @@ fn voronoi_export_site3(x: i32, row: u32) -> vec4<f32> {
 
 /// The 3D diagram at offset `f` in cell `c` (voronoi_main3's search).
 fn voronoi_export_value3(c: vec3<i32>, f: vec3<f32>) -> vec3<f32> {
-    let reach = params.reach;
+    let reach = voronoi_reach();
     let want_second = voronoi_output() == 3u;
     var best = 3.4028235e38f;
     var second = 3.4028235e38f;

@@ -161,11 +161,17 @@ impl ShaderKernel for TextonKernel {
     const SHADER: &'static str = "texton";
     const ENTRY_POINT: &'static str = "texton_main";
 
-    const SHAPE: &'static [&'static str] = &["TEXTON_COMBINE", "TEXTON_PLACEMENT", "TEXTON_SPOT"];
+    const SHAPE: &'static [&'static str] = &[
+        "TEXTON_COMBINE",
+        "TEXTON_PLACEMENT",
+        "TEXTON_SPOT",
+        "TEXTON_REACH",
+    ];
 
-    /// The model's combine, placement, spot (the shader's shape overrides).
+    /// The model's combine, placement, spot and search reach (the shader's shape overrides).
     fn shape(&self) -> Vec<u32> {
-        vec![self.params.combine, self.params.placement, self.params.spot]
+        let p = &self.params;
+        vec![p.combine, p.placement, p.spot, p.reach as u32]
     }
 
     fn axis_bytes(&self) -> u64 {

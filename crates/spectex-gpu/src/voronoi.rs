@@ -177,16 +177,17 @@ pub(crate) fn pack(model: &VoronoiNoise, period: Option<Period>) -> VoronoiKerne
 impl ShaderKernel for VoronoiKernel {
     const SHADER: &'static str = "voronoi";
     const ENTRY_POINT: &'static str = "voronoi_main";
-    const SHAPE: &'static [&'static str] = &["VORONOI_OUTPUT"];
+    const SHAPE: &'static [&'static str] = &["VORONOI_OUTPUT", "VORONOI_REACH", "VORONOI_THREE_D"];
 
     /// The box of sites covers the displaced pixels' cells: their range is enough.
     fn displacement_read(&self) -> DisplacementRead {
         DisplacementRead::Range
     }
 
-    /// The model's output (the shader's shape overrides).
+    /// The model's output, search reach and dimension (the shader's shape overrides).
     fn shape(&self) -> Vec<u32> {
-        vec![self.params.output]
+        let p = &self.params;
+        vec![p.output, p.reach as u32, u32::from(p.box_depth > 0)]
     }
 
     fn output_channels(&self) -> usize {

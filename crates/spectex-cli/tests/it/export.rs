@@ -59,7 +59,11 @@ fn a_large_model_needs_tables_and_gets_them_in_a_buffer() {
     // The 128² tile (65 536 bytes) alone: the bands and the (unused) per-tile records stay
     // constants in the module, which reads them at literal indexes.
     assert_eq!(tile.len(), 65_536);
-    assert!(bytes == tile, "the buffer is not the tile ({} bytes)", bytes.len());
+    assert!(
+        bytes == tile,
+        "the buffer is not the tile ({} bytes)",
+        bytes.len()
+    );
 
     spectex_ok(&[
         "export",
