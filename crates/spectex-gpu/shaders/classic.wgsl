@@ -139,6 +139,11 @@ override CLASSIC_METRIC: u32 = 0xffffffffu;
 /// kernel that may wrap keeps `wrap_cell`'s branch and modulo by a runtime count at every
 /// corner; lavapipe runs both sides of it per lane (perlin fBm at 0.6× the speed of this).
 override CLASSIC_PERIODIC: u32 = 0xffffffffu;
+/// Worley: the fixed count of points per cell (0: Poisson), and n − 1 for the farthest F_n
+/// the search needs, which indexes its four distances (a runtime index keeps that array in
+/// per-invocation memory).
+override CLASSIC_FIXED_COUNT: u32 = 0xffffffffu;
+override CLASSIC_NEEDED: u32 = 0xffffffffu;
 
 fn classic_basis() -> u32 {
     return shape_or(CLASSIC_BASIS, params.basis);
@@ -472,8 +477,9 @@ fn worley_gap(u: vec3<f32>, ring: i32) -> f32 {
 /// The number of feature points of the cell whose stream is `prng`: fixed, or a Poisson count
 /// (one uniform u, the count of k with u ≥ P(N ≤ k)).
 fn worley_count(prng: ptr<function, Prng>) -> u32 {
-    if (params.fixed_count != 0u) {
-        return params.fixed_count;
+    let fixed = shape_or(CLASSIC_FIXED_COUNT, params.fixed_count);
+    if (fixed != 0u) {
+        return fixed;
     }
     let u = prng_next_f32(prng);
     var count = 0u;
@@ -525,7 +531,7 @@ fn worley(p: Located3, o: u32, octave: ClassicOctave) -> f32 {
                 }
             }
         }
-        if (f[params.needed] <= worley_gap(u, ring)) {
+        if (f[shape_or(CLASSIC_NEEDED, params.needed)] <= worley_gap(u, ring)) {
             break;
         }
     }

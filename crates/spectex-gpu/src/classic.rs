@@ -308,6 +308,8 @@ impl ShaderKernel for ClassicKernel {
         "CLASSIC_FRACTAL",
         "CLASSIC_METRIC",
         "CLASSIC_PERIODIC",
+        "CLASSIC_FIXED_COUNT",
+        "CLASSIC_NEEDED",
     ];
 
     /// The model's basis, dimension, fractal and Worley metric, and whether it is periodic.
@@ -322,6 +324,8 @@ impl ShaderKernel for ClassicKernel {
             p.fractal,
             p.metric,
             u32::from(self.period.is_some()),
+            p.fixed_count,
+            p.needed,
         ]
     }
 
