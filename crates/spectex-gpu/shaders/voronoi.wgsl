@@ -49,7 +49,7 @@ fn voronoi_output() -> u32 {
 }
 
 /// The search's reach and the dimension (1 for 3D) fold too: as uniforms, the search's loop
-/// bounds and the 3D branch were data (cell ID ran at 0.6× this speed on lavapipe).
+/// bounds and the 3D branch were data (cell ID ran at half this speed on lavapipe).
 override VORONOI_REACH: u32 = 0xffffffffu;
 override VORONOI_THREE_D: u32 = 0xffffffffu;
 
