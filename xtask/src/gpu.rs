@@ -469,24 +469,20 @@ pub(crate) fn gpu_report(ws: &Workspace) -> Result<()> {
     }
     fs::create_dir_all(&stage)?;
     run_command(&mut ws.cargo(&["build", "--release", "-p", "spectex-cli", "-p", "xtask"]))?;
-    let names = [
-        "spectex",
-        "xtask",
-        "models",
-        "export",
-        "gpu-tests",
-        "crosscheck-tests",
+    let binaries = [
+        (target.join("release/spectex"), "spectex"),
+        (target.join("release/xtask"), "xtask"),
+        (bench_executable(ws, "models")?, "models"),
+        (bench_executable(ws, "export")?, "export"),
+        (test_executable(ws, "spectex-gpu")?, "gpu-tests"),
+        (
+            test_executable(ws, "spectex-crosscheck")?,
+            "crosscheck-tests",
+        ),
     ];
-    for (from, name) in [
-        (target.join("release/spectex"), names[0]),
-        (target.join("release/xtask"), names[1]),
-        (bench_executable(ws, "models")?, names[2]),
-        (bench_executable(ws, "export")?, names[3]),
-        (test_executable(ws, "spectex-gpu")?, names[4]),
-        (test_executable(ws, "spectex-crosscheck")?, names[5]),
-    ] {
+    for (from, name) in &binaries {
         let to = stage.join(name);
-        fs::copy(&from, &to).with_context(|| format!("copying {}", from.display()))?;
+        fs::copy(from, &to).with_context(|| format!("copying {}", from.display()))?;
         // Stripping only shrinks the folder: without `strip` the binaries still work.
         let _ = Command::new("strip").arg(&to).status();
     }
@@ -498,7 +494,7 @@ pub(crate) fn gpu_report(ws: &Workspace) -> Result<()> {
             .arg(dir.join("bin.tar.xz"))
             .arg("-C")
             .arg(&stage)
-            .args(names)
+            .args(binaries.iter().map(|(_, name)| name))
             .arg("build-root"),
     )?;
     fs::remove_dir_all(&stage)?;

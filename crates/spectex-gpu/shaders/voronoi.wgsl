@@ -172,7 +172,7 @@ const VORONOI_BORDER_PRUNE_MARGIN: f32 = 1e-3f;
 fn site_base3(c: vec3<i32>) -> u32 {
     let i = min(u32(c.x - params.box_i0), params.box_cols - 1u);
     let j = min(u32(c.y - params.box_j0), params.box_rows - 1u);
-    let k = min(u32(c.z - (params.z_cell - params.reach)), params.box_depth - 1u);
+    let k = min(u32(c.z - (params.z_cell - voronoi_reach())), params.box_depth - 1u);
     return ((k * params.box_rows + j) * params.box_cols + i) * VORONOI_SITE3_FLOATS;
 }
 

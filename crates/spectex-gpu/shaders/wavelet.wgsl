@@ -164,9 +164,9 @@ fn wavelet_export_axis(n: i32, u: f32, b: u32, axis: u32) -> WaveletAxis {
     } else {
         fraction = (r + u) * export_inv_sides[b];
     }
-    let tile = i32(wavelet_tile());
-    let wrapped = u32(((m % tile) + tile) % tile);
-    let index = (wrapped + wavelet_export_offsets[2u * b + axis] + wavelet_tile() - 1u) % wavelet_tile();
+    let tile_n = wavelet_tile();
+    let wrapped = u32(((m % i32(tile_n)) + i32(tile_n)) % i32(tile_n));
+    let index = (wrapped + wavelet_export_offsets[2u * b + axis] + tile_n - 1u) % tile_n;
     return WaveletAxis(index, fraction);
 }
 

@@ -443,7 +443,7 @@ fn halving(lattices: &[f64]) -> bool {
 #[allow(clippy::unwrap_used, reason = "a test fails loudly")]
 pub mod tests {
     use super::*;
-    use crate::layout::check::{assert_matches_wgsl, context_or_skip};
+    use crate::layout::check::{assert_fills_uniform_array, assert_matches_wgsl, context_or_skip};
     use spectex_model::classic::{Fractal, Worley};
 
     fn model(basis: Basis, dimensions: u32) -> ClassicNoise {
@@ -600,6 +600,9 @@ pub mod tests {
             Some(Period::new(64, 32).unwrap()),
         );
         assert_eq!((periodic[1].cells_x, periodic[1].cells_y), (8, 4));
+        // The uniform table is the shader's whole array, whatever the model's octaves.
+        let table = octave_table(&octaves).unwrap();
+        assert_fills_uniform_array("classic", "octaves", &table.bytes);
     }
 
     pub fn halving_needs_every_lattice_halved_exactly() {

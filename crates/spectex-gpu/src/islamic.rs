@@ -234,7 +234,7 @@ impl ExportKind for IslamicPattern {
         // `islamic_export_at`).
         let segment = |k: usize| {
             let [ax, ay, _bx, by, dx, dy, inv] =
-                std::array::from_fn(|i| float(segments[7 * k + i]));
+                std::array::from_fn(|i| float(segments[SEGMENT_FLOATS * k + i]));
             format!(
                 "islamic_segment(q, vec2<f32>({ax}, {ay}), {by}, vec2<f32>({dx}, {dy}), {inv}, \
                  &best, &odd);"
@@ -253,7 +253,8 @@ impl ExportKind for IslamicPattern {
         .with_unrolled("ISLAMIC_EXPORT_SEGMENTS", count, segment)
         // Only the compute path, unused here, reads the tables (the segments written out, a
         // position's fractions summed from the fixed-point tables): a buffer export binds none.
-        .with_constant_tables(&["segments", "columns", "rows"]))
+        // The segments, a uniform table, are constants in any export.
+        .with_constant_tables(&["columns", "rows"]))
     }
 }
 
@@ -262,7 +263,7 @@ impl ExportKind for IslamicPattern {
 #[allow(clippy::unwrap_used, reason = "a test fails loudly")]
 pub mod tests {
     use super::*;
-    use crate::layout::check::assert_matches_wgsl;
+    use crate::layout::check::{assert_fills_uniform_array, assert_matches_wgsl};
 
     pub fn params_match_the_wgsl() {
         assert_matches_wgsl::<IslamicParams>("islamic", "IslamicParams");
@@ -274,6 +275,7 @@ pub mod tests {
         let segments: Vec<f32> = (0..2 * SEGMENT_FLOATS).map(|i| i as f32).collect();
         let table = uniform_segments(&segments).unwrap();
         assert_eq!(table.bytes.len(), 65536);
+        assert_fills_uniform_array("islamic", "segments", &table.bytes);
         let records: &[[f32; 4]] = bytemuck::cast_slice(&table.bytes);
         assert_eq!(records[2], [7.0, 8.0, 9.0, 10.0]);
         assert_eq!(records[3], [11.0, 12.0, 13.0, 0.0]);

@@ -123,6 +123,32 @@ pub(crate) mod check {
         assert_source_matches_wgsl::<T>(shader, &source, wgsl_name);
     }
 
+    /// Panics unless `table` (a [`Table::uniform`](crate::kernel::Table::uniform)'s bytes)
+    /// fills exactly the `var<uniform>` array `binding` of `shader`: the capacity the host pads
+    /// to is the array's, so no record past the shader's array goes unread.
+    pub(crate) fn assert_fills_uniform_array(shader: &str, binding: &str, table: &[u8]) {
+        let source = crate::wgsl_source(shader)
+            .unwrap_or_else(|| panic!("{shader} is not in the shader registry"));
+        let module = validated_module(&format!("{shader}.wgsl"), &source);
+        let var = module
+            .global_variables
+            .iter()
+            .map(|(_, v)| v)
+            .find(|v| v.name.as_deref() == Some(binding))
+            .unwrap_or_else(|| panic!("{shader}.wgsl has no binding {binding}"));
+        assert_eq!(
+            var.space,
+            naga::AddressSpace::Uniform,
+            "{shader}.wgsl {binding}"
+        );
+        let size = module.types[var.ty].inner.size(module.to_ctx()) as usize;
+        assert_eq!(
+            table.len(),
+            size,
+            "{shader}.wgsl {binding}: bytes of the host's table vs the shader's array"
+        );
+    }
+
     /// [`assert_matches_wgsl`] of a module written at run time (`source`, named `shader` in
     /// the messages: a texture store shader, a combination pass), which must also pass naga's
     /// validation.

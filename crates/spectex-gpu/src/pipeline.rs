@@ -105,7 +105,7 @@ impl Gpu {
 
     /// A read-only buffer holding `table`, bound as the shader declares it: storage, or
     /// uniform ([`Table::uniform`]).
-    fn storage(&self, table: &Table) -> wgpu::Buffer {
+    fn table_buffer(&self, table: &Table) -> wgpu::Buffer {
         use wgpu::BufferUsages as U;
         self.buffer(table.label, &table.bytes, U::STORAGE | U::UNIFORM)
     }
@@ -318,7 +318,7 @@ impl<K: ShaderKernel> Shaded<K> {
                 GpuError::Validation(format!("shader {} lacks bind group 1", K::SHADER))
             })?;
         let scope = ErrorScopes::push(&gpu.device);
-        let resident = resident.iter().map(|t| gpu.storage(t)).collect();
+        let resident = resident.iter().map(|t| gpu.table_buffer(t)).collect();
         let still = warp_group(&gpu, &warp_layout, Displacement::None);
         let queries = gpu.query_set(1);
         scope.pop()?;
@@ -363,7 +363,7 @@ impl<K: ShaderKernel> Shaded<K> {
                     size,
                     wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
                 ),
-                None => gpu.storage(t),
+                None => gpu.table_buffer(t),
             })
             .collect();
         let mut timer = timer;
@@ -461,11 +461,11 @@ fn warp_group(
     let values = match displacement {
         Displacement::Device(buffer) => buffer,
         Displacement::Host(d) => {
-            uploaded = gpu.storage(&Table::new("warp displacement", d));
+            uploaded = gpu.table_buffer(&Table::new("warp displacement", d));
             &uploaded
         }
         Displacement::None => {
-            uploaded = gpu.storage(&Table::new("warp displacement", &[0.0f32, 0.0]));
+            uploaded = gpu.table_buffer(&Table::new("warp displacement", &[0.0f32, 0.0]));
             &uploaded
         }
     };

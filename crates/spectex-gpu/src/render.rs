@@ -579,8 +579,6 @@ fn record_all(
                 beginning_of_pass_write_index: Some(pair),
                 end_of_pass_write_index: Some(pair + 1),
             });
-        // A composite kind's values made on a worker (its operands' passes ran, and were
-        // timed, there) go up and take the same way out.
         let output = &slot.values;
         encode_prepared(
             gpu,
@@ -665,8 +663,9 @@ fn record_all(
 }
 
 /// Records the dispatches of `tile`, whose host part is `prepared`, through `kernel` into
-/// `encoder`, its values written from the start of `output`; values made on the host or left
-/// on the device by a worker are copied there. `timer` writes the dispatches' timestamps.
+/// `encoder`, its values written from the start of `output`; values made on the host (a
+/// composite kind's, its operands' passes run and timed on a worker) or left on the device by
+/// a worker are copied there. `timer` writes the dispatches' timestamps.
 ///
 /// # Errors
 /// What the kernel's `encode_tile` or `encode_chain` returns.
