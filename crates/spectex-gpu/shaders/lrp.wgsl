@@ -17,6 +17,19 @@
 // `(x − cx·Δ) as f32` — so the error is at most half an f32 ulp of a number below 2.5·Δ,
 // whatever the window's offset: a window at (10⁷, 10⁷) is exactly as precise as one at 0.
 // Tiles carry the values of their own pixels only, so any tiling gives the same bits.
+//
+// Draws made once per lattice point (the compute path). Every pixel within 1.5·Δ of a lattice
+// point repeats that point's J index and phase draws, `% len` and table read: per cosine two
+// hashes, an integer remainder by a runtime length and a gather, several times a cosine's own
+// arithmetic. (The paper draws on the fly per evaluation, §4 "Sampling"; its timed implementation
+// kept "amplitudes, frequencies and phases" in GPU storage buffers, §6. The values are the
+// contract's either way: this only changes where they are drawn.)
+// So `lrp_draw` first draws every lattice point of the tile's box once, stratum by stratum, into
+// `draws` as (f_x, f_y, φ, gain) — the same f32 values the pixel would draw — and `lrp_main`
+// reads them there, in the same order and with the same arithmetic: the same bits. The host
+// sizes each stratum's box (`boxes`, from its columns' and rows' cells) and leaves a stratum
+// whose box does not fit the tile's budget, and any displaced tile (whose cells move), to the
+// per-pixel draws of `lrp_stratum`, which the exported module uses too.
 
 /// Per-dispatch values.
 struct LrpParams {
@@ -31,8 +44,10 @@ struct LrpParams {
     mean: f32,
     /// 1: a minified render, each cosine multiplied by its entry's gain in `gains`.
     filtered: u32,
-    _pad1: u32,
-    _pad2: u32,
+    /// `lrp_draw`: the lattice points of every box (invocations beyond it return).
+    draw_points: u32,
+    /// `lrp_draw`: invocations per row of its dispatch grid (a 2D grid of workgroups).
+    draw_stride: u32,
 }
 
 /// One stratum, packed by the host.
@@ -58,6 +73,19 @@ struct LrpStratum {
     cells_y: i32,
 }
 
+/// Stratum s's box of lattice points drawn once for the tile (`lrp_draw`): columns x0 … x0 +
+/// width − 1, rows y0 … y0 + height − 1; the draws of point (x0 + i, y0 + k) start at record
+/// `first_record + (k·width + i)·J_s` of `draws`, its index among every box's points is
+/// `first_point + k·width + i`. width = 0: the stratum's pixels draw for themselves.
+struct LrpBox {
+    x0: i32,
+    y0: i32,
+    width: u32,
+    height: u32,
+    first_record: u32,
+    first_point: u32,
+}
+
 /// One column (or row) of the tile for one stratum: its lattice cell and the offsets to the
 /// lattice points cell − 1 … cell + 2, in pixels.
 struct LatticeAxis {
@@ -79,7 +107,12 @@ struct LatticeAxis {
 /// host computes it in f64 with spectex_model::filter::lrp_gains, as the CPU does). Read only
 /// when params.filtered == 1.
 @group(0) @binding(6) var<storage, read> gains: array<f32>;
-@group(0) @binding(7) var<storage, read_write> output: array<f32>;
+/// One box per stratum (per tile).
+@group(0) @binding(7) var<storage, read> boxes: array<LrpBox>;
+/// The drawn lattice points' cosines, (f_x, f_y, φ, gain): written by `lrp_draw` (into the
+/// buffer it binds as `output`) before `lrp_main` reads them here.
+@group(0) @binding(8) var<storage, read> draws: array<vec4<f32>>;
+@group(0) @binding(9) var<storage, read_write> output: array<f32>;
 
 /// An axis entry moved by `d` pixels (domain warping, common.wgsl): offset k = 1 is the pixel's
 /// offset in its lattice cell, so it moves to u = offset + d, the cell by ⌊u/Δ⌋, and the four
@@ -145,6 +178,44 @@ fn lrp_stratum(s: u32, column: LatticeAxis, row: LatticeAxis) -> f32 {
     return stratum.amplitude * stratum_sum;
 }
 
+/// Draws the lattice points of the tile's boxes, one invocation per point: its J cosines'
+/// (f_x, f_y, φ, gain) in `lrp_stratum`'s order, into `output` (the buffer `lrp_main` then
+/// binds as `draws`).
+@compute @workgroup_size(64, 1, 1)
+fn lrp_draw(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let point = gid.y * params.draw_stride + gid.x;
+    if (point >= params.draw_points) {
+        return;
+    }
+    var s = 0u;
+    while (s + 1u < params.strata && point >= boxes[s + 1u].first_point) {
+        s++;
+    }
+    let b = boxes[s];
+    let stratum = strata[s];
+    let local = point - b.first_point;
+    let cy = bitcast<i32>(bitcast<u32>(b.y0) + local / b.width);
+    let cx = bitcast<i32>(bitcast<u32>(b.x0) + local % b.width);
+    let rkey = row_key(wrap_cell(cy, stratum.cells_y), layer_key(s, params.seed));
+    var prng = Prng(cell_hash_in_row(wrap_cell(cx, stratum.cells_x), rkey));
+    let first = b.first_record + local * stratum.cosines;
+    for (var j = 0u; j < stratum.cosines; j++) {
+        let table = tables[stratum.table_first + j];
+        let index = table.x + prng_next_u32(&prng) % table.y;
+        let f = frequencies[index];
+        let phase = prng_next_f32(&prng);
+        var gain = 1.0f;
+        if (params.filtered == 1u) {
+            gain = gains[index];
+        }
+        let at = 4u * (first + j);
+        output[at] = f.x;
+        output[at + 1u] = f.y;
+        output[at + 2u] = phase;
+        output[at + 3u] = gain;
+    }
+}
+
 @compute @workgroup_size(8, 8, 1)
 fn lrp_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (gid.x >= params.width || gid.y >= params.height) {
@@ -154,10 +225,46 @@ fn lrp_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     for (var s = 0u; s < params.strata; s++) {
         var column = columns[s * params.width + gid.x];
         var row = rows[s * params.height + gid.y];
+        let b = boxes[s];
         if (warp_params.enabled == 1u) {
             let d = warp_displacement[gid.y * params.width + gid.x];
             column = lrp_displaced(column, d.x, strata[s].delta);
             row = lrp_displaced(row, d.y, strata[s].delta_y);
+        } else if (b.width != 0u) {
+            // `lrp_stratum` with the point's draws read from `draws` (see the header).
+            let stratum = strata[s];
+            var stratum_sum = 0.0f;
+            for (var ky = 0u; ky < 4u; ky++) {
+                let dy = row.offset[ky];
+                let dy2 = dy * dy * stratum.aspect2;
+                if (dy2 * stratum.inv_delta2 >= KB_SUPPORT2) {
+                    continue;
+                }
+                let k = bitcast<u32>(lattice_index(row.cell, ky)) - bitcast<u32>(b.y0);
+                for (var kx = 0u; kx < 4u; kx++) {
+                    let dx = column.offset[kx];
+                    let r2 = (dx * dx + dy2) * stratum.inv_delta2;
+                    if (r2 >= KB_SUPPORT2) {
+                        continue;
+                    }
+                    let w = kaiser_bessel_r2(r2);
+                    let i = bitcast<u32>(lattice_index(column.cell, kx)) - bitcast<u32>(b.x0);
+                    let first = b.first_record + (k * b.width + i) * stratum.cosines;
+                    var cosines = 0.0f;
+                    for (var j = 0u; j < stratum.cosines; j++) {
+                        let draw = draws[first + j];
+                        let c = draw.y * dy + draw.z;
+                        if (params.filtered == 1u) {
+                            cosines += draw.w * cos_turns(draw.x * dx + c);
+                        } else {
+                            cosines += cos_turns(draw.x * dx + c);
+                        }
+                    }
+                    stratum_sum += w * cosines;
+                }
+            }
+            total += stratum.amplitude * stratum_sum;
+            continue;
         }
         total += lrp_stratum(s, column, row);
     }

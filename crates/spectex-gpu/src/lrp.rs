@@ -1,18 +1,24 @@
 //! LRP noise on the device (`shaders/lrp.wgsl`): the model's strata, frequency tables and
 //! sub-strata packed once, and per tile the lattice cell of every column and row with its f32
 //! offsets to the nearby lattice points (f64 on the host, so a window at `(10⁷, 10⁷)` is as
-//! precise as one at the origin).
+//! precise as one at the origin), and the box of lattice points whose draws `lrp_draw` makes
+//! once on the device before `lrp_main` reads them ([`draw_boxes`]).
 //!
 //! The LRP noise's export (the glue of `shaders/lrp.wgsl`): the compute shader's uniform and
 //! tables; stratum s's lattice is the export's lattice s.
 
+use std::sync::Arc;
+
 use spectex_model::{LrpNoise, Period};
 
 use crate::axis::{periodic_columns, periodic_rows};
+use crate::cache::CachedPipeline;
 use crate::export::{ExportKind, ExportNode, ExportParts};
-use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileDisplacement, TileTables};
+use crate::kernel::{
+    GpuKernel, GpuKind, PreparedTile, ShaderKernel, Table, TileDisplacement, TileTables,
+};
 use crate::layout::wgsl_struct;
-use crate::pipeline::{Shaded, binding_limit};
+use crate::pipeline::{Gpu, Shaded, binding_limit, compute_pipeline, flat_grid};
 use crate::shaders::{ShaderFile, kernel_and_glue};
 use crate::{GpuContext, GpuError, GpuWindow};
 
@@ -29,9 +35,23 @@ wgsl_struct! {
         mean: f32,
         /// 1: a minified render, each cosine multiplied by its entry's gain.
         filtered: u32,
-        // Padding to a whole 16-byte uniform row, as the WGSL struct has it.
-        _pad1: u32,
-        _pad2: u32,
+        /// `lrp_draw`: the lattice points of every box.
+        draw_points: u32,
+        /// `lrp_draw`: invocations per row of its dispatch grid.
+        draw_stride: u32,
+    }
+}
+
+wgsl_struct! {
+    /// `LrpBox` of `lrp.wgsl`: a stratum's lattice points drawn once for a tile.
+    pub(crate) struct LrpBox {
+        x0: i32,
+        y0: i32,
+        /// 0: the stratum's pixels draw for themselves.
+        width: u32,
+        height: u32,
+        first_record: u32,
+        first_point: u32,
     }
 }
 
@@ -79,6 +99,85 @@ pub(crate) struct LrpKernel {
     deltas_y: Vec<f64>,
     /// The period of a periodic model: positions reduced modulo it.
     period: Option<Period>,
+    /// The packed strata, for the boxes' record counts.
+    strata: Vec<LrpStratum>,
+    /// `lrp_draw` on the device (none for the export, whose pixels draw for themselves).
+    draw: Option<Arc<DrawPass>>,
+}
+
+/// `lrp_draw`'s pipeline and its own copies of the model's tables (the evaluator's are bound
+/// by [`Shaded`]).
+#[derive(Debug)]
+struct DrawPass {
+    gpu: Gpu,
+    pipeline: CachedPipeline,
+    /// Strata, frequencies and sub-strata tables, bindings 1–3.
+    resident: Vec<wgpu::Buffer>,
+}
+
+impl DrawPass {
+    /// `lrp_draw`'s pipeline (from the context's cache) and the model's `tables` uploaded.
+    ///
+    /// # Errors
+    /// [`GpuError::Validation`] if the device rejects the shader or a buffer.
+    fn new(context: &GpuContext, tables: &[Table]) -> Result<Arc<Self>, GpuError> {
+        let gpu = Gpu::new(context);
+        let pipeline = compute_pipeline(&gpu, ("lrp", "lrp_draw", Vec::new()), 1, || {
+            crate::wgsl_source("lrp")
+        })?;
+        let resident = tables.iter().map(|t| gpu.table_buffer(t)).collect();
+        Ok(Arc::new(Self {
+            gpu,
+            pipeline,
+            resident,
+        }))
+    }
+}
+
+/// Records (`vec4<f32>`, 16 bytes) of drawn cosines a tile may hold per pixel: LRP's
+/// lattices have `J_s/Δ_s²` records per pixel, which stays below 2 for every testdata model
+/// (1.9 for lrp-gravel's Δ = 1.25 stratum with J = 3) and for the bench model (0.86 at J = 50);
+/// a stratum beyond what is left draws per pixel.
+const DRAWS_PER_PIXEL: u64 = 2;
+
+/// The boxes of lattice points a tile's strata draw once, and their record count: stratum s's
+/// box spans the lattice columns `c − 1 … c + 2` of every column's cell `c` (`columns`,
+/// stratum-major, `width` per stratum; rows likewise), as long as the records so far stay
+/// within `budget`; a stratum whose box does not fit, or whose box is wider than the i32
+/// lattice (cells wrapped around), keeps width 0.
+pub(crate) fn draw_boxes(
+    strata: &[LrpStratum],
+    (columns, width): (&[LatticeAxis], usize),
+    (rows, height): (&[LatticeAxis], usize),
+    budget: u64,
+) -> (Vec<LrpBox>, u64) {
+    let span = |axes: &[LatticeAxis]| {
+        let lo = axes.iter().map(|a| i64::from(a.cell)).min().unwrap_or(0) - 1;
+        let hi = axes.iter().map(|a| i64::from(a.cell)).max().unwrap_or(0) + 2;
+        (lo, (hi - lo + 1) as u64)
+    };
+    let mut boxes = Vec::with_capacity(strata.len());
+    let (mut records, mut points) = (0u64, 0u64);
+    for (s, stratum) in strata.iter().enumerate() {
+        let (x0, w) = span(&columns[s * width..(s + 1) * width]);
+        let (y0, h) = span(&rows[s * height..(s + 1) * height]);
+        let count = w * h * u64::from(stratum.cosines);
+        let mut b = LrpBox {
+            x0: x0 as i32,
+            y0: y0 as i32,
+            first_record: records as u32,
+            first_point: points as u32,
+            ..bytemuck::Zeroable::zeroed()
+        };
+        if records + count <= budget && w * h <= u64::from(u32::MAX) {
+            b.width = w as u32;
+            b.height = h as u32;
+            records += count;
+            points += w * h;
+        }
+        boxes.push(b);
+    }
+    (boxes, records)
 }
 
 /// An LRP model's tables: its strata, every sub-stratum's `(f_x, f_y)` concatenated, and the
@@ -132,6 +231,19 @@ fn lattice_sides(width: f32, period: Option<Period>) -> [f64; 2] {
     period.map_or([nominal, nominal], |p| p.fit_lattice(nominal).side)
 }
 
+/// Invocations per workgroup of `lrp_draw` (its `@workgroup_size`).
+const DRAW_WORKGROUP: u32 = 64;
+
+/// The lattice points of the boxes in `table` (an `LrpBox` table): the last drawn box's end.
+fn boxes_points(table: &Table) -> u32 {
+    let boxes: &[LrpBox] = bytemuck::cast_slice(&table.bytes);
+    boxes
+        .iter()
+        .map(|b| b.first_point + b.width * b.height)
+        .max()
+        .unwrap_or(0)
+}
+
 /// [`LatticeAxis`] records for `count` positions `position(i)`, stratum-major.
 pub(crate) fn lattice_axis(
     deltas: &[f64],
@@ -171,6 +283,8 @@ pub(crate) fn host(model: &LrpNoise, period: Option<Period>) -> (LrpKernel, Vec<
         deltas: sides.iter().map(|s| s[0]).collect(),
         deltas_y: sides.iter().map(|s| s[1]).collect(),
         period,
+        strata: packed.strata.clone(),
+        draw: None,
     };
     let tables = vec![
         Table::new("lrp strata", &packed.strata),
@@ -185,7 +299,7 @@ impl GpuKind for LrpNoise {
         name: "lrp",
         source: WGSL.0,
         needs_common: true,
-        entry_points: &["lrp_main"],
+        entry_points: &["lrp_draw", "lrp_main"],
     });
 
     fn kernel_with_period(
@@ -194,7 +308,7 @@ impl GpuKind for LrpNoise {
         _z: f64,
         period: Option<Period>,
     ) -> Result<Box<dyn GpuKernel>, GpuError> {
-        let (kernel, tables, needed) = host(self, period);
+        let (mut kernel, tables, needed) = host(self, period);
         let limit = binding_limit(&context.limits());
         if needed > limit {
             return Err(GpuError::LimitsExceeded {
@@ -203,6 +317,7 @@ impl GpuKind for LrpNoise {
                 limit,
             });
         }
+        kernel.draw = Some(DrawPass::new(context, &tables)?);
         Shaded::boxed(context, kernel, &tables)
     }
 }
@@ -218,10 +333,10 @@ impl ShaderKernel for LrpKernel {
     fn tile_tables(
         &self,
         tile: &GpuWindow,
-        _displacement: TileDisplacement<'_>,
-        _limit: u64,
+        displacement: TileDisplacement<'_>,
+        limit: u64,
     ) -> Result<TileTables, GpuError> {
-        let params = LrpParams {
+        let mut params = LrpParams {
             width: tile.width as u32,
             height: tile.height as u32,
             strata: self.deltas.len() as u32,
@@ -239,28 +354,122 @@ impl ShaderKernel for LrpKernel {
                 .collect(),
             None => vec![1.0],
         };
-        Ok(TileTables::new(
+        let columns = lattice_axis(
+            &self.deltas,
+            tile.width,
+            periodic_columns(tile, self.period),
+        );
+        let rows = lattice_axis(
+            &self.deltas_y,
+            tile.height,
+            periodic_rows(tile, self.period),
+        );
+        // A displaced tile's pixels move to other cells: they draw for themselves.
+        let draw = self.draw.as_ref().filter(|_| !displacement.is_some());
+        let (boxes, records) = match draw {
+            Some(_) => {
+                let pixels = (tile.width * tile.height) as u64;
+                let budget = (DRAWS_PER_PIXEL * pixels).min(limit / 16);
+                draw_boxes(
+                    &self.strata,
+                    (&columns, tile.width),
+                    (&rows, tile.height),
+                    budget,
+                )
+            }
+            None => (vec![bytemuck::Zeroable::zeroed(); self.deltas.len()], 0),
+        };
+        let gains = Table::new("lrp gains", &gains);
+        let boxes = Table::new("lrp boxes", &boxes);
+        let mut passes = Vec::new();
+        let draws = match draw {
+            Some(draw) if records > 0 => {
+                let points = boxes_points(&boxes);
+                let (stride, _) = flat_grid(&draw.gpu, points, DRAW_WORKGROUP);
+                let pass = LrpParams {
+                    draw_points: points,
+                    draw_stride: stride,
+                    ..params
+                };
+                passes.push(PreparedTile::Tables(TileTables::new(
+                    &pass,
+                    vec![gains.clone(), boxes.clone()],
+                )));
+                params.draw_points = points;
+                Table::filled_on_device("lrp draws", 16 * records)
+            }
+            _ => Table::new("lrp draws", &[[0.0f32; 4]]),
+        };
+        let mut tables = TileTables::new(
             &params,
             vec![
-                Table::new(
-                    "lrp columns",
-                    &lattice_axis(
-                        &self.deltas,
-                        tile.width,
-                        periodic_columns(tile, self.period),
-                    ),
-                ),
-                Table::new(
-                    "lrp rows",
-                    &lattice_axis(
-                        &self.deltas_y,
-                        tile.height,
-                        periodic_rows(tile, self.period),
-                    ),
-                ),
-                Table::new("lrp gains", &gains),
+                Table::new("lrp columns", &columns),
+                Table::new("lrp rows", &rows),
+                gains,
+                boxes,
+                draws,
             ],
-        ))
+        );
+        tables.passes = passes;
+        Ok(tables)
+    }
+
+    /// `lrp_draw` over the tile's boxes into `target` (the table `lrp_main` reads as `draws`);
+    /// nothing for a tile displaced on the device, whose pixels draw for themselves.
+    fn encode_passes(
+        &self,
+        _tile: &GpuWindow,
+        passes: Vec<PreparedTile>,
+        encoder: &mut wgpu::CommandEncoder,
+        (target, displacement): (&wgpu::Buffer, Option<&wgpu::Buffer>),
+        timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) -> Result<(), GpuError> {
+        let (Some(draw), [PreparedTile::Tables(pass)]) = (&self.draw, passes.as_slice()) else {
+            return Err(GpuError::Validation(
+                "lrp: its draws need the one pass its tile prepared".to_owned(),
+            ));
+        };
+        if displacement.is_some() {
+            return Ok(());
+        }
+        let gpu = &draw.gpu;
+        let uniform = gpu.buffer(
+            "lrp draw params",
+            &pass.uniform,
+            wgpu::BufferUsages::UNIFORM,
+        );
+        let own: Vec<wgpu::Buffer> = pass.tables.iter().map(|t| gpu.table_buffer(t)).collect();
+        // Bindings 0–3, then gains (6) and boxes (7), and the target in `output`'s place (9).
+        let buffers = std::iter::once(&uniform)
+            .chain(&draw.resident)
+            .chain(&own)
+            .chain(std::iter::once(target));
+        let entries: Vec<wgpu::BindGroupEntry<'_>> = [0, 1, 2, 3, 6, 7, 9]
+            .into_iter()
+            .zip(buffers)
+            .map(|(binding, buffer)| wgpu::BindGroupEntry {
+                binding,
+                resource: buffer.as_entire_binding(),
+            })
+            .collect();
+        let layout = draw.pipeline.layouts.first().ok_or_else(|| {
+            GpuError::Validation("lrp_draw: its pipeline has no bind group".to_owned())
+        })?;
+        let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("lrp draw"),
+            layout,
+            entries: &entries,
+        });
+        let points = bytemuck::pod_read_unaligned::<LrpParams>(&pass.uniform).draw_points;
+        let (_, grid) = flat_grid(gpu, points, DRAW_WORKGROUP);
+        let mut compute = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("lrp draw"),
+            timestamp_writes: timer,
+        });
+        compute.set_pipeline(&draw.pipeline.pipeline);
+        compute.set_bind_group(0, &group, &[]);
+        compute.dispatch_workgroups(grid[0], grid[1], 1);
+        Ok(())
     }
 }
 
@@ -328,6 +537,92 @@ pub mod tests {
         assert_matches_wgsl::<LrpParams>("lrp", "LrpParams");
         assert_matches_wgsl::<LrpStratum>("lrp", "LrpStratum");
         assert_matches_wgsl::<LatticeAxis>("lrp", "LatticeAxis");
+        assert_matches_wgsl::<LrpBox>("lrp", "LrpBox");
+    }
+
+    /// Boxes worked by hand: Δ = 10, columns at x = 5, 15, 25 (cells 0, 1, 2) reach lattice
+    /// columns −1 … 4; a stratum over the budget keeps width 0 and the next one starts where
+    /// the drawn ones end.
+    pub fn boxes_hold_every_reached_point_within_the_budget() {
+        let stratum = |cosines| LrpStratum {
+            cosines,
+            ..bytemuck::Zeroable::zeroed()
+        };
+        let strata = [stratum(3), stratum(100), stratum(2)];
+        let deltas = [10.0, 10.0, 10.0];
+        let columns = lattice_axis(&deltas, 3, |i| 5.0 + 10.0 * i as f64);
+        let rows = lattice_axis(&deltas, 2, |j| -12.0 + 3.0 * j as f64);
+        // Rows at −12 and −9: cells −2 and −1, lattice rows −3 … 1.
+        let (boxes, records) = draw_boxes(&strata, (&columns, 3), (&rows, 2), 200);
+        let want = |x0, y0, width, height, first_record, first_point| LrpBox {
+            x0,
+            y0,
+            width,
+            height,
+            first_record,
+            first_point,
+        };
+        assert_eq!(boxes[0], want(-1, -3, 6, 5, 0, 0));
+        // 30 points × 100 cosines do not fit the 110 records left of 200.
+        assert_eq!(boxes[1], want(-1, -3, 0, 0, 90, 30));
+        assert_eq!(boxes[2], want(-1, -3, 6, 5, 90, 30));
+        assert_eq!(records, 90 + 60);
+        // Every lattice point a pixel's loop reaches lies in a drawn box.
+        for (s, b) in boxes.iter().enumerate().filter(|(_, b)| b.width > 0) {
+            for c in &columns[3 * s..3 * s + 3] {
+                for r in &rows[2 * s..2 * s + 2] {
+                    for k in 0..4 {
+                        let (i, j) = (c.cell + k - 1 - b.x0, r.cell + k - 1 - b.y0);
+                        assert!((0..b.width as i32).contains(&i), "{s} {c:?}");
+                        assert!((0..b.height as i32).contains(&j), "{s} {r:?}");
+                    }
+                }
+            }
+        }
+    }
+
+    /// `lrp_main` reading the points `lrp_draw` drew gives the bits of the pixels drawing for
+    /// themselves (the export's and a displaced tile's way): a stratum too dense for the
+    /// budget (Δ = 1, J = 4: 4 records a pixel) beside drawn ones, at 10⁶ and minified.
+    pub fn drawn_points_render_the_per_pixel_bits() {
+        use crate::layout::check::context_or_skip;
+        use spectex_model::Stratum;
+        let Some(context) = context_or_skip("drawn_points_render_the_per_pixel_bits") else {
+            return;
+        };
+        let mut m = spectex_model::fixtures::lrp_four_strata(10);
+        m.strata.insert(
+            1,
+            Stratum {
+                window_width: 1.0,
+                amplitude: 0.05,
+                sub_strata: m.strata[0].sub_strata.iter().take(4).cloned().collect(),
+            },
+        );
+        let tiles = [
+            GpuWindow::new(37, 21).at([1.0e6, -3.0e5], 1.0),
+            GpuWindow::new(19, 13).at([-40.5, 7.25], 3.5),
+        ];
+        for tile in &tiles {
+            let (kernel, tables, _) = host(&m, None);
+            let mut drawn = kernel.clone();
+            drawn.draw = Some(DrawPass::new(&context, &tables).unwrap());
+            let prepared = drawn
+                .tile_tables(tile, TileDisplacement::None, u64::MAX)
+                .unwrap();
+            let boxes: &[LrpBox] = bytemuck::cast_slice(&prepared.tables[3].bytes);
+            assert_eq!(prepared.passes.len(), 1);
+            assert_eq!(boxes[1].width, 0, "the dense stratum draws per pixel");
+            assert!(boxes.iter().filter(|b| b.width > 0).count() >= 3);
+            let render = |k: LrpKernel| {
+                let bits = Shaded::boxed(&context, k, &tables)
+                    .unwrap()
+                    .render_tile(tile, None)
+                    .unwrap();
+                bits.into_iter().map(f32::to_bits).collect::<Vec<_>>()
+            };
+            assert_eq!(render(drawn), render(kernel), "{tile:?}");
+        }
     }
 
     pub fn lattice_offsets_are_the_rounded_f64_differences() {

@@ -9,7 +9,8 @@ spectex_testkit::unit_tests! {
     gabor: params_match_the_wgsl;
     islamic: params_match_the_wgsl, fixed_point_sums_are_the_fraction_of_a_times_n,
         uniform_segments_hold_the_table_or_name_the_limit;
-    lrp: records_match_the_wgsl, lattice_offsets_are_the_rounded_f64_differences, pack_concatenates_tables_in_order, an_unknown_constant_table_is_refused;
+    lrp: records_match_the_wgsl, lattice_offsets_are_the_rounded_f64_differences, pack_concatenates_tables_in_order, an_unknown_constant_table_is_refused,
+        boxes_hold_every_reached_point_within_the_budget, drawn_points_render_the_per_pixel_bits;
     matrix: params_match_the_wgsl;
     tiling: params_match_the_wgsl;
     phasor: records_match_the_wgsl, nested_blends_are_unsupported_in_phasor_models;
