@@ -1,7 +1,8 @@
 //! Every model of `testdata/models` on the GPU and on the CPU (all threads) in one run: the GPU
 //! kernel-only (timestamp queries, where the adapter has them) and end to end (tables, dispatches,
 //! read-back into the caller's slice), the CPU end to end; then the LRP paper's Table 1 texture
-//! frame (128², the synthetic grey and colour textures) on the GPU, in milliseconds. Prints one
+//! frame (128², the synthetic grey and colour textures) on the GPU, in milliseconds; the models'
+//! rows end with `bench-lrp-j50`, the GPU bench's LRP model (J = 50, 4 strata). Prints one
 //! tab-separated line per figure for `cargo xtask bench gpu`, which writes the Markdown table
 //! and the chart:
 //!
@@ -87,11 +88,24 @@ fn main() -> Result<()> {
         .collect();
     names.sort();
     let side = options.size;
+    let mut models = Vec::with_capacity(names.len() + 1);
     for name in &names {
         let text = std::fs::read_to_string(dir.join(name))?;
         let model = spectex_model::from_json(&text).with_context(|| name.clone())?;
-        let stem = name.trim_end_matches(".json");
-        match measure(&context, &model, side, options.repeat) {
+        models.push((name.trim_end_matches(".json").to_owned(), model));
+    }
+    // The GPU bench's LRP model (J = 50 over 4 strata), whose kernel-only and end-to-end
+    // figures the LRP target names.
+    if options
+        .only
+        .as_ref()
+        .is_none_or(|o| BENCH_LRP.contains(o.as_str()))
+    {
+        let model = Model::Lrp(spectex_model::fixtures::lrp_four_strata(50));
+        models.push((BENCH_LRP.to_owned(), model));
+    }
+    for (stem, model) in &models {
+        match measure(&context, model, side, options.repeat) {
             Ok(m) => println!(
                 "model\t{stem}\t{:.1}\t{}\t{:.2}\t{:.2}\t{}\t{:.2}\t{:.2}\t{:.3}",
                 m.evaluations,
@@ -125,6 +139,9 @@ fn main() -> Result<()> {
     }
     Ok(())
 }
+
+/// The row of the GPU bench's LRP model (not a testdata file).
+const BENCH_LRP: &str = "bench-lrp-j50";
 
 fn rayon_threads() -> usize {
     std::thread::available_parallelism().map_or(1, usize::from)
