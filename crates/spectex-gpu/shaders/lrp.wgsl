@@ -160,15 +160,23 @@ fn lrp_stratum(s: u32, column: LatticeAxis, row: LatticeAxis) -> f32 {
             let cx = wrap_cell(lattice_index(column.cell, kx), stratum.cells_x);
             var prng = Prng(cell_hash_in_row(cx, rkey));
             var cosines = 0.0f;
-            for (var j = 0u; j < stratum.cosines; j++) {
-                let table = tables[stratum.table_first + j];
-                let index = table.x + prng_next_u32(&prng) % table.y;
-                let f = frequencies[index];
-                let phase = prng_next_f32(&prng);
-                let c = f.y * dy + phase;
-                if (params.filtered == 1u) {
+            // The filtered test outside the cosine loop (see `lrp_main`).
+            if (params.filtered == 1u) {
+                for (var j = 0u; j < stratum.cosines; j++) {
+                    let table = tables[stratum.table_first + j];
+                    let index = table.x + prng_next_u32(&prng) % table.y;
+                    let f = frequencies[index];
+                    let phase = prng_next_f32(&prng);
+                    let c = f.y * dy + phase;
                     cosines += gains[index] * cos_turns(f.x * dx + c);
-                } else {
+                }
+            } else {
+                for (var j = 0u; j < stratum.cosines; j++) {
+                    let table = tables[stratum.table_first + j];
+                    let index = table.x + prng_next_u32(&prng) % table.y;
+                    let f = frequencies[index];
+                    let phase = prng_next_f32(&prng);
+                    let c = f.y * dy + phase;
                     cosines += cos_turns(f.x * dx + c);
                 }
             }
@@ -254,12 +262,18 @@ fn lrp_main(@builtin(global_invocation_id) gid: vec3<u32>) {
                     let i = bitcast<u32>(lattice_index(column.cell, kx)) - bitcast<u32>(b.x0);
                     let first = b.first_record + (k * b.width + i) * stratum.cosines;
                     var cosines = 0.0f;
-                    for (var j = 0u; j < stratum.cosines; j++) {
-                        let draw = draws[first + j];
-                        let c = draw.y * dy + draw.z;
-                        if (params.filtered == 1u) {
+                    // The filtered test outside the cosine loop: inside it, the J = 50 bench
+                    // model ran at 0.54–0.59 Mpix/s on lavapipe, outside at 1.00–1.02.
+                    if (params.filtered == 1u) {
+                        for (var j = 0u; j < stratum.cosines; j++) {
+                            let draw = draws[first + j];
+                            let c = draw.y * dy + draw.z;
                             cosines += draw.w * cos_turns(draw.x * dx + c);
-                        } else {
+                        }
+                    } else {
+                        for (var j = 0u; j < stratum.cosines; j++) {
+                            let draw = draws[first + j];
+                            let c = draw.y * dy + draw.z;
                             cosines += cos_turns(draw.x * dx + c);
                         }
                     }
