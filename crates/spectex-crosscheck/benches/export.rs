@@ -29,6 +29,8 @@
 //! - `SPECTEX_BENCH_MODELS=a,b`: only the models whose name contains one of these;
 //! - `SPECTEX_BENCH_MODELS_DIR=<folder>`: the models' folder (default the repository's
 //!   `testdata/models`; the GPU report's script sets it, as it runs away from the checkout);
+//! - `SPECTEX_BENCH_TABLES=buffer`: every model's tables in the storage buffer (`spectex export
+//!   --tables`), not only those over `MAX_TABLE_BYTES`;
 //! - `SPECTEX_BENCH_ALL=1`: also the models lavapipe compiles for minutes (left out on CPU
 //!   adapters otherwise, as in the export render test);
 //! - `SPECTEX_BENCH_FILE=<a .wgsl file>`: time this module (e.g. an export edited by hand)
@@ -491,21 +493,26 @@ fn buffer(gpu: &Gpu, bytes: &[u8], usage: wgpu::BufferUsages) -> wgpu::Buffer {
     b
 }
 
-/// A model's exported module, with its storage buffer's bytes.
+/// A model's exported module, with its storage buffer's bytes: its tables as constants, in
+/// the storage buffer where they exceed `MAX_TABLE_BYTES` or `SPECTEX_BENCH_TABLES=buffer`.
 fn model_module(model: &Model) -> Result<(String, Vec<u8>), GpuError> {
     let constants = ExportOptions::default();
-    let exported = match export(model, &constants) {
-        Err(GpuError::LimitsExceeded { limit, .. }) if limit == MAX_TABLE_BYTES => export(
-            model,
-            &ExportOptions {
-                tables: TableStorage::Buffer {
-                    group: 1,
-                    binding: 0,
-                },
-                ..constants
-            },
-        )?,
-        other => other?,
+    let in_buffer = ExportOptions {
+        tables: TableStorage::Buffer {
+            group: 1,
+            binding: 0,
+        },
+        ..constants
+    };
+    let exported = if std::env::var("SPECTEX_BENCH_TABLES").is_ok_and(|v| v == "buffer") {
+        export(model, &in_buffer)?
+    } else {
+        match export(model, &constants) {
+            Err(GpuError::LimitsExceeded { limit, .. }) if limit == MAX_TABLE_BYTES => {
+                export(model, &in_buffer)?
+            }
+            other => other?,
+        }
     };
     Ok((exported.wgsl, exported.tables))
 }
