@@ -54,24 +54,7 @@ impl WaveletEvaluator {
         let tile = model.tile();
         let n = tile.side;
         let bands = model.bands();
-        let planes = bands
-            .iter()
-            .map(|b| {
-                if tile.dimensions == 2 {
-                    return tile.values.clone();
-                }
-                let (k0, f) = locate_sample(z, b.side, b.offset[2], n as u32);
-                let w = spline_weights(f);
-                let layer = |t: usize| {
-                    let k = (k0 as usize + t) % n;
-                    &tile.values[k * n * n..(k + 1) * n * n]
-                };
-                let (a, c, e) = (layer(0), layer(1), layer(2));
-                (0..n * n)
-                    .map(|i| (w[0] * a[i] + w[1] * c[i]) + w[2] * e[i])
-                    .collect()
-            })
-            .collect();
+        let planes = bands.iter().map(|b| tile.plane(b, z)).collect();
         Self {
             n,
             dimensions: model.dimensions,

@@ -6,13 +6,17 @@
 //
 // Positions: the host computes, per band and per column (row) of the tile, u = x / c_b + ½ in
 // f64, m = ⌊u⌋, the first tile index (m − 1 + o_b) mod n and the fraction f32(u − m)
-// (`spectex_model::wavelet::locate_sample`, the CPU's call), and per band the same for the plane
-// z. So the device needs only integer indices below n and f32 fractions in [0, 1], and the
-// precision does not depend on the distance from the origin.
+// (`spectex_model::wavelet::locate_sample`, the CPU's call). So the device needs only integer
+// indices below n and f32 fractions in [0, 1], and the precision does not depend on the
+// distance from the origin.
 //
 // Sum order (the CPU's): z weights first (3D), then y, then x, each sum left to right, then
-// acc = acc + a_b · s over bands in order and mean + acc. Plain `*` and `+`; a compiler may still
-// contract them into FMAs (crosscheck tolerance `tolerance::wavelet`).
+// acc = acc + a_b · s over bands in order and mean + acc. The z sum is the host's: a band reads
+// an n × n plane, the tile itself in 2D, in 3D the tile summed over the plane z once per band
+// (`WaveletTile::plane`, as the CPU evaluator does), where the shader summed three layers at
+// each of a pixel's 9 taps (27 tile reads a band; wavelet-3d-multiband's export ran at
+// 2.8–4.1 calibration cosines an evaluation that way on lavapipe). Plain `*` and `+`; a
+// compiler may still contract them into FMAs (crosscheck tolerance `tolerance::wavelet`).
 
 struct WaveletParams {
     width: u32,
@@ -28,13 +32,13 @@ struct WaveletParams {
     _pad1: u32,
 }
 
-/// One band: its weight a_b and, in 3D, the first tile layer and fraction of the plane z.
+/// One band: its weight a_b and where its n × n plane starts in `planes`.
 struct WaveletBand {
     amplitude: f32,
-    z_index: u32,
-    z_fraction: f32,
+    first: u32,
     /// 1 / c_b, samples per pixel (f32 of the f64 value), for domain warping.
     inv_side: f32,
+    _pad: u32,
 }
 
 /// One column (or row) of one band: the first of its three tile indices and the fraction.
@@ -44,15 +48,16 @@ struct WaveletAxis {
 }
 
 @group(0) @binding(0) var<uniform> params: WaveletParams;
-@group(0) @binding(1) var<storage, read> tile: array<f32>;
+/// The bands' planes (one, shared, in 2D), x fastest.
+@group(0) @binding(1) var<storage, read> planes: array<f32>;
 @group(0) @binding(2) var<storage, read> bands: array<WaveletBand>;
 @group(0) @binding(3) var<storage, read> columns: array<WaveletAxis>;
 @group(0) @binding(4) var<storage, read> rows: array<WaveletAxis>;
 @group(0) @binding(5) var<storage, read_write> output: array<f32>;
 
 // The model's shape (common.wgsl's "Shapes"): its dimension and tile side. Read from the
-// uniform, they made lavapipe run wavelet-2d at under half this speed (the 3D sum's branch and
-// the index arithmetic by a runtime side), bit for bit the same.
+// uniform, they made lavapipe run wavelet-2d at under half this speed (a branch and the index
+// arithmetic by a runtime side), bit for bit the same.
 override WAVELET_DIMENSIONS: u32 = 0xffffffffu;
 override WAVELET_TILE: u32 = 0xffffffffu;
 
@@ -78,19 +83,14 @@ fn next_index(i: u32) -> u32 {
     return select(i + 1u, 0u, i + 1u == wavelet_tile());
 }
 
-/// The plane value at (i, j) of a band: the tile in 2D, the z-weighted sum of three layers in 3D.
+/// The value at (i, j) of a band's plane (in 2D every band's plane is the tile, at 0: the
+/// shape constant folds the band's offset away, which kept wavelet-2d 5% faster on lavapipe).
 fn plane(i: u32, j: u32, band: WaveletBand) -> f32 {
-    let n = wavelet_tile();
-    let o = j * n + i;
+    let o = j * wavelet_tile() + i;
     if (wavelet_dimensions() == 2u) {
-        return tile[o];
+        return planes[o];
     }
-    let wz = spline_weights(band.z_fraction);
-    let k0 = band.z_index;
-    let k1 = next_index(k0);
-    let k2 = next_index(k1);
-    let nn = n * n;
-    return (wz.x * tile[k0 * nn + o] + wz.y * tile[k1 * nn + o]) + wz.z * tile[k2 * nn + o];
+    return planes[band.first + o];
 }
 
 /// Σ_j w_{y,j} · plane(i, j).

@@ -1,11 +1,13 @@
-//! Wavelet noise on the device (`shaders/wavelet.wgsl`): the model's tile (built on the host by
-//! the model's one function) and its bands uploaded once, and per tile and band each column's
-//! and row's tile index and fraction, located in f64 by [`locate_sample`] (the CPU's call).
+//! Wavelet noise on the device (`shaders/wavelet.wgsl`): the planes its bands read (built on
+//! the host by the model's one function, [`WaveletTile::plane`]: the tile in 2D, a 3D tile
+//! summed over the evaluator's `z` per band, as the CPU does) and its bands uploaded once, and
+//! per tile and band each column's and row's tile index and fraction, located in f64 by
+//! [`locate_sample`] (the CPU's call).
 //!
 //! The wavelet noise's export (the glue of `shaders/wavelet.wgsl`): the compute shader's uniform
 //! and band tables; band b's sample grid is the export's lattice b.
 
-use spectex_model::wavelet::{Band, locate_sample};
+use spectex_model::wavelet::{Band, WaveletTile, locate_sample};
 use spectex_model::{Period, WaveletNoise};
 
 use crate::axis::{periodic_columns, periodic_rows};
@@ -37,13 +39,13 @@ wgsl_struct! {
 }
 
 wgsl_struct! {
-    /// `WaveletBand` of `wavelet.wgsl`: a band's amplitude, the plane `z`'s first tile layer and
-    /// fraction, and `1/c_b` (for warping).
+    /// `WaveletBand` of `wavelet.wgsl`: a band's amplitude, where its plane starts in the
+    /// planes table, and `1/c_b` (for warping).
     pub(crate) struct WaveletBand {
         amplitude: f32,
-        z_index: u32,
-        z_fraction: f32,
+        first: u32,
         inv_side: f32,
+        _pad: u32,
     }
 }
 
@@ -81,24 +83,23 @@ impl WaveletKernel {
     }
 }
 
-/// The band records of a validated model for the plane `z`.
-fn band_records(model: &WaveletNoise, bands: &[Band], z: f64) -> Vec<WaveletBand> {
-    bands
-        .iter()
-        .map(|b| {
-            let (z_index, z_fraction) = if model.dimensions == 3 {
-                locate_sample(z, b.side, b.offset[2], model.tile_size)
-            } else {
-                (0, 0.0)
-            };
-            WaveletBand {
-                amplitude: b.amplitude,
-                z_index,
-                z_fraction,
-                inv_side: (1.0 / b.side) as f32,
-            }
-        })
-        .collect()
+/// The planes `bands` read at the plane `z` (one, the tile, in 2D; one per band in 3D,
+/// concatenated) and the band records pointing into them.
+fn planes(tile: &WaveletTile, bands: &[Band], z: f64) -> (Vec<f32>, Vec<WaveletBand>) {
+    let mut planes = Vec::new();
+    let mut records = Vec::with_capacity(bands.len());
+    for b in bands {
+        if tile.dimensions == 3 || planes.is_empty() {
+            planes.extend(tile.plane(b, z));
+        }
+        records.push(WaveletBand {
+            amplitude: b.amplitude,
+            first: (planes.len() - tile.side * tile.side) as u32,
+            inv_side: (1.0 / b.side) as f32,
+            _pad: 0,
+        });
+    }
+    (planes, records)
 }
 
 impl GpuKind for WaveletNoise {
@@ -121,7 +122,7 @@ impl GpuKind for WaveletNoise {
 }
 
 /// The kernel of a validated wavelet noise on the plane `z`, periodic with `period` when
-/// given, and its resident tables (the tile, the bands): what the device evaluator uploads
+/// given, and its resident tables (the planes, the bands): what the device evaluator uploads
 /// and what the WGSL export writes.
 pub(crate) fn host(
     model: &WaveletNoise,
@@ -129,7 +130,7 @@ pub(crate) fn host(
     period: Option<Period>,
 ) -> (WaveletKernel, Vec<Table>) {
     let bands = model.bands();
-    let band_records = band_records(model, &bands, z);
+    let (planes, band_records) = planes(&model.tile(), &bands, z);
     let kernel = WaveletKernel {
         n: model.tile_size,
         dimensions: model.dimensions,
@@ -138,7 +139,7 @@ pub(crate) fn host(
         period,
     };
     let tables = vec![
-        Table::new("wavelet tile", &model.tile().values),
+        Table::new("wavelet planes", &planes),
         Table::new("wavelet bands", &band_records),
     ];
     (kernel, tables)

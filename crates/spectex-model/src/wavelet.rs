@@ -131,6 +131,31 @@ pub struct WaveletTile {
     pub values: Vec<f32>,
 }
 
+impl WaveletTile {
+    /// The `n × n` plane band `band` reads at the plane `z` (pixels), `x` fastest: the tile
+    /// itself in 2D; in 3D the sum over `z` done first, once (the sum order of the definition),
+    /// `(w₀·L₀ + w₁·L₁) + w₂·L₂` per sample over the three layers from the band's
+    /// [`locate_sample`] of `z`, weighted by [`spline_weights`], in plain f32 `*` and `+`. The
+    /// CPU evaluator and the GPU's tables both read these planes.
+    #[must_use]
+    pub fn plane(&self, band: &Band, z: f64) -> Vec<f32> {
+        let n = self.side;
+        if self.dimensions == 2 {
+            return self.values.clone();
+        }
+        let (k0, f) = locate_sample(z, band.side, band.offset[2], n as u32);
+        let w = spline_weights(f);
+        let layer = |t: usize| {
+            let k = (k0 as usize + t) % n;
+            &self.values[k * n * n..(k + 1) * n * n]
+        };
+        let (a, c, e) = (layer(0), layer(1), layer(2));
+        (0..n * n)
+            .map(|i| (w[0] * a[i] + w[1] * c[i]) + w[2] * e[i])
+            .collect()
+    }
+}
+
 impl WaveletNoise {
     /// Checks every field.
     ///

@@ -25,16 +25,11 @@ const REFUSED: &[(&str, &str)] = &[
 ];
 
 /// Models over `MAX_TABLE_BYTES` = 65 536 bytes of tables, counted from their files: the
-/// fitted LRP models (tens of thousands of 8-byte frequencies), wavelet-2d (a 128² tile of f32:
-/// 65 536 bytes before its bands), wavelet-3d-multiband and the base of warp-wavelet-by-fbm
-/// (3D, tile side 32: 32³ f32, 131 072 bytes).
-const TOO_LARGE: &[&str] = &[
-    "lrp-gravel",
-    "lrp-sand",
-    "warp-wavelet-by-fbm",
-    "wavelet-2d",
-    "wavelet-3d-multiband",
-];
+/// fitted LRP models (tens of thousands of 8-byte frequencies) and wavelet-2d (a 128² tile of
+/// f32: 65 536 bytes before its bands). A 3D wavelet exports one 32² plane per band (4 KiB
+/// each), not its 32³ tile (131 072 bytes): wavelet-3d-multiband and the base of
+/// warp-wavelet-by-fbm fit.
+const TOO_LARGE: &[&str] = &["lrp-gravel", "lrp-sand", "wavelet-2d"];
 
 fn model_files() -> Vec<PathBuf> {
     let dir = PathBuf::from(concat!(
