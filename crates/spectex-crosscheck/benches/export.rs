@@ -73,6 +73,9 @@ const SLOW_ON_CPU_ADAPTERS: &[&str] = &[
     "warp-classic-fbm",
     "warp-texture-colour",
     "warp-wavelet-by-fbm",
+    // 16 KiB of planes as `var<private>` constants: 6.4 minutes of LLVM (bound, with
+    // SPECTEX_BENCH_ALL=1 SPECTEX_BENCH_TABLES=buffer, it compiles in a second).
+    "wavelet-3d-multiband",
     // LRP J = 50 over 4 strata: lavapipe's LLVM spends minutes in `buildCoroutineFrame`
     // since the lattice splits are written out in closed form.
     "bench-lrp-j50",
