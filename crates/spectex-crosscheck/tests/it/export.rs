@@ -988,11 +988,8 @@ fn check_file(context: &GpuContext, file: &Path, all: bool, only: Option<&[Strin
     // planes too: as 16 KiB of `var<private>` constants, lavapipe's LLVM compiled
     // wavelet-3d-multiband's module for 6.4 minutes (bound, in a second); the constants path
     // is the other models' and naga validates this one (spectex-gpu's export test).
-    let bound = match &model {
-        Model::Tiling(_) => true,
-        Model::Wavelet(w) => w.dimensions == 3,
-        _ => false,
-    };
+    let bound = matches!(model, Model::Tiling(_))
+        || matches!(&model, Model::Wavelet(w) if w.dimensions == 3);
     let first = if bound {
         let buffer = ExportOptions {
             tables: TableStorage::Buffer {
