@@ -346,8 +346,10 @@ pub(crate) trait ShaderKernel: fmt::Debug + Send + Sync + 'static {
     /// ([`Table::filled_on_device`]) before the kind's own: `passes`, the host parts
     /// [`tile_tables`](Self::tile_tables) prepared for them, write into `target`, displaced by
     /// `displacement` where given (the device's displacement of the kind's own dispatch, a
-    /// warp's); `timer` writes the first pass's start. Called for every tile whose tables leave
-    /// one to the device.
+    /// warp's); `bound` holds the buffers of the kind's own bindings from 1 on (its resident
+    /// tables, then the tile's, `target` among them), for passes that read them too; `timer`
+    /// writes the first pass's start. Called for every tile whose tables leave one to the
+    /// device.
     ///
     /// # Errors
     /// [`GpuError::Validation`] for a kind without passes of its own.
@@ -356,10 +358,10 @@ pub(crate) trait ShaderKernel: fmt::Debug + Send + Sync + 'static {
         tile: &GpuWindow,
         passes: Vec<PreparedTile>,
         encoder: &mut wgpu::CommandEncoder,
-        (target, displacement): (&wgpu::Buffer, Option<&wgpu::Buffer>),
+        (target, bound, displacement): (&wgpu::Buffer, &[&wgpu::Buffer], Option<&wgpu::Buffer>),
         timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) -> Result<(), GpuError> {
-        let _ = (tile, passes, encoder, target, displacement, timer);
+        let _ = (tile, passes, encoder, target, bound, displacement, timer);
         Err(GpuError::Validation(
             "a kernel without passes of its own was given passes to record".to_owned(),
         ))

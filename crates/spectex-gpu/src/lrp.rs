@@ -105,32 +105,24 @@ pub(crate) struct LrpKernel {
     draw: Option<Arc<DrawPass>>,
 }
 
-/// `lrp_draw`'s pipeline and its own copies of the model's tables (the evaluator's are bound
-/// by [`Shaded`]).
+/// `lrp_draw`'s pipeline; it binds the evaluator's own buffers (`encode_passes`' `bound`).
 #[derive(Debug)]
 struct DrawPass {
     gpu: Gpu,
     pipeline: CachedPipeline,
-    /// Strata, frequencies and sub-strata tables, bindings 1–3.
-    resident: Vec<wgpu::Buffer>,
 }
 
 impl DrawPass {
-    /// `lrp_draw`'s pipeline (from the context's cache) and the model's `tables` uploaded.
+    /// `lrp_draw`'s pipeline, from the context's cache.
     ///
     /// # Errors
-    /// [`GpuError::Validation`] if the device rejects the shader or a buffer.
-    fn new(context: &GpuContext, tables: &[Table]) -> Result<Arc<Self>, GpuError> {
+    /// [`GpuError::Validation`] if the device rejects the shader.
+    fn new(context: &GpuContext) -> Result<Arc<Self>, GpuError> {
         let gpu = Gpu::new(context);
         let pipeline = compute_pipeline(&gpu, ("lrp", "lrp_draw", Vec::new()), 1, || {
             crate::wgsl_source("lrp")
         })?;
-        let resident = tables.iter().map(|t| gpu.table_buffer(t)).collect();
-        Ok(Arc::new(Self {
-            gpu,
-            pipeline,
-            resident,
-        }))
+        Ok(Arc::new(Self { gpu, pipeline }))
     }
 }
 
@@ -140,7 +132,7 @@ impl DrawPass {
 /// a stratum beyond what is left draws per pixel.
 const DRAWS_PER_PIXEL: u64 = 2;
 
-/// The boxes of lattice points a tile's strata draw once, and their record count: stratum s's
+/// The boxes of lattice points a tile's strata draw once, their record and point counts: stratum s's
 /// box spans the lattice columns `c − 1 … c + 2` of every column's cell `c` (`columns`,
 /// stratum-major, `width` per stratum; rows likewise), as long as the records so far stay
 /// within `budget`; a stratum whose box does not fit, or whose box is wider than the i32
@@ -150,7 +142,7 @@ pub(crate) fn draw_boxes(
     (columns, width): (&[LatticeAxis], usize),
     (rows, height): (&[LatticeAxis], usize),
     budget: u64,
-) -> (Vec<LrpBox>, u64) {
+) -> (Vec<LrpBox>, u64, u32) {
     let span = |axes: &[LatticeAxis]| {
         let lo = axes.iter().map(|a| i64::from(a.cell)).min().unwrap_or(0) - 1;
         let hi = axes.iter().map(|a| i64::from(a.cell)).max().unwrap_or(0) + 2;
@@ -177,7 +169,7 @@ pub(crate) fn draw_boxes(
         }
         boxes.push(b);
     }
-    (boxes, records)
+    (boxes, records, points as u32)
 }
 
 /// An LRP model's tables: its strata, every sub-stratum's `(f_x, f_y)` concatenated, and the
@@ -233,16 +225,6 @@ fn lattice_sides(width: f32, period: Option<Period>) -> [f64; 2] {
 
 /// Invocations per workgroup of `lrp_draw` (its `@workgroup_size`).
 const DRAW_WORKGROUP: u32 = 64;
-
-/// The lattice points of the boxes in `table` (an `LrpBox` table): the last drawn box's end.
-fn boxes_points(table: &Table) -> u32 {
-    let boxes: &[LrpBox] = bytemuck::cast_slice(&table.bytes);
-    boxes
-        .iter()
-        .map(|b| b.first_point + b.width * b.height)
-        .max()
-        .unwrap_or(0)
-}
 
 /// [`LatticeAxis`] records for `count` positions `position(i)`, stratum-major.
 pub(crate) fn lattice_axis(
@@ -317,7 +299,7 @@ impl GpuKind for LrpNoise {
                 limit,
             });
         }
-        kernel.draw = Some(DrawPass::new(context, &tables)?);
+        kernel.draw = Some(DrawPass::new(context)?);
         Shaded::boxed(context, kernel, &tables)
     }
 }
@@ -336,7 +318,7 @@ impl ShaderKernel for LrpKernel {
         displacement: TileDisplacement<'_>,
         limit: u64,
     ) -> Result<TileTables, GpuError> {
-        let mut params = LrpParams {
+        let params = LrpParams {
             width: tile.width as u32,
             height: tile.height as u32,
             strata: self.deltas.len() as u32,
@@ -366,7 +348,7 @@ impl ShaderKernel for LrpKernel {
         );
         // A displaced tile's pixels move to other cells: they draw for themselves.
         let draw = self.draw.as_ref().filter(|_| !displacement.is_some());
-        let (boxes, records) = match draw {
+        let (boxes, records, points) = match draw {
             Some(_) => {
                 let pixels = (tile.width * tile.height) as u64;
                 let budget = (DRAWS_PER_PIXEL * pixels).min(limit / 16);
@@ -377,25 +359,19 @@ impl ShaderKernel for LrpKernel {
                     budget,
                 )
             }
-            None => (vec![bytemuck::Zeroable::zeroed(); self.deltas.len()], 0),
+            None => (vec![bytemuck::Zeroable::zeroed(); self.deltas.len()], 0, 0),
         };
-        let gains = Table::new("lrp gains", &gains);
-        let boxes = Table::new("lrp boxes", &boxes);
         let mut passes = Vec::new();
         let draws = match draw {
             Some(draw) if records > 0 => {
-                let points = boxes_points(&boxes);
+                // The pass's uniform: the tile's, with its point count and grid row.
                 let (stride, _) = flat_grid(&draw.gpu, points, DRAW_WORKGROUP);
                 let pass = LrpParams {
                     draw_points: points,
                     draw_stride: stride,
                     ..params
                 };
-                passes.push(PreparedTile::Tables(TileTables::new(
-                    &pass,
-                    vec![gains.clone(), boxes.clone()],
-                )));
-                params.draw_points = points;
+                passes.push(PreparedTile::Tables(TileTables::new(&pass, Vec::new())));
                 Table::filled_on_device("lrp draws", 16 * records)
             }
             _ => Table::new("lrp draws", &[[0.0f32; 4]]),
@@ -405,8 +381,8 @@ impl ShaderKernel for LrpKernel {
             vec![
                 Table::new("lrp columns", &columns),
                 Table::new("lrp rows", &rows),
-                gains,
-                boxes,
+                Table::new("lrp gains", &gains),
+                Table::new("lrp boxes", &boxes),
                 draws,
             ],
         );
@@ -421,7 +397,7 @@ impl ShaderKernel for LrpKernel {
         _tile: &GpuWindow,
         passes: Vec<PreparedTile>,
         encoder: &mut wgpu::CommandEncoder,
-        (target, displacement): (&wgpu::Buffer, Option<&wgpu::Buffer>),
+        (target, bound, displacement): (&wgpu::Buffer, &[&wgpu::Buffer], Option<&wgpu::Buffer>),
         timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) -> Result<(), GpuError> {
         let (Some(draw), [PreparedTile::Tables(pass)]) = (&self.draw, passes.as_slice()) else {
@@ -438,20 +414,25 @@ impl ShaderKernel for LrpKernel {
             &pass.uniform,
             wgpu::BufferUsages::UNIFORM,
         );
-        let own: Vec<wgpu::Buffer> = pass.tables.iter().map(|t| gpu.table_buffer(t)).collect();
-        // Bindings 0–3, then gains (6) and boxes (7), and the target in `output`'s place (9).
-        let buffers = std::iter::once(&uniform)
-            .chain(&draw.resident)
-            .chain(&own)
-            .chain(std::iter::once(target));
-        let entries: Vec<wgpu::BindGroupEntry<'_>> = [0, 1, 2, 3, 6, 7, 9]
-            .into_iter()
-            .zip(buffers)
-            .map(|(binding, buffer)| wgpu::BindGroupEntry {
+        // The tile's own buffers at bindings 1–3 (strata, frequencies, sub-strata), 6 (gains)
+        // and 7 (boxes), and the target in `output`'s place (9).
+        let mut entries = vec![wgpu::BindGroupEntry {
+            binding: 0,
+            resource: uniform.as_entire_binding(),
+        }];
+        for binding in [1, 2, 3, 6, 7] {
+            let buffer = bound.get(binding as usize - 1).ok_or_else(|| {
+                GpuError::Validation(format!("lrp_draw: no buffer bound at {binding}"))
+            })?;
+            entries.push(wgpu::BindGroupEntry {
                 binding,
                 resource: buffer.as_entire_binding(),
-            })
-            .collect();
+            });
+        }
+        entries.push(wgpu::BindGroupEntry {
+            binding: 9,
+            resource: target.as_entire_binding(),
+        });
         let layout = draw.pipeline.layouts.first().ok_or_else(|| {
             GpuError::Validation("lrp_draw: its pipeline has no bind group".to_owned())
         })?;
@@ -553,7 +534,7 @@ pub mod tests {
         let columns = lattice_axis(&deltas, 3, |i| 5.0 + 10.0 * i as f64);
         let rows = lattice_axis(&deltas, 2, |j| -12.0 + 3.0 * j as f64);
         // Rows at −12 and −9: cells −2 and −1, lattice rows −3 … 1.
-        let (boxes, records) = draw_boxes(&strata, (&columns, 3), (&rows, 2), 200);
+        let (boxes, records, points) = draw_boxes(&strata, (&columns, 3), (&rows, 2), 200);
         let want = |x0, y0, width, height, first_record, first_point| LrpBox {
             x0,
             y0,
@@ -567,6 +548,7 @@ pub mod tests {
         assert_eq!(boxes[1], want(-1, -3, 0, 0, 90, 30));
         assert_eq!(boxes[2], want(-1, -3, 6, 5, 90, 30));
         assert_eq!(records, 90 + 60);
+        assert_eq!(points, 30 + 30);
         // Every lattice point a pixel's loop reaches lies in a drawn box.
         for (s, b) in boxes.iter().enumerate().filter(|(_, b)| b.width > 0) {
             for c in &columns[3 * s..3 * s + 3] {
@@ -606,7 +588,7 @@ pub mod tests {
         for tile in &tiles {
             let (kernel, tables, _) = host(&m, None);
             let mut drawn = kernel.clone();
-            drawn.draw = Some(DrawPass::new(&context, &tables).unwrap());
+            drawn.draw = Some(DrawPass::new(&context).unwrap());
             let prepared = drawn
                 .tile_tables(tile, TileDisplacement::None, u64::MAX)
                 .unwrap();

@@ -388,8 +388,9 @@ impl<K: ShaderKernel> Shaded<K> {
                 Displacement::Device(buffer) => Some(buffer),
                 Displacement::None | Displacement::Host(_) => None,
             };
+            let bound: Vec<&wgpu::Buffer> = self.resident.iter().chain(&per_tile).collect();
             self.kind
-                .encode_passes(tile, passes, encoder, (target, on_device), start)?;
+                .encode_passes(tile, passes, encoder, (target, &bound, on_device), start)?;
             timer = end;
         }
         let mut entries: Vec<wgpu::BindGroupEntry<'_>> = std::iter::once(&uniform)

@@ -436,7 +436,7 @@ impl ShaderKernel for TextureKernel {
         tile: &GpuWindow,
         passes: Vec<PreparedTile>,
         encoder: &mut wgpu::CommandEncoder,
-        (target, displacement): (&wgpu::Buffer, Option<&wgpu::Buffer>),
+        (target, _, displacement): (&wgpu::Buffer, &[&wgpu::Buffer], Option<&wgpu::Buffer>),
         mut timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) -> Result<(), GpuError> {
         let n = tile.width * tile.height;
