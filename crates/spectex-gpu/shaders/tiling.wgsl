@@ -70,11 +70,18 @@ const TILING_LUT_ENTRIES: u32 = 1024u;
 @group(0) @binding(4) var<storage, read> rows: array<GridAxis>;
 @group(0) @binding(5) var<storage, read_write> output: array<f32>;
 
-// The model's shape (common.wgsl's "Shapes").
+// The model's shape (common.wgsl's "Shapes"). The channel count bounds every per-channel
+// loop: as a uniform it kept the taps, the blended values and the basis in per-invocation
+// memory, indexed at run time.
 override TILING_BLEND: u32 = 0xffffffffu;
+override TILING_CHANNELS: u32 = 0xffffffffu;
 
 fn tiling_blend() -> u32 {
     return shape_or(TILING_BLEND, params.blend);
+}
+
+fn tiling_channels() -> u32 {
+    return shape_or(TILING_CHANNELS, params.channels);
 }
 
 /// A vertex's draws: its offset (whole texels) and rotation (cos, sin).
@@ -157,7 +164,7 @@ fn tiling_texel(x: i32, y: i32, phi: vec2<f32>) -> vec4<f32> {
 
 /// LUT_l of channel c at g.
 fn tiling_lookup(l: u32, c: u32, g: f32) -> f32 {
-    let base = (l * params.channels + c) * TILING_LUT_ENTRIES;
+    let base = (l * tiling_channels() + c) * TILING_LUT_ENTRIES;
     let x = (clamp(g, -params.lut_range, params.lut_range) + params.lut_range) * params.lut_scale;
     let i = min(u32(floor(x)), TILING_LUT_ENTRIES - 2u);
     let f = x - f32(i);
@@ -205,7 +212,7 @@ fn tiling_level(level: vec4<u32>, m0: i32, k0: i32, u: f32, v: f32, dx: i32, dy:
             taps[i] = tiling_tap(level, vec2<f32>(f32(o.x + ddx) + phi.x, f32(o.y + ddy) + phi.y));
         }
     }
-    let nc = params.channels;
+    let nc = tiling_channels();
     var t = vec3<f32>(0.0f, 0.0f, 0.0f);
     if (tiling_blend() == 0u) {
         let norm = sqrt((w.x * w.x + w.y * w.y) + w.z * w.z);
@@ -287,7 +294,7 @@ fn tiling_main(@builtin(global_invocation_id) gid: vec3<u32>) {
         row.offset = cy.offset;
     }
     let v = tiling_value(column, row);
-    let nc = params.channels;
+    let nc = tiling_channels();
     for (var c = 0u; c < nc; c++) {
         output[index * nc + c] = v[c];
     }

@@ -194,11 +194,12 @@ impl ShaderKernel for TilingKernel {
     const SHADER: &'static str = "tiling";
     const ENTRY_POINT: &'static str = "tiling_main";
 
-    const SHAPE: &'static [&'static str] = &["TILING_BLEND"];
+    const SHAPE: &'static [&'static str] = &["TILING_BLEND", "TILING_CHANNELS"];
 
-    /// The model's blend (the shader's shape override; two_levels is the tile's footprint's).
+    /// The model's blend and channel count (the shader's shape overrides; two_levels is the
+    /// tile's footprint's).
     fn shape(&self) -> Vec<u32> {
-        vec![self.params.blend]
+        vec![self.params.blend, self.params.channels]
     }
 
     fn output_channels(&self) -> usize {
