@@ -433,10 +433,14 @@ fn phasor_export_bilinear(start: u32, w: i32, h: i32, u: f32, v: f32) -> f32 {
     let fv = floor(v);
     let tu = u - fu;
     let tv = v - fv;
-    let i0 = ((i32(fu) % w) + w) % w;
-    let j0 = ((i32(fv) % h) + h) % h;
-    let i1 = (i0 + 1) % w;
-    let j1 = (j0 + 1) % h;
+    // Wrapped with one remainder per axis: `%` keeps the dividend's sign, so a negative one
+    // takes +w; the next sample wraps at w by a compare (four remainders fewer per tap).
+    let mi = i32(fu) % w;
+    let mj = i32(fv) % h;
+    let i0 = select(mi, mi + w, mi < 0);
+    let j0 = select(mj, mj + h, mj < 0);
+    let i1 = select(i0 + 1, 0, i0 + 1 == w);
+    let j1 = select(j0 + 1, 0, j0 + 1 == h);
     let s00 = profile_data[start + u32(j0 * w + i0)];
     let s10 = profile_data[start + u32(j0 * w + i1)];
     let s01 = profile_data[start + u32(j1 * w + i0)];
