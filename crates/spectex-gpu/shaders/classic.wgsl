@@ -410,15 +410,15 @@ fn simplex2(p: Located3, key2: u32) -> f32 {
     return SIMPLEX2_SCALE * ((c0 + c1) + c2);
 }
 
-/// One corner of 3D simplex noise: cell + d, offset δ0 − d + off.
-fn simplex3_corner(p: Located3, x0: vec3<f32>, d: vec3<i32>, off: f32, o: u32) -> f32 {
+/// One corner of 3D simplex noise: cell + d, offset δ0 − d + off; `planes` the layer keys of
+/// the planes k and k + 1 (`simplex3`).
+fn simplex3_corner(p: Located3, x0: vec3<f32>, d: vec3<i32>, off: f32, planes: vec2<u32>) -> f32 {
     let c = wrap_add3(p.cell, d);
-    let h = hash3(c.x, c.y, c.z, o);
+    // hash3(c.x, c.y, c.z, o) from the layer key of its plane, k or k + 1.
+    let h = cell_hash_in_row(c.x, row_key(c.y, select(planes.x, planes.y, d.z == 1)));
     let df = vec3<f32>(d);
     return simplex_term(h, SIMPLEX3_R2, (x0.x - df.x) + off, (x0.y - df.y) + off, (x0.z - df.z) + off);
 }
-
-/// 3D simplex noise (Perlin 2001, Gustavson 2005) from the skewed cell and fraction.
 fn simplex3(p: Located3, o: u32) -> f32 {
     let t = ((p.offset.x + p.offset.y) + p.offset.z) * SIMPLEX_G3;
     let x0 = p.offset - vec3<f32>(t);
@@ -436,10 +436,18 @@ fn simplex3(p: Located3, o: u32) -> f32 {
         select(0, 1, b || !a),
         select(0, 1, !b || (!a && !c)),
     );
-    let c0 = simplex3_corner(p, x0, vec3<i32>(0), 0.0f, o);
-    let c1 = simplex3_corner(p, x0, d1, SIMPLEX_G3, o);
-    let c2 = simplex3_corner(p, x0, d2, 2.0f * SIMPLEX_G3, o);
-    let c3 = simplex3_corner(p, x0, vec3<i32>(1), 3.0f * SIMPLEX_G3, o);
+    // The layer keys of hash3's planes k and k + 1 (`hash3` is `cell_hash(i, j, o, plane)`),
+    // taken once for the four corners: a corner's plane depends on the ranking, so a compiler
+    // cannot share them.
+    let k1 = wrap_add(p.cell.z, 1);
+    let planes = vec2<u32>(
+        layer_key(o, cell_hash(p.cell.z, 0, o, params.seed)),
+        layer_key(o, cell_hash(k1, 0, o, params.seed)),
+    );
+    let c0 = simplex3_corner(p, x0, vec3<i32>(0), 0.0f, planes);
+    let c1 = simplex3_corner(p, x0, d1, SIMPLEX_G3, planes);
+    let c2 = simplex3_corner(p, x0, d2, 2.0f * SIMPLEX_G3, planes);
+    let c3 = simplex3_corner(p, x0, vec3<i32>(1), 3.0f * SIMPLEX_G3, planes);
     return SIMPLEX3_SCALE * (((c0 + c1) + c2) + c3);
 }
 
