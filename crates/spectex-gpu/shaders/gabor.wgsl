@@ -145,7 +145,11 @@ fn gabor_value(column: GridAxis, row: GridAxis) -> f32 {
     for (var s = 0; s < 3; s++) {
         let uxs = column.offset - f32(s - 1);
         let cell_x = bitcast<i32>(bitcast<u32>(column.cell) + bitcast<u32>(s - 1));
-        var acc = array<f32, 8>(0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f);
+        // The 8 accumulators as two vectors, the k-th kept term added to accumulator k mod 8
+        // by a select: the others add +0, which leaves them as they are (a sum that starts at
+        // +0 is never −0). An array indexed by `kept & 7` lived in per-invocation memory.
+        var acc_lo = vec4<f32>(0.0f);
+        var acc_hi = vec4<f32>(0.0f);
         var kept = 0u;
         for (var t = 0; t < 3; t++) {
             let uyt = row.offset - f32(t - 1);
@@ -171,12 +175,15 @@ fn gabor_value(column: GridAxis, row: GridAxis) -> f32 {
                 let dy = uyt - oy;
                 let dy2 = dy * dy;
                 if (dy2 < 1.0f) {
-                    acc[kept & 7u] += kernel_term(uxs, ox, fx, dy2, fy * dy, params.amplitude * w);
+                    let term = vec4<f32>(kernel_term(uxs, ox, fx, dy2, fy * dy, params.amplitude * w));
+                    let lane = vec4<u32>(kept & 7u);
+                    acc_lo += select(vec4<f32>(0.0f), term, lane == vec4<u32>(0u, 1u, 2u, 3u));
+                    acc_hi += select(vec4<f32>(0.0f), term, lane == vec4<u32>(4u, 5u, 6u, 7u));
                     kept += 1u;
                 }
             }
         }
-        sums[s] = ((acc[0] + acc[1]) + (acc[2] + acc[3])) + ((acc[4] + acc[5]) + (acc[6] + acc[7]));
+        sums[s] = ((acc_lo.x + acc_lo.y) + (acc_lo.z + acc_lo.w)) + ((acc_hi.x + acc_hi.y) + (acc_hi.z + acc_hi.w));
     }
     return params.mean + ((sums[0] + sums[1]) + sums[2]);
 }
