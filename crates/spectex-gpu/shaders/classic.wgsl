@@ -508,17 +508,18 @@ fn worley_insert(f: ptr<function, array<f32, 4>>, ddx: f32, ddy: f32, ddz: f32) 
     }
 }
 
-/// The feature points of `cell`, the neighbour (dx, dy, dz) of the cell the offset `u` is in,
-/// drawn from its stream and inserted into `f`.
-fn worley_cell(f: ptr<function, array<f32, 4>>, u: vec3<f32>, cell: vec3<i32>, dx: i32, dy: i32, dz: i32, o: u32, octave: ClassicOctave) {
-    var prng = Prng(corner_hash(cell, o, octave));
+/// The feature points of the neighbour `d` of p's cell, drawn from its stream and inserted
+/// into `f`.
+fn worley_cell(f: ptr<function, array<f32, 4>>, p: Located3, d: vec3<i32>, o: u32, octave: ClassicOctave) {
+    var prng = Prng(corner_hash(wrap_add3(p.cell, d), o, octave));
     let count = worley_count(&prng);
-    let ry = u.y - f32(dy);
-    let rz = u.z - f32(dz);
+    let u = p.offset;
+    let ry = u.y - f32(d.y);
+    let rz = u.z - f32(d.z);
     for (var n = 0u; n < count; n++) {
         let ox = prng_next_f32(&prng);
         let oy = prng_next_f32(&prng);
-        let ddx = u.x - (f32(dx) + ox);
+        let ddx = u.x - (f32(d.x) + ox);
         let ddy = ry - oy;
         var ddz = 0.0f;
         if (classic_three_d() == 1u) {
@@ -538,7 +539,7 @@ fn worley_ring(f: ptr<function, array<f32, 4>>, p: Located3, o: u32, octave: Cla
                 if (ring > 1 && max(max(abs(dx), abs(dy)), abs(dz)) != ring) {
                     continue;
                 }
-                worley_cell(f, p.offset, wrap_add3(p.cell, vec3<i32>(dx, dy, dz)), dx, dy, dz, o, octave);
+                worley_cell(f, p, vec3<i32>(dx, dy, dz), o, octave);
             }
         }
     }

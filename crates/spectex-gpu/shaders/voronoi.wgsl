@@ -433,10 +433,7 @@ fn voronoi_export_value3(c: vec3<i32>, f: vec3<f32>) -> vec3<f32> {
     for (var sweep = 0; sweep < 2; sweep++) {
         let r = select(reach, 1, sweep == 0);
         for (var dk = -r; dk <= r; dk++) {
-            // A plane (row) whose own gap exceeds the bound holds no cell under it: every
-            // cell's bound, `(gap_i + gap_j) + gap_k` in f32, is at least `gap_k`
-            // (`gap_j + gap_k`), rounding being monotonic, and the bound only falls. Skipping
-            // it whole visits exactly the cells the per-cell test visits, in the same order.
+            // Whole planes and rows over the bound skipped, as `voronoi_main3` skips them.
             let gk = voronoi_gap2(dk, f.z);
             if (gk > select(best, second, want_second)) {
                 continue;

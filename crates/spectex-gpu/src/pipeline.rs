@@ -105,7 +105,7 @@ impl Gpu {
 
     /// A read-only buffer holding `table`, bound as the shader declares it: storage, or
     /// uniform ([`Table::uniform`]).
-    pub(crate) fn table_buffer(&self, table: &Table) -> wgpu::Buffer {
+    fn table_buffer(&self, table: &Table) -> wgpu::Buffer {
         use wgpu::BufferUsages as U;
         self.buffer(table.label, &table.bytes, U::STORAGE | U::UNIFORM)
     }
