@@ -404,14 +404,15 @@ fn phasor_main(@builtin(global_invocation_id) gid: vec3<u32>) {
 //     phasor_export_b_min, _b_max     its range, f32,
 //     phasor_export_varying_f: u32    1 where the frequency varies (F·r per impulse),
 //     phasor_export_side: f32         r rounded to f32,
-//     phasor_export_offset_turns: f32 a gradient orientation's offset in turns,
+//     phasor_export_offset_cos, _sin: f32  cos and sin of a gradient orientation's offset,
 //     phasor_export_dir_threshold, _dir_cap, _spread_turns, _cap_cos: the coherent direction
 //                                     process (lattice 1 is its grid, side r_f),
 //     phasor_export_per_pixel: u32    1 where a duty cycle or the blend weight varies,
 // and, per field, `phasor_export_<field>(n, r)`: the field at the pixel position `n + r`
 // (`n` integer, `r` an f32 below a few cells), for bandwidth, frequency, angle, duty_a,
-// duty_b and weight, and `phasor_export_steer(n, r, shift)`: a gradient orientation's grey
-// level at `n + r` moved by `shift` image samples. A constant field returns its value; a
+// duty_b and weight, and `phasor_export_steer(n, r)`: a gradient orientation's central
+// differences at `n + r` (`phasor_export_central`; 0 for a field that is not an image, whose
+// CPU `gradient_angle` is none). A constant field returns its value; a
 // linear one `value + g·n + g·r`; an image field locates `n` on the lattice of its repeat
 // (`width·pixel_size` along x, `height·pixel_size` along y: n = q·R + rem exactly where R is
 // an f32) and interpolates its grey samples (after the profile data in `profile_data`) at
@@ -450,23 +451,81 @@ fn phasor_export_bilinear(start: u32, w: i32, h: i32, u: f32, v: f32) -> f32 {
     return top * (1.0f - tv) + bottom * tv;
 }
 
+/// The central differences `(g(u + 1, v) − g(u − 1, v), g(u, v + 1) − g(u, v − 1))` of the
+/// bilinear interpolation `g` of `w × h` grey samples at `profile_data[start..]` (row-major,
+/// periodic) at sample coordinates `(u, v)`: the CPU's `gradient_angle` (one sample apart).
+/// The four taps share one floor and fraction per axis (the CPU's `(x ± h)/h − ½` is `u ± 1`
+/// to f64 roundings, where four f32 taps would each round `u ± 1` again): twelve samples of
+/// the 4 × 4 around `(u, v)` instead of sixteen, one wrap per axis instead of four.
+fn phasor_export_central(start: u32, w: i32, h: i32, u: f32, v: f32) -> vec2<f32> {
+    let fu = floor(u);
+    let fv = floor(v);
+    let tu = u - fu;
+    let tv = v - fv;
+    // Columns i0 − 1 … i0 + 2 and rows j0 − 1 … j0 + 2, wrapped as `phasor_export_bilinear`.
+    let mi = i32(fu) % w;
+    let mj = i32(fv) % h;
+    let i0 = select(mi, mi + w, mi < 0);
+    let j0 = select(mj, mj + h, mj < 0);
+    let im = select(i0 - 1, w - 1, i0 == 0);
+    let jm = select(j0 - 1, h - 1, j0 == 0);
+    let i1 = select(i0 + 1, 0, i0 + 1 == w);
+    let j1 = select(j0 + 1, 0, j0 + 1 == h);
+    let i2 = select(i1 + 1, 0, i1 + 1 == w);
+    let j2 = select(j1 + 1, 0, j1 + 1 == h);
+    let rm = start + u32(jm * w);
+    let r0 = start + u32(j0 * w);
+    let r1 = start + u32(j1 * w);
+    let r2 = start + u32(j2 * w);
+    let cm = u32(im);
+    let c0 = u32(i0);
+    let c1 = u32(i1);
+    let c2 = u32(i2);
+    let su = 1.0f - tu;
+    let sv = 1.0f - tv;
+    // Rows j0 and j1 at columns i0 − 1 … i0 + 2: the taps at u − 1 and u + 1.
+    let top_m = profile_data[r0 + cm] * su + profile_data[r0 + c0] * tu;
+    let top_p = profile_data[r0 + c1] * su + profile_data[r0 + c2] * tu;
+    let bottom_m = profile_data[r1 + cm] * su + profile_data[r1 + c0] * tu;
+    let bottom_p = profile_data[r1 + c1] * su + profile_data[r1 + c2] * tu;
+    let gx = (top_p * sv + bottom_p * tv) - (top_m * sv + bottom_m * tv);
+    // Columns i0 and i1 at rows j0 − 1 … j0 + 2: the taps at v − 1 and v + 1 (rows j0 and j1
+    // are the lines above at u).
+    let row_m = profile_data[rm + c0] * su + profile_data[rm + c1] * tu;
+    let row_0 = profile_data[r0 + c0] * su + profile_data[r0 + c1] * tu;
+    let row_1 = profile_data[r1 + c0] * su + profile_data[r1 + c1] * tu;
+    let row_2 = profile_data[r2 + c0] * su + profile_data[r2 + c1] * tu;
+    let gy = (row_1 * sv + row_2 * tv) - (row_m * sv + row_0 * tv);
+    return vec2<f32>(gx, gy);
+}
+
 /// The unit direction at `t` turns in the plane.
 fn phasor_export_planar(t: f32) -> vec3<f32> {
     return vec3<f32>(cos_turns(t), sin_turns(t), 0.0f);
 }
 
-/// A gradient orientation's direction at the impulse `n + r`: `atan2` of the grey level's
-/// central differences (one sample apart) plus the offset, the offset alone on a flat spot.
+/// A gradient orientation's direction at the impulse `n + r`: the grey level's central
+/// differences turned by the offset, the offset alone on a flat spot. The CPU takes `atan2` of
+/// them in f64, adds the offset and its cosine and sine; here the differences are normalised
+/// and rotated by the offset's cosine and sine (constants): the same direction, in a
+/// division, a square root and four products where `atan2_turns`, `cos_turns` and `sin_turns`
+/// cost three polynomials. Scaled by the larger component first, so that a tiny gradient
+/// neither underflows to 0 nor divides by it.
 fn phasor_export_gradient(n: vec2<i32>, r: vec2<f32>) -> vec3<f32> {
-    let gx = phasor_export_steer(n, r, vec2<f32>(1.0f, 0.0f))
-        - phasor_export_steer(n, r, vec2<f32>(-1.0f, 0.0f));
-    let gy = phasor_export_steer(n, r, vec2<f32>(0.0f, 1.0f))
-        - phasor_export_steer(n, r, vec2<f32>(0.0f, -1.0f));
-    var a = 0.0f;
-    if (gx != 0.0f || gy != 0.0f) {
-        a = atan2_turns(gy, gx);
+    let g = phasor_export_steer(n, r);
+    let big = max(abs(g.x), abs(g.y));
+    if (big == 0.0f) {
+        return vec3<f32>(phasor_export_offset_cos, phasor_export_offset_sin, 0.0f);
     }
-    return phasor_export_planar(fract(a + phasor_export_offset_turns));
+    let a = g / big;
+    let inv = 1.0f / sqrt(a.x * a.x + a.y * a.y);
+    let ux = a.x * inv;
+    let uy = a.y * inv;
+    return vec3<f32>(
+        phasor_export_offset_cos * ux - phasor_export_offset_sin * uy,
+        phasor_export_offset_sin * ux + phasor_export_offset_cos * uy,
+        0.0f,
+    );
 }
 
 /// The coherent direction field at the impulse `n + r` (§3.2.2): the normalised sum of the

@@ -17,7 +17,7 @@
 //! and whose texel is located with the `(cell, offset)` split on the lattice of the image's
 //! repeat (`export/split.wgsl`), so it is as precise at 10⁷ pixels as at the origin. Some uses
 //! are discontinuous (thinning compares a uniform with `(b/b_max)²`) or ill-conditioned
-//! (`atan2` of the gradient, normalising a sum of directions): the export test judges those
+//! (normalising an image's gradient or a sum of directions): the export test judges those
 //! pixels as ambiguous where the CPU's value lies within the f32 evaluation's error of the
 //! discontinuity, and the rest within a derived bound. A 3D model with a varying field is
 //! refused ([`GpuError::Unsupported`] naming the feature): its fields' z and the 3D coherent
@@ -620,22 +620,14 @@ fn varies(field: &Field) -> bool {
 
 /// The WGSL function `phasor_export_<name>(n, r)`: `field` at the pixel position `n + r`
 /// (header of the glue of `phasor.wgsl`), an image's grey samples appended to `data` and its
-/// repeat's lattices to `lattices`. With `grey_only`, an image's grey level (unmapped) at
-/// `n + r` moved by `shift` samples (`phasor_export_steer`). An image field reads `n`'s
-/// remainders on its repeat's lattices from the private `phasor_export_rem<l>_at` that
-/// [`locate_fields`] declares and sets once per pixel.
+/// repeat's lattices to `lattices` ([`image_samples`]).
 fn field_function(
     name: &str,
     field: &Field,
     data: &mut Vec<f32>,
     lattices: &mut Vec<f64>,
-    grey_only: bool,
 ) -> String {
-    let signature = if grey_only {
-        format!("fn phasor_export_{name}(n: vec2<i32>, r: vec2<f32>, shift: vec2<f32>) -> f32")
-    } else {
-        format!("fn phasor_export_{name}(n: vec2<i32>, r: vec2<f32>) -> f32")
-    };
+    let signature = format!("fn phasor_export_{name}(n: vec2<i32>, r: vec2<f32>) -> f32");
     let body = match field {
         Field::Constant { value } => format!("return {};", float(*value)),
         Field::Linear { value, gradient } => {
@@ -653,38 +645,68 @@ fn field_function(
             min,
             max,
         } => {
-            let start = data.len();
-            data.extend(grey);
-            let size = f64::from(*pixel_size);
-            let lx = lattices.len();
-            lattices.push(*width as f64 * size);
-            lattices.push(*height as f64 * size);
-            let shift = if grey_only { " + shift.x" } else { "" };
-            let shift_y = if grey_only { " + shift.y" } else { "" };
-            // `n`'s remainders on the repeat's lattices: the pixel's, split once per pixel by
-            // `phasor_export_locate_fields` (every caller passes the pixel's `n`).
-            let sample = format!(
-                "let x = phasor_export_rem{lx}_at + r.x;\n    \
-                 let y = phasor_export_rem{}_at + r.y;\n    \
-                 let g = phasor_export_bilinear({start}u, {width}i, {height}i, \
-                 (x * {} - 0.5f){shift}, (y * {} - 0.5f){shift_y});",
-                lx + 1,
-                float((1.0 / size) as f32),
-                float((1.0 / size) as f32),
-            );
-            if grey_only {
-                format!("{sample}\n    return g;")
-            } else {
-                let span = (f64::from(*max) - f64::from(*min)) as f32;
-                format!(
-                    "{sample}\n    return {} + g * {};",
-                    float(*min),
-                    float(span)
-                )
-            }
+            let (sample, args) =
+                image_samples([*width, *height], grey, *pixel_size, data, lattices);
+            let span = (f64::from(*max) - f64::from(*min)) as f32;
+            format!(
+                "{sample}\n    let g = phasor_export_bilinear({args});\n    return {} + g * {};",
+                float(*min),
+                float(span)
+            )
         }
     };
     format!("{signature} {{\n    {body}\n}}\n")
+}
+
+/// The WGSL function `phasor_export_steer(n, r)`: a gradient orientation's central differences
+/// of `image`'s grey level at `n + r` (`phasor_export_central`), or 0 where `image` is not an
+/// image (the CPU's `gradient_angle` is then none: the offset alone).
+fn steer_function(image: &Field, data: &mut Vec<f32>, lattices: &mut Vec<f64>) -> String {
+    let body = if let Field::Image {
+        width,
+        height,
+        grey,
+        pixel_size,
+        ..
+    } = image
+    {
+        let (sample, args) = image_samples([*width, *height], grey, *pixel_size, data, lattices);
+        format!("{sample}\n    return phasor_export_central({args});")
+    } else {
+        "return vec2<f32>(0.0f);".to_owned()
+    };
+    format!("fn phasor_export_steer(n: vec2<i32>, r: vec2<f32>) -> vec2<f32> {{\n    {body}\n}}\n")
+}
+
+/// An image field's `grey` samples (`size` = width, height) appended to `data` and its
+/// repeat's lattices to `lattices`: the WGSL lines that form the position `(x, y)` = `n + r`
+/// from `n`'s remainders on those lattices (the private `phasor_export_rem<l>_at` that
+/// [`locate_fields`] declares and sets once per pixel: every caller passes the pixel's `n`),
+/// and the arguments `start, w, h, u, v` of a sampler at sample coordinates `x/pixel_size − ½`
+/// (the CPU's).
+fn image_samples(
+    size: [usize; 2],
+    grey: &[f32],
+    pixel_size: f32,
+    data: &mut Vec<f32>,
+    lattices: &mut Vec<f64>,
+) -> (String, String) {
+    let [width, height] = size;
+    let start = data.len();
+    data.extend(grey);
+    let side = f64::from(pixel_size);
+    let lx = lattices.len();
+    lattices.push(width as f64 * side);
+    lattices.push(height as f64 * side);
+    let inv = float((1.0 / side) as f32);
+    (
+        format!(
+            "let x = phasor_export_rem{lx}_at + r.x;\n    \
+             let y = phasor_export_rem{}_at + r.y;",
+            lx + 1
+        ),
+        format!("{start}u, {width}i, {height}i, x * {inv} - 0.5f, y * {inv} - 0.5f"),
+    )
 }
 
 /// The declarations of `phasor_export_rem<l>_at` for the image fields' repeat lattices (from
@@ -752,7 +774,8 @@ impl ExportKind for PhasorNoise {
         let mut lattices = vec![side];
         // The directions as `PhasorKernels::new` and `direction` make them.
         let mut coherent = (1.0f32, 1u32, 0.0f32, 1.0f32, side);
-        let mut offset_turns = 0.0f32;
+        // A gradient orientation's offset, as the cosine and sine it turns directions by.
+        let mut rotation = (1.0f32, 0.0f32);
         let (mode, a, b) = match &self.orientation {
             PhasorOrientation::Aligned { angle } if !varies(angle) => {
                 let a = planar(angle.range().0);
@@ -771,7 +794,8 @@ impl ExportKind for PhasorNoise {
             }
             PhasorOrientation::Isotropic => (2, [1.0, 0.0, 0.0], [1.0, 0.0, 0.0]),
             PhasorOrientation::Gradient { offset, .. } => {
-                offset_turns = (f64::from(*offset) / std::f64::consts::TAU) as f32;
+                let o = f64::from(*offset);
+                rotation = (o.cos() as f32, o.sin() as f32);
                 (4, [1.0, 0.0, 0.0], [1.0, 0.0, 0.0])
             }
             PhasorOrientation::Coherent {
@@ -809,25 +833,13 @@ impl ExportKind for PhasorNoise {
         ] {
             // A constant field's function is never called (the glue reads the constants
             // then): it returns the value all the same.
-            functions.push_str(&field_function(
-                name,
-                field,
-                &mut profile,
-                &mut lattices,
-                false,
-            ));
+            functions.push_str(&field_function(name, field, &mut profile, &mut lattices));
         }
         let steer = match &self.orientation {
             PhasorOrientation::Gradient { image, .. } => image,
             _ => &constant,
         };
-        functions.push_str(&field_function(
-            "steer",
-            steer,
-            &mut profile,
-            &mut lattices,
-            true,
-        ));
+        functions.push_str(&steer_function(steer, &mut profile, &mut lattices));
         let (b_min, b_max) = self.bandwidth_range();
         // `PhasorKernels`' grid and frequency magnitude (`F.clamp(0, ½)·r` rounded once).
         let threshold = (-lambda).exp() as f32;
@@ -866,7 +878,8 @@ impl ExportKind for PhasorNoise {
              const phasor_export_b_max: f32 = {};\n\
              const phasor_export_varying_f: u32 = {}u;\n\
              const phasor_export_side: f32 = {};\n\
-             const phasor_export_offset_turns: f32 = {};\n\
+             const phasor_export_offset_cos: f32 = {};\n\
+             const phasor_export_offset_sin: f32 = {};\n\
              const phasor_export_dir_threshold: f32 = {};\n\
              const phasor_export_dir_cap: u32 = {}u;\n\
              const phasor_export_spread_turns: f32 = {};\n\
@@ -885,7 +898,8 @@ impl ExportKind for PhasorNoise {
             float(b_max as f32),
             u32::from(varying_f),
             float(side as f32),
-            float(offset_turns),
+            float(rotation.0),
+            float(rotation.1),
             float(coherent.0),
             coherent.1,
             float(coherent.2),

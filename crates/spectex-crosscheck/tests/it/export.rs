@@ -64,7 +64,9 @@ use spectex_crosscheck::tolerance::{
 use spectex_gpu::export::{ExportOptions, TableStorage, export};
 use spectex_gpu::{GpuContext, GpuError, wgpu};
 use spectex_model::phasor_kernels::{Impulse, PhasorKernels};
-use spectex_model::{Filter, Model, PhasorNoise, PhasorOrientation, Window};
+use spectex_model::{
+    Field, Filter, Model, PhasorNoise, PhasorOrientation, PhasorOutput, Profile, Window,
+};
 
 use crate::common::gpu_or_skip;
 
@@ -668,7 +670,7 @@ fn judge_phasor(
 /// (gradient, coherent): the export evaluates those in f32 ([`fields`]).
 fn has_varying_fields(m: &PhasorNoise) -> bool {
     use spectex_model::Profile;
-    let varies = |f: &spectex_model::Field| {
+    let varies = |f: &Field| {
         let (lo, hi) = f.range();
         lo != hi
     };
@@ -901,6 +903,48 @@ fn bevy_frame_matches_the_cpu() {
         mean <= mean_allowed + peak * 2f64.powi(-11),
         "mean {mean:.3e} over {mean_allowed:.3e} + f16 rounding"
     );
+}
+
+/// A gradient orientation steered by images of 1, 2 and 3 samples along an axis (the export's
+/// central differences wrap four columns and rows, `phasor_export_central`, where a sample's
+/// neighbours are itself or each other), small enough that the windows cover many repeats on
+/// both sides of the origin: judged as every phasor model is, against the CPU's f64 gradient.
+#[test]
+fn exported_gradient_orientation_wraps_small_steering_images() {
+    let Some(context) = gpu_or_skip("export of gradient orientations") else {
+        return;
+    };
+    let mut failures = Vec::new();
+    for (width, height) in [(1, 3), (2, 3), (4, 1), (3, 2)] {
+        let grey: Vec<f32> = (0..width * height)
+            .map(|k| [0.1, 0.9, 0.35, 0.6, 0.0, 1.0][k % 6])
+            .collect();
+        let m = PhasorNoise {
+            seed: 11,
+            dimensions: 2,
+            bandwidth: Field::constant(0.03),
+            frequency: Field::constant(0.06),
+            orientation: PhasorOrientation::Gradient {
+                image: Field::Image {
+                    width,
+                    height,
+                    grey,
+                    pixel_size: 5.0,
+                    min: 0.0,
+                    max: 1.0,
+                },
+                offset: 0.7,
+            },
+            impulses_per_kernel: 12.0,
+            profile: Profile::Sine,
+            output: PhasorOutput::Profiled,
+            mean: 0.5,
+            amplitude: 0.5,
+        };
+        let case = format!("gradient {width}x{height}");
+        failures.extend(check_phasor(&context, &case, &Model::Phasor(m.clone()), &m));
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
 }
 
 /// What [`check_file`] did with one model file.

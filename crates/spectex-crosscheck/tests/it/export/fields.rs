@@ -28,7 +28,6 @@
 //! peaks is the output's slack; a varying duty cycle's value and error locate a square
 //! profile's jump at the pixel (`judge_with_pixel_bounds`' `duties`).
 
-use spectex_crosscheck::tolerance::phasor::ATAN_ERROR;
 use spectex_crosscheck::tolerance::{
     COS_ABS_ERROR, EXP_REL_ERROR, F32_UNIT_ROUNDOFF, SUMMATION_ROUNDINGS,
 };
@@ -84,13 +83,13 @@ fn grey_slope(grey: &[f32], w: usize, h: usize) -> f64 {
 }
 
 /// Bound on `|export − cpu|` of an image's grey level at a point the export forms within
-/// `dx` pixels (per axis) and at most `reach` pixels from its integer part, moved by `shift`
-/// samples (0 or 1): per axis its sample coordinate `(rem + r)·(1/size) − ½ (+ shift)` — the
-/// split's remainder within 16 ulp of the repeat `R` (`32u·R`), the sum `rem + r` (below
-/// `R + reach`) and the product, the `− ½` and the shift rounded once each — moves the
+/// `dx` pixels (per axis) and at most `reach` pixels from its integer part: per axis its
+/// sample coordinate `(rem + r)·(1/size) − ½` — the split's remainder within 16 ulp of the
+/// repeat `R` (`32u·R`), the sum `rem + r` (below `R + reach`), the product and the `− ½`
+/// rounded once each — moves the
 /// bilinear value by the grey slope per sample, plus its three lerps (8 roundings of values
 /// in [0, 1]).
-fn grey_error(field: &Field, dx: f64, reach: f64, shift: f64) -> f64 {
+fn grey_error(field: &Field, dx: f64, reach: f64) -> f64 {
     let Field::Image {
         width,
         height,
@@ -105,7 +104,7 @@ fn grey_error(field: &Field, dx: f64, reach: f64, shift: f64) -> f64 {
     let l = grey_slope(grey, *width, *height);
     let along = |n: usize| {
         let r = n as f64 * size;
-        (dx + 32.0 * U * r + U * (r + reach)) / size + 3.0 * U * ((r + reach) / size + 1.0 + shift)
+        (dx + 32.0 * U * r + U * (r + reach)) / size + 3.0 * U * ((r + reach) / size + 1.0)
     };
     l * (along(*width) + along(*height)) + 8.0 * U
 }
@@ -127,7 +126,7 @@ pub(super) fn field_error(field: &Field, x: [f64; 2], dx: f64, reach: f64) -> f6
         }
         Field::Image { min, max, .. } => {
             let span = (f64::from(*max) - f64::from(*min)).abs();
-            span * grey_error(field, dx, reach, 0.0) + 3.0 * U * (f64::from(*min).abs() + span)
+            span * grey_error(field, dx, reach) + 3.0 * U * (f64::from(*min).abs() + span)
         }
     }
 }
@@ -274,10 +273,13 @@ impl Process<'_> {
                 if norm <= 2.0 * dg {
                     return (0.0, true);
                 }
-                // The angle moves by asin(|Δ∇|/|∇|), atan2_turns errs by ATAN_ERROR, the
-                // offset's rounding and the sum and fract (3u).
-                let dt = (dg / norm).asin() / TAU + ATAN_ERROR + 3.0 * U;
-                (TAU * dt + 2.0 * COS_ABS_ERROR, false)
+                // The angle moves by asin(|Δ∇|/|∇|). The export normalises the differences and
+                // rotates them by the offset's cosine and sine (`phasor_export_gradient`):
+                // scaled by the larger (2.5 ulp, WGSL's division), squared and summed (2u),
+                // `1/sqrt` (4.5 ulp for sqrt, 2.5 for the division) and the product (u): 14u
+                // per component; the rotation's constants (u each), products and sum (3u): 5u.
+                // So |Δu| ≤ √2·19u < 32u.
+                ((dg / norm).asin() + 32.0 * U, false)
             }
             PhasorOrientation::Coherent {
                 spread,
@@ -345,7 +347,9 @@ impl Process<'_> {
 
 /// The grey level's central differences `(g_x, g_y)` at `x` (one sample apart, the CPU's
 /// `gradient_angle`) and the bound on `|Δ∇|` of the export's: each grey level within
-/// [`grey_error`] (shifted by a sample), each difference rounded once (values ≤ 1).
+/// [`grey_error`] (the export's four taps share the sample coordinate's floor and fraction,
+/// `phasor_export_central`, so a tap one sample away is located as precisely as the point),
+/// each difference rounded once (values ≤ 1).
 fn gradient(image: &Field, x: [f64; 2], dx: f64, reach: f64) -> (f64, f64, f64) {
     let Field::Image {
         width,
@@ -369,7 +373,7 @@ fn gradient(image: &Field, x: [f64; 2], dx: f64, reach: f64) -> (f64, f64, f64) 
     let g = |x: f64, y: f64| unit.at(x, y, 0.0);
     let gx = g(x[0] + h, x[1]) - g(x[0] - h, x[1]);
     let gy = g(x[0], x[1] + h) - g(x[0], x[1] - h);
-    let e = grey_error(image, dx, reach, 1.0);
+    let e = grey_error(image, dx, reach);
     (gx, gy, std::f64::consts::SQRT_2 * (2.0 * e + U))
 }
 
