@@ -154,6 +154,25 @@ fn texton_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     output[index] = texton_value(column, row);
 }
 
+/// The distance along one axis, cell units, from a point at `offset` in its cell to the
+/// texton centres of the cell `s` away, which lie within `half` of that cell's middle.
+fn texton_gap(offset: f32, s: i32, half: f32) -> f32 {
+    let middle = f32(s) + 0.5f;
+    return max(abs(offset - middle) - half, 0.0f);
+}
+
+/// How far from its centre a texton can contribute, cell units: `max(a, b)·max s / C`
+/// (spectex_model's `support_radius`), grown by 10⁻³, far beyond the roundings of `spot_at`'s
+/// `r²` (a few ulps, and cos_turns' and sin_turns' 10⁻⁶). A cell whose centres all lie at
+/// least this far from the pixel holds only textons that add exactly 0 (their `spot_at` is
+/// 0, and a sum or a maximum over a canvas of +0 ignores ±0): `texton_value` skips it, and
+/// its draws, its own PRNG's, change no other cell's.
+fn texton_support() -> f32 {
+    let radius = max(params.radius_a, params.radius_b)
+        * max(abs(params.scale_lo), abs(params.scale_hi));
+    return radius / params.cell_size * 1.001f;
+}
+
 /// The texture at the point `column`, `row` (its cells and offsets in cell units): the mean
 /// outside the usable range, else the mean plus the textons of the cells within `reach`.
 fn texton_value(column: GridAxis, row: GridAxis) -> f32 {
@@ -161,11 +180,20 @@ fn texton_value(column: GridAxis, row: GridAxis) -> f32 {
         return params.mean;
     }
     let reach = texton_reach();
+    // Where a cell's texton centres lie along an axis (a grid's jitter around ½, anywhere for
+    // Poisson placement), widened by far more than their roundings.
+    let half = select(0.5f * abs(params.jitter), 0.5f, texton_placement() == 1u) + 1e-5f;
+    let support = texton_support();
     var acc = 0.0f;
     for (var dj = -reach; dj <= reach; dj++) {
         let cell_y = bitcast<i32>(bitcast<u32>(row.cell) + bitcast<u32>(dj));
+        let gy = texton_gap(row.offset, dj, half);
         for (var di = -reach; di <= reach; di++) {
             let cell_x = bitcast<i32>(bitcast<u32>(column.cell) + bitcast<u32>(di));
+            let gx = texton_gap(column.offset, di, half);
+            if (gx * gx + gy * gy >= support * support) {
+                continue;
+            }
             var prng = Prng(cell_hash(wrap_cell(cell_x, params.cells_x),
                 wrap_cell(cell_y, params.cells_y), TEXTON_LAYER, params.seed));
             var count = 1u;
