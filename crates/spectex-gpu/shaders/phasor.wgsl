@@ -567,7 +567,12 @@ fn phasor_export_coherent(n: vec2<i32>, r: vec2<f32>) -> vec3<f32> {
     let uy = wy - fy;
     var sum = vec3<f32>(0.0f);
     for (var sy = -1; sy <= 1; sy++) {
+        let gy = phasor_cell_gap(uy, sy);
         for (var sx = -1; sx <= 1; sx++) {
+            // A cell of the direction process out of its kernels' reach (`PHASOR_CELL_REACH2`).
+            if (phasor_cell_gap(ux, sx) + gy >= PHASOR_CELL_REACH2) {
+                continue;
+            }
             let c = vec2<i32>(
                 bitcast<i32>(bitcast<u32>(cell.x) + bitcast<u32>(sx)),
                 bitcast<i32>(bitcast<u32>(cell.y) + bitcast<u32>(sy)),
