@@ -47,30 +47,20 @@ fn subdivision_normalise(c: i32, k: i32, level: u32) -> vec2<i32> {
     return vec2<i32>(bitcast<i32>(bitcast<u32>(c) + bitcast<u32>(carry)), k & ((1i << level) - 1i));
 }
 
-/// The displacement's centred byte sum at level `level`, coarse cell `c`, index `k` (normalised):
-/// spectex_model::subdivision::{lattice_bits, centred_byte_sum}, exact in f32.
-fn subdivision_displacement(level: u32, c: vec2<i32>, k: vec2<i32>) -> f32 {
-    let cell = cell_hash(c.x, c.y, SUBDIVISION_LAYER, params.seed);
-    let b = cell_hash(k.x, k.y, SUBDIVISION_LAYER + level, cell);
+/// The part of spectex_model::subdivision::lattice_bits shared by the level-`level` points of
+/// coarse cell `c`: `layer_key(SUBDIVISION_LAYER + level, cell_hash(c, SUBDIVISION_LAYER,
+/// seed))`, four of its six hashes.
+fn subdivision_key(level: u32, c: vec2<i32>) -> u32 {
+    return layer_key(SUBDIVISION_LAYER + level, cell_hash(c.x, c.y, SUBDIVISION_LAYER, params.seed));
+}
+
+/// The displacement's centred byte sum at index `k` (normalised) of the points whose
+/// `subdivision_key` is `key`: spectex_model::subdivision::{lattice_bits, centred_byte_sum},
+/// exact in f32.
+fn subdivision_displacement(key: u32, k: vec2<i32>) -> f32 {
+    let b = cell_hash_in_row(k.x, row_key(k.y, key));
     let sum = (b & 0xffu) + ((b >> 8u) & 0xffu) + ((b >> 16u) & 0xffu) + (b >> 24u);
     return f32(i32(sum) - 510i);
-}
-
-/// Stencil::taps: the first parent index and the weights for level index `q` (0 past the
-/// stencil's own count of taps).
-struct SubdivisionTaps {
-    first: i32,
-    w: vec4<f32>,
-}
-
-fn subdivision_taps(q: i32) -> SubdivisionTaps {
-    if ((q & 1i) == 0i) {
-        return SubdivisionTaps(q >> 1u, vec4<f32>(1.0f, 0.0f, 0.0f, 0.0f));
-    }
-    if (subdivision_cubic() == 1u) {
-        return SubdivisionTaps((q >> 1u) - 1i, vec4<f32>(-0.0625f, 0.5625f, 0.5625f, -0.0625f));
-    }
-    return SubdivisionTaps(q >> 1u, vec4<f32>(0.5f, 0.5f, 0.0f, 0.0f));
 }
 
 /// Stencil::final_weights at u: (1 − u, u) or Catmull–Rom's.
@@ -88,23 +78,43 @@ fn subdivision_final_weights(u: f32) -> vec4<f32> {
     return vec4<f32>(1.0f - u, u, 0.0f, 0.0f);
 }
 
-/// `v[k]` for `k` in 0..6, else `v[0]`, by selects: a loop reading `v` at a data-dependent index
-/// keeps the arrays in per-invocation memory (lavapipe gathers each element, a GPU spills them
-/// to local memory), where constant indexes keep them in registers.
-fn subdivision_pick(v: array<f32, 6>, k: i32) -> f32 {
-    var r = v[0];
-    r = select(r, v[1], k == 1i);
-    r = select(r, v[2], k == 2i);
-    r = select(r, v[3], k == 3i);
-    r = select(r, v[4], k == 4i);
-    r = select(r, v[5], k == 5i);
-    return r;
+/// One refinement of the parent values `p` along an axis (spectex_model's `Stencil::taps`):
+/// the values at level indexes o … o + W − 1 from the parents at (o >> 1) − r …, `odd` the
+/// parity of o. An even index takes its parent, an odd one the stencil S_k at parent k:
+/// - cubic (W = 6, r = 1), S_k = (−p_k + 9p_{k+1} + 9p_{k+2} − p_{k+3})/16: for an even o
+///   [p₁, S₀, p₂, S₁, p₃, S₂], for an odd o [S₀, p₂, S₁, p₃, S₂, p₄];
+/// - midpoint (W = 2, r = 0), S₀ = (p₀ + p₁)/2: [p₀, S₀] or [S₀, p₁] (the rest unused).
+/// Each value is the stencil's sum in the CPU's order, from +0 over the taps (a taken parent's
+/// other taps weigh 0 and add ±0, hence `0 + p`), in f32, at indexes that are constants: a
+/// loop over the taps read the parents at a data-dependent index, by five selects a tap, and
+/// ran the cubic model at 0.48 Mpix/s on lavapipe where this runs at 0.79.
+fn subdivision_refine(p: array<f32, 6>, odd: bool) -> array<f32, 6> {
+    if (subdivision_cubic() == 1u) {
+        let s0 = subdivision_cubic_tap(p[0], p[1], p[2], p[3]);
+        let s1 = subdivision_cubic_tap(p[1], p[2], p[3], p[4]);
+        let s2 = subdivision_cubic_tap(p[2], p[3], p[4], p[5]);
+        return array<f32, 6>(
+            select(0.0f + p[1], s0, odd),
+            select(s0, 0.0f + p[2], odd),
+            select(0.0f + p[2], s1, odd),
+            select(s1, 0.0f + p[3], odd),
+            select(0.0f + p[3], s2, odd),
+            select(s2, 0.0f + p[4], odd),
+        );
+    }
+    let s0 = (0.0f + 0.5f * p[0]) + 0.5f * p[1];
+    return array<f32, 6>(select(0.0f + p[0], s0, odd), select(s0, 0.0f + p[1], odd), 0.0f, 0.0f, 0.0f, 0.0f);
 }
 
-/// The texture at offset (tx, ty) of coarse cell (cx, cy). The stencil sums run over the
-/// stencil's largest tap count (`n_final`), past a tap's own count with weight 0, which adds
-/// an exact ±0 (every term is finite): the CPU's sums, with loops of constant length that a
-/// compiler unrolls, so `block` and `tmp` are read at constant indexes (`subdivision_pick`).
+/// The cubic stencil's weights (−1, 9, 9, −1)/16 at a, b, c, d, summed from +0 in order.
+fn subdivision_cubic_tap(a: f32, b: f32, c: f32, d: f32) -> f32 {
+    return (((0.0f + -0.0625f * a) + 0.5625f * b) + 0.5625f * c) + -0.0625f * d;
+}
+
+/// The texture at offset (tx, ty) of coarse cell (cx, cy): the W × W block of each level from
+/// 0 to L (`subdivision_refine`, then the new points' displacements), then the final weights'
+/// sum over its first `n_final` × `n_final` values, in loops of constant length that a
+/// compiler unrolls, so `block` and `tmp` are read at constant indexes.
 fn subdivision_value(cx: i32, tx: f32, cy: i32, ty: f32) -> f32 {
     let levels = params.levels;
     let side = f32(1u << levels);
@@ -133,38 +143,40 @@ fn subdivision_value(cx: i32, tx: f32, cy: i32, ty: f32) -> f32 {
         let py = subdivision_normalise(cy, o0.y + j, 0u).x;
         for (var i = 0i; i < w; i = i + 1i) {
             let px = subdivision_normalise(cx, o0.x + i, 0u).x;
-            block[j][i] = scales[0] * subdivision_displacement(0u, vec2<i32>(px, py), vec2<i32>(0i, 0i));
+            block[j][i] = scales[0] * subdivision_displacement(subdivision_key(0u, vec2<i32>(px, py)), vec2<i32>(0i, 0i));
         }
     }
     for (var l = 1u; l <= levels; l = l + 1u) {
-        let po = origins[l - 1u];
         let o = origins[l];
-        for (var i = 0i; i < w; i = i + 1i) {
-            let taps = subdivision_taps(o.x + i);
-            let a = taps.first - po.x;
-            for (var j = 0i; j < w; j = j + 1i) {
-                var s = 0.0f;
-                for (var t = 0i; t < n_final; t = t + 1i) {
-                    s = s + taps.w[t] * subdivision_pick(block[j], a + t);
-                }
-                tmp[j][i] = s;
-            }
-        }
+        // Along x, row by row, then along y, column by column (`subdivision_refine`), and the
+        // new points' displacements.
         for (var j = 0i; j < w; j = j + 1i) {
-            let qy = o.y + j;
-            let taps = subdivision_taps(qy);
-            let b = taps.first - po.y;
-            for (var i = 0i; i < w; i = i + 1i) {
-                let qx = o.x + i;
-                var s = 0.0f;
-                let column = array<f32, 6>(tmp[0][i], tmp[1][i], tmp[2][i], tmp[3][i], tmp[4][i], tmp[5][i]);
-                for (var t = 0i; t < n_final; t = t + 1i) {
-                    s = s + taps.w[t] * subdivision_pick(column, b + t);
-                }
+            tmp[j] = subdivision_refine(block[j], (o.x & 1i) == 1i);
+        }
+        // The key of the last new point's coarse cell: a level's block lies in one or a few
+        // coarse cells, so most of its new points reuse it (two hashes each, not six).
+        var key_cell = vec2<i32>(0i, 0i);
+        var key = 0u;
+        var have_key = false;
+        for (var i = 0i; i < w; i = i + 1i) {
+            let column = subdivision_refine(
+                array<f32, 6>(tmp[0][i], tmp[1][i], tmp[2][i], tmp[3][i], tmp[4][i], tmp[5][i]),
+                (o.y & 1i) == 1i,
+            );
+            let qx = o.x + i;
+            for (var j = 0i; j < w; j = j + 1i) {
+                let qy = o.y + j;
+                var s = column[j];
                 if (((qx | qy) & 1i) == 1i) {
                     let nx = subdivision_normalise(cx, qx, l);
                     let ny = subdivision_normalise(cy, qy, l);
-                    s = s + scales[l] * subdivision_displacement(l, vec2<i32>(nx.x, ny.x), vec2<i32>(nx.y, ny.y));
+                    let c = vec2<i32>(nx.x, ny.x);
+                    if (!have_key || any(c != key_cell)) {
+                        key = subdivision_key(l, c);
+                        key_cell = c;
+                        have_key = true;
+                    }
+                    s = s + scales[l] * subdivision_displacement(key, vec2<i32>(nx.y, ny.y));
                 }
                 block[j][i] = s;
             }
