@@ -130,15 +130,13 @@ fn subdivision_value(cx: i32, tx: f32, cy: i32, ty: f32) -> f32 {
         r = 1i;
         n_final = 4i;
     }
-    var origins: array<vec2<i32>, 17>;
-    origins[levels] = vec2<i32>(i32(kx) - r, i32(ky) - r);
-    for (var l = levels; l >= 1u; l = l - 1u) {
-        let o = origins[l];
-        origins[l - 1u] = vec2<i32>((o.x >> 1u) - r, (o.y >> 1u) - r);
-    }
+    // Level l's block origin: o_L = k − r and o_{l−1} = (o_l >> 1) − r, that is
+    // o_l = ((k + r) >> (L − l)) − 2r (x_l = o_l + 2r halves: x_{l−1} = x_l >> 1), where an
+    // array of the origins indexed by the runtime level lived in per-invocation memory.
+    let k = vec2<i32>(i32(kx), i32(ky)) + vec2<i32>(r);
     var block: array<array<f32, 6>, 6>;
     var tmp: array<array<f32, 6>, 6>;
-    let o0 = origins[0];
+    let o0 = (k >> vec2<u32>(levels)) - vec2<i32>(2i * r);
     for (var j = 0i; j < w; j = j + 1i) {
         let py = subdivision_normalise(cy, o0.y + j, 0u).x;
         for (var i = 0i; i < w; i = i + 1i) {
@@ -147,7 +145,7 @@ fn subdivision_value(cx: i32, tx: f32, cy: i32, ty: f32) -> f32 {
         }
     }
     for (var l = 1u; l <= levels; l = l + 1u) {
-        let o = origins[l];
+        let o = (k >> vec2<u32>(levels - l)) - vec2<i32>(2i * r);
         // Along x, row by row, then along y, column by column (`subdivision_refine`), and the
         // new points' displacements.
         for (var j = 0i; j < w; j = j + 1i) {
