@@ -447,28 +447,39 @@ fn phasor_main(@builtin(global_invocation_id) gid: vec3<u32>) {
 // threshold, a gradient or coherent sum within its error of zero).
 // The sum, outputs and profiles are phasor.wgsl's (the same f32 operations as the CPU).
 
+/// Where sample coordinate `u` falls on a periodic axis of `n` samples: the sample ⌊u⌋
+/// wrapped into 0 … n − 1, with one remainder (`%` keeps the dividend's sign, so a negative
+/// one takes +n), and the fraction `u − ⌊u⌋`.
+struct PhasorExportTap {
+    i: i32,
+    t: f32,
+}
+
+fn phasor_export_tap(u: f32, n: i32) -> PhasorExportTap {
+    let f = floor(u);
+    let m = i32(f) % n;
+    return PhasorExportTap(select(m, m + n, m < 0), u - f);
+}
+
+/// The sample after `i` on a periodic axis of `n` samples (a compare, not a remainder).
+fn phasor_export_next(i: i32, n: i32) -> i32 {
+    return select(i + 1, 0, i + 1 == n);
+}
+
 /// The bilinear interpolation of `w × h` grey samples at `profile_data[start..]` (row-major,
 /// periodic), at sample coordinates `(u, v)`: spectex_model's `bilinear_periodic`.
 fn phasor_export_bilinear(start: u32, w: i32, h: i32, u: f32, v: f32) -> f32 {
-    let fu = floor(u);
-    let fv = floor(v);
-    let tu = u - fu;
-    let tv = v - fv;
-    // Wrapped with one remainder per axis: `%` keeps the dividend's sign, so a negative one
-    // takes +w; the next sample wraps at w by a compare (four remainders fewer per tap).
-    let mi = i32(fu) % w;
-    let mj = i32(fv) % h;
-    let i0 = select(mi, mi + w, mi < 0);
-    let j0 = select(mj, mj + h, mj < 0);
-    let i1 = select(i0 + 1, 0, i0 + 1 == w);
-    let j1 = select(j0 + 1, 0, j0 + 1 == h);
-    let s00 = profile_data[start + u32(j0 * w + i0)];
-    let s10 = profile_data[start + u32(j0 * w + i1)];
-    let s01 = profile_data[start + u32(j1 * w + i0)];
+    let x = phasor_export_tap(u, w);
+    let y = phasor_export_tap(v, h);
+    let i1 = phasor_export_next(x.i, w);
+    let j1 = phasor_export_next(y.i, h);
+    let s00 = profile_data[start + u32(y.i * w + x.i)];
+    let s10 = profile_data[start + u32(y.i * w + i1)];
+    let s01 = profile_data[start + u32(j1 * w + x.i)];
     let s11 = profile_data[start + u32(j1 * w + i1)];
-    let top = s00 * (1.0f - tu) + s10 * tu;
-    let bottom = s01 * (1.0f - tu) + s11 * tu;
-    return top * (1.0f - tv) + bottom * tv;
+    let top = s00 * (1.0f - x.t) + s10 * x.t;
+    let bottom = s01 * (1.0f - x.t) + s11 * x.t;
+    return top * (1.0f - y.t) + bottom * y.t;
 }
 
 /// The central differences `(g(u + 1, v) − g(u − 1, v), g(u, v + 1) − g(u, v − 1))` of the
@@ -478,21 +489,19 @@ fn phasor_export_bilinear(start: u32, w: i32, h: i32, u: f32, v: f32) -> f32 {
 /// to f64 roundings, where four f32 taps would each round `u ± 1` again): twelve samples of
 /// the 4 × 4 around `(u, v)` instead of sixteen, one wrap per axis instead of four.
 fn phasor_export_central(start: u32, w: i32, h: i32, u: f32, v: f32) -> vec2<f32> {
-    let fu = floor(u);
-    let fv = floor(v);
-    let tu = u - fu;
-    let tv = v - fv;
-    // Columns i0 − 1 … i0 + 2 and rows j0 − 1 … j0 + 2, wrapped as `phasor_export_bilinear`.
-    let mi = i32(fu) % w;
-    let mj = i32(fv) % h;
-    let i0 = select(mi, mi + w, mi < 0);
-    let j0 = select(mj, mj + h, mj < 0);
+    // Columns i0 − 1 … i0 + 2 and rows j0 − 1 … j0 + 2, wrapped.
+    let x = phasor_export_tap(u, w);
+    let y = phasor_export_tap(v, h);
+    let tu = x.t;
+    let tv = y.t;
+    let i0 = x.i;
+    let j0 = y.i;
     let im = select(i0 - 1, w - 1, i0 == 0);
     let jm = select(j0 - 1, h - 1, j0 == 0);
-    let i1 = select(i0 + 1, 0, i0 + 1 == w);
-    let j1 = select(j0 + 1, 0, j0 + 1 == h);
-    let i2 = select(i1 + 1, 0, i1 + 1 == w);
-    let j2 = select(j1 + 1, 0, j1 + 1 == h);
+    let i1 = phasor_export_next(i0, w);
+    let j1 = phasor_export_next(j0, h);
+    let i2 = phasor_export_next(i1, w);
+    let j2 = phasor_export_next(j1, h);
     let rm = start + u32(jm * w);
     let r0 = start + u32(j0 * w);
     let r1 = start + u32(j1 * w);
