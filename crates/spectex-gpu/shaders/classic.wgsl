@@ -419,6 +419,8 @@ fn simplex3_corner(p: Located3, x0: vec3<f32>, d: vec3<i32>, off: f32, planes: v
     let df = vec3<f32>(d);
     return simplex_term(h, SIMPLEX3_R2, (x0.x - df.x) + off, (x0.y - df.y) + off, (x0.z - df.z) + off);
 }
+
+/// 3D simplex noise (Perlin 2001, Gustavson 2005) from the skewed cell and fraction.
 fn simplex3(p: Located3, o: u32) -> f32 {
     let t = ((p.offset.x + p.offset.y) + p.offset.z) * SIMPLEX_G3;
     let x0 = p.offset - vec3<f32>(t);
