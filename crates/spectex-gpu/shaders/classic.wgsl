@@ -547,15 +547,50 @@ fn worley_ring(f: ptr<function, array<f32, 4>>, p: Located3, o: u32, octave: Cla
     }
 }
 
+/// Whether a cell at per-axis gaps (gx, gy, gz) from the pixel can still change the needed F_n:
+/// each of its points is at least that far (rounding is monotonic), and a distance no smaller
+/// than F_n moves only the F's past it, which weigh 0.
+fn worley_reaches(f: ptr<function, array<f32, 4>>, gx: f32, gy: f32, gz: f32) -> bool {
+    return worley_distance(gx, gy, gz) < (*f)[shape_or(CLASSIC_NEEDED, params.needed)];
+}
+
+/// Ring 1 of a 2D Worley search: the pixel's own cell, then its 8 neighbours, each skipped
+/// where `worley_reaches` says it cannot matter (the own cell's points make that common).
+/// lavapipe, F2 − F1: 1.3× faster in compute, the export unchanged. In 3D the same skip (per
+/// cell or per row) made the compute kernel 9% faster but the exported module 6–10% slower, so
+/// 3D keeps the plain block (`worley_ring` at ring 1).
+fn worley_ring1_2d(f: ptr<function, array<f32, 4>>, p: Located3, o: u32, octave: ClassicOctave) {
+    worley_cell(f, p, vec3<i32>(0), o, octave);
+    let u = p.offset;
+    for (var dy = -1; dy <= 1; dy++) {
+        for (var dx = -1; dx <= 1; dx++) {
+            if (dx == 0 && dy == 0) {
+                continue;
+            }
+            // The gap along an axis: u to the cell before, 1 − u to the cell after.
+            let gx = select(select(u.x, 1.0f - u.x, dx > 0), 0.0f, dx == 0);
+            let gy = select(select(u.y, 1.0f - u.y, dy > 0), 0.0f, dy == 0);
+            if (worley_reaches(f, gx, gy, 0.0f)) {
+                worley_cell(f, p, vec3<i32>(dx, dy, 0), o, octave);
+            }
+        }
+    }
+}
+
 /// Worley noise C₁F₁ + C₂F₂ + C₃F₃ + C₄F₄ at p: the CPU's search, ring 1 (the 3×3(×3) block)
 /// first, then ring after ring until the needed F_n is no farther than the unsearched cells, or
 /// WORLEY_MAX_RING rings. The four smallest distances of a set do not depend on the order the
-/// set is visited in, so this visits the CPU's cells and keeps the CPU's four values. Ring 1
+/// set is visited in, so this keeps the CPU's F_1 … F_n for the needed n (the cells a 2D ring 1
+/// skips hold only farther points; the F's past F_n weigh 0). Ring 1
 /// has its own call, at a constant ring: a driver unrolls its cells (lavapipe ran 3D Worley
 /// 2× faster than with ring 1 inside the ring loop, bit for bit the same).
 fn worley(p: Located3, o: u32, octave: ClassicOctave) -> f32 {
     var f = array<f32, 4>(params.cap, params.cap, params.cap, params.cap);
-    worley_ring(&f, p, o, octave, 1);
+    if (classic_three_d() == 1u) {
+        worley_ring(&f, p, o, octave, 1);
+    } else {
+        worley_ring1_2d(&f, p, o, octave);
+    }
     var ring = 1;
     while (ring < WORLEY_MAX_RING && !(f[shape_or(CLASSIC_NEEDED, params.needed)] <= worley_gap(p.offset, ring))) {
         ring++;
