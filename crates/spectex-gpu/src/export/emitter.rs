@@ -9,8 +9,8 @@ use std::fmt::Write as _;
 use spectex_model::Model;
 use spectex_model::combine::{CombineOp, RampStop};
 
-use super::values::{declaration, float, scalar_name, type_name, unsupported_type};
-use super::wgsl_text::{rename, strip, top_level_names};
+use super::values::{declaration, float, placeholder, scalar_name, type_name, unsupported_type};
+use super::wgsl_text::{identifiers, rename, strip, top_level_names};
 use super::{
     ExportNode, ExportParts, MAX_TABLE_BYTES, PORTABLE_TABLE_BYTES, TableStorage, export_shader,
 };
@@ -239,6 +239,15 @@ impl Emitter<'_> {
         let mut names = Vec::new();
         // Tables read from the storage buffer through accessor functions.
         let mut accessors = HashSet::new();
+        // What the glue reads: a binding only the compute path reads (a per-tile table, such
+        // as a 3D Voronoi tile's 20 KB of sites) is declared with one zero element, so every
+        // name the shader declares exists without its bytes.
+        let mut used = identifiers(&glue);
+        used.extend(identifiers(&parts.constants));
+        for (_, replacement) in &parts.substitutions {
+            used.extend(identifiers(replacement));
+        }
+        let read = read_globals(&module, &used);
         for (i, (_, var)) in globals.iter().enumerate() {
             let name = var.name.clone().unwrap_or_default();
             let Some(bytes) = parts.bindings.get(i) else {
@@ -246,6 +255,11 @@ impl Emitter<'_> {
                 continue;
             };
             names.push(name.clone());
+            let array = matches!(module.types[var.ty].inner, naga::TypeInner::Array { .. });
+            if array && !read.contains(&name) {
+                tables.push_str(&placeholder(&module, &name, var.ty)?);
+                continue;
+            }
             let in_buffer = matches!(self.storage, TableStorage::Buffer { .. })
                 && !matches!(var.space, naga::AddressSpace::Uniform)
                 && !parts.constant_tables.contains(&name.as_str());
@@ -254,7 +268,6 @@ impl Emitter<'_> {
                 self.buffer_table(&module, &format!("{prefix}{name}"), &name, var.ty, bytes)?
             } else {
                 // Tables, not the params uniform (a uniform table is an array).
-                let array = matches!(module.types[var.ty].inner, naga::TypeInner::Array { .. });
                 if array || !matches!(var.space, naga::AddressSpace::Uniform) {
                     self.constant_bytes += bytes.len();
                 }
@@ -914,6 +927,66 @@ impl Emitter<'_> {
         out.push_str(&rename(&code, &map, &HashSet::new()));
         Ok(format!("{prefix}combine_sample_cell"))
     }
+}
+
+/// The global variables of `module` that code reachable from the names `used` reads: those
+/// named there, and those the functions named there read, directly or through their calls.
+fn read_globals(module: &naga::Module, used: &HashSet<String>) -> HashSet<String> {
+    fn calls(block: &naga::Block, out: &mut Vec<naga::Handle<naga::Function>>) {
+        for statement in block.iter() {
+            match statement {
+                naga::Statement::Call { function, .. } => out.push(*function),
+                naga::Statement::Block(b) => calls(b, out),
+                naga::Statement::If { accept, reject, .. } => {
+                    calls(accept, out);
+                    calls(reject, out);
+                }
+                naga::Statement::Switch { cases, .. } => {
+                    for case in cases {
+                        calls(&case.body, out);
+                    }
+                }
+                naga::Statement::Loop {
+                    body, continuing, ..
+                } => {
+                    calls(body, out);
+                    calls(continuing, out);
+                }
+                _ => {}
+            }
+        }
+    }
+    let mut read: HashSet<String> = module
+        .global_variables
+        .iter()
+        .filter_map(|(_, v)| v.name.clone())
+        .filter(|name| used.contains(name))
+        .collect();
+    let mut stack: Vec<naga::Handle<naga::Function>> = module
+        .functions
+        .iter()
+        .filter(|(_, f)| f.name.as_ref().is_some_and(|n| used.contains(n)))
+        .map(|(h, _)| h)
+        .collect();
+    let mut seen: HashSet<naga::Handle<naga::Function>> = stack.iter().copied().collect();
+    while let Some(h) = stack.pop() {
+        let function = &module.functions[h];
+        for (_, expression) in function.expressions.iter() {
+            if let naga::Expression::GlobalVariable(g) = expression
+                && let Some(name) = &module.global_variables[*g].name
+            {
+                read.insert(name.clone());
+            }
+        }
+        let mut callees = Vec::new();
+        calls(&function.body, &mut callees);
+        for callee in callees {
+            if seen.insert(callee) {
+                stack.push(callee);
+            }
+        }
+    }
+    read
 }
 
 #[cfg(feature = "unit-tests")]

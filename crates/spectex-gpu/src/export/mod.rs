@@ -111,8 +111,9 @@ pub(crate) struct ExportParts {
 
 impl ExportParts {
     /// The parts of a shader kind: `kernel`'s uniform and per-tile tables for a one-pixel tile
-    /// at the origin (the per-tile tables are emitted too, unused by the glue, so every name
-    /// the shader declares exists), after its `resident` tables.
+    /// at the origin, after its `resident` tables. A table no code the glue reaches reads (a
+    /// per-tile one, mostly) is emitted with one zero element, so every name the shader
+    /// declares exists (`Emitter::model_chunk`).
     pub(crate) fn of<K: ShaderKernel>(
         kernel: &K,
         resident: &[Table],

@@ -51,6 +51,22 @@ pub(super) fn declaration(
     }
 }
 
+/// The declaration replacing the table binding `name` (an array of type `ty`) that no code of
+/// the export reads: one zero element, so the names the shader declares all exist.
+pub(super) fn placeholder(
+    module: &naga::Module,
+    name: &str,
+    ty: naga::Handle<naga::Type>,
+) -> Result<String, GpuError> {
+    let naga::TypeInner::Array { base, .. } = &module.types[ty].inner else {
+        return Err(unsupported_type("a placeholder of a non-array binding"));
+    };
+    Ok(format!(
+        "var<private> {name}: array<{}, 1>;\n",
+        type_name(module, *base)?
+    ))
+}
+
 /// An error for a type the exporter cannot write.
 pub(super) fn unsupported_type(what: &str) -> GpuError {
     GpuError::Unsupported {

@@ -70,6 +70,26 @@ pub(crate) fn top_level_names(source: &str) -> Vec<String> {
     names
 }
 
+/// The identifiers `source` uses outside comments (names, keywords and types alike).
+pub(crate) fn identifiers(source: &str) -> HashSet<String> {
+    let mut names = HashSet::new();
+    for line in source.lines() {
+        let code = line.split_once("//").map_or(line, |(code, _)| code);
+        let mut word = String::new();
+        for c in code.chars().chain([' ']) {
+            if c.is_ascii_alphanumeric() || c == '_' {
+                word.push(c);
+            } else if !word.is_empty() {
+                if !word.starts_with(|d: char| d.is_ascii_digit()) {
+                    names.insert(std::mem::take(&mut word));
+                }
+                word.clear();
+            }
+        }
+    }
+    names
+}
+
 /// `source` with every struct member name that naga's namer would change on writing the
 /// module back (one ending in a digit or `_`, or holding `__`: `proc::Namer` appends `_`)
 /// given a letter suffix, `_m`, everywhere it appears (member accesses too; comments are
@@ -298,5 +318,10 @@ pub mod tests {
             top_level_names("fn a(x: u32) {}\nconst B = 1;\nvar<private> c: u32;\nstruct D {}\n"),
             ["a", "B", "c", "D"]
         );
+        let mut seen: Vec<String> = identifiers("let x = f(y2, 3u); // g(z)\nh[0]")
+            .into_iter()
+            .collect();
+        seen.sort();
+        assert_eq!(seen, ["f", "h", "let", "x", "y2"]);
     }
 }

@@ -11,8 +11,8 @@ use std::path::PathBuf;
 
 use spectex_gpu::GpuError;
 use spectex_gpu::export::{
-    DEFAULT_BINDING, DEFAULT_GROUP, ExportOptions, MAX_TABLE_BYTES, TableStorage, export,
-    wgsl_module,
+    DEFAULT_BINDING, DEFAULT_GROUP, ExportOptions, MAX_TABLE_BYTES, PORTABLE_TABLE_BYTES,
+    TableStorage, export, wgsl_module,
 };
 
 /// Models `wgsl_module` refuses with `GpuError::Unsupported`, each for one feature the
@@ -167,6 +167,47 @@ fn every_exportable_model_validates_with_its_entry_points_and_no_binding() {
         REFUSED.iter().map(|(m, _)| *m).collect::<Vec<_>>(),
         "refused models"
     );
+}
+
+/// A table only the compute path reads (a tile's records: a glue draws its own) is declared
+/// with one zero element instead of its bytes. A 3D Voronoi tile's 9 × 9 × 9 cells of sites
+/// (5103 f32, 20 KiB, over the WGSL portable limit) and a phasor tile's impulses are not
+/// carried, and the modules' tables fit the 8192 bytes of private memory WGSL guarantees.
+#[test]
+fn tables_only_the_compute_path_reads_are_not_carried() {
+    for (case, table) in [
+        ("voronoi-3d-border", "sites"),
+        ("phasor-two-lobes-phase", "impulses"),
+        ("phasor-3d-harmonics", "cells"),
+    ] {
+        let text = std::fs::read_to_string(format!(
+            "{}/../../testdata/models/{case}.json",
+            env!("CARGO_MANIFEST_DIR")
+        ))
+        .unwrap_or_else(|e| panic!("{case}: {e}"));
+        let model = spectex_model::from_json(&text).unwrap_or_else(|e| panic!("{case}: {e}"));
+        let source = wgsl_module(&model, &ExportOptions::default())
+            .unwrap_or_else(|e| panic!("{case}: {e}"));
+        let declaration = format!("var<private> spectex_m0_{table}: array<");
+        let line = source
+            .lines()
+            .find(|l| l.starts_with(&declaration))
+            .unwrap_or_else(|| panic!("{case}: no `{declaration}`"));
+        assert!(
+            line.ends_with(", 1>;"),
+            "{case}: {}",
+            &line[..line.len().min(120)]
+        );
+        let bytes: usize = source
+            .split_once("// Size: ")
+            .and_then(|(_, rest)| rest.split_once(' '))
+            .and_then(|(n, _)| n.parse().ok())
+            .unwrap_or_else(|| panic!("{case}: no size in the header"));
+        assert!(
+            bytes <= PORTABLE_TABLE_BYTES,
+            "{case}: {bytes} bytes of tables"
+        );
+    }
 }
 
 #[test]
