@@ -176,11 +176,7 @@ fn voronoi_main(@builtin(global_invocation_id) gid: vec3<u32>) {
                     }
                     let num = (dx + dn.x) * ex + (dy + dn.y) * ey;
                     let q = num * 0.5f / sqrt(e2);
-                    if (q < border) {
-                        border = q;
-                        let far = 2.0f * (q + VORONOI_BORDER_PRUNE_MARGIN) + f1;
-                        limit = far * far;
-                    }
+                    voronoi_border_update(q, f1, &border, &limit);
                 }
             }
         }
@@ -191,6 +187,17 @@ fn voronoi_main(@builtin(global_invocation_id) gid: vec3<u32>) {
 const VORONOI_SITE3_FLOATS: u32 = 7u;
 /// spectex_model::voronoi::BORDER_PRUNE_MARGIN.
 const VORONOI_BORDER_PRUNE_MARGIN: f32 = 1e-3f;
+
+/// Takes the bisector distance `q` into the border found so far and, where it is the new
+/// minimum, narrows the search's limit on d² to (2(q + margin) + F1)²: a seed farther than
+/// 2q + F1 has its bisector farther than q (spectex_model::voronoi's `bisector`).
+fn voronoi_border_update(q: f32, f1: f32, border: ptr<function, f32>, limit: ptr<function, f32>) {
+    if (q < *border) {
+        *border = q;
+        let far = 2.0f * (q + VORONOI_BORDER_PRUNE_MARGIN) + f1;
+        *limit = far * far;
+    }
+}
 
 /// Where the site of 3D cell c starts in `sites`; the box covers every search.
 fn site_base3(c: vec3<i32>) -> u32 {
@@ -334,11 +341,7 @@ fn voronoi_main3(index: u32, c: vec3<i32>, f: vec3<f32>) {
                         let s = d + dn;
                         let num = s.x * e.x + s.y * e.y + s.z * e.z;
                         let q = num * 0.5f / sqrt(e2);
-                        if (q < border) {
-                            border = q;
-                            let far = 2.0f * (q + VORONOI_BORDER_PRUNE_MARGIN) + f1;
-                            limit = far * far;
-                        }
+                        voronoi_border_update(q, f1, &border, &limit);
                     }
                 }
             }
@@ -572,11 +575,7 @@ fn voronoi_export_value3(c: vec3<i32>, f: vec3<f32>) -> vec3<f32> {
                             let s = d + dn;
                             let num = s.x * e.x + s.y * e.y + s.z * e.z;
                             let q = num * 0.5f / sqrt(e2);
-                            if (q < border) {
-                                border = q;
-                                let far = 2.0f * (q + VORONOI_BORDER_PRUNE_MARGIN) + f1;
-                                limit = far * far;
-                            }
+                            voronoi_border_update(q, f1, &border, &limit);
                         }
                     }
                 }
