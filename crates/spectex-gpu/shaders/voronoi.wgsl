@@ -168,14 +168,7 @@ fn voronoi_main(@builtin(global_invocation_id) gid: vec3<u32>) {
                     let base = site_base(column.cell + di, row.cell + dj);
                     let dx = (f32(di) + sites[base]) - f.x;
                     let dy = (f32(dj) + sites[base + 1u]) - f.y;
-                    let ex = dx - dn.x;
-                    let ey = dy - dn.y;
-                    let e2 = ex * ex + ey * ey;
-                    if (e2 == 0.0f) {
-                        continue;
-                    }
-                    let num = (dx + dn.x) * ex + (dy + dn.y) * ey;
-                    let q = num * 0.5f / sqrt(e2);
+                    let q = voronoi_bisector2(vec2<f32>(dx, dy), dn);
                     voronoi_border_update(q, f1, &border, &limit);
                 }
             }
@@ -187,6 +180,32 @@ fn voronoi_main(@builtin(global_invocation_id) gid: vec3<u32>) {
 const VORONOI_SITE3_FLOATS: u32 = 7u;
 /// spectex_model::voronoi::BORDER_PRUNE_MARGIN.
 const VORONOI_BORDER_PRUNE_MARGIN: f32 = 1e-3f;
+
+/// The distance from the pixel to the bisector of the seeds at `d` and `dn` (the nearest),
+/// `((d + dn)·(d − dn))·½ / |d − dn|` in the CPU's order; the largest f32 where the seeds
+/// coincide (the nearest itself), which no border takes.
+fn voronoi_bisector2(d: vec2<f32>, dn: vec2<f32>) -> f32 {
+    let ex = d.x - dn.x;
+    let ey = d.y - dn.y;
+    let e2 = ex * ex + ey * ey;
+    if (e2 == 0.0f) {
+        return 3.4028235e38f;
+    }
+    let num = (d.x + dn.x) * ex + (d.y + dn.y) * ey;
+    return num * 0.5f / sqrt(e2);
+}
+
+/// `voronoi_bisector2` in 3D.
+fn voronoi_bisector3(d: vec3<f32>, dn: vec3<f32>) -> f32 {
+    let e = d - dn;
+    let e2 = e.x * e.x + e.y * e.y + e.z * e.z;
+    if (e2 == 0.0f) {
+        return 3.4028235e38f;
+    }
+    let s = d + dn;
+    let num = s.x * e.x + s.y * e.y + s.z * e.z;
+    return num * 0.5f / sqrt(e2);
+}
 
 /// Takes the bisector distance `q` into the border found so far and, where it is the new
 /// minimum, narrows the search's limit on d² to (2(q + margin) + F1)²: a seed farther than
@@ -333,14 +352,7 @@ fn voronoi_main3(index: u32, c: vec3<i32>, f: vec3<f32>) {
                             continue;
                         }
                         let d = voronoi_delta3(c, vec3<i32>(di, dj, dk), f);
-                        let e = d - dn;
-                        let e2 = e.x * e.x + e.y * e.y + e.z * e.z;
-                        if (e2 == 0.0f) {
-                            continue;
-                        }
-                        let s = d + dn;
-                        let num = s.x * e.x + s.y * e.y + s.z * e.z;
-                        let q = num * 0.5f / sqrt(e2);
+                        let q = voronoi_bisector3(d, dn);
                         voronoi_border_update(q, f1, &border, &limit);
                     }
                 }
@@ -429,14 +441,7 @@ fn voronoi_export_value(cell: vec2<i32>, offset: vec2<f32>) -> vec3<f32> {
                     let site = voronoi_export_site(voronoi_export_add(cx.cell, di), voronoi_export_add(cy.cell, dj));
                     let dx = (f32(di) + site.x) - fx;
                     let dy = (f32(dj) + site.y) - fy;
-                    let ex = dx - dn.x;
-                    let ey = dy - dn.y;
-                    let e2 = ex * ex + ey * ey;
-                    if (e2 == 0.0f) {
-                        continue;
-                    }
-                    let num = (dx + dn.x) * ex + (dy + dn.y) * ey;
-                    let q = num * 0.5f / sqrt(e2);
+                    let q = voronoi_bisector2(vec2<f32>(dx, dy), dn);
                     if (q < border) {
                         border = q;
                     }
@@ -567,14 +572,7 @@ fn voronoi_export_value3(c: vec3<i32>, f: vec3<f32>) -> vec3<f32> {
                             }
                             let site = voronoi_export_site3(voronoi_export_add(c.x, di), row);
                             let d = vec3<f32>((f32(di) + site.x) - f.x, (f32(dj) + site.y) - f.y, (f32(dk) + site.z) - f.z);
-                            let e = d - dn;
-                            let e2 = e.x * e.x + e.y * e.y + e.z * e.z;
-                            if (e2 == 0.0f) {
-                                continue;
-                            }
-                            let s = d + dn;
-                            let num = s.x * e.x + s.y * e.y + s.z * e.z;
-                            let q = num * 0.5f / sqrt(e2);
+                            let q = voronoi_bisector3(d, dn);
                             voronoi_border_update(q, f1, &border, &limit);
                         }
                     }
