@@ -567,10 +567,7 @@ fn worley_ring1_2d(f: ptr<function, array<f32, 4>>, p: Located3, o: u32, octave:
             if (dx == 0 && dy == 0) {
                 continue;
             }
-            // The gap along an axis: u to the cell before, 1 − u to the cell after.
-            let gx = select(select(u.x, 1.0f - u.x, dx > 0), 0.0f, dx == 0);
-            let gy = select(select(u.y, 1.0f - u.y, dy > 0), 0.0f, dy == 0);
-            if (worley_reaches(f, gx, gy, 0.0f)) {
+            if (worley_reaches(f, cell_gap(u.x, dx), cell_gap(u.y, dy), 0.0f)) {
                 worley_cell(f, p, vec3<i32>(dx, dy, 0), o, octave);
             }
         }

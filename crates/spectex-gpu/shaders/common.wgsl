@@ -89,6 +89,22 @@ fn wrap_cell(c: i32, n: i32) -> i32 {
     return select(r, r + n, r < 0);
 }
 
+/// The lower bound along one axis of the distance (cell units) from a point at `offset` in its
+/// lattice cell to any point of the cell `d` away: `d − offset` for a cell after it,
+/// `offset − (d + 1)` before it, 0 in its own (spectex_model::voronoi's `gap`). Rounding is
+/// monotonic, so the f32 offset to a point of that cell is never smaller: a search that skips
+/// cells whose gap already exceeds what it needs skips exactly what adds nothing.
+fn cell_gap(offset: f32, d: i32) -> f32 {
+    let before = select(0.0f, max(offset - f32(d + 1), 0.0f), d < 0);
+    return select(before, max(f32(d) - offset, 0.0f), d > 0);
+}
+
+/// `cell_gap` squared: the lower bound of a squared distance's term along the axis.
+fn cell_gap2(offset: f32, d: i32) -> f32 {
+    let g = cell_gap(offset, d);
+    return g * g;
+}
+
 /// hash(x + hash(y + hash(layer + hash(seed)))), wrapping addition.
 fn cell_hash(x: i32, y: i32, layer: u32, seed: u32) -> u32 {
     return cell_hash_in_row(x, row_key(y, layer_key(layer, seed)));

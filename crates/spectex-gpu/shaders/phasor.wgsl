@@ -298,15 +298,7 @@ fn pixel_field(f: u32, x: u32, y: u32, fallback: f32) -> f32 {
     }
 }
 
-/// The squared gap along one axis between a point at `offset` (cell units, in [0, 1)) and the
-/// cell `s` (−1, 0, 1) away from its own: every impulse of that cell is at least this far
-/// along the axis.
-fn phasor_cell_gap(offset: f32, s: i32) -> f32 {
-    let gap = select(select(max(1.0f - offset, 0.0f), 0.0f, s == 0), max(offset, 0.0f), s == -1);
-    return gap * gap;
-}
-
-/// A neighbour cell whose squared gap to the pixel is at least this holds no impulse within
+/// A neighbour cell whose squared gap to the pixel (`cell_gap2`) is at least this holds no impulse within
 /// the kernel's support (s·|d|² < 1 with s ≥ 1), whatever the f32 roundings of |d|² (a few
 /// ulps, far below the 10⁻⁴ margin): `phasor_main` skips it, which adds exactly what its
 /// impulses would (nothing). A corner cell is out of reach for 21% of a cell's pixels in 2D;
@@ -332,11 +324,11 @@ fn phasor_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     for (var l = 0; l < layers; l++) {
         let sz = select(0, l - 1, phasor_three_d() == 1u);
         let dz = params.z_offset - f32(sz);
-        let gz = phasor_cell_gap(params.z_offset, sz);
+        let gz = cell_gap2(params.z_offset, sz);
         for (var sy = -1; sy <= 1; sy++) {
             let dy = row.offset - f32(sy);
             let j = u32(row.cell + sy - params.box_j0);
-            let gyz = phasor_cell_gap(row.offset, sy) + gz;
+            let gyz = cell_gap2(row.offset, sy) + gz;
             for (var sx = -1; sx <= 1; sx++) {
                 let dxs = column.offset - f32(sx);
                 let i = u32(column.cell + sx - params.box_i0);
@@ -345,7 +337,7 @@ fn phasor_main(@builtin(global_invocation_id) gid: vec3<u32>) {
                 if (i >= params.box_cols || j >= params.box_rows) {
                     continue;
                 }
-                if (phasor_cell_gap(column.offset, sx) + gyz >= PHASOR_CELL_REACH2) {
+                if (cell_gap2(column.offset, sx) + gyz >= PHASOR_CELL_REACH2) {
                     continue;
                 }
                 let cell = cells[(u32(l) * params.box_rows + j) * params.box_cols + i];
@@ -576,10 +568,10 @@ fn phasor_export_coherent(n: vec2<i32>, r: vec2<f32>) -> vec3<f32> {
     let uy = wy - fy;
     var sum = vec3<f32>(0.0f);
     for (var sy = -1; sy <= 1; sy++) {
-        let gy = phasor_cell_gap(uy, sy);
+        let gy = cell_gap2(uy, sy);
         for (var sx = -1; sx <= 1; sx++) {
             // A cell of the direction process out of its kernels' reach (`PHASOR_CELL_REACH2`).
-            if (phasor_cell_gap(ux, sx) + gy >= PHASOR_CELL_REACH2) {
+            if (cell_gap2(ux, sx) + gy >= PHASOR_CELL_REACH2) {
                 continue;
             }
             let c = vec2<i32>(
@@ -722,15 +714,15 @@ fn phasor_sample_cell(cell: vec2<i32>, offset: vec2<f32>) -> f32 {
     for (var l = 0; l < layers; l++) {
         let sz = select(0, l - 1, phasor_three_d() == 1u);
         let dz = params.z_offset - f32(sz);
-        let gz = phasor_cell_gap(params.z_offset, sz);
+        let gz = cell_gap2(params.z_offset, sz);
         for (var sy = -1; sy <= 1; sy++) {
             let dy = uy - f32(sy);
-            let gyz = phasor_cell_gap(uy, sy) + gz;
+            let gyz = cell_gap2(uy, sy) + gz;
             for (var sx = -1; sx <= 1; sx++) {
                 let dxs = ux - f32(sx);
                 // A cell out of reach (`PHASOR_CELL_REACH2`): its draws are its own PRNG's,
                 // so skipping them changes no other cell's.
-                if (phasor_cell_gap(ux, sx) + gyz >= PHASOR_CELL_REACH2) {
+                if (cell_gap2(ux, sx) + gyz >= PHASOR_CELL_REACH2) {
                     continue;
                 }
                 let c = vec3<i32>(

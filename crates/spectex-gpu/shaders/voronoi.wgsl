@@ -153,7 +153,7 @@ fn voronoi_main(@builtin(global_invocation_id) gid: vec3<u32>) {
             let r = select(reach, 1, sweep == 0);
             let span_j = voronoi_span(f.y, limit, r);
             for (var dj = span_j.x; dj <= span_j.y; dj++) {
-                let gj = voronoi_gap2(dj, f.y);
+                let gj = cell_gap2(f.y, dj);
                 if (gj > limit) {
                     continue;
                 }
@@ -162,7 +162,7 @@ fn voronoi_main(@builtin(global_invocation_id) gid: vec3<u32>) {
                     if (sweep == 1 && abs(di) <= 1 && abs(dj) <= 1) {
                         continue;
                     }
-                    if (voronoi_gap2(di, f.x) + gj > limit) {
+                    if (cell_gap2(f.x, di) + gj > limit) {
                         continue;
                     }
                     let base = site_base(column.cell + di, row.cell + dj);
@@ -226,24 +226,12 @@ fn site_base3(c: vec3<i32>) -> u32 {
     return ((k * params.box_rows + j) * params.box_cols + i) * VORONOI_SITE3_FLOATS;
 }
 
-/// The square of the lower bound of |d| along an axis over the sites of cell offset d from
-/// offset f (spectex_model::voronoi's `gap`).
-fn voronoi_gap2(d: i32, f: f32) -> f32 {
-    var g = 0.0f;
-    if (d > 0) {
-        g = max(f32(d) - f, 0.0f);
-    } else if (d < 0) {
-        g = max(f - f32(d + 1), 0.0f);
-    }
-    return g * g;
-}
-
 /// Slack (squared cell units) of `voronoi_span`: far above the roundings of the sums the
 /// per-cell tests compare (three squares below 16 each: under 10⁻⁵), so a span never drops a
 /// cell those tests keep.
 const VORONOI_SPAN_SLACK: f32 = 0.015625f;
 
-/// The offsets `[lo, hi]` ⊆ `[−r, r]` along an axis that can pass a test `voronoi_gap2(d, f) +
+/// The offsets `[lo, hi]` ⊆ `[−r, r]` along an axis that can pass a test `cell_gap2(f, d) +
 /// rest ≤ bound` with `budget = bound − rest`: every `d` with `gap² ≤ budget + slack` (for
 /// `d > 0` the gap is `d − f`, for `d < 0` it is `f + |d| − 1`, both growing with `|d|`).
 /// Looping over the span and keeping the per-cell test visits exactly the cells a loop over
@@ -287,13 +275,13 @@ fn voronoi_main3(index: u32, c: vec3<i32>, f: vec3<f32>) {
             // it whole visits exactly the cells the per-cell test visits, in the same order
             // (the CPU's `walk3`). Without it, the border's reach of 4 tested 702 cells a
             // pixel one by one (lavapipe: voronoi-3d-border 7× slower).
-            let gk = voronoi_gap2(dk, f.z);
+            let gk = cell_gap2(f.z, dk);
             if (gk > select(best, second, want_second)) {
                 continue;
             }
             let span_j = voronoi_span(f.y, select(best, second, want_second) - gk, r);
             for (var dj = span_j.x; dj <= span_j.y; dj++) {
-                let gj = voronoi_gap2(dj, f.y);
+                let gj = cell_gap2(f.y, dj);
                 if (gj + gk > select(best, second, want_second)) {
                     continue;
                 }
@@ -302,7 +290,7 @@ fn voronoi_main3(index: u32, c: vec3<i32>, f: vec3<f32>) {
                     if (sweep == 1 && abs(di) <= 1 && abs(dj) <= 1 && abs(dk) <= 1) {
                         continue;
                     }
-                    let bound = voronoi_gap2(di, f.x) + voronoi_gap2(dj, f.y) + gk;
+                    let bound = cell_gap2(f.x, di) + gj + gk;
                     if (bound > select(best, second, want_second)) {
                         continue;
                     }
@@ -332,13 +320,13 @@ fn voronoi_main3(index: u32, c: vec3<i32>, f: vec3<f32>) {
             let span_k = voronoi_span(f.z, limit, r);
             for (var dk = span_k.x; dk <= span_k.y; dk++) {
                 // Whole planes and rows over the limit skipped, as in the first search.
-                let gk = voronoi_gap2(dk, f.z);
+                let gk = cell_gap2(f.z, dk);
                 if (gk > limit) {
                     continue;
                 }
                 let span_j = voronoi_span(f.y, limit - gk, r);
                 for (var dj = span_j.x; dj <= span_j.y; dj++) {
-                    let gj = voronoi_gap2(dj, f.y);
+                    let gj = cell_gap2(f.y, dj);
                     if (gj + gk > limit) {
                         continue;
                     }
@@ -347,7 +335,7 @@ fn voronoi_main3(index: u32, c: vec3<i32>, f: vec3<f32>) {
                         if (sweep == 1 && abs(di) <= 1 && abs(dj) <= 1 && abs(dk) <= 1) {
                             continue;
                         }
-                        let bound = voronoi_gap2(di, f.x) + voronoi_gap2(dj, f.y) + gk;
+                        let bound = cell_gap2(f.x, di) + gj + gk;
                         if (bound > limit) {
                             continue;
                         }
@@ -495,14 +483,14 @@ fn voronoi_export_value3(c: vec3<i32>, f: vec3<f32>) -> vec3<f32> {
         let span_k = voronoi_span(f.z, select(best, second, want_second), r);
         for (var dk = span_k.x; dk <= span_k.y; dk++) {
             // Whole planes and rows over the bound skipped, as `voronoi_main3` skips them.
-            let gk = voronoi_gap2(dk, f.z);
+            let gk = cell_gap2(f.z, dk);
             if (gk > select(best, second, want_second)) {
                 continue;
             }
             let plane = voronoi_export_plane3(voronoi_export_add(c.z, dk));
             let span_j = voronoi_span(f.y, select(best, second, want_second) - gk, r);
             for (var dj = span_j.x; dj <= span_j.y; dj++) {
-                let gj = voronoi_gap2(dj, f.y);
+                let gj = cell_gap2(f.y, dj);
                 if (gj + gk > select(best, second, want_second)) {
                     continue;
                 }
@@ -512,7 +500,7 @@ fn voronoi_export_value3(c: vec3<i32>, f: vec3<f32>) -> vec3<f32> {
                     if (sweep == 1 && abs(di) <= 1 && abs(dj) <= 1 && abs(dk) <= 1) {
                         continue;
                     }
-                    let bound = voronoi_gap2(di, f.x) + voronoi_gap2(dj, f.y) + voronoi_gap2(dk, f.z);
+                    let bound = cell_gap2(f.x, di) + gj + gk;
                     if (bound > select(best, second, want_second)) {
                         continue;
                     }
@@ -549,14 +537,14 @@ fn voronoi_export_value3(c: vec3<i32>, f: vec3<f32>) -> vec3<f32> {
                 let span_k = voronoi_span(f.z, limit, r);
                 for (var dk = span_k.x; dk <= span_k.y; dk++) {
                     // Whole planes and rows over the limit skipped, as in the first search.
-                    let gk = voronoi_gap2(dk, f.z);
+                    let gk = cell_gap2(f.z, dk);
                     if (gk > limit) {
                         continue;
                     }
                     let plane = voronoi_export_plane3(voronoi_export_add(c.z, dk));
                     let span_j = voronoi_span(f.y, limit - gk, r);
                     for (var dj = span_j.x; dj <= span_j.y; dj++) {
-                        let gj = voronoi_gap2(dj, f.y);
+                        let gj = cell_gap2(f.y, dj);
                         if (gj + gk > limit) {
                             continue;
                         }
@@ -566,7 +554,7 @@ fn voronoi_export_value3(c: vec3<i32>, f: vec3<f32>) -> vec3<f32> {
                             if (sweep == 1 && abs(di) <= 1 && abs(dj) <= 1 && abs(dk) <= 1) {
                                 continue;
                             }
-                            let bound = voronoi_gap2(di, f.x) + voronoi_gap2(dj, f.y) + voronoi_gap2(dk, f.z);
+                            let bound = cell_gap2(f.x, di) + gj + gk;
                             if (bound > limit) {
                                 continue;
                             }
