@@ -423,7 +423,7 @@ fn phasor_main(@builtin(global_invocation_id) gid: vec3<u32>) {
 // and, per field, `phasor_export_<field>(n, r)`: the field at the pixel position `n + r`
 // (`n` integer, `r` an f32 below a few cells), for bandwidth, frequency, angle, duty_a,
 // duty_b and weight, and `phasor_export_steer(n, r)`: a gradient orientation's central
-// differences at `n + r` (`phasor_export_central`; 0 for a field that is not an image, whose
+// differences at `n + r` (`phasor_export_differences`; 0 for a field that is not an image, whose
 // CPU `gradient_angle` is none). A constant field returns its value; a
 // linear one `value + g·n + g·r`; an image field locates `n` on the lattice of its repeat
 // (`width·pixel_size` along x, `height·pixel_size` along y: n = q·R + rem exactly where R is
@@ -475,49 +475,31 @@ fn phasor_export_bilinear(start: u32, w: i32, h: i32, u: f32, v: f32) -> f32 {
 }
 
 /// The central differences `(g(u + 1, v) − g(u − 1, v), g(u, v + 1) − g(u, v − 1))` of the
-/// bilinear interpolation `g` of `w × h` grey samples at `profile_data[start..]` (row-major,
-/// periodic) at sample coordinates `(u, v)`: the CPU's `gradient_angle` (one sample apart).
-/// The four taps share one floor and fraction per axis (the CPU's `(x ± h)/h − ½` is `u ± 1`
-/// to f64 roundings, where four f32 taps would each round `u ± 1` again): twelve samples of
-/// the 4 × 4 around `(u, v)` instead of sixteen, one wrap per axis instead of four.
-fn phasor_export_central(start: u32, w: i32, h: i32, u: f32, v: f32) -> vec2<f32> {
-    // Columns i0 − 1 … i0 + 2 and rows j0 − 1 … j0 + 2, wrapped.
+/// bilinear interpolation `g` of a periodic grey image at sample coordinates `(u, v)`: the
+/// CPU's `gradient_angle` (one sample apart). They are the bilinear interpolation, with `g`'s
+/// weights at `(u, v)`, of the samples' own central differences `(s[i+1, j] − s[i−1, j],
+/// s[i, j+1] − s[i, j−1])` (the weights are the same at `u ± 1`, so each tap's term
+/// regroups), which the exporter takes in f64 and stores as `w × h` pairs at
+/// `profile_data[start..]` (row-major): four pairs, one tap per axis, where differencing
+/// interpolated grey levels read twelve samples.
+fn phasor_export_differences(start: u32, w: i32, h: i32, u: f32, v: f32) -> vec2<f32> {
     let x = phasor_export_tap(u, w);
     let y = phasor_export_tap(v, h);
-    let tu = x.t;
-    let tv = y.t;
-    let i0 = x.i;
-    let j0 = y.i;
-    let im = select(i0 - 1, w - 1, i0 == 0);
-    let jm = select(j0 - 1, h - 1, j0 == 0);
-    let i1 = phasor_export_next(i0, w);
-    let j1 = phasor_export_next(j0, h);
-    let i2 = phasor_export_next(i1, w);
-    let j2 = phasor_export_next(j1, h);
-    let rm = start + u32(jm * w);
-    let r0 = start + u32(j0 * w);
-    let r1 = start + u32(j1 * w);
-    let r2 = start + u32(j2 * w);
-    let cm = u32(im);
-    let c0 = u32(i0);
-    let c1 = u32(i1);
-    let c2 = u32(i2);
-    let su = 1.0f - tu;
-    let sv = 1.0f - tv;
-    // Rows j0 and j1 at columns i0 − 1 … i0 + 2: the taps at u − 1 and u + 1.
-    let top_m = profile_data[r0 + cm] * su + profile_data[r0 + c0] * tu;
-    let top_p = profile_data[r0 + c1] * su + profile_data[r0 + c2] * tu;
-    let bottom_m = profile_data[r1 + cm] * su + profile_data[r1 + c0] * tu;
-    let bottom_p = profile_data[r1 + c1] * su + profile_data[r1 + c2] * tu;
-    let gx = (top_p * sv + bottom_p * tv) - (top_m * sv + bottom_m * tv);
-    // Columns i0 and i1 at rows j0 − 1 … j0 + 2: the taps at v − 1 and v + 1 (rows j0 and j1
-    // are the lines above at u).
-    let row_m = profile_data[rm + c0] * su + profile_data[rm + c1] * tu;
-    let row_0 = profile_data[r0 + c0] * su + profile_data[r0 + c1] * tu;
-    let row_1 = profile_data[r1 + c0] * su + profile_data[r1 + c1] * tu;
-    let row_2 = profile_data[r2 + c0] * su + profile_data[r2 + c1] * tu;
-    let gy = (row_1 * sv + row_2 * tv) - (row_m * sv + row_0 * tv);
-    return vec2<f32>(gx, gy);
+    let i1 = phasor_export_next(x.i, w);
+    let j1 = phasor_export_next(y.i, h);
+    let r0 = start + 2u * u32(y.i * w);
+    let r1 = start + 2u * u32(j1 * w);
+    let c0 = 2u * u32(x.i);
+    let c1 = 2u * u32(i1);
+    let su = 1.0f - x.t;
+    let sv = 1.0f - y.t;
+    let d00 = vec2<f32>(profile_data[r0 + c0], profile_data[r0 + c0 + 1u]);
+    let d10 = vec2<f32>(profile_data[r0 + c1], profile_data[r0 + c1 + 1u]);
+    let d01 = vec2<f32>(profile_data[r1 + c0], profile_data[r1 + c0 + 1u]);
+    let d11 = vec2<f32>(profile_data[r1 + c1], profile_data[r1 + c1 + 1u]);
+    let top = d00 * su + d10 * x.t;
+    let bottom = d01 * su + d11 * x.t;
+    return top * sv + bottom * y.t;
 }
 
 /// The unit direction at `t` turns in the plane.

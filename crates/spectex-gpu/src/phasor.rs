@@ -659,8 +659,9 @@ fn field_function(
 }
 
 /// The WGSL function `phasor_export_steer(n, r)`: a gradient orientation's central differences
-/// of `image`'s grey level at `n + r` (`phasor_export_central`), or 0 where `image` is not an
-/// image (the CPU's `gradient_angle` is then none: the offset alone).
+/// of `image`'s grey level at `n + r` (`phasor_export_differences`, which interpolates the
+/// samples' own differences, [`sample_differences`]), or 0 where `image` is not an image (the
+/// CPU's `gradient_angle` is then none: the offset alone).
 fn steer_function(image: &Field, data: &mut Vec<f32>, lattices: &mut Vec<f64>) -> String {
     let body = if let Field::Image {
         width,
@@ -670,30 +671,48 @@ fn steer_function(image: &Field, data: &mut Vec<f32>, lattices: &mut Vec<f64>) -
         ..
     } = image
     {
-        let (sample, args) = image_samples([*width, *height], grey, *pixel_size, data, lattices);
-        format!("{sample}\n    return phasor_export_central({args});")
+        let pairs = sample_differences(grey, *width, *height);
+        let (sample, args) = image_samples([*width, *height], &pairs, *pixel_size, data, lattices);
+        format!("{sample}\n    return phasor_export_differences({args});")
     } else {
         "return vec2<f32>(0.0f);".to_owned()
     };
     format!("fn phasor_export_steer(n: vec2<i32>, r: vec2<f32>) -> vec2<f32> {{\n    {body}\n}}\n")
 }
 
-/// An image field's `grey` samples (`size` = width, height) appended to `data` and its
-/// repeat's lattices to `lattices`: the WGSL lines that form the position `(x, y)` = `n + r`
+/// The central differences of `grey` (`w × h` samples, row-major, periodic) at each sample,
+/// `(s[i+1, j] − s[i−1, j], s[i, j+1] − s[i, j−1])`, in f64 rounded once: `w × h` pairs,
+/// row-major.
+fn sample_differences(grey: &[f32], w: usize, h: usize) -> Vec<f32> {
+    let s = |i: usize, j: usize| f64::from(grey[j * w + i]);
+    let mut pairs = Vec::with_capacity(2 * w * h);
+    for j in 0..h {
+        let (up, down) = ((j + 1) % h, (j + h - 1) % h);
+        for i in 0..w {
+            let (right, left) = ((i + 1) % w, (i + w - 1) % w);
+            pairs.push((s(right, j) - s(left, j)) as f32);
+            pairs.push((s(i, up) - s(i, down)) as f32);
+        }
+    }
+    pairs
+}
+
+/// An image field's `samples` (`size` = width, height: its grey levels, or their
+/// [`sample_differences`]) appended to `data` and its repeat's lattices to `lattices`: the WGSL lines that form the position `(x, y)` = `n + r`
 /// from `n`'s remainders on those lattices (the private `phasor_export_rem<l>_at` that
 /// [`locate_fields`] declares and sets once per pixel: every caller passes the pixel's `n`),
 /// and the arguments `start, w, h, u, v` of a sampler at sample coordinates `x/pixel_size − ½`
 /// (the CPU's).
 fn image_samples(
     size: [usize; 2],
-    grey: &[f32],
+    samples: &[f32],
     pixel_size: f32,
     data: &mut Vec<f32>,
     lattices: &mut Vec<f64>,
 ) -> (String, String) {
     let [width, height] = size;
     let start = data.len();
-    data.extend(grey);
+    data.extend(samples);
     let side = f64::from(pixel_size);
     let lx = lattices.len();
     lattices.push(width as f64 * side);

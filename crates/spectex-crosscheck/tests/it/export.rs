@@ -906,7 +906,7 @@ fn bevy_frame_matches_the_cpu() {
 }
 
 /// A gradient orientation steered by images of 1, 2 and 3 samples along an axis (the export's
-/// central differences wrap four columns and rows, `phasor_export_central`, where a sample's
+/// per-sample central differences wrap, `sample_differences` in spectex-gpu, where a sample's
 /// neighbours are itself or each other), small enough that the windows cover many repeats on
 /// both sides of the origin: judged as every phasor model is, against the CPU's f64 gradient.
 #[test]

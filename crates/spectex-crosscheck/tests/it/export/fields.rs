@@ -346,10 +346,11 @@ impl Process<'_> {
 }
 
 /// The grey level's central differences `(g_x, g_y)` at `x` (one sample apart, the CPU's
-/// `gradient_angle`) and the bound on `|Δ∇|` of the export's: each grey level within
-/// [`grey_error`] (the export's four taps share the sample coordinate's floor and fraction,
-/// `phasor_export_central`, so a tap one sample away is located as precisely as the point),
-/// each difference rounded once (values ≤ 1).
+/// `gradient_angle`) and the bound on `|Δ∇|` of the export's. The export interpolates the
+/// samples' own central differences, rounded once from f64 (`phasor_export_differences`):
+/// their interpolant's slope is at most twice the grey level's, and with values in [−1, 1] it
+/// rounds as a grey level does, so each component is within twice [`grey_error`]'s slope term
+/// plus its roundings, and the table's rounding (u): below `2·grey_error + u`.
 fn gradient(image: &Field, x: [f64; 2], dx: f64, reach: f64) -> (f64, f64, f64) {
     let Field::Image {
         width,
