@@ -9,12 +9,18 @@
 // turns per cell). Fields (graded frequency, angle, image gradients, the coherent direction
 // field) are therefore evaluated once, on the host, exactly as on the CPU.
 //
+// For an undisplaced tile, `phasor_bin` first writes per 8×8-pixel block (the workgroup) and
+// cell a mask of the impulses that can reach the block; a pixel then visits those only (a
+// displaced tile's pixels leave their blocks and visit all). On lavapipe: 28 visits a pixel
+// instead of 58 (phasor-two-lobes-phase); the graded models 15–17% faster.
+//
 // A pixel sums, in the CPU's order (cell layers, rows, columns ascending; impulses in draw
 // order), g = exp_poly(−ln 20·s·|d|²) times cos and sin of t = f·d + ψ over the impulses with
-// s·|d|² < 1 (s the kernel's sharpness, 1 unless the bandwidth varies), d = (u − s) − o in cell units; then intensity, phase (atan2_turns) or a profile of
-// the phase. Profile parameters that vary in space (duty cycle, blend weight) are read per
-// pixel from records per column and per row (`pixel_field`, in f32 where the CPU reads them
-// in f64; the cross-check bounds the difference), or, for a displaced tile, come per pixel
+// s·|d|² < 1 (s the kernel's sharpness, 1 unless the bandwidth varies), d = (u − s) − o in
+// cell units; then intensity, phase (atan2_turns) or a profile of the phase. Profile
+// parameters that vary in space (duty cycle, blend weight) are read per pixel from records per
+// column and per row (`pixel_field`, in f32 where the CPU reads them in f64; the cross-check
+// bounds the difference), or, for a displaced tile, come per pixel
 // from the host, computed in f64 as the CPU does.
 
 struct PhasorParams {
@@ -58,6 +64,21 @@ struct PhasorParams {
     /// With per_pixel: 1 when `pixel_params` holds the fields' column and row records
     /// (`pixel_field`), 0 when it holds each pixel's values (a displaced tile).
     pixel_fields: u32,
+    /// 1 when `bins` holds the tile's reach masks (`phasor_bin`), 0 when every pixel visits
+    /// every impulse of its 3×3 (3×3×3) cells.
+    binned: u32,
+    /// Blocks of PHASOR_BLOCK × PHASOR_BLOCK pixels across the tile.
+    bin_blocks_x: u32,
+    /// Cells per block along x and y: its first column's (row's) cell − 1 on.
+    bin_span_x: u32,
+    bin_span_y: u32,
+    /// Mask chunks per cell (16 impulses a chunk).
+    bin_chunks: u32,
+    /// `phasor_bin`'s invocations (one per block, layer and cell of its span) and invocations
+    /// per row of its dispatch grid.
+    bin_masks: u32,
+    bin_stride: u32,
+    _pad0: u32,
 }
 
 /// One impulse: offset in its cell and ψ; frequency vector (turns per cell unit) and the
@@ -79,9 +100,12 @@ struct PhasorImpulse {
 /// Per pixel (when `filtered` = 1): u = F(p)·s, the local frequency times the footprint, at
 /// which every profile's harmonics are weighted.
 @group(0) @binding(5) var<storage, read> harmonic_scale: array<f32>;
-@group(0) @binding(6) var<storage, read> columns: array<GridAxis>;
-@group(0) @binding(7) var<storage, read> rows: array<GridAxis>;
-@group(0) @binding(8) var<storage, read_write> output: array<f32>;
+/// When `binned` = 1, the reach masks `phasor_bin` wrote (`phasor_main` reads the chunks of
+/// the pixel's block; `phasor_bin` writes them in `output`'s place).
+@group(0) @binding(6) var<storage, read> bins: array<f32>;
+@group(0) @binding(7) var<storage, read> columns: array<GridAxis>;
+@group(0) @binding(8) var<storage, read> rows: array<GridAxis>;
+@group(0) @binding(9) var<storage, read_write> output: array<f32>;
 
 // The model's shape (common.wgsl's "Shapes"): its dimension, output, profiles and whether it
 // reads per-pixel parameters.
@@ -305,6 +329,88 @@ fn pixel_field(f: u32, x: u32, y: u32, fallback: f32) -> f32 {
 /// in 3D edge cells 21% and corner cells 48%.
 const PHASOR_CELL_REACH2: f32 = 1.0001f;
 
+/// Side of a bin block, pixels: `phasor_main`'s workgroup, whose pixels share their masks.
+const PHASOR_BLOCK: u32 = 8u;
+/// Impulses per mask chunk: a chunk is an f32 holding an integer below 2¹⁶ (exact), written
+/// by `phasor_bin` in `output`'s place.
+const PHASOR_CHUNK: u32 = 16u;
+
+/// The reach masks of a tile's pixel blocks. Invocation m is block b's layer l and cell
+/// (u_x, u_y) of its span, `m = ((b·layers + l)·span_y + u_y)·span_x + u_x`, the cell
+/// `(c₀ − 1 + u_x, r₀ − 1 + u_y)` for the block's first column's cell c₀ and first row's r₀.
+/// Its chunks hold one bit per impulse of that cell (in draw order): set unless the impulse
+/// lies beyond the kernel's support (`s·gap² ≥ PHASOR_CELL_REACH2`, the cell skip's bound)
+/// from the block's box of pixel positions (its first and last columns and rows; positions
+/// increase with the column). `phasor_main` then visits only set bits, in order, and adds
+/// exactly what visiting every impulse adds: a cleared impulse's `s·|d|²` is at least 1 at
+/// every pixel of the block, whatever its roundings. A block whose corner pixels are invalid
+/// or out of order (a periodic wrap) sets every bit.
+@compute @workgroup_size(64, 1, 1)
+fn phasor_bin(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let m = gid.y * params.bin_stride + gid.x;
+    if (m >= params.bin_masks) {
+        return;
+    }
+    let ux = m % params.bin_span_x;
+    let uy = (m / params.bin_span_x) % params.bin_span_y;
+    let layers = select(1u, 3u, phasor_three_d() == 1u);
+    let l = (m / (params.bin_span_x * params.bin_span_y)) % layers;
+    let block = m / (params.bin_span_x * params.bin_span_y * layers);
+    let x0 = (block % params.bin_blocks_x) * PHASOR_BLOCK;
+    let y0 = (block / params.bin_blocks_x) * PHASOR_BLOCK;
+    let c0 = columns[x0];
+    let c1 = columns[min(x0 + PHASOR_BLOCK - 1u, params.width - 1u)];
+    let r0 = rows[y0];
+    let r1 = rows[min(y0 + PHASOR_BLOCK - 1u, params.height - 1u)];
+    let cell_x = bitcast<i32>(bitcast<u32>(c0.cell) + ux - 1u);
+    let cell_y = bitcast<i32>(bitcast<u32>(r0.cell) + uy - 1u);
+    let i = bitcast<u32>(cell_x) - bitcast<u32>(params.box_i0);
+    let j = bitcast<u32>(cell_y) - bitcast<u32>(params.box_j0);
+    var cell = vec2<u32>(0u);
+    if (i < params.box_cols && j < params.box_rows) {
+        cell = cells[(l * params.box_rows + j) * params.box_cols + i];
+    }
+    // The block's pixels relative to this cell, cell units.
+    let lo_x = f32(bitcast<i32>(bitcast<u32>(c0.cell) - bitcast<u32>(cell_x))) + c0.offset;
+    let hi_x = f32(bitcast<i32>(bitcast<u32>(c1.cell) - bitcast<u32>(cell_x))) + c1.offset;
+    let lo_y = f32(bitcast<i32>(bitcast<u32>(r0.cell) - bitcast<u32>(cell_y))) + r0.offset;
+    let hi_y = f32(bitcast<i32>(bitcast<u32>(r1.cell) - bitcast<u32>(cell_y))) + r1.offset;
+    let all = c0.valid == 0u || c1.valid == 0u || r0.valid == 0u || r1.valid == 0u
+        || !(lo_x <= hi_x) || !(lo_y <= hi_y);
+    let sz = select(0, i32(l) - 1, phasor_three_d() == 1u);
+    let dz = params.z_offset - f32(sz);
+    for (var k = 0u; k < params.bin_chunks; k++) {
+        var bits = 0u;
+        for (var b = 0u; b < PHASOR_CHUNK; b++) {
+            let n = k * PHASOR_CHUNK + b;
+            if (n >= cell.y) {
+                break;
+            }
+            let o = impulses[cell.x + n].o_psi;
+            let gx = max(max(lo_x - o.x, o.x - hi_x), 0.0f);
+            let gy = max(max(lo_y - o.y, o.y - hi_y), 0.0f);
+            let gz = dz - o.z;
+            let reach = (gx * gx + gy * gy + gz * gz) * impulses[cell.x + n].f.w;
+            if (all || reach < PHASOR_CELL_REACH2) {
+                bits |= 1u << b;
+            }
+        }
+        output[m * params.bin_chunks + k] = f32(bits);
+    }
+}
+
+/// Adds impulse `imp`'s term at `d = (dxs, dy, dz) − o` to `re` and `im` where `s·|d|² < 1`.
+fn phasor_add(imp: PhasorImpulse, dxs: f32, dy: f32, dz: f32, re: ptr<function, f32>, im: ptr<function, f32>) {
+    let d = vec3<f32>(dxs - imp.o_psi.x, dy - imp.o_psi.y, dz - imp.o_psi.z);
+    let d2 = (d.x * d.x + d.y * d.y + d.z * d.z) * imp.f.w;
+    if (d2 < 1.0f) {
+        let g = exp_poly(PHASOR_NEG_LN_20 * d2);
+        let t = imp.f.x * d.x + imp.f.y * d.y + imp.f.z * d.z + imp.o_psi.w;
+        *re += g * cos_turns(t);
+        *im += g * sin_turns(t);
+    }
+}
+
 @compute @workgroup_size(8, 8, 1)
 fn phasor_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (gid.x >= params.width || gid.y >= params.height) {
@@ -321,6 +427,14 @@ fn phasor_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     var re = 0.0f;
     var im = 0.0f;
     let layers = select(1, 3, phasor_three_d() == 1u);
+    // The pixel's block and the cell its span starts at (`phasor_bin`).
+    let block = (gid.y / PHASOR_BLOCK) * params.bin_blocks_x + gid.x / PHASOR_BLOCK;
+    var span_i = 0u;
+    var span_j = 0u;
+    if (params.binned == 1u) {
+        span_i = bitcast<u32>(columns[gid.x - gid.x % PHASOR_BLOCK].cell) - 1u;
+        span_j = bitcast<u32>(rows[gid.y - gid.y % PHASOR_BLOCK].cell) - 1u;
+    }
     for (var l = 0; l < layers; l++) {
         let sz = select(0, l - 1, phasor_three_d() == 1u);
         let dz = params.z_offset - f32(sz);
@@ -329,6 +443,7 @@ fn phasor_main(@builtin(global_invocation_id) gid: vec3<u32>) {
             let dy = row.offset - f32(sy);
             let j = u32(row.cell + sy - params.box_j0);
             let gyz = cell_gap2(row.offset, sy) + gz;
+            let uy = bitcast<u32>(row.cell + sy) - span_j;
             for (var sx = -1; sx <= 1; sx++) {
                 let dxs = column.offset - f32(sx);
                 let i = u32(column.cell + sx - params.box_i0);
@@ -341,15 +456,22 @@ fn phasor_main(@builtin(global_invocation_id) gid: vec3<u32>) {
                     continue;
                 }
                 let cell = cells[(u32(l) * params.box_rows + j) * params.box_cols + i];
-                for (var n = cell.x; n < cell.x + cell.y; n++) {
-                    let imp = impulses[n];
-                    let d = vec3<f32>(dxs - imp.o_psi.x, dy - imp.o_psi.y, dz - imp.o_psi.z);
-                    let d2 = (d.x * d.x + d.y * d.y + d.z * d.z) * imp.f.w;
-                    if (d2 < 1.0f) {
-                        let g = exp_poly(PHASOR_NEG_LN_20 * d2);
-                        let t = imp.f.x * d.x + imp.f.y * d.y + imp.f.z * d.z + imp.o_psi.w;
-                        re += g * cos_turns(t);
-                        im += g * sin_turns(t);
+                let ux = bitcast<u32>(column.cell + sx) - span_i;
+                if (params.binned == 1u && ux < params.bin_span_x && uy < params.bin_span_y) {
+                    // The impulses that can reach the block, in draw order.
+                    let first = (((block * u32(layers) + u32(l)) * params.bin_span_y + uy)
+                        * params.bin_span_x + ux) * params.bin_chunks;
+                    for (var k = 0u; k < params.bin_chunks; k++) {
+                        var bits = u32(bins[first + k]);
+                        while (bits != 0u) {
+                            let b = countTrailingZeros(bits);
+                            bits &= bits - 1u;
+                            phasor_add(impulses[cell.x + k * PHASOR_CHUNK + b], dxs, dy, dz, &re, &im);
+                        }
+                    }
+                } else {
+                    for (var n = cell.x; n < cell.x + cell.y; n++) {
+                        phasor_add(impulses[n], dxs, dy, dz, &re, &im);
                     }
                 }
             }

@@ -1,6 +1,7 @@
 //! Phasor noise on the device (`shaders/phasor.wgsl`): the model's profile flattened into
 //! parameters and a data table, and per tile the box of kernel cells its pixels reach (drawn by
-//! `spectex_model::phasor_kernels`, the code the CPU evaluator uses) and, where the profile's
+//! `spectex_model::phasor_kernels`, the code the CPU evaluator uses), the reach masks of its
+//! pixel blocks (written on the device by `phasor_bin`, [`bin_layout`]) and, where the profile's
 //! fields vary in space, their records per column and per row, from which the shader reads
 //! each pixel's duty cycles and blend weight ([`device_fields`]; a displaced tile's come per
 //! pixel, in f64, as the CPU computes them).
@@ -34,12 +35,15 @@ use spectex_model::{Field, FieldGrid, ModelKind, Period, PhasorNoise, PhasorOutp
 
 use crate::axis::{CellAxes, CellAxis, periodic_columns, periodic_rows};
 use crate::export::{ExportKind, ExportNode, ExportParts, float};
+use std::sync::Arc;
+
+use crate::cache::CachedPipeline;
 use crate::kernel::{
-    DisplacementRead, GpuKernel, GpuKind, ShaderKernel, Table, TileDisplacement, TileTables,
-    halve_tile_to_fit,
+    DisplacementRead, GpuKernel, GpuKind, PreparedTile, ShaderKernel, Table, TileDisplacement,
+    TileTables, halve_tile_to_fit,
 };
 use crate::layout::wgsl_struct;
-use crate::pipeline::Shaded;
+use crate::pipeline::{Gpu, Shaded, compute_pipeline, flat_grid};
 use crate::shaders::{ShaderFile, kernel_and_glue};
 use crate::{GpuContext, GpuError, GpuWindow};
 
@@ -90,7 +94,92 @@ wgsl_struct! {
         /// row records, read per pixel on the device ([`device_fields`]); 0 when it holds
         /// each pixel's values (displaced tiles, whose positions are the host's).
         pixel_fields: u32,
+        /// 1 when the bins table holds the tile's reach masks ([`bin_layout`]).
+        binned: u32,
+        /// Blocks of [`BLOCK`]² pixels across the tile.
+        bin_blocks_x: u32,
+        /// Cells per block along x and y.
+        bin_span_x: u32,
+        bin_span_y: u32,
+        /// Mask chunks per cell ([`CHUNK`] impulses each).
+        bin_chunks: u32,
+        /// `phasor_bin`'s invocations and invocations per row of its grid.
+        bin_masks: u32,
+        bin_stride: u32,
+        _pad0: u32,
     }
+}
+
+/// Side of a bin block, pixels (`PHASOR_BLOCK`: `phasor_main`'s workgroup).
+const BLOCK: usize = 8;
+/// Impulses per mask chunk (`PHASOR_CHUNK`: an f32 holds an integer below 2¹⁶ exactly).
+const CHUNK: u32 = 16;
+/// Invocations per workgroup of `phasor_bin` (its `@workgroup_size`).
+const BIN_WORKGROUP: u32 = 64;
+/// The widest span of cells a block's masks cover along an axis: beyond it (a tile minified
+/// far enough that 8 pixels cross several cells) the pixels visit every impulse.
+const MAX_BIN_SPAN: u64 = 6;
+
+/// `phasor_bin`'s pipeline; it binds the evaluator's own buffers (`encode_passes`' `bound`).
+#[derive(Debug)]
+struct BinPass {
+    gpu: Gpu,
+    pipeline: CachedPipeline,
+}
+
+impl BinPass {
+    /// `phasor_bin`'s pipeline, from the context's cache.
+    ///
+    /// # Errors
+    /// [`GpuError::Validation`] if the device rejects the shader.
+    fn new(context: &GpuContext) -> Result<Arc<Self>, GpuError> {
+        let gpu = Gpu::new(context);
+        let pipeline = compute_pipeline(&gpu, ("phasor", "phasor_bin", Vec::new()), 1, || {
+            crate::wgsl_source("phasor")
+        })?;
+        Ok(Arc::new(Self { gpu, pipeline }))
+    }
+}
+
+/// The reach masks of an undisplaced tile (`phasor_bin` in `phasor.wgsl`): per block of
+/// [`BLOCK`]² pixels, layer and cell of the block's span (its first column's cell − 1 to its
+/// last column's + 1, and the same for rows), one bit per impulse of the cell that may reach a
+/// pixel of the block. Returns the uniform's fields set and the table's size in bytes, or
+/// `None` where the masks would not fit `limit` or a block spans too many cells.
+fn bin_layout(
+    params: &mut PhasorParams,
+    gpu: &Gpu,
+    scale: f64,
+    side: f64,
+    most_impulses: u32,
+    limit: u64,
+) -> Option<u64> {
+    // Columns `BLOCK − 1` steps apart cross at most ⌊(BLOCK − 1)·scale/side⌋ + 1 cell
+    // boundaries; the span adds a neighbour on each side.
+    let span = ((BLOCK - 1) as f64 * scale / side).floor() + 4.0;
+    if span.is_nan() || span > MAX_BIN_SPAN as f64 {
+        return None;
+    }
+    let span = span as u64;
+    let (width, height) = (u64::from(params.width), u64::from(params.height));
+    let blocks_x = width.div_ceil(BLOCK as u64);
+    let blocks = blocks_x * height.div_ceil(BLOCK as u64);
+    let layers = if params.three_d == 1 { 3 } else { 1 };
+    let masks = blocks * layers * span * span;
+    let chunks = u64::from(most_impulses.div_ceil(CHUNK).max(1));
+    let bytes = masks * chunks * 4;
+    let masks = u32::try_from(masks).ok()?;
+    if bytes > limit {
+        return None;
+    }
+    let (stride, _) = flat_grid(gpu, masks, BIN_WORKGROUP);
+    params.binned = 1;
+    params.bin_blocks_x = blocks_x as u32;
+    (params.bin_span_x, params.bin_span_y) = (span as u32, span as u32);
+    params.bin_chunks = chunks as u32;
+    params.bin_masks = masks;
+    params.bin_stride = stride;
+    Some(bytes)
 }
 
 wgsl_struct! {
@@ -132,6 +221,8 @@ pub(crate) struct PhasorKernel {
     /// The period of a periodic model: positions reduced modulo it (the kernels' cells are
     /// fitted to it and hashed modulo it, `PhasorKernels::new_periodic`).
     period: Option<Period>,
+    /// `phasor_bin` on the device (none for the export, which draws its own kernels).
+    bin: Option<Arc<BinPass>>,
 }
 
 fn leaf(profile: &Profile, data: &mut Vec<f32>) -> Result<Leaf, GpuError> {
@@ -248,6 +339,7 @@ pub(crate) fn pack(
         frequency: model.frequency.clone(),
         lambda: model.impulses_per_cell(),
         period,
+        bin: None,
     };
     Ok((kernel, data))
 }
@@ -257,7 +349,7 @@ impl GpuKind for PhasorNoise {
         name: "phasor",
         source: WGSL.0,
         needs_common: true,
-        entry_points: &["phasor_main"],
+        entry_points: &["phasor_bin", "phasor_main"],
     });
 
     /// Periodic: the cells drawn on the host by `PhasorKernels::new_periodic` (fitted to the
@@ -268,7 +360,8 @@ impl GpuKind for PhasorNoise {
         z: f64,
         period: Option<Period>,
     ) -> Result<Box<dyn GpuKernel>, GpuError> {
-        let (kernel, profile_data) = pack(self, z, period)?;
+        let (mut kernel, profile_data) = pack(self, z, period)?;
+        kernel.bin = Some(BinPass::new(context)?);
         Shaded::boxed(
             context,
             kernel,
@@ -508,7 +601,23 @@ impl ShaderKernel for PhasorKernel {
                 .collect(),
             (None, _) => vec![0.0],
         };
-        Ok(TileTables::new(
+        // The reach masks, written on the device by `phasor_bin` before the tile's dispatch:
+        // for an undisplaced tile (a displaced one's pixels move between blocks).
+        let most = cells.iter().map(|c| c[1]).max().unwrap_or(0);
+        let mut passes = Vec::new();
+        let bins = match &self.bin {
+            Some(bin) if !displacement.is_some() && !cells.is_empty() => {
+                match bin_layout(&mut params, &bin.gpu, tile.scale, side, most, limit) {
+                    Some(bytes) => {
+                        passes.push(PreparedTile::Tables(TileTables::new(&params, Vec::new())));
+                        Table::filled_on_device("phasor bins", bytes)
+                    }
+                    None => Table::new("phasor bins", &[0.0f32]),
+                }
+            }
+            _ => Table::new("phasor bins", &[0.0f32]),
+        };
+        let mut tables = TileTables::new(
             &params,
             vec![
                 Table::new("phasor cells", &cells),
@@ -517,9 +626,77 @@ impl ShaderKernel for PhasorKernel {
                 Table::new("phasor harmonic scale", &harmonic_scale),
             ]
             .into_iter()
+            .chain(std::iter::once(bins))
             .chain(axes.tables(["phasor columns", "phasor rows"]))
             .collect(),
-        ))
+        );
+        tables.passes = passes;
+        Ok(tables)
+    }
+
+    /// `phasor_bin` over the tile's blocks into `target` (the table `phasor_main` reads as
+    /// `bins`).
+    fn encode_passes(
+        &self,
+        _tile: &GpuWindow,
+        passes: Vec<PreparedTile>,
+        encoder: &mut wgpu::CommandEncoder,
+        (target, bound, displacement): (&wgpu::Buffer, &[&wgpu::Buffer], Option<&wgpu::Buffer>),
+        timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) -> Result<(), GpuError> {
+        let (Some(bin), [PreparedTile::Tables(pass)]) = (&self.bin, passes.as_slice()) else {
+            return Err(GpuError::Validation(
+                "phasor: its masks need the one pass its tile prepared".to_owned(),
+            ));
+        };
+        if displacement.is_some() {
+            return Err(GpuError::Validation(
+                "phasor: a displaced tile has no masks".to_owned(),
+            ));
+        }
+        let gpu = &bin.gpu;
+        let uniform = gpu.buffer(
+            "phasor bin params",
+            &pass.uniform,
+            wgpu::BufferUsages::UNIFORM,
+        );
+        // The tile's cells (2), impulses (3), columns (7) and rows (8), and the target in
+        // `output`'s place (9).
+        let mut entries = vec![wgpu::BindGroupEntry {
+            binding: 0,
+            resource: uniform.as_entire_binding(),
+        }];
+        for binding in [2, 3, 7, 8] {
+            let buffer = bound.get(binding as usize - 1).ok_or_else(|| {
+                GpuError::Validation(format!("phasor_bin: no buffer bound at {binding}"))
+            })?;
+            entries.push(wgpu::BindGroupEntry {
+                binding,
+                resource: buffer.as_entire_binding(),
+            });
+        }
+        entries.push(wgpu::BindGroupEntry {
+            binding: 9,
+            resource: target.as_entire_binding(),
+        });
+        let layout = bin.pipeline.layouts.first().ok_or_else(|| {
+            GpuError::Validation("phasor_bin: its pipeline has no bind group".to_owned())
+        })?;
+        let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("phasor bin"),
+            layout,
+            entries: &entries,
+        });
+        let masks = bytemuck::pod_read_unaligned::<PhasorParams>(&pass.uniform).bin_masks;
+        let (_, grid) = flat_grid(gpu, masks, BIN_WORKGROUP);
+        let mut compute = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("phasor bin"),
+            timestamp_writes: timer,
+        });
+        compute.set_pipeline(&bin.pipeline.pipeline);
+        compute.set_bind_group(0, &group, &[]);
+        compute.dispatch_workgroups(grid[0], grid[1], 1);
+        Ok(())
     }
 }
 
@@ -947,6 +1124,72 @@ pub mod tests {
     pub fn records_match_the_wgsl() {
         assert_matches_wgsl::<PhasorParams>("phasor", "PhasorParams");
         assert_matches_wgsl::<PhasorImpulse>("phasor", "PhasorImpulse");
+    }
+
+    /// The masks `phasor_bin` writes drop only impulses that add nothing: a binned tile
+    /// renders the bits of the same tile visited in full, for a graded bandwidth (whose
+    /// sharper kernels the masks cull most), a 3D model, a magnified, a minified and a far
+    /// window, tiles whose sides are not multiples of the block, and a periodic model's tile
+    /// across its period (whose wrapped blocks fall back to full visits). Each tile must
+    /// really be binned (its one pass prepared). A bound of 0.9 in place of
+    /// `PHASOR_CELL_REACH2`, or no fallback for wrapped blocks, fails it.
+    pub fn binned_masks_render_the_unbinned_bits() {
+        use crate::layout::check::context_or_skip;
+        let Some(context) = context_or_skip("binned_masks_render_the_unbinned_bits") else {
+            return;
+        };
+        let mut graded = spectex_model::fixtures::phasor_pwm(2, PhasorOrientation::Isotropic);
+        graded.bandwidth = Field::Image {
+            width: 2,
+            height: 2,
+            grey: vec![0.0, 1.0, 0.5, 0.25],
+            pixel_size: 40.0,
+            min: 0.02,
+            max: 0.04,
+        };
+        let three_d = spectex_model::fixtures::phasor_pwm(3, PhasorOrientation::Isotropic);
+        let period = Period::new(160, 160).unwrap();
+        let cases = [
+            (
+                &graded,
+                None,
+                GpuWindow::new(37, 21).at([1.0e6, -3.0e5], 1.0),
+            ),
+            (
+                &graded,
+                None,
+                GpuWindow::new(64, 48).at([-40.5, 7.25], 0.37),
+            ),
+            (&graded, None, GpuWindow::new(19, 13).at([3.0, 5.0], 3.5)),
+            (
+                &three_d,
+                None,
+                GpuWindow::new(40, 24).at([-2.0e3, 55.5], 1.0),
+            ),
+            (
+                &graded,
+                Some(period),
+                GpuWindow::new(48, 40).at([130.0, 150.0], 1.0),
+            ),
+        ];
+        for (model, period, tile) in cases {
+            let (kernel, data) = pack(model, 12.5, period).unwrap();
+            let mut binned = kernel.clone();
+            binned.bin = Some(BinPass::new(&context).unwrap());
+            let prepared = binned
+                .tile_tables(&tile, TileDisplacement::None, u64::MAX)
+                .unwrap();
+            assert_eq!(prepared.passes.len(), 1, "{tile:?} is binned");
+            let render = |k: PhasorKernel| {
+                let tables = [Table::new("phasor profile", &data)];
+                let bits = Shaded::boxed(&context, k, &tables)
+                    .unwrap()
+                    .render_tile(&tile, None)
+                    .unwrap();
+                bits.into_iter().map(f32::to_bits).collect::<Vec<_>>()
+            };
+            assert_eq!(render(binned), render(kernel), "{tile:?}");
+        }
     }
 
     /// A nested blend is refused before any device work, naming the kind as model files do.
