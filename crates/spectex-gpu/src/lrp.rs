@@ -18,7 +18,7 @@ use crate::kernel::{
     GpuKernel, GpuKind, PreparedTile, ShaderKernel, Table, TileDisplacement, TileTables,
 };
 use crate::layout::wgsl_struct;
-use crate::pipeline::{Gpu, Shaded, binding_limit, compute_pipeline, flat_grid};
+use crate::pipeline::{Gpu, Shaded, binding_limit, compute_pipeline, encode_own_pass, flat_grid};
 use crate::shaders::{ShaderFile, kernel_and_glue};
 use crate::{GpuContext, GpuError, GpuWindow};
 
@@ -408,49 +408,18 @@ impl ShaderKernel for LrpKernel {
         if displacement.is_some() {
             return Ok(());
         }
-        let gpu = &draw.gpu;
-        let uniform = gpu.buffer(
-            "lrp draw params",
-            &pass.uniform,
-            wgpu::BufferUsages::UNIFORM,
-        );
+        let points = bytemuck::pod_read_unaligned::<LrpParams>(&pass.uniform).draw_points;
         // The tile's own buffers at bindings 1–3 (strata, frequencies, sub-strata), 6 (gains)
         // and 7 (boxes), and the target in `output`'s place (9).
-        let mut entries = vec![wgpu::BindGroupEntry {
-            binding: 0,
-            resource: uniform.as_entire_binding(),
-        }];
-        for binding in [1, 2, 3, 6, 7] {
-            let buffer = bound.get(binding as usize - 1).ok_or_else(|| {
-                GpuError::Validation(format!("lrp_draw: no buffer bound at {binding}"))
-            })?;
-            entries.push(wgpu::BindGroupEntry {
-                binding,
-                resource: buffer.as_entire_binding(),
-            });
-        }
-        entries.push(wgpu::BindGroupEntry {
-            binding: 9,
-            resource: target.as_entire_binding(),
-        });
-        let layout = draw.pipeline.layouts.first().ok_or_else(|| {
-            GpuError::Validation("lrp_draw: its pipeline has no bind group".to_owned())
-        })?;
-        let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("lrp draw"),
-            layout,
-            entries: &entries,
-        });
-        let points = bytemuck::pod_read_unaligned::<LrpParams>(&pass.uniform).draw_points;
-        let (_, grid) = flat_grid(gpu, points, DRAW_WORKGROUP);
-        let mut compute = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("lrp draw"),
-            timestamp_writes: timer,
-        });
-        compute.set_pipeline(&draw.pipeline.pipeline);
-        compute.set_bind_group(0, &group, &[]);
-        compute.dispatch_workgroups(grid[0], grid[1], 1);
-        Ok(())
+        encode_own_pass(
+            &draw.gpu,
+            encoder,
+            ("lrp draw", &draw.pipeline, &pass.uniform),
+            (bound, &[1, 2, 3, 6, 7]),
+            (target, 9),
+            (points, DRAW_WORKGROUP),
+            timer,
+        )
     }
 }
 

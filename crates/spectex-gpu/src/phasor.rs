@@ -43,7 +43,7 @@ use crate::kernel::{
     TileTables, halve_tile_to_fit,
 };
 use crate::layout::wgsl_struct;
-use crate::pipeline::{Gpu, Shaded, compute_pipeline, flat_grid};
+use crate::pipeline::{Gpu, Shaded, compute_pipeline, encode_own_pass, flat_grid};
 use crate::shaders::{ShaderFile, kernel_and_glue};
 use crate::{GpuContext, GpuError, GpuWindow};
 
@@ -654,49 +654,18 @@ impl ShaderKernel for PhasorKernel {
                 "phasor: a displaced tile has no masks".to_owned(),
             ));
         }
-        let gpu = &bin.gpu;
-        let uniform = gpu.buffer(
-            "phasor bin params",
-            &pass.uniform,
-            wgpu::BufferUsages::UNIFORM,
-        );
+        let masks = bytemuck::pod_read_unaligned::<PhasorParams>(&pass.uniform).bin_masks;
         // The tile's cells (2), impulses (3), columns (7) and rows (8), and the target in
         // `output`'s place (9).
-        let mut entries = vec![wgpu::BindGroupEntry {
-            binding: 0,
-            resource: uniform.as_entire_binding(),
-        }];
-        for binding in [2, 3, 7, 8] {
-            let buffer = bound.get(binding as usize - 1).ok_or_else(|| {
-                GpuError::Validation(format!("phasor_bin: no buffer bound at {binding}"))
-            })?;
-            entries.push(wgpu::BindGroupEntry {
-                binding,
-                resource: buffer.as_entire_binding(),
-            });
-        }
-        entries.push(wgpu::BindGroupEntry {
-            binding: 9,
-            resource: target.as_entire_binding(),
-        });
-        let layout = bin.pipeline.layouts.first().ok_or_else(|| {
-            GpuError::Validation("phasor_bin: its pipeline has no bind group".to_owned())
-        })?;
-        let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("phasor bin"),
-            layout,
-            entries: &entries,
-        });
-        let masks = bytemuck::pod_read_unaligned::<PhasorParams>(&pass.uniform).bin_masks;
-        let (_, grid) = flat_grid(gpu, masks, BIN_WORKGROUP);
-        let mut compute = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("phasor bin"),
-            timestamp_writes: timer,
-        });
-        compute.set_pipeline(&bin.pipeline.pipeline);
-        compute.set_bind_group(0, &group, &[]);
-        compute.dispatch_workgroups(grid[0], grid[1], 1);
-        Ok(())
+        encode_own_pass(
+            &bin.gpu,
+            encoder,
+            ("phasor bin", &bin.pipeline, &pass.uniform),
+            (bound, &[2, 3, 7, 8]),
+            (target, 9),
+            (masks, BIN_WORKGROUP),
+            timer,
+        )
     }
 }
 

@@ -229,6 +229,61 @@ pub(crate) fn flat_grid(gpu: &Gpu, count: u32, workgroup: u32) -> (u32, [u32; 2]
     (across * workgroup, [across, groups.div_ceil(across)])
 }
 
+/// Records a pass of a kind's own before its tile's dispatch (`ShaderKernel::encode_passes`):
+/// `pipeline` (another entry point of the kind's shader) with `uniform` at binding 0, the
+/// kind's buffers `bound` at `bindings` (binding b is `bound[b − 1]`), `target` at
+/// `target_binding` (the output's place), over `count` invocations in workgroups of
+/// `workgroup` along a [`flat_grid`], with `timer` writing its timestamps.
+///
+/// # Errors
+/// [`GpuError::Validation`] for a binding `bound` lacks or a pipeline without a bind group.
+pub(crate) fn encode_own_pass(
+    gpu: &Gpu,
+    encoder: &mut wgpu::CommandEncoder,
+    (label, pipeline, uniform): (&str, &CachedPipeline, &[u8]),
+    (bound, bindings): (&[&wgpu::Buffer], &[u32]),
+    (target, target_binding): (&wgpu::Buffer, u32),
+    (count, workgroup): (u32, u32),
+    timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
+) -> Result<(), GpuError> {
+    let uniform = gpu.buffer(label, uniform, wgpu::BufferUsages::UNIFORM);
+    let mut entries = vec![wgpu::BindGroupEntry {
+        binding: 0,
+        resource: uniform.as_entire_binding(),
+    }];
+    for &binding in bindings {
+        let buffer = bound.get(binding as usize - 1).ok_or_else(|| {
+            GpuError::Validation(format!("{label}: no buffer bound at {binding}"))
+        })?;
+        entries.push(wgpu::BindGroupEntry {
+            binding,
+            resource: buffer.as_entire_binding(),
+        });
+    }
+    entries.push(wgpu::BindGroupEntry {
+        binding: target_binding,
+        resource: target.as_entire_binding(),
+    });
+    let layout = pipeline
+        .layouts
+        .first()
+        .ok_or_else(|| GpuError::Validation(format!("{label}: its pipeline has no bind group")))?;
+    let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout,
+        entries: &entries,
+    });
+    let (_, grid) = flat_grid(gpu, count, workgroup);
+    let mut compute = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+        label: Some(label),
+        timestamp_writes: timer,
+    });
+    compute.set_pipeline(&pipeline.pipeline);
+    compute.set_bind_group(0, &group, &[]);
+    compute.dispatch_workgroups(grid[0], grid[1], 1);
+    Ok(())
+}
+
 /// Records one dispatch of `pipeline` (one bind group) over `groups` workgroups: `params` as
 /// the uniform at binding 0, then `bindings` at 1, 2, …, with `timer` writing its timestamps.
 ///
