@@ -12,13 +12,12 @@ use std::sync::Arc;
 use spectex_model::{LrpNoise, Period};
 
 use crate::axis::{periodic_columns, periodic_rows};
-use crate::cache::CachedPipeline;
 use crate::export::{ExportKind, ExportNode, ExportParts};
 use crate::kernel::{
     GpuKernel, GpuKind, PreparedTile, ShaderKernel, Table, TileDisplacement, TileTables,
 };
 use crate::layout::wgsl_struct;
-use crate::pipeline::{Gpu, Shaded, binding_limit, compute_pipeline, encode_own_pass, flat_grid};
+use crate::pipeline::{OwnPass, Shaded, binding_limit, encode_own_pass, flat_grid};
 use crate::shaders::{ShaderFile, kernel_and_glue};
 use crate::{GpuContext, GpuError, GpuWindow};
 
@@ -102,28 +101,7 @@ pub(crate) struct LrpKernel {
     /// The packed strata, for the boxes' record counts.
     strata: Vec<LrpStratum>,
     /// `lrp_draw` on the device (none for the export, whose pixels draw for themselves).
-    draw: Option<Arc<DrawPass>>,
-}
-
-/// `lrp_draw`'s pipeline; it binds the evaluator's own buffers (`encode_passes`' `bound`).
-#[derive(Debug)]
-struct DrawPass {
-    gpu: Gpu,
-    pipeline: CachedPipeline,
-}
-
-impl DrawPass {
-    /// `lrp_draw`'s pipeline, from the context's cache.
-    ///
-    /// # Errors
-    /// [`GpuError::Validation`] if the device rejects the shader.
-    fn new(context: &GpuContext) -> Result<Arc<Self>, GpuError> {
-        let gpu = Gpu::new(context);
-        let pipeline = compute_pipeline(&gpu, ("lrp", "lrp_draw", Vec::new()), 1, || {
-            crate::wgsl_source("lrp")
-        })?;
-        Ok(Arc::new(Self { gpu, pipeline }))
-    }
+    draw: Option<Arc<OwnPass>>,
 }
 
 /// Records (`vec4<f32>`, 16 bytes) of drawn cosines a tile may hold per pixel: LRP's
@@ -299,7 +277,7 @@ impl GpuKind for LrpNoise {
                 limit,
             });
         }
-        kernel.draw = Some(DrawPass::new(context)?);
+        kernel.draw = Some(OwnPass::new(context, "lrp", "lrp_draw")?);
         Shaded::boxed(context, kernel, &tables)
     }
 }
@@ -557,7 +535,7 @@ pub mod tests {
         for tile in &tiles {
             let (kernel, tables, _) = host(&m, None);
             let mut drawn = kernel.clone();
-            drawn.draw = Some(DrawPass::new(&context).unwrap());
+            drawn.draw = Some(OwnPass::new(&context, "lrp", "lrp_draw").unwrap());
             let prepared = drawn
                 .tile_tables(tile, TileDisplacement::None, u64::MAX)
                 .unwrap();

@@ -37,13 +37,12 @@ use crate::axis::{CellAxes, CellAxis, periodic_columns, periodic_rows};
 use crate::export::{ExportKind, ExportNode, ExportParts, float};
 use std::sync::Arc;
 
-use crate::cache::CachedPipeline;
 use crate::kernel::{
     DisplacementRead, GpuKernel, GpuKind, PreparedTile, ShaderKernel, Table, TileDisplacement,
     TileTables, halve_tile_to_fit,
 };
 use crate::layout::wgsl_struct;
-use crate::pipeline::{Gpu, Shaded, compute_pipeline, encode_own_pass, flat_grid};
+use crate::pipeline::{Gpu, OwnPass, Shaded, encode_own_pass, flat_grid};
 use crate::shaders::{ShaderFile, kernel_and_glue};
 use crate::{GpuContext, GpuError, GpuWindow};
 
@@ -119,27 +118,6 @@ const BIN_WORKGROUP: u32 = 64;
 /// The widest span of cells a block's masks cover along an axis: beyond it (a tile minified
 /// far enough that 8 pixels cross several cells) the pixels visit every impulse.
 const MAX_BIN_SPAN: u64 = 6;
-
-/// `phasor_bin`'s pipeline; it binds the evaluator's own buffers (`encode_passes`' `bound`).
-#[derive(Debug)]
-struct BinPass {
-    gpu: Gpu,
-    pipeline: CachedPipeline,
-}
-
-impl BinPass {
-    /// `phasor_bin`'s pipeline, from the context's cache.
-    ///
-    /// # Errors
-    /// [`GpuError::Validation`] if the device rejects the shader.
-    fn new(context: &GpuContext) -> Result<Arc<Self>, GpuError> {
-        let gpu = Gpu::new(context);
-        let pipeline = compute_pipeline(&gpu, ("phasor", "phasor_bin", Vec::new()), 1, || {
-            crate::wgsl_source("phasor")
-        })?;
-        Ok(Arc::new(Self { gpu, pipeline }))
-    }
-}
 
 /// The reach masks of an undisplaced tile (`phasor_bin` in `phasor.wgsl`): per block of
 /// [`BLOCK`]² pixels, layer and cell of the block's span (its first column's cell − 1 to its
@@ -222,7 +200,7 @@ pub(crate) struct PhasorKernel {
     /// fitted to it and hashed modulo it, `PhasorKernels::new_periodic`).
     period: Option<Period>,
     /// `phasor_bin` on the device (none for the export, which draws its own kernels).
-    bin: Option<Arc<BinPass>>,
+    bin: Option<Arc<OwnPass>>,
 }
 
 fn leaf(profile: &Profile, data: &mut Vec<f32>) -> Result<Leaf, GpuError> {
@@ -361,7 +339,7 @@ impl GpuKind for PhasorNoise {
         period: Option<Period>,
     ) -> Result<Box<dyn GpuKernel>, GpuError> {
         let (mut kernel, profile_data) = pack(self, z, period)?;
-        kernel.bin = Some(BinPass::new(context)?);
+        kernel.bin = Some(OwnPass::new(context, "phasor", "phasor_bin")?);
         Shaded::boxed(
             context,
             kernel,
@@ -1144,7 +1122,7 @@ pub mod tests {
         for (model, period, tile) in cases {
             let (kernel, data) = pack(model, 12.5, period).unwrap();
             let mut binned = kernel.clone();
-            binned.bin = Some(BinPass::new(&context).unwrap());
+            binned.bin = Some(OwnPass::new(&context, "phasor", "phasor_bin").unwrap());
             let prepared = binned
                 .tile_tables(&tile, TileDisplacement::None, u64::MAX)
                 .unwrap();

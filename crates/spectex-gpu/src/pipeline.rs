@@ -229,6 +229,32 @@ pub(crate) fn flat_grid(gpu: &Gpu, count: u32, workgroup: u32) -> (u32, [u32; 2]
     (across * workgroup, [across, groups.div_ceil(across)])
 }
 
+/// The pipeline of another entry point of a kind's shader, run before the kind's own dispatch
+/// ([`encode_own_pass`]; LRP's `lrp_draw`, phasor's `phasor_bin`). It binds the evaluator's
+/// own buffers (`encode_passes`' `bound`).
+#[derive(Debug)]
+pub(crate) struct OwnPass {
+    pub(crate) gpu: Gpu,
+    pub(crate) pipeline: CachedPipeline,
+}
+
+impl OwnPass {
+    /// `entry` of shader `shader`, from the context's cache.
+    ///
+    /// # Errors
+    /// [`GpuError::Validation`] if the device rejects the shader.
+    pub(crate) fn new(
+        context: &GpuContext,
+        shader: &'static str,
+        entry: &'static str,
+    ) -> Result<Arc<Self>, GpuError> {
+        let gpu = Gpu::new(context);
+        let pipeline =
+            compute_pipeline(&gpu, (shader, entry, Vec::new()), 1, || wgsl_source(shader))?;
+        Ok(Arc::new(Self { gpu, pipeline }))
+    }
+}
+
 /// Records a pass of a kind's own before its tile's dispatch (`ShaderKernel::encode_passes`):
 /// `pipeline` (another entry point of the kind's shader) with `uniform` at binding 0, the
 /// kind's buffers `bound` at `bindings` (binding b is `bound[b − 1]`), `target` at
