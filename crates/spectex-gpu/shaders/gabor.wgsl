@@ -15,6 +15,12 @@
 // adds the k-th kept one to accumulator k mod 8; the column sum is
 // ((a₀+a₁)+(a₂+a₃))+((a₄+a₅)+(a₆+a₇)) and the value mean + ((c₋₁ + c₀) + c₁), the CPU's order.
 //
+// Draws: for an undisplaced tile, `gabor_draw` draws each cell of the tile's box once (one
+// invocation a cell) into `draws`, and `gabor_main` reads them (`gabor_value_drawn`): every
+// pixel used to draw its 3×3 cells itself, so each cell was drawn by all the pixels around it
+// (on lavapipe: gabor-by-example 1.9 → 3.8 Mpix/s, gabor-isotropic +27%, gabor-anisotropic
+// +10%). A displaced tile's pixels and the export draw per pixel (`gabor_value`).
+//
 // Positions: the host computes, per column of the tile, p = x / r in f64, the cell ⌊p⌋ and the
 // offset p − ⌊p⌋ rounded once to f32 (the CPU's expression, so the same bits), and a flag that
 // is 0 where the CPU's evaluator returns `mean` (|p| beyond the i32 cell range). Rows likewise.
@@ -51,8 +57,15 @@ struct GaborParams {
     /// them, wrap_cell in common.wgsl, as on the CPU); 0 when not periodic.
     cells_x: i32,
     cells_y: i32,
-    _pad2: u32,
-    _pad3: u32,
+    /// 1 when `draws` holds the impulses of the tile's cell box (`gabor_draw`), else 0.
+    drawn: u32,
+    /// The cell box: first column and row, columns, rows (`gabor_draw`'s invocations are its
+    /// cells, `draw_stride` per row of its dispatch grid).
+    box_i0: i32,
+    box_j0: i32,
+    box_cols: u32,
+    box_rows: u32,
+    draw_stride: u32,
 }
 
 /// One component of a spectrum: its frequency vector in cycles per cell unit and its
@@ -68,9 +81,13 @@ struct GaborComponent {
 
 @group(0) @binding(0) var<uniform> params: GaborParams;
 @group(0) @binding(1) var<storage, read> components: array<GaborComponent>;
-@group(0) @binding(2) var<storage, read> columns: array<GridAxis>;
-@group(0) @binding(3) var<storage, read> rows: array<GridAxis>;
-@group(0) @binding(4) var<storage, read_write> output: array<f32>;
+/// When `drawn` = 1, per cell of the box (row-major) a block of `1 + 2·max_impulses` records:
+/// the count, then per impulse (o_x, o_y, w, f_x) and (f_y, 0, 0, 0); `gabor_draw` writes
+/// them in `output`'s place.
+@group(0) @binding(2) var<storage, read> draws: array<vec4<f32>>;
+@group(0) @binding(3) var<storage, read> columns: array<GridAxis>;
+@group(0) @binding(4) var<storage, read> rows: array<GridAxis>;
+@group(0) @binding(5) var<storage, read_write> output: array<f32>;
 
 // The model's shape (common.wgsl's "Shapes"): one direction, a range of angles or a spectrum's
 // components.
@@ -158,24 +175,114 @@ fn gabor_value(column: GridAxis, row: GridAxis) -> f32 {
                 row_key(wrap_cell(cell_y, params.cells_y), key)));
             let count = poisson_count(&prng);
             for (var n = 0u; n < count; n++) {
-                let ox = prng_next_f32(&prng);
-                let oy = prng_next_f32(&prng);
-                let w = 2.0f * prng_next_f32(&prng) - 1.0f;
-                var fx = params.dir_a;
-                var fy = params.dir_b;
-                if (gabor_direction_kind() == 1u) {
-                    let turns = params.dir_a + prng_next_f32(&prng) * params.dir_b;
-                    fx = params.frequency_cells * cos_turns(turns);
-                    fy = params.frequency_cells * cos_turns(turns - 0.25f);
-                } else if (gabor_direction_kind() == 2u) {
-                    let c = components[pick_component(prng_next_f32(&prng))];
-                    fx = c.fx;
-                    fy = c.fy;
-                }
-                let dy = uyt - oy;
+                let imp = gabor_impulse(&prng);
+                let dy = uyt - imp.oy;
                 let dy2 = dy * dy;
                 if (dy2 < 1.0f) {
-                    let term = vec4<f32>(kernel_term(uxs, ox, fx, dy2, fy * dy, params.amplitude * w));
+                    let term = vec4<f32>(kernel_term(uxs, imp.ox, imp.fx, dy2, imp.fy * dy, params.amplitude * imp.w));
+                    let lane = vec4<u32>(kept & 7u);
+                    acc_lo += select(vec4<f32>(0.0f), term, lane == vec4<u32>(0u, 1u, 2u, 3u));
+                    acc_hi += select(vec4<f32>(0.0f), term, lane == vec4<u32>(4u, 5u, 6u, 7u));
+                    kept += 1u;
+                }
+            }
+        }
+        sums[s] = ((acc_lo.x + acc_lo.y) + (acc_lo.z + acc_lo.w)) + ((acc_hi.x + acc_hi.y) + (acc_hi.z + acc_hi.w));
+    }
+    return params.mean + ((sums[0] + sums[1]) + sums[2]);
+}
+
+/// The impulses of cell (cell_x, cell_y) as `gabor_value` draws them: its count, then per
+/// impulse the offsets, weight and frequency vector.
+struct GaborImpulse {
+    ox: f32,
+    oy: f32,
+    w: f32,
+    fx: f32,
+    fy: f32,
+}
+
+/// The next impulse of `prng` (after its count): `gabor_value`'s draws, in its order.
+fn gabor_impulse(prng: ptr<function, Prng>) -> GaborImpulse {
+    let ox = prng_next_f32(prng);
+    let oy = prng_next_f32(prng);
+    let w = 2.0f * prng_next_f32(prng) - 1.0f;
+    var fx = params.dir_a;
+    var fy = params.dir_b;
+    if (gabor_direction_kind() == 1u) {
+        let turns = params.dir_a + prng_next_f32(prng) * params.dir_b;
+        fx = params.frequency_cells * cos_turns(turns);
+        fy = params.frequency_cells * cos_turns(turns - 0.25f);
+    } else if (gabor_direction_kind() == 2u) {
+        let c = components[pick_component(prng_next_f32(prng))];
+        fx = c.fx;
+        fy = c.fy;
+    }
+    return GaborImpulse(ox, oy, w, fx, fy);
+}
+
+/// Records a cell block of `draws` holds (`1 + 2·max_impulses`).
+fn gabor_block() -> u32 {
+    return 1u + 2u * params.max_impulses;
+}
+
+/// Draws each cell of the tile's box once (one invocation a cell): its count and impulses,
+/// into `output` (the buffer `gabor_main` then binds as `draws`), the same f32 values every
+/// pixel's own draws give, so the tile renders the same bits.
+@compute @workgroup_size(64, 1, 1)
+fn gabor_draw(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let c = gid.y * params.draw_stride + gid.x;
+    if (c >= params.box_cols * params.box_rows) {
+        return;
+    }
+    let cell_x = bitcast<i32>(bitcast<u32>(params.box_i0) + c % params.box_cols);
+    let cell_y = bitcast<i32>(bitcast<u32>(params.box_j0) + c / params.box_cols);
+    var prng = Prng(cell_hash_in_row(wrap_cell(cell_x, params.cells_x),
+        row_key(wrap_cell(cell_y, params.cells_y), layer_key(GABOR_LAYER, params.seed))));
+    let count = poisson_count(&prng);
+    let base = 4u * c * gabor_block();
+    output[base] = f32(count);
+    output[base + 1u] = 0.0f;
+    output[base + 2u] = 0.0f;
+    output[base + 3u] = 0.0f;
+    for (var n = 0u; n < count; n++) {
+        let imp = gabor_impulse(&prng);
+        let at = base + 4u + 8u * n;
+        output[at] = imp.ox;
+        output[at + 1u] = imp.oy;
+        output[at + 2u] = imp.w;
+        output[at + 3u] = imp.fx;
+        output[at + 4u] = imp.fy;
+        output[at + 5u] = 0.0f;
+        output[at + 6u] = 0.0f;
+        output[at + 7u] = 0.0f;
+    }
+}
+
+/// `gabor_value` with each cell's impulses read from `draws` (the cells of the tile's box):
+/// its own copy of the loop, the same accumulation in the same order, as `lrp_main` keeps its
+/// drawn loop apart (one loop taking both ways is slower on lavapipe).
+fn gabor_value_drawn(column: GridAxis, row: GridAxis) -> f32 {
+    var sums = array<f32, 3>(0.0f, 0.0f, 0.0f);
+    for (var s = 0; s < 3; s++) {
+        let uxs = column.offset - f32(s - 1);
+        let i = bitcast<u32>(column.cell) + bitcast<u32>(s - 1) - bitcast<u32>(params.box_i0);
+        var acc_lo = vec4<f32>(0.0f);
+        var acc_hi = vec4<f32>(0.0f);
+        var kept = 0u;
+        for (var t = 0; t < 3; t++) {
+            let uyt = row.offset - f32(t - 1);
+            let j = bitcast<u32>(row.cell) + bitcast<u32>(t - 1) - bitcast<u32>(params.box_j0);
+            // The box holds every cell of the tile's pixels and their neighbours.
+            let base = (j * params.box_cols + i) * gabor_block();
+            let count = u32(draws[base].x);
+            for (var n = 0u; n < count; n++) {
+                let a = draws[base + 1u + 2u * n];
+                let dy = uyt - a.y;
+                let dy2 = dy * dy;
+                if (dy2 < 1.0f) {
+                    let fy = draws[base + 2u + 2u * n].x;
+                    let term = vec4<f32>(kernel_term(uxs, a.x, a.w, dy2, fy * dy, params.amplitude * a.z));
                     let lane = vec4<u32>(kept & 7u);
                     acc_lo += select(vec4<f32>(0.0f), term, lane == vec4<u32>(0u, 1u, 2u, 3u));
                     acc_hi += select(vec4<f32>(0.0f), term, lane == vec4<u32>(4u, 5u, 6u, 7u));
@@ -201,7 +308,11 @@ fn gabor_main(@builtin(global_invocation_id) gid: vec3<u32>) {
         output[index] = params.mean;
         return;
     }
-    output[index] = gabor_value(column, row);
+    if (params.drawn == 1u && warp_params.enabled == 0u) {
+        output[index] = gabor_value_drawn(column, row);
+    } else {
+        output[index] = gabor_value(column, row);
+    }
 }
 
 // ---- export glue: `spectex export --wgsl` (after export/split.wgsl) ----

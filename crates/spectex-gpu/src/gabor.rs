@@ -1,17 +1,21 @@
 //! Gabor noise on the device (`shaders/gabor.wgsl`): the constants the CPU's Gabor evaluator
 //! computes, by the same f64 expressions, in the uniform, and per tile each column's and row's
-//! kernel-grid cell and offset.
+//! kernel-grid cell and offset, and the box of cells `gabor_draw` draws once on the device.
 //!
 //! The Gabor noise's export (the glue of `shaders/gabor.wgsl`): the compute shader's uniform; the
 //! kernel grid (side: the kernel radius) is the export's only lattice.
+
+use std::sync::Arc;
 
 use spectex_model::{GaborNoise, Orientation, Period};
 
 use crate::axis::{CellAxes, CellAxis};
 use crate::export::{ExportKind, ExportNode, ExportParts};
-use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileDisplacement, TileTables};
+use crate::kernel::{
+    GpuKernel, GpuKind, PreparedTile, ShaderKernel, Table, TileDisplacement, TileTables,
+};
 use crate::layout::wgsl_struct;
-use crate::pipeline::Shaded;
+use crate::pipeline::{OwnPass, Shaded, encode_own_pass, flat_grid};
 use crate::shaders::{ShaderFile, kernel_and_glue};
 use crate::{GpuContext, GpuError, GpuWindow};
 
@@ -53,10 +57,20 @@ wgsl_struct! {
         /// `wrap_cell`), 0 when not periodic.
         cells_x: i32,
         cells_y: i32,
-        _pad2: u32,
-        _pad3: u32,
+        /// 1 when the draws table holds the tile's cell box (`gabor_draw`), else 0.
+        drawn: u32,
+        /// The cell box: first column and row, columns, rows; `gabor_draw`'s invocations
+        /// per row of its dispatch grid.
+        box_i0: i32,
+        box_j0: i32,
+        box_cols: u32,
+        box_rows: u32,
+        draw_stride: u32,
     }
 }
+
+/// Invocations per workgroup of `gabor_draw` (its `@workgroup_size`).
+const DRAW_WORKGROUP: u32 = 64;
 
 wgsl_struct! {
     /// `GaborComponent` of `gabor.wgsl`: one entry of a spectrum's table.
@@ -82,6 +96,8 @@ pub(crate) struct GaborKernel {
     components: Vec<GaborComponent>,
     /// The period of a periodic noise: positions reduced modulo it.
     period: Option<Period>,
+    /// `gabor_draw` on the device (none for the export, whose pixels draw for themselves).
+    draw: Option<Arc<OwnPass>>,
 }
 
 /// Packs a validated Gabor model, periodic with `period` when given (a period it accepts): the
@@ -163,6 +179,7 @@ pub(crate) fn pack(model: &GaborNoise, period: Option<Period>) -> GaborKernel {
         params,
         components,
         period,
+        draw: None,
     }
 }
 
@@ -178,7 +195,7 @@ impl GpuKind for GaborNoise {
         name: "gabor",
         source: WGSL.0,
         needs_common: true,
-        entry_points: &["gabor_main"],
+        entry_points: &["gabor_draw", "gabor_main"],
     });
 
     fn kernel_with_period(
@@ -187,7 +204,8 @@ impl GpuKind for GaborNoise {
         _z: f64,
         period: Option<Period>,
     ) -> Result<Box<dyn GpuKernel>, GpuError> {
-        let kernel = pack(self, period);
+        let mut kernel = pack(self, period);
+        kernel.draw = Some(OwnPass::new(context, "gabor", "gabor_draw")?);
         let tables = kernel.tables();
         Shaded::boxed(context, kernel, &tables)
     }
@@ -208,21 +226,85 @@ impl ShaderKernel for GaborKernel {
         size_of::<CellAxis>() as u64
     }
 
+    /// The tile's axes and, with `gabor_draw`, the draws of its box of cells (the cells of its
+    /// pixels and their neighbours), left to the device; where they would not fit `limit`
+    /// the pixels draw for themselves. A tile displaced on the device draws per pixel too
+    /// (`gabor_main` reads the draws only undisplaced, [`encode_passes`](Self::encode_passes)
+    /// records nothing then).
     fn tile_tables(
         &self,
         tile: &GpuWindow,
-        _displacement: TileDisplacement<'_>,
-        _limit: u64,
+        displacement: TileDisplacement<'_>,
+        limit: u64,
     ) -> Result<TileTables, GpuError> {
-        let params = GaborParams {
+        let mut params = GaborParams {
             width: tile.width as u32,
             height: tile.height as u32,
             ..self.params
         };
-        Ok(TileTables::new(
+        let axes = CellAxes::new(self.radius, tile, self.period);
+        let mut passes = Vec::new();
+        let mut draws = Table::new("gabor draws", &[[0.0f32; 4]]);
+        if let (Some(draw), [Some((i_lo, i_hi)), Some((j_lo, j_hi))]) =
+            (&self.draw, axes.cell_range(tile, displacement)?)
+        {
+            let (cols, rows) = (
+                u64::from(i_hi.abs_diff(i_lo)) + 3,
+                u64::from(j_hi.abs_diff(j_lo)) + 3,
+            );
+            let cells = cols * rows;
+            let bytes = cells * (1 + 2 * u64::from(params.max_impulses)) * 16;
+            if bytes <= limit
+                && let Ok(cells) = u32::try_from(cells)
+            {
+                let (stride, _) = flat_grid(&draw.gpu, cells, DRAW_WORKGROUP);
+                (params.box_i0, params.box_j0) = (i_lo.wrapping_sub(1), j_lo.wrapping_sub(1));
+                (params.box_cols, params.box_rows) = (cols as u32, rows as u32);
+                params.draw_stride = stride;
+                params.drawn = 1;
+                passes.push(PreparedTile::Tables(TileTables::new(&params, Vec::new())));
+                draws = Table::filled_on_device("gabor draws", bytes);
+            }
+        }
+        let mut tables = TileTables::new(
             &params,
-            CellAxes::new(self.radius, tile, self.period).tables(["gabor columns", "gabor rows"]),
-        ))
+            std::iter::once(draws)
+                .chain(axes.tables(["gabor columns", "gabor rows"]))
+                .collect(),
+        );
+        tables.passes = passes;
+        Ok(tables)
+    }
+
+    /// `gabor_draw` over the tile's box into `target` (the table `gabor_main` reads as
+    /// `draws`); nothing for a tile displaced on the device, whose pixels draw for themselves.
+    fn encode_passes(
+        &self,
+        _tile: &GpuWindow,
+        passes: Vec<PreparedTile>,
+        encoder: &mut wgpu::CommandEncoder,
+        (target, bound, displacement): (&wgpu::Buffer, &[&wgpu::Buffer], Option<&wgpu::Buffer>),
+        timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) -> Result<(), GpuError> {
+        let (Some(draw), [PreparedTile::Tables(pass)]) = (&self.draw, passes.as_slice()) else {
+            return Err(GpuError::Validation(
+                "gabor: its draws need the one pass its tile prepared".to_owned(),
+            ));
+        };
+        if displacement.is_some() {
+            return Ok(());
+        }
+        let p = bytemuck::pod_read_unaligned::<GaborParams>(&pass.uniform);
+        // The components (1), and the target in `output`'s place (5).
+        encode_own_pass(
+            &draw.gpu,
+            encoder,
+            ("gabor draw", &draw.pipeline, &pass.uniform),
+            (bound, &[1]),
+            (target, 5),
+            (p.box_cols * p.box_rows, DRAW_WORKGROUP),
+            timer,
+        )
     }
 }
 
@@ -247,6 +329,63 @@ impl ExportKind for GaborNoise {
 pub mod tests {
     use super::*;
     use crate::layout::check::assert_matches_wgsl;
+
+    /// A tile whose cells `gabor_draw` drew once renders the bits of the same tile whose pixels
+    /// draw for themselves: one direction, a range of angles and a spectrum (each impulse's
+    /// own frequency), near the origin, far from it, magnified and minified, on tiles whose
+    /// sides are not multiples of the workgroup, and a periodic noise's tile across its
+    /// period. Each tile must really be drawn (its one pass prepared).
+    pub fn drawn_cells_render_the_per_pixel_bits() {
+        use crate::layout::check::context_or_skip;
+        let Some(context) = context_or_skip("drawn_cells_render_the_per_pixel_bits") else {
+            return;
+        };
+        let isotropic = spectex_model::fixtures::gabor_isotropic();
+        let mut anisotropic = isotropic.clone();
+        anisotropic.orientation = Orientation::Anisotropic { angle: 0.4 };
+        let mut spectrum = isotropic.clone();
+        spectrum.orientation = Orientation::Spectrum {
+            frequencies: vec![[0.05, 0.0], [0.0, 0.1], [-0.03, 0.04], [0.2, 0.2]],
+            weights: vec![3.0, 0.0, 1.0, 0.25],
+        };
+        let period = Period::new(256, 128).unwrap();
+        let cases = [
+            (
+                &anisotropic,
+                None,
+                GpuWindow::new(37, 21).at([1.0e6, -3.0e5], 1.0),
+            ),
+            (
+                &isotropic,
+                None,
+                GpuWindow::new(19, 13).at([-40.5, 7.25], 3.5),
+            ),
+            (&spectrum, None, GpuWindow::new(40, 24).at([3.0, 5.0], 0.37)),
+            (
+                &spectrum,
+                Some(period),
+                GpuWindow::new(48, 40).at([230.0, 100.0], 1.0),
+            ),
+        ];
+        for (model, period, tile) in cases {
+            let kernel = pack(model, period);
+            let mut drawn = kernel.clone();
+            drawn.draw = Some(OwnPass::new(&context, "gabor", "gabor_draw").unwrap());
+            let prepared = drawn
+                .tile_tables(&tile, TileDisplacement::None, u64::MAX)
+                .unwrap();
+            assert_eq!(prepared.passes.len(), 1, "{tile:?} is drawn");
+            let render = |k: GaborKernel| {
+                let tables = k.tables();
+                let bits = Shaded::boxed(&context, k, &tables)
+                    .unwrap()
+                    .render_tile(&tile, None)
+                    .unwrap();
+                bits.into_iter().map(f32::to_bits).collect::<Vec<_>>()
+            };
+            assert_eq!(render(drawn), render(kernel), "{tile:?}");
+        }
+    }
 
     pub fn params_match_the_wgsl() {
         assert_matches_wgsl::<GaborParams>("gabor", "GaborParams");
