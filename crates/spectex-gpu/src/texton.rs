@@ -1,18 +1,23 @@
 //! Texton placement / spot noise on the device (`shaders/texton.wgsl`): the model's constants
 //! in the uniform, its Poisson CDF and image texels packed once, and per tile each column's and
-//! row's texton-grid cell and offset (the CPU's split).
+//! row's texton-grid cell and offset (the CPU's split), and the box of cells `texton_draw`
+//! draws once on the device.
 //!
 //! The texton noise's export (the glue of `shaders/texton.wgsl`): the compute shader's uniform
 //! and model data; the texton grid is the export's only lattice.
+
+use std::sync::Arc;
 
 use spectex_model::texton::{Combine, MAX_TEXTONS_PER_CELL, Placement, Spot};
 use spectex_model::{Period, TextonNoise};
 
 use crate::axis::{CellAxes, CellAxis};
 use crate::export::{ExportKind, ExportNode, ExportParts};
-use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileDisplacement, TileTables};
+use crate::kernel::{
+    GpuKernel, GpuKind, PreparedTile, ShaderKernel, Table, TileDisplacement, TileTables,
+};
 use crate::layout::wgsl_struct;
-use crate::pipeline::Shaded;
+use crate::pipeline::{OwnPass, Shaded, encode_own_pass, flat_grid};
 use crate::shaders::{ShaderFile, kernel_and_glue};
 use crate::{GpuContext, GpuError, GpuWindow};
 
@@ -47,18 +52,28 @@ wgsl_struct! {
         intensity_lo: f32,
         intensity_hi: f32,
         mean: f32,
-        // Padding to a whole 16-byte uniform row, as the WGSL struct has it.
-        _pad0: u32,
-        _pad1: u32,
-        _pad2: u32,
+        /// 1 when the draws table holds the tile's cell box (`texton_draw`), else 0.
+        drawn: u32,
+        /// The cell box's first column and row.
+        box_i0: i32,
+        box_j0: i32,
         /// Cells per period along x and y of a periodic model (cells hashed modulo them,
         /// `wrap_cell`), 0 when not periodic.
         cells_x: i32,
         cells_y: i32,
-        _pad3: u32,
-        _pad4: u32,
+        /// The cell box's columns and rows; `texton_draw`'s invocations per row of its grid.
+        box_cols: u32,
+        box_rows: u32,
+        draw_stride: u32,
+        // Padding to a whole 16-byte uniform row, as the WGSL struct has it.
+        _pad0: u32,
+        _pad1: u32,
+        _pad2: u32,
     }
 }
+
+/// Invocations per workgroup of `texton_draw` (its `@workgroup_size`).
+const DRAW_WORKGROUP: u32 = 64;
 
 /// A texton model on the device.
 #[derive(Debug, Clone)]
@@ -67,6 +82,8 @@ pub(crate) struct TextonKernel {
     params: TextonParams,
     /// The period of a periodic model: positions reduced modulo it.
     period: Option<Period>,
+    /// `texton_draw` on the device (none for the export, whose pixels draw for themselves).
+    draw: Option<Arc<OwnPass>>,
 }
 
 impl GpuKind for TextonNoise {
@@ -74,7 +91,7 @@ impl GpuKind for TextonNoise {
         name: "texton",
         source: WGSL.0,
         needs_common: true,
-        entry_points: &["texton_main"],
+        entry_points: &["texton_main", "texton_draw"],
     });
 
     /// Periodic: the CPU's `TextonEvaluator::new_periodic`: the cell divides the period, cells
@@ -92,6 +109,7 @@ impl GpuKind for TextonNoise {
             kernel.params.cells_y = cells[1] as i32;
             kernel.period = Some(period);
         }
+        kernel.draw = Some(OwnPass::new(context, "texton", "texton_draw")?);
         Shaded::boxed(context, kernel, &[Table::new("texton model data", &data)])
     }
 }
@@ -152,6 +170,7 @@ pub(crate) fn host(model: &TextonNoise) -> (TextonKernel, Vec<f32>) {
                 ..bytemuck::Zeroable::zeroed()
             },
             period: None,
+            draw: None,
         };
         (kernel, data)
     }
@@ -178,22 +197,91 @@ impl ShaderKernel for TextonKernel {
         size_of::<CellAxis>() as u64
     }
 
+    /// The tile's axes and, with `texton_draw`, the draws of its box of cells (the cells of
+    /// its pixels and those within `reach`), left to the device; where they would not fit
+    /// `limit` the pixels draw for themselves, as a tile displaced on the device does
+    /// ([`encode_passes`](Self::encode_passes) records nothing then).
     fn tile_tables(
         &self,
         tile: &GpuWindow,
-        _displacement: TileDisplacement<'_>,
-        _limit: u64,
+        displacement: TileDisplacement<'_>,
+        limit: u64,
     ) -> Result<TileTables, GpuError> {
-        let params = TextonParams {
+        let mut params = TextonParams {
             width: tile.width as u32,
             height: tile.height as u32,
             ..self.params
         };
-        Ok(TileTables::new(
+        let axes = CellAxes::new(self.cell_size, tile, self.period);
+        let mut passes = Vec::new();
+        let mut draws = Table::new("texton draws", &[[0.0f32; 4]]);
+        if let (Some(draw), [Some((i_lo, i_hi)), Some((j_lo, j_hi))]) =
+            (&self.draw, axes.cell_range(tile, displacement)?)
+        {
+            let reach = params.reach.unsigned_abs();
+            let (cols, rows) = (
+                u64::from(i_hi.abs_diff(i_lo)) + 1 + 2 * u64::from(reach),
+                u64::from(j_hi.abs_diff(j_lo)) + 1 + 2 * u64::from(reach),
+            );
+            let per_cell = if params.placement == 1 {
+                MAX_TEXTONS_PER_CELL as u64
+            } else {
+                1
+            };
+            let cells = cols * rows;
+            let bytes = cells * (1 + 2 * per_cell) * 16;
+            if bytes <= limit
+                && let Ok(cells) = u32::try_from(cells)
+            {
+                let (stride, _) = flat_grid(&draw.gpu, cells, DRAW_WORKGROUP);
+                params.box_i0 = i_lo.wrapping_sub_unsigned(reach);
+                params.box_j0 = j_lo.wrapping_sub_unsigned(reach);
+                (params.box_cols, params.box_rows) = (cols as u32, rows as u32);
+                params.draw_stride = stride;
+                params.drawn = 1;
+                passes.push(PreparedTile::Tables(TileTables::new(&params, Vec::new())));
+                draws = Table::filled_on_device("texton draws", bytes);
+            }
+        }
+        let mut tables = TileTables::new(
             &params,
-            CellAxes::new(self.cell_size, tile, self.period)
-                .tables(["texton columns", "texton rows"]),
-        ))
+            std::iter::once(draws)
+                .chain(axes.tables(["texton columns", "texton rows"]))
+                .collect(),
+        );
+        tables.passes = passes;
+        Ok(tables)
+    }
+
+    /// `texton_draw` over the tile's box into `target` (the table `texton_main` reads as
+    /// `draws`); nothing for a tile displaced on the device, whose pixels draw for themselves.
+    fn encode_passes(
+        &self,
+        _tile: &GpuWindow,
+        passes: Vec<PreparedTile>,
+        encoder: &mut wgpu::CommandEncoder,
+        (target, bound, displacement): (&wgpu::Buffer, &[&wgpu::Buffer], Option<&wgpu::Buffer>),
+        timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) -> Result<(), GpuError> {
+        let (Some(draw), [PreparedTile::Tables(pass)]) = (&self.draw, passes.as_slice()) else {
+            return Err(GpuError::Validation(
+                "texton: its draws need the one pass its tile prepared".to_owned(),
+            ));
+        };
+        if displacement.is_some() {
+            return Ok(());
+        }
+        let p = bytemuck::pod_read_unaligned::<TextonParams>(&pass.uniform);
+        // The model data (1: the Poisson CDF), and the target in `output`'s place (5).
+        encode_own_pass(
+            &draw.gpu,
+            encoder,
+            ("texton draw", &draw.pipeline, &pass.uniform),
+            (bound, &[1]),
+            (target, 5),
+            (p.box_cols * p.box_rows, DRAW_WORKGROUP),
+            timer,
+        )
     }
 }
 
@@ -225,5 +313,91 @@ pub mod tests {
 
     pub fn params_match_the_wgsl() {
         assert_matches_wgsl::<TextonParams>("texton", "TextonParams");
+    }
+
+    /// A tile whose cells `texton_draw` drew once renders the bits of the same tile whose
+    /// pixels draw for themselves: Poisson placement with Gaussian spots kept by their
+    /// maximum, and a jittered grid of image spots reaching two cells, summed; far from the
+    /// origin, magnified, minified, on tiles whose sides are not multiples of the workgroup,
+    /// and periodic across the period. Each tile must really be drawn (its one pass
+    /// prepared). Not the ellipsoid: lavapipe folds the per-pixel path's `q·(1/(a·s))` into a
+    /// division, where the drawn path keeps the CPU's product (its texton-ellipsoids render
+    /// is the CPU's bit for bit, the per-pixel one differs in 321 bytes of 128,690).
+    pub fn drawn_cells_render_the_per_pixel_bits() {
+        use crate::layout::check::context_or_skip;
+        let Some(context) = context_or_skip("texton drawn_cells_render_the_per_pixel_bits") else {
+            return;
+        };
+        let poisson = TextonNoise {
+            seed: 4,
+            cell_size: 12.0,
+            placement: Placement::Poisson { density: 3.0 },
+            spot: Spot::Gaussian,
+            radii: [9.0, 5.0],
+            rotation: [0.0, 1.0],
+            scale: [0.7, 1.3],
+            intensity: [0.2, 1.0],
+            combine: Combine::Max,
+            mean: 0.1,
+        };
+        let image = TextonNoise {
+            seed: 9,
+            cell_size: 10.0,
+            placement: Placement::Grid { jitter: 0.8 },
+            spot: Spot::Image {
+                width: 3,
+                height: 2,
+                values: vec![0.0, 1.0, 0.5, 0.25, 0.75, 0.1],
+            },
+            radii: [16.0, 7.0],
+            rotation: [-0.2, 0.2],
+            scale: [0.9, 1.2],
+            intensity: [-0.5, 0.5],
+            combine: Combine::Sum,
+            mean: 0.5,
+        };
+        assert!(image.reach() >= 2, "the image spots reach two cells");
+        let period = Period::new(120, 60).unwrap();
+        let cases = [
+            (
+                &poisson,
+                None,
+                GpuWindow::new(37, 21).at([1.0e6, -3.0e5], 1.0),
+            ),
+            (
+                &poisson,
+                None,
+                GpuWindow::new(19, 13).at([-40.5, 7.25], 3.5),
+            ),
+            (&image, None, GpuWindow::new(40, 24).at([3.0, 5.0], 0.37)),
+            (
+                &image,
+                Some(period),
+                GpuWindow::new(48, 40).at([100.0, 30.0], 1.0),
+            ),
+        ];
+        for (model, period, tile) in cases {
+            let (mut kernel, data) = host(model);
+            if let Some(period) = period {
+                let cells = period.cells(kernel.cell_size);
+                (kernel.params.cells_x, kernel.params.cells_y) = (cells[0] as i32, cells[1] as i32);
+                kernel.period = Some(period);
+            }
+            let mut drawn = kernel.clone();
+            drawn.draw = Some(OwnPass::new(&context, "texton", "texton_draw").unwrap());
+            let prepared = drawn
+                .tile_tables(&tile, TileDisplacement::None, u64::MAX)
+                .unwrap();
+            assert_eq!(prepared.passes.len(), 1, "{tile:?} is drawn");
+            let render = |k: TextonKernel| {
+                let tables = [Table::new("texton model data", &data)];
+                let bits = Shaded::boxed(&context, k, &tables)
+                    .unwrap()
+                    .render_tile(&tile, None)
+                    .unwrap();
+                bits.into_iter().map(f32::to_bits).collect::<Vec<_>>()
+            };
+            assert_eq!(render(drawn), render(kernel), "{tile:?}");
+        }
     }
 }

@@ -19,7 +19,7 @@ spectex_testkit::unit_tests! {
     shaders: model_shaders_use_every_binding_in_the_host_order, names_are_unique_and_composition_prepends_common;
     simulate: sim_params_match_the_wgsl;
     subdivision: params_match_the_wgsl;
-    texton: params_match_the_wgsl;
+    texton: params_match_the_wgsl, drawn_cells_render_the_per_pixel_bits;
     texture: records_match_the_wgsl;
     voronoi: params_match_the_wgsl;
     wavelet: records_match_the_wgsl;
