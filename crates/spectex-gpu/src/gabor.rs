@@ -15,7 +15,7 @@ use crate::kernel::{
     GpuKernel, GpuKind, PreparedTile, ShaderKernel, Table, TileDisplacement, TileTables,
 };
 use crate::layout::wgsl_struct;
-use crate::pipeline::{OwnPass, Shaded, encode_own_pass, flat_grid};
+use crate::pipeline::{OwnPass, Shaded, encode_own_pass};
 use crate::shaders::{ShaderFile, kernel_and_glue};
 use crate::{GpuContext, GpuError, GpuWindow};
 
@@ -245,26 +245,23 @@ impl ShaderKernel for GaborKernel {
         let axes = CellAxes::new(self.radius, tile, self.period);
         let mut passes = Vec::new();
         let mut draws = Table::new("gabor draws", &[[0.0f32; 4]]);
-        if let (Some(draw), [Some((i_lo, i_hi)), Some((j_lo, j_hi))]) =
-            (&self.draw, axes.cell_range(tile, displacement)?)
+        let cell_bytes = (1 + 2 * u64::from(params.max_impulses)) * 16;
+        if let Some(draw) = &self.draw
+            && let Some(b) = draw.draw_box(
+                axes.cell_range(tile, displacement)?,
+                (1, cell_bytes),
+                (DRAW_WORKGROUP, limit),
+            )
         {
-            let (cols, rows) = (
-                u64::from(i_hi.abs_diff(i_lo)) + 3,
-                u64::from(j_hi.abs_diff(j_lo)) + 3,
-            );
-            let cells = cols * rows;
-            let bytes = cells * (1 + 2 * u64::from(params.max_impulses)) * 16;
-            if bytes <= limit
-                && let Ok(cells) = u32::try_from(cells)
-            {
-                let (stride, _) = flat_grid(&draw.gpu, cells, DRAW_WORKGROUP);
-                (params.box_i0, params.box_j0) = (i_lo.wrapping_sub(1), j_lo.wrapping_sub(1));
-                (params.box_cols, params.box_rows) = (cols as u32, rows as u32);
-                params.draw_stride = stride;
-                params.drawn = 1;
-                passes.push(PreparedTile::Tables(TileTables::new(&params, Vec::new())));
-                draws = Table::filled_on_device("gabor draws", bytes);
-            }
+            (
+                params.box_i0,
+                params.box_j0,
+                params.box_cols,
+                params.box_rows,
+            ) = (b.i0, b.j0, b.cols, b.rows);
+            (params.draw_stride, params.drawn) = (b.stride, 1);
+            passes.push(PreparedTile::Tables(TileTables::new(&params, Vec::new())));
+            draws = Table::filled_on_device("gabor draws", b.bytes);
         }
         let mut tables = TileTables::new(
             &params,
@@ -286,20 +283,17 @@ impl ShaderKernel for GaborKernel {
         (target, bound, displacement): (&wgpu::Buffer, &[&wgpu::Buffer], Option<&wgpu::Buffer>),
         timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) -> Result<(), GpuError> {
-        let (Some(draw), [PreparedTile::Tables(pass)]) = (&self.draw, passes.as_slice()) else {
-            return Err(GpuError::Validation(
-                "gabor: its draws need the one pass its tile prepared".to_owned(),
-            ));
-        };
-        if displacement.is_some() {
+        let Some((draw, uniform)) =
+            OwnPass::prepared("gabor", self.draw.as_deref(), &passes, displacement)?
+        else {
             return Ok(());
-        }
-        let p = bytemuck::pod_read_unaligned::<GaborParams>(&pass.uniform);
+        };
+        let p = bytemuck::pod_read_unaligned::<GaborParams>(uniform);
         // The components (1), and the target in `output`'s place (5).
         encode_own_pass(
             &draw.gpu,
             encoder,
-            ("gabor draw", &draw.pipeline, &pass.uniform),
+            ("gabor draw", &draw.pipeline, uniform),
             (bound, &[1]),
             (target, 5),
             (p.box_cols * p.box_rows, DRAW_WORKGROUP),

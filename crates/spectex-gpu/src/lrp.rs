@@ -378,21 +378,18 @@ impl ShaderKernel for LrpKernel {
         (target, bound, displacement): (&wgpu::Buffer, &[&wgpu::Buffer], Option<&wgpu::Buffer>),
         timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) -> Result<(), GpuError> {
-        let (Some(draw), [PreparedTile::Tables(pass)]) = (&self.draw, passes.as_slice()) else {
-            return Err(GpuError::Validation(
-                "lrp: its draws need the one pass its tile prepared".to_owned(),
-            ));
-        };
-        if displacement.is_some() {
+        let Some((draw, uniform)) =
+            OwnPass::prepared("lrp", self.draw.as_deref(), &passes, displacement)?
+        else {
             return Ok(());
-        }
-        let points = bytemuck::pod_read_unaligned::<LrpParams>(&pass.uniform).draw_points;
+        };
+        let points = bytemuck::pod_read_unaligned::<LrpParams>(uniform).draw_points;
         // The tile's own buffers at bindings 1–3 (strata, frequencies, sub-strata), 6 (gains)
         // and 7 (boxes), and the target in `output`'s place (9).
         encode_own_pass(
             &draw.gpu,
             encoder,
-            ("lrp draw", &draw.pipeline, &pass.uniform),
+            ("lrp draw", &draw.pipeline, uniform),
             (bound, &[1, 2, 3, 6, 7]),
             (target, 9),
             (points, DRAW_WORKGROUP),

@@ -622,23 +622,20 @@ impl ShaderKernel for PhasorKernel {
         (target, bound, displacement): (&wgpu::Buffer, &[&wgpu::Buffer], Option<&wgpu::Buffer>),
         timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) -> Result<(), GpuError> {
-        let (Some(bin), [PreparedTile::Tables(pass)]) = (&self.bin, passes.as_slice()) else {
-            return Err(GpuError::Validation(
-                "phasor: its masks need the one pass its tile prepared".to_owned(),
-            ));
-        };
-        if displacement.is_some() {
+        let Some((bin, uniform)) =
+            OwnPass::prepared("phasor", self.bin.as_deref(), &passes, displacement)?
+        else {
             return Err(GpuError::Validation(
                 "phasor: a displaced tile has no masks".to_owned(),
             ));
-        }
-        let masks = bytemuck::pod_read_unaligned::<PhasorParams>(&pass.uniform).bin_masks;
+        };
+        let masks = bytemuck::pod_read_unaligned::<PhasorParams>(uniform).bin_masks;
         // The tile's cells (2), impulses (3), columns (7) and rows (8), and the target in
         // `output`'s place (9).
         encode_own_pass(
             &bin.gpu,
             encoder,
-            ("phasor bin", &bin.pipeline, &pass.uniform),
+            ("phasor bin", &bin.pipeline, uniform),
             (bound, &[2, 3, 7, 8]),
             (target, 9),
             (masks, BIN_WORKGROUP),

@@ -255,6 +255,76 @@ impl OwnPass {
     }
 }
 
+/// The box of cells a kind's own pass draws once for a tile (`gabor_draw`, `texton_draw`): the
+/// cells within `reach` of the tile's pixels' cells, row-major, `cell_bytes` of records each.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct DrawBox {
+    /// First column and row.
+    pub(crate) i0: i32,
+    pub(crate) j0: i32,
+    /// Columns and rows.
+    pub(crate) cols: u32,
+    pub(crate) rows: u32,
+    /// The pass's invocations per row of its dispatch grid (one invocation a cell).
+    pub(crate) stride: u32,
+    /// The table's size.
+    pub(crate) bytes: u64,
+}
+
+impl OwnPass {
+    /// The box of `axes`' cells a tile's pass draws, given each pixel's cell range: `None`
+    /// where the tile has no valid pixel or the table would exceed `limit` (the pixels then
+    /// draw for themselves).
+    pub(crate) fn draw_box(
+        &self,
+        range: [Option<(i32, i32)>; 2],
+        (reach, cell_bytes): (u32, u64),
+        (workgroup, limit): (u32, u64),
+    ) -> Option<DrawBox> {
+        let [Some((i_lo, i_hi)), Some((j_lo, j_hi))] = range else {
+            return None;
+        };
+        let span = |lo: i32, hi: i32| u64::from(hi.abs_diff(lo)) + 1 + 2 * u64::from(reach);
+        let (cols, rows) = (span(i_lo, i_hi), span(j_lo, j_hi));
+        let bytes = cols * rows * cell_bytes;
+        let cells = u32::try_from(cols * rows).ok()?;
+        if bytes > limit {
+            return None;
+        }
+        Some(DrawBox {
+            i0: i_lo.wrapping_sub_unsigned(reach),
+            j0: j_lo.wrapping_sub_unsigned(reach),
+            cols: cols as u32,
+            rows: rows as u32,
+            stride: flat_grid(&self.gpu, cells, workgroup).0,
+            bytes,
+        })
+    }
+
+    /// For `encode_passes`: the kind's pass `own` and the uniform of the one pass its tile
+    /// prepared, or `None` for a tile displaced on the device (whose pixels draw for
+    /// themselves).
+    ///
+    /// # Errors
+    /// [`GpuError::Validation`] naming `kind` unless `passes` is one prepared pass and the
+    /// kind has its pipeline.
+    pub(crate) fn prepared<'a>(
+        kind: &str,
+        own: Option<&'a Self>,
+        passes: &'a [PreparedTile],
+        displacement: Option<&wgpu::Buffer>,
+    ) -> Result<Option<(&'a Self, &'a [u8])>, GpuError> {
+        let (Some(own), [PreparedTile::Tables(pass)]) = (own, passes) else {
+            return Err(GpuError::Validation(format!(
+                "{kind}: its own pass needs its pipeline and the one pass its tile prepared"
+            )));
+        };
+        Ok(displacement
+            .is_none()
+            .then_some((own, pass.uniform.as_slice())))
+    }
+}
+
 /// Records a pass of a kind's own before its tile's dispatch (`ShaderKernel::encode_passes`):
 /// `pipeline` (another entry point of the kind's shader) with `uniform` at binding 0, the
 /// kind's buffers `bound` at `bindings` (binding b is `bound[b − 1]`), `target` at

@@ -17,7 +17,7 @@ use crate::kernel::{
     GpuKernel, GpuKind, PreparedTile, ShaderKernel, Table, TileDisplacement, TileTables,
 };
 use crate::layout::wgsl_struct;
-use crate::pipeline::{OwnPass, Shaded, encode_own_pass, flat_grid};
+use crate::pipeline::{OwnPass, Shaded, encode_own_pass};
 use crate::shaders::{ShaderFile, kernel_and_glue};
 use crate::{GpuContext, GpuError, GpuWindow};
 
@@ -215,33 +215,27 @@ impl ShaderKernel for TextonKernel {
         let axes = CellAxes::new(self.cell_size, tile, self.period);
         let mut passes = Vec::new();
         let mut draws = Table::new("texton draws", &[[0.0f32; 4]]);
-        if let (Some(draw), [Some((i_lo, i_hi)), Some((j_lo, j_hi))]) =
-            (&self.draw, axes.cell_range(tile, displacement)?)
+        let per_cell = if params.placement == 1 {
+            MAX_TEXTONS_PER_CELL as u64
+        } else {
+            1
+        };
+        if let Some(draw) = &self.draw
+            && let Some(b) = draw.draw_box(
+                axes.cell_range(tile, displacement)?,
+                (params.reach.unsigned_abs(), (1 + 2 * per_cell) * 16),
+                (DRAW_WORKGROUP, limit),
+            )
         {
-            let reach = params.reach.unsigned_abs();
-            let (cols, rows) = (
-                u64::from(i_hi.abs_diff(i_lo)) + 1 + 2 * u64::from(reach),
-                u64::from(j_hi.abs_diff(j_lo)) + 1 + 2 * u64::from(reach),
-            );
-            let per_cell = if params.placement == 1 {
-                MAX_TEXTONS_PER_CELL as u64
-            } else {
-                1
-            };
-            let cells = cols * rows;
-            let bytes = cells * (1 + 2 * per_cell) * 16;
-            if bytes <= limit
-                && let Ok(cells) = u32::try_from(cells)
-            {
-                let (stride, _) = flat_grid(&draw.gpu, cells, DRAW_WORKGROUP);
-                params.box_i0 = i_lo.wrapping_sub_unsigned(reach);
-                params.box_j0 = j_lo.wrapping_sub_unsigned(reach);
-                (params.box_cols, params.box_rows) = (cols as u32, rows as u32);
-                params.draw_stride = stride;
-                params.drawn = 1;
-                passes.push(PreparedTile::Tables(TileTables::new(&params, Vec::new())));
-                draws = Table::filled_on_device("texton draws", bytes);
-            }
+            (
+                params.box_i0,
+                params.box_j0,
+                params.box_cols,
+                params.box_rows,
+            ) = (b.i0, b.j0, b.cols, b.rows);
+            (params.draw_stride, params.drawn) = (b.stride, 1);
+            passes.push(PreparedTile::Tables(TileTables::new(&params, Vec::new())));
+            draws = Table::filled_on_device("texton draws", b.bytes);
         }
         let mut tables = TileTables::new(
             &params,
@@ -263,20 +257,17 @@ impl ShaderKernel for TextonKernel {
         (target, bound, displacement): (&wgpu::Buffer, &[&wgpu::Buffer], Option<&wgpu::Buffer>),
         timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) -> Result<(), GpuError> {
-        let (Some(draw), [PreparedTile::Tables(pass)]) = (&self.draw, passes.as_slice()) else {
-            return Err(GpuError::Validation(
-                "texton: its draws need the one pass its tile prepared".to_owned(),
-            ));
-        };
-        if displacement.is_some() {
+        let Some((draw, uniform)) =
+            OwnPass::prepared("texton", self.draw.as_deref(), &passes, displacement)?
+        else {
             return Ok(());
-        }
-        let p = bytemuck::pod_read_unaligned::<TextonParams>(&pass.uniform);
+        };
+        let p = bytemuck::pod_read_unaligned::<TextonParams>(uniform);
         // The model data (1: the Poisson CDF), and the target in `output`'s place (5).
         encode_own_pass(
             &draw.gpu,
             encoder,
-            ("texton draw", &draw.pipeline, &pass.uniform),
+            ("texton draw", &draw.pipeline, uniform),
             (bound, &[1]),
             (target, 5),
             (p.box_cols * p.box_rows, DRAW_WORKGROUP),
