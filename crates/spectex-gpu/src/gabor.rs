@@ -227,8 +227,8 @@ impl ShaderKernel for GaborKernel {
     }
 
     /// The tile's axes and, with `gabor_draw`, the draws of its box of cells (the cells of its
-    /// pixels and their neighbours), left to the device; where they would not fit `limit`
-    /// the pixels draw for themselves. A tile displaced on the device draws per pixel too
+    /// pixels and their neighbours), left to the device; where they would not fit `limit` or
+    /// `MAX_PASS_TABLE_BYTES`, the pixels draw for themselves. A tile displaced on the device draws per pixel too
     /// (`gabor_main` reads the draws only undisplaced, [`encode_passes`](Self::encode_passes)
     /// records nothing then).
     fn tile_tables(

@@ -42,7 +42,7 @@ use crate::kernel::{
     TileTables, halve_tile_to_fit,
 };
 use crate::layout::wgsl_struct;
-use crate::pipeline::{Gpu, OwnPass, Shaded, encode_own_pass, flat_grid};
+use crate::pipeline::{Gpu, MAX_PASS_TABLE_BYTES, OwnPass, Shaded, encode_own_pass, flat_grid};
 use crate::shaders::{ShaderFile, kernel_and_glue};
 use crate::{GpuContext, GpuError, GpuWindow};
 
@@ -123,7 +123,8 @@ const MAX_BIN_SPAN: u64 = 6;
 /// [`BLOCK`]² pixels, layer and cell of the block's span (its first column's cell − 1 to its
 /// last column's + 1, and the same for rows), one bit per impulse of the cell that may reach a
 /// pixel of the block. Returns the uniform's fields set and the table's size in bytes, or
-/// `None` where the masks would not fit `limit` or a block spans too many cells.
+/// `None` where the masks would not fit `limit` or `MAX_PASS_TABLE_BYTES`, or a block spans
+/// too many cells.
 fn bin_layout(
     params: &mut PhasorParams,
     gpu: &Gpu,
@@ -147,7 +148,7 @@ fn bin_layout(
     let chunks = u64::from(most_impulses.div_ceil(CHUNK).max(1));
     let bytes = masks * chunks * 4;
     let masks = u32::try_from(masks).ok()?;
-    if bytes > limit {
+    if bytes > limit.min(MAX_PASS_TABLE_BYTES) {
         return None;
     }
     let (stride, _) = flat_grid(gpu, masks, BIN_WORKGROUP);

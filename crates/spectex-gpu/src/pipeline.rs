@@ -255,6 +255,12 @@ impl OwnPass {
     }
 }
 
+/// The most bytes a tile's table written by a kind's own pass may take (draws, masks): above
+/// it the pixels do the work themselves. The tables are sized for the worst cell (a Poisson
+/// count at its cap, about 10× its mean), so a model with hundreds of impulses a cell would
+/// otherwise ask for gigabytes a tile wherever the binding limit allows it.
+pub(crate) const MAX_PASS_TABLE_BYTES: u64 = 256 << 20;
+
 /// The box of cells a kind's own pass draws once for a tile (`gabor_draw`, `texton_draw`): the
 /// cells within `reach` of the tile's pixels' cells, row-major, `cell_bytes` of records each.
 #[derive(Debug, Clone, Copy)]
@@ -288,7 +294,7 @@ impl OwnPass {
         let (cols, rows) = (span(i_lo, i_hi), span(j_lo, j_hi));
         let bytes = cols * rows * cell_bytes;
         let cells = u32::try_from(cols * rows).ok()?;
-        if bytes > limit {
+        if bytes > limit.min(MAX_PASS_TABLE_BYTES) {
             return None;
         }
         Some(DrawBox {

@@ -199,7 +199,8 @@ impl ShaderKernel for TextonKernel {
 
     /// The tile's axes and, with `texton_draw`, the draws of its box of cells (the cells of
     /// its pixels and those within `reach`), left to the device; where they would not fit
-    /// `limit` the pixels draw for themselves, as a tile displaced on the device does
+    /// `limit` or `MAX_PASS_TABLE_BYTES`, the pixels draw for themselves, as a tile displaced
+    /// on the device does
     /// ([`encode_passes`](Self::encode_passes) records nothing then).
     fn tile_tables(
         &self,
