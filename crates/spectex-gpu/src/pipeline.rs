@@ -230,8 +230,8 @@ pub(crate) fn flat_grid(gpu: &Gpu, count: u32, workgroup: u32) -> (u32, [u32; 2]
 }
 
 /// The pipeline of another entry point of a kind's shader, run before the kind's own dispatch
-/// ([`encode_own_pass`]; LRP's `lrp_draw`, phasor's `phasor_bin`). It binds the evaluator's
-/// own buffers (`encode_passes`' `bound`).
+/// ([`encode_own_pass`]: `lrp_draw`, `gabor_draw`, `texton_draw`, `phasor_bin`). It binds the
+/// evaluator's own buffers (`encode_passes`' `bound`).
 #[derive(Debug)]
 pub(crate) struct OwnPass {
     pub(crate) gpu: Gpu,
@@ -278,9 +278,10 @@ pub(crate) struct DrawBox {
 }
 
 impl OwnPass {
-    /// The box of `axes`' cells a tile's pass draws, given each pixel's cell range: `None`
-    /// where the tile has no valid pixel or the table would exceed `limit` (the pixels then
-    /// draw for themselves).
+    /// The box of cells a tile's pass draws, from the range of its pixels' cells (`range`,
+    /// `CellAxes::cell_range`) widened by `reach`: `None` where the tile has no valid pixel
+    /// or the table would exceed `limit` or [`MAX_PASS_TABLE_BYTES`] (the pixels then draw
+    /// for themselves).
     pub(crate) fn draw_box(
         &self,
         range: [Option<(i32, i32)>; 2],
