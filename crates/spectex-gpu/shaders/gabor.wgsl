@@ -57,10 +57,10 @@ struct GaborParams {
     /// them, wrap_cell in common.wgsl, as on the CPU); 0 when not periodic.
     cells_x: i32,
     cells_y: i32,
-    /// 1 when `draws` holds the impulses of the tile's cell box (`gabor_draw`), else 0.
-    drawn: u32,
+    _pad2: u32,
     /// The cell box: first column and row, columns, rows (`gabor_draw`'s invocations are its
-    /// cells, `draw_stride` per row of its dispatch grid).
+    /// cells, `draw_stride` per row of its dispatch grid); 0 columns where `draws` holds
+    /// nothing (the pixels draw for themselves).
     box_i0: i32,
     box_j0: i32,
     box_cols: u32,
@@ -81,7 +81,7 @@ struct GaborComponent {
 
 @group(0) @binding(0) var<uniform> params: GaborParams;
 @group(0) @binding(1) var<storage, read> components: array<GaborComponent>;
-/// When `drawn` = 1, per cell of the box (row-major) a block of `1 + 2·max_impulses` records:
+/// When the box has columns, per cell of the box (row-major) a block of `1 + 2·max_impulses` records:
 /// the count, then per impulse (o_x, o_y, w, f_x) and (f_y, 0, 0, 0); `gabor_draw` writes
 /// them in `output`'s place.
 @group(0) @binding(2) var<storage, read> draws: array<vec4<f32>>;
@@ -308,7 +308,7 @@ fn gabor_main(@builtin(global_invocation_id) gid: vec3<u32>) {
         output[index] = params.mean;
         return;
     }
-    if (params.drawn == 1u && warp_params.enabled == 0u) {
+    if (params.box_cols != 0u && warp_params.enabled == 0u) {
         output[index] = gabor_value_drawn(column, row);
     } else {
         output[index] = gabor_value(column, row);

@@ -64,18 +64,17 @@ struct PhasorParams {
     /// With per_pixel: 1 when `pixel_params` holds the fields' column and row records
     /// (`pixel_field`), 0 when it holds each pixel's values (a displaced tile).
     pixel_fields: u32,
-    /// 1 when `bins` holds the tile's reach masks (`phasor_bin`), 0 when every pixel visits
-    /// every impulse of its 3×3 (3×3×3) cells.
-    binned: u32,
+    _pad1: u32,
+    _pad2: u32,
     /// Blocks of PHASOR_BLOCK × PHASOR_BLOCK pixels across the tile.
     bin_blocks_x: u32,
-    /// Cells per block along x and y: its first column's (row's) cell − 1 on.
-    bin_span_x: u32,
-    bin_span_y: u32,
+    /// Cells per block along x and along y: its first column's (row's) cell − 1 on.
+    bin_span: u32,
     /// Mask chunks per cell (16 impulses a chunk).
     bin_chunks: u32,
-    /// `phasor_bin`'s invocations (one per block, layer and cell of its span) and invocations
-    /// per row of its dispatch grid.
+    /// `phasor_bin`'s invocations (one per block, layer and cell of its span; 0 where `bins`
+    /// holds nothing and every pixel visits every impulse of its 3×3 (3×3×3) cells) and
+    /// invocations per row of its dispatch grid.
     bin_masks: u32,
     bin_stride: u32,
     _pad0: u32,
@@ -100,7 +99,7 @@ struct PhasorImpulse {
 /// Per pixel (when `filtered` = 1): u = F(p)·s, the local frequency times the footprint, at
 /// which every profile's harmonics are weighted.
 @group(0) @binding(5) var<storage, read> harmonic_scale: array<f32>;
-/// When `binned` = 1, the reach masks `phasor_bin` wrote (`phasor_main` reads the chunks of
+/// When `bin_masks` is not 0, the reach masks `phasor_bin` wrote (`phasor_main` reads the chunks of
 /// the pixel's block; `phasor_bin` writes them in `output`'s place).
 @group(0) @binding(6) var<storage, read> bins: array<f32>;
 @group(0) @binding(7) var<storage, read> columns: array<GridAxis>;
@@ -351,11 +350,11 @@ fn phasor_bin(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (m >= params.bin_masks) {
         return;
     }
-    let ux = m % params.bin_span_x;
-    let uy = (m / params.bin_span_x) % params.bin_span_y;
+    let ux = m % params.bin_span;
+    let uy = (m / params.bin_span) % params.bin_span;
     let layers = select(1u, 3u, phasor_three_d() == 1u);
-    let l = (m / (params.bin_span_x * params.bin_span_y)) % layers;
-    let block = m / (params.bin_span_x * params.bin_span_y * layers);
+    let l = (m / (params.bin_span * params.bin_span)) % layers;
+    let block = m / (params.bin_span * params.bin_span * layers);
     let x0 = (block % params.bin_blocks_x) * PHASOR_BLOCK;
     let y0 = (block / params.bin_blocks_x) * PHASOR_BLOCK;
     let c0 = columns[x0];
@@ -386,11 +385,12 @@ fn phasor_bin(@builtin(global_invocation_id) gid: vec3<u32>) {
             if (n >= cell.y) {
                 break;
             }
-            let o = impulses[cell.x + n].o_psi;
+            let imp = impulses[cell.x + n];
+            let o = imp.o_psi;
             let gx = max(max(lo_x - o.x, o.x - hi_x), 0.0f);
             let gy = max(max(lo_y - o.y, o.y - hi_y), 0.0f);
             let gz = dz - o.z;
-            let reach = (gx * gx + gy * gy + gz * gz) * impulses[cell.x + n].f.w;
+            let reach = (gx * gx + gy * gy + gz * gz) * imp.f.w;
             if (all || reach < PHASOR_CELL_REACH2) {
                 bits |= 1u << b;
             }
@@ -431,7 +431,8 @@ fn phasor_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let block = (gid.y / PHASOR_BLOCK) * params.bin_blocks_x + gid.x / PHASOR_BLOCK;
     var span_i = 0u;
     var span_j = 0u;
-    if (params.binned == 1u) {
+    let binned = params.bin_masks != 0u && warp_params.enabled == 0u;
+    if (binned) {
         span_i = bitcast<u32>(columns[gid.x - gid.x % PHASOR_BLOCK].cell) - 1u;
         span_j = bitcast<u32>(rows[gid.y - gid.y % PHASOR_BLOCK].cell) - 1u;
     }
@@ -457,10 +458,10 @@ fn phasor_main(@builtin(global_invocation_id) gid: vec3<u32>) {
                 }
                 let cell = cells[(u32(l) * params.box_rows + j) * params.box_cols + i];
                 let ux = bitcast<u32>(column.cell + sx) - span_i;
-                if (params.binned == 1u && ux < params.bin_span_x && uy < params.bin_span_y) {
+                if (binned && ux < params.bin_span && uy < params.bin_span) {
                     // The impulses that can reach the block, in draw order.
-                    let first = (((block * u32(layers) + u32(l)) * params.bin_span_y + uy)
-                        * params.bin_span_x + ux) * params.bin_chunks;
+                    let first = (((block * u32(layers) + u32(l)) * params.bin_span + uy)
+                        * params.bin_span + ux) * params.bin_chunks;
                     for (var k = 0u; k < params.bin_chunks; k++) {
                         var bits = u32(bins[first + k]);
                         while (bits != 0u) {

@@ -49,8 +49,7 @@ struct TextonParams {
     intensity_lo: f32,
     intensity_hi: f32,
     mean: f32,
-    /// 1 when `draws` holds the textons of the tile's cell box (`texton_draw`), else 0.
-    drawn: u32,
+    _pad0: u32,
     /// The cell box's first column and row.
     box_i0: i32,
     box_j0: i32,
@@ -58,19 +57,20 @@ struct TextonParams {
     /// them, wrap_cell in common.wgsl, as on the CPU); 0 when not periodic.
     cells_x: i32,
     cells_y: i32,
-    /// The cell box's columns and rows; `texton_draw`'s invocations per row of its grid.
+    /// The cell box's columns and rows (0 columns where `draws` holds nothing: the pixels
+    /// draw for themselves); `texton_draw`'s invocations per row of its grid.
     box_cols: u32,
     box_rows: u32,
     draw_stride: u32,
-    _pad0: u32,
     _pad1: u32,
     _pad2: u32,
+    _pad3: u32,
 }
 
 @group(0) @binding(0) var<uniform> params: TextonParams;
 /// The Poisson CDF (16 values, rounded to f32 by the host) then the image texels.
 @group(0) @binding(1) var<storage, read> model_data: array<f32>;
-/// When `drawn` = 1, per cell of the box (row-major) a block of `texton_block()` records: the
+/// When the box has columns, per cell of the box (row-major) a block of `texton_block()` records: the
 /// count, then per texton (o_x, o_y, cos, sin) and (1/a, 1/b, weight, 0); `texton_draw`
 /// writes them in `output`'s place.
 @group(0) @binding(2) var<storage, read> draws: array<vec4<f32>>;
@@ -167,7 +167,7 @@ fn texton_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let at = grid_point(columns[gid.x], rows[gid.y], index, params.inv_cell);
     let column = at.column;
     let row = at.row;
-    if (params.drawn == 1u && warp_params.enabled == 0u) {
+    if (params.box_cols != 0u && warp_params.enabled == 0u) {
         output[index] = texton_value_drawn(column, row);
     } else {
         output[index] = texton_value(column, row);

@@ -15,7 +15,7 @@ use crate::kernel::{
     GpuKernel, GpuKind, PreparedTile, ShaderKernel, Table, TileDisplacement, TileTables,
 };
 use crate::layout::wgsl_struct;
-use crate::pipeline::{OwnPass, Shaded, encode_own_pass};
+use crate::pipeline::{OwnPass, OwnPassLayout, Shaded};
 use crate::shaders::{ShaderFile, kernel_and_glue};
 use crate::{GpuContext, GpuError, GpuWindow};
 
@@ -57,10 +57,9 @@ wgsl_struct! {
         /// `wrap_cell`), 0 when not periodic.
         cells_x: i32,
         cells_y: i32,
-        /// 1 when the draws table holds the tile's cell box (`gabor_draw`), else 0.
-        drawn: u32,
-        /// The cell box: first column and row, columns, rows; `gabor_draw`'s invocations
-        /// per row of its dispatch grid.
+        _pad2: u32,
+        /// The cell box: first column and row, columns, rows (0 where the draws table holds
+        /// nothing); `gabor_draw`'s invocations per row of its dispatch grid.
         box_i0: i32,
         box_j0: i32,
         box_cols: u32,
@@ -69,8 +68,18 @@ wgsl_struct! {
     }
 }
 
-/// Invocations per workgroup of `gabor_draw` (its `@workgroup_size`).
-const DRAW_WORKGROUP: u32 = 64;
+/// `gabor_draw`: it reads the components (1) and writes the draws in `output`'s place (5), one
+/// invocation a cell of the box, 64 a workgroup (its `@workgroup_size`).
+const DRAW_PASS: OwnPassLayout = OwnPassLayout {
+    label: "gabor draw",
+    bindings: &[1],
+    target: 5,
+    workgroup: 64,
+    invocations: |uniform| {
+        let p = bytemuck::pod_read_unaligned::<GaborParams>(uniform);
+        p.box_cols * p.box_rows
+    },
+};
 
 wgsl_struct! {
     /// `GaborComponent` of `gabor.wgsl`: one entry of a spectrum's table.
@@ -228,9 +237,9 @@ impl ShaderKernel for GaborKernel {
 
     /// The tile's axes and, with `gabor_draw`, the draws of its box of cells (the cells of its
     /// pixels and their neighbours), left to the device; where they would not fit `limit` or
-    /// `MAX_PASS_TABLE_BYTES`, the pixels draw for themselves. A tile displaced on the device draws per pixel too
-    /// (`gabor_main` reads the draws only undisplaced, [`encode_passes`](Self::encode_passes)
-    /// records nothing then).
+    /// `MAX_PASS_TABLE_BYTES`, the pixels draw for themselves. A tile displaced on the device
+    /// draws per pixel too (`gabor_main` reads the draws only undisplaced,
+    /// [`encode_passes`](Self::encode_passes) records nothing then).
     fn tile_tables(
         &self,
         tile: &GpuWindow,
@@ -243,34 +252,27 @@ impl ShaderKernel for GaborKernel {
             ..self.params
         };
         let axes = CellAxes::new(self.radius, tile, self.period);
-        let mut passes = Vec::new();
-        let mut draws = Table::new("gabor draws", &[[0.0f32; 4]]);
         let cell_bytes = (1 + 2 * u64::from(params.max_impulses)) * 16;
-        if let Some(draw) = &self.draw
-            && let Some(b) = draw.draw_box(
+        let drawn = match &self.draw {
+            Some(draw) => draw.draw_box(
                 axes.cell_range(tile, displacement)?,
                 (1, cell_bytes),
-                (DRAW_WORKGROUP, limit),
-            )
-        {
-            (
-                params.box_i0,
-                params.box_j0,
-                params.box_cols,
-                params.box_rows,
-            ) = (b.i0, b.j0, b.cols, b.rows);
-            (params.draw_stride, params.drawn) = (b.stride, 1);
-            passes.push(PreparedTile::Tables(TileTables::new(&params, Vec::new())));
-            draws = Table::filled_on_device("gabor draws", b.bytes);
+                (DRAW_PASS.workgroup, limit),
+            ),
+            None => None,
+        };
+        if let Some(b) = drawn {
+            (params.box_i0, params.box_j0) = (b.i0, b.j0);
+            (params.box_cols, params.box_rows, params.draw_stride) = (b.cols, b.rows, b.stride);
         }
-        let mut tables = TileTables::new(
+        let draws = Table::left_to_pass("gabor draws", drawn.map(|b| b.bytes));
+        Ok(TileTables::new(
             &params,
             std::iter::once(draws)
                 .chain(axes.tables(["gabor columns", "gabor rows"]))
                 .collect(),
-        );
-        tables.passes = passes;
-        Ok(tables)
+        )
+        .with_pass(drawn.map(|_| &params)))
     }
 
     /// `gabor_draw` over the tile's box into `target` (the table `gabor_main` reads as
@@ -280,25 +282,11 @@ impl ShaderKernel for GaborKernel {
         _tile: &GpuWindow,
         passes: Vec<PreparedTile>,
         encoder: &mut wgpu::CommandEncoder,
-        (target, bound, displacement): (&wgpu::Buffer, &[&wgpu::Buffer], Option<&wgpu::Buffer>),
+        buffers: (&wgpu::Buffer, &[&wgpu::Buffer], Option<&wgpu::Buffer>),
         timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) -> Result<(), GpuError> {
-        let Some((draw, uniform)) =
-            OwnPass::prepared("gabor", self.draw.as_deref(), &passes, displacement)?
-        else {
-            return Ok(());
-        };
-        let p = bytemuck::pod_read_unaligned::<GaborParams>(uniform);
-        // The components (1), and the target in `output`'s place (5).
-        encode_own_pass(
-            &draw.gpu,
-            encoder,
-            ("gabor draw", &draw.pipeline, uniform),
-            (bound, &[1]),
-            (target, 5),
-            (p.box_cols * p.box_rows, DRAW_WORKGROUP),
-            timer,
-        )
+        let own = self.draw.as_deref();
+        OwnPass::record(own, &DRAW_PASS, (&passes, encoder), buffers, timer)
     }
 }
 
@@ -331,6 +319,7 @@ pub mod tests {
     /// period. Each tile must really be drawn (its one pass prepared).
     pub fn drawn_cells_render_the_per_pixel_bits() {
         use crate::layout::check::context_or_skip;
+        use crate::pipeline::tile_bits;
         let Some(context) = context_or_skip("drawn_cells_render_the_per_pixel_bits") else {
             return;
         };
@@ -369,14 +358,8 @@ pub mod tests {
                 .tile_tables(&tile, TileDisplacement::None, u64::MAX)
                 .unwrap();
             assert_eq!(prepared.passes.len(), 1, "{tile:?} is drawn");
-            let render = |k: GaborKernel| {
-                let tables = k.tables();
-                let bits = Shaded::boxed(&context, k, &tables)
-                    .unwrap()
-                    .render_tile(&tile, None)
-                    .unwrap();
-                bits.into_iter().map(f32::to_bits).collect::<Vec<_>>()
-            };
+            let tables = kernel.tables();
+            let render = |k: GaborKernel| tile_bits(&context, k, &tables, &tile);
             assert_eq!(render(drawn), render(kernel), "{tile:?}");
         }
     }

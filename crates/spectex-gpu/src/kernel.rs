@@ -519,6 +519,20 @@ impl Table {
             on_device: Some(size.max(4)),
         }
     }
+
+    /// The table a kind's own pass fills (`size` bytes, [`filled_on_device`](Self::filled_on_device)),
+    /// or, for a tile without the pass (`None`), 16 zero bytes that the shader does not read
+    /// (one record of any array its tables declare).
+    pub(crate) fn left_to_pass(label: &'static str, size: Option<u64>) -> Self {
+        match size {
+            Some(size) => Self::filled_on_device(label, size),
+            None => Self {
+                label,
+                bytes: vec![0; 16],
+                on_device: None,
+            },
+        }
+    }
 }
 
 /// What a [`ShaderKernel`] uploads for one tile.
@@ -541,5 +555,15 @@ impl TileTables {
             tables,
             passes: Vec::new(),
         }
+    }
+
+    /// These tables with the kind's own pass to record first, with `uniform` as its uniform
+    /// (the pass fills the table [`Table::left_to_pass`] left to it); unchanged for `None`.
+    pub(crate) fn with_pass<U: bytemuck::Pod>(mut self, uniform: Option<&U>) -> Self {
+        if let Some(uniform) = uniform {
+            self.passes
+                .push(PreparedTile::Tables(Self::new(uniform, Vec::new())));
+        }
+        self
     }
 }

@@ -17,7 +17,7 @@ use crate::kernel::{
     GpuKernel, GpuKind, PreparedTile, ShaderKernel, Table, TileDisplacement, TileTables,
 };
 use crate::layout::wgsl_struct;
-use crate::pipeline::{OwnPass, Shaded, binding_limit, encode_own_pass, flat_grid};
+use crate::pipeline::{OwnPass, OwnPassLayout, Shaded, binding_limit, flat_grid};
 use crate::shaders::{ShaderFile, kernel_and_glue};
 use crate::{GpuContext, GpuError, GpuWindow};
 
@@ -201,8 +201,16 @@ fn lattice_sides(width: f32, period: Option<Period>) -> [f64; 2] {
     period.map_or([nominal, nominal], |p| p.fit_lattice(nominal).side)
 }
 
-/// Invocations per workgroup of `lrp_draw` (its `@workgroup_size`).
-const DRAW_WORKGROUP: u32 = 64;
+/// `lrp_draw`: it reads the strata, frequencies and sub-strata (1–3), the gains (6) and the
+/// boxes (7) and writes the draws in `output`'s place (9), one invocation a lattice point, 64
+/// a workgroup (its `@workgroup_size`).
+const DRAW_PASS: OwnPassLayout = OwnPassLayout {
+    label: "lrp draw",
+    bindings: &[1, 2, 3, 6, 7],
+    target: 9,
+    workgroup: 64,
+    invocations: |uniform| bytemuck::pod_read_unaligned::<LrpParams>(uniform).draw_points,
+};
 
 /// [`LatticeAxis`] records for `count` positions `position(i)`, stratum-major.
 pub(crate) fn lattice_axis(
@@ -339,22 +347,17 @@ impl ShaderKernel for LrpKernel {
             }
             None => (vec![bytemuck::Zeroable::zeroed(); self.deltas.len()], 0, 0),
         };
-        let mut passes = Vec::new();
-        let draws = match draw {
-            Some(draw) if records > 0 => {
-                // The pass's uniform: the tile's, with its point count and grid row.
-                let (stride, _) = flat_grid(&draw.gpu, points, DRAW_WORKGROUP);
-                let pass = LrpParams {
-                    draw_points: points,
-                    draw_stride: stride,
-                    ..params
-                };
-                passes.push(PreparedTile::Tables(TileTables::new(&pass, Vec::new())));
-                Table::filled_on_device("lrp draws", 16 * records)
-            }
-            _ => Table::new("lrp draws", &[[0.0f32; 4]]),
+        // The pass's uniform: the tile's, with its point count and grid row.
+        let pass = match draw {
+            Some(draw) if records > 0 => Some(LrpParams {
+                draw_points: points,
+                draw_stride: flat_grid(&draw.gpu, points, DRAW_PASS.workgroup).0,
+                ..params
+            }),
+            _ => None,
         };
-        let mut tables = TileTables::new(
+        let draws = Table::left_to_pass("lrp draws", pass.map(|_| 16 * records));
+        Ok(TileTables::new(
             &params,
             vec![
                 Table::new("lrp columns", &columns),
@@ -363,9 +366,8 @@ impl ShaderKernel for LrpKernel {
                 Table::new("lrp boxes", &boxes),
                 draws,
             ],
-        );
-        tables.passes = passes;
-        Ok(tables)
+        )
+        .with_pass(pass.as_ref()))
     }
 
     /// `lrp_draw` over the tile's boxes into `target` (the table `lrp_main` reads as `draws`);
@@ -375,26 +377,11 @@ impl ShaderKernel for LrpKernel {
         _tile: &GpuWindow,
         passes: Vec<PreparedTile>,
         encoder: &mut wgpu::CommandEncoder,
-        (target, bound, displacement): (&wgpu::Buffer, &[&wgpu::Buffer], Option<&wgpu::Buffer>),
+        buffers: (&wgpu::Buffer, &[&wgpu::Buffer], Option<&wgpu::Buffer>),
         timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) -> Result<(), GpuError> {
-        let Some((draw, uniform)) =
-            OwnPass::prepared("lrp", self.draw.as_deref(), &passes, displacement)?
-        else {
-            return Ok(());
-        };
-        let points = bytemuck::pod_read_unaligned::<LrpParams>(uniform).draw_points;
-        // The tile's own buffers at bindings 1–3 (strata, frequencies, sub-strata), 6 (gains)
-        // and 7 (boxes), and the target in `output`'s place (9).
-        encode_own_pass(
-            &draw.gpu,
-            encoder,
-            ("lrp draw", &draw.pipeline, uniform),
-            (bound, &[1, 2, 3, 6, 7]),
-            (target, 9),
-            (points, DRAW_WORKGROUP),
-            timer,
-        )
+        let own = self.draw.as_deref();
+        OwnPass::record(own, &DRAW_PASS, (&passes, encoder), buffers, timer)
     }
 }
 
@@ -512,6 +499,7 @@ pub mod tests {
     /// budget (Δ = 1, J = 4: 4 records a pixel) beside drawn ones, at 10⁶ and minified.
     pub fn drawn_points_render_the_per_pixel_bits() {
         use crate::layout::check::context_or_skip;
+        use crate::pipeline::tile_bits;
         use spectex_model::Stratum;
         let Some(context) = context_or_skip("drawn_points_render_the_per_pixel_bits") else {
             return;
@@ -540,13 +528,7 @@ pub mod tests {
             assert_eq!(prepared.passes.len(), 1);
             assert_eq!(boxes[1].width, 0, "the dense stratum draws per pixel");
             assert!(boxes.iter().filter(|b| b.width > 0).count() >= 3);
-            let render = |k: LrpKernel| {
-                let bits = Shaded::boxed(&context, k, &tables)
-                    .unwrap()
-                    .render_tile(tile, None)
-                    .unwrap();
-                bits.into_iter().map(f32::to_bits).collect::<Vec<_>>()
-            };
+            let render = |k: LrpKernel| tile_bits(&context, k, &tables, tile);
             assert_eq!(render(drawn), render(kernel), "{tile:?}");
         }
     }

@@ -42,7 +42,7 @@ use crate::kernel::{
     TileTables, halve_tile_to_fit,
 };
 use crate::layout::wgsl_struct;
-use crate::pipeline::{Gpu, MAX_PASS_TABLE_BYTES, OwnPass, Shaded, encode_own_pass, flat_grid};
+use crate::pipeline::{Gpu, MAX_PASS_TABLE_BYTES, OwnPass, OwnPassLayout, Shaded, flat_grid};
 use crate::shaders::{ShaderFile, kernel_and_glue};
 use crate::{GpuContext, GpuError, GpuWindow};
 
@@ -93,16 +93,16 @@ wgsl_struct! {
         /// row records, read per pixel on the device ([`device_fields`]); 0 when it holds
         /// each pixel's values (displaced tiles, whose positions are the host's).
         pixel_fields: u32,
-        /// 1 when the bins table holds the tile's reach masks ([`bin_layout`]).
-        binned: u32,
+        _pad1: u32,
+        _pad2: u32,
         /// Blocks of [`BLOCK`]² pixels across the tile.
         bin_blocks_x: u32,
-        /// Cells per block along x and y.
-        bin_span_x: u32,
-        bin_span_y: u32,
+        /// Cells per block along x and along y.
+        bin_span: u32,
         /// Mask chunks per cell ([`CHUNK`] impulses each).
         bin_chunks: u32,
-        /// `phasor_bin`'s invocations and invocations per row of its grid.
+        /// `phasor_bin`'s invocations (0 where the bins table holds no masks,
+        /// [`bin_layout`]) and invocations per row of its grid.
         bin_masks: u32,
         bin_stride: u32,
         _pad0: u32,
@@ -113,8 +113,16 @@ wgsl_struct! {
 const BLOCK: usize = 8;
 /// Impulses per mask chunk (`PHASOR_CHUNK`: an f32 holds an integer below 2¹⁶ exactly).
 const CHUNK: u32 = 16;
-/// Invocations per workgroup of `phasor_bin` (its `@workgroup_size`).
-const BIN_WORKGROUP: u32 = 64;
+/// `phasor_bin`: it reads the tile's cells (2), impulses (3), columns (7) and rows (8) and
+/// writes the masks in `output`'s place (9), one invocation a mask, 64 a workgroup (its
+/// `@workgroup_size`).
+const BIN_PASS: OwnPassLayout = OwnPassLayout {
+    label: "phasor bin",
+    bindings: &[2, 3, 7, 8],
+    target: 9,
+    workgroup: 64,
+    invocations: |uniform| bytemuck::pod_read_unaligned::<PhasorParams>(uniform).bin_masks,
+};
 /// The widest span of cells a block's masks cover along an axis: beyond it (a tile minified
 /// far enough that 8 pixels cross several cells) the pixels visit every impulse.
 const MAX_BIN_SPAN: u64 = 6;
@@ -151,10 +159,9 @@ fn bin_layout(
     if bytes > limit.min(MAX_PASS_TABLE_BYTES) {
         return None;
     }
-    let (stride, _) = flat_grid(gpu, masks, BIN_WORKGROUP);
-    params.binned = 1;
+    let (stride, _) = flat_grid(gpu, masks, BIN_PASS.workgroup);
     params.bin_blocks_x = blocks_x as u32;
-    (params.bin_span_x, params.bin_span_y) = (span as u32, span as u32);
+    params.bin_span = span as u32;
     params.bin_chunks = chunks as u32;
     params.bin_masks = masks;
     params.bin_stride = stride;
@@ -583,20 +590,14 @@ impl ShaderKernel for PhasorKernel {
         // The reach masks, written on the device by `phasor_bin` before the tile's dispatch:
         // for an undisplaced tile (a displaced one's pixels move between blocks).
         let most = cells.iter().map(|c| c[1]).max().unwrap_or(0);
-        let mut passes = Vec::new();
-        let bins = match &self.bin {
+        let binned = match &self.bin {
             Some(bin) if !displacement.is_some() && !cells.is_empty() => {
-                match bin_layout(&mut params, &bin.gpu, tile.scale, side, most, limit) {
-                    Some(bytes) => {
-                        passes.push(PreparedTile::Tables(TileTables::new(&params, Vec::new())));
-                        Table::filled_on_device("phasor bins", bytes)
-                    }
-                    None => Table::new("phasor bins", &[0.0f32]),
-                }
+                bin_layout(&mut params, &bin.gpu, tile.scale, side, most, limit)
             }
-            _ => Table::new("phasor bins", &[0.0f32]),
+            _ => None,
         };
-        let mut tables = TileTables::new(
+        let bins = Table::left_to_pass("phasor bins", binned);
+        Ok(TileTables::new(
             &params,
             vec![
                 Table::new("phasor cells", &cells),
@@ -608,9 +609,8 @@ impl ShaderKernel for PhasorKernel {
             .chain(std::iter::once(bins))
             .chain(axes.tables(["phasor columns", "phasor rows"]))
             .collect(),
-        );
-        tables.passes = passes;
-        Ok(tables)
+        )
+        .with_pass(binned.map(|_| &params)))
     }
 
     /// `phasor_bin` over the tile's blocks into `target` (the table `phasor_main` reads as
@@ -620,28 +620,11 @@ impl ShaderKernel for PhasorKernel {
         _tile: &GpuWindow,
         passes: Vec<PreparedTile>,
         encoder: &mut wgpu::CommandEncoder,
-        (target, bound, displacement): (&wgpu::Buffer, &[&wgpu::Buffer], Option<&wgpu::Buffer>),
+        buffers: (&wgpu::Buffer, &[&wgpu::Buffer], Option<&wgpu::Buffer>),
         timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) -> Result<(), GpuError> {
-        let Some((bin, uniform)) =
-            OwnPass::prepared("phasor", self.bin.as_deref(), &passes, displacement)?
-        else {
-            return Err(GpuError::Validation(
-                "phasor: a displaced tile has no masks".to_owned(),
-            ));
-        };
-        let masks = bytemuck::pod_read_unaligned::<PhasorParams>(uniform).bin_masks;
-        // The tile's cells (2), impulses (3), columns (7) and rows (8), and the target in
-        // `output`'s place (9).
-        encode_own_pass(
-            &bin.gpu,
-            encoder,
-            ("phasor bin", &bin.pipeline, uniform),
-            (bound, &[2, 3, 7, 8]),
-            (target, 9),
-            (masks, BIN_WORKGROUP),
-            timer,
-        )
+        let own = self.bin.as_deref();
+        OwnPass::record(own, &BIN_PASS, (&passes, encoder), buffers, timer)
     }
 }
 
@@ -1080,6 +1063,7 @@ pub mod tests {
     /// `PHASOR_CELL_REACH2`, or no fallback for wrapped blocks, fails it.
     pub fn binned_masks_render_the_unbinned_bits() {
         use crate::layout::check::context_or_skip;
+        use crate::pipeline::tile_bits;
         let Some(context) = context_or_skip("binned_masks_render_the_unbinned_bits") else {
             return;
         };
@@ -1125,14 +1109,8 @@ pub mod tests {
                 .tile_tables(&tile, TileDisplacement::None, u64::MAX)
                 .unwrap();
             assert_eq!(prepared.passes.len(), 1, "{tile:?} is binned");
-            let render = |k: PhasorKernel| {
-                let tables = [Table::new("phasor profile", &data)];
-                let bits = Shaded::boxed(&context, k, &tables)
-                    .unwrap()
-                    .render_tile(&tile, None)
-                    .unwrap();
-                bits.into_iter().map(f32::to_bits).collect::<Vec<_>>()
-            };
+            let tables = [Table::new("phasor profile", &data)];
+            let render = |k: PhasorKernel| tile_bits(&context, k, &tables, &tile);
             assert_eq!(render(binned), render(kernel), "{tile:?}");
         }
     }

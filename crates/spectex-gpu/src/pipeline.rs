@@ -308,83 +308,101 @@ impl OwnPass {
         })
     }
 
-    /// For `encode_passes`: the kind's pass `own` and the uniform of the one pass its tile
-    /// prepared, or `None` for a tile displaced on the device (whose pixels draw for
-    /// themselves).
+    /// Records the kind's own pass `own` for a tile (`ShaderKernel::encode_passes`), laid out
+    /// by `layout`: the uniform of the one pass its tile prepared, the kind's buffers `bound`
+    /// at `layout.bindings` (binding b is `bound[b − 1]`) and `target` at `layout.target`;
+    /// nothing for a tile displaced on the device, whose pixels do the work themselves (the
+    /// shaders read a pass's table only undisplaced).
     ///
     /// # Errors
-    /// [`GpuError::Validation`] naming `kind` unless `passes` is one prepared pass and the
-    /// kind has its pipeline.
-    pub(crate) fn prepared<'a>(
-        kind: &str,
-        own: Option<&'a Self>,
-        passes: &'a [PreparedTile],
-        displacement: Option<&wgpu::Buffer>,
-    ) -> Result<Option<(&'a Self, &'a [u8])>, GpuError> {
+    /// [`GpuError::Validation`] naming the pass unless `passes` is one prepared pass and the
+    /// kind has its pipeline, or for a binding `bound` lacks.
+    pub(crate) fn record(
+        own: Option<&Self>,
+        layout: &OwnPassLayout,
+        (passes, encoder): (&[PreparedTile], &mut wgpu::CommandEncoder),
+        (target, bound, displacement): (&wgpu::Buffer, &[&wgpu::Buffer], Option<&wgpu::Buffer>),
+        timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) -> Result<(), GpuError> {
+        let label = layout.label;
         let (Some(own), [PreparedTile::Tables(pass)]) = (own, passes) else {
             return Err(GpuError::Validation(format!(
-                "{kind}: its own pass needs its pipeline and the one pass its tile prepared"
+                "{label}: needs its pipeline and the one pass its tile prepared"
             )));
         };
-        Ok(displacement
-            .is_none()
-            .then_some((own, pass.uniform.as_slice())))
+        if displacement.is_some() {
+            return Ok(());
+        }
+        let gpu = &own.gpu;
+        let uniform = gpu.buffer(label, &pass.uniform, wgpu::BufferUsages::UNIFORM);
+        let mut entries = vec![wgpu::BindGroupEntry {
+            binding: 0,
+            resource: uniform.as_entire_binding(),
+        }];
+        for &binding in layout.bindings {
+            let buffer = bound.get(binding as usize - 1).ok_or_else(|| {
+                GpuError::Validation(format!("{label}: no buffer bound at {binding}"))
+            })?;
+            entries.push(wgpu::BindGroupEntry {
+                binding,
+                resource: buffer.as_entire_binding(),
+            });
+        }
+        entries.push(wgpu::BindGroupEntry {
+            binding: layout.target,
+            resource: target.as_entire_binding(),
+        });
+        let group_layout = own.pipeline.layouts.first().ok_or_else(|| {
+            GpuError::Validation(format!("{label}: its pipeline has no bind group"))
+        })?;
+        let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(label),
+            layout: group_layout,
+            entries: &entries,
+        });
+        let count = (layout.invocations)(&pass.uniform);
+        let (_, grid) = flat_grid(gpu, count, layout.workgroup);
+        let mut compute = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(label),
+            timestamp_writes: timer,
+        });
+        compute.set_pipeline(&own.pipeline.pipeline);
+        compute.set_bind_group(0, &group, &[]);
+        compute.dispatch_workgroups(grid[0], grid[1], 1);
+        Ok(())
     }
 }
 
-/// Records a pass of a kind's own before its tile's dispatch (`ShaderKernel::encode_passes`):
-/// `pipeline` (another entry point of the kind's shader) with `uniform` at binding 0, the
-/// kind's buffers `bound` at `bindings` (binding b is `bound[b − 1]`), `target` at
-/// `target_binding` (the output's place), over `count` invocations in workgroups of
-/// `workgroup` along a [`flat_grid`], with `timer` writing its timestamps.
-///
-/// # Errors
-/// [`GpuError::Validation`] for a binding `bound` lacks or a pipeline without a bind group.
-pub(crate) fn encode_own_pass(
-    gpu: &Gpu,
-    encoder: &mut wgpu::CommandEncoder,
-    (label, pipeline, uniform): (&str, &CachedPipeline, &[u8]),
-    (bound, bindings): (&[&wgpu::Buffer], &[u32]),
-    (target, target_binding): (&wgpu::Buffer, u32),
-    (count, workgroup): (u32, u32),
-    timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
-) -> Result<(), GpuError> {
-    let uniform = gpu.buffer(label, uniform, wgpu::BufferUsages::UNIFORM);
-    let mut entries = vec![wgpu::BindGroupEntry {
-        binding: 0,
-        resource: uniform.as_entire_binding(),
-    }];
-    for &binding in bindings {
-        let buffer = bound.get(binding as usize - 1).ok_or_else(|| {
-            GpuError::Validation(format!("{label}: no buffer bound at {binding}"))
-        })?;
-        entries.push(wgpu::BindGroupEntry {
-            binding,
-            resource: buffer.as_entire_binding(),
-        });
-    }
-    entries.push(wgpu::BindGroupEntry {
-        binding: target_binding,
-        resource: target.as_entire_binding(),
-    });
-    let layout = pipeline
-        .layouts
-        .first()
-        .ok_or_else(|| GpuError::Validation(format!("{label}: its pipeline has no bind group")))?;
-    let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some(label),
-        layout,
-        entries: &entries,
-    });
-    let (_, grid) = flat_grid(gpu, count, workgroup);
-    let mut compute = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-        label: Some(label),
-        timestamp_writes: timer,
-    });
-    compute.set_pipeline(&pipeline.pipeline);
-    compute.set_bind_group(0, &group, &[]);
-    compute.dispatch_workgroups(grid[0], grid[1], 1);
-    Ok(())
+/// How a kind's own pass binds and dispatches ([`OwnPass::record`]).
+#[derive(Debug)]
+pub(crate) struct OwnPassLayout {
+    /// The pass's label (buffers, bind group, errors).
+    pub(crate) label: &'static str,
+    /// The kind's bindings the pass reads, besides its uniform at 0.
+    pub(crate) bindings: &'static [u32],
+    /// The binding its table takes: the output's.
+    pub(crate) target: u32,
+    /// Its `@workgroup_size` (a flat grid).
+    pub(crate) workgroup: u32,
+    /// Its invocations, from its uniform's bytes.
+    pub(crate) invocations: fn(&[u8]) -> u32,
+}
+
+/// The bits of `tile` through `kernel` (its resident `tables`): the own-pass tests render a kind
+/// with and without its pass.
+#[cfg(feature = "unit-tests")]
+pub(crate) fn tile_bits<K: ShaderKernel>(
+    context: &GpuContext,
+    kernel: K,
+    tables: &[Table],
+    tile: &GpuWindow,
+) -> Vec<u32> {
+    #[allow(clippy::unwrap_used, reason = "a test fails loudly")]
+    let values = Shaded::boxed(context, kernel, tables)
+        .unwrap()
+        .render_tile(tile, None)
+        .unwrap();
+    values.into_iter().map(f32::to_bits).collect()
 }
 
 /// Records one dispatch of `pipeline` (one bind group) over `groups` workgroups: `params` as

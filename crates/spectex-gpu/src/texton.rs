@@ -17,7 +17,7 @@ use crate::kernel::{
     GpuKernel, GpuKind, PreparedTile, ShaderKernel, Table, TileDisplacement, TileTables,
 };
 use crate::layout::wgsl_struct;
-use crate::pipeline::{OwnPass, Shaded, encode_own_pass};
+use crate::pipeline::{OwnPass, OwnPassLayout, Shaded};
 use crate::shaders::{ShaderFile, kernel_and_glue};
 use crate::{GpuContext, GpuError, GpuWindow};
 
@@ -52,8 +52,8 @@ wgsl_struct! {
         intensity_lo: f32,
         intensity_hi: f32,
         mean: f32,
-        /// 1 when the draws table holds the tile's cell box (`texton_draw`), else 0.
-        drawn: u32,
+        // Padding to a whole 16-byte uniform row, as the WGSL struct has it.
+        _pad0: u32,
         /// The cell box's first column and row.
         box_i0: i32,
         box_j0: i32,
@@ -61,19 +61,30 @@ wgsl_struct! {
         /// `wrap_cell`), 0 when not periodic.
         cells_x: i32,
         cells_y: i32,
-        /// The cell box's columns and rows; `texton_draw`'s invocations per row of its grid.
+        /// The cell box's columns and rows (0 columns where the draws table holds nothing);
+        /// `texton_draw`'s invocations per row of its grid.
         box_cols: u32,
         box_rows: u32,
         draw_stride: u32,
-        // Padding to a whole 16-byte uniform row, as the WGSL struct has it.
-        _pad0: u32,
         _pad1: u32,
         _pad2: u32,
+        _pad3: u32,
     }
 }
 
-/// Invocations per workgroup of `texton_draw` (its `@workgroup_size`).
-const DRAW_WORKGROUP: u32 = 64;
+/// `texton_draw`: it reads the model data (1: the Poisson CDF) and writes the draws in
+/// `output`'s place (5), one invocation a cell of the box, 64 a workgroup (its
+/// `@workgroup_size`).
+const DRAW_PASS: OwnPassLayout = OwnPassLayout {
+    label: "texton draw",
+    bindings: &[1],
+    target: 5,
+    workgroup: 64,
+    invocations: |uniform| {
+        let p = bytemuck::pod_read_unaligned::<TextonParams>(uniform);
+        p.box_cols * p.box_rows
+    },
+};
 
 /// A texton model on the device.
 #[derive(Debug, Clone)]
@@ -200,8 +211,7 @@ impl ShaderKernel for TextonKernel {
     /// The tile's axes and, with `texton_draw`, the draws of its box of cells (the cells of
     /// its pixels and those within `reach`), left to the device; where they would not fit
     /// `limit` or `MAX_PASS_TABLE_BYTES`, the pixels draw for themselves, as a tile displaced
-    /// on the device does
-    /// ([`encode_passes`](Self::encode_passes) records nothing then).
+    /// on the device does ([`encode_passes`](Self::encode_passes) records nothing then).
     fn tile_tables(
         &self,
         tile: &GpuWindow,
@@ -214,38 +224,31 @@ impl ShaderKernel for TextonKernel {
             ..self.params
         };
         let axes = CellAxes::new(self.cell_size, tile, self.period);
-        let mut passes = Vec::new();
-        let mut draws = Table::new("texton draws", &[[0.0f32; 4]]);
         let per_cell = if params.placement == 1 {
             MAX_TEXTONS_PER_CELL as u64
         } else {
             1
         };
-        if let Some(draw) = &self.draw
-            && let Some(b) = draw.draw_box(
+        let drawn = match &self.draw {
+            Some(draw) => draw.draw_box(
                 axes.cell_range(tile, displacement)?,
                 (params.reach.unsigned_abs(), (1 + 2 * per_cell) * 16),
-                (DRAW_WORKGROUP, limit),
-            )
-        {
-            (
-                params.box_i0,
-                params.box_j0,
-                params.box_cols,
-                params.box_rows,
-            ) = (b.i0, b.j0, b.cols, b.rows);
-            (params.draw_stride, params.drawn) = (b.stride, 1);
-            passes.push(PreparedTile::Tables(TileTables::new(&params, Vec::new())));
-            draws = Table::filled_on_device("texton draws", b.bytes);
+                (DRAW_PASS.workgroup, limit),
+            ),
+            None => None,
+        };
+        if let Some(b) = drawn {
+            (params.box_i0, params.box_j0) = (b.i0, b.j0);
+            (params.box_cols, params.box_rows, params.draw_stride) = (b.cols, b.rows, b.stride);
         }
-        let mut tables = TileTables::new(
+        let draws = Table::left_to_pass("texton draws", drawn.map(|b| b.bytes));
+        Ok(TileTables::new(
             &params,
             std::iter::once(draws)
                 .chain(axes.tables(["texton columns", "texton rows"]))
                 .collect(),
-        );
-        tables.passes = passes;
-        Ok(tables)
+        )
+        .with_pass(drawn.map(|_| &params)))
     }
 
     /// `texton_draw` over the tile's box into `target` (the table `texton_main` reads as
@@ -255,25 +258,11 @@ impl ShaderKernel for TextonKernel {
         _tile: &GpuWindow,
         passes: Vec<PreparedTile>,
         encoder: &mut wgpu::CommandEncoder,
-        (target, bound, displacement): (&wgpu::Buffer, &[&wgpu::Buffer], Option<&wgpu::Buffer>),
+        buffers: (&wgpu::Buffer, &[&wgpu::Buffer], Option<&wgpu::Buffer>),
         timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) -> Result<(), GpuError> {
-        let Some((draw, uniform)) =
-            OwnPass::prepared("texton", self.draw.as_deref(), &passes, displacement)?
-        else {
-            return Ok(());
-        };
-        let p = bytemuck::pod_read_unaligned::<TextonParams>(uniform);
-        // The model data (1: the Poisson CDF), and the target in `output`'s place (5).
-        encode_own_pass(
-            &draw.gpu,
-            encoder,
-            ("texton draw", &draw.pipeline, uniform),
-            (bound, &[1]),
-            (target, 5),
-            (p.box_cols * p.box_rows, DRAW_WORKGROUP),
-            timer,
-        )
+        let own = self.draw.as_deref();
+        OwnPass::record(own, &DRAW_PASS, (&passes, encoder), buffers, timer)
     }
 }
 
@@ -317,6 +306,7 @@ pub mod tests {
     /// is the CPU's bit for bit, the per-pixel one differs in 321 bytes of 128,690).
     pub fn drawn_cells_render_the_per_pixel_bits() {
         use crate::layout::check::context_or_skip;
+        use crate::pipeline::tile_bits;
         let Some(context) = context_or_skip("texton drawn_cells_render_the_per_pixel_bits") else {
             return;
         };
@@ -381,14 +371,8 @@ pub mod tests {
                 .tile_tables(&tile, TileDisplacement::None, u64::MAX)
                 .unwrap();
             assert_eq!(prepared.passes.len(), 1, "{tile:?} is drawn");
-            let render = |k: TextonKernel| {
-                let tables = [Table::new("texton model data", &data)];
-                let bits = Shaded::boxed(&context, k, &tables)
-                    .unwrap()
-                    .render_tile(&tile, None)
-                    .unwrap();
-                bits.into_iter().map(f32::to_bits).collect::<Vec<_>>()
-            };
+            let tables = [Table::new("texton model data", &data)];
+            let render = |k: TextonKernel| tile_bits(&context, k, &tables, &tile);
             assert_eq!(render(drawn), render(kernel), "{tile:?}");
         }
     }
