@@ -308,7 +308,7 @@ fn gabor_main(@builtin(global_invocation_id) gid: vec3<u32>) {
         output[index] = params.mean;
         return;
     }
-    if (params.box_cols != 0u && warp_params.enabled == 0u) {
+    if (params.box_cols != 0u) {
         output[index] = gabor_value_drawn(column, row);
     } else {
         output[index] = gabor_value(column, row);

@@ -431,7 +431,7 @@ fn phasor_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let block = (gid.y / PHASOR_BLOCK) * params.bin_blocks_x + gid.x / PHASOR_BLOCK;
     var span_i = 0u;
     var span_j = 0u;
-    let binned = params.bin_masks != 0u && warp_params.enabled == 0u;
+    let binned = params.bin_masks != 0u;
     if (binned) {
         span_i = bitcast<u32>(columns[gid.x - gid.x % PHASOR_BLOCK].cell) - 1u;
         span_j = bitcast<u32>(rows[gid.y - gid.y % PHASOR_BLOCK].cell) - 1u;

@@ -167,7 +167,7 @@ fn texton_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let at = grid_point(columns[gid.x], rows[gid.y], index, params.inv_cell);
     let column = at.column;
     let row = at.row;
-    if (params.box_cols != 0u && warp_params.enabled == 0u) {
+    if (params.box_cols != 0u) {
         output[index] = texton_value_drawn(column, row);
     } else {
         output[index] = texton_value(column, row);

@@ -164,6 +164,13 @@ impl CellAxes {
                     }
                 }
             }
+            TileDisplacement::OnDevice => {
+                return Err(GpuError::Validation(
+                    "the cell range of a tile displaced on the device by a displacement it \
+                     does not read"
+                        .to_owned(),
+                ));
+            }
             TileDisplacement::None => {
                 for (axis, records) in [&self.columns, &self.rows].into_iter().enumerate() {
                     for r in records.iter().filter(|r| r.valid == 1) {

@@ -237,9 +237,8 @@ impl ShaderKernel for GaborKernel {
 
     /// The tile's axes and, with `gabor_draw`, the draws of its box of cells (the cells of its
     /// pixels and their neighbours), left to the device; where they would not fit `limit` or
-    /// `MAX_PASS_TABLE_BYTES`, the pixels draw for themselves. A tile displaced on the device
-    /// draws per pixel too (`gabor_main` reads the draws only undisplaced,
-    /// [`encode_passes`](Self::encode_passes) records nothing then).
+    /// `MAX_PASS_TABLE_BYTES`, the pixels draw for themselves, as a displaced tile's do (its
+    /// pixels leave the box).
     fn tile_tables(
         &self,
         tile: &GpuWindow,
@@ -254,12 +253,12 @@ impl ShaderKernel for GaborKernel {
         let axes = CellAxes::new(self.radius, tile, self.period);
         let cell_bytes = (1 + 2 * u64::from(params.max_impulses)) * 16;
         let drawn = match &self.draw {
-            Some(draw) => draw.draw_box(
+            Some(draw) if !displacement.is_some() => draw.draw_box(
                 axes.cell_range(tile, displacement)?,
                 (1, cell_bytes),
                 (DRAW_PASS.workgroup, limit),
             ),
-            None => None,
+            _ => None,
         };
         if let Some(b) = drawn {
             (params.box_i0, params.box_j0) = (b.i0, b.j0);
@@ -276,7 +275,7 @@ impl ShaderKernel for GaborKernel {
     }
 
     /// `gabor_draw` over the tile's box into `target` (the table `gabor_main` reads as
-    /// `draws`); nothing for a tile displaced on the device, whose pixels draw for themselves.
+    /// `draws`).
     fn encode_passes(
         &self,
         _tile: &GpuWindow,

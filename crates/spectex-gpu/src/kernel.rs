@@ -416,6 +416,10 @@ pub(crate) enum TileDisplacement<'a> {
     Pixels(&'a [f32]),
     /// Only their range: the displacement itself stays on the device.
     Within(DisplacementRange),
+    /// Displaced on the device by a displacement the kind does not read
+    /// ([`DisplacementRead::Nothing`]): its shader moves each pixel (and a pass of its own
+    /// would draw cells the pixels leave).
+    OnDevice,
 }
 
 impl<'a> TileDisplacement<'a> {

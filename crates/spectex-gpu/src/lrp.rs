@@ -370,8 +370,8 @@ impl ShaderKernel for LrpKernel {
         .with_pass(pass.as_ref()))
     }
 
-    /// `lrp_draw` over the tile's boxes into `target` (the table `lrp_main` reads as `draws`);
-    /// nothing for a tile displaced on the device, whose pixels draw for themselves.
+    /// `lrp_draw` over the tile's boxes into `target` (the table `lrp_main` reads as `draws`;
+    /// a displaced tile has none: its pixels draw for themselves).
     fn encode_passes(
         &self,
         _tile: &GpuWindow,

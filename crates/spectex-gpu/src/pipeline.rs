@@ -230,7 +230,7 @@ pub(crate) fn flat_grid(gpu: &Gpu, count: u32, workgroup: u32) -> (u32, [u32; 2]
 }
 
 /// The pipeline of another entry point of a kind's shader, run before the kind's own dispatch
-/// ([`encode_own_pass`]: `lrp_draw`, `gabor_draw`, `texton_draw`, `phasor_bin`). It binds the
+/// ([`OwnPass::record`]: `lrp_draw`, `gabor_draw`, `texton_draw`, `phasor_bin`). It binds the
 /// evaluator's own buffers (`encode_passes`' `bound`).
 #[derive(Debug)]
 pub(crate) struct OwnPass {
@@ -310,13 +310,13 @@ impl OwnPass {
 
     /// Records the kind's own pass `own` for a tile (`ShaderKernel::encode_passes`), laid out
     /// by `layout`: the uniform of the one pass its tile prepared, the kind's buffers `bound`
-    /// at `layout.bindings` (binding b is `bound[b − 1]`) and `target` at `layout.target`;
-    /// nothing for a tile displaced on the device, whose pixels do the work themselves (the
-    /// shaders read a pass's table only undisplaced).
+    /// at `layout.bindings` (binding b is `bound[b − 1]`) and `target` at `layout.target`.
+    /// Only an undisplaced tile prepares one: a displaced tile's pixels leave the cells a pass
+    /// would have worked for, so they do that work themselves.
     ///
     /// # Errors
-    /// [`GpuError::Validation`] naming the pass unless `passes` is one prepared pass and the
-    /// kind has its pipeline, or for a binding `bound` lacks.
+    /// [`GpuError::Validation`] naming the pass unless `passes` is one prepared pass, the kind
+    /// has its pipeline and the tile is undisplaced, or for a binding `bound` lacks.
     pub(crate) fn record(
         own: Option<&Self>,
         layout: &OwnPassLayout,
@@ -325,14 +325,12 @@ impl OwnPass {
         timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) -> Result<(), GpuError> {
         let label = layout.label;
-        let (Some(own), [PreparedTile::Tables(pass)]) = (own, passes) else {
+        let (Some(own), [PreparedTile::Tables(pass)], None) = (own, passes, displacement) else {
             return Err(GpuError::Validation(format!(
-                "{label}: needs its pipeline and the one pass its tile prepared"
+                "{label}: needs its pipeline, the one pass its tile prepared and an undisplaced \
+                 tile"
             )));
         };
-        if displacement.is_some() {
-            return Ok(());
-        }
         let gpu = &own.gpu;
         let uniform = gpu.buffer(label, &pass.uniform, wgpu::BufferUsages::UNIFORM);
         let mut entries = vec![wgpu::BindGroupEntry {
@@ -721,7 +719,7 @@ impl<K: ShaderKernel> GpuKernel for Shaded<K> {
         range: Option<DisplacementRange>,
     ) -> Result<TileTables, GpuError> {
         let displacement = match (self.kind.displacement_read(), range) {
-            (DisplacementRead::Nothing, _) => TileDisplacement::None,
+            (DisplacementRead::Nothing, _) => TileDisplacement::OnDevice,
             (DisplacementRead::Range, Some(range)) => TileDisplacement::Within(range),
             (read, _) => {
                 return Err(GpuError::Validation(format!(

@@ -210,8 +210,8 @@ impl ShaderKernel for TextonKernel {
 
     /// The tile's axes and, with `texton_draw`, the draws of its box of cells (the cells of
     /// its pixels and those within `reach`), left to the device; where they would not fit
-    /// `limit` or `MAX_PASS_TABLE_BYTES`, the pixels draw for themselves, as a tile displaced
-    /// on the device does ([`encode_passes`](Self::encode_passes) records nothing then).
+    /// `limit` or `MAX_PASS_TABLE_BYTES`, the pixels draw for themselves, as a displaced
+    /// tile's do (its pixels leave the box).
     fn tile_tables(
         &self,
         tile: &GpuWindow,
@@ -230,12 +230,12 @@ impl ShaderKernel for TextonKernel {
             1
         };
         let drawn = match &self.draw {
-            Some(draw) => draw.draw_box(
+            Some(draw) if !displacement.is_some() => draw.draw_box(
                 axes.cell_range(tile, displacement)?,
                 (params.reach.unsigned_abs(), (1 + 2 * per_cell) * 16),
                 (DRAW_PASS.workgroup, limit),
             ),
-            None => None,
+            _ => None,
         };
         if let Some(b) = drawn {
             (params.box_i0, params.box_j0) = (b.i0, b.j0);
@@ -252,7 +252,7 @@ impl ShaderKernel for TextonKernel {
     }
 
     /// `texton_draw` over the tile's box into `target` (the table `texton_main` reads as
-    /// `draws`); nothing for a tile displaced on the device, whose pixels draw for themselves.
+    /// `draws`).
     fn encode_passes(
         &self,
         _tile: &GpuWindow,

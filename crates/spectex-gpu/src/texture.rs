@@ -356,10 +356,17 @@ impl ShaderKernel for TextureKernel {
                     "texture: its passes need each pixel's displacement, not its range".to_owned(),
                 ));
             }
-            TileDisplacement::None => {
+            // Displaced on the device, its passes read the displacement themselves (their
+            // host parts prepared for that, `encode_device_displaced`'s contract).
+            TileDisplacement::None | TileDisplacement::OnDevice => {
                 for plane in self.planes() {
                     if let Plane::Lrp(e) = plane {
-                        passes.push(e.prepare_pass(tile)?);
+                        passes.push(match displacement {
+                            TileDisplacement::OnDevice => {
+                                PreparedTile::Tables(e.prepare_device_displaced(tile, None)?)
+                            }
+                            _ => e.prepare_pass(tile)?,
+                        });
                     }
                 }
                 Table::filled_on_device("texture values", 4 * (planes * n) as u64)
