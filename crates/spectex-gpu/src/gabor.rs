@@ -318,7 +318,7 @@ pub mod tests {
     /// period. Each tile must really be drawn (its one pass prepared).
     pub fn drawn_cells_render_the_per_pixel_bits() {
         use crate::layout::check::context_or_skip;
-        use crate::pipeline::tile_bits;
+        use crate::pipeline::assert_own_pass_keeps_bits;
         let Some(context) = context_or_skip("drawn_cells_render_the_per_pixel_bits") else {
             return;
         };
@@ -353,13 +353,8 @@ pub mod tests {
             let kernel = pack(model, period);
             let mut drawn = kernel.clone();
             drawn.draw = Some(OwnPass::new(&context, "gabor", "gabor_draw").unwrap());
-            let prepared = drawn
-                .tile_tables(&tile, TileDisplacement::None, u64::MAX)
-                .unwrap();
-            assert_eq!(prepared.passes.len(), 1, "{tile:?} is drawn");
             let tables = kernel.tables();
-            let render = |k: GaborKernel| tile_bits(&context, k, &tables, &tile);
-            assert_eq!(render(drawn), render(kernel), "{tile:?}");
+            assert_own_pass_keeps_bits(&context, (drawn, kernel), &tables, &tile);
         }
     }
 

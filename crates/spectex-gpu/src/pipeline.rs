@@ -386,21 +386,29 @@ pub(crate) struct OwnPassLayout {
     pub(crate) invocations: fn(&[u8]) -> u32,
 }
 
-/// The bits of `tile` through `kernel` (its resident `tables`): the own-pass tests render a kind
-/// with and without its pass.
+/// The own-pass tests' check: `with` (a kernel with its pass) prepares that one pass for
+/// `tile`, and renders it with the bits of `without` (the same kernel without the pass), both
+/// over the resident `tables`.
 #[cfg(feature = "unit-tests")]
-pub(crate) fn tile_bits<K: ShaderKernel>(
+#[allow(clippy::unwrap_used, reason = "a test fails loudly")]
+pub(crate) fn assert_own_pass_keeps_bits<K: ShaderKernel>(
     context: &GpuContext,
-    kernel: K,
+    (with, without): (K, K),
     tables: &[Table],
     tile: &GpuWindow,
-) -> Vec<u32> {
-    #[allow(clippy::unwrap_used, reason = "a test fails loudly")]
-    let values = Shaded::boxed(context, kernel, tables)
-        .unwrap()
-        .render_tile(tile, None)
+) {
+    let prepared = with
+        .tile_tables(tile, TileDisplacement::None, u64::MAX)
         .unwrap();
-    values.into_iter().map(f32::to_bits).collect()
+    assert_eq!(prepared.passes.len(), 1, "{tile:?} prepares its pass");
+    let bits = |k: K| -> Vec<u32> {
+        let values = Shaded::boxed(context, k, tables)
+            .unwrap()
+            .render_tile(tile, None)
+            .unwrap();
+        values.into_iter().map(f32::to_bits).collect()
+    };
+    assert_eq!(bits(with), bits(without), "{tile:?}");
 }
 
 /// Records one dispatch of `pipeline` (one bind group) over `groups` workgroups: `params` as

@@ -306,7 +306,7 @@ pub mod tests {
     /// is the CPU's bit for bit, the per-pixel one differs in 321 bytes of 128,690).
     pub fn drawn_cells_render_the_per_pixel_bits() {
         use crate::layout::check::context_or_skip;
-        use crate::pipeline::tile_bits;
+        use crate::pipeline::assert_own_pass_keeps_bits;
         let Some(context) = context_or_skip("texton drawn_cells_render_the_per_pixel_bits") else {
             return;
         };
@@ -367,13 +367,8 @@ pub mod tests {
             }
             let mut drawn = kernel.clone();
             drawn.draw = Some(OwnPass::new(&context, "texton", "texton_draw").unwrap());
-            let prepared = drawn
-                .tile_tables(&tile, TileDisplacement::None, u64::MAX)
-                .unwrap();
-            assert_eq!(prepared.passes.len(), 1, "{tile:?} is drawn");
             let tables = [Table::new("texton model data", &data)];
-            let render = |k: TextonKernel| tile_bits(&context, k, &tables, &tile);
-            assert_eq!(render(drawn), render(kernel), "{tile:?}");
+            assert_own_pass_keeps_bits(&context, (drawn, kernel), &tables, &tile);
         }
     }
 }
