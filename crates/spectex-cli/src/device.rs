@@ -81,6 +81,9 @@ pub(crate) fn render(
                     "internal: the GPU renders {values} values for {samples} samples"
                 ));
             }
+            // The read-back tiles are copied into `out` on rayon's pool: its start-up is not
+            // the render's.
+            let _ = rayon::current_num_threads();
             crate::interrupt::watch();
             let start = std::time::Instant::now();
             let stats =

@@ -233,16 +233,8 @@ impl GpuEvaluator {
         let pixel = self.output_channels() * format.bytes_per_value();
         let row = window.width * pixel;
         let mut write = |[tx, ty]: [usize; 2], tile: &GpuWindow, bytes: &[u8]| {
-            let line = tile.width * pixel;
-            if line == row {
-                let start = ty * row;
-                out[start..start + bytes.len()].copy_from_slice(bytes);
-            } else {
-                for (r, chunk) in bytes.chunks_exact(line).enumerate() {
-                    let start = (ty + r) * row + tx * pixel;
-                    out[start..start + line].copy_from_slice(chunk);
-                }
-            }
+            let rows = &mut out[ty * row..(ty + tile.height) * row];
+            render::copy_tile(rows, row, tx * pixel, tile.width * pixel, bytes);
         };
         self.render_with(window, format, Sink::Host(&mut write))
     }

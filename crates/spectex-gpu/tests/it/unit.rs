@@ -15,7 +15,7 @@ spectex_testkit::unit_tests! {
     tiling: params_match_the_wgsl;
     phasor: records_match_the_wgsl, nested_blends_are_unsupported_in_phasor_models, binned_masks_render_the_unbinned_bits;
     pipeline: warp_params_match_the_wgsl;
-    render: pack_params_match_the_wgsl, packing_is_the_cpus_quantisation_and_counts_what_it_clamps, store_shaders_validate_with_the_record_layout;
+    render: pack_params_match_the_wgsl, copied_tiles_land_where_their_rows_say, packing_is_the_cpus_quantisation_and_counts_what_it_clamps, store_shaders_validate_with_the_record_layout;
     shaders: model_shaders_use_every_binding_in_the_host_order, names_are_unique_and_composition_prepends_common;
     simulate: sim_params_match_the_wgsl;
     subdivision: params_match_the_wgsl;
