@@ -81,8 +81,11 @@ pub(crate) fn render(
                     "internal: the GPU renders {values} values for {samples} samples"
                 ));
             }
-            // The read-back tiles are copied into `out` on rayon's pool: its start-up is not
-            // the render's.
+            // Set-up, not evaluation: the device's buffers for the tiles, the pipeline that
+            // packs a PNG's levels, and rayon's pool, which copies the read-back tiles into
+            // `out`.
+            gpu.reserve(window, sample_format(out))
+                .map_err(|e| anyhow!("{e}; try --device cpu"))?;
             let _ = rayon::current_num_threads();
             crate::interrupt::watch();
             let start = std::time::Instant::now();
@@ -148,11 +151,11 @@ pub(crate) fn gpu_samples(
     out: &mut io::Samples,
 ) -> Result<spectex_gpu::RenderStats, spectex_gpu::GpuError> {
     use io::SampleData;
-    use spectex_gpu::OutputFormat;
-    let (format, bytes): (OutputFormat, &mut [u8]) = match &mut out.data {
-        SampleData::U8(v) => (OutputFormat::Unorm8, v),
-        SampleData::U16(v) => (OutputFormat::Unorm16, bytemuck::cast_slice_mut(v)),
-        SampleData::F32(v) => (OutputFormat::F32, bytemuck::cast_slice_mut(v)),
+    let format = sample_format(out);
+    let bytes: &mut [u8] = match &mut out.data {
+        SampleData::U8(v) => v,
+        SampleData::U16(v) => bytemuck::cast_slice_mut(v),
+        SampleData::F32(v) => bytemuck::cast_slice_mut(v),
     };
     let stats = gpu.render_bytes_into(window, format, bytes)?;
     if let SampleData::U16(v) = &mut out.data {
@@ -160,6 +163,16 @@ pub(crate) fn gpu_samples(
         v.iter_mut().for_each(|level| *level = u16::from_le(*level));
     }
     Ok(stats)
+}
+
+/// The GPU's output format for `out`'s samples: a PNG's 8- or 16-bit levels, an OpenEXR's f32.
+fn sample_format(out: &io::Samples) -> spectex_gpu::OutputFormat {
+    use spectex_gpu::OutputFormat;
+    match &out.data {
+        io::SampleData::U8(_) => OutputFormat::Unorm8,
+        io::SampleData::U16(_) => OutputFormat::Unorm16,
+        io::SampleData::F32(_) => OutputFormat::F32,
+    }
 }
 
 /// What bands of a CPU render report, summed over bands.

@@ -377,19 +377,8 @@ impl GpuEvaluator {
             }
         }
         let capacity = (tile_width * tile_height * self.output_channels()) as u64;
-        // A poisoned lock (a panic during another render) only loses the ring.
-        let mut guard = self.ring.lock().unwrap_or_else(|poisoned| {
-            let mut guard = poisoned.into_inner();
-            *guard = None;
-            guard
-        });
-        if guard
-            .as_ref()
-            .is_some_and(|ring| ring.capacity() < capacity)
-        {
-            *guard = None;
-        }
-        let ring = guard.get_or_insert_with(|| Ring::new(&self.gpu, capacity));
+        let mut guard = self.lock_ring();
+        let ring = ring_of(&self.gpu, &mut guard, capacity);
         let result = render::run(
             &self.gpu,
             self.kernel.as_ref(),
@@ -405,6 +394,34 @@ impl GpuEvaluator {
             *guard = None;
         }
         result
+    }
+
+    /// Makes ahead of a render what a render of `window` in `format` needs on the device and
+    /// makes itself where missing: the ring of buffers for its tiles and the pipeline that
+    /// packs `format`. A caller timing a single render (as `spectex render` does) calls this
+    /// first, so that the time is the render's and not the allocation of its device and
+    /// host-visible memory or the compilation of a shader. Renders of windows whose tiles are
+    /// no larger reuse both.
+    ///
+    /// # Errors
+    /// As [`render`](Self::render).
+    pub fn reserve(&self, window: &GpuWindow, format: OutputFormat) -> Result<(), GpuError> {
+        self.values(window)?;
+        let [tile_width, tile_height] = self.tile_size(window)?;
+        self.packers.pack(&self.gpu, format)?;
+        let capacity = (tile_width * tile_height * self.output_channels()) as u64;
+        ring_of(&self.gpu, &mut self.lock_ring(), capacity);
+        Ok(())
+    }
+
+    /// The render ring's lock; a poisoned lock (a panic during another render) only loses the
+    /// ring.
+    fn lock_ring(&self) -> std::sync::MutexGuard<'_, Option<Ring>> {
+        self.ring.lock().unwrap_or_else(|poisoned| {
+            let mut guard = poisoned.into_inner();
+            *guard = None;
+            guard
+        })
     }
 
     /// The host's part of `tile`'s undisplaced render, for [`encode_pass`](Self::encode_pass)
@@ -469,4 +486,13 @@ impl GpuEvaluator {
     ) -> Result<Vec<f32>, GpuError> {
         self.kernel.render_tile(tile, displacement)
     }
+}
+
+/// The ring in `slot`, made anew where there is none or it holds fewer than `capacity` values
+/// a slot.
+fn ring_of<'a>(gpu: &Gpu, slot: &'a mut Option<Ring>, capacity: u64) -> &'a Ring {
+    if slot.as_ref().is_some_and(|ring| ring.capacity() < capacity) {
+        *slot = None;
+    }
+    slot.get_or_insert_with(|| Ring::new(gpu, capacity))
 }

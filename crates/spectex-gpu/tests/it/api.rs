@@ -8,7 +8,7 @@
 
 use crate::common;
 
-use spectex_gpu::{GpuError, GpuEvaluator, GpuWindow};
+use spectex_gpu::{GpuError, GpuEvaluator, GpuWindow, OutputFormat};
 use spectex_model::{LrpNoise, Model, Stratum};
 
 fn lrp(window_width: f32) -> Model {
@@ -77,6 +77,10 @@ fn invalid_models_and_windows_are_typed_errors() {
         match gpu.render(&window) {
             Err(GpuError::Window { parameter: p, .. }) => assert_eq!(p, parameter),
             other => panic!("{window:?}: expected a window error, got {other:?}"),
+        }
+        match gpu.reserve(&window, OutputFormat::Unorm8) {
+            Err(GpuError::Window { parameter: p, .. }) => assert_eq!(p, parameter),
+            other => panic!("{window:?}: reserve: expected a window error, got {other:?}"),
         }
     }
 }

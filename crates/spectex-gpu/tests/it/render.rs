@@ -99,8 +99,8 @@ fn packed_formats_are_the_f32_render_quantised() {
 }
 
 /// More tiles than ring slots, a second render on the kept ring, a larger window that grows
-/// it, and the default full-width bands: the same bits everywhere, composite kinds and tiles
-/// prepared on worker threads included.
+/// it, a ring reserved ahead for a larger window, and the default full-width bands: the same
+/// bits everywhere, composite kinds and tiles prepared on worker threads included.
 #[test]
 fn tiles_and_ring_reuse_change_no_bit() {
     let Some(context) = common::gpu_or_skip("tiles_and_ring_reuse") else {
@@ -125,6 +125,16 @@ fn tiles_and_ring_reuse_change_no_bit() {
                 "{name}, pass {pass}"
             );
         }
+        let reserved = GpuEvaluator::new(&context, &model(name)).unwrap();
+        reserved
+            .reserve(&GpuWindow::new(300, 200), OutputFormat::F16)
+            .unwrap();
+        let values = reserved.render(&window).unwrap();
+        assert_eq!(
+            common::first_bit_difference(&values, &reference),
+            None,
+            "{name}, reserved"
+        );
         let c = whole.output_channels();
         let part: Vec<f32> = (0..10)
             .flat_map(|y| reference[((2 + y) * 40 + 3) * c..((2 + y) * 40 + 23) * c].to_vec())
