@@ -245,8 +245,10 @@ impl GpuEvaluator {
     /// texture or reads it in its shaders. The buffer needs [`wgpu::BufferUsages::COPY_DST`];
     /// the copies move 4-byte words, so `offset` and, for tiles narrower than the window, each
     /// row's bytes must be whole words, and the buffer must hold the window's bytes rounded up
-    /// to a whole word. The work is submitted to the device's queue when this returns (the
-    /// stats' kernel time waits for it where the device has timestamps).
+    /// to a whole word. The work is submitted to the device's queue when this returns, and
+    /// the call does not wait for the device: a renderer's frame goes on recording while it
+    /// computes, and its own submissions after this one see the values. So the stats have no
+    /// kernel time (a render into host memory has, where the device has timestamps).
     ///
     /// # Errors
     /// [`GpuError::Output`] for a buffer too small, without `COPY_DST`, or misaligned;
@@ -291,7 +293,9 @@ impl GpuEvaluator {
     /// Renders `window` into a caller's storage `texture` (its first mip level and layer),
     /// pixel (x, y) at texel (x, y), with nothing read back: grey values in every colour
     /// channel, colour in R, G, B, alpha 1. The texture is one of [`TEXTURE_FORMATS`], has
-    /// [`wgpu::TextureUsages::STORAGE_BINDING`] and is at least as large as the window.
+    /// [`wgpu::TextureUsages::STORAGE_BINDING`] and is at least as large as the window. As
+    /// [`render_to_buffer`](Self::render_to_buffer), the call returns once the work is
+    /// submitted, without waiting for the device.
     ///
     /// # Errors
     /// [`GpuError::TextureFormat`] for another format, [`GpuError::Output`] for a missing usage

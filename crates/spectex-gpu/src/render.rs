@@ -73,12 +73,13 @@ pub struct RenderStats {
     /// Wall-clock seconds of the render call: tables, dispatches, waits and copies.
     pub seconds: f64,
     /// Seconds the device spent in the render's dispatches (model kernels, the passes of a
-    /// composite kind, packing), from timestamp queries; `None` where the device has none.
+    /// composite kind, packing), from timestamp queries; `None` where the device has none,
+    /// and for a render into a device buffer or texture, which does not wait for the device.
     pub kernel_seconds: Option<f64>,
     /// Tiles dispatched.
     pub tiles: usize,
-    /// Bytes copied from the device to the host (0 for a render into a device buffer, but
-    /// for the timestamps).
+    /// Bytes copied from the device to the host (0 for a render into a device buffer or
+    /// texture).
     pub bytes_read_back: u64,
     /// Values the output format clamped, counted on the device, for a packed render read back
     /// to the host ([`OutputFormat::Unorm8`] and [`OutputFormat::Unorm16`]: outside `[0, 1]`
@@ -420,6 +421,7 @@ pub(crate) fn run(
 ) -> Result<RenderStats, GpuError> {
     let start = Instant::now();
     let clock = gpu.clock_nanos();
+    let timed = gpu.timestamps && matches!(sink, Sink::Host(_));
     let scope = ErrorScopes::push(&gpu.device);
     let result = run_scoped(gpu, kernel, packers, ring, window, tiles, format, &mut sink);
     // A failed submission shows as a failed map: the scope then says what failed.
@@ -431,9 +433,7 @@ pub(crate) fn run(
     };
     Ok(RenderStats {
         seconds: start.elapsed().as_secs_f64(),
-        kernel_seconds: gpu
-            .timestamps
-            .then(|| gpu.clock_nanos().saturating_sub(clock) as f64 * 1e-9),
+        kernel_seconds: timed.then(|| gpu.clock_nanos().saturating_sub(clock) as f64 * 1e-9),
         tiles: tiles.len(),
         bytes_read_back: read_back.bytes,
         clipped: read_back.clipped,
@@ -614,14 +614,18 @@ fn record_all(
             });
         let pair = 2 * slot_index as u32;
         let direct = !matches!(tables, PreparedTile::Values(_) | PreparedTile::OnDevice(_));
-        let timer = ring
-            .queries
-            .as_ref()
-            .map(|set| wgpu::ComputePassTimestampWrites {
-                query_set: set,
-                beginning_of_pass_write_index: Some(pair),
-                end_of_pass_write_index: Some(pair + 1),
-            });
+        // Only a render read back to the host waits for the device, and so can read its
+        // timestamps: one that stays on the device returns once submitted.
+        let timed = matches!(sink, Sink::Host(_));
+        let timer =
+            ring.queries
+                .as_ref()
+                .filter(|_| timed)
+                .map(|set| wgpu::ComputePassTimestampWrites {
+                    query_set: set,
+                    beginning_of_pass_write_index: Some(pair),
+                    end_of_pass_write_index: Some(pair + 1),
+                });
         let output = &slot.values;
         encode_prepared(
             gpu,
@@ -668,7 +672,10 @@ fn record_all(
         } else {
             0
         };
-        if direct && let (Some(set), Some(stamps)) = (&ring.queries, &slot.stamps) {
+        if timed
+            && direct
+            && let (Some(set), Some(stamps)) = (&ring.queries, &slot.stamps)
+        {
             encoder.resolve_query_set(set, pair..pair + 2, stamps, 0);
             encoder.copy_buffer_to_buffer(
                 stamps,
