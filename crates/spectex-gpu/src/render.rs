@@ -595,6 +595,9 @@ fn record_all(
     let channels = kernel.output_channels();
     let per_value = format.bytes_per_value();
     let pack = packers.pack(gpu, format)?;
+    // Only a render read back to the host waits for the device, and so can read its
+    // timestamps: one that stays on the device returns once submitted.
+    let timed = matches!(sink, Sink::Host(_));
     let mut pending: VecDeque<Pending> = VecDeque::with_capacity(RING_SLOTS);
     let mut read_back = ReadBack::default();
     for (k, tile) in tiles.iter().enumerate() {
@@ -614,9 +617,6 @@ fn record_all(
             });
         let pair = 2 * slot_index as u32;
         let direct = !matches!(tables, PreparedTile::Values(_) | PreparedTile::OnDevice(_));
-        // Only a render read back to the host waits for the device, and so can read its
-        // timestamps: one that stays on the device returns once submitted.
-        let timed = matches!(sink, Sink::Host(_));
         let timer =
             ring.queries
                 .as_ref()
