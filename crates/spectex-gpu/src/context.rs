@@ -106,6 +106,14 @@ impl GpuContext {
         }
     }
 
+    /// Whether the device was lost (its device-lost callback ran): nothing renders on it any
+    /// more, and a long-lived caller opens a new context. Always `false` for a caller's device
+    /// ([`from_device`](Self::from_device)), whose callback is the caller's.
+    #[must_use]
+    pub fn is_lost(&self) -> bool {
+        self.lost.lock().map_or(true, |reason| reason.is_some())
+    }
+
     /// The adapter's name, e.g. `llvmpipe (LLVM 15.0.6, 256 bits)`.
     #[must_use]
     pub fn adapter_name(&self) -> String {
