@@ -11,9 +11,7 @@ use spectex_model::{GaborNoise, Orientation, Period};
 
 use crate::axis::{CellAxes, CellAxis};
 use crate::export::{ExportKind, ExportNode, ExportParts};
-use crate::kernel::{
-    GpuKernel, GpuKind, PreparedTile, ShaderKernel, Table, TileDisplacement, TileTables,
-};
+use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileDisplacement, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::{OwnPass, OwnPassLayout, Shaded};
 use crate::shaders::{ShaderFile, kernel_and_glue};
@@ -274,18 +272,8 @@ impl ShaderKernel for GaborKernel {
         .with_pass(drawn.map(|_| &params)))
     }
 
-    /// `gabor_draw` over the tile's box into `target` (the table `gabor_main` reads as
-    /// `draws`).
-    fn encode_passes(
-        &self,
-        _tile: &GpuWindow,
-        passes: Vec<PreparedTile>,
-        encoder: &mut wgpu::CommandEncoder,
-        buffers: (&wgpu::Buffer, &[&wgpu::Buffer], Option<&wgpu::Buffer>),
-        timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
-    ) -> Result<(), GpuError> {
-        let own = self.draw.as_deref();
-        OwnPass::record(own, &DRAW_PASS, (&passes, encoder), buffers, timer)
+    fn own_pass(&self) -> Option<(&OwnPass, &'static OwnPassLayout)> {
+        self.draw.as_deref().map(|pass| (pass, &DRAW_PASS))
     }
 }
 

@@ -12,6 +12,7 @@ use std::fmt;
 
 use spectex_model::{ModelKind, Period};
 
+use crate::pipeline::{OwnPass, OwnPassLayout};
 use crate::{GpuContext, GpuError, GpuWindow};
 
 /// The largest tile, from `[width, height]` halved (rounding up) on both sides together, whose
@@ -351,20 +352,32 @@ pub(crate) trait ShaderKernel: fmt::Debug + Send + Sync + 'static {
     /// writes the first pass's start. Called for every tile whose tables leave one to the
     /// device.
     ///
+    /// By default the kind's [`own_pass`](Self::own_pass) ([`OwnPass::record`]).
+    ///
     /// # Errors
-    /// [`GpuError::Validation`] for a kind without passes of its own.
+    /// [`GpuError::Validation`] for a kind without passes of its own, and as
+    /// [`OwnPass::record`].
     fn encode_passes(
         &self,
         tile: &GpuWindow,
         passes: Vec<PreparedTile>,
         encoder: &mut wgpu::CommandEncoder,
-        (target, bound, displacement): (&wgpu::Buffer, &[&wgpu::Buffer], Option<&wgpu::Buffer>),
+        buffers: (&wgpu::Buffer, &[&wgpu::Buffer], Option<&wgpu::Buffer>),
         timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) -> Result<(), GpuError> {
-        let _ = (tile, passes, encoder, target, bound, displacement, timer);
-        Err(GpuError::Validation(
-            "a kernel without passes of its own was given passes to record".to_owned(),
-        ))
+        let _ = tile;
+        let Some((own, layout)) = self.own_pass() else {
+            return Err(GpuError::Validation(
+                "a kernel without passes of its own was given passes to record".to_owned(),
+            ));
+        };
+        own.record(layout, (&passes, encoder), buffers, timer)
+    }
+
+    /// The kind's own pass (`lrp_draw`, `gabor_draw`, `texton_draw`, `phasor_bin`), where it
+    /// was built: the pipeline and how it binds and dispatches. `None` by default.
+    fn own_pass(&self) -> Option<(&OwnPass, &'static OwnPassLayout)> {
+        None
     }
 }
 

@@ -13,9 +13,7 @@ use spectex_model::{LrpNoise, Period};
 
 use crate::axis::{periodic_columns, periodic_rows};
 use crate::export::{ExportKind, ExportNode, ExportParts};
-use crate::kernel::{
-    GpuKernel, GpuKind, PreparedTile, ShaderKernel, Table, TileDisplacement, TileTables,
-};
+use crate::kernel::{GpuKernel, GpuKind, ShaderKernel, Table, TileDisplacement, TileTables};
 use crate::layout::wgsl_struct;
 use crate::pipeline::{OwnPass, OwnPassLayout, Shaded, binding_limit, flat_grid};
 use crate::shaders::{ShaderFile, kernel_and_glue};
@@ -370,18 +368,8 @@ impl ShaderKernel for LrpKernel {
         .with_pass(pass.as_ref()))
     }
 
-    /// `lrp_draw` over the tile's boxes into `target` (the table `lrp_main` reads as `draws`;
-    /// a displaced tile has none: its pixels draw for themselves).
-    fn encode_passes(
-        &self,
-        _tile: &GpuWindow,
-        passes: Vec<PreparedTile>,
-        encoder: &mut wgpu::CommandEncoder,
-        buffers: (&wgpu::Buffer, &[&wgpu::Buffer], Option<&wgpu::Buffer>),
-        timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
-    ) -> Result<(), GpuError> {
-        let own = self.draw.as_deref();
-        OwnPass::record(own, &DRAW_PASS, (&passes, encoder), buffers, timer)
+    fn own_pass(&self) -> Option<(&OwnPass, &'static OwnPassLayout)> {
+        self.draw.as_deref().map(|pass| (pass, &DRAW_PASS))
     }
 }
 

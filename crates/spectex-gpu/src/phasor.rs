@@ -38,8 +38,8 @@ use crate::export::{ExportKind, ExportNode, ExportParts, float};
 use std::sync::Arc;
 
 use crate::kernel::{
-    DisplacementRead, GpuKernel, GpuKind, PreparedTile, ShaderKernel, Table, TileDisplacement,
-    TileTables, halve_tile_to_fit,
+    DisplacementRead, GpuKernel, GpuKind, ShaderKernel, Table, TileDisplacement, TileTables,
+    halve_tile_to_fit,
 };
 use crate::layout::wgsl_struct;
 use crate::pipeline::{Gpu, MAX_PASS_TABLE_BYTES, OwnPass, OwnPassLayout, Shaded, flat_grid};
@@ -613,18 +613,8 @@ impl ShaderKernel for PhasorKernel {
         .with_pass(binned.map(|_| &params)))
     }
 
-    /// `phasor_bin` over the tile's blocks into `target` (the table `phasor_main` reads as
-    /// `bins`).
-    fn encode_passes(
-        &self,
-        _tile: &GpuWindow,
-        passes: Vec<PreparedTile>,
-        encoder: &mut wgpu::CommandEncoder,
-        buffers: (&wgpu::Buffer, &[&wgpu::Buffer], Option<&wgpu::Buffer>),
-        timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
-    ) -> Result<(), GpuError> {
-        let own = self.bin.as_deref();
-        OwnPass::record(own, &BIN_PASS, (&passes, encoder), buffers, timer)
+    fn own_pass(&self) -> Option<(&OwnPass, &'static OwnPassLayout)> {
+        self.bin.as_deref().map(|pass| (pass, &BIN_PASS))
     }
 }
 

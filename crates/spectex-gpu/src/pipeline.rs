@@ -308,30 +308,29 @@ impl OwnPass {
         })
     }
 
-    /// Records the kind's own pass `own` for a tile (`ShaderKernel::encode_passes`), laid out
-    /// by `layout`: the uniform of the one pass its tile prepared, the kind's buffers `bound`
-    /// at `layout.bindings` (binding b is `bound[b − 1]`) and `target` at `layout.target`.
-    /// Only an undisplaced tile prepares one: a displaced tile's pixels leave the cells a pass
-    /// would have worked for, so they do that work themselves.
+    /// Records this pass for a tile (`ShaderKernel::encode_passes`), laid out by `layout`: the
+    /// uniform of the one pass its tile prepared, the kind's buffers `bound` at
+    /// `layout.bindings` (binding b is `bound[b − 1]`) and `target` at `layout.target`. Only
+    /// an undisplaced tile prepares one: a displaced tile's pixels leave the cells a pass would
+    /// have worked for, so they do that work themselves.
     ///
     /// # Errors
-    /// [`GpuError::Validation`] naming the pass unless `passes` is one prepared pass, the kind
-    /// has its pipeline and the tile is undisplaced, or for a binding `bound` lacks.
+    /// [`GpuError::Validation`] naming the pass unless `passes` is one prepared pass and the
+    /// tile is undisplaced, or for a binding `bound` lacks.
     pub(crate) fn record(
-        own: Option<&Self>,
+        &self,
         layout: &OwnPassLayout,
         (passes, encoder): (&[PreparedTile], &mut wgpu::CommandEncoder),
         (target, bound, displacement): (&wgpu::Buffer, &[&wgpu::Buffer], Option<&wgpu::Buffer>),
         timer: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) -> Result<(), GpuError> {
         let label = layout.label;
-        let (Some(own), [PreparedTile::Tables(pass)], None) = (own, passes, displacement) else {
+        let ([PreparedTile::Tables(pass)], None) = (passes, displacement) else {
             return Err(GpuError::Validation(format!(
-                "{label}: needs its pipeline, the one pass its tile prepared and an undisplaced \
-                 tile"
+                "{label}: needs the one pass its tile prepared and an undisplaced tile"
             )));
         };
-        let gpu = &own.gpu;
+        let gpu = &self.gpu;
         let uniform = gpu.buffer(label, &pass.uniform, wgpu::BufferUsages::UNIFORM);
         let mut entries = vec![wgpu::BindGroupEntry {
             binding: 0,
@@ -350,7 +349,7 @@ impl OwnPass {
             binding: layout.target,
             resource: target.as_entire_binding(),
         });
-        let group_layout = own.pipeline.layouts.first().ok_or_else(|| {
+        let group_layout = self.pipeline.layouts.first().ok_or_else(|| {
             GpuError::Validation(format!("{label}: its pipeline has no bind group"))
         })?;
         let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -364,7 +363,7 @@ impl OwnPass {
             label: Some(label),
             timestamp_writes: timer,
         });
-        compute.set_pipeline(&own.pipeline.pipeline);
+        compute.set_pipeline(&self.pipeline.pipeline);
         compute.set_bind_group(0, &group, &[]);
         compute.dispatch_workgroups(grid[0], grid[1], 1);
         Ok(())

@@ -297,6 +297,14 @@ pub(crate) enum Sink<'a> {
     },
 }
 
+impl Sink<'_> {
+    /// Whether the render's tiles come back to the host, so that it waits for the device (and
+    /// can read its timestamps); one that stays on the device returns once submitted.
+    fn reads_back(&self) -> bool {
+        matches!(self, Self::Host(_))
+    }
+}
+
 /// The storage texture formats [`GpuEvaluator::render_to_texture`] writes: grey values go to
 /// every colour channel, colour to R, G, B; alpha is 1.
 ///
@@ -421,7 +429,7 @@ pub(crate) fn run(
 ) -> Result<RenderStats, GpuError> {
     let start = Instant::now();
     let clock = gpu.clock_nanos();
-    let timed = gpu.timestamps && matches!(sink, Sink::Host(_));
+    let timed = gpu.timestamps && sink.reads_back();
     let scope = ErrorScopes::push(&gpu.device);
     let result = run_scoped(gpu, kernel, packers, ring, window, tiles, format, &mut sink);
     // A failed submission shows as a failed map: the scope then says what failed.
@@ -595,9 +603,7 @@ fn record_all(
     let channels = kernel.output_channels();
     let per_value = format.bytes_per_value();
     let pack = packers.pack(gpu, format)?;
-    // Only a render read back to the host waits for the device, and so can read its
-    // timestamps: one that stays on the device returns once submitted.
-    let timed = matches!(sink, Sink::Host(_));
+    let reads_back = sink.reads_back();
     let mut pending: VecDeque<Pending> = VecDeque::with_capacity(RING_SLOTS);
     let mut read_back = ReadBack::default();
     for (k, tile) in tiles.iter().enumerate() {
@@ -617,15 +623,13 @@ fn record_all(
             });
         let pair = 2 * slot_index as u32;
         let direct = !matches!(tables, PreparedTile::Values(_) | PreparedTile::OnDevice(_));
-        let timer =
-            ring.queries
-                .as_ref()
-                .filter(|_| timed)
-                .map(|set| wgpu::ComputePassTimestampWrites {
-                    query_set: set,
-                    beginning_of_pass_write_index: Some(pair),
-                    end_of_pass_write_index: Some(pair + 1),
-                });
+        let timer = ring.queries.as_ref().filter(|_| reads_back).map(|set| {
+            wgpu::ComputePassTimestampWrites {
+                query_set: set,
+                beginning_of_pass_write_index: Some(pair),
+                end_of_pass_write_index: Some(pair + 1),
+            }
+        });
         let output = &slot.values;
         encode_prepared(
             gpu,
@@ -667,35 +671,23 @@ fn record_all(
                 encode_store(gpu, &mut encoder, pipeline, view, slot, tile, channels)?;
             }
         }
-        let readback_at = if matches!(sink, Sink::Host(_)) {
-            copied
-        } else {
-            0
-        };
-        if timed
+        if reads_back
             && direct
             && let (Some(set), Some(stamps)) = (&ring.queries, &slot.stamps)
         {
             encoder.resolve_query_set(set, pair..pair + 2, stamps, 0);
-            encoder.copy_buffer_to_buffer(
-                stamps,
-                0,
-                &slot.readback,
-                readback_at,
-                TIMESTAMP_PAIR_BYTES,
-            );
-            stamps_at = Some(readback_at as usize);
+            encoder.copy_buffer_to_buffer(stamps, 0, &slot.readback, copied, TIMESTAMP_PAIR_BYTES);
+            stamps_at = Some(copied as usize);
         }
         // A packed tile read back to the host brings its count of clamped values along.
         let mut clipped_at = None;
-        if pack.is_some() && matches!(sink, Sink::Host(_)) {
+        if pack.is_some() && reads_back {
             let at = copied + TIMESTAMP_PAIR_BYTES;
             encoder.copy_buffer_to_buffer(&slot.clipped, 0, &slot.readback, at, CLIPPED_BYTES);
             clipped_at = Some(at as usize);
         }
         let submission = gpu.queue.submit([encoder.finish()]);
-        let mapping = (matches!(sink, Sink::Host(_)) || stamps_at.is_some())
-            .then(|| Mapping::ask(&slot.readback));
+        let mapping = reads_back.then(|| Mapping::ask(&slot.readback));
         pending.push_back(Pending {
             tile: k,
             slot: slot_index,
