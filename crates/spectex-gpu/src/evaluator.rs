@@ -500,3 +500,40 @@ fn ring_of<'a>(gpu: &Gpu, slot: &'a mut Option<Ring>, capacity: u64) -> &'a Ring
     }
     slot.get_or_insert_with(|| Ring::new(gpu, capacity))
 }
+
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+#[allow(clippy::unwrap_used, reason = "a test fails loudly")]
+pub mod tests {
+    use super::*;
+
+    /// `reserve` makes the ring a render of its window needs (slots of one whole tile's
+    /// values, from `tile_size`) and the packing pipeline of its format, before any render;
+    /// the render then keeps both, and a larger window's reserve grows the ring.
+    pub fn reserve_makes_what_the_render_uses() {
+        use crate::layout::check::context_or_skip;
+        let Some(context) = context_or_skip("reserve_makes_what_the_render_uses") else {
+            return;
+        };
+        let model = Model::Gabor(spectex_model::fixtures::gabor_isotropic());
+        let mut gpu = GpuEvaluator::new(&context, &model).unwrap();
+        gpu.set_max_tile(64, 48);
+        let capacity = |gpu: &GpuEvaluator| gpu.lock_ring().as_ref().map(Ring::capacity);
+        let needs = |gpu: &GpuEvaluator, window: &GpuWindow| {
+            let [w, h] = gpu.tile_size(window).unwrap();
+            Some((w * h * gpu.output_channels()) as u64)
+        };
+        let window = GpuWindow::new(100, 30);
+        assert_eq!(capacity(&gpu), None);
+        assert!(!gpu.packers.holds(OutputFormat::Unorm8));
+        gpu.reserve(&window, OutputFormat::Unorm8).unwrap();
+        assert_eq!(capacity(&gpu), needs(&gpu, &window));
+        assert!(gpu.packers.holds(OutputFormat::Unorm8));
+        gpu.render_bytes(&window, OutputFormat::Unorm8).unwrap();
+        assert_eq!(capacity(&gpu), needs(&gpu, &window));
+        let larger = GpuWindow::new(300, 200);
+        gpu.reserve(&larger, OutputFormat::F32).unwrap();
+        assert_eq!(capacity(&gpu), needs(&gpu, &larger));
+        assert!(needs(&gpu, &larger) > needs(&gpu, &window));
+    }
+}

@@ -110,6 +110,7 @@ pub mod unit_tests {
     pub use crate::axis::tests as axis;
     pub use crate::classic::tests as classic;
     pub use crate::combine::tests as combine;
+    pub use crate::evaluator::tests as evaluator;
     pub use crate::export::emitter::tests as export_emitter;
     pub use crate::export::wgsl_text::tests as export_wgsl_text;
     pub use crate::gabor::tests as gabor;

@@ -141,6 +141,15 @@ impl Packers {
         Ok(built)
     }
 
+    /// Whether the packing pipeline of `format` is built (`f32` has none).
+    #[cfg(feature = "unit-tests")]
+    pub(crate) fn holds(&self, format: OutputFormat) -> bool {
+        let list = self.0.lock().unwrap_or_else(PoisonError::into_inner);
+        format
+            .entry_point()
+            .is_some_and(|entry| list.iter().any(|(k, _)| *k == ("output", entry)))
+    }
+
     /// The packing pipeline of `format`, `None` for `f32`.
     pub(crate) fn pack(
         &self,

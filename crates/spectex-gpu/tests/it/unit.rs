@@ -6,6 +6,7 @@ spectex_testkit::unit_tests! {
     axis: cell_axis_splits_cells_and_rejects_out_of_range, cell_range_covers_the_pixels_and_their_displacements, cell_range_of_a_displacement_range_holds_every_pixel, cell_axis_matches_its_wgsl_twin;
     combine: passes_of_every_operation_validate, exact_arithmetic_rounds_as_the_cpu, combination_passes_are_apply_bit_for_bit;
     classic: records_match_the_wgsl, shape_constants_are_the_shaders_overrides, specialised_pipelines_render_the_generic_bits, skew_parts_add_up_to_the_skewed_coordinate, params_and_octaves_carry_the_model, halving_needs_every_lattice_halved_exactly;
+    evaluator: reserve_makes_what_the_render_uses;
     gabor: params_match_the_wgsl, drawn_cells_render_the_per_pixel_bits;
     islamic: params_match_the_wgsl, fixed_point_sums_are_the_fraction_of_a_times_n,
         uniform_segments_hold_the_table_or_name_the_limit;
